@@ -1,0 +1,103 @@
+"""Timing, memory and machine facts for the benchmarks (units: seconds, MiB).
+
+Timings are medians of repeated runs after warm-up, because this machine's speed drifts; comparisons between two
+implementations should interleave their runs (see :func:`interleaved_medians`) and be reported as ratios.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import resource
+import statistics
+import subprocess
+import sys
+import time
+import tracemalloc
+from importlib import metadata
+from typing import Any, Callable
+
+
+def median_time(fn: Callable[[], Any], repeat: int = 5, warmup: int = 1) -> tuple[float, list[float]]:
+    """Median wall time of ``fn()`` in seconds over ``repeat`` runs after ``warmup`` untimed runs."""
+    for _ in range(warmup):
+        fn()
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), times
+
+
+def interleaved_medians(fns: dict[str, Callable[[], Any]], repeat: int = 5,
+                        warmup: int = 1) -> dict[str, float]:
+    """Median wall time (s) of each callable, runs interleaved A, B, A, B, ... to cancel machine drift."""
+    for _ in range(warmup):
+        for fn in fns.values():
+            fn()
+    times: dict[str, list[float]] = {k: [] for k in fns}
+    for _ in range(repeat):
+        for k, fn in fns.items():
+            t0 = time.perf_counter()
+            fn()
+            times[k].append(time.perf_counter() - t0)
+    return {k: statistics.median(v) for k, v in times.items()}
+
+
+def peak_memory_mb(fn: Callable[[], Any]) -> tuple[Any, float]:
+    """Run ``fn()`` and return (result, peak Python-heap allocation in MiB, tracemalloc; numpy buffers included)."""
+    tracemalloc.start()
+    try:
+        result = fn()
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    return result, peak / 2**20
+
+
+def max_rss_mb() -> float:
+    """Peak resident set size of this process so far (MiB), including native libraries' memory."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def _cpu_model() -> str:
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as fh:
+            for line in fh:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def _git_version() -> str:
+    try:
+        return subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True, text=True,
+                              check=True, cwd=os.path.dirname(__file__)).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def machine_info() -> dict[str, Any]:
+    """Cores, CPU model, memory, Python and key package versions, and the code version (git)."""
+    pkgs = {}
+    for name in ("numpy", "scipy", "scikit-fem", "gmsh", "meshio", "pyvista", "numba", "pypardiso", "felupe"):
+        try:
+            pkgs[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            pkgs[name] = None
+    try:
+        mem_gib = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
+    except (ValueError, OSError):
+        mem_gib = float("nan")
+    return {
+        "cores": os.cpu_count(),
+        "cpu_model": _cpu_model(),
+        "memory_GiB": round(mem_gib, 1),
+        "python": sys.version.split()[0],
+        "platform": platform.platform(),
+        "packages": pkgs,
+        "code_version": _git_version(),
+    }
