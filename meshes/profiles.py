@@ -1,0 +1,52 @@
+"""Public API for rail and wheel profiles (lengths in mm, frames in :mod:`meshes.profile_base`).
+
+    from meshes.profiles import (Profile, S1002, Rail60E1, Rail54E1, SplineProfile, get_profile,
+                                 Line, Arc, PointCurve)
+
+- :class:`S1002`: EN 13715 wheel (sections A..H), y = S, z = -F(S).
+- :class:`Rail60E1`, :class:`Rail54E1`: EN 13674-1 rail heads from arcs (crown at (0, 0)).
+- :class:`SplineProfile`: a C2 spline through points, e.g. read from a SIMPACK or text file.
+- :func:`get_profile`: by name ("S1002", "60E1"/"UIC60", "54E1"/"UIC54") or by file path.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from meshes.errors import InputError
+from meshes.profile_base import (Arc, Line, PointCurve, Profile, Segment, check_closed,
+                                 outline_area)
+from meshes.rail_heads import Rail54E1, Rail60E1, RailHead, RailHeadDimensions
+from meshes.s1002 import S1002
+from meshes.spline_profile import SplineProfile
+
+_BUILTIN = {
+    "S1002": S1002,
+    "60E1": Rail60E1,
+    "UIC60": Rail60E1,
+    "54E1": Rail54E1,
+    "UIC54": Rail54E1,
+}
+PROFILE_FILE_SUFFIXES = (".prr", ".prw", ".txt", ".csv")
+
+
+def get_profile(name: str, **kw) -> Profile:
+    """A profile by standard name (case-insensitive) or from a file (.prr/.prw/.txt/.csv).
+
+    Keyword arguments go to the constructor (e.g. ``r0`` for S1002) or to the reader
+    (:func:`meshes.profile_io.read_profile`, e.g. ``units``, ``z_down``, ``body``).
+    """
+    key = str(name).strip().upper()
+    if key in _BUILTIN:
+        return _BUILTIN[key](**kw)
+    path = Path(str(name))
+    if path.suffix.lower() in PROFILE_FILE_SUFFIXES:
+        from meshes.profile_io import read_profile
+
+        return read_profile(path, **kw)
+    raise InputError("profile", f"unknown profile {name!r}; valid names: {', '.join(_BUILTIN)}, "
+                                f"or a file path ending in {', '.join(PROFILE_FILE_SUFFIXES)}")
+
+
+__all__ = ["Profile", "S1002", "Rail60E1", "Rail54E1", "RailHead", "RailHeadDimensions", "SplineProfile",
+           "get_profile", "Line", "Arc", "PointCurve", "Segment", "outline_area", "check_closed"]
