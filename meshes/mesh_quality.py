@@ -1,4 +1,6 @@
-"""Shape quality of simplex meshes (scikit-fem meshes; quadratic meshes are judged by their vertices).
+"""Shape quality and geometric checks of simplex meshes (scikit-fem meshes, mm).
+
+Quadratic meshes are judged by their vertices for the shape quality.
 
 Mean-ratio quality, 1 for the equilateral simplex and 0 for a degenerate one:
 triangle ``4 sqrt(3) A / sum(l^2)``, tetrahedron ``12 (3 V)^(2/3) / sum(l^2)`` (l: edge lengths).
@@ -33,3 +35,23 @@ def edge_lengths_at(mesh: skfem.Mesh, point: np.ndarray) -> np.ndarray:
     edges = mesh.facets if mesh.dim() == 2 else mesh.edges
     touching = edges[:, np.any(edges == vertex, axis=0)]
     return np.linalg.norm(mesh.p[:, touching[0]] - mesh.p[:, touching[1]], axis=0)
+
+
+def mesh_measure(mesh: skfem.Mesh) -> float:
+    """Area (mm^2, 2D) or volume (mm^3, 3D) of the mesh, integrated on its (possibly curved) elements."""
+    basis = skfem.Basis(mesh, mesh.elem(), intorder=2)
+    return float(skfem.Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(basis))
+
+
+def surface_deviation_mm(mesh: skfem.Mesh, profile, boundary: str = "surface") -> float:
+    """Largest distance (mm) of the nodes (vertices and mid-edge nodes) of a boundary from the profile curve.
+
+    Distance of a node (y, z) from z = profile.z(y) measured along the normal, |z - z(y)| / sqrt(1 + z'(y)^2)
+    (first order in the deviation).
+    """
+    facet_dofs = mesh.dofs.get_facet_dofs(mesh.boundaries[boundary])
+    nodes = np.unique(np.concatenate([np.unique(facet_dofs.nodal[k]) for k in facet_dofs.nodal]
+                                     + [np.unique(facet_dofs.facet[k]) for k in facet_dofs.facet]
+                                     + [np.unique(facet_dofs.edge[k]) for k in facet_dofs.edge]))
+    y, z = mesh.doflocs[-2, nodes], mesh.doflocs[-1, nodes]
+    return float(np.max(np.abs(z - profile.z(y)) / np.sqrt(1.0 + profile.dz(y) ** 2)))

@@ -22,8 +22,9 @@ from meshes.mesh_size import GMSH_AXES_2D, GradedSize
 
 #: Default growth of the element size per mm of distance from the refinement zone (dimensionless).
 DEFAULT_GRADING = 0.3
-#: Default depth (mm) of the section below the running surface (rail) / of the rim cut above it (wheel).
-DEFAULT_DEPTH_MM = 40.0
+#: Default section depth (mm): rail cut at z = -60 (below the 60E1/54E1 head/web junction), wheel rim cut
+#: at z = +40.
+DEFAULT_DEPTH_MM = {"rail": 60.0, "wheel": 40.0}
 #: The load point must lie at least this many h_min away from the far-field cut.
 MIN_DEPTH_IN_H_MIN = 4.0
 #: Below this mean-ratio quality (0..1) a mesh is rejected as broken.
@@ -37,6 +38,11 @@ def _positive(value, what: str) -> float:
         raise InputError(what, f"must be a number, got {value!r}") from None
     require(math.isfinite(value) and value > 0, what, f"must be a positive number of mm, got {value!r}")
     return value
+
+
+def default_depth_mm(profile) -> float:
+    """The default section depth (mm) for the profile's body ("rail" or "wheel")."""
+    return DEFAULT_DEPTH_MM[profile.body]
 
 
 def check_mesh_inputs(profile, y0: float, h_min: float, h_max: float, depth_mm: float, order: int,
@@ -66,15 +72,17 @@ def check_quality(mesh: skfem.Mesh) -> skfem.Mesh:
     return mesh
 
 
-def section_mesh(profile, y0: float, h_min: float, h_max: float, depth_mm: float = DEFAULT_DEPTH_MM,
+def section_mesh(profile, y0: float, h_min: float, h_max: float, depth_mm: float | None = None,
                  order: int = 1, refine_radius_mm: float = 0.0,
                  grading: float = DEFAULT_GRADING) -> skfem.Mesh:
     """Triangle mesh (mm) of the profile's cross-section, refined at (y0, z(y0)).
 
-    h_min, h_max: element sizes (mm) at the load point and far away; refine_radius_mm: radius (mm) of the disc
+    h_min, h_max: element sizes (mm) at the load point and far away; depth_mm: section depth (rail: cut at
+    z = -depth_mm, wheel: rim cut at z = +depth_mm; default :data:`DEFAULT_DEPTH_MM`); refine_radius_mm: radius (mm) of the disc
     around the load point meshed with h_min; grading: size growth per mm of distance beyond it.
     Boundaries: "surface", "side", "fixed". Deterministic: the same arguments give identical arrays.
     """
+    depth_mm = default_depth_mm(profile) if depth_mm is None else depth_mm
     z0 = check_mesh_inputs(profile, y0, h_min, h_max, depth_mm, order, grading)
     radius = float(refine_radius_mm)
     require(math.isfinite(radius) and radius >= 0, "refine_radius_mm", f"must be >= 0 mm, got {radius!r}")
