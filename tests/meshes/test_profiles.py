@@ -178,7 +178,9 @@ def test_sample_and_arc_length_round_trip(name):
 def test_arc_length_inverse_property(name, frac):
     prof = get_profile(name)
     s = frac * prof.length
-    assert prof.arc_length(prof.y_at_arc_length(s)) == pytest.approx(s, abs=1e-8)
+    # y is a poor coordinate at the vertical flange back (y = -70 + s^2 / 2R): there s(y(s)) is
+    # only good to sqrt(2 R eps |y|) ~ 1e-6 mm; elsewhere to round-off
+    assert prof.arc_length(prof.y_at_arc_length(s)) == pytest.approx(s, abs=2e-6)
 
 
 def test_curvature_and_normal_consistent_with_derivatives(wheel):
