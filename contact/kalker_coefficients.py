@@ -87,10 +87,18 @@ def _asymptotes(g: float, nu: float, a_le_b: bool) -> tuple[float, float, float]
     return float(c11), float(c22), float(c23)
 
 
-def _interp_table(table: np.ndarray, g: float, nu: float) -> float:
-    """Linear in g between the rows, piecewise linear in nu between the columns."""
-    by_nu = np.array([np.interp(g, G_NODES, table[:, k]) for k in range(NU_NODES.size)])
-    return float(np.interp(nu, NU_NODES, by_nu))
+def _interp_branch(branch: dict, g: float, nu: float) -> tuple[float, float, float]:
+    """(C11, C22, C23) of one branch: linear in g between the rows, piecewise linear in nu between the columns."""
+    row = min(int(np.searchsorted(G_NODES, g, side="right")) - 1, G_NODES.size - 2)
+    fg = (g - G_NODES[row]) / (G_NODES[row + 1] - G_NODES[row])
+    col = 0 if nu <= NU_NODES[1] else 1
+    fn = (nu - NU_NODES[col]) / (NU_NODES[col + 1] - NU_NODES[col])
+    out = []
+    for name in ("C11", "C22", "C23"):
+        t = branch[name]
+        by_nu = (1.0 - fg) * t[row, col:col + 2] + fg * t[row + 1, col:col + 2]
+        out.append(float((1.0 - fn) * by_nu[0] + fn * by_nu[1]))
+    return out[0], out[1], out[2]
 
 
 def creep_coefficients(a_over_b: float, poisson: float) -> CreepCoefficients:
@@ -107,5 +115,4 @@ def creep_coefficients(a_over_b: float, poisson: float) -> CreepCoefficients:
     g = a_over_b if a_le_b else 1.0 / a_over_b
     if g < 0.1:
         return CreepCoefficients(*_asymptotes(g, poisson, a_le_b))
-    branch = TABLE["a<=b" if a_le_b else "b<a"]
-    return CreepCoefficients(*(_interp_table(branch[name], g, poisson) for name in ("C11", "C22", "C23")))
+    return CreepCoefficients(*_interp_branch(TABLE["a<=b" if a_le_b else "b<a"], g, poisson))
