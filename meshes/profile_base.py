@@ -226,7 +226,8 @@ class SmoothPiece:
     Arc length by 8-point Gauss-Legendre on sub-intervals no longer than ``max_sub`` mm (plus the
     given ``knots``); its inverse by safeguarded Newton iteration. ``line`` marks a straight piece
     (exported as a :class:`Line`); otherwise the segment is a :class:`PointCurve` with points at
-    arc-length spacing <= ``point_ds`` mm.
+    arc-length spacing <= ``point_ds`` mm (default 0.1 mm: then even Gmsh's Catmull-Rom "Spline"
+    through the points stays within 1e-4 mm of the S1002 polynomials; a cubic spline within 1e-5).
     """
 
     ya: float
@@ -236,7 +237,7 @@ class SmoothPiece:
     d2f: Callable
     knots: tuple = ()
     max_sub: float = 1.0
-    point_ds: float = 0.5
+    point_ds: float = 0.1
     line: bool = False
 
     def __post_init__(self):

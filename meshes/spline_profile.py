@@ -40,5 +40,5 @@ class SplineProfile(Profile):
         self.spline = spl
 
     def surface_segments(self, tag: str = "surface") -> list[Segment]:
-        """One :class:`PointCurve` through points at arc-length spacing <= 0.5 mm."""
+        """One :class:`PointCurve` through points of the spline at arc-length spacing <= 0.1 mm."""
         return super().surface_segments(tag)

@@ -8,6 +8,7 @@ from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
 from meshes.errors import InputError
+from meshes.gmsh_session import gmsh_session
 from meshes.profile_base import check_closed, outline_area
 from meshes.profiles import (Arc, Line, PointCurve, Rail54E1, Rail60E1, S1002, SplineProfile,
                              get_profile)
@@ -64,13 +65,26 @@ def test_s1002_normal_points_out_of_wheel(wheel):
 
 
 def test_s1002_point_curves_within_1e4_mm(wheel):
-    for seg in wheel.surface_segments():
-        if isinstance(seg, PointCurve):
+    """A cubic spline and Gmsh's Catmull-Rom spline through the points follow the polynomials."""
+    with gmsh_session("point-curve-check") as gmsh:
+        for seg in wheel.surface_segments():
+            if not isinstance(seg, PointCurve):
+                continue
             p = seg.points
             t = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
             q = CubicSpline(t, p)(np.linspace(0.0, t[-1], 4001))
             d, _ = wheel.signed_distance(q)
-            assert np.abs(d).max() < 1e-4
+            # at the C/D join the standard's own sections differ by 1.18e-4 mm (see test above)
+            assert np.abs(d).max() < 1.2e-4
+            inner = (q[:, 0] > p[0, 0] + 0.5) & (q[:, 0] < p[-1, 0] - 0.5)
+            assert np.abs(d[inner]).max() < 1e-5
+            curve = gmsh.model.geo.addSpline([gmsh.model.geo.addPoint(y, z, 0.0) for y, z in p])
+            gmsh.model.geo.synchronize()
+            lo, hi = gmsh.model.getParametrizationBounds(1, curve)
+            xyz = np.reshape(gmsh.model.getValue(1, curve, np.linspace(lo[0], hi[0], 4001)), (-1, 3))
+            d, _ = wheel.signed_distance(xyz[:, :2])
+            inner = (xyz[:, 0] > p[0, 0] + 0.5) & (xyz[:, 0] < p[-1, 0] - 0.5)
+            assert np.abs(d).max() < 1.2e-4 and np.abs(d[inner]).max() < 1e-4
 
 
 def test_s1002_section_outline_closed_ccw(wheel):
