@@ -446,16 +446,20 @@ class Profile:
         ys, zs = self.sample(0.05)
         k = np.argmin((q[:, None, 0] - ys) ** 2 + (q[:, None, 1] - zs) ** 2, axis=1)
         y = ys[k]
+        active = np.ones(len(y), dtype=bool)
         for _ in range(50):
-            inner = (y > self.y_min) & (y < self.y_max)
-            if not np.any(inner):
-                break
-            yi = y[inner]
-            z1, z2 = self.dz(yi), self.d2z(yi)
-            ry, rz = yi - q[inner, 0], self.z(yi) - q[inner, 1]
-            step = (ry + rz * z1) / (1.0 + z1 * z1 + rz * z2)
-            y[inner] = np.clip(yi - step, self.y_min, self.y_max)
-            if np.all(np.abs(step) < 1e-12):
+            ya = y[active]
+            with np.errstate(invalid="ignore", divide="ignore"):
+                z1, z2 = self.dz(ya), self.d2z(ya)
+                ry, rz = ya - q[active, 0], self.z(ya) - q[active, 1]
+                step = (ry + rz * z1) / (1.0 + z1 * z1 + rz * z2)
+            step = np.where(np.isfinite(step), step, 0.0)   # at a vertical arc end: keep the end
+            new = np.clip(ya - step, self.y_min, self.y_max)
+            moved = np.abs(new - ya)
+            y[active] = new
+            idx = np.flatnonzero(active)
+            active[idx[moved < 1e-12 * (1.0 + np.abs(new))]] = False
+            if not np.any(active):
                 break
         foot = np.column_stack([y, self.z(y)])
         d = np.hypot(*(q - foot).T)

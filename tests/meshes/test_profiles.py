@@ -242,3 +242,18 @@ def test_outline_area_of_unit_square_with_arc():
     quarter = [Arc((1.0, 1.0), (0.5, 1.5), (0.5, 1.0)), Arc((0.5, 1.5), (0.0, 1.0), (0.5, 1.0))]
     loop = [Line((0.0, 0.0), (1.0, 0.0)), Line((1.0, 0.0), (1.0, 1.0))] + quarter + [Line((0.0, 1.0), (0.0, 0.0))]
     assert outline_area(loop) == pytest.approx(1.0 + np.pi * 0.25 / 2)
+
+
+@pytest.mark.parametrize("name", ["S1002", "60E1"])
+def test_signed_distance_along_normals(name):
+    prof = get_profile(name)
+    y = np.r_[np.linspace(prof.y_min + 0.01, prof.y_max - 0.01, 97), prof.y_max - 1e-3]
+    d = np.resize([0.4, -0.3, 0.0, 0.05], y.size)
+    pts = np.column_stack([y, prof.z(y)]) + d[:, None] * prof.normal(y)
+    dist, foot = prof.signed_distance(pts)
+    assert np.allclose(dist, d, atol=1e-9)
+    assert np.allclose(foot, y, atol=1e-7)
+    # beyond the end: distance to the end point
+    end = np.array([prof.y_max, prof.z(prof.y_max)])
+    dist, foot = prof.signed_distance([end + 2.0 * prof.normal(prof.y_max)])
+    assert foot[0] == prof.y_max and dist[0] == pytest.approx(2.0)

@@ -28,9 +28,9 @@ def test_s1002_against_file(wheel_file):
     # the file's spline between the points, in the normal direction
     y = np.linspace(wheel_file.y_min, wheel_file.y_max, 3001)
     d, _ = wheel.signed_distance(np.column_stack([y, wheel_file.z(y)]))
-    assert np.abs(d).max() < 0.05
+    assert np.abs(d).max() < 0.01                       # measured 0.0023 mm (near the flange back)
     flat = np.abs(wheel.dz(y)) < 1.0
-    assert np.abs(wheel_file.z(y[flat]) - wheel.z(y[flat])).max() < 0.05
+    assert np.abs(wheel_file.z(y[flat]) - wheel.z(y[flat])).max() < 0.001   # measured 0.00025 mm
 
 
 def _fit_cant(rail_file, rail):
@@ -57,10 +57,10 @@ def test_60e1_against_canted_file(rail_file):
     q = unplace(rail_file.points, Placement(angle, dy, dz))
     on_head = np.abs(q[:, 0]) <= rail.y_max
     d, _ = rail.signed_distance(q[on_head])
-    assert np.abs(d).max() < 0.05                       # normal distance (measured 0.020 mm)
+    assert np.abs(d).max() < 0.03                       # normal distance (measured 0.020 mm)
     flat = np.abs(rail.dz(q[on_head, 0])) < 1.0
     vertical = q[on_head, 1][flat] - rail.z(q[on_head, 0][flat])
-    assert np.abs(vertical).max() < 0.05                # vertical distance
+    assert np.abs(vertical).max() < 0.03                # vertical distance (measured 0.020 mm)
     # the file covers the head symmetrically, down to the flanks (z = -37.5 mm)
     assert q[0, 0] == pytest.approx(-q[-1, 0], abs=1e-3)
     # placing the analytic head with the fitted placement reproduces the file's points
