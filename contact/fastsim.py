@@ -48,6 +48,7 @@ the small-creepage force of an ellipse by the factor 3 pi/8 = 1.18 and is theref
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numba
@@ -146,12 +147,15 @@ def equivalent_ellipse(patch: Patch, G_MPa: float, poisson: float) -> Equivalent
     return EquivalentEllipse(float(a), float(b), c, float(L1), float(L2), float(L3))
 
 
+@functools.lru_cache(maxsize=64)
 def _semi_ellipse_cell_means(nx: int) -> np.ndarray:
-    """Mean of sqrt(1 - xi^2) over the nx equal cells of xi from +1 down to -1 (exact integrals)."""
+    """Mean of sqrt(1 - xi^2) over the nx equal cells of xi from +1 down to -1 (exact integrals; read-only)."""
     edges = 1.0 - 2.0 * np.arange(nx + 1) / nx
     edges[-1] = -1.0
     prim = 0.5 * (edges * np.sqrt(np.clip(1.0 - edges**2, 0.0, None)) + np.arcsin(edges))
-    return (prim[:-1] - prim[1:]) / (edges[:-1] - edges[1:])
+    means = (prim[:-1] - prim[1:]) / (edges[:-1] - edges[1:])
+    means.flags.writeable = False
+    return means
 
 
 @numba.njit(cache=True)
