@@ -42,12 +42,18 @@ def to_meshio_gmsh(mesh: skfem.Mesh) -> meshio.Mesh:
                        cell_data={"gmsh:physical": physical, "gmsh:geometrical": physical})
 
 
+def check_mesh_path(path: str | os.PathLike) -> Path:
+    """The path as Path; InputError unless it ends in .vtu or .msh."""
+    path = Path(path)
+    if path.suffix.lower() not in (".vtu", ".msh"):
+        raise InputError(str(path), "mesh files must end in .vtu or .msh")
+    return path
+
+
 def write_mesh(mesh: skfem.Mesh, path: str | os.PathLike) -> Path:
     """Write ``mesh`` to ``path`` (.vtu or .msh) atomically; returns the path."""
-    path = Path(path)
+    path = check_mesh_path(path)
     suffix = path.suffix.lower()
-    if suffix not in (".vtu", ".msh"):
-        raise InputError(str(path), "mesh files must end in .vtu or .msh")
     with atomic_output_dir(path.parent) as tmp:
         if suffix == ".vtu":
             meshio.write(tmp / path.name, to_meshio(mesh), file_format="vtu")
