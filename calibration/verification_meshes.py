@@ -1,0 +1,72 @@
+"""Graded structured meshes for verifying and benchmarking the FEM engine (not the production meshes).
+
+``graded_axis``: uniform spacing ``h`` on [0, fine] then geometric growth (ratio ``growth``) up to ``length``.
+``hertz_block``: quarter (3D: x >= 0, y >= 0) or half (2D: y >= 0) block under a surface at z = 0, boundaries
+"surface" (z = 0), "fixed" (bottom), "symmetry" (x = 0, 3D), "sym_y" (y = 0), "side" (the other sides).
+``quarter_annulus``: plane-strain thick cylinder a <= r <= b, boundaries "inner", "outer", "sym_x" (y = 0 line,
+u_y... see docstring), "sym_y".
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import skfem
+
+
+def graded_axis(h: float, fine: float, length: float, growth: float = 1.3) -> np.ndarray:
+    """Coordinates 0 = c_0 < ... < c_n = length (mm): spacing h up to ``fine``, then growing by ``growth``."""
+    n_fine = max(1, int(round(fine / h)))
+    c = list(np.linspace(0.0, n_fine * h, n_fine + 1))
+    d = h
+    while c[-1] < length:
+        d *= growth
+        c.append(c[-1] + d)
+    c = np.array(c)
+    c[-1] = max(c[-1], length)
+    if c[-1] - c[-2] < 0.5 * (c[-2] - c[-3]):  # merge a sliver last cell
+        c = np.delete(c, -2)
+    return c * (length / c[-1]) if c[-1] > length * 1.5 else c
+
+
+def hertz_block(h: float, fine: float, length: float, order: int = 2, dim: int = 3,
+                growth: float = 1.3) -> skfem.Mesh:
+    """Graded block (mm) for a Hertz load centred at the origin on the top surface z = 0 (see module doc)."""
+    ax = graded_axis(h, fine, length, growth)
+    if dim == 3:
+        m = skfem.MeshTet1.init_tensor(ax, ax, -ax[::-1])
+        m = skfem.MeshTet2.from_mesh(m) if order == 2 else m
+        tol = 1e-9 * length
+        return m.with_boundaries({
+            "surface": lambda x: x[2] > -tol, "fixed": lambda x: x[2] < -length + tol,
+            "symmetry": lambda x: x[0] < tol, "sym_y": lambda x: x[1] < tol,
+            "side": lambda x: (x[0] > length - tol) | (x[1] > length - tol)})
+    m = skfem.MeshTri1.init_tensor(ax, -ax[::-1])
+    m = skfem.MeshTri2.from_mesh(m) if order == 2 else m
+    tol = 1e-9 * length
+    return m.with_boundaries({"surface": lambda x: x[1] > -tol, "fixed": lambda x: x[1] < -length + tol,
+                              "sym_y": lambda x: x[0] < tol, "side": lambda x: x[0] > length - tol})
+
+
+def quarter_annulus(a: float, b: float, n_r: int, n_theta: int, order: int = 2, grading: float = 1.0) -> skfem.Mesh:
+    """Quarter of a thick cylinder a <= r <= b in the (y, z) plane, radial spacing growing by ``grading``.
+
+    Boundaries: "inner" (r = a), "outer" (r = b), "sym_y" (the y = 0 edge: fix u_y) and "sym_z" (z = 0: fix u_z).
+    """
+    w = grading ** np.arange(n_r)
+    r = a + (b - a) * np.concatenate([[0.0], np.cumsum(w)]) / w.sum()
+    th = np.linspace(0.0, np.pi / 2, n_theta + 1)
+    m = skfem.MeshTri1.init_tensor(r, th)
+    p = np.vstack([m.p[0] * np.cos(m.p[1]), m.p[0] * np.sin(m.p[1])])
+    m = skfem.MeshTri1(p, m.t)
+    if order == 2:
+        m = skfem.MeshTri2.from_mesh(m)
+        # put the mid-edge nodes on the arcs
+        rr = np.hypot(m.p[0], m.p[1])
+        on_arc = np.isclose(rr, a, rtol=1e-3) | np.isclose(rr, b, rtol=1e-3)
+        target = np.where(np.abs(rr - a) < np.abs(rr - b), a, b)
+        scale = np.where(on_arc, target / rr, 1.0)
+        m = skfem.MeshTri2(m.p * scale, m.t)
+    tol = 1e-9 * b
+    rad = lambda x: np.hypot(x[0], x[1])  # noqa: E731
+    return m.with_boundaries({"inner": lambda x: rad(x) < a + 0.01 * (r[1] - a), "outer": lambda x: rad(x) > b - 0.01 * (b - r[-2]),
+                              "sym_y": lambda x: np.abs(x[0]) < tol, "sym_z": lambda x: np.abs(x[1]) < tol})
