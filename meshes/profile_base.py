@@ -483,8 +483,27 @@ class Profile:
         return segs
 
     def section_outline(self, depth_mm: float) -> list[Segment]:
-        """Closed counter-clockwise loop of the body's cross-section (implemented by subclasses)."""
-        raise NotImplementedError(f"{type(self).__name__} has no section outline")
+        """Closed counter-clockwise loop of a block section under (rail) or over (wheel) the surface.
+
+        The running surface ("surface"), vertical side faces at y_min and y_max ("side") and a
+        horizontal cut ("fixed") at z = -depth_mm (rail) or z = +depth_mm (wheel). Subclasses with
+        a real cross-section (rail heads) override this.
+        """
+        surf = self.surface_segments()
+        p0, p1 = surf[0].start, surf[-1].end
+        z_surf = self.sample(1.0)[1]
+        if self.body == "wheel":
+            zc, ok, bound = float(depth_mm), float(depth_mm) > np.max(z_surf), f"z = {np.max(z_surf):.4g}"
+        else:
+            zc, ok, bound = -float(depth_mm), -float(depth_mm) < np.min(z_surf), f"depth {-np.min(z_surf):.4g}"
+        if not ok:
+            raise InputError("depth_mm", f"{depth_mm} mm must lie beyond the surface's extreme point "
+                                         f"({bound} mm) of {self.name}")
+        q0, q1 = (p0[0], zc), (p1[0], zc)
+        if self.body == "wheel":  # material above: surface left to right, then up, back, down
+            return surf + [Line(p1, q1, "side"), Line(q1, q0, "fixed"), Line(q0, p0, "side")]
+        top = [reversed_segment(sg) for sg in reversed(surf)]
+        return [Line(q0, q1, "fixed"), Line(q1, p1, "side")] + top + [Line(p0, q0, "side")]
 
     def section_area(self, depth_mm: float) -> float:
         """Area (mm^2) enclosed by :meth:`section_outline` (exact for lines and arcs)."""

@@ -17,7 +17,7 @@ import dataclasses
 import numpy as np
 
 from meshes.errors import InputError
-from meshes.profile_base import ArcPiece, Line, Profile, Segment, line_piece, poly_piece
+from meshes.profile_base import ArcPiece, Profile, line_piece, poly_piece
 
 # EN 13715 S1002 coefficients (profiles.md).
 AA, BA = 1.364323640, 0.066666667
@@ -82,16 +82,8 @@ class S1002(Profile):
         """Rolling radius r(y) = r0 - z(y) (mm)."""
         return self.r0 - self.z(y)
 
-    def section_outline(self, depth_mm: float) -> list[Segment]:
-        """Closed CCW rim section: surface (y_min -> y_max), side face up at y_max to z = depth_mm,
-        horizontal cut ("fixed") back to y_min, side face down to the surface (the flange back)."""
-        surf = self.surface_segments()
-        z_top = max(float(np.max(self.sample(1.0)[1])), surf[0].start[1], surf[-1].end[1])
-        if not depth_mm > z_top:
-            raise InputError("depth_mm", f"{depth_mm} mm must exceed the highest surface point z = {z_top:.4g} mm")
-        p0, p1 = surf[0].start, surf[-1].end
-        q1, q0 = (p1[0], float(depth_mm)), (p0[0], float(depth_mm))
-        return surf + [Line(p1, q1, "side"), Line(q1, q0, "fixed"), Line(q0, p0, "side")]
+    # section_outline(depth_mm): the base class's block section is the rim section: surface from
+    # the flange back to the field face, vertical side faces up to z = depth_mm, horizontal cut.
 
 
 def _trimmed(piece, ya, yb):

@@ -257,3 +257,15 @@ def test_signed_distance_along_normals(name):
     end = np.array([prof.y_max, prof.z(prof.y_max)])
     dist, foot = prof.signed_distance([end + 2.0 * prof.normal(prof.y_max)])
     assert foot[0] == prof.y_max and dist[0] == pytest.approx(2.0)
+
+
+def test_block_section_of_a_spline_rail():
+    y = np.linspace(-30.0, 30.0, 121)
+    prof = SplineProfile(y, -(y**2) / 600.0, "parabola", "rail")
+    out = prof.section_outline(20.0)
+    check_closed(out)
+    assert [s.tag for s in out] == ["fixed", "side", "surface", "side"]
+    exact = 60.0 * 20.0 - 2 * 30.0**3 / 3 / 600.0        # integral of (z + 20) over y
+    assert prof.section_area(20.0) == pytest.approx(exact, rel=1e-10)
+    with pytest.raises(InputError, match="depth_mm"):
+        prof.section_outline(1.0)
