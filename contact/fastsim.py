@@ -43,6 +43,9 @@ then (Kalker 1982) L1 = 8a/(3 G C11), L2 = 8a/(3 G C22), L3 = pi a sqrt(a/b)/(4 
 this reproduces Kalker's linear theory exactly in the continuum limit (strip integrals of 2 x_l(y)^2 and
 4/3 x_l(y)^3 give 8a^2b/3 and pi a^3 b/2). The alternative per-strip rule L(y) = 8 x_l(y)/(3 G C11) would change
 the small-creepage force of an ellipse by the factor 3 pi/8 = 1.18 and is therefore not used.
+Options (``flexibility=``): "three" (default, Kalker's three flexibilities), "single" (one combined flexibility,
+as CONTACT at large creepage; closer to the paper's Table 1 forces, see benchmarks/bench_fastsim.py) and
+"blended" (CONTACT's creepage-dependent blend of the two), see :func:`flexibilities`.
 
 """
 
@@ -103,7 +106,8 @@ class TangentialResult:
     tx_MPa, ty_MPa: tangential tractions; pn_MPa: cell-average normal pressure; slip: slipping cells;
     slip_velocity_mm_s: |slip velocity|; PT_W_per_mm2: frictional power density; WT_N_per_mm: frictional work per
     unit area over one pass, per strip (ny,); WT_field_N_per_mm: the same accumulated from the leading edge up to
-    each cell (its last column equals WT_N_per_mm). Areas in mm^2.
+    each cell (its last column equals WT_N_per_mm). Areas in mm^2. flexibility, L_mm_per_MPa: the rule and the
+    flexibilities (L1, L2, L3) actually used (mm/MPa).
     """
 
     Fx_N: float
@@ -128,6 +132,8 @@ class TangentialResult:
     adhesion_area_mm2: float
     slip_area_mm2: float
     ellipse: EquivalentEllipse
+    flexibility: str
+    L_mm_per_MPa: tuple[float, float, float]
 
     @property
     def traction_MPa(self) -> np.ndarray:
@@ -145,6 +151,40 @@ def equivalent_ellipse(patch: Patch, G_MPa: float, poisson: float) -> Equivalent
     L2 = 8.0 * a / (3.0 * G_MPa * c.C22)
     L3 = np.pi * a * np.sqrt(a / b) / (4.0 * G_MPa * c.C23)
     return EquivalentEllipse(float(a), float(b), c, float(L1), float(L2), float(L3))
+
+
+FLEXIBILITY_RULES = ("three", "single", "blended")
+
+
+def flexibilities(ell: EquivalentEllipse, creepage: Creepage, rule: str, G_MPa: float, mu_N: float,
+                  ) -> tuple[float, float, float]:
+    """Flexibilities (L1, L2, L3) in mm/MPa used by the march, by ``rule`` (mu_N: friction times normal force, N).
+
+    "three": Kalker's L1, L2, L3 (exact linear theory for any combination of creepages; the default).
+    "single": one flexibility for all three, CONTACT's combined L = (vx^2 + vy^2 + (f phi)^2) /
+    (vx^2/L1 + vy^2/L2 + (f phi)^2/L3), f = 3 pi a / 32 (mm): slip opposite to the traction and the power balance
+    exact also with spin; exact linear theory for each creepage alone but not for combinations.
+    "blended": CONTACT's blend (1 - w) L_i + w L with w = min(1, r/3), r = |(vx, vy, phi)| / |(vx_s, vy_s, phi_s)|,
+    saturation creepages vx_s = mu N/(G c^2 C11), vy_s = mu N/(G c^2 C22), phi_s = mu N/(G c^3 C23), c = sqrt(ab),
+    (vector norms mixing 1 and 1/mm exactly as CONTACT, with lengths in mm): three flexibilities at small
+    creepage, one at large (source: CONTACT, m_hertz.simpflex).
+    """
+    L = (ell.L1_mm_per_MPa, ell.L2_mm_per_MPa, ell.L3_mm_per_MPa)
+    if rule == "three" or creepage.is_zero():
+        return L
+    f_phi = 3.0 * np.pi * ell.a_mm / 32.0 * creepage.phi_per_mm
+    weights = (creepage.vx**2, creepage.vy**2, f_phi**2)
+    single = sum(weights) / sum(w / li for w, li in zip(weights, L))
+    if rule == "single":
+        return single, single, single
+    c = np.sqrt(ell.a_mm * ell.b_mm)
+    k = ell.coefficients
+    saturation = np.array([mu_N / (G_MPa * c**2 * k.C11), mu_N / (G_MPa * c**2 * k.C22),
+                           mu_N / (G_MPa * c**3 * k.C23)])
+    norm_sat = float(np.sqrt(np.sum(saturation**2)))
+    ratio = np.hypot(np.hypot(creepage.vx, creepage.vy), creepage.phi_per_mm) / norm_sat if norm_sat > 0 else np.inf
+    w = min(1.0, ratio / 3.0)
+    return tuple(float((1.0 - w) * li + w * single) for li in L)
 
 
 @functools.lru_cache(maxsize=64)
@@ -225,14 +265,18 @@ def _check_inputs(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx):
 
 
 def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: float, friction: float,
-                     speed_mm_s: float = 1000.0, nx: int = 60) -> TangentialResult:
+                     speed_mm_s: float = 1000.0, nx: int = 60, flexibility: str = "three") -> TangentialResult:
     """FASTSIM on the patch's strips with ``nx`` cells per strip; see the module docstring for conventions.
 
     G_MPa: shear modulus (E / (2 (1 + nu)), both bodies of one steel); poisson: Poisson's ratio; friction: Coulomb
-    coefficient mu (>= 0); speed_mm_s: rolling speed V (only scales slip velocities and P_T).
+    coefficient mu (>= 0); speed_mm_s: rolling speed V (only scales slip velocities and P_T); flexibility: "three"
+    (default), "single" or "blended", see :func:`flexibilities`.
     """
     _check_inputs(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx)
+    require(flexibility in FLEXIBILITY_RULES, "flexibility", f"must be one of {FLEXIBILITY_RULES}, got {flexibility!r}")
     ell = equivalent_ellipse(patch, G_MPa, poisson)
+    normal_N = patch.normal_force_N()
+    L1, L2, L3 = flexibilities(ell, creepage, flexibility, G_MPa, friction * normal_N)
     ny, h = patch.n_strips, patch.grid_mm
     xl, y = patch.x_lead_mm, patch.y_mm
     dx = 2.0 * xl / nx
@@ -243,9 +287,8 @@ def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: fl
         ty, du, work = tx.copy(), tx.copy(), tx.copy()
         slip = np.zeros((ny, nx), dtype=bool)
     else:
-        tx, ty, du, work, slip = _march(xl, y, pn, int(nx), ell.L1_mm_per_MPa, ell.L2_mm_per_MPa,
-                                        creepage.vx / ell.L1_mm_per_MPa, creepage.vy / ell.L2_mm_per_MPa,
-                                        creepage.phi_per_mm / ell.L3_mm_per_MPa, float(friction))
+        tx, ty, du, work, slip = _march(xl, y, pn, int(nx), L1, L2, creepage.vx / L1, creepage.vy / L2,
+                                        creepage.phi_per_mm / L3, float(friction))
     cell_area = (dx * h)[:, None]
     WT_field = np.cumsum(work, axis=1)
     PT = W_PER_NMM_S * speed_mm_s * work / dx[:, None]
@@ -253,11 +296,12 @@ def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: fl
     return TangentialResult(
         Fx_N=float(np.sum(tx * cell_area)), Fy_N=float(np.sum(ty * cell_area)),
         Mz_Nmm=float(np.sum((x * ty - y[:, None] * tx) * cell_area)),
-        normal_force_N=patch.normal_force_N(), friction=float(friction), speed_mm_s=float(speed_mm_s),
+        normal_force_N=normal_N, friction=float(friction), speed_mm_s=float(speed_mm_s),
         y_mm=y, dx_mm=dx, x_mm=x, pn_MPa=pn, tx_MPa=tx, ty_MPa=ty, slip=slip,
         slip_velocity_mm_s=du * (speed_mm_s / dx[:, None]), PT_W_per_mm2=PT, WT_field_N_per_mm=WT_field,
         WT_N_per_mm=WT_field[:, -1].copy(), PT_max_W_per_mm2=float(PT.max()), WT_max_N_per_mm=float(WT_field.max()),
-        adhesion_area_mm2=patch.area_mm2() - slip_area, slip_area_mm2=slip_area, ellipse=ell)
+        adhesion_area_mm2=patch.area_mm2() - slip_area, slip_area_mm2=slip_area, ellipse=ell,
+        flexibility=flexibility, L_mm_per_MPa=(L1, L2, L3))
 
 
 @dataclass(frozen=True)
@@ -301,5 +345,5 @@ def sample_on_grid(patch: Patch, result: TangentialResult) -> GridSample:
                       WT_field_N_per_mm=lerp(result.WT_field_N_per_mm))
 
 
-__all__ = ["Creepage", "EquivalentEllipse", "GridSample", "TangentialResult", "equivalent_ellipse",
-           "sample_on_grid", "solve_tangential"]
+__all__ = ["FLEXIBILITY_RULES", "Creepage", "EquivalentEllipse", "GridSample", "TangentialResult",
+           "equivalent_ellipse", "flexibilities", "sample_on_grid", "solve_tangential"]

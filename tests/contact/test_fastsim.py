@@ -155,6 +155,33 @@ def test_frictional_power_balances_creep_force_power(creep):
     assert r.WT_max_N_per_mm == pytest.approx(r.WT_N_per_mm.max())
 
 
+@pytest.mark.parametrize("rule", ["single", "blended"])
+def test_other_flexibility_rules_keep_the_single_creepage_linear_theory(rule):
+    a, b, n = PATCHES["paper_like"]
+    patch = hertz_patch(a, b, n, ny=41)
+    c = creep_coefficients(a / b, NU)
+    s = 1e-7
+    fx = solve_tangential(patch, Creepage(vx=s), G_MPa, NU, MU, flexibility=rule).Fx_N
+    fy = solve_tangential(patch, Creepage(phi_per_mm=s), G_MPa, NU, MU, flexibility=rule).Fy_N
+    assert fx == pytest.approx(-G_MPa * a * b * c.C11 * s, rel=5e-3)
+    assert fy == pytest.approx(-G_MPa * a * b * np.sqrt(a * b) * c.C23 * s, rel=5e-3)
+
+
+def test_single_flexibility_balances_power_with_spin_and_blend_lies_between():
+    patch = hertz_patch(13.68, 1.925, 1e5, ny=31)
+    creep = Creepage(vx=0.002, phi_per_mm=0.0012)
+    res = {rule: solve_tangential(patch, creep, G_MPa, NU, MU, nx=100, flexibility=rule)
+           for rule in ("three", "single", "blended")}
+    r = res["single"]
+    assert r.L_mm_per_MPa[0] == r.L_mm_per_MPa[1] == r.L_mm_per_MPa[2]
+    power_W = np.sum(r.PT_W_per_mm2 * r.dx_mm[:, None]) * patch.grid_mm
+    creep_power_W = -(r.Fx_N * creep.vx + r.Mz_Nmm * creep.phi_per_mm) * r.speed_mm_s * 1e-3
+    assert power_W == pytest.approx(creep_power_W, rel=1e-2)
+    for i in range(3):  # the blend lies between the two rules, flexibility by flexibility
+        lo, hi = sorted((res["three"].L_mm_per_MPa[i], res["single"].L_mm_per_MPa[i]))
+        assert lo <= res["blended"].L_mm_per_MPa[i] <= hi
+
+
 def test_speed_scales_power_not_forces_or_work():
     patch = hertz_patch(13.68, 1.925, 1e5, ny=15)
     creep = Creepage(vx=0.002, phi_per_mm=0.0012)
@@ -196,6 +223,7 @@ def test_sample_on_grid_matches_the_strips():
     (dict(friction=-0.1), "friction"), (dict(friction=np.nan), "friction"),
     (dict(G_MPa=0.0), "G_MPa"), (dict(G_MPa=-5.0), "G_MPa"), (dict(poisson=0.7), "poisson"),
     (dict(speed_mm_s=0.0), "speed_mm_s"), (dict(nx=1), "nx"), (dict(nx=10.5), "nx"),
+    (dict(flexibility="kalker"), "flexibility"),
 ])
 def test_bad_input_names_the_argument(kwargs, what):
     patch = hertz_patch(6, 4, 1e5, ny=5)
