@@ -21,8 +21,9 @@ mesher; each carries a ``tag`` in {"surface", "side", "fixed"}.
 from __future__ import annotations
 
 import dataclasses
+import itertools
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Sequence, Union
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -104,7 +105,7 @@ class PointCurve:
         return (float(self.points[-1, 0]), float(self.points[-1, 1]))
 
 
-Segment = Union[Line, Arc, PointCurve]
+Segment = Line | Arc | PointCurve
 
 
 def with_ends(seg: Segment, start, end) -> Segment:
@@ -243,7 +244,7 @@ class SmoothPiece:
     def __post_init__(self):
         inner = [k for k in self.knots if self.ya < k < self.yb]
         brk = np.unique(np.r_[self.ya, inner, self.yb])
-        fine = [np.linspace(a, b, int(np.ceil((b - a) / self.max_sub)) + 1)[:-1] for a, b in zip(brk[:-1], brk[1:])]
+        fine = [np.linspace(a, b, int(np.ceil((b - a) / self.max_sub)) + 1)[:-1] for a, b in itertools.pairwise(brk)]
         sub = np.r_[np.concatenate(fine), self.yb]
         cum = np.r_[0.0, np.cumsum(self._gl(sub[:-1], sub[1:]))]
         object.__setattr__(self, "_sub", sub)
@@ -318,7 +319,7 @@ def poly_piece(ya: float, yb: float, coef_increasing: Sequence[float], **kw) -> 
     return SmoothPiece(ya, yb, p, dp, d2p, **kw)
 
 
-Piece = Union[ArcPiece, SmoothPiece]
+Piece = ArcPiece | SmoothPiece
 
 
 # --------------------------------------------------------------------------------------------

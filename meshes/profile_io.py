@@ -148,7 +148,10 @@ def read_simpack(path, name: str | None = None) -> SplineProfile:
     """Read a SIMPACK ``.prr``/``.prw`` profile into the project frame (mm, z up); see module doc."""
     settings, pts = parse_simpack(path)
     path = Path(path)
-    num = lambda key, default: _setting(settings, key, default, path)  # noqa: E731
+
+    def num(key: str, default: float) -> float:
+        return _setting(settings, key, default, path)
+
     y, z = pts[:, 0].copy(), pts[:, 1].copy()
     y += num("shift.y", 0.0)
     z += num("shift.z", 0.0)

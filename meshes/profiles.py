@@ -14,8 +14,15 @@ from __future__ import annotations
 from pathlib import Path
 
 from meshes.errors import InputError
-from meshes.profile_base import (Arc, Line, PointCurve, Profile, Segment, check_closed,
-                                 outline_area)
+from meshes.profile_base import (
+    Arc,
+    Line,
+    PointCurve,
+    Profile,
+    Segment,
+    check_closed,
+    outline_area,
+)
 from meshes.rail_heads import Rail54E1, Rail60E1, RailHead, RailHeadDimensions
 from meshes.s1002 import S1002
 from meshes.spline_profile import SplineProfile
@@ -48,5 +55,19 @@ def get_profile(name: str, **kw) -> Profile:
                                 f"or a file path ending in {', '.join(PROFILE_FILE_SUFFIXES)}")
 
 
-__all__ = ["Profile", "S1002", "Rail60E1", "Rail54E1", "RailHead", "RailHeadDimensions", "SplineProfile",
-           "get_profile", "Line", "Arc", "PointCurve", "Segment", "outline_area", "check_closed"]
+__all__ = [
+    "S1002",
+    "Arc",
+    "Line",
+    "PointCurve",
+    "Profile",
+    "Rail54E1",
+    "Rail60E1",
+    "RailHead",
+    "RailHeadDimensions",
+    "Segment",
+    "SplineProfile",
+    "check_closed",
+    "get_profile",
+    "outline_area",
+]

@@ -14,8 +14,6 @@ from __future__ import annotations
 
 import dataclasses
 
-import numpy as np
-
 from meshes.errors import InputError
 from meshes.profile_base import ArcPiece, Profile, line_piece, poly_piece
 
@@ -91,4 +89,4 @@ def _trimmed(piece, ya, yb):
     return piece if (ya, yb) == (piece.ya, piece.yb) else dataclasses.replace(piece, ya=ya, yb=yb)
 
 
-__all__ = ["S1002", "BOUNDS", "SECTION_NAMES", "section_pieces_raw"]
+__all__ = ["BOUNDS", "S1002", "SECTION_NAMES", "section_pieces_raw"]

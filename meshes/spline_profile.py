@@ -7,7 +7,7 @@ import numpy as np
 from scipy.interpolate import make_interp_spline
 
 from meshes.errors import InputError
-from meshes.profile_base import Profile, SmoothPiece, Segment
+from meshes.profile_base import Profile, Segment, SmoothPiece
 
 
 class SplineProfile(Profile):

@@ -4,8 +4,14 @@ import numpy as np
 import pytest
 
 from meshes.errors import InputError
-from meshes.profile_io import read_profile, read_simpack, read_text, write_simpack, write_text
-from meshes.profiles import Rail60E1, S1002, SplineProfile, get_profile
+from meshes.profile_io import (
+    read_profile,
+    read_simpack,
+    read_text,
+    write_simpack,
+    write_text,
+)
+from meshes.profiles import S1002, Rail60E1, SplineProfile, get_profile
 
 HEADER = """  header.begin
     type          =  {type}     ! 0=rail profile, 1=wheel profile

@@ -1,5 +1,7 @@
 """Analytic profiles: S1002 checks from profiles.md, rail-head construction, generic geometry."""
 
+import itertools
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -10,8 +12,16 @@ from scipy.optimize import brentq
 from meshes.errors import InputError
 from meshes.gmsh_session import gmsh_session
 from meshes.profile_base import check_closed, outline_area
-from meshes.profiles import (Arc, Line, PointCurve, Rail54E1, Rail60E1, S1002, SplineProfile,
-                             get_profile)
+from meshes.profiles import (
+    S1002,
+    Arc,
+    Line,
+    PointCurve,
+    Rail54E1,
+    Rail60E1,
+    SplineProfile,
+    get_profile,
+)
 from meshes.s1002 import BOUNDS, section_pieces_raw
 
 
@@ -35,7 +45,7 @@ def test_s1002_flange_height_and_taping_line(wheel):
 
 def test_s1002_sections_join(wheel):
     pieces = list(section_pieces_raw().values())
-    for a, b in zip(pieces[:-1], pieces[1:]):
+    for a, b in itertools.pairwise(pieces):
         assert a.yb == b.ya
         assert abs(float(a.z(a.yb)) - float(b.z(b.ya))) < 1.5e-4   # profiles.md: "about 1e-4 mm"
         assert abs(float(a.dz(a.yb)) - float(b.dz(b.ya))) < 1e-5   # tangent joins

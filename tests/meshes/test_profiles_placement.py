@@ -6,8 +6,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from meshes.errors import InputError
-from meshes.placement import Placement, mirror, place, rail_inclination, unplace, wheel_at_radius
-from meshes.profiles import Rail60E1, S1002
+from meshes.placement import (
+    Placement,
+    mirror,
+    place,
+    rail_inclination,
+    unplace,
+    wheel_at_radius,
+)
+from meshes.profiles import S1002, Rail60E1
 
 finite = st.floats(-100.0, 100.0)
 

@@ -6,7 +6,7 @@ from scipy.optimize import least_squares
 
 from meshes.placement import Placement, place, rail_inclination, unplace
 from meshes.profile_io import read_simpack
-from meshes.profiles import Rail60E1, S1002
+from meshes.profiles import S1002, Rail60E1
 
 
 @pytest.fixture(scope="module")
