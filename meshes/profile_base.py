@@ -307,9 +307,8 @@ class SmoothPiece:
 
 def line_piece(ya: float, yb: float, za: float, slope: float) -> SmoothPiece:
     """Straight piece z = za + slope * (y - ya) on [ya, yb]."""
-    return SmoothPiece(ya, yb, lambda y: za + slope * (np.asarray(y, float) - ya),
-                       lambda y: np.full(np.shape(y), float(slope)), lambda y: np.zeros(np.shape(y)),
-                       line=True)
+    p = np.polynomial.Polynomial([za - slope * ya, slope])
+    return SmoothPiece(ya, yb, p, p.deriv(), p.deriv(2), line=True)
 
 
 def poly_piece(ya: float, yb: float, coef_increasing: Sequence[float], **kw) -> SmoothPiece:

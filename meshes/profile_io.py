@@ -12,6 +12,12 @@ negated (z down -> z up) and the points are put in increasing y. The rotation si
 itself could not be checked (both reference files have ``rotate = 0``). ``point.dist.min`` and
 ``approx.smooth`` are not applied (the profile is always the interpolating spline); weights are
 ignored. ``type``: 0 = rail, 1 = wheel.
+
+Reference files (tests/meshes/test_profiles_reference.py): ``MBench_S1002_v3.prw`` read this way is
+y = S, z = -F(S) (points within 1.6e-6 mm). ``MBench_UIC60_v3.prr`` is the 60E1 head rotated
+counter-clockwise by atan(1/40) (z up) and shifted so that its highest point is the origin; since
+the cant tilts the head towards the gauge side, the file's +y points to the FIELD side and -y to
+the gauge side, as in the project's rail frame (which cannot be told from the symmetric head alone).
 """
 
 from __future__ import annotations

@@ -279,3 +279,14 @@ def test_block_section_of_a_spline_rail():
     assert prof.section_area(20.0) == pytest.approx(exact, rel=1e-10)
     with pytest.raises(InputError, match="depth_mm"):
         prof.section_outline(1.0)
+
+
+@pytest.mark.parametrize("name", ["S1002", "60E1"])
+def test_profiles_pickle(name):
+    import pickle
+
+    prof = get_profile(name)
+    y = np.linspace(prof.y_min, prof.y_max, 11)
+    for p in (prof, SplineProfile(y, prof.z(y), "s", prof.body)):
+        copy = pickle.loads(pickle.dumps(p))
+        assert np.array_equal(copy.z(y), p.z(y)) and copy.length == p.length
