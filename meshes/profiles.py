@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import inspect
 from pathlib import Path
 
 from meshes.errors import InputError
@@ -45,6 +46,10 @@ def get_profile(name: str, **kw) -> Profile:
     """
     key = str(name).strip().upper()
     if key in _BUILTIN:
+        allowed = set(inspect.signature(_BUILTIN[key]).parameters)
+        if set(kw) - allowed:
+            raise InputError("profile", f"{name} does not take option(s) {sorted(set(kw) - allowed)}; "
+                                        f"it takes {sorted(allowed) or 'none'}")
         return _BUILTIN[key](**kw)
     path = Path(str(name))
     if path.suffix.lower() in PROFILE_FILE_SUFFIXES:

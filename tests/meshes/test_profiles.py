@@ -245,6 +245,8 @@ def test_get_profile_names():
     assert get_profile("S1002", r0=430.0).r0 == 430.0
     with pytest.raises(InputError, match="'R65'.*S1002, 60E1, UIC60, 54E1, UIC54"):
         get_profile("R65")
+    with pytest.raises(InputError, match=r"60E1 does not take option\(s\) \['r0'\]"):
+        get_profile("60E1", r0=460.0)
 
 
 def test_outline_area_of_unit_square_with_arc():
