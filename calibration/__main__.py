@@ -1,0 +1,48 @@
+"""Command line: ``python -m calibration run CONFIG --out DIR [--scheduler ADDRESS] [--workers N]
+[--plots/--no-plots] [--quiet]``.
+
+Exit codes: 0 all positions calibrated; 2 bad input (configuration; nothing written); 4 some positions failed
+(their errors on stderr; the other positions' tables are written).
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+
+from meshes.errors import cli_guard, require
+
+
+def _parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="python -m calibration",
+                                 description="FEM calibration of Prandtl surface-layer tables along profiles")
+    sub = ap.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("run", help="calibrate the bodies and positions of a TOML configuration")
+    run.add_argument("config", help="TOML configuration file")
+    run.add_argument("--out", required=True, help="output folder (tables, cache, plots, fields)")
+    run.add_argument("--scheduler", default=None, help="Dask scheduler address (default: local processes)")
+    run.add_argument("--workers", type=int, default=None, help="local worker processes (default: config)")
+    run.add_argument("--plots", action=argparse.BooleanOptionalAction, default=None,
+                     help="write PNG/VTK pictures (default: config run.plots)")
+    run.add_argument("--quiet", action="store_true", help="no progress bars")
+    return ap
+
+
+@cli_guard
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    from calibration.config import load_config
+    from calibration.pipeline import run_calibration
+
+    cfg = load_config(args.config)
+    if args.workers is not None:
+        require(1 <= args.workers <= 64, "--workers", f"must be in 1..64, got {args.workers}")
+        cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, workers=args.workers))
+    summary = run_calibration(cfg, args.out, scheduler=args.scheduler, plots=args.plots,
+                              show_progress=not args.quiet)
+    return 4 if summary["failed"] else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

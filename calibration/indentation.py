@@ -1,0 +1,168 @@
+"""One calibration position: mesh, elastoplastic Hertzian indentation with unloading branches -> raw
+characteristic points (units mm, N, MPa).
+
+Definition of the layer characteristic at a position (documented in the README):
+
+- The FEM model (2D plane-strain section or 3D local half model) is loaded by the Hertzian pressure with the
+  position's semi-axes; p0 rises monotonically to ``max_factor`` times the FEM first-yield pressure p_y.
+- u_FEM(p0) is the normal displacement of the load centre (into the body). Its elastic part on the SAME mesh is
+  c_el p0 (c_el from the linear solution), so the inelastic part u_pl(p0) = u_FEM(p0) - c_el p0 is free of the
+  mesh's and the finite section's elastic error. With elastic unloading u_pl equals the residual dent; the FEM
+  unloading runs from several peaks check this (``reverse_plasticity_mm`` = u_res,FEM - u_pl at the peak).
+- The layer's elastic part is a stated small fraction f (``elastic_fraction``) of the half-space centre
+  displacement of this body under the same Hertz pressure, c_hs p0 (the contact solver computes the half-space
+  part itself), so S_1 = 1 / (f c_hs).
+- The monotonic characteristic is u(p) = p / S_1 + u_pl(p) with p_2 = p_y. Eq. (8) then returns u_pl(p0), the
+  FEM residual dent, by construction (up to reverse plasticity, reported).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from calibration.elastoplastic_solver import SolverOptions, solve_load_path
+from calibration.fem_assembly import discretise
+from calibration.hertz_geometry import LocalGeometry, halfspace_centre_compliance_mm_per_MPa
+from calibration.hertz_load import HertzLoad
+from calibration.material import J2Material
+from meshes.errors import require
+
+
+@dataclass(frozen=True)
+class MeshSettings:
+    """Mesh sizes: h_min = b / elements_per_semi_axis at the load point, growing to h_max_mm; 3D half-model length
+    length_factor * a (at least 4 b); element order 1 or 2; section depth (None: the body's default)."""
+
+    elements_per_semi_axis: float = 8.0
+    h_max_mm: float = 6.0
+    order: int = 2
+    depth_mm: float | None = None
+    length_factor: float = 5.0
+    grading: float = 0.3
+
+
+@dataclass(frozen=True)
+class LoadSettings:
+    """Load path: p0 up to max_factor * p_y in n_levels equal steps above p_y (plus 0.5 p_y and p_y), unloading
+    runs from the peaks unload_factors * p_y (each <= max_factor); max_increment_factor * p_y is the largest
+    solver step."""
+
+    max_factor: float = 2.5
+    n_levels: int = 12
+    unload_factors: tuple[float, ...] = (1.5, 2.0, 2.5)
+    max_increment_factor: float = 0.125
+
+
+@dataclass
+class IndentationResult:
+    """Raw FEM characteristic of one position (mm, MPa, s). ``p_MPa``/``u_fem_mm``/``u_pl_mm``: all converged
+    loading increments (u_pl = u_FEM - c_el p); ``unload_peaks_MPa``/``residual_fem_mm``: FEM dents after full
+    unloading; ``first_yield_MPa``: p_y; compliances in mm/MPa; ``files``: VTK/PNG outputs."""
+
+    model: str
+    p_MPa: list[float]
+    u_fem_mm: list[float]
+    u_pl_mm: list[float]
+    first_yield_MPa: float
+    fem_elastic_compliance_mm_per_MPa: float
+    halfspace_compliance_mm_per_MPa: float
+    unload_peaks_MPa: list[float]
+    residual_fem_mm: list[float]
+    reverse_plasticity_mm: list[float]
+    n_dofs: int
+    n_elements: int
+    newton_iterations: int
+    seconds: float
+    files: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def build_mesh(profile, geometry: LocalGeometry, model: str, mesh: MeshSettings):
+    """The 2D section mesh or 3D local mesh refined at the position (sizes from the semi-axes)."""
+    from meshes.local_mesh import local_mesh
+    from meshes.section_mesh import section_mesh
+
+    h_min = min(geometry.b_mm, geometry.a_mm if model == "3d" else geometry.b_mm) / mesh.elements_per_semi_axis
+    h_max = max(mesh.h_max_mm, h_min)
+    if model == "2d":
+        return section_mesh(profile, geometry.y_mm, h_min, h_max, depth_mm=mesh.depth_mm, order=mesh.order,
+                            refine_radius_mm=1.2 * geometry.b_mm, grading=mesh.grading)
+    length = max(mesh.length_factor * geometry.a_mm, 4.0 * geometry.b_mm)
+    box = (1.2 * geometry.a_mm, 1.2 * geometry.b_mm, 1.0 * geometry.b_mm)
+    return local_mesh(profile, geometry.y_mm, h_min, h_max, length_mm=length, depth_mm=mesh.depth_mm,
+                      order=mesh.order, refine_box=box, grading=mesh.grading)
+
+
+def _levels(p_y: float, load: LoadSettings) -> list[float]:
+    above = p_y * np.linspace(1.0, load.max_factor, load.n_levels + 1)[1:]
+    peaks = [f * p_y for f in load.unload_factors]
+    return sorted(set([0.5 * p_y, p_y] + above.tolist() + peaks))
+
+
+def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = "2d",
+           mesh_settings: MeshSettings = MeshSettings(), load_settings: LoadSettings = LoadSettings(),
+           out_dir: Path | None = None, progress=None) -> IndentationResult:
+    """Run the indentation of one position; ``progress(n)`` is called after each load stage (optional).
+
+    VTK/PNG fields at the highest peak and after unloading from it are written to ``out_dir`` when given.
+    Raises ConvergenceError (FEM) or InputError (geometry, mesh) naming the cause.
+    """
+    require(model in ("2d", "3d"), "model", f"must be '2d' or '3d', got {model!r}")
+    require(all(0 < f <= load_settings.max_factor + 1e-12 for f in load_settings.unload_factors), "unload_factors",
+            f"must lie in (0, max_factor = {load_settings.max_factor}], got {list(load_settings.unload_factors)}")
+    t0 = time.perf_counter()
+    mesh = build_mesh(profile, geometry, model, mesh_settings)
+    disc = discretise(mesh, mesh_settings.order)
+    load = HertzLoad(geometry.y_mm, geometry.b_mm, geometry.a_mm if model == "3d" else None,
+                     z0_mm=geometry.z_mm)
+    p_probe = 1.0
+    elastic = solve_load_path(mesh, material, load, [p_probe], disc=disc)
+    p_y = elastic.first_yield_p0_MPa
+    c_el = elastic.history[-1].u_centre_mm / p_probe
+    require(math.isfinite(p_y) and p_y > 0 and c_el > 0, "indentation",
+            f"elastic solution at y = {geometry.y_mm:g} mm is degenerate (p_y = {p_y}, compliance {c_el})")
+    if progress:
+        progress(1)
+    opts = SolverOptions(max_increment_MPa=load_settings.max_increment_factor * p_y)
+    levels = _levels(p_y, load_settings)
+    peaks = sorted(f * p_y for f in load_settings.unload_factors)
+    top = max(peaks) if peaks else None
+    state, history, newton = None, [], 0
+    residuals, files = [], []
+    stage_ends = sorted(set(peaks + [levels[-1]]))
+    start = 0.0
+    for end in stage_ends:
+        stage = [p for p in levels if start < p <= end + 1e-9 * end]
+        write = out_dir is not None and top is not None and abs(end - top) <= 1e-9 * top
+        res = solve_load_path(mesh, material, load, stage, options=opts, initial_state=state, disc=disc,
+                              vtk_at=[len(stage) - 1] if write else (), out_dir=out_dir / "peak" if write else None)
+        state = res.state
+        history += res.history
+        files += [str(f) for f in res.files]
+        newton += sum(h.newton_iters for h in res.history)
+        if any(abs(end - pk) <= 1e-9 * pk for pk in peaks):
+            unl = solve_load_path(mesh, material, load, [0.0], options=opts, initial_state=state, disc=disc,
+                                  vtk_at=[0] if write else (), out_dir=out_dir / "unloaded" if write else None)
+            residuals.append(unl.history[-1].u_centre_mm)
+            newton += sum(h.newton_iters for h in unl.history)
+            files += [str(f) for f in unl.files]
+        if progress:
+            progress(1)
+        start = end
+    p = np.array([0.0] + [h.p0_MPa for h in history])
+    u = np.array([0.0] + [h.u_centre_mm for h in history])
+    u_pl = u - c_el * p
+    u_pl[p <= p_y] = np.maximum(u_pl[p <= p_y], 0.0)
+    u_pl_at_peaks = np.interp(peaks, p, u_pl)
+    c_hs = halfspace_centre_compliance_mm_per_MPa(geometry.a_mm, geometry.b_mm, material.E_MPa, material.poisson)
+    return IndentationResult(model, p.tolist(), u.tolist(), u_pl.tolist(), float(p_y), float(c_el), float(c_hs),
+                             [float(x) for x in peaks], [float(x) for x in residuals],
+                             (np.array(residuals) - u_pl_at_peaks).tolist(), int(disc.n_dofs),
+                             int(mesh.t.shape[1]), int(newton), time.perf_counter() - t0, files)

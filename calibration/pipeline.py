@@ -1,0 +1,342 @@
+"""The calibration run: positions -> (cached) FEM indentations -> fits -> layer tables, plots and a summary.
+
+Each position's FEM inputs (profile and its file content, position, mating geometry, material, model, mesh and
+load settings, the source code of ``calibration``/``meshes``) are hashed (SHA-256); the raw FEM result is cached
+in ``OUT/cache/<hash>.json``, so a rerun with nothing changed does no FEM, and changing one position (or the fit
+settings only) recomputes only what depends on it. Positions run in parallel in local processes
+(``concurrent.futures.ProcessPoolExecutor``, ``run.workers``) or, given a scheduler address, on a Dask cluster.
+A failed position is reported with its cause and left out of the table (listed under ``failed``); the other
+positions are kept. Every file is written atomically.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import hashlib
+import json
+import platform
+import queue as queue_mod
+import sys
+import time
+from dataclasses import asdict, dataclass
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from calibration.characteristic_fit import fit_characteristic
+from calibration.config import BodySettings, CalibrationConfig
+from calibration.hertz_geometry import given_geometry, local_geometry
+from contact.layer_table import LayerTable
+from meshes.atomic_write import atomic_write_text
+from meshes.errors import WrLayerError
+
+_ROOT = Path(__file__).resolve().parent.parent
+_CODE_DIRS = ("calibration", "meshes")
+
+
+def code_hash() -> str:
+    """SHA-256 of the Python sources that determine the FEM results (calibration/, meshes/)."""
+    h = hashlib.sha256()
+    for d in _CODE_DIRS:
+        for f in sorted((_ROOT / d).rglob("*.py")):
+            h.update(str(f.relative_to(_ROOT)).encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()
+
+
+def code_version() -> str:
+    """``git describe`` of the checkout (with -dirty), or "unknown"."""
+    import subprocess
+
+    try:
+        out = subprocess.run(["git", "describe", "--always", "--dirty"], cwd=_ROOT, capture_output=True,
+                             text=True, timeout=10)
+        return out.stdout.strip() or "unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def software_versions() -> dict[str, str]:
+    out = {"python": platform.python_version()}
+    for pkg in ("numpy", "scipy", "scikit-fem", "gmsh", "wrlayer"):
+        try:
+            out[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            out[pkg] = "not installed"
+    return out
+
+
+def _profile_identity(spec: str) -> str:
+    p = Path(spec)
+    if p.is_file():
+        return f"file:{hashlib.sha256(p.read_bytes()).hexdigest()}"
+    return f"builtin:{spec.upper()}"
+
+
+def _hash(obj: Any) -> str:
+    return hashlib.sha256(json.dumps(obj, sort_keys=True, default=str).encode()).hexdigest()
+
+
+@dataclass(frozen=True)
+class PositionTask:
+    """Everything a worker needs for one position (plain data, picklable)."""
+
+    body: str
+    profile: str
+    y_mm: float
+    geometry: dict
+    material: dict
+    model: str
+    mesh: dict
+    load: dict
+    key: str
+    fields_dir: str | None
+
+    @property
+    def label(self) -> str:
+        return f"{self.body} {Path(self.profile).name} y = {self.y_mm:g} mm"
+
+
+def run_position(task: PositionTask, progress_queue=None) -> dict:
+    """Worker: the FEM indentation of one position -> {"ok": True, "indentation": {...}} or {"ok": False,
+    "error": message}. Never raises for a failed position."""
+    from calibration.hertz_geometry import LocalGeometry
+    from calibration.indentation import LoadSettings, MeshSettings, indent
+    from calibration.material import J2Material
+    from meshes.profiles import get_profile
+
+    def progress(n):
+        if progress_queue is not None:
+            progress_queue.put(n)
+
+    try:
+        profile = get_profile(task.profile)
+        load = dict(task.load)
+        load["unload_factors"] = tuple(load["unload_factors"])
+        fields_dir = Path(task.fields_dir) if task.fields_dir else None
+        res = indent(profile, LocalGeometry(**task.geometry), J2Material(**task.material), task.model,
+                     MeshSettings(**task.mesh), LoadSettings(**load), fields_dir, progress)
+        return {"ok": True, "indentation": res.to_dict()}
+    except WrLayerError as err:
+        return {"ok": False, "error": f"{task.label}: {err}"}
+    except Exception as err:  # a failed position must not stop the others; report the cause
+        return {"ok": False, "error": f"{task.label}: {type(err).__name__}: {err}"}
+
+
+def n_stages(load: dict) -> int:
+    """Progress steps of one position: the elastic solve plus one per loading stage."""
+    return 1 + len(set(load["unload_factors"]) | {load["max_factor"]})
+
+
+def make_tasks(cfg: CalibrationConfig, out_dir: Path) -> tuple[list[PositionTask], list[dict]]:
+    """Tasks for all positions, and failures found already while computing the local geometry."""
+    from meshes.profiles import get_profile
+
+    code = code_hash()
+    tasks, failed = [], []
+    for b in cfg.bodies:
+        profile = get_profile(b.profile)
+        mate = get_profile(b.mate) if b.mate else None
+        for y in b.positions_mm:
+            try:
+                if b.semi_axes_mm is not None:
+                    geo = given_geometry(profile, y, *b.semi_axes_mm)
+                else:
+                    geo = local_geometry(profile, y, mate, cfg.reference_load_N, b.material.E_MPa,
+                                         b.material.poisson, b.rail_cant_rad, b.wheel_radius_mm,
+                                         b.max_lateral_radius_mm)
+            except WrLayerError as err:
+                failed.append({"body": b.body, "y_mm": y, "error": str(err)})
+                continue
+            fem_inputs = {"profile": _profile_identity(b.profile), "body": b.body, "y_mm": y,
+                          "geometry": geo.to_dict(), "material": asdict(b.material), "model": cfg.run.model,
+                          "mesh": asdict(cfg.mesh), "load": asdict(cfg.load), "code": code}
+            key = _hash(fem_inputs)
+            fields = out_dir / "fields" / f"{b.body}_y{y:+08.3f}mm" if cfg.run.plots else None
+            tasks.append(PositionTask(b.body, b.profile, float(y), geo.to_dict(), asdict(b.material),
+                                      cfg.run.model, asdict(cfg.mesh), asdict(cfg.load), key,
+                                      str(fields) if fields else None))
+    return tasks, failed
+
+
+def fit_position(ind: dict, geometry: dict, cfg: CalibrationConfig, what: str) -> dict:
+    """The table entry of one position: fitted characteristic, parameters, errors, geometry and raw FEM data."""
+    p = np.asarray(ind["p_MPa"])
+    u_pl = np.asarray(ind["u_pl_mm"])
+    c_hs = ind["halfspace_compliance_mm_per_MPa"]
+    s1 = 1.0 / (cfg.fit.elastic_fraction * c_hs)
+    u = p / s1 + u_pl
+    fit = fit_characteristic(p, u, cfg.fit.n_segments, s1_N_per_mm3=s1, p2_MPa=ind["first_yield_MPa"], what=what,
+                             max_relative_error=cfg.fit.max_relative_error)
+    ch = fit.characteristic
+    peaks = np.asarray(ind["unload_peaks_MPa"])
+    res_fit = ch.residual_displacement(peaks) if peaks.size else np.zeros(0)
+    res_err = (res_fit - np.asarray(ind["residual_fem_mm"])).tolist()
+    return {"y_mm": geometry["y_mm"], "characteristic": ch.to_dict(), "n_segments": fit.n_segments,
+            "k_N_per_mm3": fit.parameters.k_N_per_mm3.tolist(), "T0_MPa": fit.parameters.T0_MPa.tolist(),
+            "slopes_N_per_mm3": ch.slopes.tolist(), "p2_MPa": ch.elastic_limit_MPa,
+            "first_yield_fem_MPa": ind["first_yield_MPa"],
+            "max_error_mm": fit.max_error_mm, "rms_error_mm": fit.rms_error_mm,
+            "residual_peaks_MPa": peaks.tolist(), "residual_fit_mm": np.asarray(res_fit).tolist(),
+            "residual_fem_mm": ind["residual_fem_mm"], "residual_error_mm": res_err,
+            "geometry": geometry,
+            "fem": {k: ind[k] for k in ("model", "p_MPa", "u_fem_mm", "u_pl_mm", "fem_elastic_compliance_mm_per_MPa",
+                                        "halfspace_compliance_mm_per_MPa", "reverse_plasticity_mm", "n_dofs",
+                                        "n_elements", "newton_iterations", "seconds")},
+            "fem_points": {"p_MPa": p.tolist(), "u_mm": u.tolist()}}
+
+
+def _header(cfg: CalibrationConfig, b: BodySettings, keys: list[str]) -> dict:
+    return {"body": b.body, "profile": Path(b.profile).name if Path(b.profile).is_file() else b.profile,
+            "profile_source": b.profile, "mate": b.mate, "model": cfg.run.model,
+            "units": {"length": "mm", "pressure": "MPa", "stiffness": "N/mm^3", "force": "N"},
+            "material": asdict(b.material), "mesh": asdict(cfg.mesh), "load": asdict(cfg.load),
+            "reference_load_N": cfg.reference_load_N, "fit": asdict(cfg.fit),
+            "definition": "u(p) = p/S_1 + u_pl(p); u_pl = FEM centre displacement minus the same mesh's elastic "
+                          "part; S_1 = 1/(elastic_fraction * half-space centre compliance); p_2 = FEM first yield",
+            "software": software_versions(), "code_version": code_version(), "code_hash": code_hash(),
+            "inputs_hash": _hash({"keys": keys, "fit": asdict(cfg.fit)}), "config": cfg.source,
+            "created_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
+
+
+def _execute(tasks: list[PositionTask], cfg: CalibrationConfig, scheduler: str | None, show_progress: bool):
+    """Run the tasks (local processes, in-process for workers = 1, or Dask); yields (task, result)."""
+    from tqdm import tqdm
+
+    steps_total = sum(n_stages(t.load) for t in tasks)
+    bar_pos = tqdm(total=len(tasks), desc="positions", unit="pos", disable=not show_progress, position=0)
+    bar_steps = tqdm(total=steps_total, desc="load stages", unit="stage", disable=not show_progress, position=1)
+    try:
+        if scheduler:
+            from distributed import Client, as_completed
+
+            with Client(scheduler) as client:
+                futures = {client.submit(run_position, t, pure=False): t for t in tasks}
+                for fut in as_completed(futures):
+                    t = futures[fut]
+                    bar_steps.update(n_stages(t.load))
+                    bar_pos.update(1)
+                    yield t, fut.result()
+            return
+        if cfg.run.workers == 1 or len(tasks) == 1:
+            for t in tasks:
+                res = run_position(t, _DirectQueue(bar_steps))
+                bar_pos.update(1)
+                yield t, res
+            return
+        import multiprocessing as mp
+
+        ctx = mp.get_context("spawn")
+        with ctx.Manager() as manager:
+            q = manager.Queue()
+            with cf.ProcessPoolExecutor(max_workers=min(cfg.run.workers, len(tasks)), mp_context=ctx) as pool:
+                futures = {pool.submit(run_position, t, q): t for t in tasks}
+                pending = set(futures)
+                while pending:
+                    done, pending = cf.wait(pending, timeout=0.5, return_when=cf.FIRST_COMPLETED)
+                    _drain(q, bar_steps)
+                    for fut in done:
+                        bar_pos.update(1)
+                        yield futures[fut], fut.result()
+                _drain(q, bar_steps)
+    finally:
+        bar_steps.close()
+        bar_pos.close()
+
+
+class _DirectQueue:
+    def __init__(self, bar):
+        self.bar = bar
+
+    def put(self, n):
+        self.bar.update(n)
+
+
+def _drain(q, bar):
+    while True:
+        try:
+            bar.update(q.get_nowait())
+        except (queue_mod.Empty, EOFError, OSError):
+            return
+
+
+def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str | None = None,
+                    plots: bool | None = None, show_progress: bool = True, log=print) -> dict:
+    """Calibrate all bodies and positions of ``cfg`` into ``out_dir``; returns the summary (also written as
+    ``summary.json``). Tables: ``OUT/<body>_layer_table.json`` and ``.csv``."""
+    t_start = time.perf_counter()
+    out_dir = Path(out_dir)
+    plots = cfg.run.plots if plots is None else plots
+    scheduler = scheduler if scheduler is not None else (cfg.run.scheduler or None)
+    tasks, failed = make_tasks(cfg, out_dir)
+    cache = out_dir / "cache"
+    results: dict[str, dict] = {}
+    todo = []
+    for t in tasks:
+        f = cache / f"{t.key}.json"
+        if f.is_file():
+            try:
+                results[t.key] = json.loads(f.read_text())
+                continue
+            except (OSError, json.JSONDecodeError):
+                pass
+        todo.append(t)
+    n_cached = len(tasks) - len(todo)
+    if todo:
+        log(f"calibration: {len(todo)} position(s) to compute, {n_cached} cached "
+            f"({'Dask ' + scheduler if scheduler else f'{min(cfg.run.workers, len(todo))} local worker(s)'})")
+    for t, res in _execute(todo, cfg, scheduler, show_progress):
+        if res["ok"]:
+            atomic_write_text(cache / f"{t.key}.json", json.dumps(res["indentation"]))
+            results[t.key] = res["indentation"]
+        else:
+            failed.append({"body": t.body, "y_mm": t.y_mm, "error": res["error"]})
+    summary = {"bodies": {}, "positions_computed": len(todo), "positions_cached": n_cached}
+    worst = 0.0
+    written = []
+    for b in cfg.bodies:
+        entries, keys = [], []
+        for t in (t for t in tasks if t.body == b.body):
+            if t.key not in results:
+                continue
+            what = f"{t.label}"
+            try:
+                entries.append(fit_position(results[t.key], t.geometry, cfg, what))
+                keys.append(t.key)
+            except WrLayerError as err:
+                failed.append({"body": b.body, "y_mm": t.y_mm, "error": str(err)})
+        body_failed = sorted((f for f in failed if f["body"] == b.body), key=lambda f: f["y_mm"])
+        info = {"positions": len(b.positions_mm), "calibrated": len(entries), "failed": len(body_failed)}
+        if entries:
+            table = LayerTable(_header(cfg, b, keys), entries,
+                               [{"y_mm": f["y_mm"], "error": f["error"]} for f in body_failed],
+                               f"{b.body} layer table")
+            paths = table.write(out_dir / f"{b.body}_layer_table.json", out_dir / f"{b.body}_layer_table.csv")
+            written += [str(p) for p in paths]
+            rel = [e["max_error_mm"] / max(e["fem_points"]["u_mm"]) for e in entries]
+            info.update(max_fit_error_mm=max(e["max_error_mm"] for e in entries),
+                        max_relative_fit_error=max(rel),
+                        max_residual_error_mm=max((abs(x) for e in entries for x in e["residual_error_mm"]),
+                                                  default=0.0),
+                        table=str(out_dir / f"{b.body}_layer_table.json"))
+            worst = max(worst, max(rel))
+            if plots:
+                from calibration.calibration_plots import write_body_plots
+
+                written += [str(p) for p in write_body_plots(table, b, out_dir / "plots")]
+        summary["bodies"][b.body] = info
+    summary.update(failed=failed, worst_relative_fit_error=worst, seconds=time.perf_counter() - t_start,
+                   files=written)
+    atomic_write_text(out_dir / "summary.json", json.dumps(summary, indent=1) + "\n")
+    for f in failed:
+        print(f"error: {f['error']}", file=sys.stderr)
+    n_ok = sum(v["calibrated"] for v in summary["bodies"].values())
+    log(f"calibration: {n_ok} position(s) calibrated ({len(todo)} computed, {n_cached} cached), "
+        f"{len(failed)} failed, {summary['seconds']:.1f} s, worst fit error {100 * worst:.2f} % of max u; "
+        f"tables in {out_dir}")
+    return summary
+
+
+__all__ = ["run_calibration", "run_position", "make_tasks", "fit_position", "PositionTask", "code_hash"]
