@@ -187,15 +187,36 @@ def flexibilities(ell: EquivalentEllipse, creepage: Creepage, rule: str, G_MPa: 
     return tuple(float((1.0 - w) * li + w * single) for li in L)
 
 
+def _semi_ellipse_primitive(xi):
+    """Antiderivative of sqrt(1 - xi^2): (xi sqrt(1 - xi^2) + arcsin xi) / 2."""
+    return 0.5 * (xi * np.sqrt(np.clip(1.0 - xi * xi, 0.0, None)) + np.arcsin(xi))
+
+
 @functools.lru_cache(maxsize=64)
 def _semi_ellipse_cell_means(nx: int) -> np.ndarray:
     """Mean of sqrt(1 - xi^2) over the nx equal cells of xi from +1 down to -1 (exact integrals; read-only)."""
     edges = 1.0 - 2.0 * np.arange(nx + 1) / nx
     edges[-1] = -1.0
-    prim = 0.5 * (edges * np.sqrt(np.clip(1.0 - edges**2, 0.0, None)) + np.arcsin(edges))
+    prim = _semi_ellipse_primitive(edges)
     means = (prim[:-1] - prim[1:]) / (edges[:-1] - edges[1:])
     means.flags.writeable = False
     return means
+
+
+def simplified_theory_fx_ratio(kappa: float) -> float:
+    """|Fx| / (mu N) of the continuum simplified theory, one flexibility L, pure longitudinal creepage (exact).
+
+    Holds for every patch with p_peak(y) proportional to x_l(y): Hertz ellipses and all Kik–Piotrowski patches
+    (eq. 11). Every strip is then self-similar with kappa = |vx| x_l / (L mu p_peak): traction kappa mu p_peak
+    (1 - xi) in adhesion from the leading edge xi = x/x_l = 1 down to xi* = (kappa^2 - 1)/(kappa^2 + 1), where the
+    line meets the bound mu p_peak sqrt(1 - xi^2); Coulomb slip behind. Small kappa: 4 kappa / pi (Kalker's
+    linear theory for L = L1); kappa -> infinity: 1. A reference for the discretised march (tests, benchmark).
+    """
+    k = float(kappa)
+    xs = (k * k - 1.0) / (k * k + 1.0)
+    adhesion = 0.5 * k * (1.0 - xs) ** 2
+    slip = float(_semi_ellipse_primitive(xs) - _semi_ellipse_primitive(-1.0))
+    return (adhesion + slip) / (0.5 * np.pi)
 
 
 @numba.njit(cache=True)
@@ -346,4 +367,5 @@ def sample_on_grid(patch: Patch, result: TangentialResult) -> GridSample:
 
 
 __all__ = ["FLEXIBILITY_RULES", "Creepage", "EquivalentEllipse", "GridSample", "TangentialResult",
-           "equivalent_ellipse", "flexibilities", "sample_on_grid", "solve_tangential"]
+           "equivalent_ellipse", "flexibilities", "sample_on_grid", "simplified_theory_fx_ratio",
+           "solve_tangential"]

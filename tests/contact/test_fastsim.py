@@ -3,9 +3,16 @@ bounds, energy balance, grid sampling and input errors."""
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from contact.fastsim import Creepage, equivalent_ellipse, sample_on_grid, solve_tangential
+from contact.fastsim import (
+    Creepage,
+    equivalent_ellipse,
+    sample_on_grid,
+    simplified_theory_fx_ratio,
+    solve_tangential,
+)
 from contact.kalker_coefficients import creep_coefficients
 from contact.patch import Patch
 from meshes.errors import InputError
@@ -34,12 +41,15 @@ def ellipse(request):
 
 
 def analytic_simplified_theory(patch, vx, L1, mu):
-    """Continuum FASTSIM with one flexibility on an ellipse, pure vx: every strip is self-similar with
-    kappa = vx x_l / (L1 mu p_peak); adhesion up to xi* = (kappa^2 - 1)/(kappa^2 + 1). Returns |Fx| / (mu N)."""
-    k = vx * patch.x_lead_mm[0] / (L1 * mu * patch.p_peak_MPa[0])
-    xs = (k * k - 1) / (k * k + 1)
-    prim = lambda s: 0.5 * (s * np.sqrt(1 - s * s) + np.arcsin(s))  # noqa: E731
-    return (k * (1 - xs) ** 2 / 2 + prim(xs) - prim(-1.0)) / (np.pi / 2)
+    """Exact |Fx| / (mu N) of the continuum march (see simplified_theory_fx_ratio), for p_peak ~ x_l patches."""
+    return simplified_theory_fx_ratio(vx * patch.x_lead_mm[0] / (L1 * mu * patch.p_peak_MPa[0]))
+
+
+def test_simplified_theory_curve_limits():
+    assert simplified_theory_fx_ratio(1e-6) == pytest.approx(4e-6 / np.pi, rel=1e-6)  # linear theory
+    assert simplified_theory_fx_ratio(1e6) == pytest.approx(1.0, abs=1e-6)  # full slip
+    # kappa = 1: xi* = 0, adhesion 1/2 + slip area pi/4 over pi/2
+    assert simplified_theory_fx_ratio(1.0) == pytest.approx((0.5 + np.pi / 4) / (np.pi / 2))
 
 
 def test_linear_theory_on_ellipses(ellipse):
@@ -204,6 +214,19 @@ def test_non_elliptic_patch_runs_and_uses_each_strip_length():
     assert r.x_mm[0, 0] == pytest.approx(3.0 - 3.0 / 60) and r.x_mm[12, 0] == pytest.approx(8.0 - 8.0 / 60)
 
 
+@pytest.mark.parametrize("vx", [3e-4, 1.5e-3, 5e-3])
+def test_kik_piotrowski_patch_follows_the_analytic_curve(vx):
+    """On any Kik-Piotrowski patch p_peak(y) is proportional to x_l(y) (eq. 11), so with one flexibility every strip
+    is self-similar and the exact continuum curve of the ellipse holds for the non-elliptic patch as well."""
+    h = 0.1
+    y = (np.arange(60) - 29.5) * h
+    xl = 9.0 * np.sqrt(np.clip(1 - (np.abs(y) / 3.2) ** 4, 0, None)) + 1.0  # flat-topped, two-sided
+    patch = Patch(h, y, xl, 1500.0 * xl / xl.max())
+    r = solve_tangential(patch, Creepage(vx=vx), G_MPa, NU, MU, nx=320)
+    exact = analytic_simplified_theory(patch, vx, r.L_mm_per_MPa[0], MU)
+    assert -r.Fx_N / (MU * patch.normal_force_N()) == pytest.approx(exact, rel=2e-3)
+
+
 def test_sample_on_grid_matches_the_strips():
     patch = hertz_patch(13.68, 1.925, 1e5, ny=15)
     r = solve_tangential(patch, Creepage(vx=0.002, phi_per_mm=0.0012), G_MPa, NU, MU, nx=80)
@@ -220,14 +243,14 @@ def test_sample_on_grid_matches_the_strips():
 
 
 @pytest.mark.parametrize("kwargs, what", [
-    (dict(friction=-0.1), "friction"), (dict(friction=np.nan), "friction"),
-    (dict(G_MPa=0.0), "G_MPa"), (dict(G_MPa=-5.0), "G_MPa"), (dict(poisson=0.7), "poisson"),
-    (dict(speed_mm_s=0.0), "speed_mm_s"), (dict(nx=1), "nx"), (dict(nx=10.5), "nx"),
-    (dict(flexibility="kalker"), "flexibility"),
+    ({"friction": -0.1}, "friction"), ({"friction": np.nan}, "friction"),
+    ({"G_MPa": 0.0}, "G_MPa"), ({"G_MPa": -5.0}, "G_MPa"), ({"poisson": 0.7}, "poisson"),
+    ({"speed_mm_s": 0.0}, "speed_mm_s"), ({"nx": 1}, "nx"), ({"nx": 10.5}, "nx"),
+    ({"flexibility": "kalker"}, "flexibility"),
 ])
 def test_bad_input_names_the_argument(kwargs, what):
     patch = hertz_patch(6, 4, 1e5, ny=5)
-    args = dict(G_MPa=G_MPa, poisson=NU, friction=MU, speed_mm_s=1000.0, nx=20) | kwargs
+    args = {"G_MPa": G_MPa, "poisson": NU, "friction": MU, "speed_mm_s": 1000.0, "nx": 20} | kwargs
     with pytest.raises(InputError, match=what):
         solve_tangential(patch, Creepage(vx=0.001), **args)
 

@@ -2,7 +2,8 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from contact.kalker_coefficients import G_NODES, NU_NODES, TABLE, creep_coefficients
 from meshes.errors import InputError
