@@ -14,8 +14,9 @@ the table, as CONTACT does.
 Rows: g = 0.1, 0.2, ..., 1.0 for both branches a/b <= 1 and b/a <= 1 (a: semi-axis in the rolling direction).
 Columns: Poisson's ratio nu = 0, 0.25, 0.5.
 
-Interpolation: linear in g between the table rows and piecewise linear in nu between the columns (CONTACT instead
-fits a parabola through 1/C over the three nu columns; the two rules differ by < 0.6 % at nu = 0.28).
+Interpolation: linear in g between the table rows and piecewise linear in nu between the columns. (CONTACT instead
+fits a parabola through 1/C over the three nu columns; at nu = 0.28 the two rules differ by at most 0.6 % for
+a >= b, the wheel/rail case, and 1.7 % for a < b (C23 at a/b = 0.1); over nu in [0, 0.5] by up to 3.8 %.)
 Below g = 0.1 Kalker's asymptotic formulae are used; they join the table at g = 0.1 with a jump of up to 6 %
 (C23 for a/b -> 0, nu = 0.5; the asymptotes are not exact at g = 0.1). Patches of this project (a/b ~ 6-7) lie
 well inside the table.
