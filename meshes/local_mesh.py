@@ -17,7 +17,12 @@ from meshes.gmsh_outline import add_section
 from meshes.gmsh_session import gmsh_session
 from meshes.gmsh_to_skfem import gmsh_to_skfem
 from meshes.mesh_size import GMSH_AXES_3D, GradedSize
-from meshes.section_mesh import DEFAULT_GRADING, check_mesh_inputs, check_quality, default_depth_mm
+from meshes.section_mesh import (
+    DEFAULT_GRADING,
+    check_mesh_inputs,
+    check_quality,
+    default_depth_mm,
+)
 
 #: Default half-model length (mm) along the rolling direction.
 DEFAULT_LENGTH_MM = 30.0
@@ -26,12 +31,14 @@ DEFAULT_LENGTH_MM = 30.0
 def local_mesh(profile, y0: float, h_min: float, h_max: float, length_mm: float = DEFAULT_LENGTH_MM,
                depth_mm: float | None = None, order: int = 1,
                refine_box: tuple[float, float, float] = (0.0, 0.0, 0.0),
-               grading: float = DEFAULT_GRADING) -> skfem.Mesh:
+               grading: float = DEFAULT_GRADING, optimize_netgen: bool = True) -> skfem.Mesh:
     """Tetrahedral mesh (mm) of the section extruded over 0 <= x <= length_mm, refined at (0, y0, z(y0)).
 
     depth_mm: section depth as in :func:`meshes.section_mesh.section_mesh` (default by body).
     refine_box: half-sizes (bx, by, bz) in mm of the box around the load point meshed with h_min (e.g. the
-    contact semi-axes and the depth of interest). Returns ``MeshTet1`` (order 1) or ``MeshTet2`` (order 2).
+    contact semi-axes and the depth of interest). optimize_netgen: also run Gmsh's Netgen optimiser (about 3x
+    the meshing time; raises the worst mean-ratio quality, e.g. 60E1 at h_min 0.5 mm from 0.22 to 0.30).
+    Returns ``MeshTet1`` (order 1) or ``MeshTet2`` (order 2).
     """
     depth_mm = default_depth_mm(profile) if depth_mm is None else depth_mm
     z0 = check_mesh_inputs(profile, y0, h_min, h_max, depth_mm, order, grading)
@@ -54,6 +61,7 @@ def local_mesh(profile, y0: float, h_min: float, h_max: float, length_mm: float 
         gmsh.option.setNumber("Mesh.Algorithm", 6)
         gmsh.option.setNumber("Mesh.Algorithm3D", 1)  # Delaunay
         gmsh.option.setNumber("Mesh.Optimize", 1)
+        gmsh.option.setNumber("Mesh.OptimizeNetgen", int(bool(optimize_netgen)))
         gmsh.model.mesh.generate(3)
         if order == 2:
             gmsh.model.mesh.setOrder(2)

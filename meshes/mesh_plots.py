@@ -15,12 +15,12 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import skfem  # noqa: E402
-from matplotlib.collections import LineCollection  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import skfem
+from matplotlib.collections import LineCollection
 
-from meshes.atomic_write import atomic_write_bytes  # noqa: E402
+from meshes.atomic_write import atomic_write_bytes
 
 BOUNDARY_COLOURS = {"surface": "tab:red", "side": "tab:blue", "fixed": "tab:green", "symmetry": "tab:orange",
                     "end": "tab:gray"}
@@ -107,7 +107,8 @@ def plot_local(mesh: skfem.Mesh, profile, y0: float, path: str | os.PathLike, ti
             plotter.camera.position = load + 3.0 * zoom_mm * view / np.linalg.norm(view)
             plotter.add_text("load region (x = 0 is the symmetry plane)", font_size=10)
     plotter.subplot(0, 0)
-    plotter.add_legend([(n, BOUNDARY_COLOURS.get(n, "k")) for n in names], bcolor="white", size=(0.16, 0.18), loc="upper right")
+    plotter.add_legend([(n, BOUNDARY_COLOURS.get(n, "k")) for n in names], bcolor="white", size=(0.16, 0.18),
+                       loc="upper right")
     image = plotter.screenshot(None, return_img=True)
     plotter.close()
     fig = plt.figure(figsize=(image.shape[1] / 150, image.shape[0] / 150))
@@ -118,8 +119,8 @@ def plot_local(mesh: skfem.Mesh, profile, y0: float, path: str | os.PathLike, ti
 #: The meshes drawn by ``python -m meshes plots``: (profile, y0 mm, 2D h_min/h_max/refine radius mm,
 #: 3D h_min/h_max/length mm/refine box half-sizes mm).
 DEFAULT_PLOTS = (("60E1", 0.0), ("S1002", 0.0))
-DEFAULT_2D = dict(h_min=0.3, h_max=5.0, refine_radius_mm=2.0)
-DEFAULT_3D = dict(h_min=0.5, h_max=8.0, length_mm=30.0, refine_box=(3.0, 4.0, 2.0))
+DEFAULT_2D = {"h_min": 0.3, "h_max": 5.0, "refine_radius_mm": 2.0}
+DEFAULT_3D = {"h_min": 0.5, "h_max": 8.0, "length_mm": 30.0, "refine_box": (3.0, 4.0, 2.0)}
 
 
 def write_default_plots(out_dir: str | os.PathLike) -> list[Path]:

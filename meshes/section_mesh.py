@@ -78,8 +78,9 @@ def section_mesh(profile, y0: float, h_min: float, h_max: float, depth_mm: float
     """Triangle mesh (mm) of the profile's cross-section, refined at (y0, z(y0)).
 
     h_min, h_max: element sizes (mm) at the load point and far away; depth_mm: section depth (rail: cut at
-    z = -depth_mm, wheel: rim cut at z = +depth_mm; default :data:`DEFAULT_DEPTH_MM`); refine_radius_mm: radius (mm) of the disc
-    around the load point meshed with h_min; grading: size growth per mm of distance beyond it.
+    z = -depth_mm, wheel: rim cut at z = +depth_mm; default :data:`DEFAULT_DEPTH_MM`); refine_radius_mm:
+    radius (mm) of the disc around the load point meshed with h_min; grading: size growth per mm of distance
+    beyond it.
     Boundaries: "surface", "side", "fixed". Deterministic: the same arguments give identical arrays.
     """
     depth_mm = default_depth_mm(profile) if depth_mm is None else depth_mm

@@ -4,7 +4,10 @@ import numpy as np
 import skfem
 
 from meshes.__main__ import main
-from meshes.mesh_plots import write_default_plots
+from meshes.local_mesh import local_mesh
+from meshes.mesh_plots import plot_local, plot_section
+from meshes.profiles import get_profile
+from meshes.section_mesh import section_mesh
 
 
 def test_mesh_command_writes_a_mesh(tmp_path, capsys):
@@ -29,8 +32,12 @@ def test_mesh_command_reports_bad_input_in_one_line(tmp_path, capsys):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_default_plots_are_written(tmp_path):
-    paths = write_default_plots(tmp_path / "plots")
-    assert len(paths) == 4
+def test_plots_are_written(tmp_path):
+    """The pictures of ``python -m meshes plots`` (there with finer meshes and both profiles)."""
+    wheel = get_profile("S1002")
+    paths = [plot_section(section_mesh(wheel, -30.0, 1.0, 6.0), wheel, -30.0, tmp_path / "s.png"),
+             plot_local(local_mesh(wheel, -30.0, 2.0, 8.0, length_mm=10.0, optimize_netgen=False), wheel, -30.0,
+                        tmp_path / "l.png")]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["l.png", "s.png"]
     for path in paths:
         assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 20_000

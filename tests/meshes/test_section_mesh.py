@@ -6,7 +6,12 @@ import pytest
 import skfem
 
 from meshes.errors import InputError
-from meshes.mesh_quality import edge_lengths_at, element_quality, mesh_measure, surface_deviation_mm
+from meshes.mesh_quality import (
+    edge_lengths_at,
+    element_quality,
+    mesh_measure,
+    surface_deviation_mm,
+)
 from meshes.mesh_size import GradedSize
 from meshes.profiles import get_profile, outline_area
 from meshes.section_mesh import DEFAULT_GRADING, default_depth_mm, section_mesh
@@ -23,7 +28,7 @@ def case(request):
 
 
 def test_area_matches_the_outline(case):
-    profile, y0, mesh = case
+    profile, _, mesh = case
     depth = default_depth_mm(profile)
     exact = profile.section_area(depth) if profile.body == "rail" else outline_area(profile.section_outline(depth))
     assert mesh_measure(mesh) == pytest.approx(exact, rel=5e-3)
@@ -100,14 +105,14 @@ def test_refine_radius_keeps_h_min_inside_the_disc():
 
 
 @pytest.mark.parametrize("kwargs, what", [
-    (dict(h_min=0.0), "h_min"), (dict(h_min=-1.0), "h_min"), (dict(h_max=0.0), "h_max"),
-    (dict(h_min=3.0, h_max=2.0), "h_min"), (dict(h_min=float("nan")), "h_min"), (dict(y0=500.0), "y0"),
-    (dict(order=3), "order"), (dict(grading=0.0), "grading"), (dict(depth_mm=-5.0), "depth_mm"),
-    (dict(depth_mm=30.0), "depth_mm"),  # 60E1: above the head/web junction
-    (dict(refine_radius_mm=-1.0), "refine_radius_mm"),
+    ({"h_min": 0.0}, "h_min"), ({"h_min": -1.0}, "h_min"), ({"h_max": 0.0}, "h_max"),
+    ({"h_min": 3.0, "h_max": 2.0}, "h_min"), ({"h_min": float("nan")}, "h_min"), ({"y0": 500.0}, "y0"),
+    ({"order": 3}, "order"), ({"grading": 0.0}, "grading"), ({"depth_mm": -5.0}, "depth_mm"),
+    ({"depth_mm": 30.0}, "depth_mm"),  # 60E1: above the head/web junction
+    ({"refine_radius_mm": -1.0}, "refine_radius_mm"),
 ])
 def test_bad_inputs_raise_input_error(kwargs, what):
-    args = dict(profile=get_profile("60E1"), y0=0.0, h_min=0.5, h_max=5.0) | kwargs
+    args = {"profile": get_profile("60E1"), "y0": 0.0, "h_min": 0.5, "h_max": 5.0} | kwargs
     with pytest.raises(InputError) as err:
         section_mesh(**args)
     assert err.value.what == what
