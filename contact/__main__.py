@@ -1,0 +1,130 @@
+"""Command line of the contact solver.
+
+    python -m contact simulate SCENE --out DIR [--json] [--plots]
+    python -m contact simulate-all SCENES_DIR --out OUT [--plots]
+
+``simulate`` writes ``DIR/result.json`` (and pictures with ``--plots``) atomically: on any error nothing is
+written. ``simulate-all`` runs every ``*.toml`` of the folder into ``OUT/<scene-stem>/``, then prints a table like
+the paper's Table 1 and writes it to ``OUT/table.md`` and ``OUT/table.csv``; a failing scene is reported in one
+line, the others still run, and the exit code is non-zero if any failed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any, Sequence
+
+from meshes.atomic_write import atomic_output_dir, atomic_write_text
+from meshes.errors import InputError, WrLayerError, cli_guard
+
+
+def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = False) -> dict[str, Any]:
+    """Run one scene file into ``out_dir`` (result.json + pictures, atomically); returns the result dict."""
+    from contact.result_io import result_text
+    from contact.scene import read_scene_data, scene_type
+
+    scene_path, data = read_scene_data(scene_path)
+    kind = scene_type(data, scene_path)
+    out_dir = Path(out_dir)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise InputError(f"--out {out_dir}", "exists and is not a folder")
+    if kind == "wheel_rail":
+        try:
+            from contact.wheel_rail_scene import run_wheel_rail_scene
+        except ImportError:
+            raise InputError(f"{scene_path.name}: type", "scene type 'wheel_rail' not available "
+                             "(contact.wheel_rail_scene missing)") from None
+        with atomic_output_dir(out_dir) as tmp:
+            result = run_wheel_rail_scene(data, scene_path, tmp, plots)
+            (tmp / "result.json").write_text(result_text(result), encoding="utf-8")
+        return result
+
+    from contact.scene import parse_scene
+    from contact.simulation import simulate
+
+    scene = parse_scene(data, scene_path)
+    run = simulate(scene)
+    text = result_text(run.result)  # serialise before anything is written (a failure leaves no file)
+    with atomic_output_dir(out_dir) as tmp:
+        if plots:
+            from contact.contact_plots import write_scene_plots
+
+            run.result["pictures"] = [p.name for p in write_scene_plots(run, tmp)]
+            text = result_text(run.result)
+        (tmp / "result.json").write_text(text, encoding="utf-8")
+    return run.result
+
+
+def _simulate(args: argparse.Namespace) -> int:
+    result = run_scene_file(args.scene, args.out, plots=args.plots)
+    if args.json:
+        from contact.result_io import result_text
+
+        sys.stdout.write(result_text(result))
+    else:
+        print(f"{Path(args.scene).name}: wrote {Path(args.out) / 'result.json'}")
+    return 0
+
+
+def _simulate_all(args: argparse.Namespace) -> int:
+    from contact.result_table import results_table
+
+    folder = Path(args.scenes_dir)
+    if not folder.is_dir():
+        raise InputError(str(folder), "no such scenes folder")
+    scenes = sorted(folder.glob("*.toml"))
+    if not scenes:
+        raise InputError(str(folder), "holds no *.toml scene files")
+    out = Path(args.out)
+    results: dict[str, dict[str, Any]] = {}
+    failed = []
+    for path in scenes:
+        try:
+            results[path.stem] = run_scene_file(path, out / path.stem, plots=args.plots)
+            print(f"{path.name}: ok -> {out / path.stem / 'result.json'}", flush=True)
+        except WrLayerError as err:
+            failed.append(path.name)
+            print(f"error: {path.name}: {err}", file=sys.stderr, flush=True)
+        except Exception as err:  # a programming error in one scene must not stop the batch
+            failed.append(path.name)
+            print(f"error: {path.name}: internal error {type(err).__name__}: {err}", file=sys.stderr, flush=True)
+    if results:
+        markdown, csv = results_table(results)
+        atomic_write_text(out / "table.md", markdown)
+        atomic_write_text(out / "table.csv", csv)
+        print()
+        print(markdown)
+    if failed:
+        print(f"error: {len(failed)} of {len(scenes)} scenes failed: {', '.join(failed)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m contact", description="Kik–Piotrowski contact with the "
+                                     "Prandtl-body layer, FASTSIM, passes to shakedown (units mm, N, MPa, s).")
+    sub = parser.add_subparsers(dest="command", required=True)
+    one = sub.add_parser("simulate", help="run one scene file")
+    one.add_argument("scene", help="scene TOML file")
+    one.add_argument("--out", required=True, help="output folder (result.json, pictures)")
+    one.add_argument("--json", action="store_true", help="also print the result JSON")
+    one.add_argument("--plots", action="store_true", help="write PNG pictures")
+    one.set_defaults(func=_simulate)
+    many = sub.add_parser("simulate-all", help="run every *.toml in a folder and print a Table 1")
+    many.add_argument("scenes_dir", help="folder of scene TOML files")
+    many.add_argument("--out", required=True, help="output folder (one subfolder per scene, table.md, table.csv)")
+    many.add_argument("--plots", action="store_true", help="write PNG pictures")
+    many.set_defaults(func=_simulate_all)
+    return parser
+
+
+@cli_guard
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    return args.func(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
