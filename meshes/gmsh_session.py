@@ -15,6 +15,8 @@ from collections.abc import Iterator
 
 import gmsh
 
+from meshes.errors import ConvergenceError
+
 _LOCK = threading.RLock()
 _COUNTER = itertools.count()
 
@@ -50,3 +52,14 @@ def gmsh_session(name: str = "wrlayer") -> Iterator[object]:
                 with contextlib.suppress(Exception):
                     gmsh.model.setCurrent(model)
                     gmsh.model.remove()
+
+
+def generate(dim: int, order: int = 1) -> None:
+    """Mesh the current model up to ``dim`` with elements of ``order`` (1 or 2; order 2 puts the mid-edge
+    nodes on the exact geometry). A Gmsh failure becomes ConvergenceError."""
+    try:
+        gmsh.model.mesh.generate(dim)
+        if order == 2:
+            gmsh.model.mesh.setOrder(2)
+    except Exception as err:  # Gmsh raises plain Exception with its error message
+        raise ConvergenceError(f"Gmsh could not mesh the {dim}D model: {err}") from err

@@ -14,7 +14,7 @@ import skfem
 
 from meshes.errors import require
 from meshes.gmsh_outline import add_section
-from meshes.gmsh_session import gmsh_session
+from meshes.gmsh_session import generate, gmsh_session
 from meshes.gmsh_to_skfem import gmsh_to_skfem
 from meshes.mesh_size import GMSH_AXES_3D, GradedSize
 from meshes.section_mesh import (
@@ -62,9 +62,7 @@ def local_mesh(profile, y0: float, h_min: float, h_max: float, length_mm: float 
         gmsh.option.setNumber("Mesh.Algorithm3D", 1)  # Delaunay
         gmsh.option.setNumber("Mesh.Optimize", 1)
         gmsh.option.setNumber("Mesh.OptimizeNetgen", int(bool(optimize_netgen)))
-        gmsh.model.mesh.generate(3)
-        if order == 2:
-            gmsh.model.mesh.setOrder(2)
+        generate(3, order)
         groups = {n: [s for s, c in zip(lateral, section.curve_names) if c == n]
                   for n in ("surface", "side", "fixed")}
         groups.update(symmetry=[section.surface], end=[end])

@@ -15,7 +15,7 @@ import skfem
 
 from meshes.errors import ConvergenceError, InputError, require
 from meshes.gmsh_outline import add_section
-from meshes.gmsh_session import gmsh_session
+from meshes.gmsh_session import generate, gmsh_session
 from meshes.gmsh_to_skfem import gmsh_to_skfem
 from meshes.mesh_quality import element_quality
 from meshes.mesh_size import GMSH_AXES_2D, GradedSize
@@ -53,7 +53,10 @@ def check_mesh_inputs(profile, y0: float, h_min: float, h_max: float, depth_mm: 
     require(order in (1, 2) and not isinstance(order, bool), "order", f"must be 1 or 2, got {order!r}")
     _positive(grading, "grading")
     depth_mm = _positive(depth_mm, "depth_mm")
-    y0 = float(y0)
+    try:
+        y0 = float(y0)
+    except (TypeError, ValueError):
+        raise InputError("y0", f"must be a number of mm, got {y0!r}") from None
     profile.check_y(y0, "y0")
     z0 = float(profile.z(y0))
     room = depth_mm + z0 if profile.body == "rail" else depth_mm - z0
@@ -94,9 +97,7 @@ def section_mesh(profile, y0: float, h_min: float, h_max: float, depth_mm: float
         gmsh.model.geo.synchronize()
         size.apply(GMSH_AXES_2D, [(r, "CurvesList", [c]) for r, c in zip(section.curve_radii, section.curves)])
         gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles
-        gmsh.model.mesh.generate(2)
-        if order == 2:
-            gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the exact curves
+        generate(2, order)
         names = ("surface", "side", "fixed")
         mesh = gmsh_to_skfem(2, {n: section.curves_named(n) for n in names}, axes=[0, 1])
     return check_quality(mesh)
