@@ -184,8 +184,8 @@ class HertzLoad:
     centre_x_mm: float = 0.0
     z0_mm: float | None = None
     boundary: str = "surface"
-    n_sub: int = 8
-    degree: int = 6
+    n_sub: int | None = None     # facet subdivisions for the force integral (default 8 in 2D, 4 in 3D)
+    degree: int = 4
 
     def __post_init__(self) -> None:
         require(np.isfinite(self.y0_mm), "y0_mm", f"must be finite, got {self.y0_mm}")
@@ -196,7 +196,7 @@ class HertzLoad:
         """Analytic resultant per MPa of p0: pi/2 b (N/mm, 2D) or 2/3 pi a b (N, 3D)."""
         return np.pi / 2 * self.b_mm if self.a_mm is None else 2.0 / 3.0 * np.pi * self.a_mm * self.b_mm
 
-    def prepare(self, basis: skfem.CellBasis) -> PreparedLoad:
+    def _centre(self, basis: skfem.CellBasis):
         mesh = basis.mesh
         dim = mesh.dim()
         require((dim == 3) == (self.a_mm is not None), "a_mm",
@@ -204,6 +204,18 @@ class HertzLoad:
         facets = _boundary_facets(mesh, self.boundary)
         lateral = np.array([self.y0_mm]) if dim == 2 else np.array([self.centre_x_mm, self.y0_mm])
         centre, n_out, facet = _surface_point(mesh, facets, lateral, self.z0_mm)
+        return facets, centre, n_out, facet
+
+    def centre_only(self, basis: skfem.CellBasis) -> PreparedLoad:
+        """The load centre and its displacement probe without the (costlier) nodal forces (force = None)."""
+        _, centre, n_out, facet = self._centre(basis)
+        return PreparedLoad(None, centre, n_out, _probe(basis, centre, int(basis.mesh.f2t[0, facet])))
+
+    def prepare(self, basis: skfem.CellBasis) -> PreparedLoad:
+        """Nodal forces per MPa of p0, centre point, outward normal and centre probe on ``basis``."""
+        mesh = basis.mesh
+        dim = mesh.dim()
+        facets, centre, n_out, facet = self._centre(basis)
         if dim == 2:
             t_hat = np.array([-n_out[1], n_out[0]])
             t_hat *= 1.0 if (t_hat[0] > 0 or (t_hat[0] == 0 and t_hat[1] > 0)) else -1.0
@@ -215,6 +227,7 @@ class HertzLoad:
             t_hat = np.cross(n_out, s_hat)
             t_hat *= 1.0 if t_hat[1] >= 0 else -1.0
         reach = max(self.b_mm, self.a_mm or 0.0)
+        n_sub = self.n_sub or (8 if dim == 2 else 4)
         fmid = mesh.p[:, mesh.facets[:, facets]].mean(axis=1)
         fsize = np.max(np.linalg.norm(mesh.p[:, mesh.facets[:, facets]] - fmid[:, None, :], axis=0), axis=0)
         near = facets[np.linalg.norm(fmid.T - centre, axis=1) <= reach * 1.05 + fsize]
@@ -227,7 +240,7 @@ class HertzLoad:
                 q -= (np.einsum("i,i...->...", s_hat, d) / self.a_mm) ** 2
             return np.sqrt(np.clip(q, 0.0, None))
 
-        force = _nodal_forces(basis, near, pressure, self.n_sub, self.degree)
+        force = _nodal_forces(basis, near, pressure, n_sub, self.degree)
         return PreparedLoad(force, centre, n_out, _probe(basis, centre, int(mesh.f2t[0, facet])))
 
 

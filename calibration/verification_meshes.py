@@ -3,8 +3,8 @@
 ``graded_axis``: uniform spacing ``h`` on [0, fine] then geometric growth (ratio ``growth``) up to ``length``.
 ``hertz_block``: quarter (3D: x >= 0, y >= 0) or half (2D: y >= 0) block under a surface at z = 0, boundaries
 "surface" (z = 0), "fixed" (bottom), "symmetry" (x = 0, 3D), "sym_y" (y = 0), "side" (the other sides).
-``quarter_annulus``: plane-strain thick cylinder a <= r <= b, boundaries "inner", "outer", "sym_x" (y = 0 line,
-u_y... see docstring), "sym_y".
+``quarter_annulus``: plane-strain thick cylinder a <= r <= b, boundaries "inner", "outer", "sym_y" (y = 0), "sym_z" (z = 0).
+``hertz_block_gmsh``: the same block as an unstructured gmsh mesh graded away from the load centre.
 """
 
 from __future__ import annotations
@@ -70,3 +70,61 @@ def quarter_annulus(a: float, b: float, n_r: int, n_theta: int, order: int = 2, 
     rad = lambda x: np.hypot(x[0], x[1])  # noqa: E731
     return m.with_boundaries({"inner": lambda x: rad(x) < a + 0.01 * (r[1] - a), "outer": lambda x: rad(x) > b - 0.01 * (b - r[-2]),
                               "sym_y": lambda x: np.abs(x[0]) < tol, "sym_z": lambda x: np.abs(x[1]) < tol})
+
+
+def hertz_block_gmsh(h: float, fine: float, length: float, order: int = 2, dim: int = 3,
+                     coarse_fraction: float = 0.2) -> skfem.Mesh:
+    """Like :func:`hertz_block` but unstructured (gmsh): size ``h`` within ``fine`` of the origin, growing
+    linearly to ``coarse_fraction * length`` at distance ``length``. Far fewer elements than the tensor grid."""
+    import gmsh
+
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.NumThreads", 1)
+        gmsh.model.add("hertz_block")
+        occ = gmsh.model.occ
+        if dim == 3:
+            occ.addBox(0.0, 0.0, -length, length, length, length)
+        else:
+            occ.addRectangle(0.0, -length, 0.0, length, length)
+        occ.synchronize()
+        origin = gmsh.model.getEntitiesInBoundingBox(-1e-6, -1e-6, -1e-6, 1e-6, 1e-6, 1e-6, 0)
+        f = gmsh.model.mesh.field
+        dist = f.add("Distance")
+        f.setNumbers(dist, "PointsList", [tag for _, tag in origin])
+        thr = f.add("Threshold")
+        f.setNumber(thr, "InField", dist)
+        f.setNumber(thr, "SizeMin", h)
+        f.setNumber(thr, "SizeMax", coarse_fraction * length)
+        f.setNumber(thr, "DistMin", fine)
+        f.setNumber(thr, "DistMax", length)
+        f.setAsBackgroundMesh(thr)
+        for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
+            gmsh.option.setNumber(f"Mesh.{opt}", 0)
+        gmsh.model.mesh.generate(dim)
+        node_tags, coords, _ = gmsh.model.mesh.getNodes()
+        etype = 4 if dim == 3 else 2
+        _, elem_nodes = gmsh.model.mesh.getElementsByType(etype)
+    finally:
+        gmsh.finalize()
+    index = np.zeros(int(node_tags.max()) + 1, dtype=np.int64)
+    index[node_tags.astype(np.int64)] = np.arange(len(node_tags))
+    p = coords.reshape(-1, 3).T[:dim]
+    t = index[elem_nodes.astype(np.int64)].reshape(-1, dim + 1).T
+    used = np.unique(t)
+    remap = np.full(p.shape[1], -1)
+    remap[used] = np.arange(len(used))
+    p, t = np.ascontiguousarray(p[:, used]), np.ascontiguousarray(remap[t])
+    tol = 1e-9 * length
+    if dim == 3:
+        m = skfem.MeshTet1(p, t)
+        m = skfem.MeshTet2.from_mesh(m) if order == 2 else m
+        return m.with_boundaries({
+            "surface": lambda x: x[2] > -tol, "fixed": lambda x: x[2] < -length + tol,
+            "symmetry": lambda x: x[0] < tol, "sym_y": lambda x: x[1] < tol,
+            "side": lambda x: (x[0] > length - tol) | (x[1] > length - tol)})
+    m = skfem.MeshTri1(p, t)
+    m = skfem.MeshTri2.from_mesh(m) if order == 2 else m
+    return m.with_boundaries({"surface": lambda x: x[1] > -tol, "fixed": lambda x: x[1] < -length + tol,
+                              "sym_y": lambda x: x[0] < tol, "side": lambda x: x[0] > length - tol})
