@@ -1,6 +1,8 @@
 """A table like the paper's Table 1 from several scene results (markdown and CSV).
 
-Rows: patch length, width, area, approach delta, F_x, F_y, p_max, W_T max, P_T max. Columns: one per scene (its
+Rows: patch length, width, area, approach delta, F_x, F_y, p_max, W_T max, P_T max (Table 1), then the layer
+displacement u(0) at the reference point under load and the residual u_p(0) the pass left there (reported in the
+paper's text for the first pass). Columns: one per scene (its
 last pass); scenes with several passes also get their first pass; scenes with a ``[reference]`` (published values)
 get a column with those beside.
 """
@@ -22,6 +24,8 @@ ROWS = (
     ("p_max", "MPa", "p_max_MPa", 1.0, 0),
     ("W_T max", "N/mm", "WT_max", 1.0, 2),
     ("P_T max", "W/mm^2", "PT_max_W_per_mm2", 1.0, 2),
+    ("layer u(0) under load", "mm", "u0_mm", 1.0, 4),
+    ("residual u_p(0) of the pass", "mm", "up0_mm", 1.0, 4),
 )
 
 

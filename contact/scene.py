@@ -35,7 +35,6 @@ from typing import Any
 import numpy as np
 
 from contact.characteristic import Characteristic
-from contact.fastsim import FLEXIBILITY_RULES
 from meshes.errors import InputError
 
 SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
@@ -337,6 +336,8 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
                                     friction=keys.number("friction", ge=0.0),
                                     speed_mm_s=keys.number("speed_mm_s", 1000.0, gt=0.0),
                                     flexibility=keys.text("flexibility", "three"))
+        from contact.fastsim import FLEXIBILITY_RULES  # lazy: fastsim compiles with numba
+
         if tangential.flexibility not in FLEXIBILITY_RULES:
             raise keys.error("flexibility", f"must be one of {', '.join(FLEXIBILITY_RULES)}, "
                              f"got {tangential.flexibility!r}")

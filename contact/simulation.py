@@ -183,6 +183,17 @@ def pass_dict(snapshot: PassSnapshot, record: Any = None, timings: dict[str, flo
     }
 
 
+def reference_deviation(reference: dict[str, Any], last: dict[str, Any]) -> dict[str, float]:
+    """Relative deviation (value - reference) / |reference| of the last pass from the scene's [reference] numbers
+    (and ``passes``: the pass count); empty without a reference."""
+    out = {}
+    for key, ref in reference.items():
+        value = last["pass"] if key == "passes" else last.get(key)
+        if isinstance(ref, float) and ref != 0.0 and value is not None:
+            out[key] = (float(value) - ref) / abs(ref)
+    return out
+
+
 # ---------------------------------------------------------------------------------------------------- the run
 def normal_problem(scene: Scene) -> NormalProblem:
     sep, load, mat, met = scene.separation, scene.load, scene.material, scene.method
@@ -245,6 +256,7 @@ def simulate(scene: Scene) -> SimulationRun:
         "n_passes": len(history),
         "shakedown_pass": shakedown,
         "passes": history,
+        "reference_deviation": reference_deviation(scene.reference, history[-1]),
         "strip_grid": {"y_mm": y, "separation_before_mm": f_before, "separation_after_mm": f_after,
                        "residual_mm": residual},
         "solver": {"total_s": time.perf_counter() - t_start,

@@ -56,6 +56,9 @@ def test_layer_trends_of_table_1(paper):
     assert layer[0]["p_max_MPa"] < no[0]["p_max_MPa"]
     assert sd[-1]["area_mm2"] > sd[0]["area_mm2"] and sd[-1]["p_max_MPa"] < sd[0]["p_max_MPa"]
     assert sd[-1]["p_max_MPa"] == pytest.approx(1190.0, rel=0.01)
+    dev = paper["shakedown"]["reference_deviation"]
+    assert dev["p_max_MPa"] == pytest.approx((sd[-1]["p_max_MPa"] - 1190.0) / 1190.0)
+    assert dev["passes"] == pytest.approx((len(sd) - 19) / 19)
     assert np.all(np.diff([p["area_mm2"] for p in sd]) > 0)
     for key in ("length_mm", "width_mm", "area_mm2", "delta_mm", "p_max_MPa", "u0_mm", "up0_mm"):
         assert sd[0][key] == pytest.approx(layer[0][key], rel=1e-12)  # pass 1 of both scenes is the same
@@ -144,7 +147,8 @@ def test_simulate_all_table_and_failures(tmp_path, capsys):
     assert header == ["quantity", "unit", "hertz_check", "hertz_check: Hertz", "paper_shakedown (pass 1)",
                       f"paper_shakedown (pass {n})", "paper_shakedown: paper Table 1"]
     assert [r[0] for r in rows[1:]] == ["patch length", "patch width", "area", "approach delta", "F_x", "F_y",
-                                        "p_max", "W_T max", "P_T max"]
+                                        "p_max", "W_T max", "P_T max", "layer u(0) under load",
+                                        "residual u_p(0) of the pass"]
     p_max = dict(zip(header, rows[7]))
     assert float(p_max["paper_shakedown: paper Table 1"]) == 1190.0
     last = json.loads((out / "paper_shakedown" / "result.json").read_text())["passes"][-1]
