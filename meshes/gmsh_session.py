@@ -3,7 +3,8 @@
 Gmsh keeps one global state per process, so sessions are serialised with a lock. The session initialises Gmsh
 without its SIGINT handler, silences the terminal, fixes the random seed and uses one thread (same inputs ->
 identical mesh), and always finalises -- also when the block raises -- so that the next call starts clean.
-If Gmsh was already initialised by the caller, the session only adds (and afterwards removes) its own model.
+If Gmsh was already initialised by the caller, the session only adds (and afterwards removes) its own model and
+makes the caller's model current again; Gmsh options set by the session (``General.*``, ``Mesh.*``) stay set.
 """
 
 from __future__ import annotations
@@ -40,6 +41,7 @@ def gmsh_session(name: str = "wrlayer") -> Iterator[object]:
         if owner:
             gmsh.initialize(readConfigFiles=False, interruptible=False)
         model = f"{name}-{next(_COUNTER)}"
+        previous = None if owner else gmsh.model.getCurrent()
         try:
             for key, value in SESSION_OPTIONS.items():
                 gmsh.option.setNumber(key, value)
@@ -52,6 +54,7 @@ def gmsh_session(name: str = "wrlayer") -> Iterator[object]:
                 with contextlib.suppress(Exception):
                     gmsh.model.setCurrent(model)
                     gmsh.model.remove()
+                    gmsh.model.setCurrent(previous)
 
 
 def generate(dim: int, order: int = 1) -> None:

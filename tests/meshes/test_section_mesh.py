@@ -4,6 +4,8 @@ import gmsh
 import numpy as np
 import pytest
 import skfem
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from meshes.errors import InputError
 from meshes.mesh_quality import (
@@ -143,3 +145,27 @@ def test_gmsh_is_finalised_after_an_error_and_the_next_call_works():
         section_mesh(_BrokenOutline(profile), 0.0, 1.0, 5.0)
     assert not gmsh.isInitialized()
     assert section_mesh(profile, 0.0, 1.0, 5.0).nelements > 0
+
+
+def test_session_leaves_a_caller_initialised_gmsh_alone():
+    gmsh.initialize(readConfigFiles=False, interruptible=False)
+    try:
+        gmsh.model.add("caller")
+        models = gmsh.model.list()
+        section_mesh(get_profile("S1002"), 0.0, 1.0, 5.0)
+        assert gmsh.isInitialized()
+        assert gmsh.model.list() == models
+        assert gmsh.model.getCurrent() == "caller"
+    finally:
+        gmsh.finalize()
+
+
+@settings(max_examples=8, deadline=None)
+@given(name=st.sampled_from(["60E1", "54E1", "S1002"]), where=st.floats(0.0, 1.0), h_min=st.floats(0.15, 1.0))
+def test_any_load_position_gives_a_good_mesh(name, where, h_min):
+    profile = get_profile(name)
+    y0 = profile.y_min + where * (profile.y_max - profile.y_min)
+    mesh = section_mesh(profile, y0, h_min, 6.0)
+    assert 0.5 * h_min <= edge_lengths_at(mesh, [y0, float(profile.z(y0))]).mean() <= 1.5 * h_min
+    assert element_quality(mesh).min() > 0.3
+    assert surface_deviation_mm(mesh, profile) < 1e-3
