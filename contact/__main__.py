@@ -54,7 +54,20 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
             run.result["pictures"] = [p.name for p in write_scene_plots(run, tmp)]
             text = result_text(run.result)
         (tmp / "result.json").write_text(text, encoding="utf-8")
+        written = {p.name for p in tmp.iterdir()}
+    _remove_stale_pictures(out_dir, written)
     return run.result
+
+
+def _remove_stale_pictures(out_dir: Path, keep: set[str]) -> None:
+    """Pictures of an earlier run into the same folder that this run did not write (another pass count, no
+    --plots) would describe another result: remove them."""
+    from contact.result_io import PICTURE_PATTERNS
+
+    for pattern in PICTURE_PATTERNS:
+        for path in out_dir.glob(pattern):
+            if path.name not in keep:
+                path.unlink(missing_ok=True)
 
 
 def _simulate(args: argparse.Namespace) -> int:

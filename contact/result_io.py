@@ -19,6 +19,8 @@ import numpy as np
 from meshes.atomic_write import atomic_write_text
 
 RESULT_NAME = "result.json"
+#: File-name patterns of the pictures of :mod:`contact.contact_plots` (stale ones are removed by the command line).
+PICTURE_PATTERNS = ("patch_pass*.png", "separation.png", "shakedown.png")
 
 #: Units of the result fields (keys without a unit suffix are listed here too).
 UNITS = {
@@ -31,6 +33,7 @@ UNITS = {
     "u0_mm": "mm (layer displacement at the reference point under load, both layers)",
     "up0_mm": "mm (residual layer displacement at the reference point added by this pass)",
     "timings": "s (wall clock)",
+    "dissipated_energy_max_N_per_mm": "N/mm (= N mm/mm^2: largest accumulated slider friction work of an element)",
 }
 
 

@@ -178,6 +178,7 @@ def pass_dict(snapshot: PassSnapshot, record: Any = None, timings: dict[str, flo
         "PT_max_W_per_mm2": max(p["PT_max_W_per_mm2"] for p in patches) if has_t else None,
         "u0_mm": sol.u0_mm, "up0_mm": up0, "up_max_mm": up_max, "elastic": bool(sol.elastic),
         "shakedown": bool(record is not None and record.shakedown),
+        "dissipated_energy_max_N_per_mm": {} if record is None else dict(record.dissipated_energy_N_per_mm),
         "n_patches": len(patches), "normal_force_N": sol.normal_force_N, "residual_N": sol.residual_N,
         "iterations": dict(sol.iterations), "timings_s": timings or {}, "patches": patches,
     }

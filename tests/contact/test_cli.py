@@ -116,6 +116,16 @@ def test_json_flag_prints_the_result_and_plots_are_written(tmp_path, capsys):
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary folders left
 
 
+def test_rerun_without_plots_removes_the_old_pictures(tmp_path):
+    out = tmp_path / "out"
+    first = run(SCENES / "hertz_check.toml", out, "--plots")
+    assert set(first["pictures"]) == {"patch_pass1.png", "separation.png"}
+    (out / "notes.txt").write_text("user file")
+    second = run(SCENES / "hertz_check.toml", out)
+    assert "pictures" not in second
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt", "result.json"]
+
+
 def test_failed_run_leaves_the_previous_output_untouched(tmp_path):
     out = tmp_path / "out"
     run(SCENES / "hertz_check.toml", out)
