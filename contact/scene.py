@@ -39,6 +39,8 @@ from meshes.errors import InputError
 
 SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
 BODIES = ("wheel", "rail")
+#: Largest number of lateral strips (separation table width / grid_mm) a scene may ask for.
+MAX_STRIPS = 20000
 #: Keys allowed in [reference]: published values of the last pass (Table 1 rows), units in the names.
 REFERENCE_KEYS = ("source", "length_mm", "width_mm", "area_mm2", "delta_mm", "Fx_N", "Fy_N", "p_max_MPa",
                   "WT_max", "PT_max_W_per_mm2", "passes", "u0_mm", "up0_mm")
@@ -322,6 +324,13 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
                             fastsim_cells=keys.integer("fastsim_cells", 60, ge=2))
 
     separation = _parse_separation(top.sub("separation"), method.grid_mm)
+    n_strips = (separation.y_mm[-1] - separation.y_mm[0]) / method.grid_mm
+    if n_strips > MAX_STRIPS:
+        raise InputError(f"{file}: method.grid_mm", f"{method.grid_mm:g} mm gives {n_strips:.0f} strips over the "
+                         f"separation table (at most {MAX_STRIPS}): use a coarser grid or a shorter table")
+    if n_strips < 2:
+        raise InputError(f"{file}: method.grid_mm", f"{method.grid_mm:g} mm is wider than the separation table "
+                         f"({separation.y_mm[0]:g}..{separation.y_mm[-1]:g} mm)")
     hashes = [hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else ""]
     layer = None
     if (keys := top.sub("layer")) is not None:
@@ -368,8 +377,10 @@ def _parse_separation(keys: _Keys, grid_mm: float) -> SeparationSpec:
         radius = keys.number("lateral_radius_mm", gt=0.0)
         half = keys.number("half_width_mm", 10.0, gt=0.0)
         step = keys.number("step_mm", grid_mm / 4.0, gt=0.0)
-        if half / step > 1e6:
-            raise keys.error("step_mm", f"gives more than 2e6 table points (half_width {half:g} mm)")
+        if half / step > 2 * MAX_STRIPS:
+            what = keys.what("step_mm") if "step_mm" in keys.table else f"{keys.file}: method.grid_mm"
+            raise InputError(what, f"gives {2 * half / step:.0f} separation points over +-{half:g} mm "
+                             f"(at most {4 * MAX_STRIPS}): use a coarser grid")
         n = int(math.ceil(half / step))
         y = np.linspace(-n * step, n * step, 2 * n + 1)
         return SeparationSpec(y, y * y / (2.0 * radius), kind="parabola", lateral_radius_mm=radius)

@@ -103,6 +103,18 @@ def build_layers(scene: Scene, strip_y_mm: np.ndarray) -> LayerPair | None:
     return LayerPair(**layers)
 
 
+def check_separation_range(scene: Scene, solution: NormalSolution) -> None:
+    """InputError when the patch reaches the first or last strip: the separation table is too narrow (the patch
+    would be cut off at the table's end)."""
+    p = solution.p_peak_MPa
+    if p.size and (p[0] > 0 or p[-1] > 0):
+        y = solution.strip_y_mm
+        end = y[0] if p[0] > 0 else y[-1]
+        raise InputError(f"{scene.path.name}: separation.y_mm",
+                         f"the contact patch reaches the end of the separation table at y = {end:.4g} mm: extend "
+                         f"the table (it covers {scene.separation.y_mm[0]:.4g}..{scene.separation.y_mm[-1]:.4g} mm)")
+
+
 def check_table_coverage(scene: Scene, solution: NormalSolution) -> None:
     """InputError when a strip in contact lies outside a body's calibration table."""
     if scene.layer is None:
@@ -218,6 +230,7 @@ def simulate(scene: Scene) -> SimulationRun:
         t0 = time.perf_counter()
         sol = solve_normal(prob)
         t_normal = time.perf_counter() - t0
+        check_separation_range(scene, sol)
         snap, t_tang = solve_patches(scene, sol, 1)
         snapshots.append(snap)
         history.append(pass_dict(snap, None, {"normal_s": t_normal, "tangential_s": t_tang}))
@@ -229,6 +242,7 @@ def simulate(scene: Scene) -> SimulationRun:
 
         def on_pass(record, solution):
             t_pass = time.perf_counter() - clock[0]
+            check_separation_range(scene, solution)
             check_table_coverage(scene, solution)
             snap, t_tang = solve_patches(scene, solution, len(history) + 1)
             if not snapshots:
