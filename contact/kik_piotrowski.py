@@ -25,6 +25,8 @@ Units: mm, N, MPa.
 
 from __future__ import annotations
 
+import copy
+
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -89,11 +91,18 @@ class NormalProblem:
         yg = strip_grid(y[0], y[-1], self.grid_mm)
         require(yg.size >= 1, "separation.y_mm", f"range shorter than one grid step {self.grid_mm} mm")
         fg = np.interp(yg, y, f) if self.interpolation == "linear" else PchipInterpolator(y, f)(yg)
-        if self.f_offset_mm is not None:
-            off = np.asarray(self.f_offset_mm, dtype=float).ravel()
-            require(off.shape == yg.shape, "f_offset_mm", f"needs {yg.size} values (one per strip)")
-            fg = fg + off
         object.__setattr__(self, "_grid", (yg, fg))
+        self._set_offset(self.f_offset_mm)
+
+    def _set_offset(self, f_offset_mm) -> None:
+        yg, fg = self._grid[:2]
+        if f_offset_mm is not None:
+            off = np.asarray(f_offset_mm, dtype=float).ravel()
+            require(off.shape == yg.shape and bool(np.all(np.isfinite(off))), "f_offset_mm",
+                    f"needs {yg.size} finite values (one per strip)")
+            object.__setattr__(self, "f_offset_mm", off)
+            fg = fg + off
+        object.__setattr__(self, "_grid", (yg, self._grid[1], fg))
 
     @property
     def strip_y_mm(self) -> np.ndarray:
@@ -103,18 +112,18 @@ class NormalProblem:
     @property
     def separation_on_grid_mm(self) -> np.ndarray:
         """f on the strip grid, shifted so that its minimum is 0 (mm)."""
-        return self._grid[1] - self._grid[1].min()
+        return self._grid[2] - self._grid[2].min()
 
     @property
     def separation_unshifted_on_grid_mm(self) -> np.ndarray:
         """f interpolated onto the strip grid plus ``f_offset_mm``, not shifted (mm)."""
-        return self._grid[1]
+        return self._grid[2]
 
     def with_offset(self, f_offset_mm: np.ndarray) -> "NormalProblem":
         """The same problem with the separation raised by ``f_offset_mm`` on the strip grid (dents)."""
-        kw = {k: getattr(self, k) for k in ("y_mm", "f_mm", "normal_force_N", "rolling_radius_mm", "E_MPa",
-                                            "poisson", "alpha", "grid_mm", "interpolation", "x_subdivision")}
-        return NormalProblem(**kw, f_offset_mm=np.asarray(f_offset_mm, dtype=float))
+        out = copy.copy(self)                      # the interpolated table is shared, only the offset changes
+        out._set_offset(f_offset_mm)
+        return out
 
     @property
     def elastic_compliance_factor(self) -> float:
@@ -163,7 +172,13 @@ class NormalSolution:
 def _regions(g: np.ndarray) -> list[np.ndarray]:
     """Index arrays of the maximal runs of g > 0."""
     on = np.flatnonzero(g > 0)
-    return np.split(on, np.flatnonzero(np.diff(on) > 1) + 1) if on.size else []
+    if on.size == 0:
+        return []
+    cuts = np.flatnonzero(np.diff(on) > 1) + 1
+    if cuts.size == 0:
+        return [on]
+    bounds = [0, *cuts.tolist(), on.size]
+    return [on[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
 
 def layer_points(layer: PrandtlLayer, y_grid: np.ndarray, h: float) -> np.ndarray:
@@ -183,8 +198,11 @@ class _LayerAtReference:
         self.p = knots[knots >= 0.0]
         self.u = np.zeros_like(self.p)
         self.final_compliance = 0.0
-        for (l, i), (pk, uk, kl) in zip(layers, curves):
-            self.u += l.displacement_at(self.p, i) - l.u_mm[i]
+        for pk, uk, kl in curves:
+            u = np.interp(self.p, pk, uk)                   # the curve is piecewise linear through its knots
+            beyond = self.p > pk[-1]
+            u[beyond] = uk[-1] + (self.p[beyond] - pk[-1]) / kl
+            self.u += u - uk[0]
             self.final_compliance += 1.0 / kl
 
     def solve(self, delta: float, c: float) -> tuple[float, float, int]:

@@ -38,6 +38,24 @@ from meshes.errors import InputError
 
 
 @numba.njit(cache=True)
+def _element_pressure(x, slip, k, e, k_last):
+    """p = sum_i k_i clip(x - s_i, -e_i, e_i) + k_N x for one element at displacement x (MPa)."""
+    p = k_last * x
+    for i in range(slip.size):
+        p += k[i] * min(max(x - slip[i], -e[i]), e[i])
+    return p
+
+
+@numba.njit(cache=True)
+def _pressures(u, slip, k, e, k_last):
+    """Current pressure of each element (MPa)."""
+    out = np.empty(u.size)
+    for j in range(u.size):
+        out[j] = _element_pressure(u[j], slip[j], k[j], e[j], k_last[j])
+    return out
+
+
+@numba.njit(cache=True)
 def _move_elements(u, slip, k, e, k_last, p_target):
     """Exact monotonic move of elements (u (n,), slips (n, m)) to p_target (n,): (u, slips, dissipation).
 
@@ -50,9 +68,7 @@ def _move_elements(u, slip, k, e, k_last, p_target):
     s_out = np.empty((n, m))
     diss = np.zeros(n)
     for j in range(n):
-        p_cur = k_last[j] * u[j]
-        for i in range(m):
-            p_cur += k[j, i] * min(max(u[j] - slip[j, i], -e[j, i]), e[j, i])
+        p_cur = _element_pressure(u[j], slip[j], k[j], e[j], k_last[j])
         sign = 1.0 if p_target[j] >= p_cur else -1.0
         x = sign * u[j]
         pt = sign * p_target[j]
@@ -80,6 +96,21 @@ def _move_elements(u, slip, k, e, k_last, p_target):
     return u_out, s_out, diss
 
 
+@numba.njit(cache=True)
+def _yield_pressures(u, slip, k, e, k_last):
+    """Pressure of each element when its first stuck slider reaches its threshold on loading (inf: none)."""
+    n, m = slip.shape
+    out = np.full(n, np.inf)
+    for j in range(n):
+        first = np.inf
+        for i in range(m):
+            if k[j, i] > 0.0:
+                first = min(first, max(slip[j, i] + e[j, i], u[j]))
+        if first < np.inf:
+            out[j] = _element_pressure(first, slip[j], k[j], e[j], k_last[j])
+    return out
+
+
 @dataclass
 class PrandtlLayer:
     """Prandtl elements at points ``y_mm`` (n,) of a lateral strip grid, with their state.
@@ -101,9 +132,9 @@ class PrandtlLayer:
     def __post_init__(self):
         self.y_mm = np.atleast_1d(np.asarray(self.y_mm, dtype=float))
         n = self.y_mm.size
-        self.k_N_per_mm3 = np.asarray(self.k_N_per_mm3, dtype=float).reshape(n, -1)
-        self.half_width_mm = np.asarray(self.half_width_mm, dtype=float).reshape(n, -1)
-        self.k_last_N_per_mm3 = np.asarray(self.k_last_N_per_mm3, dtype=float).reshape(n)
+        self.k_N_per_mm3 = np.ascontiguousarray(np.asarray(self.k_N_per_mm3, dtype=float).reshape(n, -1))
+        self.half_width_mm = np.ascontiguousarray(np.asarray(self.half_width_mm, dtype=float).reshape(n, -1))
+        self.k_last_N_per_mm3 = np.ascontiguousarray(np.asarray(self.k_last_N_per_mm3, dtype=float).reshape(n))
         if self.half_width_mm.shape != self.k_N_per_mm3.shape:
             raise InputError(self.name, "k_N_per_mm3 and half_width_mm must have the same shape")
         if (np.any(self.k_N_per_mm3 < 0) or np.any(self.half_width_mm < 0) or np.any(self.k_last_N_per_mm3 <= 0)
@@ -178,14 +209,10 @@ class PrandtlLayer:
     def n_points(self) -> int:
         return int(self.y_mm.size)
 
-    def _branch_pressure(self, u, slip, k, e, k_last):
-        return np.sum(k * np.clip(u[..., None] - slip, -e, e), axis=-1) + k_last * u
-
     @property
     def pressure_MPa(self) -> np.ndarray:
         """Current normal stress of each element (MPa)."""
-        return self._branch_pressure(self.u_mm, self.slip_mm, self.k_N_per_mm3, self.half_width_mm,
-                                     self.k_last_N_per_mm3)
+        return _pressures(self.u_mm, self.slip_mm, self.k_N_per_mm3, self.half_width_mm, self.k_last_N_per_mm3)
 
     def _solve(self, p_target, index=None):
         """Exact monotonic move of points ``index`` to ``p_target``: (u, new slips, dissipation increment)."""
@@ -195,6 +222,8 @@ class PrandtlLayer:
         p_target = np.asarray(p_target, dtype=float)
         if not np.all(np.isfinite(p_target)):
             raise InputError(f"{self.name} target pressure", "must be finite")
+        if index is None and p_target.shape == u0.shape:       # the common case: one target per element
+            return _move_elements(u0, s0, k, e, kl, np.ascontiguousarray(p_target))
         shape = np.broadcast_shapes(np.shape(u0), p_target.shape)
         m = k.shape[-1]
         flat = [np.ascontiguousarray(np.broadcast_to(a, shape).reshape(-1)) for a in (u0, kl, p_target)]
@@ -220,16 +249,13 @@ class PrandtlLayer:
 
     def unload(self) -> np.ndarray:
         """Unload every element to p = 0 (exact, with reverse slip where it occurs); returns the residual u (mm)."""
-        return self.move_to(0.0)
+        return self.move_to(np.zeros(self.n_points))
 
     def yield_pressure_MPa(self) -> np.ndarray:
-        """Pressure at which the first stuck slider starts to slip on further loading from the current state."""
-        k, e = self.k_N_per_mm3, self.half_width_mm
-        brk = np.where(k > 0, self.slip_mm + e, np.inf)
-        first = np.maximum(np.min(brk, axis=-1, initial=np.inf), self.u_mm)
-        first = np.where(np.isfinite(first), first, self.u_mm)
-        p = self._branch_pressure(first, self.slip_mm, k, e, self.k_last_N_per_mm3)
-        return np.where(np.any(k > 0, axis=-1), p, np.inf)
+        """Pressure at which the first stuck slider starts to slip on further loading from the current state
+        (inf for elements without sliders)."""
+        return _yield_pressures(self.u_mm, self.slip_mm, self.k_N_per_mm3, self.half_width_mm,
+                                self.k_last_N_per_mm3)
 
     def loading_curve(self, index: int) -> tuple[np.ndarray, np.ndarray, float]:
         """Monotonic loading curve of element ``index`` from its current state.
