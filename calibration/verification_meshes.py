@@ -62,9 +62,9 @@ def quarter_annulus(a: float, b: float, n_r: int, n_theta: int, order: int = 2, 
         m = skfem.MeshTri2.from_mesh(m)
         # put the mid-edge nodes on the arcs
         rr = np.hypot(m.p[0], m.p[1])
-        on_arc = np.isclose(rr, a, rtol=1e-3) | np.isclose(rr, b, rtol=1e-3)
-        target = np.where(np.abs(rr - a) < np.abs(rr - b), a, b)
-        scale = np.where(on_arc, target / rr, 1.0)
+        near_a = np.abs(rr - a) < 0.25 * (r[1] - a)
+        near_b = np.abs(rr - b) < 0.25 * (b - r[-2])
+        scale = np.where(near_a, a / rr, np.where(near_b, b / rr, 1.0))
         m = skfem.MeshTri2(m.p * scale, m.t)
     tol = 1e-9 * b
     rad = lambda x: np.hypot(x[0], x[1])  # noqa: E731
