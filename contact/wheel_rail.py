@@ -19,7 +19,8 @@ Layers
 ------
 Per body (rail, wheel) a calibration table (anything with ``characteristic_at(y_mm)`` and ``y_range_mm``, e.g.
 :class:`contact.layer_table.LayerTable`) is looked up strip by strip at the strip's profile coordinate on that body
-(the point of the body's profile on the strip's normal line in the contact plane); strips outside a table's range
+(the point of the body's profile on the strip's normal line in the contact plane; only strips with a separation
+below ``LAYER_F_CAP_MM`` get an element); strips outside a table's range
 take its end value, and a strip IN CONTACT outside the range is an InputError. One ``combined`` characteristic
 (the paper's eq. 13 layer of both bodies) may be given instead. Passes (paper section 5) run per patch at the
 patch's normal force of the first pass (:func:`contact.passes.run_passes`). Each body's accumulated residual
@@ -48,6 +49,9 @@ from meshes.errors import ConvergenceError, InputError, require
 from meshes.profile_base import Profile
 
 BALANCE_RTOL = 1e-6
+#: Layers are built only on strips whose separation is below this (mm): no strip further away can come into contact
+#: (the virtual penetration alpha delta stays far below it at wheel loads).
+LAYER_F_CAP_MM = 1.0
 
 
 class LayerLookup(Protocol):
@@ -209,16 +213,19 @@ def _layer_pair(cand: ContactCandidate, sign: int, prob: NormalProblem, layers: 
     strips = prob.strip_y_mm
     eta = sign * strips
     coords = {"rail": cand.rail_coordinate(eta), "wheel": cand.wheel_coordinate(eta)}
+    near = prob.separation_on_grid_mm <= LAYER_F_CAP_MM
     if layers.combined is not None:
-        return LayerPair(combined=PrandtlLayer.uniform(layers.combined, strips, name="combined layer")), coords, {}
+        return LayerPair(combined=PrandtlLayer.uniform(layers.combined, strips[near], name="combined layer")), coords, {}
     built, clamped = {}, {}
     for body in ("rail", "wheel"):
         table = getattr(layers, body)
         if table is None:
             continue
         name = layers.names.get(body, body)
-        chars, clamped[body] = _clamped_lookup(table, coords[body], body, name)
-        built[body] = PrandtlLayer.from_characteristics(chars, strips, name=f"{body} layer ({name})")
+        lo, hi = (float(v) for v in table.y_range_mm)
+        clamped[body] = (coords[body] < lo) | (coords[body] > hi)
+        chars, _ = _clamped_lookup(table, coords[body][near], body, name)
+        built[body] = PrandtlLayer.from_characteristics(chars, strips[near], name=f"{body} layer ({name})")
     return LayerPair(**built), coords, clamped
 
 

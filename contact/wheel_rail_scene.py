@@ -321,7 +321,7 @@ def write_deformed_profiles(parsed: dict[str, Any], sols: dict[str, WheelRailSol
     written = []
     for side, sol in sols.items():
         for body, (ys, up) in residual_on_profiles(sol.patches).items():
-            if not np.any(up > 0):
+            if not np.any(up > 1e-9):
                 continue
             prof = parsed[body]
             pts = deformed_profile(prof, ys, up)
