@@ -42,9 +42,10 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
         return result
 
     from contact.scene import parse_scene
+
+    scene = parse_scene(data, scene_path)  # before importing the solvers: a bad scene fails fast
     from contact.simulation import simulate
 
-    scene = parse_scene(data, scene_path)
     run = simulate(scene)
     text = result_text(run.result)  # serialise before anything is written (a failure leaves no file)
     with atomic_output_dir(out_dir) as tmp:

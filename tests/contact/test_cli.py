@@ -102,8 +102,8 @@ def test_two_patches(tmp_path):
 
 
 def test_json_flag_prints_the_result_and_plots_are_written(tmp_path, capsys):
-    out = tmp_path / "sd"
-    result = run(SCENES / "paper_shakedown.toml", out, "--json", "--plots")
+    out = tmp_path / "hardening"
+    result = run(SCENES / "paper_hardening.toml", out, "--json", "--plots")
     printed = json.loads(capsys.readouterr().out)
     assert printed == result
     names = set(result["pictures"])
@@ -114,6 +114,9 @@ def test_json_flag_prints_the_result_and_plots_are_written(tmp_path, capsys):
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20_000
     assert sorted(p.name for p in out.iterdir()) == sorted(names | {"result.json"})
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary folders left
+    # strain hardening: the state is kept, so the passes stop adding residual quickly, below p_max of pass 1
+    assert 1 < result["shakedown_pass"] == n <= 5 and not result["passes"][0]["shakedown"]
+    assert result["passes"][-1]["p_max_MPa"] < result["passes"][0]["p_max_MPa"]
 
 
 def test_rerun_without_plots_removes_the_old_pictures(tmp_path):
