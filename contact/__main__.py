@@ -13,8 +13,9 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 from meshes.atomic_write import atomic_output_dir, atomic_write_text
 from meshes.errors import InputError, WrLayerError, cli_guard
@@ -101,7 +102,7 @@ def _simulate_all(args: argparse.Namespace) -> int:
         except WrLayerError as err:
             failed.append(path.name)
             print(f"error: {path.name}: {err}", file=sys.stderr, flush=True)
-        except Exception as err:  # a programming error in one scene must not stop the batch
+        except Exception as err:  # noqa: BLE001 - a programming error in one scene must not stop the batch
             failed.append(path.name)
             print(f"error: {path.name}: internal error {type(err).__name__}: {err}", file=sys.stderr, flush=True)
     if results:

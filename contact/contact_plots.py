@@ -16,13 +16,13 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.colors import ListedColormap  # noqa: E402
-from matplotlib.patches import Rectangle  # noqa: E402
-from matplotlib.ticker import MaxNLocator  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Rectangle
+from matplotlib.ticker import MaxNLocator
 
-from contact.fastsim import sample_on_grid  # noqa: E402
+from contact.fastsim import sample_on_grid
 
 _SLIP = ListedColormap(["#ffffff", "#9a9a9a"])  # adhesion white, slip grey
 
@@ -77,7 +77,7 @@ def plot_patch(snapshot, path: Path, title: str) -> Path:
     ax.add_patch(Rectangle((bx, by), 1.0, 1.0, fill=False, lw=1.2, color="k"))
     ax.text(bx + 1.3, by + 0.5, "1 x 1 mm", va="center", fontsize=8)
     ax.annotate("", xy=(x_max, by + 0.5), xytext=(x_max - 6.0, by + 0.5),
-                arrowprops=dict(arrowstyle="->", lw=1.5))
+                arrowprops={"arrowstyle": "->", "lw": 1.5})
     ax.text(x_max - 3.0, by + 0.8, "rolling direction x", ha="center", va="bottom", fontsize=8)
     ax.set_xlim(-x_max - 2.0, x_max + 2.0)
     ax.set_ylim(y_lo - 2.2, y_hi + 0.8)

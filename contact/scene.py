@@ -197,7 +197,7 @@ def scene_type(data: dict[str, Any], path: Path) -> str:
 
 
 class _Keys:
-    """Typed access to one TOML table with key paths in the messages; remembers which keys were used."""
+    """Typed access to one TOML table; errors name the file and the key path (e.g. ``load.normal_force_N``)."""
 
     def __init__(self, file: str, prefix: str, table: Any):
         self.file, self.prefix = file, prefix
@@ -276,7 +276,7 @@ class _Keys:
             raise self.error(key, f"needs at least {min_len} values, got {arr.size}")
         return arr
 
-    def sub(self, key: str) -> "_Keys | None":
+    def sub(self, key: str) -> _Keys | None:
         if key not in self.table:
             return None
         return _Keys(self.file, f"{self.prefix}.{key}" if self.prefix else key, self.table[key])
@@ -345,7 +345,9 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
                                     friction=keys.number("friction", ge=0.0),
                                     speed_mm_s=keys.number("speed_mm_s", 1000.0, gt=0.0),
                                     flexibility=keys.text("flexibility", "three"))
-        from contact.fastsim import FLEXIBILITY_RULES  # lazy: fastsim compiles with numba
+        from contact.fastsim import (
+            FLEXIBILITY_RULES,  # lazy: fastsim compiles with numba
+        )
 
         if tangential.flexibility not in FLEXIBILITY_RULES:
             raise keys.error("flexibility", f"must be one of {', '.join(FLEXIBILITY_RULES)}, "
@@ -381,7 +383,7 @@ def _parse_separation(keys: _Keys, grid_mm: float) -> SeparationSpec:
             what = keys.what("step_mm") if "step_mm" in keys.table else f"{keys.file}: method.grid_mm"
             raise InputError(what, f"gives {2 * half / step:.0f} separation points over +-{half:g} mm "
                              f"(at most {4 * MAX_STRIPS}): use a coarser grid")
-        n = int(math.ceil(half / step))
+        n = math.ceil(half / step)
         y = np.linspace(-n * step, n * step, 2 * n + 1)
         return SeparationSpec(y, y * y / (2.0 * radius), kind="parabola", lateral_radius_mm=radius)
     keys.check_known(("y_mm", "f_mm"))
