@@ -37,6 +37,10 @@ def _elastic_limit(run) -> float | None:
     return min(limits) if limits else None
 
 
+def _p2_label(p2: float) -> str:
+    return f"elastic limit p$_2$ = {p2:.0f} MPa (at the contact point)"
+
+
 def plot_patch(snapshot, path: Path, title: str) -> Path:
     """The patches of one pass on their grid: pressure contours, slip cells grey, scale box, rolling arrow."""
     sol = snapshot.solution
@@ -129,7 +133,7 @@ def plot_separation(run, path: Path) -> Path:
         ax.plot(y[view], run.last.solution.p_peak_MPa[view], "--", label=f"pass {len(run.history)}")
     p2 = _elastic_limit(run)
     if p2 is not None:
-        ax.axhline(p2, color="r", lw=0.8, ls=":", label=f"elastic limit p$_2$ = {p2:.0f} MPa")
+        ax.axhline(p2, color="r", lw=0.8, ls=":", label=_p2_label(p2))
     ax.set_ylabel("peak pressure p(0, y) [MPa]")
     ax.set_xlabel("y (lateral) [mm]")
     ax.legend(fontsize=8)
@@ -153,7 +157,7 @@ def plot_shakedown(run, path: Path) -> Path:
         ax.grid(alpha=0.3)
     p2 = _elastic_limit(run)
     if p2 is not None:
-        axes[1].axhline(p2, color="r", lw=0.8, ls=":", label=f"elastic limit p$_2$ = {p2:.0f} MPa")
+        axes[1].axhline(p2, color="r", lw=0.8, ls=":", label=_p2_label(p2))
         axes[1].legend(fontsize=8)
     sd = run.result.get("shakedown_pass")
     if sd is not None:
