@@ -182,3 +182,26 @@ def test_bad_input_is_named(kw, what):
     base.update(kw)
     with pytest.raises(InputError, match=what):
         NormalProblem(**base)
+
+
+def test_no_bracket_raises_convergence_error_naming_delta(monkeypatch):
+    import contact.kik_piotrowski as kp
+    from meshes.errors import ConvergenceError
+    monkeypatch.setattr(kp, "_MAX_BRACKET_STEPS", 2)
+    with pytest.raises(ConvergenceError, match="normal approach delta"):
+        solve_normal(paper_problem(), delta_guess_mm=1e-9)          # 2 steps of at most x4 cannot reach 0.1 mm
+
+
+def test_bulk_expansion_matches_the_exact_cell_integrals():
+    """Reference: every cell's pressure factor by the exact antiderivative (numpy), times the same kernel table."""
+    from contact.boussinesq import rectangle_kernel_integral as rk
+    h = 0.1
+    a = np.array([13.7, 9.0, 3.3, 0.95, 0.04])
+    dj = np.array([0, 1, -3, 7, 12])
+    ni = int(a.max() / h) + 3
+    xe = np.minimum((np.arange(ni) + 0.5) * h, a[:, None])
+    g = 0.5 * (xe * np.sqrt(a[:, None] ** 2 - xe ** 2) + a[:, None] ** 2 * np.arcsin(xe / a[:, None]))
+    cell = np.diff(np.concatenate([np.zeros((a.size, 1)), g], axis=1), axis=1) * 2.0
+    xc = np.arange(ni) * h
+    kern = rk(xc - h / 2, xc + h / 2, (np.abs(dj)[:, None] - 0.5) * h, (np.abs(dj)[:, None] + 0.5) * h) / h
+    assert boussinesq_integral(a, dj, h) == pytest.approx(float(np.sum(cell * kern)), rel=1e-10)
