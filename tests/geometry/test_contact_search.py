@@ -78,10 +78,33 @@ def test_kp_radius_without_yaw_is_r_over_cos(placed, s1002, layout):
         for c in search_contacts(placed, s1002, layout, WheelsetPose(d)).candidates:
             assert c.rolling_radius_kp_mm == pytest.approx(c.wheel_radius_mm / math.cos(c.wheel_contact_angle_rad),
                                                            rel=1e-9)
-    # with yaw the flange-root's concave meridian curvature enters with sin^2(beta): a larger radius
-    c0 = search_contacts(placed, s1002, layout, WheelsetPose(6.0)).candidates[0]
-    c1 = search_contacts(placed, s1002, layout, WheelsetPose(6.0, 0.02)).candidates[0]
-    assert c1.rolling_radius_kp_mm > c0.rolling_radius_kp_mm * (1 - 1e-3)
+
+
+@pytest.mark.parametrize("pose", [WheelsetPose(6.0, 0.03, 0.002), WheelsetPose(8.0, -0.05, 0.0),
+                                  WheelsetPose(1.0, 0.04, -0.003)])
+def test_kp_radius_with_yaw_matches_the_wheel_surface(placed, s1002, layout, pose):
+    """Independent check of Euler's formula: intersect the exact wheel surface of revolution with the lines
+    P + X e_X + zeta n and fit zeta = X^2 / (2 R)."""
+    from scipy.optimize import brentq
+
+    from contact.track_geometry import axle_direction
+
+    res = search_contacts(placed, s1002, layout, pose)
+    a = axle_direction(pose)
+    centre = np.array([0.0, pose.lateral_mm, res.wheel_height_mm])
+
+    def surface(p):  # distance from the axle minus the profile radius at the point's axial position
+        rel = p - centre
+        s = rel @ a
+        return np.linalg.norm(rel - s * a) - (layout.nominal_radius_mm - s1002.z(s - layout.taping_line_mm))
+
+    for c in res.candidates:
+        n = c.normal
+        xs = np.array([-2.0, -1.0, 1.0, 2.0])
+        zeta = [brentq(lambda z: surface(c.wheel_point + x * np.array([1.0, 0, 0]) + z * n), -0.2, 0.2, xtol=1e-14)
+                for x in xs]
+        coeff = np.polyfit(xs, zeta, 2)
+        assert 1.0 / (2.0 * coeff[0]) == pytest.approx(c.rolling_radius_kp_mm, rel=2e-3)
 
 
 def test_bad_geometry_names_the_case(placed, s1002, layout, rail60):

@@ -1,0 +1,185 @@
+"""Wheel–rail geometry benchmark: run time of a whole lateral sweep, load balance, separation-function accuracy, and
+the analytic S1002/60E1 profiles against the Manchester-benchmark SIMPACK files (units mm, N, MPa, s).
+
+The sweep is the Manchester A-2.2 set-up (S1002 on 60E1 at 1:40, gauge 1435, back-to-back 1360, r0 = 460 mm,
+10 kN per wheel, friction 0.3, G = 82 GPa, nu = 0.28, V = 2000 mm/s) with lateral displacement 0..10 mm in 0.5 mm
+steps together with yaw 0..24 mrad (21 cases).
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+import time
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from benchmarks.harness import machine_info, median_time, peak_memory_mb  # noqa: E402
+from contact.contact_search import search_contacts  # noqa: E402
+from contact.track_geometry import TrackLayout, WheelsetPose, place_rail  # noqa: E402
+from contact.wheel_rail import WheelRailInputs, rigid_roll, solve_wheel  # noqa: E402
+from meshes.profiles import S1002, Rail60E1, get_profile  # noqa: E402
+
+E_MPA = 2.0 * 82000.0 * 1.28
+LATERAL = np.arange(21) * 0.5
+YAW = np.arange(21) * 0.0012
+REFERENCE = pathlib.Path(__file__).resolve().parents[2] / "shared" / "reference" / "profiles"
+
+
+def _inputs(d: float, psi: float, side: str = "right", roll: float = 0.0) -> WheelRailInputs:
+    return WheelRailInputs(pose=WheelsetPose(float(d), float(psi), roll), side=side, vertical_load_N=10000.0,
+                           speed_mm_s=2000.0, friction=0.3, E_MPa=E_MPA, poisson=0.28)
+
+
+def _sweep(rail, wheel, placed, layout, yaw=True, side="right"):
+    return [solve_wheel(rail, wheel, _inputs(d, psi if yaw else 0.0, side), placed_rail=placed)
+            for d, psi in zip(LATERAL, YAW)]
+
+
+def _sweep_both_with_roll(rail, wheel, placed, layout):
+    out = []
+    for d, psi in zip(LATERAL, YAW):
+        roll = rigid_roll(placed, wheel, layout, WheelsetPose(float(d), float(psi)))
+        out.append([solve_wheel(rail, wheel, _inputs(d, psi, side, roll), placed_rail=placed)
+                    for side in ("right", "left")])
+    return out
+
+
+def _search_only(wheel, placed, layout):
+    for d, psi in zip(LATERAL, YAW):
+        search_contacts(placed, wheel, layout, WheelsetPose(float(d), float(psi)))
+
+
+def _separation_error(sols, placed) -> float:
+    """Largest |distance| of the rail points found on the contact-plane normal lines from the rail profile (mm)."""
+    worst = 0.0
+    a = -placed.angle_rad
+    cs, sn = math.cos(a), math.sin(a)
+    for sol in sols:
+        for c in sol.search.candidates:
+            eta = c.eta_mm[:: max(1, c.eta_mm.size // 40)]
+            rp = placed.point(c.rail_coordinate(eta)) - np.array([placed.dy_mm, placed.dz_mm])
+            pts = np.column_stack([cs * rp[:, 0] - sn * rp[:, 1], sn * rp[:, 0] + cs * rp[:, 1]])
+            d, _ = placed.profile.signed_distance(pts)
+            worst = max(worst, float(np.max(np.abs(d))))
+    return worst
+
+
+def _main_patch(sol):
+    return max(sol.patches, key=lambda p: p.normal_force_N)
+
+
+def run(mode: str, out: pathlib.Path) -> dict:
+    out = pathlib.Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    repeat = 3 if mode == "quick" else 7
+    layout = TrackLayout()
+    rail, wheel = Rail60E1(), S1002()
+    placed = place_rail(rail, layout)
+    t_sweep, runs = median_time(lambda: _sweep(rail, wheel, placed, layout), repeat=repeat)
+    t_search, _ = median_time(lambda: _search_only(wheel, placed, layout), repeat=repeat)
+    t_both, _ = median_time(lambda: _sweep_both_with_roll(rail, wheel, placed, layout), repeat=max(1, repeat // 2))
+    sols, peak_mb = peak_memory_mb(lambda: _sweep(rail, wheel, placed, layout))
+    t0 = time.perf_counter()
+    _sweep(rail, wheel, placed, layout)
+    t_single = time.perf_counter() - t0
+    balance = max(s.vertical_balance_rel for s in sols)
+    sep_err = _separation_error(sols, placed)
+    n_two = sum(1 for s in sols if len(s.patches) > 1)
+
+    # analytic profiles against the Manchester SIMPACK files (no yaw, right wheel)
+    comparison = []
+    if (REFERENCE / "MBench_UIC60_v3.prr").is_file():
+        rail_f = get_profile(str(REFERENCE / "MBench_UIC60_v3.prr"))
+        wheel_f = get_profile(str(REFERENCE / "MBench_S1002_v3.prw"))
+        layout_f = TrackLayout(inclination_rad=0.0)  # the file's head is canted already
+        placed_f = place_rail(rail_f, layout_f)
+        a_sols = _sweep(rail, wheel, placed, layout, yaw=False)
+        f_sols = _sweep(rail_f, wheel_f, placed_f, layout_f, yaw=False)
+        for d, sa, sf in zip(LATERAL, a_sols, f_sols):
+            pa, pf = _main_patch(sa), _main_patch(sf)
+            comparison.append({
+                "lateral_mm": float(d),
+                "Y_analytic_mm": float(pa.point_track[1]), "Y_file_mm": float(pf.point_track[1]),
+                "y_wheel_analytic_mm": pa.candidate.y_wheel_mm, "y_wheel_file_mm": pf.candidate.y_wheel_mm,
+                "angle_analytic_deg": math.degrees(pa.candidate.contact_angle_rad),
+                "angle_file_deg": math.degrees(pf.candidate.contact_angle_rad),
+                "p_max_analytic_MPa": pa.normal.p_max_MPa, "p_max_file_MPa": pf.normal.p_max_MPa,
+                "n_patches_analytic": len(sa.patches), "n_patches_file": len(sf.patches)})
+
+    figures = []
+    if comparison:
+        fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+        d = [c["lateral_mm"] for c in comparison]
+        for ax, key, label in ((axes[0], "Y", "contact point Y on the rail (track, mm)"),
+                               (axes[1], "angle", "contact angle (deg)"), (axes[2], "p_max", "p_max (MPa)")):
+            suffix = "_mm" if key == "Y" else ("_deg" if key == "angle" else "_MPa")
+            ax.plot(d, [c[f"{key}_analytic{suffix}"] for c in comparison], "o-", ms=4, label="analytic S1002 / 60E1")
+            ax.plot(d, [c[f"{key}_file{suffix}"] for c in comparison], "x--", ms=5,
+                    label="Manchester SIMPACK files")
+            ax.set_xlabel("lateral displacement (mm), yaw 0")
+            ax.set_ylabel(label)
+            ax.grid(alpha=0.3)
+        axes[0].legend(fontsize=7)
+        fig.tight_layout()
+        path = out / "geometry_profiles_vs_files.png"
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        figures.append(str(path))
+
+    lines = [
+        "## Wheel–rail geometry (S1002 on 60E1 at 1:40, Manchester A-2.2 conditions)",
+        "",
+        "Whole lateral sweep: 21 cases (lateral 0..10 mm with yaw 0..24 mrad), right wheel, elastic: contact search, "
+        "vertical load balance, Kik–Piotrowski normal problem and FASTSIM per patch.",
+        "",
+        "| quantity | value |",
+        "|---|---|",
+        f"| sweep of 21 cases (geometry + normal + tangential), median of {repeat} | {t_sweep * 1e3:.0f} ms "
+        f"({t_sweep / 21 * 1e3:.1f} ms per case) |",
+        f"| contact search only (21 cases) | {t_search * 1e3:.0f} ms |",
+        f"| both wheels with the rigid-wheelset roll (21 cases) | {t_both * 1e3:.0f} ms |",
+        f"| peak Python heap during one sweep | {peak_mb:.1f} MiB |",
+        f"| largest vertical load balance residual sum N cos(gamma) vs Q (relative) | {balance:.1e} |",
+        f"| largest distance of the separation's rail points from the exact rail profile "
+        f"(reference: `Profile.signed_distance`) | {sep_err:.1e} mm |",
+        f"| cases with two loaded patches | {n_two} of 21 |",
+        "",
+        "Timings are wall-clock on a shared 2-core machine (other jobs running): treat them as upper bounds.",
+    ]
+    if comparison:
+        dY = max(abs(c["Y_analytic_mm"] - c["Y_file_mm"]) for c in comparison)
+        dA = max(abs(c["angle_analytic_deg"] - c["angle_file_deg"]) for c in comparison)
+        lines += [
+            "",
+            "Analytic profiles (EN 13715 S1002, EN 13674-1 60E1 canted 1:40) against the Manchester benchmark SIMPACK "
+            "files (`MBench_S1002_v3.prw`, `MBench_UIC60_v3.prr`, canted in the file), yaw 0: the reference is the "
+            "same sweep on the files.",
+            "",
+            "| lateral (mm) | Y analytic / file (mm) | wheel y analytic / file (mm) | angle analytic / file (deg) | "
+            "p_max analytic / file (MPa) | patches |",
+            "|---|---|---|---|---|---|",
+        ]
+        lines += [f"| {c['lateral_mm']:.1f} | {c['Y_analytic_mm']:.2f} / {c['Y_file_mm']:.2f} | "
+                  f"{c['y_wheel_analytic_mm']:.2f} / {c['y_wheel_file_mm']:.2f} | {c['angle_analytic_deg']:.2f} / "
+                  f"{c['angle_file_deg']:.2f} | {c['p_max_analytic_MPa']:.0f} / {c['p_max_file_MPa']:.0f} | "
+                  f"{c['n_patches_analytic']} / {c['n_patches_file']} |" for c in comparison]
+        lines += ["", f"Largest differences: contact point Y {dY:.2f} mm, contact angle {dA:.2f} deg (near a contact "
+                  "jump the two nearly equal gap minima can swap, which moves the point by several mm)."]
+    return {
+        "title": "Wheel-rail geometry: sweep run time, load balance, profiles vs Manchester files",
+        "markdown": "\n".join(lines) + "\n",
+        "figures": figures,
+        "data": {"sweep_s": t_sweep, "search_s": t_search, "both_wheels_roll_s": t_both, "single_run_s": t_single,
+                 "peak_heap_MiB": peak_mb, "balance_rel_max": balance, "separation_rail_distance_max_mm": sep_err,
+                 "two_patch_cases": n_two, "comparison": comparison, "machine": machine_info()},
+    }
+
+
+if __name__ == "__main__":  # pragma: no cover
+    res = run("quick", pathlib.Path("out/bench"))
+    print(res["markdown"])
