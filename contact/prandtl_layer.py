@@ -206,6 +206,11 @@ class PrandtlLayer:
 
     # ------------------------------------------------------------------ evaluation
     @property
+    def dissipated_energy(self) -> np.ndarray:
+        """Accumulated friction work per element (N/mm = N mm/mm^2), >= 0."""
+        return self.dissipated_energy_N_per_mm
+
+    @property
     def n_points(self) -> int:
         return int(self.y_mm.size)
 
