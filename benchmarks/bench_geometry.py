@@ -15,14 +15,14 @@ import time
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from benchmarks.harness import machine_info, median_time, peak_memory_mb  # noqa: E402
-from contact.contact_search import search_contacts  # noqa: E402
-from contact.track_geometry import TrackLayout, WheelsetPose, place_rail  # noqa: E402
-from contact.wheel_rail import WheelRailInputs, rigid_roll, solve_wheel  # noqa: E402
-from meshes.profiles import S1002, Rail60E1, get_profile  # noqa: E402
+from benchmarks.harness import machine_info, median_time, peak_memory_mb
+from contact.contact_search import search_contacts
+from contact.track_geometry import TrackLayout, WheelsetPose, place_rail
+from contact.wheel_rail import WheelRailInputs, rigid_roll, solve_wheel
+from meshes.profiles import S1002, Rail60E1, get_profile
 
 E_MPA = 2.0 * 82000.0 * 1.28
 LATERAL = np.arange(21) * 0.5
@@ -80,7 +80,7 @@ def run(mode: str, out: pathlib.Path) -> dict:
     layout = TrackLayout()
     rail, wheel = Rail60E1(), S1002()
     placed = place_rail(rail, layout)
-    t_sweep, runs = median_time(lambda: _sweep(rail, wheel, placed, layout), repeat=repeat)
+    t_sweep, _ = median_time(lambda: _sweep(rail, wheel, placed, layout), repeat=repeat)
     t_search, _ = median_time(lambda: _search_only(wheel, placed, layout), repeat=repeat)
     t_both, _ = median_time(lambda: _sweep_both_with_roll(rail, wheel, placed, layout), repeat=max(1, repeat // 2))
     sols, peak_mb = peak_memory_mb(lambda: _sweep(rail, wheel, placed, layout))
@@ -134,19 +134,19 @@ def run(mode: str, out: pathlib.Path) -> dict:
     lines = [
         "## Wheel–rail geometry (S1002 on 60E1 at 1:40, Manchester A-2.2 conditions)",
         "",
-        "Whole lateral sweep: 21 cases (lateral 0..10 mm with yaw 0..24 mrad), right wheel, elastic: contact search, "
-        "vertical load balance, Kik–Piotrowski normal problem and FASTSIM per patch.",
+        ("Whole lateral sweep: 21 cases (lateral 0..10 mm with yaw 0..24 mrad), right wheel, elastic: contact search, "
+         "vertical load balance, Kik–Piotrowski normal problem and FASTSIM per patch."),
         "",
         "| quantity | value |",
         "|---|---|",
-        f"| sweep of 21 cases (geometry + normal + tangential), median of {repeat} | {t_sweep * 1e3:.0f} ms "
-        f"({t_sweep / 21 * 1e3:.1f} ms per case) |",
+        (f"| sweep of 21 cases (geometry + normal + tangential), median of {repeat} | {t_sweep * 1e3:.0f} ms "
+         f"({t_sweep / 21 * 1e3:.1f} ms per case) |"),
         f"| contact search only (21 cases) | {t_search * 1e3:.0f} ms |",
         f"| both wheels with the rigid-wheelset roll (21 cases) | {t_both * 1e3:.0f} ms |",
         f"| peak Python heap during one sweep | {peak_mb:.1f} MiB |",
         f"| largest vertical load balance residual sum N cos(gamma) vs Q (relative) | {balance:.1e} |",
-        f"| largest distance of the separation's rail points from the exact rail profile "
-        f"(reference: `Profile.signed_distance`) | {sep_err:.1e} mm |",
+        ("| largest distance of the separation's rail points from the exact rail profile "
+         f"(reference: `Profile.signed_distance`) | {sep_err:.1e} mm |"),
         f"| cases with two loaded patches | {n_two} of 21 |",
         "",
         "Timings are wall-clock on a shared 2-core machine (other jobs running): treat them as upper bounds.",
@@ -156,20 +156,20 @@ def run(mode: str, out: pathlib.Path) -> dict:
         dA = max(abs(c["angle_analytic_deg"] - c["angle_file_deg"]) for c in comparison)
         lines += [
             "",
-            "Analytic profiles (EN 13715 S1002, EN 13674-1 60E1 canted 1:40) against the Manchester benchmark SIMPACK "
-            "files (`MBench_S1002_v3.prw`, `MBench_UIC60_v3.prr`, canted in the file), yaw 0: the reference is the "
-            "same sweep on the files.",
+            ("Analytic profiles (EN 13715 S1002, EN 13674-1 60E1 canted 1:40) against the Manchester benchmark "
+             "SIMPACK files (`MBench_S1002_v3.prw`, `MBench_UIC60_v3.prr`, canted in the file), yaw 0: the reference "
+             "is the same sweep on the files."),
             "",
-            "| lateral (mm) | Y analytic / file (mm) | wheel y analytic / file (mm) | angle analytic / file (deg) | "
-            "p_max analytic / file (MPa) | patches |",
+            ("| lateral (mm) | Y analytic / file (mm) | wheel y analytic / file (mm) | angle analytic / file (deg) | "
+             "p_max analytic / file (MPa) | patches |"),
             "|---|---|---|---|---|---|",
         ]
         lines += [f"| {c['lateral_mm']:.1f} | {c['Y_analytic_mm']:.2f} / {c['Y_file_mm']:.2f} | "
                   f"{c['y_wheel_analytic_mm']:.2f} / {c['y_wheel_file_mm']:.2f} | {c['angle_analytic_deg']:.2f} / "
                   f"{c['angle_file_deg']:.2f} | {c['p_max_analytic_MPa']:.0f} / {c['p_max_file_MPa']:.0f} | "
                   f"{c['n_patches_analytic']} / {c['n_patches_file']} |" for c in comparison]
-        lines += ["", f"Largest differences: contact point Y {dY:.2f} mm, contact angle {dA:.2f} deg (near a contact "
-                  "jump the two nearly equal gap minima can swap, which moves the point by several mm)."]
+        lines += ["", (f"Largest differences: contact point Y {dY:.2f} mm, contact angle {dA:.2f} deg (near a contact "
+                       "jump the two nearly equal gap minima can swap, which moves the point by several mm).")]
     return {
         "title": "Wheel-rail geometry: sweep run time, load balance, profiles vs Manchester files",
         "markdown": "\n".join(lines) + "\n",

@@ -57,6 +57,7 @@ minimum is the normal gap of the candidate (0 for the first contact). eta is the
 
 from __future__ import annotations
 
+import itertools
 import math
 import weakref
 from dataclasses import dataclass, field
@@ -138,7 +139,7 @@ class SearchResult:
     flange_tip: tuple = ()
 
 
-_WHEEL_TABLES: "weakref.WeakKeyDictionary[Profile, dict]" = weakref.WeakKeyDictionary()
+_WHEEL_TABLES: weakref.WeakKeyDictionary[Profile, dict] = weakref.WeakKeyDictionary()
 
 
 def _wheel_table(wheel: Profile, spacing_mm: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -261,7 +262,7 @@ def search_contacts(rail: PlacedRail, wheel: Profile, layout: TrackLayout, pose:
     height = -min(v for _, v in refined)
     # basins: between the barriers to neighbouring candidates
     bounds = [lo]
-    for m1, m2 in zip(mins[:-1], mins[1:]):
+    for m1, m2 in itertools.pairwise(mins):
         bounds.append(lo + m1 + int(np.argmax(gg[m1:m2 + 1])))
     bounds.append(hi)
     cands = []
@@ -340,4 +341,4 @@ def _rail_zeta(rail: PlacedRail, P: np.ndarray, t: np.ndarray, n: np.ndarray, et
     return (Q[:, 0] - P[0]) * n[1] + (Q[:, 1] - P[1]) * n[2]
 
 
-__all__ = ["SearchSettings", "ContactCandidate", "SearchResult", "search_contacts", "raw_min_gap"]
+__all__ = ["ContactCandidate", "SearchResult", "SearchSettings", "raw_min_gap", "search_contacts"]

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from meshes.errors import InputError, require
+from meshes.errors import require
 from meshes.placement import rail_inclination
 from meshes.profile_base import Profile
 
@@ -89,7 +89,7 @@ class WheelsetPose:
         require(abs(self.yaw_rad) < 0.2 and abs(self.roll_rad) < 0.2, "yaw/roll",
                 "angles must be small (|angle| < 0.2 rad) for a wheelset on track")
 
-    def for_side(self, side: str) -> "WheelsetPose":
+    def for_side(self, side: str) -> WheelsetPose:
         """The pose seen in the side frame of ``side`` (left: mirrored, all three change sign)."""
         s = side_sign(side)
         return WheelsetPose(s * self.lateral_mm, s * self.yaw_rad, s * self.roll_rad)
@@ -187,7 +187,7 @@ def place_rail(profile: Profile, layout: TrackLayout) -> PlacedRail:
     require(0 < i_top < q.size - 1, "rail profile", f"{profile.name}: the highest point of the canted rail is at an "
             "end of the profile (no rail top)")
     # exact top: rotated slope zero, dz/dq = -tan(a)
-    slope = lambda v: float(profile.dz(v)) + math.tan(a)  # noqa: E731
+    slope = lambda v: float(profile.dz(v)) + math.tan(a)
     q_top = brentq(slope, q[i_top - 1], q[i_top + 1], xtol=1e-12) if slope(q[i_top - 1]) * slope(q[i_top + 1]) < 0 \
         else float(q[i_top])
     c, s = math.cos(a), math.sin(a)
@@ -201,7 +201,7 @@ def place_rail(profile: Profile, layout: TrackLayout) -> PlacedRail:
             f"less than the gauge depth {depth:g} mm")
     # crossing of Z = -depth on the gauge side (last sample below, from the top downwards)
     k = int(np.flatnonzero(Zg < -depth)[-1])
-    height = lambda v: s * v + c * float(profile.z(v)) - z_top + depth  # noqa: E731
+    height = lambda v: s * v + c * float(profile.z(v)) - z_top + depth
     q_cross = brentq(height, qg[k], qg[k + 1], xtol=1e-12)
     Y_cross = c * q_cross - s * float(profile.z(q_cross))
     # innermost point within the band (an interior minimum of Y if the gauge face undercuts)
@@ -276,5 +276,15 @@ def wheel_sample_y(wheel: Profile, spacing_mm: float = 0.02, margin_mm: float = 
     return np.linspace(lo, hi, int(np.ceil((hi - lo) / spacing_mm)) + 1)
 
 
-__all__ = ["TrackLayout", "WheelsetPose", "PlacedRail", "WheelLocus", "SIDES", "side_sign", "axle_direction",
-           "place_rail", "wheel_locus", "wheel_sample_y"]
+__all__ = [
+    "SIDES",
+    "PlacedRail",
+    "TrackLayout",
+    "WheelLocus",
+    "WheelsetPose",
+    "axle_direction",
+    "place_rail",
+    "side_sign",
+    "wheel_locus",
+    "wheel_sample_y",
+]

@@ -43,7 +43,7 @@ from contact.fastsim import Creepage, TangentialResult, solve_tangential
 from contact.kik_piotrowski import NormalProblem, NormalSolution, _Evaluator, solve_normal
 from contact.passes import PassesOptions, PassRecord, run_passes
 from contact.prandtl_layer import LayerPair, PrandtlLayer
-from contact.track_geometry import (PlacedRail, TrackLayout, WheelsetPose, axle_direction, place_rail, side_sign)
+from contact.track_geometry import PlacedRail, TrackLayout, WheelsetPose, axle_direction, place_rail, side_sign
 from contact.wheelset_kinematics import PatchKinematics, contact_frame, creepages
 from meshes.errors import ConvergenceError, InputError, require
 from meshes.profile_base import Profile
@@ -88,8 +88,8 @@ class WheelRailInputs:
     pitch_rate_rad_s None means pure rolling at the nominal radius: V / r0.
     """
 
-    layout: TrackLayout = TrackLayout()
-    pose: WheelsetPose = WheelsetPose()
+    layout: TrackLayout = field(default_factory=TrackLayout)
+    pose: WheelsetPose = field(default_factory=WheelsetPose)
     side: str = "right"
     vertical_load_N: float = 10000.0
     speed_mm_s: float = 2000.0
@@ -100,8 +100,8 @@ class WheelRailInputs:
     alpha: float = 0.55
     grid_mm: float = 0.1
     fastsim_cells: int = 60
-    passes: PassesOptions = PassesOptions(max_passes=1)
-    search: SearchSettings = SearchSettings()
+    passes: PassesOptions = field(default_factory=lambda: PassesOptions(max_passes=1))
+    search: SearchSettings = field(default_factory=SearchSettings)
 
     def __post_init__(self):
         side_sign(self.side)
@@ -315,7 +315,7 @@ def solve_wheel(rail_profile: Profile, wheel_profile: Profile, inputs: WheelRail
             sol = solve_normal(prob)
         else:
             holder: list[NormalSolution] = []
-            records, _ = run_passes(prob, pair, inputs.passes, on_pass=lambda rec, s: holder.append(s))
+            records, _ = run_passes(prob, pair, inputs.passes, on_pass=lambda rec, s, h=holder: h.append(s))
             sol = holder[0]
         tang = _tangential(sol, kin, inputs)
         patch = PatchSolution(c, inputs.side, sign, prob, sol, float(sol.normal_force_N), point, n_track, t_track,
@@ -389,16 +389,27 @@ def residual_on_profiles(patches: list[PatchSolution]) -> dict[str, tuple[np.nda
     return {b: (np.concatenate(v[0]), np.concatenate(v[1])) for b, v in out.items() if v[0]}
 
 
-__all__ = ["WheelRailInputs", "WheelRailLayers", "WheelRailSolution", "PatchSolution", "solve_wheel", "rigid_roll",
-           "deformed_profile", "residual_on_profiles", "BALANCE_RTOL"]
+__all__ = [
+    "BALANCE_RTOL",
+    "PatchSolution",
+    "WheelRailInputs",
+    "WheelRailLayers",
+    "WheelRailSolution",
+    "deformed_profile",
+    "residual_on_profiles",
+    "rigid_roll",
+    "solve_wheel",
+]
 
 
 def rigid_roll(rail: PlacedRail, wheel: Profile, layout: TrackLayout, pose: WheelsetPose,
-               settings: SearchSettings = SearchSettings(), bracket_rad: float = 0.05) -> float:
+               settings: SearchSettings | None = None, bracket_rad: float = 0.05) -> float:
     """Roll angle (rad) of a rigid wheelset (identical wheels and rails left and right) at which both wheels touch
     their rails when it is lowered: the minimum vertical gaps of the two sides are equal (Brent, 1e-12 rad).
     ``pose.roll_rad`` is ignored."""
     from contact.contact_search import raw_min_gap
+
+    settings = settings or SearchSettings()
 
     def difference(roll: float) -> float:
         p = WheelsetPose(pose.lateral_mm, pose.yaw_rad, roll)

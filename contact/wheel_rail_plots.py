@@ -9,11 +9,11 @@ from typing import Any
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from contact.track_geometry import wheel_locus, wheel_sample_y  # noqa: E402
-from contact.wheel_rail import WheelRailSolution  # noqa: E402
+from contact.track_geometry import wheel_locus, wheel_sample_y
+from contact.wheel_rail import WheelRailSolution
 
 SIDE_COLOURS = {"right": "tab:blue", "left": "tab:orange"}
 

@@ -46,8 +46,16 @@ from contact.passes import PassesOptions
 from contact.result_io import UNITS, code_version
 from contact.scene import _Keys
 from contact.track_geometry import TrackLayout, WheelsetPose, place_rail
-from contact.wheel_rail import (PatchSolution, WheelRailInputs, WheelRailLayers, WheelRailSolution, deformed_profile,
-                                residual_on_profiles, rigid_roll, solve_wheel)
+from contact.wheel_rail import (
+    PatchSolution,
+    WheelRailInputs,
+    WheelRailLayers,
+    WheelRailSolution,
+    deformed_profile,
+    residual_on_profiles,
+    rigid_roll,
+    solve_wheel,
+)
 from meshes.errors import ConvergenceError, InputError
 from meshes.profiles import get_profile
 
@@ -82,7 +90,7 @@ def _values(keys: _Keys, key: str) -> np.ndarray:
         start, stop, step = sub.number("start"), sub.number("stop"), sub.number("step", gt=0.0)
         if stop < start:
             raise sub.error("stop", f"must be >= start ({start:g}), got {stop:g}")
-        n = int(math.floor((stop - start) / step + 1e-6)) + 1
+        n = math.floor((stop - start) / step + 1e-6) + 1
         return start + step * np.arange(n)
     return keys.array(key, min_len=1)
 
@@ -162,15 +170,16 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
     search = SearchSettings(merge_mm=met.number("merge_mm", 0.005, ge=0.0),
                             candidate_gap_mm=met.number("candidate_gap_mm", 1.0, gt=0.0),
                             f_cap_mm=met.number("f_cap_mm", 2.0, gt=0.0))
-    inputs = dict(layout=layout, side="right", vertical_load_N=load.number("vertical_load_N", 10000.0, gt=0.0),
-                  speed_mm_s=load.number("speed_mm_s", 2000.0, gt=0.0), pitch_rate_rad_s=pitch,
-                  friction=s("tangential").number("friction", 0.3, ge=0.0), E_MPa=E, poisson=nu,
-                  alpha=met.number("alpha", 0.55, gt=0.0, le=1.0), grid_mm=met.number("grid_mm", 0.1, gt=0.0),
-                  fastsim_cells=met.integer("fastsim_cells", 60, ge=2),
-                  passes=PassesOptions(max_passes=pas.integer("max", 1, ge=1),
-                                       tolerance_mm=pas.number("tolerance_mm", 1e-6, ge=0.0),
-                                       hardening=pas.boolean("hardening", False)),
-                  search=search)
+    inputs = {"layout": layout, "side": "right",
+              "vertical_load_N": load.number("vertical_load_N", 10000.0, gt=0.0),
+              "speed_mm_s": load.number("speed_mm_s", 2000.0, gt=0.0), "pitch_rate_rad_s": pitch,
+              "friction": s("tangential").number("friction", 0.3, ge=0.0), "E_MPa": E, "poisson": nu,
+              "alpha": met.number("alpha", 0.55, gt=0.0, le=1.0), "grid_mm": met.number("grid_mm", 0.1, gt=0.0),
+              "fastsim_cells": met.integer("fastsim_cells", 60, ge=2),
+              "passes": PassesOptions(max_passes=pas.integer("max", 1, ge=1),
+                                      tolerance_mm=pas.number("tolerance_mm", 1e-6, ge=0.0),
+                                      hardening=pas.boolean("hardening", False)),
+              "search": search}
     layers, hashes = _parse_layers(sec.get("layers"), base)
     sweep = sec.get("sweep")
     cases = _cases(sweep, base_pose)
@@ -427,5 +436,12 @@ def _inputs_echo(parsed: dict[str, Any], scene_path: Path, data: dict[str, Any])
     }
 
 
-__all__ = ["run_wheel_rail_scene", "parse_wheel_rail_scene", "solve_case", "patch_result", "wheel_result",
-           "write_deformed_profiles", "CONVENTIONS"]
+__all__ = [
+    "CONVENTIONS",
+    "parse_wheel_rail_scene",
+    "patch_result",
+    "run_wheel_rail_scene",
+    "solve_case",
+    "wheel_result",
+    "write_deformed_profiles",
+]

@@ -101,8 +101,8 @@ def test_kp_radius_with_yaw_matches_the_wheel_surface(placed, s1002, layout, pos
     for c in res.candidates:
         n = c.normal
         xs = np.array([-2.0, -1.0, 1.0, 2.0])
-        zeta = [brentq(lambda z: surface(c.wheel_point + x * np.array([1.0, 0, 0]) + z * n), -0.2, 0.2, xtol=1e-14)
-                for x in xs]
+        starts = [c.wheel_point + x * np.array([1.0, 0.0, 0.0]) for x in xs]
+        zeta = [brentq(lambda z, p0=p0, n=n: surface(p0 + z * n), -0.2, 0.2, xtol=1e-14) for p0 in starts]
         coeff = np.polyfit(xs, zeta, 2)
         assert 1.0 / (2.0 * coeff[0]) == pytest.approx(c.rolling_radius_kp_mm, rel=2e-3)
 

@@ -9,8 +9,15 @@ import pytest
 from contact.characteristic import Characteristic
 from contact.layer_table import LayerTable
 from contact.track_geometry import WheelsetPose
-from contact.wheel_rail import (BALANCE_RTOL, WheelRailInputs, WheelRailLayers, deformed_profile, residual_on_profiles,
-                                rigid_roll, solve_wheel)
+from contact.wheel_rail import (
+    BALANCE_RTOL,
+    WheelRailInputs,
+    WheelRailLayers,
+    deformed_profile,
+    residual_on_profiles,
+    rigid_roll,
+    solve_wheel,
+)
 
 
 def _vertical(sol):
