@@ -85,8 +85,9 @@ def fit_characteristic(p_MPa, u_mm, n_segments: int, s1_N_per_mm3: float | None 
     require(bool(p[0] >= 0 and p[-1] > 0), what, "pressures must be >= 0 with a positive maximum")
     p_max, u_max = float(p[-1]), float(np.max(np.abs(u)))
     require(u_max > 0, what, "all displacements are zero")
-    if np.any(np.diff(u) < -1e-9 * u_max):
-        j = int(np.argmax(np.diff(u) < -1e-9 * u_max))
+    drop = np.maximum.accumulate(u) - u  # decrease below an earlier point (noise up to max_relative_error)
+    if np.any(drop > max_relative_error * u_max):
+        j = int(np.argmax(drop > max_relative_error * u_max)) - 1
         raise InputError(what, f"displacement decreases from p = {p[j]:.6g} to {p[j + 1]:.6g} MPa: cannot be "
                                "fitted with positive slopes")
     c0_fixed = None

@@ -5,7 +5,7 @@ Layout (every key optional except ``[[bodies]]`` with ``body``, ``profile`` and 
     [run]       model = "2d" | "3d", workers = 2, scheduler = "" (Dask address), plots = true
     [material]  E_MPa, poisson, yield_MPa, H_iso_MPa, H_kin_MPa            (J2 with linear hardening)
     [load]      reference_load_N, max_factor, n_levels, unload_factors, max_increment_factor
-    [mesh]      elements_per_semi_axis, h_max_mm, order, depth_mm, length_factor, grading
+    [mesh]      elements_per_semi_axis, h_max_mm, order, depth_mm, rail_support_below_mm, length_factor, grading, yield_search_radius_factor
     [fit]       n_segments (1..8), elastic_fraction, max_relative_error
     [[bodies]]  body = "rail" | "wheel", profile = name or file (relative to the config), mate = name or file,
                 positions_mm = [...] or positions = {start_mm, stop_mm, step_mm}, semi_axes_mm = [a, b],
@@ -285,8 +285,10 @@ def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> 
         "h_max_mm": lambda v, k: r.number(v, k, 0.0, 100.0),
         "order": lambda v, k: int(r.number(v, k, 1, 2, lo_open=False, integer=True)),
         "depth_mm": lambda v, k: r.number(v, k, 0.0, 500.0),
+        "rail_support_below_mm": lambda v, k: r.number(v, k, 0.0, 500.0),
         "length_factor": lambda v, k: r.number(v, k, 1.0, 50.0),
-        "grading": lambda v, k: r.number(v, k, 0.0, 5.0)})
+        "grading": lambda v, k: r.number(v, k, 0.0, 5.0),
+        "yield_search_radius_factor": lambda v, k: r.number(v, k, 0.0, 100.0)})
     fit = r.dataclass_from(FitSettings, r.table(data, "fit"), "fit", {
         "n_segments": lambda v, k: int(r.number(v, k, N_SEGMENTS_RANGE[0], N_SEGMENTS_RANGE[1], lo_open=False,
                                                 integer=True)),

@@ -4,7 +4,8 @@ characteristic points (units mm, N, MPa).
 Definition of the layer characteristic at a position (documented in the README):
 
 - The FEM model (2D plane-strain section or 3D local half model) is loaded by the Hertzian pressure with the
-  position's semi-axes; p0 rises monotonically to ``max_factor`` times the FEM first-yield pressure p_y.
+  position's semi-axes; p0 rises monotonically to ``max_factor`` times the FEM first-yield pressure p_y (first
+  yield within a few semi-axes of the load centre; see :func:`local_first_yield_MPa`).
 - u_FEM(p0) is the normal displacement of the load centre (into the body). Its elastic part on the SAME mesh is
   c_el p0 (c_el from the linear solution), so the inelastic part u_pl(p0) = u_FEM(p0) - c_el p0 is free of the
   mesh's and the finite section's elastic error. With elastic unloading u_pl equals the residual dent; the FEM
@@ -18,6 +19,7 @@ Definition of the layer characteristic at a position (documented in the README):
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import time
 from dataclasses import asdict, dataclass, field
@@ -29,21 +31,27 @@ from calibration.elastoplastic_solver import SolverOptions, solve_load_path
 from calibration.fem_assembly import discretise
 from calibration.hertz_geometry import LocalGeometry, halfspace_centre_compliance_mm_per_MPa
 from calibration.hertz_load import HertzLoad
-from calibration.material import J2Material
+from calibration.material import J2Material, von_mises_MPa
 from meshes.errors import require
 
 
 @dataclass(frozen=True)
 class MeshSettings:
     """Mesh sizes: h_min = b / elements_per_semi_axis at the load point, growing to h_max_mm; 3D half-model length
-    length_factor * a (at least 4 b); element order 1 or 2; section depth (None: the body's default)."""
+    length_factor * a (at least 4 b); element order 1 or 2; section depth in mm (None: the mesh module's default
+    per body); rail_support_below_mm: the rail head is also held on its side/underside boundary below
+    z = -rail_support_below_mm (the head underside and web), so that the section does not bend over the thin
+    web like a cantilever (a plane-strain artefact: the real load is short in x); None: clamped cut only.
+    First yield is searched within yield_search_radius_factor * b of the load centre."""
 
     elements_per_semi_axis: float = 8.0
     h_max_mm: float = 6.0
     order: int = 2
     depth_mm: float | None = None
+    rail_support_below_mm: float | None = 35.0
     length_factor: float = 5.0
     grading: float = 0.3
+    yield_search_radius_factor: float = 3.0
 
 
 @dataclass(frozen=True)
@@ -62,13 +70,15 @@ class LoadSettings:
 class IndentationResult:
     """Raw FEM characteristic of one position (mm, MPa, s). ``p_MPa``/``u_fem_mm``/``u_pl_mm``: all converged
     loading increments (u_pl = u_FEM - c_el p); ``unload_peaks_MPa``/``residual_fem_mm``: FEM dents after full
-    unloading; ``first_yield_MPa``: p_y; compliances in mm/MPa; ``files``: VTK/PNG outputs."""
+    unloading; ``first_yield_MPa``: p_y near the contact; ``first_yield_anywhere_MPa``: the whole model's (may be a
+    structural stress concentration); compliances in mm/MPa; ``files``: VTK/PNG outputs."""
 
     model: str
     p_MPa: list[float]
     u_fem_mm: list[float]
     u_pl_mm: list[float]
     first_yield_MPa: float
+    first_yield_anywhere_MPa: float
     fem_elastic_compliance_mm_per_MPa: float
     halfspace_compliance_mm_per_MPa: float
     unload_peaks_MPa: list[float]
@@ -100,6 +110,33 @@ def build_mesh(profile, geometry: LocalGeometry, model: str, mesh: MeshSettings)
                       order=mesh.order, refine_box=box, grading=mesh.grading)
 
 
+def add_support_boundary(mesh, below_mm: float) -> dict:
+    """Add the boundary "support" (facets of "side" whose midpoint lies below z = -below_mm) to ``mesh`` and
+    return the Dirichlet map {fixed: all, support: all (, symmetry: x)} for the solver."""
+    dim = mesh.dim()
+    side = np.asarray(mesh.boundaries["side"])
+    z_mid = mesh.p[dim - 1, mesh.facets[:, side]].mean(axis=0)
+    support = side[z_mid < -float(below_mm)]
+    require(support.size > 0, "rail_support_below_mm", f"no side facet lies below z = -{below_mm:g} mm")
+    mesh.boundaries["support"] = support
+    out = {"fixed": list(range(dim)), "support": list(range(dim))}
+    if "symmetry" in mesh.boundaries:
+        out["symmetry"] = [0]
+    return out
+
+
+def local_first_yield_MPa(disc, elastic_result, material: J2Material, radius_mm: float) -> float:
+    """p0 (MPa) at which the von Mises stress first reaches yield within ``radius_mm`` of the load centre, from
+    the elastic solution at p0 = 1 MPa. Structural stress concentrations far from the contact (e.g. the
+    head/web fillet or the corners of the clamped cut) are excluded: they are not the contact's elastic limit."""
+    vm = von_mises_MPa(elastic_result.state.stress_MPa) / elastic_result.state.p0_MPa
+    x = disc.qp_coordinates()
+    c = np.asarray(elastic_result.centre_mm, dtype=float).reshape((-1,) + (1,) * (x.ndim - 1))
+    near = np.sqrt(np.sum((x - c) ** 2, axis=0)) <= radius_mm
+    require(bool(np.any(near)), "mesh", f"no quadrature point within {radius_mm:g} mm of the load centre")
+    return float(material.yield_MPa / np.max(vm[near]))
+
+
 def _levels(p_y: float, load: LoadSettings) -> list[float]:
     above = p_y * np.linspace(1.0, load.max_factor, load.n_levels + 1)[1:]
     peaks = [f * p_y for f in load.unload_factors]
@@ -118,19 +155,24 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
     require(all(0 < f <= load_settings.max_factor + 1e-12 for f in load_settings.unload_factors), "unload_factors",
             f"must lie in (0, max_factor = {load_settings.max_factor}], got {list(load_settings.unload_factors)}")
     t0 = time.perf_counter()
+    if out_dir is not None and importlib.util.find_spec("calibration.fem_output") is None:
+        out_dir = None  # the FEM engine's field output is not available: no VTK/PNG pictures
     mesh = build_mesh(profile, geometry, model, mesh_settings)
     disc = discretise(mesh, mesh_settings.order)
+    dirichlet = None
+    if profile.body == "rail" and mesh_settings.rail_support_below_mm is not None:
+        dirichlet = add_support_boundary(mesh, mesh_settings.rail_support_below_mm)
     load = HertzLoad(geometry.y_mm, geometry.b_mm, geometry.a_mm if model == "3d" else None,
                      z0_mm=geometry.z_mm)
     p_probe = 1.0
-    elastic = solve_load_path(mesh, material, load, [p_probe], disc=disc)
-    p_y = elastic.first_yield_p0_MPa
+    elastic = solve_load_path(mesh, material, load, [p_probe], disc=disc, options=SolverOptions(dirichlet=dirichlet))
+    p_y = local_first_yield_MPa(disc, elastic, material, mesh_settings.yield_search_radius_factor * geometry.b_mm)
     c_el = elastic.history[-1].u_centre_mm / p_probe
     require(math.isfinite(p_y) and p_y > 0 and c_el > 0, "indentation",
             f"elastic solution at y = {geometry.y_mm:g} mm is degenerate (p_y = {p_y}, compliance {c_el})")
     if progress:
         progress(1)
-    opts = SolverOptions(max_increment_MPa=load_settings.max_increment_factor * p_y)
+    opts = SolverOptions(max_increment_MPa=load_settings.max_increment_factor * p_y, dirichlet=dirichlet)
     levels = _levels(p_y, load_settings)
     peaks = sorted(f * p_y for f in load_settings.unload_factors)
     top = max(peaks) if peaks else None
@@ -162,7 +204,8 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
     u_pl[p <= p_y] = np.maximum(u_pl[p <= p_y], 0.0)
     u_pl_at_peaks = np.interp(peaks, p, u_pl)
     c_hs = halfspace_centre_compliance_mm_per_MPa(geometry.a_mm, geometry.b_mm, material.E_MPa, material.poisson)
-    return IndentationResult(model, p.tolist(), u.tolist(), u_pl.tolist(), float(p_y), float(c_el), float(c_hs),
+    return IndentationResult(model, p.tolist(), u.tolist(), u_pl.tolist(), float(p_y),
+                             float(elastic.first_yield_p0_MPa), float(c_el), float(c_hs),
                              [float(x) for x in peaks], [float(x) for x in residuals],
                              (np.array(residuals) - u_pl_at_peaks).tolist(), int(disc.n_dofs),
                              int(mesh.t.shape[1]), int(newton), time.perf_counter() - t0, files)

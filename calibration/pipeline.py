@@ -184,7 +184,7 @@ def fit_position(ind: dict, geometry: dict, cfg: CalibrationConfig, what: str) -
             "geometry": geometry,
             "fem": {k: ind[k] for k in ("model", "p_MPa", "u_fem_mm", "u_pl_mm", "fem_elastic_compliance_mm_per_MPa",
                                         "halfspace_compliance_mm_per_MPa", "reverse_plasticity_mm", "n_dofs",
-                                        "n_elements", "newton_iterations", "seconds")},
+                                        "n_elements", "newton_iterations", "seconds", "first_yield_anywhere_MPa")},
             "fem_points": {"p_MPa": p.tolist(), "u_mm": u.tolist()}}
 
 
@@ -197,8 +197,18 @@ def _header(cfg: CalibrationConfig, b: BodySettings, keys: list[str]) -> dict:
             "definition": "u(p) = p/S_1 + u_pl(p); u_pl = FEM centre displacement minus the same mesh's elastic "
                           "part; S_1 = 1/(elastic_fraction * half-space centre compliance); p_2 = FEM first yield",
             "software": software_versions(), "code_version": code_version(), "code_hash": code_hash(),
-            "inputs_hash": _hash({"keys": keys, "fit": asdict(cfg.fit)}), "config": cfg.source,
+            "config": cfg.source,
             "created_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
+
+
+def _same_inputs(json_path: Path, inputs_hash: str) -> bool:
+    """True when ``json_path`` is a valid table made from the same inputs (nothing to rewrite)."""
+    if not json_path.is_file() or not json_path.with_suffix(".csv").is_file():
+        return False
+    try:
+        return LayerTable.read(json_path).header.get("inputs_hash") == inputs_hash
+    except WrLayerError:
+        return False
 
 
 def _execute(tasks: list[PositionTask], cfg: CalibrationConfig, scheduler: str | None, show_progress: bool):
@@ -301,20 +311,34 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
         for t in (t for t in tasks if t.body == b.body):
             if t.key not in results:
                 continue
-            what = f"{t.label}"
+            fit_file = cache / f"fit-{_hash({'fem': t.key, 'fit': asdict(cfg.fit)})}.json"
             try:
-                entries.append(fit_position(results[t.key], t.geometry, cfg, what))
-                keys.append(t.key)
-            except WrLayerError as err:
-                failed.append({"body": b.body, "y_mm": t.y_mm, "error": str(err)})
+                entry = json.loads(fit_file.read_text()) if fit_file.is_file() else None
+            except (OSError, json.JSONDecodeError):
+                entry = None
+            if entry is None:
+                try:
+                    entry = fit_position(results[t.key], t.geometry, cfg, t.label)
+                except WrLayerError as err:
+                    failed.append({"body": b.body, "y_mm": t.y_mm, "error": str(err)})
+                    continue
+                atomic_write_text(fit_file, json.dumps(entry))
+            entries.append(entry)
+            keys.append(t.key)
         body_failed = sorted((f for f in failed if f["body"] == b.body), key=lambda f: f["y_mm"])
         info = {"positions": len(b.positions_mm), "calibrated": len(entries), "failed": len(body_failed)}
         if entries:
-            table = LayerTable(_header(cfg, b, keys), entries,
-                               [{"y_mm": f["y_mm"], "error": f["error"]} for f in body_failed],
-                               f"{b.body} layer table")
-            paths = table.write(out_dir / f"{b.body}_layer_table.json", out_dir / f"{b.body}_layer_table.csv")
-            written += [str(p) for p in paths]
+            header = _header(cfg, b, keys)
+            failed_rows = [{"y_mm": f["y_mm"], "error": f["error"]} for f in body_failed]
+            header["inputs_hash"] = _hash({"keys": keys, "fit": asdict(cfg.fit), "failed": failed_rows,
+                                           "plots": plots})
+            json_path = out_dir / f"{b.body}_layer_table.json"
+            unchanged = _same_inputs(json_path, header["inputs_hash"])
+            table = LayerTable.read(json_path) if unchanged else LayerTable(header, entries, failed_rows,
+                                                                            f"{b.body} layer table")
+            if not unchanged:
+                paths = table.write(json_path, out_dir / f"{b.body}_layer_table.csv")
+                written += [str(p) for p in paths]
             rel = [e["max_error_mm"] / max(e["fem_points"]["u_mm"]) for e in entries]
             info.update(max_fit_error_mm=max(e["max_error_mm"] for e in entries),
                         max_relative_fit_error=max(rel),
@@ -322,7 +346,7 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
                                                   default=0.0),
                         table=str(out_dir / f"{b.body}_layer_table.json"))
             worst = max(worst, max(rel))
-            if plots:
+            if plots and not unchanged:
                 from calibration.calibration_plots import write_body_plots
 
                 written += [str(p) for p in write_body_plots(table, b, out_dir / "plots")]

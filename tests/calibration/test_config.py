@@ -1,0 +1,41 @@
+"""Configuration validation: the shipped configurations parse; every broken configuration of the corpus is a
+one-line error with exit code 2 and writes nothing."""
+
+from pathlib import Path
+
+import pytest
+
+from calibration.__main__ import main
+from calibration.config import load_config
+
+ROOT = Path(__file__).resolve().parents[2]
+BAD = sorted((ROOT / "tests" / "inputs" / "bad_calibration_configs").glob("*.toml"))
+
+
+@pytest.mark.parametrize("name", ["default.toml", "test_coarse.toml"])
+def test_shipped_configurations_parse(name):
+    cfg = load_config(ROOT / "calibration" / "configs" / name)
+    assert cfg.bodies and all(b.positions_mm for b in cfg.bodies)
+    assert 2 <= cfg.fit.n_segments <= 8
+
+
+def test_default_configuration_covers_rail_and_wheel():
+    cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")
+    bodies = {b.body: b for b in cfg.bodies}
+    assert bodies["rail"].profile == "60E1" and bodies["wheel"].profile == "S1002"
+    assert len(bodies["rail"].positions_mm) >= 5 and len(bodies["wheel"].positions_mm) >= 5
+
+
+def test_corpus_is_not_empty():
+    assert len(BAD) >= 15
+
+
+@pytest.mark.parametrize("path", BAD, ids=[p.stem for p in BAD])
+def test_bad_configuration_is_a_one_line_error_and_writes_nothing(path, tmp_path, capsys):
+    out = tmp_path / "out"
+    rc = main(["run", str(path), "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2
+    assert err.startswith("error: ") and "\n" not in err, err
+    assert path.name in err or "profile" in err, err
+    assert not out.exists()

@@ -1,0 +1,97 @@
+"""The layer-table format: write/read round trip, validation, interpolation along the profile, CSV export."""
+
+import csv
+import io
+import json
+
+import numpy as np
+import pytest
+
+from contact.characteristic import Characteristic
+from contact.layer_table import FORMAT, LayerTable
+from meshes.errors import InputError
+
+
+def _entry(y, scale):
+    ch = Characteristic(np.array([0.0, 0.001, 0.01, 0.05]) * scale, np.array([0.0, 800.0, 1100.0, 1500.0]))
+    par = ch.to_parameters()
+    return {"y_mm": y, "characteristic": ch.to_dict(), "n_segments": 3, "k_N_per_mm3": par.k_N_per_mm3.tolist(),
+            "T0_MPa": par.T0_MPa.tolist(), "max_error_mm": 1e-4, "rms_error_mm": 5e-5,
+            "geometry": {"a_mm": 7.0, "b_mm": 5.0}}
+
+
+def _table(tmp_path):
+    t = LayerTable({"body": "rail", "profile": "60E1", "inputs_hash": "x"},
+                   [_entry(-10.0, 1.0), _entry(0.0, 2.0), _entry(10.0, 1.5)],
+                   [{"y_mm": 5.0, "error": "rail 60E1 y = 5 mm: ConvergenceError: ..."}])
+    paths = t.write(tmp_path / "rail.json", tmp_path / "rail.csv")
+    return t, paths
+
+
+def test_round_trip_and_queries(tmp_path):
+    t, (jp, cp) = _table(tmp_path)
+    r = LayerTable.read(jp)
+    assert r.body == "rail" and r.profile_name == "60E1" and r.y_range_mm == (-10.0, 10.0)
+    assert r.failed[0]["y_mm"] == 5.0
+    for y, ch in zip(r.y_mm, t.characteristics):  # exact at the calibrated positions
+        np.testing.assert_array_equal(r.characteristic_at(y).u_mm, ch.u_mm)
+    mid = r.characteristic_at(-5.0)
+    u = np.linspace(0, 0.05, 11)
+    np.testing.assert_allclose(mid.pressure(u), 0.5 * (t.characteristics[0].pressure(u)
+                                                        + t.characteristics[1].pressure(u)), rtol=1e-12)
+    assert r.to_json() == jp.read_text()
+    rows = list(csv.DictReader(io.StringIO(cp.read_text())))
+    assert [float(x["y_mm"]) for x in rows] == [-10.0, 0.0, 10.0]
+    assert float(rows[1]["k1_N_per_mm3"]) == pytest.approx(t.characteristics[1].to_parameters().k_N_per_mm3[0])
+
+
+@pytest.mark.parametrize("y", [-10.5, 11.0, float("nan")])
+def test_outside_the_calibrated_range_names_the_position_and_range(tmp_path, y):
+    _, (jp, _) = _table(tmp_path)
+    with pytest.raises(InputError, match=r"outside the calibrated range \[-10, 10\] mm"):
+        LayerTable.read(jp).characteristic_at(y)
+
+
+def _corrupt(tmp_path, change):
+    _, (jp, _) = _table(tmp_path)
+    data = json.loads(jp.read_text())
+    change(data)
+    jp.write_text(json.dumps(data))
+    return jp
+
+
+@pytest.mark.parametrize("change,match", [
+    (lambda d: d.update(format="other"), "'format' must be"),
+    (lambda d: d.update(format_version=7), "unsupported format_version"),
+    (lambda d: d["header"].update(body="axle"), "header 'body'"),
+    (lambda d: d["positions"][1].update(y_mm=-20.0), "strictly increasing"),
+    (lambda d: d["positions"][1]["k_N_per_mm3"].__setitem__(0, 1.0), "disagrees with the characteristic"),
+    (lambda d: d["positions"][0]["characteristic"]["p_MPa"].__setitem__(3, 900.0), "position y = -10 mm"),
+    (lambda d: d["positions"][0].pop("characteristic"), "missing 'characteristic'"),
+    (lambda d: d.update(positions=[]), "no calibrated positions"),
+])
+def test_invalid_tables_are_rejected(tmp_path, change, match):
+    jp = _corrupt(tmp_path, change)
+    with pytest.raises(InputError, match=match):
+        LayerTable.read(jp)
+
+
+def test_truncated_or_missing_file(tmp_path):
+    _, (jp, _) = _table(tmp_path)
+    jp.write_text(jp.read_text()[:100])
+    with pytest.raises(InputError, match="not a readable JSON layer table"):
+        LayerTable.read(jp)
+    with pytest.raises(InputError, match="not found"):
+        LayerTable.read(tmp_path / "none.json")
+    assert FORMAT == "wrlayer-layer-table"
+
+
+def test_layer_table_does_not_import_the_fem_code():
+    import subprocess
+    import sys
+
+    code = ("import sys, contact.layer_table; "
+            "bad = [m for m in sys.modules if m.startswith('calibration') or m in ('skfem', 'gmsh')]; "
+            "print(bad); sys.exit(1 if bad else 0)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stdout + out.stderr

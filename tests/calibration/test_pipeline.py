@@ -1,0 +1,119 @@
+"""End to end: a coarse calibration of one rail position writes a valid table; caching; failures; Dask."""
+
+import dataclasses
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import calibration.pipeline as pipeline
+from calibration.config import load_config
+from calibration.pipeline import run_calibration
+from contact.layer_table import LayerTable
+
+ROOT = Path(__file__).resolve().parents[2]
+COARSE = ROOT / "calibration" / "configs" / "test_coarse.toml"
+
+
+def _quiet(*args, **kw):
+    pass
+
+
+@pytest.fixture(scope="module")
+def coarse_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("calib")
+    cfg = load_config(COARSE)
+    summary = run_calibration(cfg, out, show_progress=False, log=_quiet)
+    return cfg, out, summary
+
+
+def test_coarse_rail_position_writes_a_valid_table(coarse_run):
+    cfg, out, summary = coarse_run
+    assert summary["failed"] == [] and summary["positions_computed"] == 1
+    table = LayerTable.read(out / "rail_layer_table.json")
+    assert table.body == "rail" and table.profile_name == "60E1" and table.y_range_mm == (0.0, 0.0)
+    pos = table.positions[0]
+    ch = table.characteristic_at(0.0)
+    assert ch.n_segments == cfg.fit.n_segments
+    par = ch.to_parameters()
+    assert np.all(par.k_N_per_mm3 > 0) and np.all(par.T0_MPa > 0)
+    # the elastic limit of the fit is the FEM first-yield pressure (within 3 %)
+    assert ch.elastic_limit_MPa == pytest.approx(pos["first_yield_fem_MPa"], rel=0.03)
+    # plane-strain line contact, von Mises, nu = 0.3: first yield at p0 = 1.79 Y on a half-space; the coarse
+    # section is within 15 % of it
+    assert pos["first_yield_fem_MPa"] == pytest.approx(1.79 * cfg.bodies[0].material.yield_MPa, rel=0.15)
+    # the fitted points reproduce the FEM points within the reported errors
+    p = np.asarray(pos["fem_points"]["p_MPa"])
+    u = np.asarray(pos["fem_points"]["u_mm"])
+    err = ch.displacement(p) - u
+    assert np.max(np.abs(err)) == pytest.approx(pos["max_error_mm"], rel=1e-6)
+    assert pos["max_error_mm"] <= cfg.fit.max_relative_error * u.max()
+    # eq. (8) against the FEM unloading runs: the error is the fit error at the peak plus reverse plasticity
+    for e, rev in zip(pos["residual_error_mm"], pos["fem"]["reverse_plasticity_mm"]):
+        assert abs(e) <= pos["max_error_mm"] + abs(rev) + 1e-12
+    assert len(pos["residual_fem_mm"]) == len(cfg.load.unload_factors)
+    assert all(r > 0 for r in pos["residual_fem_mm"][1:])
+    csv_text = (out / "rail_layer_table.csv").read_text()
+    assert csv_text.splitlines()[0].startswith("body,profile,y_mm")
+    header = table.header
+    for key in ("material", "mesh", "load", "software", "code_version", "inputs_hash", "fit"):
+        assert key in header
+
+
+def test_second_run_uses_the_cache_and_fit_changes_need_no_fem(coarse_run, tmp_path):
+    cfg, out, _ = coarse_run
+    work = tmp_path / "copy"
+    shutil.copytree(out, work)
+    before = (work / "rail_layer_table.json").read_text()
+    again = run_calibration(cfg, work, show_progress=False, log=_quiet)
+    assert again["positions_computed"] == 0 and again["positions_cached"] == 1
+    assert (work / "rail_layer_table.json").read_text() == before  # nothing changed: nothing rewritten
+    cfg2 = dataclasses.replace(cfg, fit=dataclasses.replace(cfg.fit, n_segments=2, max_relative_error=1.0))
+    refit = run_calibration(cfg2, work, show_progress=False, log=_quiet)
+    assert refit["positions_computed"] == 0
+    assert LayerTable.read(work / "rail_layer_table.json").characteristic_at(0.0).n_segments == 2
+
+
+def test_new_position_is_computed_alone_and_a_failure_keeps_the_others(coarse_run, tmp_path, monkeypatch):
+    cfg, out, _ = coarse_run
+    work = tmp_path / "copy"
+    shutil.copytree(out, work)
+    body = dataclasses.replace(cfg.bodies[0], positions_mm=(-5.0, 0.0, 5.0))
+    cfg2 = dataclasses.replace(cfg, bodies=(body,))
+    real = pipeline.run_position
+
+    def failing_at_5(task, progress_queue=None):
+        if task.y_mm == 5.0:
+            return {"ok": False, "error": f"{task.label}: ConvergenceError: Newton did not converge (test)"}
+        return real(task, progress_queue)
+
+    monkeypatch.setattr(pipeline, "run_position", failing_at_5)
+    summary = run_calibration(cfg2, work, show_progress=False, log=_quiet)
+    assert summary["positions_computed"] == 2 and summary["positions_cached"] == 1
+    assert [f["y_mm"] for f in summary["failed"]] == [5.0]
+    assert "y = 5 mm" in summary["failed"][0]["error"]
+    table = LayerTable.read(work / "rail_layer_table.json")
+    assert list(table.y_mm) == [-5.0, 0.0] and table.failed[0]["y_mm"] == 5.0
+    assert table.characteristic_at(-2.5).n_segments >= 2
+    with pytest.raises(Exception, match="outside the calibrated range"):
+        table.characteristic_at(4.0)
+    from calibration.calibration_plots import write_body_plots
+
+    for path in write_body_plots(table, body, work / "plots"):
+        assert path.stat().st_size > 1000
+    assert json.loads((work / "summary.json").read_text())["failed"][0]["y_mm"] == 5.0
+
+
+def test_dask_local_cluster_gives_the_same_table(coarse_run, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    cfg, out, _ = coarse_run
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cl:
+        summary = run_calibration(cfg, tmp_path / "dask", scheduler=cl.scheduler_address, show_progress=False,
+                                  log=_quiet)
+    assert summary["failed"] == [] and summary["positions_computed"] == 1
+    a = LayerTable.read(out / "rail_layer_table.json").characteristic_at(0.0)
+    b = LayerTable.read(tmp_path / "dask" / "rail_layer_table.json").characteristic_at(0.0)
+    np.testing.assert_allclose(b.u_mm, a.u_mm, rtol=1e-9)
+    np.testing.assert_allclose(b.p_MPa, a.p_MPa, rtol=1e-9)
