@@ -123,10 +123,13 @@ def _convergence(grids, h_ref, out: pathlib.Path, repeat: int) -> tuple[str, dic
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+        import matplotlib.ticker
         fig, ax = plt.subplots(1, 2, figsize=(9, 3.6))
         hs = np.array(grids)
         for k, lab in (("delta_mm", "delta"), ("p_max_MPa", "p_max"), ("area_mm2", "area")):
             ax[0].loglog(hs, [max(data[h][k], 1e-12) for h in grids], "o-", label=lab)
+        ax[0].set_xticks(hs, [f"{h:g}" for h in hs])
+        ax[0].xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax[0].set_xlabel("grid h [mm]")
         ax[0].set_ylabel(f"relative error vs h = {h_ref} mm")
         ax[0].legend()

@@ -37,7 +37,8 @@ from contact.patch import Patch
 from contact.prandtl_layer import LayerPair, PrandtlLayer
 from meshes.errors import ConvergenceError, InputError, require
 
-__all__ = ["NormalProblem", "NormalSolution", "RegionSolution", "solve_normal", "LayerPair", "strip_grid", "layer_points"]
+__all__ = ["NormalProblem", "NormalSolution", "RegionSolution", "solve_normal", "LayerPair", "strip_grid",
+           "layer_points"]
 
 _MAX_BRACKET_STEPS = 60
 _MAX_BRACKETED_ITERATIONS = 100
@@ -193,7 +194,7 @@ class _LayerAtReference:
     """Piecewise-linear loading curve u(p) of all layers at one strip, from their current state (p = 0)."""
 
     def __init__(self, layers: list[tuple[PrandtlLayer, int]]):
-        curves = [l.loading_curve(i) for l, i in layers]
+        curves = [lay.loading_curve(i) for lay, i in layers]
         knots = np.unique(np.concatenate([c[0] for c in curves] + [[0.0]]))
         self.p = knots[knots >= 0.0]
         self.u = np.zeros_like(self.p)
@@ -226,10 +227,10 @@ class _Evaluator:
         self.prob = prob
         self.y, self.f = prob.strip_y_mm, prob.separation_on_grid_mm
         self.layers = [] if layer is None else list(layer.bodies().values())
-        self.index = [layer_points(l, self.y, prob.grid_mm) for l in self.layers]
-        for l, ix in zip(self.layers, self.index):
-            if np.any(np.abs(l.pressure_MPa) > 1e-9 * max(1.0, float(np.abs(l.pressure_MPa).max()))):
-                raise InputError(l.name, "layer must be unloaded (p = 0) before a normal solve")
+        self.index = [layer_points(lay, self.y, prob.grid_mm) for lay in self.layers]
+        for lay, ix in zip(self.layers, self.index):
+            if np.any(np.abs(lay.pressure_MPa) > 1e-9 * max(1.0, float(np.abs(lay.pressure_MPa).max()))):
+                raise InputError(lay.name, "layer must be unloaded (p = 0) before a normal solve")
         self._curves: dict[int, _LayerAtReference] = {}
         self.evaluations = 0
         self.layer_segments = 0
@@ -240,10 +241,10 @@ class _Evaluator:
             return None
         if j not in self._curves:
             pairs = []
-            for l, ix in zip(self.layers, self.index):
+            for lay, ix in zip(self.layers, self.index):
                 if ix[j] < 0:
-                    raise InputError(l.name, f"has no element at strip y = {self.y[j]:.6g} mm (contact there)")
-                pairs.append((l, int(ix[j])))
+                    raise InputError(lay.name, f"has no element at strip y = {self.y[j]:.6g} mm (contact there)")
+                pairs.append((lay, int(ix[j])))
             self._curves[j] = _LayerAtReference(pairs)
         return self._curves[j]
 
@@ -341,7 +342,7 @@ def _find_delta(ev: _Evaluator, target: float, delta_guess: float, rtol: float) 
 
 def _hertz_like_guess(prob: NormalProblem) -> float:
     """A starting approach (mm) from the local curvature of f at its minimum, Hertz circle-like estimate."""
-    y, f = prob.strip_y_mm, prob.separation_on_grid_mm
+    f = prob.separation_on_grid_mm
     j = int(np.argmin(f))
     r_eff = prob.rolling_radius_mm
     e_star = prob.E_MPa / (2.0 * (1.0 - prob.poisson ** 2))
@@ -381,11 +382,11 @@ def solve_normal(prob: NormalProblem, layer: LayerPair | None = None, delta_gues
     main = max(regions, key=lambda r: r.p0_MPa)
     elastic = True
     if layer is not None:
-        for l, ix in zip(ev.layers, ev.index):
+        for lay, ix in zip(ev.layers, ev.index):
             on = p_peak > 0
             if np.any(ix[on] < 0):
-                raise InputError(l.name, "does not cover the contact patch (strips without a layer element)")
-            if np.any(p_peak[on] > l.yield_pressure_MPa()[ix[on]] * (1.0 + 1e-12)):
+                raise InputError(lay.name, "does not cover the contact patch (strips without a layer element)")
+            if np.any(p_peak[on] > lay.yield_pressure_MPa()[ix[on]] * (1.0 + 1e-12)):
                 elastic = False
     return NormalSolution(
         patches=patches, regions=regions, delta_mm=float(delta), delta0_mm=float(prob.alpha * delta),

@@ -93,7 +93,7 @@ def run_passes(prob: NormalProblem, layer_pair: LayerPair | None, options: Passe
     offset = base_offset.copy()
     bodies = {} if layers is None else layers.bodies()
     cumulative = {name: np.zeros_like(y) for name in bodies}
-    points = {name: layer_points(l, y, h) for name, l in bodies.items()}
+    points = {name: layer_points(lay, y, h) for name, lay in bodies.items()}
     records: list[PassRecord] = []
     delta_guess = None
     for k in range(1, int(options.max_passes) + 1):

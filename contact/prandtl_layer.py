@@ -296,11 +296,11 @@ class LayerPair:
 
     def bodies(self) -> dict[str, PrandtlLayer]:
         """The layers that are present, by name ("wheel", "rail", "combined")."""
-        return {n: l for n, l in (("wheel", self.wheel), ("rail", self.rail), ("combined", self.combined))
-                if l is not None}
+        return {n: lay for n, lay in (("wheel", self.wheel), ("rail", self.rail), ("combined", self.combined))
+                if lay is not None}
 
     def copy(self) -> "LayerPair":
-        return LayerPair(*(None if l is None else l.copy() for l in (self.wheel, self.rail, self.combined)))
+        return LayerPair(*(None if lay is None else lay.copy() for lay in (self.wheel, self.rail, self.combined)))
 
     def relaxed(self) -> "LayerPair":
-        return LayerPair(*(None if l is None else l.relaxed() for l in (self.wheel, self.rail, self.combined)))
+        return LayerPair(*(None if lay is None else lay.relaxed() for lay in (self.wheel, self.rail, self.combined)))
