@@ -135,6 +135,8 @@ class PrandtlLayer:
         self.k_N_per_mm3 = np.ascontiguousarray(np.asarray(self.k_N_per_mm3, dtype=float).reshape(n, -1))
         self.half_width_mm = np.ascontiguousarray(np.asarray(self.half_width_mm, dtype=float).reshape(n, -1))
         self.k_last_N_per_mm3 = np.ascontiguousarray(np.asarray(self.k_last_N_per_mm3, dtype=float).reshape(n))
+        if not (np.all(np.isfinite(self.y_mm)) and np.all(np.diff(self.y_mm) > 0)):
+            raise InputError(self.name, "point positions y_mm must be finite and strictly increasing")
         if self.half_width_mm.shape != self.k_N_per_mm3.shape:
             raise InputError(self.name, "k_N_per_mm3 and half_width_mm must have the same shape")
         if (np.any(self.k_N_per_mm3 < 0) or np.any(self.half_width_mm < 0) or np.any(self.k_last_N_per_mm3 <= 0)

@@ -37,7 +37,7 @@ def test_unloading_equation_8_exact_only_without_reverse_slip():
     Beyond, the exact (Masing) residual u(p_0) - 2 u(p_0/2) is smaller than eq. (8)."""
     p2 = PAPER.elastic_limit_MPa
     p0 = np.array([1000.0, 1300.0, 1456.0, 2 * p2, 2 * p2 + 200.0, 3000.0])
-    layer = PrandtlLayer.uniform(PAPER, np.zeros(p0.size))
+    layer = PrandtlLayer.uniform(PAPER, np.arange(p0.size, dtype=float))
     layer.load_to(p0)
     res = layer.unload()
     masing = PAPER.displacement(p0) - 2.0 * PAPER.displacement(p0 / 2.0)
@@ -57,7 +57,7 @@ def test_cycle_energy_balance():
         u_r = layer.unload()[0]
         u_load = np.linspace(0.0, float(PAPER.displacement(p0)), 40001)
         p_unload = np.linspace(p0, 0.0, 40001)
-        probe = PrandtlLayer.uniform(PAPER, np.zeros(p_unload.size))
+        probe = PrandtlLayer.uniform(PAPER, np.arange(p_unload.size, dtype=float))
         probe.load_to(p0)
         u_unload = probe.move_to(p_unload)                 # each point unloaded to one level of the path
         work = np.trapezoid(PAPER.pressure(u_load), u_load) + np.trapezoid(p_unload, u_unload)
@@ -147,7 +147,7 @@ def test_elastic_below_the_first_threshold(c, frac):
 @given(characteristics, st.lists(st.floats(0.0, 5000.0), min_size=2, max_size=10))
 def test_residual_never_decreases_with_the_peak(c, peaks):
     p0 = np.sort(np.asarray(peaks))
-    layer = PrandtlLayer.uniform(c, np.zeros(p0.size))
+    layer = PrandtlLayer.uniform(c, np.arange(p0.size, dtype=float))
     layer.load_to(p0)
     res = layer.unload()
     assert np.all(np.diff(res) >= -1e-12 * max(1.0, res.max()))
@@ -164,3 +164,8 @@ def test_series_is_the_sum_of_the_two_bodies(cw, cr, history):
     for p in history + [0.0]:
         u = wheel.move_to(p)[0] + rail.move_to(p)[0]
         assert u == pytest.approx(both.move_to(p)[0], rel=1e-9, abs=1e-12)
+
+
+def test_point_positions_must_increase():
+    with pytest.raises(InputError, match="strictly increasing"):
+        PrandtlLayer.uniform(PAPER, [0.0, 0.0])
