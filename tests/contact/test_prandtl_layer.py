@@ -169,3 +169,16 @@ def test_series_is_the_sum_of_the_two_bodies(cw, cr, history):
 def test_point_positions_must_increase():
     with pytest.raises(InputError, match="strictly increasing"):
         PrandtlLayer.uniform(PAPER, [0.0, 0.0])
+
+
+@settings(max_examples=40, deadline=None)
+@given(characteristics, st.lists(st.floats(-2000.0, 4000.0), min_size=1, max_size=6),
+       st.lists(st.floats(-2000.0, 4000.0), min_size=1, max_size=4))
+def test_state_round_trip_continues_identically(c, history, after):
+    layer = PrandtlLayer.uniform(c, [0.0, 0.1])
+    for p in history:
+        layer.move_to([p, 0.5 * p])
+    twin = PrandtlLayer.uniform(c, [0.0, 0.1]).with_state(layer.state_dict())
+    for p in after:
+        np.testing.assert_array_equal(twin.move_to([p, -p]), layer.move_to([p, -p]))
+    np.testing.assert_array_equal(twin.dissipated_energy, layer.dissipated_energy)
