@@ -22,7 +22,7 @@ Layers
 Per body (rail, wheel) a calibration table (anything with ``characteristic_at(y_mm)`` and ``y_range_mm``, e.g.
 :class:`contact.layer_table.LayerTable`) is looked up strip by strip at the strip's profile coordinate on that body
 (the point of the body's profile on the strip's normal line in the contact plane; only strips with a separation
-below ``LAYER_F_CAP_MM`` get an element); strips outside a table's range
+below ``LAYER_F_CAPS_MM[0]`` get an element, more if the patch reaches further); strips outside a table's range
 take its end value, and a strip IN CONTACT outside the range is an InputError. One ``combined`` characteristic
 (the paper's eq. 13 layer of both bodies) may be given instead. Passes (paper section 5) run per patch at the
 patch's normal force of the first pass (:func:`contact.passes.run_passes`). Each body's accumulated residual
@@ -51,9 +51,10 @@ from meshes.errors import ConvergenceError, InputError, require
 from meshes.profile_base import Profile
 
 BALANCE_RTOL = 1e-6
-#: Layers are built only on strips whose separation is below this (mm): no strip further away can come into contact
-#: (the virtual penetration alpha delta stays far below it at wheel loads).
-LAYER_F_CAP_MM = 1.0
+#: Layers are built only on strips whose separation is below the first of these caps (mm) (the virtual penetration
+#: alpha delta stays far below 0.3 mm at wheel loads); if a strip in contact has no element, the case is solved again
+#: with the next cap.
+LAYER_F_CAPS_MM = (0.3, 1.0, np.inf)
 
 
 class LayerLookup(Protocol):
@@ -207,15 +208,15 @@ def _clamped_lookup(table: Any, coords: np.ndarray, body: str, name: str) -> tup
     return chars, clamped
 
 
-def _layer_pair(cand: ContactCandidate, sign: int, prob: NormalProblem, layers: WheelRailLayers
-                ) -> tuple[LayerPair | None, dict, dict]:
+def _layer_pair(cand: ContactCandidate, sign: int, prob: NormalProblem, layers: WheelRailLayers,
+                f_cap_mm: float = LAYER_F_CAPS_MM[0]) -> tuple[LayerPair | None, dict, dict]:
     """Per-strip layers of a patch; returns (pair, profile coordinate per body on the strips, clamped masks)."""
     if layers is None or layers.empty:
         return None, {}, {}
     strips = prob.strip_y_mm
     eta = sign * strips
     coords = {"rail": cand.rail_coordinate(eta), "wheel": cand.wheel_coordinate(eta)}
-    near = prob.separation_on_grid_mm <= LAYER_F_CAP_MM
+    near = prob.separation_on_grid_mm <= f_cap_mm
     if layers.combined is not None:
         return LayerPair(combined=PrandtlLayer.uniform(layers.combined, strips[near], name="combined layer")), coords, {}
     built, clamped = {}, {}
@@ -243,7 +244,7 @@ def _check_coverage(patch: PatchSolution, layers: WheelRailLayers) -> None:
 
 
 def _balance(cands: list[ContactCandidate], sign: int, inputs: WheelRailInputs, layers: WheelRailLayers,
-             case: str = "wheel-rail case") -> tuple[list[tuple[ContactCandidate, float, NormalProblem, Any, dict, dict]], float]:
+             case: str = "wheel-rail case", f_cap_mm: float = LAYER_F_CAPS_MM[0]) -> tuple[list[tuple[ContactCandidate, float, NormalProblem, Any, dict, dict]], float]:
     """Normal forces of the candidates that carry the vertical load (see the module docstring)."""
     Q = inputs.vertical_load_N
     cos_g = np.array([math.cos(c.contact_angle_rad) for c in cands])
@@ -253,7 +254,7 @@ def _balance(cands: list[ContactCandidate], sign: int, inputs: WheelRailInputs, 
     built = []
     for c, cg in zip(cands, cos_g):
         prob = _problem(c, sign, inputs, Q / cg)
-        pair, coords, clamped = _layer_pair(c, sign, prob, layers)
+        pair, coords, clamped = _layer_pair(c, sign, prob, layers, f_cap_mm)
         built.append((c, prob, pair, coords, clamped))
     if len(cands) == 1:
         c, prob, pair, coords, clamped = built[0]
@@ -302,7 +303,22 @@ def solve_wheel(rail_profile: Profile, wheel_profile: Profile, inputs: WheelRail
     pose_side = inputs.pose.for_side(inputs.side)
     found = search_contacts(rail, wheel_profile, inputs.layout, pose_side, inputs.search, case=case)
     layers = layers if layers is not None else WheelRailLayers()
-    loaded, Delta = _balance(found.candidates, sign, inputs, layers, case)
+    for k, cap in enumerate(LAYER_F_CAPS_MM):
+        try:
+            return _solve_found(found, rail, wheel_profile, inputs, layers, sign, case, cap)
+        except InputError as err:  # a strip in contact without a layer element: widen the layer
+            if k == len(LAYER_F_CAPS_MM) - 1 or not _is_layer_name(err.what):
+                raise
+    raise AssertionError("unreachable")
+
+
+def _is_layer_name(what: str) -> bool:
+    return what == "combined layer" or (" layer (" in what and not what.startswith("layers."))
+
+
+def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, inputs: WheelRailInputs,
+                 layers: WheelRailLayers, sign: int, case: str, f_cap_mm: float) -> WheelRailSolution:
+    loaded, Delta = _balance(found.candidates, sign, inputs, layers, case, f_cap_mm)
     centre = np.array([0.0, inputs.pose.lateral_mm, found.wheel_height_mm])
     axle = axle_direction(inputs.pose)
     patches = []

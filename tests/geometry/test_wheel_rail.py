@@ -118,3 +118,13 @@ def test_combined_layer_is_softer(rail60, s1002, placed):
     soft = solve_wheel(rail60, s1002, inputs, WheelRailLayers(combined=Characteristic.linear(2e4)), placed_rail=placed)
     assert soft.patches[0].normal.area_mm2 > elastic.patches[0].normal.area_mm2
     assert soft.patches[0].normal.p_max_MPa < elastic.patches[0].normal.p_max_MPa
+
+
+def test_heavy_load_widens_the_layer(rail60, s1002, placed):
+    # the virtual penetration exceeds the first layer cap (0.3 mm): solved again with a wider layer, still balanced
+    soft = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.2]), np.array([0, 600.0, 1500.0])))
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(7.0), vertical_load_N=150000.0), soft,
+                      placed_rail=placed)
+    p = sol.patches[0]
+    assert p.normal.delta0_mm > 0.3
+    assert abs(_vertical(sol) - 150000.0) / 150000.0 < BALANCE_RTOL
