@@ -319,6 +319,9 @@ def solve_case(parsed: dict[str, Any], case: dict[str, float], placed_rail=None)
                                  case=f"case lateral {pose.lateral_mm:g} mm, yaw {pose.yaw_rad:g} rad, {side} wheel")
     entry = {"lateral_mm": pose.lateral_mm, "yaw_rad": pose.yaw_rad, "roll_rad": pose.roll_rad,
              "wheels": {side: wheel_result(s) for side, s in sols.items()}}
+    if len(sols) == 2:  # rolling radius difference of the main (largest normal force) patches, left - right
+        r = {side: max(s.patches, key=lambda p: p.normal_force_N).candidate.wheel_radius_mm for side, s in sols.items()}
+        entry["rolling_radius_difference_mm"] = r["left"] - r["right"]
     return entry, sols
 
 
