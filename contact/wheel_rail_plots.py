@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from contact.track_geometry import wheel_locus, wheel_sample_y
-from contact.wheel_rail import WheelRailSolution
+from contact.wheel_rail import WheelRailSolution, residual_on_profiles
 
 SIDE_COLOURS = {"right": "tab:blue", "left": "tab:orange"}
 
@@ -52,7 +52,8 @@ def _profiles_panel(ax, sol: WheelRailSolution, title: str) -> None:
 
 def write_wheel_rail_plots(result: dict[str, Any], solutions: list[dict[str, WheelRailSolution] | None],
                            out_dir: Path) -> list[Path]:
-    """profiles_in_contact.png (first, middle and last computed case) and sweep.png (if more than one case)."""
+    """profiles_in_contact.png (first, middle and last computed case), sweep.png (if more than one case) and
+    residual_displacements.png (if any case left a residual displacement)."""
     out_dir = Path(out_dir)
     paths = []
     ok = [k for k, s in enumerate(solutions) if s is not None]
@@ -74,7 +75,44 @@ def write_wheel_rail_plots(result: dict[str, Any], solutions: list[dict[str, Whe
         paths.append(path)
     if len(result["cases"]) > 1 and ok:
         paths.append(_sweep_plot(result, out_dir / "sweep.png"))
+    residual = _residual_plot(result, solutions, out_dir / "residual_displacements.png")
+    if residual is not None:
+        paths.append(residual)
     return paths
+
+
+def _residual_plot(result: dict[str, Any], solutions: list, path: Path) -> Path | None:
+    """Residual displacement u_p (mm, into the body) against the profile coordinate, rail and wheel, per case."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+    cmap = plt.get_cmap("viridis")
+    drawn = False
+    n = max(len(solutions) - 1, 1)
+    for k, sols in enumerate(solutions):
+        if not sols:
+            continue
+        for side, sol in sols.items():
+            for ax, body in zip(axes, ("rail", "wheel")):
+                res = residual_on_profiles(sol.patches).get(body)
+                if res is None or not np.any(res[1] > 1e-9):
+                    continue
+                order = np.argsort(res[0])
+                ax.plot(res[0][order], res[1][order] * 1e3, "-" if side == "right" else "--", color=cmap(k / n),
+                        lw=1, label=f"{result['cases'][k]['lateral_mm']:g} mm, {side}")
+                drawn = True
+    if not drawn:
+        plt.close(fig)
+        return None
+    for ax, body in zip(axes, ("rail", "wheel")):
+        ax.set_xlabel(f"{body} profile coordinate y (mm, field side +)")
+        ax.set_ylabel("residual displacement u_p (um, into the body)")
+        ax.set_title(f"{body}: residual displacement after the passes", fontsize=9)
+        ax.grid(alpha=0.3)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
 
 
 def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
