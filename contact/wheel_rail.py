@@ -336,6 +336,9 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
             records, _ = run_passes(prob, pair, inputs.passes, on_pass=lambda rec, s, h=holder: h.append(s))
             sol = holder[0]
         tang = _tangential(sol, kin, inputs)
+        if not coords:
+            eta = sign * prob.strip_y_mm
+            coords = {"rail": c.rail_coordinate(eta), "wheel": c.wheel_coordinate(eta)}
         patch = PatchSolution(c, inputs.side, sign, prob, sol, float(sol.normal_force_N), point, n_track, t_track,
                               kin, tang, records, coords.get("rail"), coords.get("wheel"),
                               {} if not records else {k: np.asarray(v) for k, v in

@@ -279,6 +279,10 @@ def patch_result(p: PatchSolution) -> dict[str, Any]:
         "normal_track": p.normal_track.tolist(), "lateral_track": p.lateral_track.tolist(),
         "elastic": bool(ns.elastic), "u0_mm": ns.u0_mm,
     }
+    y, f = p.problem.strip_y_mm, p.problem.separation_on_grid_mm
+    near = f <= 2.0 * ns.delta0_mm  # the strips in contact and their neighbourhood
+    out["strips"] = {"eta_mm": y[near].tolist(), "f_mm": f[near].tolist(), "p_peak_MPa": ns.p_peak_MPa[near].tolist(),
+                     "y_rail_mm": p.rail_y_of_strip[near].tolist(), "y_wheel_mm": p.wheel_y_of_strip[near].tolist()}
     if p.passes:
         out["passes"] = [{**r.summary(), "max_cumulative_residual_mm":
                           {b: float(np.max(v, initial=0.0)) for b, v in r.cumulative_residual_mm.items()}}
@@ -406,6 +410,8 @@ CONVENTIONS = {
                          "centre (flange contact ~ +1.2 rad), same sign for both wheels",
     "rolling_radius_kp_mm": "Kik-Piotrowski radius in the rolling direction: 1/(k_c cos^2 b + k_m sin^2 b); without "
                             "yaw r / cos(wheel contact angle)",
+    "strips": "per strip of a patch (track orientation, eta = 0 at the contact point): separation f in the contact "
+              "plane (shifted to min 0), peak pressure p(0, eta), and the strip's profile coordinates on rail and wheel",
     "lateral_mm/yaw_rad/roll_rad": "wheelset displacement towards the right rail; yaw counter-clockwise seen from "
                                    "above; roll lifting the right wheel",
 }
