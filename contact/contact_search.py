@@ -53,6 +53,11 @@ branch through P) the separation is f(eta) = zeta_wheel(eta) - zeta_rail(eta), t
 measured along the patch normal (the rail point on each normal line found by Newton's method on the exact rail
 profile), sampled every 0.02 mm of the wheel and cut where it exceeds ``f_cap_mm``. Its
 minimum is the normal gap of the candidate (0 for the first contact). eta is the strip coordinate of the patch.
+With yaw the wheel curve is the contact locus, i.e. at every lateral position the gap is the smallest over X; the
+locus points' longitudinal leads are not carried into the Kik–Piotrowski strips, which are all centred at x = 0
+(the lead of the contact point is reported as ``X_mm``). At 24 mrad yaw the leads vary across +-3 mm of eta by
+~0.3 mm on the tread but by several mm on the flange (whose contact point leads by ~ r r' yaw ~ 30 mm): there
+the patch is in reality skewed, which this planar treatment does not represent.
 """
 
 from __future__ import annotations
