@@ -26,9 +26,9 @@ from __future__ import annotations
 
 import io
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Iterable, Sequence
 
 import numpy as np
 import skfem
@@ -91,7 +91,7 @@ class SolverState:
     stress_MPa: np.ndarray | None = None
 
     @classmethod
-    def virgin(cls, disc: Discretisation) -> "SolverState":
+    def virgin(cls, disc: Discretisation) -> SolverState:
         shape = (disc.n_elements, disc.n_qp)
         return cls(np.zeros(disc.n_dofs), np.zeros(shape + (6,)), np.zeros(shape + (6,)), np.zeros(shape), 0.0,
                    np.zeros(shape + (6,)))

@@ -74,8 +74,9 @@ def render_png(path: str | os.PathLike, disc, state, material, field: str, centr
                title: str = "") -> Path:
     """Off-screen pyvista render of a cell field in a box of half width ``half_width_mm`` around the centre.
 
-    2D: the zoomed section (camera along x). 3D: the part of the body inside the box, seen from an oblique
-    angle so that the symmetry planes (cuts through the plastic zone) are visible.
+    The cells whose centres lie in the box are shown. 2D: the zoomed section (camera along x). 3D: seen
+    obliquely from the -x, -y side, so that the planes x = 0 and y = 0 (the symmetry planes of a quarter model,
+    sections through the plastic zone) are visible.
     """
     import pyvista as pv
     pv.OFF_SCREEN = True
@@ -87,7 +88,9 @@ def render_png(path: str | os.PathLike, disc, state, material, field: str, centr
     bounds = [c[0] - h, c[0] + h, c[1] - h, c[1] + h, c[2] - h, c[2] + h]
     if disc.plane_strain:
         bounds[0:2] = [-1.0, 1.0]
-    part = grid.clip_box(bounds, invert=False)
+    centres = grid.cell_centers().points
+    inside = np.all((centres >= np.array(bounds[0::2]) - 1e-12) & (centres <= np.array(bounds[1::2]) + 1e-12), axis=1)
+    part = grid.extract_cells(np.nonzero(inside)[0])
     plotter = pv.Plotter(off_screen=True, window_size=(900, 700))
     label = {"von_mises_MPa": "von Mises stress (MPa)", "eq_plastic_strain": "equivalent plastic strain"}[field]
     plotter.add_mesh(part, scalars=field, cmap="viridis", show_edges=False,
@@ -97,7 +100,9 @@ def render_png(path: str | os.PathLike, disc, state, material, field: str, centr
     if disc.plane_strain:
         plotter.view_yz()
     else:
-        plotter.camera_position = [(c[0] + 3 * h, c[1] + 2.5 * h, c[2] + 2 * h), tuple(c), (0, 0, 1)]
+        # look at the symmetry planes x = 0 and y = 0 of a quarter model (sections through the plastic zone)
+        plotter.camera_position = [(c[0] - 3 * h, c[1] - 2.5 * h, c[2] + 2 * h), tuple(c - [0, 0, 0.3 * h]),
+                                   (0, 0, 1)]
     plotter.show_axes()
     out = _write_via_temp(Path(path), lambda p: plotter.screenshot(p))
     plotter.close()

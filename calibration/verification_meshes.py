@@ -67,7 +67,7 @@ def quarter_annulus(a: float, b: float, n_r: int, n_theta: int, order: int = 2, 
         scale = np.where(near_a, a / rr, np.where(near_b, b / rr, 1.0))
         m = skfem.MeshTri2(m.p * scale, m.t)
     tol = 1e-9 * b
-    rad = lambda x: np.hypot(x[0], x[1])  # noqa: E731
+    rad = lambda x: np.hypot(x[0], x[1])
     return m.with_boundaries({"inner": lambda x: rad(x) < a + 0.01 * (r[1] - a), "outer": lambda x: rad(x) > b - 0.01 * (b - r[-2]),
                               "sym_y": lambda x: np.abs(x[0]) < tol, "sym_z": lambda x: np.abs(x[1]) < tol})
 

@@ -2,13 +2,12 @@
 
 import numpy as np
 import pytest
+from fem_cases import DIRICHLET_2D, DIRICHLET_3D, STEEL
 
 from calibration.elastoplastic_solver import SolverOptions, solve_load_path
 from calibration.fem_assembly import discretise
 from calibration.hertz_load import HertzLoad
 from calibration.verification_meshes import hertz_block_gmsh
-
-from fem_cases import DIRICHLET_2D, DIRICHLET_3D, STEEL
 
 
 def hertz_surface_w(r, a, p0, E, nu):

@@ -4,16 +4,14 @@ leaves self-equilibrated residual stresses, step cutting, restart, output files 
 import numpy as np
 import pytest
 import skfem
+from fem_cases import DIRICHLET_2D
 
-from calibration.elastoplastic_solver import (SolverOptions, SolverState, load_state, save_state,
-                                              solve_load_path)
+from calibration.elastoplastic_solver import SolverOptions, SolverState, load_state, save_state, solve_load_path
 from calibration.fem_assembly import discretise
 from calibration.hertz_load import HertzLoad
 from calibration.linear_solvers import HAVE_PARDISO
-from meshes.errors import ConvergenceError, InputError
-
 from calibration.material import J2Material
-from fem_cases import DIRICHLET_2D
+from meshes.errors import ConvergenceError, InputError
 
 #: combined hardening (p0 = 2 x first yield is near the plane-strain collapse load for perfect plasticity)
 STEEL = J2Material(210000.0, 0.3, 500.0, H_iso_MPa=10000.0, H_kin_MPa=10000.0)

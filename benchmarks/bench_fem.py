@@ -1,0 +1,242 @@
+"""FEM engine benchmark: 3D elastoplastic Hertz indentation, run time vs error, solver variants, felupe.
+
+Problem (units mm, N, MPa): quarter block 20 mm (unstructured gmsh tets, graded from element size h within
+1.2 mm of the load), circular Hertz pressure a = b = 1 mm, steel E = 210 GPa, nu = 0.3, Y = 500 MPa, perfectly
+plastic; far faces clamped, symmetry planes x = 0, y = 0. Load path: p0 = 0 -> 2 x 1.61 Y (twice the analytic
+first-yield pressure) in 8 equal increments, then unloaded to 0 in one increment. Quantities: centre
+displacement at peak load and the residual dent after unloading. Errors are measured against the Richardson
+extrapolation of the three finest levels (observed order) of the same problem.
+"""
+
+from __future__ import annotations
+
+import json
+import pathlib
+import time
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from benchmarks.harness import interleaved_medians, machine_info, max_rss_mb, peak_memory_mb
+from calibration.elastoplastic_solver import SolverOptions, dirichlet_dofs, solve_load_path
+from calibration.fem_assembly import discretise
+from calibration.hertz_load import HertzLoad
+from calibration.material import J2Material
+from calibration.verification_meshes import hertz_block_gmsh
+from meshes.atomic_write import atomic_write_bytes
+
+MAT = J2Material(210000.0, 0.3, 500.0)
+LOAD = HertzLoad(0.0, 1.0, a_mm=1.0)
+DIRICHLET = {"fixed": [0, 1, 2], "side": [0, 1, 2], "symmetry": [0], "sym_y": [1]}
+P_FY = 1.61 * MAT.yield_MPa
+P_PEAK = 2.0 * P_FY
+LEVELS = [P_PEAK, 0.0]
+BLOCK_MM = 20.0
+
+
+def _mesh(h: float, order: int = 2):
+    return hertz_block_gmsh(h, 1.2, BLOCK_MM, order=order, dim=3)
+
+
+def indentation(h: float, strategy: str = "pcg", backend: str = "auto", order: int = 2, mesh=None) -> dict:
+    """One load/unload run; returns times, dofs and the two displacements (mm)."""
+    t0 = time.perf_counter()
+    mesh = _mesh(h, order) if mesh is None else mesh
+    t_mesh = time.perf_counter() - t0
+    opts = SolverOptions(dirichlet=DIRICHLET, strategy=strategy, linear_solver=backend,
+                         max_increment_MPa=P_PEAK / 8)
+    t1 = time.perf_counter()
+    res = solve_load_path(mesh, MAT, LOAD, LEVELS, options=opts)
+    t_solve = time.perf_counter() - t1
+    peak = max(res.history, key=lambda i: i.p0_MPa)
+    return {"h_mm": h, "order": order, "strategy": strategy, "backend": backend, "n_dofs": int(res.n_dofs),
+            "n_elements": int(mesh.t.shape[1]), "mesh_s": t_mesh, "solve_s": t_solve,
+            "u_peak_mm": peak.u_centre_mm, "dent_mm": res.history[-1].u_centre_mm,
+            "first_yield_over_Y": res.first_yield_p0_MPa / MAT.yield_MPa,
+            "newton_iters": sum(i.newton_iters for i in res.history),
+            "cg_iters": sum(i.cg_iters for i in res.history), "n_yielded": res.history[-1].n_yielded}
+
+
+def elastic_half_space(h: float, block_mm: float) -> dict:
+    """Elastic Hertz load (p0 = 100 MPa) on a block of size ``block_mm``: centre displacement against the
+    half-space value w0 = pi p0 a (1 - nu^2) / (2 E) (Johnson 1985, eq. 3.41)."""
+    t0 = time.perf_counter()
+    mesh = hertz_block_gmsh(h, 1.2, block_mm, order=2, dim=3)
+    res = solve_load_path(mesh, MAT, LOAD, [100.0], options=SolverOptions(dirichlet=DIRICHLET))
+    w0 = np.pi * 100.0 * 1.0 * (1 - MAT.poisson ** 2) / (2 * MAT.E_MPa)
+    return {"h_mm": h, "block_mm": block_mm, "n_dofs": int(res.n_dofs), "time_s": time.perf_counter() - t0,
+            "w0_mm": res.history[-1].u_centre_mm, "w0_exact_mm": w0,
+            "err_pct": (res.history[-1].u_centre_mm / w0 - 1) * 100,
+            "first_yield_over_Y": res.first_yield_p0_MPa / MAT.yield_MPa}
+
+
+def richardson(h: list[float], q: list[float]) -> tuple[float, float]:
+    """Extrapolated value and observed order from the three finest levels (h decreasing), for q = q* + C h^p."""
+    (h1, h2, h3), (q1, q2, q3) = h[-3:], q[-3:]
+    r = h1 / h2  # assumes a roughly constant refinement ratio
+    ratio = (q1 - q2) / (q2 - q3) if q2 != q3 else np.inf
+    p = np.log(abs(ratio)) / np.log(r) if np.isfinite(ratio) and ratio > 0 else 2.0
+    p = float(np.clip(p, 0.5, 4.0))
+    r23 = h2 / h3
+    return float(q3 + (q3 - q2) / (r23 ** p - 1.0)), p
+
+
+def felupe_indentation(mesh_p1, force_per_MPa: np.ndarray, fixed_masks: dict, tol: float = 1e-8) -> dict:
+    """The same P1 problem solved with felupe's small-strain J2 model (isotropic hardening K = 0)."""
+    import felupe as fem
+    import pypardiso
+
+    mesh = fem.Mesh(mesh_p1.p.T.copy(), mesh_p1.t.T.copy(), "tetra")
+    region = fem.RegionTetra(mesh)
+    field = fem.FieldContainer([fem.Field(region, dim=3)])
+    bounds = {}
+    for name, (mask, comps) in fixed_masks.items():
+        skip = tuple(0 if c in comps else 1 for c in range(3))
+        bounds[name] = fem.Boundary(field[0], mask=mask, skip=skip)
+    umat = fem.LinearElasticPlasticIsotropicHardening(E=MAT.E_MPa, nu=MAT.poisson, sy=MAT.yield_MPa, K=0.0)
+    solid = fem.SolidBody(umat, field)
+    F = force_per_MPa.reshape(-1, 3)
+    pts = np.nonzero(np.abs(F).sum(axis=1) > 0)[0]
+    load = fem.PointLoad(field, pts, values=np.zeros((len(pts), 3)))
+    ramp_levels = list(np.linspace(P_PEAK / 8, P_PEAK, 8)) + [0.0]
+    step = fem.Step(items=[solid, load], ramp={load: [s * F[pts] for s in ramp_levels]}, boundaries=bounds)
+    centre = int(np.argmin(np.linalg.norm(mesh_p1.p.T, axis=1)))
+    disp = []
+    job = fem.Job([step], callback=lambda i, j, res: disp.append(-field[0].values[centre, 2]))
+    t0 = time.perf_counter()
+    job.evaluate(tol=tol, verbose=0, solver=pypardiso.spsolve)
+    return {"solve_s": time.perf_counter() - t0, "u_peak_mm": disp[7], "dent_mm": disp[-1]}
+
+
+def _felupe_case(h: float):
+    """P1 mesh, the skfem-based solve and the felupe inputs for the comparison."""
+    mesh = _mesh(h, order=1)
+    disc = discretise(mesh)
+    force = LOAD.prepare(disc.basis).force_per_MPa
+    x = mesh.p
+    tol = 1e-9 * BLOCK_MM
+    masks = {"fixed": ((x[2] < -BLOCK_MM + tol) | (x[0] > BLOCK_MM - tol) | (x[1] > BLOCK_MM - tol), (0, 1, 2)),
+             "symmetry": (x[0] < tol, (0,)), "sym_y": (x[1] < tol, (1,))}
+    # the same constrained dofs in both codes (vertex dofs are interleaved per node for P1)
+    ours = dirichlet_dofs(disc, DIRICHLET)
+    theirs = np.unique(np.concatenate([(np.nonzero(m)[0][:, None] * 3 + np.array(c)[None, :]).ravel()
+                                       for m, c in masks.values()]))
+    assert np.array_equal(np.sort(ours), theirs), "constraint sets differ"
+    return mesh, force, masks
+
+
+def _interleaved_runs(fns: dict, repeat: int) -> tuple[dict, dict]:
+    """benchmarks.harness.interleaved_medians (no warm-up) that also keeps each callable's last result."""
+    results = {}
+
+    def keep(k, fn):
+        return lambda: results.__setitem__(k, fn())
+
+    times = interleaved_medians({k: keep(k, fn) for k, fn in fns.items()}, repeat=repeat, warmup=0)
+    return times, results
+
+
+def _plot(rows, ref_u, ref_dent, out: pathlib.Path) -> pathlib.Path:
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    t = [r["solve_s"] + r["mesh_s"] for r in rows]
+    eu = [abs(r["u_peak_mm"] / ref_u - 1) * 100 for r in rows]
+    ed = [abs(r["dent_mm"] / ref_dent - 1) * 100 for r in rows]
+    ax.loglog(t, eu, "o-", label="centre displacement at peak")
+    ax.loglog(t, ed, "s-", label="residual dent")
+    for r, x, y in zip(rows, t, eu):
+        ax.annotate(f"h={r['h_mm']:g}", (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
+    ax.axhline(2.0, color="grey", lw=0.8, ls="--")
+    ax.set_xlabel("run time (mesh + solve) [s]")
+    ax.set_ylabel("error vs Richardson extrapolation [%]")
+    ax.set_title("3D Hertz indentation to 2 x first yield and unloading (P2 tets)")
+    ax.legend()
+    ax.grid(True, which="both", alpha=0.3)
+    path = out / "fem_time_vs_error.png"
+    import io
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=120)
+    plt.close(fig)
+    atomic_write_bytes(path, buf.getvalue())
+    return path
+
+
+def run(mode: str, out: pathlib.Path) -> dict:
+    out = pathlib.Path(out)
+    quick = mode == "quick"
+    hs = [0.5, 0.35, 0.25] if quick else [0.4, 0.28, 0.2, 0.14]
+    rows = []
+    for h in hs:
+        result, heap = peak_memory_mb(lambda h=h: indentation(h))
+        result["heap_peak_MiB"] = heap
+        result["max_rss_MiB"] = max_rss_mb()
+        rows.append(result)
+    ref_u, p_u = richardson([r["h_mm"] for r in rows], [r["u_peak_mm"] for r in rows])
+    ref_d, p_d = richardson([r["h_mm"] for r in rows], [r["dent_mm"] for r in rows])
+    for r in rows:
+        r["err_u_peak_pct"] = (r["u_peak_mm"] / ref_u - 1) * 100
+        r["err_dent_pct"] = (r["dent_mm"] / ref_d - 1) * 100
+    fig = _plot(rows, ref_u, ref_d, out)
+
+    elastic = [elastic_half_space(0.25 if quick else 0.15, L) for L in ((60.0,) if quick else (20.0, 60.0, 200.0))]
+
+    # solver variants on one level (interleaved medians)
+    h_cmp = hs[1]
+    mesh_cmp = _mesh(h_cmp)
+    variants = {"pcg + PARDISO": ("pcg", "pardiso"), "newton + PARDISO": ("newton", "pardiso"),
+                "modified + PARDISO": ("modified", "pardiso"), "pcg + SuperLU": ("pcg", "scipy")}
+    if quick:
+        variants.pop("pcg + SuperLU")
+    var_times, var_res = _interleaved_runs({k: (lambda s=s, b=b: indentation(h_cmp, s, b, mesh=mesh_cmp))
+                                            for k, (s, b) in variants.items()}, repeat=1 if quick else 3)
+
+    # felupe on the same P1 mesh
+    h_fe = 0.4 if quick else 0.2
+    mesh1, force1, masks = _felupe_case(h_fe)
+    fe_times, fe_res = _interleaved_runs({
+        "ours (pcg + PARDISO)": lambda: indentation(h_fe, order=1, mesh=mesh1),
+        "felupe (Newton, PARDISO)": lambda: felupe_indentation(mesh1, force1, masks)}, repeat=2 if quick else 3)
+    ours1, theirs = fe_res["ours (pcg + PARDISO)"], fe_res["felupe (Newton, PARDISO)"]
+
+    md = [__doc__.split("\n\n", 1)[1].strip(), "",
+          f"Richardson reference (levels h = {hs[-3:]} mm): centre displacement at peak {ref_u * 1000:.4f} um "
+          f"(observed order {p_u:.2f}), dent {ref_d * 1000:.4f} um (order {p_d:.2f}).", "",
+          "| h mm | dofs | elements | mesh s | solve s | heap MiB | max RSS MiB | Newton its | CG its | "
+          "u_peak um | err % | dent um | err % | first yield / Y |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        md.append(f"| {r['h_mm']:g} | {r['n_dofs']} | {r['n_elements']} | {r['mesh_s']:.2f} | {r['solve_s']:.2f} | "
+                  f"{r['heap_peak_MiB']:.0f} | {r['max_rss_MiB']:.0f} | {r['newton_iters']} | {r['cg_iters']} | "
+                  f"{r['u_peak_mm'] * 1000:.4f} | {r['err_u_peak_pct']:+.2f} | {r['dent_mm'] * 1000:.4f} | "
+                  f"{r['err_dent_pct']:+.2f} | {r['first_yield_over_Y']:.4f} |")
+    md += ["", f"Elastic check against the half-space (Boussinesq/Hertz, p0 = 100 MPa, h = {elastic[0]['h_mm']} mm, far faces clamped; "
+           "the truncation error decays like a / block size):", "",
+           "| block mm | dofs | time s | w0 FE um | w0 half-space um | error % | first yield / Y (Johnson: 1.61) |",
+           "|---|---|---|---|---|---|---|"]
+    for e in elastic:
+        md.append(f"| {e['block_mm']:g} | {e['n_dofs']} | {e['time_s']:.1f} | {e['w0_mm'] * 1000:.4f} | "
+                  f"{e['w0_exact_mm'] * 1000:.4f} | {e['err_pct']:+.2f} | {e['first_yield_over_Y']:.4f} |")
+    md += ["", f"Linear-solver strategies on h = {h_cmp} mm ({var_res[next(iter(var_res))]['n_dofs']} dofs), "
+           "interleaved medians (s):", "", "| variant | solve s | Newton its | CG its | u_peak um | dent um |",
+           "|---|---|---|---|---|---|"]
+    for k, r in var_res.items():
+        md.append(f"| {k} | {var_times[k]:.2f} | {r['newton_iters']} | {r['cg_iters']} | "
+                  f"{r['u_peak_mm'] * 1000:.5f} | {r['dent_mm'] * 1000:.5f} |")
+    ratio = fe_times["felupe (Newton, PARDISO)"] / fe_times["ours (pcg + PARDISO)"]
+    md += ["", f"felupe {__import__('felupe').__version__} on the same P1 tetrahedral mesh (h = {h_fe} mm, "
+           f"{ours1['n_dofs']} dofs, same constrained dofs, same consistent nodal forces, same 9 increments, "
+           "both with PARDISO): interleaved median solve times "
+           f"ours {fe_times['ours (pcg + PARDISO)']:.2f} s, felupe {fe_times['felupe (Newton, PARDISO)']:.2f} s "
+           f"(felupe / ours = {ratio:.2f}). Same discretisation, so equal error: u_peak ours "
+           f"{ours1['u_peak_mm'] * 1000:.5f} um vs felupe {theirs['u_peak_mm'] * 1000:.5f} um, dent "
+           f"{ours1['dent_mm'] * 1000:.5f} vs {theirs['dent_mm'] * 1000:.5f} um. (P1 tets are much less accurate "
+           "than P2 for this problem; the comparison is of the solvers, not of the elements.)"]
+    data = {"levels": rows, "richardson": {"u_peak_mm": ref_u, "order_u": p_u, "dent_mm": ref_d, "order_dent": p_d},
+            "elastic_half_space": elastic, "variants": {k: dict(var_res[k], median_s=var_times[k]) for k in var_res},
+            "felupe": {"h_mm": h_fe, "ours": ours1, "felupe": theirs, "median_s": fe_times, "ratio": ratio},
+            "machine": machine_info()}
+    json.dumps(data)  # must be serialisable
+    return {"title": "FEM engine: 3D elastoplastic Hertz indentation", "markdown": "\n".join(md),
+            "figures": [fig], "data": data}
