@@ -37,7 +37,7 @@ from contact.patch import Patch
 from contact.prandtl_layer import LayerPair, PrandtlLayer
 from meshes.errors import ConvergenceError, InputError, require
 
-__all__ = ["NormalProblem", "NormalSolution", "RegionSolution", "solve_normal", "LayerPair", "strip_grid",
+__all__ = ["NormalProblem", "NormalSolution", "RegionSolution", "NormalForceEvaluator", "solve_normal", "LayerPair", "strip_grid",
            "layer_points"]
 
 _MAX_BRACKET_STEPS = 60
@@ -220,8 +220,15 @@ class _LayerAtReference:
         return float(p0), float(self.u[j - 1] + t * (self.u[j] - self.u[j - 1])), j
 
 
-class _Evaluator:
-    """N(delta) for fixed geometry and layer state, caching the last evaluation."""
+class NormalForceEvaluator:
+    """The normal force N(delta) (N) of a problem at a given approach delta (mm), for fixed geometry and layer state.
+
+    ``NormalForceEvaluator(prob, layer)``: the layers (if any) must sit on the problem's strip grid and be unloaded
+    (InputError otherwise). :meth:`force_at` solves the contact conditions at that approach (no force target) and
+    keeps the regions of the last evaluation in ``last`` = (delta, N, [RegionSolution]); ``evaluations`` counts the
+    calls. Used by :func:`solve_normal` (bracketing N(delta) = N_target) and by the wheel–rail load balance, which
+    shares one approach between several contact candidates.
+    """
 
     def __init__(self, prob: NormalProblem, layer: LayerPair | None):
         self.prob = prob
@@ -248,7 +255,8 @@ class _Evaluator:
             self._curves[j] = _LayerAtReference(pairs)
         return self._curves[j]
 
-    def __call__(self, delta: float) -> float:
+    def force_at(self, delta: float) -> float:
+        """N(delta) (N) at the approach ``delta`` (mm): the sum of the regions' forces (eq. 12)."""
         self.evaluations += 1
         p = self.prob
         h = p.grid_mm
@@ -275,7 +283,7 @@ class _Evaluator:
         return total
 
 
-def _find_delta(ev: _Evaluator, target: float, delta_guess: float, rtol: float) -> tuple[float, int, int]:
+def _find_delta(ev: NormalForceEvaluator, target: float, delta_guess: float, rtol: float) -> tuple[float, int, int]:
     """Solve N(delta) = target (N increasing in delta). Returns (delta, bracketing steps, bracketed iterations).
 
     In log-log coordinates N(delta) is nearly a straight line (Hertz: N ~ delta^1.5), so: secant steps in
@@ -293,7 +301,7 @@ def _find_delta(ev: _Evaluator, target: float, delta_guess: float, rtol: float) 
         if steps > _MAX_BRACKET_STEPS:
             raise ConvergenceError(f"normal approach delta: no bracket for N = {target:g} N after "
                                    f"{_MAX_BRACKET_STEPS} steps (last delta = {d:g} mm)")
-        n = ev(d)
+        n = ev.force_at(d)
         if not (np.isfinite(n) and n >= 0):
             raise ConvergenceError(f"normal approach delta: N(delta = {d:g} mm) = {n!r}")
         if abs(n - target) <= rtol * target:
@@ -322,7 +330,7 @@ def _find_delta(ev: _Evaluator, target: float, delta_guess: float, rtol: float) 
             if not xa < x < xb:
                 x = 0.5 * (xa + xb)
         d = float(np.exp(x))
-        n = ev(d)
+        n = ev.force_at(d)
         if abs(n - target) <= rtol * target or (xb - xa) < 1e-14:
             return d, steps, it
         r = (np.log(n) if n > 0 else -np.inf) - lt
@@ -361,11 +369,11 @@ def solve_normal(prob: NormalProblem, layer: LayerPair | None = None, delta_gues
     Raises ConvergenceError when delta cannot be bracketed or the regula falsi does not converge, or when the residual
     |N - N_target| exceeds rtol_N N_target.
     """
-    ev = _Evaluator(prob, layer)
+    ev = NormalForceEvaluator(prob, layer)
     guess = delta_guess_mm if delta_guess_mm is not None and delta_guess_mm > 0 else _hertz_like_guess(prob)
     delta, steps, bracketed_iter = _find_delta(ev, prob.normal_force_N, guess, 0.1 * rtol_N)
     if ev.last is None or ev.last[0] != delta:
-        ev(delta)
+        ev.force_at(delta)
     _, n_total, regions = ev.last
     residual = n_total - prob.normal_force_N
     if not abs(residual) <= rtol_N * prob.normal_force_N:

@@ -196,8 +196,15 @@ def scene_type(data: dict[str, Any], path: Path) -> str:
     return kind
 
 
-class _Keys:
-    """Typed access to one TOML table; errors name the file and the key path (e.g. ``load.normal_force_N``)."""
+class SceneKeys:
+    """Typed, validating access to one TOML table of a scene file (public: the wheel–rail scene parser uses it).
+
+    ``SceneKeys(file, prefix, table)``: ``file`` is the scene file's name, ``prefix`` the key path of the table
+    ("" for the top level, e.g. "load" or "layer.rail"). The getters (:meth:`number`, :meth:`integer`,
+    :meth:`boolean`, :meth:`text`, :meth:`array`, :meth:`sub`) check type, finiteness and bounds and raise
+    :class:`meshes.errors.InputError` naming ``<file>: <prefix>.<key>`` (e.g. ``scene.toml: load.normal_force_N``);
+    :meth:`check_known` rejects unknown keys. Raises InputError when ``table`` is not a TOML table.
+    """
 
     def __init__(self, file: str, prefix: str, table: Any):
         self.file, self.prefix = file, prefix
@@ -206,18 +213,22 @@ class _Keys:
         self.table = table
 
     def what(self, key: str) -> str:
+        """The error location of ``key``: ``<file>: <prefix>.<key>``."""
         return f"{self.file}: {self.prefix}.{key}" if self.prefix else f"{self.file}: {key}"
 
     def error(self, key: str, problem: str) -> InputError:
+        """An InputError for ``key`` (to raise)."""
         return InputError(self.what(key), problem)
 
     def check_known(self, allowed: tuple[str, ...]) -> None:
+        """Raise InputError for the first key of the table not in ``allowed``."""
         for key in self.table:
             if key not in allowed:
                 raise self.error(key, f"unknown key (allowed: {', '.join(allowed)})")
 
     def number(self, key: str, default: float | None = None, *, gt: float | None = None, ge: float | None = None,
                lt: float | None = None, le: float | None = None) -> float:
+        """A finite number (int or float, not bool), ``default`` when absent (None: required), within the bounds."""
         if key not in self.table:
             if default is None:
                 raise self.error(key, "missing (required)")
@@ -235,6 +246,7 @@ class _Keys:
         return value
 
     def integer(self, key: str, default: int, *, ge: int) -> int:
+        """An integer >= ``ge``, ``default`` when absent."""
         if key not in self.table:
             return default
         value = self.table[key]
@@ -245,12 +257,14 @@ class _Keys:
         return int(value)
 
     def boolean(self, key: str, default: bool) -> bool:
+        """true/false, ``default`` when absent."""
         value = self.table.get(key, default)
         if not isinstance(value, bool):
             raise self.error(key, f"must be true or false, got {_kind(value)} {value!r}")
         return value
 
     def text(self, key: str, default: str | None = None) -> str:
+        """A string, ``default`` when absent (None: required)."""
         if key not in self.table:
             if default is None:
                 raise self.error(key, "missing (required)")
@@ -261,6 +275,7 @@ class _Keys:
         return value
 
     def array(self, key: str, min_len: int = 2) -> np.ndarray:
+        """A required list of at least ``min_len`` finite numbers, as a float array."""
         if key not in self.table:
             raise self.error(key, "missing (required)")
         value = self.table[key]
@@ -276,10 +291,11 @@ class _Keys:
             raise self.error(key, f"needs at least {min_len} values, got {arr.size}")
         return arr
 
-    def sub(self, key: str) -> _Keys | None:
+    def sub(self, key: str) -> SceneKeys | None:
+        """The sub-table ``key`` as SceneKeys (prefix extended), None when absent."""
         if key not in self.table:
             return None
-        return _Keys(self.file, f"{self.prefix}.{key}" if self.prefix else key, self.table[key])
+        return SceneKeys(self.file, f"{self.prefix}.{key}" if self.prefix else key, self.table[key])
 
 
 def _kind(value: Any) -> str:
@@ -296,7 +312,7 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
     folder). Raises InputError naming ``<file>: <section>.<key>``."""
     path = Path(path)
     file = path.name
-    top = _Keys(file, "", data)
+    top = SceneKeys(file, "", data)
     top.check_known(TOP_KEYS)
     kind = scene_type(data, path)
     if kind != "kik_piotrowski":
@@ -373,7 +389,7 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
                  reference=reference, data=data, content_hash=hashlib.sha256("".join(hashes).encode()).hexdigest())
 
 
-def _parse_separation(keys: _Keys, grid_mm: float) -> SeparationSpec:
+def _parse_separation(keys: SceneKeys, grid_mm: float) -> SeparationSpec:
     if "lateral_radius_mm" in keys.table:
         keys.check_known(("lateral_radius_mm", "half_width_mm", "step_mm"))
         radius = keys.number("lateral_radius_mm", gt=0.0)
@@ -399,7 +415,7 @@ def _parse_separation(keys: _Keys, grid_mm: float) -> SeparationSpec:
     return SeparationSpec(y, f)
 
 
-def _parse_layer(keys: _Keys, base: Path, hashes: list[str]) -> LayerSpec:
+def _parse_layer(keys: SceneKeys, base: Path, hashes: list[str]) -> LayerSpec:
     has_bodies = any(b in keys.table for b in BODIES)
     has_points = any(k in keys.table for k in ("u_mm", "p_MPa"))
     if has_bodies and has_points:
@@ -415,13 +431,13 @@ def _parse_layer(keys: _Keys, base: Path, hashes: list[str]) -> LayerSpec:
     return LayerSpec(wheel=bodies.get("wheel"), rail=bodies.get("rail"))
 
 
-def _characteristic(keys: _Keys) -> Characteristic:
+def _characteristic(keys: SceneKeys) -> Characteristic:
     u = keys.array("u_mm")
     p = keys.array("p_MPa")
     return Characteristic(u, p, name=f"{keys.what('u_mm')}/p_MPa")
 
 
-def _parse_body(keys: _Keys, body: str, base: Path, hashes: list[str]) -> BodyLayerSpec:
+def _parse_body(keys: SceneKeys, body: str, base: Path, hashes: list[str]) -> BodyLayerSpec:
     if "table" in keys.table:
         keys.check_known(("table", "position_mm"))
         rel = keys.text("table")

@@ -42,7 +42,7 @@ from scipy.optimize import brentq
 from contact.characteristic import Characteristic
 from contact.contact_search import ContactCandidate, SearchResult, SearchSettings, search_contacts
 from contact.fastsim import Creepage, TangentialResult, solve_tangential
-from contact.kik_piotrowski import NormalProblem, NormalSolution, _Evaluator, solve_normal
+from contact.kik_piotrowski import NormalProblem, NormalSolution, NormalForceEvaluator, solve_normal
 from contact.passes import PassesOptions, PassRecord, run_passes
 from contact.prandtl_layer import LayerPair, PrandtlLayer
 from contact.track_geometry import PlacedRail, TrackLayout, WheelsetPose, axle_direction, place_rail, side_sign
@@ -263,13 +263,13 @@ def _balance(cands: list[ContactCandidate], sign: int, inputs: WheelRailInputs, 
     c1, prob1, pair1 = built[primary][:3]
     sol1 = solve_normal(prob1, pair1)
     delta_hi = (sol1.delta_mm + c1.normal_gap_mm) / cos_g[primary]
-    evaluators = [_Evaluator(prob, pair) for _, prob, pair, _, _ in built]
+    evaluators = [NormalForceEvaluator(prob, pair) for _, prob, pair, _, _ in built]
 
     def forces(Delta: float) -> np.ndarray:
         out = np.zeros(len(cands))
         for i, (c, cg) in enumerate(zip(cands, cos_g)):
             d = Delta * cg - c.normal_gap_mm
-            out[i] = evaluators[i](d) if d > 0 else 0.0
+            out[i] = evaluators[i].force_at(d) if d > 0 else 0.0
         return out
 
     def excess(Delta: float) -> float:

@@ -44,7 +44,7 @@ from contact.characteristic import Characteristic
 from contact.contact_search import SearchSettings
 from contact.passes import PassesOptions
 from contact.result_io import UNITS, code_version
-from contact.scene import _Keys
+from contact.scene import SceneKeys
 from contact.track_geometry import TrackLayout, WheelsetPose, place_rail
 from contact.wheel_rail import (
     PatchSolution,
@@ -65,7 +65,7 @@ SWEEP_KEYS = ("lateral_mm", "yaw_rad", "roll_rad")
 
 
 # ------------------------------------------------------------------------------------------------ parsing
-def _profile(keys: _Keys, key: str, default: str, base: Path, body: str):
+def _profile(keys: SceneKeys, key: str, default: str, base: Path, body: str):
     name = keys.text(key, default)
     candidate = base / name
     target = str(candidate) if candidate.suffix.lower() in (".prr", ".prw", ".txt", ".csv") else name
@@ -81,7 +81,7 @@ def _profile(keys: _Keys, key: str, default: str, base: Path, body: str):
     return prof
 
 
-def _values(keys: _Keys, key: str) -> np.ndarray:
+def _values(keys: SceneKeys, key: str) -> np.ndarray:
     """A sweep axis: a list of numbers or {start, stop, step} (stop included within step/1e6)."""
     value = keys.table[key]
     if isinstance(value, dict):
@@ -99,7 +99,7 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
     """Validate a wheel_rail scene; returns the parsed objects (profiles, layout, cases, inputs template, layers)."""
     scene_path = Path(scene_path)
     file, base = scene_path.name, scene_path.parent
-    top = _Keys(file, "", data)
+    top = SceneKeys(file, "", data)
     top.check_known(TOP_KEYS)
     known = {
         "profiles": ("rail", "wheel"),
@@ -123,8 +123,8 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
     for key in ("title", "description"):
         top.text(key, "")
 
-    def s(name: str) -> _Keys:
-        return sec.get(name) or _Keys(file, name, {})
+    def s(name: str) -> SceneKeys:
+        return sec.get(name) or SceneKeys(file, name, {})
 
     rail = _profile(s("profiles"), "rail", "60E1", base, "rail")
     track = s("track")
@@ -191,7 +191,7 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
             "deformed_profiles": out.boolean("deformed_profiles", True)}
 
 
-def _parse_layers(keys: _Keys | None, base: Path) -> tuple[WheelRailLayers | None, dict]:
+def _parse_layers(keys: SceneKeys | None, base: Path) -> tuple[WheelRailLayers | None, dict]:
     if keys is None:
         return None, {}
     hashes: dict[str, str] = {}
@@ -225,7 +225,7 @@ def _parse_layers(keys: _Keys | None, base: Path) -> tuple[WheelRailLayers | Non
     return WheelRailLayers(rail=tables.get("rail"), wheel=tables.get("wheel"), names=names), hashes
 
 
-def _cases(sweep: _Keys | None, base_pose: dict[str, float]) -> list[dict[str, float]]:
+def _cases(sweep: SceneKeys | None, base_pose: dict[str, float]) -> list[dict[str, float]]:
     if sweep is None:
         return [dict(base_pose)]
     axes = {k: _values(sweep, k) for k in SWEEP_KEYS if k in sweep.table}
