@@ -303,7 +303,11 @@ def _first_yield(prob: _Problem, force: np.ndarray) -> float:
     """p0 (MPa) at which the max quadrature-point von Mises stress of the elastic solution reaches yield."""
     r = force.copy()
     r[prob.fixed] = 0.0
-    u1 = prob.factor.solve(r)
+    if prob.factor_is_elastic:
+        u1 = prob.factor.solve(r)
+    else:  # the kept factorisation is a tangent: solve K_e u = r by CG preconditioned with it
+        K_e = prob.disc.csr_matrix(prob._bc(prob.Ke_data.copy()))
+        u1, _ = preconditioned_cg(K_e.dot, r, prob.factor.solve, rtol=1e-12, max_iter=500)
     vm = von_mises_MPa(prob.disc.strain(u1) @ prob.material.elastic_matrix())
     peak = float(vm.max())
     return prob.material.yield_MPa / peak if peak > 0 else float("inf")
@@ -318,7 +322,8 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
     mesh: skfem MeshTri1/2 (plane strain, coordinates (y, z)) or MeshTet1/2 (3D, (x, y, z)) with named
     boundaries; load: HertzLoad / UniformPressure (anything with ``prepare(basis)``); vtk_at: indices into
     p0_levels_MPa (or "all") at which VTK (.vtu) and PNG files are written to out_dir; initial_state: restart
-    from a saved state (its p0_MPa is the starting level); disc: a prebuilt discretisation of ``mesh`` (reuse).
+    from a saved state (its p0_MPa is the starting level); disc: a prebuilt discretisation of ``mesh`` (reuse it
+    across calls: it also caches the elastic stiffness and its factorisation for the same material/constraints).
     """
     opts = options or SolverOptions()
     opts.validate()
@@ -330,7 +335,18 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
     if disc is None:
         disc = discretise(mesh, opts.order)
     prepared = load.prepare(disc.basis)
-    prob = _Problem(disc, material, dirichlet_dofs(disc, opts.dirichlet), opts)
+    key = (material, None if opts.dirichlet is None else tuple(sorted((k, tuple(v)) for k, v in
+                                                                      opts.dirichlet.items())),
+           resolve_backend(opts.linear_solver), opts.strategy == "modified")
+    prob = disc.problem_cache.get(key)
+    if prob is None:  # assemble + factorise K_e once per discretisation, material and constraints
+        disc.problem_cache.clear()
+        prob = _Problem(disc, material, dirichlet_dofs(disc, opts.dirichlet), opts)
+        disc.problem_cache[key] = prob
+    prob.opts = opts
+    if opts.strategy == "modified" and not prob.factor_is_elastic:
+        prob.factor.factorise(prob._bc(prob.Ke_data.copy()))
+        prob.factor_is_elastic = True
     state = initial_state if initial_state is not None else SolverState.virgin(disc)
     if initial_state is not None:
         require(state.u_mm.shape == (disc.n_dofs,), "initial_state",
@@ -381,5 +397,4 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
         if k in vtk_idx:
             from calibration.fem_output import write_increment_output
             files += write_increment_output(disc, state, material, prepared, Path(out_dir), k)
-    prob.factor.release()
     return FemResult(history, first_yield, state, prepared.centre_mm, disc.n_dofs, files)

@@ -11,7 +11,7 @@ out-of-plane axis to index 2 (eps_33 = 0). Strains/stresses are Mandel 6-vectors
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -76,6 +76,8 @@ class Discretisation:
     csr_indptr: np.ndarray
     csr_indices: np.ndarray
     scatter: np.ndarray   # (n_elem, n_dof_el * n_dof_el) position of each element-matrix entry in csr data
+    #: the solver keeps its assembled elastic stiffness and factorisation here between calls (one entry)
+    problem_cache: dict = field(default_factory=dict, repr=False)
 
     @property
     def n_dofs(self) -> int:
