@@ -2,7 +2,8 @@
 
 Layout (every key optional except ``[[bodies]]`` with ``body``, ``profile`` and positions)::
 
-    [run]       model = "2d" | "3d", workers = 2, scheduler = "" (Dask address), plots = true
+    [run]       model = "2d" | "3d", workers = 2, scheduler = "" (Dask address), plots = true,
+                linear_solver = "scipy" | "pardiso" | "auto" (SuperLU is the faster for 2D sections)
     [material]  E_MPa, poisson, yield_MPa, H_iso_MPa, H_kin_MPa            (J2 with linear hardening)
     [load]      reference_load_N, max_factor, n_levels, unload_factors, max_increment_factor
     [mesh]      elements_per_semi_axis, h_max_mm, order, depth_mm, rail_support_below_mm, length_factor, grading, yield_search_radius_factor
@@ -37,6 +38,7 @@ class RunSettings:
     workers: int = 2
     scheduler: str = ""
     plots: bool = True
+    linear_solver: str = "scipy"
 
 
 @dataclass(frozen=True)
@@ -256,6 +258,11 @@ def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> 
             r.fail(k, f"must be a string, got {v!r}")
         return v
 
+    def solver(v, k):
+        if v not in ("auto", "pardiso", "scipy"):
+            r.fail(k, f"must be 'auto', 'pardiso' or 'scipy', got {v!r}")
+        return v
+
     def boolean(v, k):
         if not isinstance(v, bool):
             r.fail(k, f"must be true or false, got {v!r}")
@@ -263,7 +270,7 @@ def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> 
 
     run = r.dataclass_from(RunSettings, run_d, "run", {
         "model": model, "workers": lambda v, k: r.number(v, k, 1, 64, lo_open=False, integer=True),
-        "scheduler": string, "plots": boolean})
+        "scheduler": string, "plots": boolean, "linear_solver": solver})
     material = _material(r, r.table(data, "material"), "material")
     load_d = dict(r.table(data, "load"))
     ref = r.number(load_d.pop("reference_load_N", 100000.0), "load.reference_load_N", 0.0)

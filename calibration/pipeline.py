@@ -33,14 +33,17 @@ from meshes.atomic_write import atomic_write_text
 from meshes.errors import WrLayerError
 
 _ROOT = Path(__file__).resolve().parent.parent
-_CODE_DIRS = ("calibration", "meshes")
+#: Sources that determine a position's FEM result (the cache key includes their content).
+_FEM_SOURCES = ("calibration/indentation.py", "calibration/hertz_geometry.py", "calibration/elastoplastic_solver.py",
+                "calibration/fem_assembly.py", "calibration/hertz_load.py", "calibration/material.py",
+                "calibration/return_mapping.py", "calibration/linear_solvers.py", "meshes/*.py")
 
 
 def code_hash() -> str:
-    """SHA-256 of the Python sources that determine the FEM results (calibration/, meshes/)."""
+    """SHA-256 of the Python sources that determine the FEM results (see _FEM_SOURCES)."""
     h = hashlib.sha256()
-    for d in _CODE_DIRS:
-        for f in sorted((_ROOT / d).rglob("*.py")):
+    for pattern in _FEM_SOURCES:
+        for f in sorted(_ROOT.glob(pattern)):
             h.update(str(f.relative_to(_ROOT)).encode())
             h.update(f.read_bytes())
     return h.hexdigest()
@@ -93,6 +96,7 @@ class PositionTask:
     load: dict
     key: str
     fields_dir: str | None
+    linear_solver: str = "scipy"
 
     @property
     def label(self) -> str:
@@ -117,7 +121,8 @@ def run_position(task: PositionTask, progress_queue=None) -> dict:
         load["unload_factors"] = tuple(load["unload_factors"])
         fields_dir = Path(task.fields_dir) if task.fields_dir else None
         res = indent(profile, LocalGeometry(**task.geometry), J2Material(**task.material), task.model,
-                     MeshSettings(**task.mesh), LoadSettings(**load), fields_dir, progress)
+                     MeshSettings(**task.mesh), LoadSettings(**load), fields_dir, progress,
+                     task.linear_solver)
         return {"ok": True, "indentation": res.to_dict()}
     except WrLayerError as err:
         return {"ok": False, "error": f"{task.label}: {err}"}
@@ -157,7 +162,7 @@ def make_tasks(cfg: CalibrationConfig, out_dir: Path) -> tuple[list[PositionTask
             fields = out_dir / "fields" / f"{b.body}_y{y:+08.3f}mm" if cfg.run.plots else None
             tasks.append(PositionTask(b.body, b.profile, float(y), geo.to_dict(), asdict(b.material),
                                       cfg.run.model, asdict(cfg.mesh), asdict(cfg.load), key,
-                                      str(fields) if fields else None))
+                                      str(fields) if fields else None, cfg.run.linear_solver))
     return tasks, failed
 
 
@@ -215,6 +220,8 @@ def _execute(tasks: list[PositionTask], cfg: CalibrationConfig, scheduler: str |
     """Run the tasks (local processes, in-process for workers = 1, or Dask); yields (task, result)."""
     from tqdm import tqdm
 
+    if not tasks:
+        return
     steps_total = sum(n_stages(t.load) for t in tasks)
     bar_pos = tqdm(total=len(tasks), desc="positions", unit="pos", disable=not show_progress, position=0)
     bar_steps = tqdm(total=steps_total, desc="load stages", unit="stage", disable=not show_progress, position=1)

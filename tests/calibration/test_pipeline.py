@@ -67,7 +67,8 @@ def test_second_run_uses_the_cache_and_fit_changes_need_no_fem(coarse_run, tmp_p
     work = tmp_path / "copy"
     shutil.copytree(out, work)
     before = (work / "rail_layer_table.json").read_text()
-    again = run_calibration(cfg, work, show_progress=False, log=_quiet)
+    two_workers = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, workers=2))
+    again = run_calibration(two_workers, work, show_progress=False, log=_quiet)
     assert again["positions_computed"] == 0 and again["positions_cached"] == 1
     assert (work / "rail_layer_table.json").read_text() == before  # nothing changed: nothing rewritten
     cfg2 = dataclasses.replace(cfg, fit=dataclasses.replace(cfg.fit, n_segments=2, max_relative_error=1.0))

@@ -1,0 +1,182 @@
+"""Calibration benchmark: fit error against the number of segments N (justifies the default N), 2D against 3D
+indentation (run time and characteristic difference against the finest 3D model run), and the cold/warm
+``make calibrate`` times (read from the last run's summary in out/calibration, or measured in "full" mode).
+
+Errors are measured against: the FEM points of each calibrated position (fit error, in mm and relative to the
+largest u), the FEM unloading runs (eq. 8 residual error), and the finest 3D run (2D/3D comparison).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from benchmarks.harness import machine_info
+
+ROOT = Path(__file__).resolve().parent.parent
+DEFAULT_OUT = ROOT / "out" / "calibration"
+
+
+def _fem_points(out: Path) -> list[dict]:
+    """FEM points of every position of a finished run (from the layer tables)."""
+    pts = []
+    for body in ("rail", "wheel"):
+        f = out / f"{body}_layer_table.json"
+        if not f.is_file():
+            continue
+        data = json.loads(f.read_text())
+        for pos in data["positions"]:
+            pts.append({"body": body, "y_mm": pos["y_mm"], "p": np.asarray(pos["fem_points"]["p_MPa"]),
+                        "u": np.asarray(pos["fem_points"]["u_mm"]), "s1": pos["slopes_N_per_mm3"][0],
+                        "p2": pos["first_yield_fem_MPa"], "peaks": np.asarray(pos["residual_peaks_MPa"]),
+                        "res": np.asarray(pos["residual_fem_mm"])})
+    return pts
+
+
+def _coarse_points(work: Path) -> list[dict]:
+    from calibration.config import load_config
+    from calibration.pipeline import run_calibration
+
+    cfg = load_config(ROOT / "calibration" / "configs" / "test_coarse.toml")
+    run_calibration(cfg, work, show_progress=False, log=lambda *a: None)
+    return _fem_points(work)
+
+
+def fit_error_vs_segments(points: list[dict], n_values=range(2, 9)) -> list[dict]:
+    """Max/RMS fit error (relative to max u) and eq. (8) residual error per N over all positions."""
+    from calibration.characteristic_fit import fit_characteristic
+    from meshes.errors import WrLayerError
+
+    rows = []
+    for n in n_values:
+        rel_max, rel_rms, res_err, secs, fails = [], [], [], 0.0, 0
+        for pt in points:
+            t0 = time.perf_counter()
+            try:
+                fit = fit_characteristic(pt["p"], pt["u"], n, s1_N_per_mm3=pt["s1"], p2_MPa=pt["p2"],
+                                         max_relative_error=10.0)
+            except WrLayerError:
+                fails += 1
+                continue
+            secs += time.perf_counter() - t0
+            umax = float(pt["u"].max())
+            rel_max.append(fit.max_error_mm / umax)
+            rel_rms.append(fit.rms_error_mm / umax)
+            if pt["peaks"].size:
+                err = fit.characteristic.residual_displacement(pt["peaks"]) - pt["res"]
+                res_err.append(float(np.max(np.abs(err) / np.maximum(pt["res"], 1e-12 * umax) * (pt["res"] > 0.02 * umax))))
+        rows.append({"n_segments": n, "worst_max_rel": max(rel_max, default=np.nan),
+                     "mean_rms_rel": float(np.mean(rel_rms)) if rel_rms else np.nan,
+                     "worst_residual_rel": max(res_err, default=np.nan),
+                     "fit_seconds_per_position": secs / max(1, len(points) - fails), "failures": fails})
+    return rows
+
+
+def model_comparison(quick: bool) -> list[dict]:
+    """Rail y = 0: 2D (default mesh) and 3D (coarse, finer) indentations; run time, p_y and u_pl at the peaks
+    against the finest 3D run."""
+    from calibration.hertz_geometry import local_geometry
+    from calibration.indentation import LoadSettings, MeshSettings, indent
+    from calibration.material import J2Material
+    from meshes.profiles import get_profile
+
+    rail, wheel = get_profile("60E1"), get_profile("S1002")
+    geo = local_geometry(rail, 0.0, wheel, 100000.0, 210000.0, 0.3)
+    mat = J2Material(210000.0, 0.3, 500.0, 10000.0, 10000.0)
+    load = LoadSettings(max_factor=2.5, n_levels=6, unload_factors=(1.5, 2.5), max_increment_factor=0.25)
+    runs = [("2d", MeshSettings(elements_per_semi_axis=6, order=2)),
+            ("3d", MeshSettings(elements_per_semi_axis=2, order=1, h_max_mm=12.0)),
+            ("3d", MeshSettings(elements_per_semi_axis=3, order=1, h_max_mm=10.0))]
+    if not quick:
+        runs.append(("3d", MeshSettings(elements_per_semi_axis=4, order=2, h_max_mm=10.0)))
+    out = []
+    for model, mesh in runs:
+        t0 = time.perf_counter()
+        res = indent(rail, geo, mat, model, mesh, load, linear_solver="scipy" if model == "2d" else "auto")
+        out.append({"model": model, "mesh": dataclasses.asdict(mesh), "seconds": time.perf_counter() - t0,
+                    "n_dofs": res.n_dofs, "first_yield_MPa": res.first_yield_MPa,
+                    "peaks_MPa": res.unload_peaks_MPa, "residual_fem_mm": res.residual_fem_mm,
+                    "p_factor": (np.asarray(res.unload_peaks_MPa) / res.first_yield_MPa).tolist()})
+    ref = out[-1]
+    for r in out:
+        r["first_yield_diff_vs_ref"] = r["first_yield_MPa"] / ref["first_yield_MPa"] - 1.0
+        r["residual_diff_vs_ref_mm"] = (np.asarray(r["residual_fem_mm"]) - np.asarray(ref["residual_fem_mm"])).tolist()
+    return out
+
+
+def make_times(full: bool) -> dict:
+    """Cold and warm `make calibrate` times: measured in full mode (cold into a fresh folder), else read."""
+    info = {}
+    summary = DEFAULT_OUT / "summary.json"
+    if full:
+        cmd = [sys.executable, "-m", "calibration", "run", str(ROOT / "calibration/configs/default.toml"), "--out",
+               str(DEFAULT_OUT), "--quiet"]
+        import shutil
+
+        shutil.rmtree(DEFAULT_OUT, ignore_errors=True)
+        t0 = time.perf_counter()
+        subprocess.run(cmd, check=False, capture_output=True)
+        info["cold_s"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        subprocess.run(cmd, check=False, capture_output=True)
+        info["warm_s"] = time.perf_counter() - t0
+    elif summary.is_file():
+        s = json.loads(summary.read_text())
+        info["last_run_s"] = s["seconds"]
+        info["last_run_computed"] = s["positions_computed"]
+    return info
+
+
+def run(mode: str, out: Path) -> dict:
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    quick = mode != "full"
+    points = _fem_points(DEFAULT_OUT) if (DEFAULT_OUT / "rail_layer_table.json").is_file() else \
+        _coarse_points(out / "calibration_coarse")
+    source = "out/calibration (default run)" if (DEFAULT_OUT / "rail_layer_table.json").is_file() else \
+        "the coarse test configuration"
+    rows = fit_error_vs_segments(points, range(2, 9) if not quick else (2, 3, 4, 5, 6))
+    md = [f"FEM points of {len(points)} position(s) from {source}.", "",
+          "| N | worst max error / max u | mean RMS / max u | worst eq. (8) residual error (rel.) | fit s/position |",
+          "|---|---|---|---|---|"]
+    for r in rows:
+        md.append(f"| {r['n_segments']} | {100 * r['worst_max_rel']:.2f} % | {100 * r['mean_rms_rel']:.3f} % | "
+                  f"{100 * r['worst_residual_rel']:.1f} % | {r['fit_seconds_per_position']:.2f} |")
+    figures = []
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(5, 3.2))
+        ax.semilogy([r["n_segments"] for r in rows], [r["worst_max_rel"] for r in rows], "o-", label="worst max")
+        ax.semilogy([r["n_segments"] for r in rows], [r["mean_rms_rel"] for r in rows], "s-", label="mean RMS")
+        ax.set_xlabel("segments N")
+        ax.set_ylabel("fit error / max u")
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(out / "calibration_fit_error_vs_n.png", dpi=100)
+        plt.close(fig)
+        figures.append(out / "calibration_fit_error_vs_n.png")
+    except Exception:  # pictures are optional in the report
+        pass
+    comp = model_comparison(quick)
+    md += ["", "2D plane strain vs 3D local model, rail 60E1 y = 0 (reference: the finest 3D run listed last):", "",
+           "| model | mesh (elements/semi-axis, order) | dofs | time [s] | p_y [MPa] | p_y vs ref | residual dents [mm] |",
+           "|---|---|---|---|---|---|---|"]
+    for c in comp:
+        md.append(f"| {c['model']} | {c['mesh']['elements_per_semi_axis']:g}, {c['mesh']['order']} | {c['n_dofs']} | "
+                  f"{c['seconds']:.1f} | {c['first_yield_MPa']:.0f} | {100 * c['first_yield_diff_vs_ref']:+.1f} % | "
+                  f"{', '.join(f'{x:.4f}' for x in c['residual_fem_mm'])} |")
+    times = make_times(not quick)
+    md += ["", f"make calibrate: {json.dumps(times)}", "", f"machine: {json.dumps(machine_info())[:300]}"]
+    return {"title": "Calibration: fit error vs N, 2D vs 3D, make calibrate times", "markdown": "\n".join(md),
+            "figures": [str(f) for f in figures],
+            "data": {"fit_vs_n": rows, "models": comp, "times": times}}
