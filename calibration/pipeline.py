@@ -135,8 +135,10 @@ def n_stages(load: dict) -> int:
     return 1 + len(set(load["unload_factors"]) | {load["max_factor"]})
 
 
-def make_tasks(cfg: CalibrationConfig, out_dir: Path) -> tuple[list[PositionTask], list[dict]]:
-    """Tasks for all positions, and failures found already while computing the local geometry."""
+def make_tasks(cfg: CalibrationConfig, out_dir: Path, plots: bool | None = None) -> tuple[list[PositionTask], list[dict]]:
+    """Tasks for all positions, and failures found already while computing the local geometry. With ``plots``
+    (default: the configuration's) each task writes VTK/PNG fields into OUT/fields/<body>_y<y>mm."""
+    plots = cfg.run.plots if plots is None else plots
     from meshes.profiles import get_profile
 
     code = code_hash()
@@ -159,7 +161,7 @@ def make_tasks(cfg: CalibrationConfig, out_dir: Path) -> tuple[list[PositionTask
                           "geometry": geo.to_dict(), "material": asdict(b.material), "model": cfg.run.model,
                           "mesh": asdict(cfg.mesh), "load": asdict(cfg.load), "code": code}
             key = _hash(fem_inputs)
-            fields = out_dir / "fields" / f"{b.body}_y{y:+08.3f}mm" if cfg.run.plots else None
+            fields = out_dir / "fields" / f"{b.body}_y{y:+08.3f}mm" if plots else None
             tasks.append(PositionTask(b.body, b.profile, float(y), geo.to_dict(), asdict(b.material),
                                       cfg.run.model, asdict(cfg.mesh), asdict(cfg.load), key,
                                       str(fields) if fields else None, cfg.run.linear_solver))
@@ -287,13 +289,14 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
     out_dir = Path(out_dir)
     plots = cfg.run.plots if plots is None else plots
     scheduler = scheduler if scheduler is not None else (cfg.run.scheduler or None)
-    tasks, failed = make_tasks(cfg, out_dir)
+    tasks, failed = make_tasks(cfg, out_dir, plots)
     cache = out_dir / "cache"
     results: dict[str, dict] = {}
     todo = []
     for t in tasks:
         f = cache / f"{t.key}.json"
-        if f.is_file():
+        fields_missing = t.fields_dir is not None and not any(Path(t.fields_dir).rglob("*.vtu"))
+        if f.is_file() and not fields_missing:
             try:
                 results[t.key] = json.loads(f.read_text())
                 continue

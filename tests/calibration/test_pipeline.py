@@ -118,3 +118,17 @@ def test_dask_local_cluster_gives_the_same_table(coarse_run, tmp_path):
     b = LayerTable.read(tmp_path / "dask" / "rail_layer_table.json").characteristic_at(0.0)
     np.testing.assert_allclose(b.u_mm, a.u_mm, rtol=1e-9)
     np.testing.assert_allclose(b.p_MPa, a.p_MPa, rtol=1e-9)
+
+
+def test_3d_local_model_end_to_end(tmp_path):
+    cfg = load_config(COARSE)
+    cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, model="3d"),
+                              mesh=dataclasses.replace(cfg.mesh, elements_per_semi_axis=2.0, h_max_mm=12.0))
+    summary = run_calibration(cfg, tmp_path, show_progress=False, log=_quiet)
+    assert summary["failed"] == []
+    pos = LayerTable.read(tmp_path / "rail_layer_table.json").positions[0]
+    assert pos["fem"]["model"] == "3d"
+    assert pos["p2_MPa"] == pytest.approx(pos["first_yield_fem_MPa"], rel=0.03)
+    # elliptic contact a/b ~ 1.3, von Mises, nu = 0.3: half-space first yield near 1.6 Y (coarse mesh: 15 %)
+    assert pos["first_yield_fem_MPa"] == pytest.approx(1.6 * 500.0, rel=0.15)
+    assert pos["residual_fem_mm"][-1] > 0
