@@ -16,10 +16,22 @@ at fixed delta is solved EXACTLY by locating its segment (the paper's "iteration
 one step; the secant stiffness k = p_0/u_layer of eq. 13/14 follows). With no layer this is eq. (14)/(15).
 N(delta) is monotone; N(delta) = N_target is solved by log-log secant bracketing and Illinois regula falsi.
 
-Two-point contact: g > 0 on disjoint intervals gives one Patch per interval, each with its own reference point
-(max of g in it), x_l(0), p_0 and I2 (over its own strips), all sharing delta; the contact condition is written
-at each reference point, 2 w_0 = delta - f(y_ref) (f(y_ref) = 0 for the main patch); N is the sum. The elastic
-interaction between separate patches is NEGLECTED (each patch's I2 covers only its own strips).
+Several contact regions (``region_interaction=True``, the default). Every local minimum m of f (strip y_m,
+f_m = f(y_m) < delta) is a candidate reference point. Its local approach is a_m = delta - f_m - w_m, where w_m is
+the elastic displacement at (0, y_m) caused by the pressures of the OTHER regions,
+w_m = sum_k 2 (1 - nu^2) / (pi E) p_0k I2_mk / x_l0,k (eq. 13's Boussinesq integral of region k about y_m, the
+same exact-kernel table with integer strip offsets). A candidate with a_m > 0 (not inside a lower candidate's
+region) gets its own virtual penetration, the paper's rule applied to its local approach:
+g_m(y) = alpha a_m - (f(y) - f_m) on the run of strips around y_m where it is > 0 (runs that overlap or touch are
+merged: larger g, reference at the lower minimum), and its contact condition at y_m is
+a_m = u_layer(p_0m) + p_0m 2 (1 - nu^2) I2_mm / (pi E x_l0,m). A candidate with a_m <= 0 is lifted off. The
+w_m are found by a fixed-point iteration (to 1e-14 delta; ConvergenceError after 200 iterations). Hence a region
+appears when the deformed surfaces touch (f_m = delta - w_m, where a_m = 0) with zero size and load, and its
+load grows continuously (~a_m^1.5) from there. With one candidate (one region, e.g. the paper's example) this is
+exactly eqs. 9–15 above: a = delta, g = alpha delta - f. ``region_interaction=False`` reproduces the earlier
+independent regions: one region per run of alpha delta - f > 0, condition delta - f(y_ref) at its reference
+(max of g), no interaction; there a region that alpha delta just touches carries a finite load (p_0 -> infinity
+as its width -> 0), a discontinuity of N(delta).
 Units: mm, N, MPa.
 """
 
@@ -42,6 +54,7 @@ __all__ = ["NormalProblem", "NormalSolution", "RegionSolution", "NormalForceEval
 
 _MAX_BRACKET_STEPS = 60
 _MAX_BRACKETED_ITERATIONS = 100
+_MAX_INTERACTION_ITERATIONS = 200
 
 
 def strip_grid(y_min_mm: float, y_max_mm: float, grid_mm: float) -> np.ndarray:
@@ -57,7 +70,9 @@ class NormalProblem:
 
     y_mm, f_mm: the separation table (y increasing); interpolation "linear" or "pchip" (monotone cubic) onto the
     strip grid of width ``grid_mm``; ``f_offset_mm`` (optional, same length as the strip grid) is added on the
-    grid (dents from earlier passes).
+    grid (dents from earlier passes). ``region_interaction``: separate contact regions interact elastically and each
+    region's virtual penetration comes from its own local approach (module docstring); False: the independent
+    regions of the earlier solver (kept for comparison).
     """
 
     y_mm: np.ndarray
@@ -71,6 +86,7 @@ class NormalProblem:
     interpolation: str = "linear"
     x_subdivision: int = 1
     f_offset_mm: np.ndarray | None = None
+    region_interaction: bool = True
     _grid: tuple = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -134,7 +150,10 @@ class NormalProblem:
 
 @dataclass(frozen=True)
 class RegionSolution:
-    """One contact region: strip indices (into the strip grid), reference strip, p_0, integrals, layer part."""
+    """One contact region: strip indices (into the strip grid), reference strip, x_l per strip (mm), p_0 (MPa),
+    I1 (mm^3), own-region I2 (mm^2), layer displacement at the reference (mm), force (N), layer segment;
+    approach_mm: the local approach a at the reference strip (delta - f(y_ref) - interaction, mm);
+    interaction_mm: the elastic displacement at the reference point caused by the OTHER regions (mm)."""
 
     strips: np.ndarray
     reference: int
@@ -145,6 +164,8 @@ class RegionSolution:
     u_layer_mm: float
     normal_force_N: float
     layer_segments: int
+    approach_mm: float = float("nan")
+    interaction_mm: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -180,6 +201,18 @@ def _regions(g: np.ndarray) -> list[np.ndarray]:
         return [on]
     bounds = [0, *cuts.tolist(), on.size]
     return [on[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+
+
+def _local_minima(f: np.ndarray) -> np.ndarray:
+    """Strip indices of the local minima of f (first strip of a flat bottom; the table ends count), ordered by
+    ascending f (ties: left first)."""
+    keep = np.flatnonzero(np.append(np.diff(f) != 0.0, True))          # last strip of each run of equal values
+    first = np.concatenate([[0], keep[:-1] + 1])
+    v = f[keep]
+    lower_left = np.concatenate([[True], v[1:] < v[:-1]])
+    lower_right = np.concatenate([v[:-1] < v[1:], [True]])
+    mins = first[lower_left & lower_right]
+    return mins[np.argsort(f[mins], kind="stable")]
 
 
 def layer_points(layer: PrandtlLayer, y_grid: np.ndarray, h: float) -> np.ndarray:
@@ -238,6 +271,9 @@ class NormalForceEvaluator:
         for lay, ix in zip(self.layers, self.index):
             if np.any(np.abs(lay.pressure_MPa) > 1e-9 * max(1.0, float(np.abs(lay.pressure_MPa).max()))):
                 raise InputError(lay.name, "layer must be unloaded (p = 0) before a normal solve")
+        self.minima = _local_minima(self.f)
+        self.minima_f = self.f[self.minima]
+        self._warm = None                                  # (delta, candidates, w) of the last interaction solve
         self._curves: dict[int, _LayerAtReference] = {}
         self.evaluations = 0
         self.layer_segments = 0
@@ -258,29 +294,108 @@ class NormalForceEvaluator:
     def force_at(self, delta: float) -> float:
         """N(delta) (N) at the approach ``delta`` (mm): the sum of the regions' forces (eq. 12)."""
         self.evaluations += 1
-        p = self.prob
-        h = p.grid_mm
-        g = np.maximum(p.alpha * delta - self.f, 0.0)
-        regions = []
-        total = 0.0
-        for strips in _regions(g):
-            ref = int(strips[np.argmax(g[strips])])
-            xl = np.sqrt(2.0 * p.rolling_radius_mm * g[strips])
-            xl0 = float(np.sqrt(2.0 * p.rolling_radius_mm * g[ref]))
-            i1 = float(np.sum(0.5 * np.pi * xl * xl) * h)
-            i2 = boussinesq_integral(xl, strips - ref, h, p.x_subdivision)
-            c = p.elastic_compliance_factor * i2 / xl0
-            approach = delta - self.f[ref]                 # contact condition at this region's reference point
-            curve = self._curve(ref)
-            if curve is None:
-                p0, u0, seg = approach / c, 0.0, 1
-            else:
-                p0, u0, seg = curve.solve(approach, c)
-            n_r = p0 * i1 / xl0
-            total += n_r
-            regions.append(RegionSolution(strips, ref, xl, p0, i1, i2, u0, n_r, seg))
+        n_cand = int(np.searchsorted(self.minima_f, delta))        # local minima of f below delta
+        if self.prob.region_interaction and n_cand > 1:
+            regions = self._interacting_regions(delta, [int(m) for m in self.minima[:n_cand]])
+        else:                                                    # independent regions (one region: identical)
+            g = np.maximum(self.prob.alpha * delta - self.f, 0.0)
+            regions = []
+            for strips in _regions(g):
+                ref = int(strips[np.argmax(g[strips])])
+                regions.append(self._region(strips, g[strips], ref, delta - self.f[ref], 0.0))
+        total = float(sum(r.normal_force_N for r in regions))
         self.last = (delta, total, regions)
         return total
+
+    def _region(self, strips: np.ndarray, g: np.ndarray, ref: int, approach: float,
+                interaction: float) -> RegionSolution:
+        """Solve one region for its p_0: approach = u_layer(p_0) + p_0 * 2 (1 - nu^2) I2 / (pi E x_l(0)) at the
+        reference strip (eq. 13, own strips' I2); g: the virtual penetration on ``strips`` (mm)."""
+        p = self.prob
+        xl = np.sqrt(2.0 * p.rolling_radius_mm * g)
+        xl0 = float(xl[np.flatnonzero(strips == ref)[0]])
+        i1 = float(np.sum(0.5 * np.pi * xl * xl) * p.grid_mm)
+        i2 = boussinesq_integral(xl, strips - ref, p.grid_mm, p.x_subdivision)
+        c = p.elastic_compliance_factor * i2 / xl0
+        curve = self._curve(ref)
+        if curve is None:
+            p0, u0, seg = approach / c, 0.0, 1
+        else:
+            p0, u0, seg = curve.solve(approach, c)
+        return RegionSolution(strips, ref, xl, p0, i1, i2, u0, p0 * i1 / xl0, seg, approach, interaction)
+
+    def displacement_at(self, region: RegionSolution, strip: int) -> float:
+        """Elastic displacement (mm) at the point (x = 0, y = strip centre) caused by ``region``'s pressure
+        (Boussinesq integral of eq. 13 about that point; strip: index into the strip grid)."""
+        p = self.prob
+        xl0 = float(region.x_lead_mm[np.flatnonzero(region.strips == region.reference)[0]])
+        i2 = boussinesq_integral(region.x_lead_mm, region.strips - strip, p.grid_mm, p.x_subdivision)
+        return p.elastic_compliance_factor * i2 / xl0 * region.p0_MPa
+
+    def _interacting_regions(self, delta: float, cand: list[int]) -> list[RegionSolution]:
+        """The regions at approach delta with elastic interaction (module docstring): fixed point w = W(w) on the
+        displacements w_m that the other regions cause at the candidate reference strips (local minima of f),
+        accelerated by Anderson mixing (memory 3; history dropped when the residual grows, e.g. when a region
+        lifts off), warm-started from the previous delta's solution scaled by (delta/delta_prev)^1.5 (Hertz)."""
+        tol = 1e-14 * delta
+        w = np.zeros(len(cand))
+        if self._warm is not None and self._warm[1] == cand:
+            w = self._warm[2] * (delta / self._warm[0]) ** 1.5
+        hist_g: list[np.ndarray] = []
+        hist_r: list[np.ndarray] = []
+        for _ in range(_MAX_INTERACTION_ITERATIONS):
+            regions = [self._region(strips, g, ref, delta - self.f[ref] - w[cand.index(ref)], w[cand.index(ref)])
+                       for strips, g, ref in self._local_penetrations(delta, cand, w)]
+            owner = [next((r for r in regions if r.strips[0] <= m <= r.strips[-1]), None) for m in cand]
+            w_new = np.array([0.0 if o is not None and o.reference != m else      # absorbed: w_m not used
+                              sum(self.displacement_at(r, m) for r in regions if r is not o) for m, o in
+                              zip(cand, owner)])                                 # the other regions' displacement
+            res = w_new - w
+            if np.max(np.abs(res)) <= tol:
+                self._warm = (delta, cand, w)
+                return regions
+            if hist_r and np.max(np.abs(res)) > np.max(np.abs(hist_r[-1])):
+                hist_g, hist_r = [], []                      # not contracting here (active set change): restart
+            hist_g.append(w_new)
+            hist_r.append(res)
+            del hist_g[:-4], hist_r[:-4]
+            if len(hist_r) >= 2:
+                d_r = np.diff(np.array(hist_r), axis=0).T
+                d_g = np.diff(np.array(hist_g), axis=0).T
+                gamma = np.linalg.lstsq(d_r, res, rcond=None)[0]
+                w = w_new - d_g @ gamma
+            else:
+                w = w_new
+        raise ConvergenceError(f"contact regions at delta = {delta:g} mm: the elastic interaction between regions "
+                               f"did not converge in {_MAX_INTERACTION_ITERATIONS} iterations (lift-off cycling)")
+
+    def _local_penetrations(self, delta: float, cand: list[int], w: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, int]]:
+        """(strips, g on them, reference strip) of each region, ordered by y. Candidate m (ascending f) that is
+        not inside an earlier region and has a local approach a = delta - f_m - w_m > 0 gets the run of strips
+        around m with g = alpha a - (f - f_m) > 0; where that run would reach an earlier region, it ends at the
+        ridge (max of f) between the two (each region keeps its own basin)."""
+        f, alpha = self.f, self.prob.alpha
+        runs: list[tuple[int, int, int, float]] = []           # (first, last, reference, level)
+        for m in cand:
+            if any(r[0] <= m <= r[1] for r in runs):
+                continue
+            a = delta - f[m] - w[cand.index(m)]
+            if a <= 0.0:
+                continue
+            level = f[m] + alpha * a
+            lo = m - int(np.argmax(np.append(f[m::-1] >= level, True))) + 1
+            hi = m + int(np.argmax(np.append(f[m:] >= level, True))) - 1
+            for r in runs:
+                if r[1] < m and lo <= r[1] + 1:                  # spills over into the region on the left
+                    lo = max(lo, r[1] + 1 + int(np.argmax(f[r[1] + 1:m])))
+                if r[0] > m and hi >= r[0] - 1:                  # ... on the right
+                    hi = min(hi, m + 1 + int(np.argmax(f[m + 1:r[0]])))
+            runs.append((lo, hi, m, level))
+        out = []
+        for lo, hi, m, level in sorted(runs):
+            strips = np.arange(lo, hi + 1)
+            out.append((strips, level - f[strips], m))
+        return out
 
 
 def _find_delta(ev: NormalForceEvaluator, target: float, delta_guess: float, rtol: float) -> tuple[float, int, int]:
