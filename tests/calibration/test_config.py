@@ -12,7 +12,7 @@ ROOT = Path(__file__).resolve().parents[2]
 BAD = sorted((ROOT / "tests" / "inputs" / "bad_calibration_configs").glob("*.toml"))
 
 
-@pytest.mark.parametrize("name", ["default.toml", "test_coarse.toml"])
+@pytest.mark.parametrize("name", ["default.toml", "default_3d.toml", "test_coarse.toml"])
 def test_shipped_configurations_parse(name):
     cfg = load_config(ROOT / "calibration" / "configs" / name)
     assert cfg.bodies and all(b.positions_mm for b in cfg.bodies)
