@@ -30,7 +30,7 @@ from calibration.config import BodySettings, CalibrationConfig
 from calibration.hertz_geometry import given_geometry, local_geometry
 from contact.layer_table import LayerTable
 from meshes.atomic_write import atomic_write_text
-from meshes.errors import WrLayerError
+from meshes.errors import InputError, WrLayerError
 
 _ROOT = Path(__file__).resolve().parent.parent
 #: Sources that determine a position's FEM result (the cache key includes their content).
@@ -231,7 +231,11 @@ def _execute(tasks: list[PositionTask], cfg: CalibrationConfig, scheduler: str |
         if scheduler:
             from distributed import Client, as_completed
 
-            with Client(scheduler) as client:
+            try:
+                client = Client(scheduler, timeout="20s")
+            except (OSError, TimeoutError, ValueError) as err:
+                raise InputError("scheduler", f"cannot connect to the Dask scheduler {scheduler!r}: {err}") from None
+            with client:
                 futures = {client.submit(run_position, t, pure=False): t for t in tasks}
                 for fut in as_completed(futures):
                     t = futures[fut]
