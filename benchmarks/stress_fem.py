@@ -84,7 +84,8 @@ FEM_CASES: tuple[FemCase, ...] = (
     FemCase("big-step-pcg", "one increment 0 -> 1.8 p_fy (default pcg strategy)"),
     FemCase("big-step-newton", "one increment 0 -> 1.8 p_fy, full Newton", options=_opts(strategy="newton")),
     FemCase("big-step-modified", "one increment 0 -> 1.8 p_fy, modified Newton (elastic stiffness only; linear "
-            "convergence, a clear error is acceptable)", options=_opts(strategy="modified"), must_converge=False),
+            "convergence, a clear error is acceptable; full mode only: about 3 min)", options=_opts(strategy="modified"),
+            must_converge=False, quick=False),
     FemCase("cut-newton", "one increment 0 -> 1.8 p_fy with at most 6 Newton iterations (the step cutting must "
             "act and recover), full Newton", options=_opts(strategy="newton", max_newton=6), h_mm=0.5, subset=True),
     FemCase("cut-pcg", "one increment 0 -> 1.8 p_fy with at most 6 Newton iterations, pcg",
@@ -97,7 +98,7 @@ FEM_CASES: tuple[FemCase, ...] = (
     FemCase("beyond-limit-pcg", "as beyond-limit-newton with the pcg strategy", load_factor=4.0,
             options=_opts(strategy="pcg"), must_converge=False, min_progress=1.5, subset=True, **COARSE),
     FemCase("coarse-mesh", "h = b = 1 mm, block 10 mm, one increment to 1.8 p_fy", subset=True, **COARSE),
-    FemCase("fine-mesh", "h = b/40 = 0.025 mm, one increment to 1.8 p_fy", h_mm=0.025, fine_mm=1.5,
+    FemCase("fine-mesh", "h = b/40 = 0.025 mm (52k dofs), one increment to 1.8 p_fy", h_mm=0.025, fine_mm=1.5,
             length_mm=20.0, quick=False),
     FemCase("poisson-0.499", "nu = 0.499, one increment to 1.5 p_fy (1.8 p_fy is beyond the limit load here)",
             material=NEAR_INCOMPRESSIBLE, load_factor=1.5),
