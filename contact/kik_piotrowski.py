@@ -203,15 +203,26 @@ def _regions(g: np.ndarray) -> list[np.ndarray]:
     return [on[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
 
+def _single_valley(f: np.ndarray) -> bool:
+    """True when f has one local minimum (possibly flat): every descent comes before every ascent."""
+    d = np.diff(f)
+    down, up = np.flatnonzero(d < 0), np.flatnonzero(d > 0)
+    return down.size == 0 or up.size == 0 or down[-1] < up[0]
+
+
 def _local_minima(f: np.ndarray) -> np.ndarray:
     """Strip indices of the local minima of f (first strip of a flat bottom; the table ends count), ordered by
     ascending f (ties: left first)."""
-    keep = np.flatnonzero(np.append(np.diff(f) != 0.0, True))          # last strip of each run of equal values
-    first = np.concatenate([[0], keep[:-1] + 1])
-    v = f[keep]
-    lower_left = np.concatenate([[True], v[1:] < v[:-1]])
-    lower_right = np.concatenate([v[:-1] < v[1:], [True]])
-    mins = first[lower_left & lower_right]
+    d = np.diff(f)
+    steps = np.flatnonzero(d)                            # f changes between strips i and i + 1
+    if steps.size == 0:
+        return np.zeros(1, dtype=np.int64)
+    up = d[steps] > 0
+    mins = steps[:-1][~up[:-1] & up[1:]] + 1            # a descent followed by an ascent
+    if up[0]:
+        mins = np.concatenate([[0], mins])
+    if not up[-1]:
+        mins = np.concatenate([mins, steps[-1:] + 1])
     return mins[np.argsort(f[mins], kind="stable")]
 
 
@@ -271,8 +282,8 @@ class NormalForceEvaluator:
         for lay, ix in zip(self.layers, self.index):
             if np.any(np.abs(lay.pressure_MPa) > 1e-9 * max(1.0, float(np.abs(lay.pressure_MPa).max()))):
                 raise InputError(lay.name, "layer must be unloaded (p = 0) before a normal solve")
-        self.minima = _local_minima(self.f)
-        self.minima_f = self.f[self.minima]
+        self.minima = _local_minima(self.f) if prob.region_interaction and not _single_valley(self.f) else None
+        self.minima_f = None if self.minima is None else self.f[self.minima]     # None: always one region
         self._warm = None                                  # (delta, candidates, w) of the last interaction solve
         self._curves: dict[int, _LayerAtReference] = {}
         self.evaluations = 0
@@ -294,16 +305,16 @@ class NormalForceEvaluator:
     def force_at(self, delta: float) -> float:
         """N(delta) (N) at the approach ``delta`` (mm): the sum of the regions' forces (eq. 12)."""
         self.evaluations += 1
-        n_cand = int(np.searchsorted(self.minima_f, delta))        # local minima of f below delta
-        if self.prob.region_interaction and n_cand > 1:
+        if self.minima is not None and self.minima_f[1] < delta:   # two or more local minima of f below delta
+            n_cand = int(np.searchsorted(self.minima_f, delta))
             regions = self._interacting_regions(delta, [int(m) for m in self.minima[:n_cand]])
         else:                                                    # independent regions (one region: identical)
             g = np.maximum(self.prob.alpha * delta - self.f, 0.0)
-            regions = []
-            for strips in _regions(g):
-                ref = int(strips[np.argmax(g[strips])])
-                regions.append(self._region(strips, g[strips], ref, delta - self.f[ref], 0.0))
-        total = float(sum(r.normal_force_N for r in regions))
+            regions = [self._region(strips, g[strips], ref, delta - self.f[ref], 0.0)
+                       for strips in _regions(g) for ref in (int(strips[np.argmax(g[strips])]),)]
+        total = 0.0
+        for r in regions:
+            total += r.normal_force_N
         self.last = (delta, total, regions)
         return total
 
@@ -313,7 +324,7 @@ class NormalForceEvaluator:
         reference strip (eq. 13, own strips' I2); g: the virtual penetration on ``strips`` (mm)."""
         p = self.prob
         xl = np.sqrt(2.0 * p.rolling_radius_mm * g)
-        xl0 = float(xl[np.flatnonzero(strips == ref)[0]])
+        xl0 = float(xl[ref - strips[0]])                          # strips are contiguous
         i1 = float(np.sum(0.5 * np.pi * xl * xl) * p.grid_mm)
         i2 = boussinesq_integral(xl, strips - ref, p.grid_mm, p.x_subdivision)
         c = p.elastic_compliance_factor * i2 / xl0
@@ -328,7 +339,7 @@ class NormalForceEvaluator:
         """Elastic displacement (mm) at the point (x = 0, y = strip centre) caused by ``region``'s pressure
         (Boussinesq integral of eq. 13 about that point; strip: index into the strip grid)."""
         p = self.prob
-        xl0 = float(region.x_lead_mm[np.flatnonzero(region.strips == region.reference)[0]])
+        xl0 = float(region.x_lead_mm[region.reference - region.strips[0]])
         i2 = boussinesq_integral(region.x_lead_mm, region.strips - strip, p.grid_mm, p.x_subdivision)
         return p.elastic_compliance_factor * i2 / xl0 * region.p0_MPa
 
@@ -398,11 +409,13 @@ class NormalForceEvaluator:
         return out
 
 
-def _find_delta(ev: NormalForceEvaluator, target: float, delta_guess: float, rtol: float) -> tuple[float, int, int]:
-    """Solve N(delta) = target (N increasing in delta). Returns (delta, bracketing steps, bracketed iterations).
+def _find_delta(ev: NormalForceEvaluator, target: float, delta_guess: float, rtol: float,
+                slope_guess: float = 1.5) -> tuple[float, int, int, float]:
+    """Solve N(delta) = target (N increasing in delta). Returns (delta, bracketing steps, bracketed iterations,
+    the last secant slope d log N / d log delta, or ``slope_guess`` when none was computed).
 
     In log-log coordinates N(delta) is nearly a straight line (Hertz: N ~ delta^1.5), so: secant steps in
-    log-log (first step with exponent 1.5, step factor limited to [1/4, 4]) until the root is bracketed, then
+    log-log (first step with exponent ``slope_guess``, step factor limited to [1/4, 4]) until the root is bracketed, then
     Illinois regula falsi in log-log on the bracket (guaranteed, superlinear). Stops at |N - target| <= rtol
     target or when the bracket is below 1e-14 delta; ConvergenceError after too many steps.
     """
@@ -411,6 +424,7 @@ def _find_delta(ev: NormalForceEvaluator, target: float, delta_guess: float, rto
     lo = hi = None
     d = delta_guess
     steps = 0
+    last_slope = slope_guess
     while lo is None or hi is None:
         steps += 1
         if steps > _MAX_BRACKET_STEPS:
@@ -420,7 +434,7 @@ def _find_delta(ev: NormalForceEvaluator, target: float, delta_guess: float, rto
         if not (np.isfinite(n) and n >= 0):
             raise ConvergenceError(f"normal approach delta: N(delta = {d:g} mm) = {n!r}")
         if abs(n - target) <= rtol * target:
-            return d, steps, 0
+            return d, steps, 0, last_slope
         r = (np.log(n) if n > 0 else -np.inf) - lt
         pts.append((np.log(d), r))
         if r < 0:
@@ -431,9 +445,11 @@ def _find_delta(ev: NormalForceEvaluator, target: float, delta_guess: float, rto
             break
         if len(pts) >= 2 and np.isfinite(pts[-2][1]) and np.isfinite(r) and pts[-1][1] != pts[-2][1]:
             slope = (pts[-1][1] - pts[-2][1]) / (pts[-1][0] - pts[-2][0])
+            if slope > 0:
+                last_slope = slope
             step = -r / slope if slope > 0 else (np.log(4.0) if r < 0 else -np.log(4.0))
         else:
-            step = -r / 1.5 if np.isfinite(r) else np.log(4.0)
+            step = -r / last_slope if np.isfinite(r) else np.log(4.0)
         d = np.exp(pts[-1][0] + float(np.clip(step, -np.log(4.0), np.log(4.0))))
     side = 0
     for it in range(1, _MAX_BRACKETED_ITERATIONS + 1):
@@ -447,7 +463,7 @@ def _find_delta(ev: NormalForceEvaluator, target: float, delta_guess: float, rto
         d = float(np.exp(x))
         n = ev.force_at(d)
         if abs(n - target) <= rtol * target or (xb - xa) < 1e-14:
-            return d, steps, it
+            return d, steps, it, last_slope
         r = (np.log(n) if n > 0 else -np.inf) - lt
         if r < 0:
             lo = (x, r)
@@ -477,16 +493,19 @@ def _hertz_like_guess(prob: NormalProblem) -> float:
 
 
 def solve_normal(prob: NormalProblem, layer: LayerPair | None = None, delta_guess_mm: float | None = None,
-                 rtol_N: float = 1e-9) -> NormalSolution:
+                 rtol_N: float = 1e-9, loglog_slope_guess: float | None = None) -> NormalSolution:
     """Solve the normal contact (paper eqs. 9–15) for ``prob.normal_force_N``; the layers are NOT modified.
 
     The layers (if any) must sit on the problem's strip grid (points at the strip centres) and be unloaded.
+    ``delta_guess_mm`` and ``loglog_slope_guess`` (d log N / d log delta, e.g. ``iterations["loglog_slope"]`` of a
+    neighbouring solve; default 1.5, Hertz) only start the iteration on delta.
     Raises ConvergenceError when delta cannot be bracketed or the regula falsi does not converge, or when the residual
     |N - N_target| exceeds rtol_N N_target.
     """
     ev = NormalForceEvaluator(prob, layer)
     guess = delta_guess_mm if delta_guess_mm is not None and delta_guess_mm > 0 else _hertz_like_guess(prob)
-    delta, steps, bracketed_iter = _find_delta(ev, prob.normal_force_N, guess, 0.1 * rtol_N)
+    slope = loglog_slope_guess if loglog_slope_guess is not None and loglog_slope_guess > 0 else 1.5
+    delta, steps, bracketed_iter, slope = _find_delta(ev, prob.normal_force_N, guess, 0.1 * rtol_N, slope)
     if ev.last is None or ev.last[0] != delta:
         ev.force_at(delta)
     _, n_total, regions = ev.last
@@ -517,5 +536,6 @@ def solve_normal(prob: NormalProblem, layer: LayerPair | None = None, delta_gues
         width_mm=float(sum(pt.width_mm() for pt in patches)), area_mm2=float(sum(pt.area_mm2() for pt in patches)),
         u0_mm=float(main.u_layer_mm), strip_y_mm=y, p_peak_MPa=p_peak,
         iterations={"delta_evaluations": ev.evaluations, "bracket_steps": steps,
-                    "bracketed_iterations": bracketed_iter, "layer_segments": int(main.layer_segments)},
+                    "bracketed_iterations": bracketed_iter, "layer_segments": int(main.layer_segments),
+                    "loglog_slope": float(slope)},
         residual_N=float(residual), elastic=elastic, normal_force_N=float(n_total))

@@ -78,6 +78,14 @@ class PassRecord:
         return {k: getattr(self, k) for k in keys}
 
 
+def _next_delta_guess(deltas: list[float]) -> float | None:
+    """Start value of the next pass's approach (mm): linear extrapolation of the last two passes' deltas (the
+    sequence changes smoothly towards shakedown); only a start value, the solve brackets from any guess > 0."""
+    if len(deltas) < 2:
+        return deltas[-1] if deltas else None
+    return 2.0 * deltas[-1] - deltas[-2]
+
+
 def run_passes(prob: NormalProblem, layer_pair: LayerPair | None, options: PassesOptions = PassesOptions(),
                on_pass: Callable[[PassRecord, NormalSolution], None] | None = None
                ) -> tuple[list[PassRecord], np.ndarray]:
@@ -95,11 +103,13 @@ def run_passes(prob: NormalProblem, layer_pair: LayerPair | None, options: Passe
     cumulative = {name: np.zeros_like(y) for name in bodies}
     points = {name: layer_points(lay, y, h) for name, lay in bodies.items()}
     records: list[PassRecord] = []
-    delta_guess = None
+    deltas: list[float] = []
+    slope = None
     for k in range(1, int(options.max_passes) + 1):
         current = prob if k == 1 else prob.with_offset(offset)
-        sol = solve_normal(current, layers, delta_guess_mm=delta_guess)
-        delta_guess = sol.delta_mm
+        sol = solve_normal(current, layers, delta_guess_mm=_next_delta_guess(deltas), loglog_slope_guess=slope)
+        deltas.append(sol.delta_mm)
+        slope = sol.iterations["loglog_slope"]
         ref = max(sol.regions, key=lambda r: r.p0_MPa).reference
         added = np.zeros_like(y)
         u0 = up0 = 0.0

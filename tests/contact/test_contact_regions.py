@@ -128,3 +128,10 @@ def test_cycling_interaction_raises_convergence_error(monkeypatch):
     monkeypatch.setattr(kp, "_MAX_INTERACTION_ITERATIONS", 1)
     with pytest.raises(ConvergenceError, match="interaction between regions"):
         solve_normal(two_valleys(0.03))
+
+
+def test_candidate_reference_points_are_the_local_minima_of_f():
+    f = np.array([3.0, 2.0, 2.0, 3.0, 1.0, 1.0, 1.0, 4.0, 0.0])
+    np.testing.assert_array_equal(kp._local_minima(f), [8, 4, 1])          # ascending f, flat bottom: first strip
+    assert not kp._single_valley(f)
+    assert kp._single_valley(np.array([2.0, 1.0, 1.0, 0.0, 0.0, 3.0])) and kp._single_valley(np.array([1.0, 2.0]))
