@@ -396,11 +396,13 @@ class NormalForceEvaluator:
             level = f[m] + alpha * a
             lo = m - int(np.argmax(np.append(f[m::-1] >= level, True))) + 1
             hi = m + int(np.argmax(np.append(f[m:] >= level, True))) - 1
-            for r in runs:
+            for r in runs:                                   # ridge: max of f strictly between the two
                 if r[1] < m and lo <= r[1] + 1:                  # spills over into the region on the left
-                    lo = max(lo, r[1] + 1 + int(np.argmax(f[r[1] + 1:m])))
-                if r[0] > m and hi >= r[0] - 1:                  # ... on the right
-                    hi = min(hi, m + 1 + int(np.argmax(f[m + 1:r[0]])))
+                    between = f[r[1] + 1:m]
+                    lo = max(lo, r[1] + 1 + int(np.argmax(between)) if between.size else m)
+                if r[0] > m and hi >= r[0] - 1:                  # ... on the right (it may start at m + 1)
+                    between = f[m + 1:r[0]]
+                    hi = min(hi, m + 1 + int(np.argmax(between)) if between.size else m)
             runs.append((lo, hi, m, level))
         out = []
         for lo, hi, m, level in sorted(runs):

@@ -135,3 +135,20 @@ def test_candidate_reference_points_are_the_local_minima_of_f():
     np.testing.assert_array_equal(kp._local_minima(f), [8, 4, 1])          # ascending f, flat bottom: first strip
     assert not kp._single_valley(f)
     assert kp._single_valley(np.array([2.0, 1.0, 1.0, 0.0, 0.0, 3.0])) and kp._single_valley(np.array([1.0, 2.0]))
+
+
+def test_a_valley_next_to_a_clipped_region_gets_its_own_strips():
+    """Regression (stress seed 89): region r, clipped at the ridge, starts right next to a later candidate m."""
+    f = np.array([2.5, 1.6, 0.9, 0.4, 0.1, 0.0, 0.1, 0.4, 0.7, 0.9, 0.95, 1.0, 1.0, 0.9, 1.2,
+                  1.0, 0.8, 0.5, 0.3, 0.15, 0.1, 0.15, 0.3, 0.5, 0.8, 1.2, 1.6, 2.0, 2.5, 3.0, 3.5])
+    prob = NormalProblem(np.arange(f.size) * 0.1, f, N, R, E, NU)
+    ev = NormalForceEvaluator(prob, None)
+    cand = [int(m) for m in ev.minima]
+    assert cand == [5, 20, 13]
+    w = np.array([2.0, 0.0, 0.0])                       # valley 5 pushed away by a large displacement
+    runs = ev._local_penetrations(3.0, cand, w)
+    strips = [r[0] for r in runs]
+    assert [r[2] for r in runs] == [5, 13, 20]
+    np.testing.assert_array_equal(strips[1], [11, 12, 13])   # from the ridge (first max) to the next region
+    assert strips[2][0] == 14 and strips[0][-1] < 11     # region 20 was clipped at the ridge 14, next to 13
+    assert all(np.all(r[1] > 0) for r in runs)
