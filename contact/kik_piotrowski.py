@@ -354,6 +354,7 @@ class NormalForceEvaluator:
             w = self._warm[2] * (delta / self._warm[0]) ** 1.5
         hist_g: list[np.ndarray] = []
         hist_r: list[np.ndarray] = []
+        last_shape, damp = None, 1.0
         for _ in range(_MAX_INTERACTION_ITERATIONS):
             regions = [self._region(strips, g, ref, delta - self.f[ref] - w[cand.index(ref)], w[cand.index(ref)])
                        for strips, g, ref in self._local_penetrations(delta, cand, w)]
@@ -365,8 +366,11 @@ class NormalForceEvaluator:
             if np.max(np.abs(res)) <= tol:
                 self._warm = (delta, cand, w)
                 return regions
-            if hist_r and np.max(np.abs(res)) > np.max(np.abs(hist_r[-1])):
-                hist_g, hist_r = [], []                      # not contracting here (active set change): restart
+            shape = [(r.reference, r.strips[0], r.strips[-1]) for r in regions]
+            if hist_r and (shape != last_shape or np.max(np.abs(res)) > np.max(np.abs(hist_r[-1]))):
+                hist_g, hist_r = [], []        # regions changed or not contracting: restart with a damped step
+                damp = 0.5
+            last_shape = shape
             hist_g.append(w_new)
             hist_r.append(res)
             del hist_g[:-4], hist_r[:-4]
@@ -376,7 +380,7 @@ class NormalForceEvaluator:
                 gamma = np.linalg.lstsq(d_r, res, rcond=None)[0]
                 w = w_new - d_g @ gamma
             else:
-                w = w_new
+                w = w + damp * res
         raise ConvergenceError(f"contact regions at delta = {delta:g} mm: the elastic interaction between regions "
                                f"did not converge in {_MAX_INTERACTION_ITERATIONS} iterations (lift-off cycling)")
 
