@@ -25,7 +25,7 @@ region) gets its own virtual penetration, the paper's rule applied to its local 
 g_m(y) = alpha a_m - (f(y) - f_m) on the run of strips around y_m where it is > 0 (runs that overlap or touch are
 merged: larger g, reference at the lower minimum), and its contact condition at y_m is
 a_m = u_layer(p_0m) + p_0m 2 (1 - nu^2) I2_mm / (pi E x_l0,m). A candidate with a_m <= 0 is lifted off. The
-w_m are found by a fixed-point iteration (to 1e-14 delta; ConvergenceError after 200 iterations). Hence a region
+w_m are found by an accelerated fixed-point iteration (to 1e-14 delta; ConvergenceError after 200 iterations). Hence a region
 appears when the deformed surfaces touch (f_m = delta - w_m, where a_m = 0) with zero size and load, and its
 load grows continuously (~a_m^1.5) from there. With one candidate (one region, e.g. the paper's example) this is
 exactly eqs. 9–15 above: a = delta, g = alpha delta - f. ``region_interaction=False`` reproduces the earlier
@@ -346,8 +346,10 @@ class NormalForceEvaluator:
     def _interacting_regions(self, delta: float, cand: list[int]) -> list[RegionSolution]:
         """The regions at approach delta with elastic interaction (module docstring): fixed point w = W(w) on the
         displacements w_m that the other regions cause at the candidate reference strips (local minima of f),
-        accelerated by Anderson mixing (memory 3; history dropped when the residual grows, e.g. when a region
-        lifts off), warm-started from the previous delta's solution scaled by (delta/delta_prev)^1.5 (Hertz)."""
+        accelerated by Anderson mixing (memory 3; when the regions' strips change or the residual grows, e.g. a
+        region lifts off, the history is dropped and a step damped by 1/2 is taken), warm-started from the previous
+        delta's solution scaled by (delta/delta_prev)^1.5 (Hertz). ConvergenceError after
+        _MAX_INTERACTION_ITERATIONS iterations."""
         tol = 1e-14 * delta
         w = np.zeros(len(cand))
         if self._warm is not None and self._warm[1] == cand:
