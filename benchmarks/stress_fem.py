@@ -114,7 +114,8 @@ def run_fem_case(case: FemCase) -> dict:
     """Run one case; returns a JSON-serialisable dict with ``outcome`` and the measured numbers.
 
     Outcomes: "ok" (converged and verified), "clear-error" (WrLayerError where one is acceptable), and the failures
-    "unverified" (a returned result fails a check) and "failed-to-recover" (ConvergenceError although the problem
+    "unverified" (a returned result fails a check), "reference-failed" (the small-step reference run on the same
+    discretisation raised) and "failed-to-recover" (ConvergenceError although the problem
     is below the limit load, or beyond it before the cutting passed ``min_progress`` p_fy). Exceptions other than
     WrLayerError propagate (also a failure of the stress run)."""
     t0 = time.perf_counter()
@@ -157,9 +158,13 @@ def run_fem_case(case: FemCase) -> dict:
     fz = -float(f_ext[disc.basis.get_dofs().all("u^2")].sum())
     out["force_rel_error"] = abs(fz / (0.5 * load.total_force_per_MPa() * inc.p0_MPa) - 1.0)
     # (3) the same problem in small increments
-    ref = solve_load_path(mesh, case.material, load, [p_target],
-                          options=replace(opts, strategy="newton", max_increment_MPa=p_fy / 8,
-                                          max_newton=25), disc=disc)
+    try:
+        ref = solve_load_path(mesh, case.material, load, [p_target],
+                              options=replace(opts, strategy="newton", max_increment_MPa=p_fy / 8,
+                                              max_newton=25), disc=disc)
+    except WrLayerError as err:   # the reference (same discretisation, small steps) must converge
+        out.update(outcome="reference-failed", error=f"{type(err).__name__}: {err}", wall_s=time.perf_counter() - t0)
+        return out
     u_ref = ref.history[-1].u_centre_mm
     out["u_centre_ref_mm"] = u_ref
     out["centre_rel_diff"] = abs(inc.u_centre_mm / u_ref - 1.0)

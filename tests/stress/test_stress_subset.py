@@ -27,10 +27,7 @@ def _fast_seeds(n: int, start: int = 1000, max_passes: int = 20) -> list[int]:
 
 _TRUNCATED = ("contact patch reaches the end of the separation table and is silently truncated; solve_normal "
               "should raise InputError instead (benchmarks/stress.py report)")
-_EMPTY_ARGMAX = ("kik_piotrowski._local_penetrations: argmax of an empty slice when a candidate minimum lies "
-                 "directly next to an earlier region (dented two-minima profile, pass 7)")
-_KNOWN_FAILING_SEEDS = {126: (_TRUNCATED, InvariantViolation), 486: (_TRUNCATED, InvariantViolation),
-                        89: (_EMPTY_ARGMAX, ValueError)}
+_KNOWN_FAILING_SEEDS = {126: (_TRUNCATED, InvariantViolation), 486: (_TRUNCATED, InvariantViolation)}
 _SEEDS = _fast_seeds(38) + [pytest.param(s, marks=pytest.mark.xfail(strict=True, raises=exc, reason=r))
                             for s, (r, exc) in _KNOWN_FAILING_SEEDS.items()]
 
