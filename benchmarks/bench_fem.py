@@ -107,7 +107,7 @@ def felupe_indentation(mesh_p1, force_per_MPa: np.ndarray, fixed_masks: dict, to
     disp = []
     job = fem.Job([step], callback=lambda i, j, res: disp.append(-field[0].values[centre, 2]))
     t0 = time.perf_counter()
-    job.evaluate(tol=tol, verbose=0, solver=pypardiso.spsolve)
+    job.evaluate(tol=tol, verbose=0, solver=pypardiso.spsolve, maxiter=60)
     return {"solve_s": time.perf_counter() - t0, "u_peak_mm": disp[7], "dent_mm": disp[-1]}
 
 
