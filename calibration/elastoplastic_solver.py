@@ -206,6 +206,13 @@ class _Problem:
         self.factor.factorise(self._bc(self.Ke_data.copy()))
         self.factor_is_elastic = True
 
+    def reset_to_elastic(self) -> None:
+        """Refactorise the elastic stiffness if the kept factorisation is a tangent (after a failed increment the
+        tangent of a diverged iterate may be near-singular, so it must not precondition the cut step)."""
+        if not self.factor_is_elastic:
+            self.factor.factorise(self._bc(self.Ke_data.copy()))
+            self.factor_is_elastic = True
+
     def _bc(self, data: np.ndarray) -> np.ndarray:
         data[self.zero_mask] = 0.0
         data[self.diag_mask] = 1.0
@@ -344,9 +351,8 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
         prob = _Problem(disc, material, dirichlet_dofs(disc, opts.dirichlet), opts)
         disc.problem_cache[key] = prob
     prob.opts = opts
-    if opts.strategy == "modified" and not prob.factor_is_elastic:
-        prob.factor.factorise(prob._bc(prob.Ke_data.copy()))
-        prob.factor_is_elastic = True
+    if opts.strategy == "modified":
+        prob.reset_to_elastic()
     state = initial_state if initial_state is not None else SolverState.virgin(disc)
     if initial_state is not None:
         require(state.u_mm.shape == (disc.n_dofs,), "initial_state",
@@ -379,6 +385,7 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
                     raise ConvergenceError(f"load step cut below the floor at p0 = {state.p0_MPa:.6g} MPa "
                                            f"towards {target:.6g} MPa: {err}") from None
                 step /= 2
+                prob.reset_to_elastic()
                 if opts.verbose:
                     print(f"  cutting the step to {step:.6g} MPa")
                 continue

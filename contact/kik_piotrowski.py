@@ -507,7 +507,8 @@ def solve_normal(prob: NormalProblem, layer: LayerPair | None = None, delta_gues
     The layers (if any) must sit on the problem's strip grid (points at the strip centres) and be unloaded.
     ``delta_guess_mm`` and ``loglog_slope_guess`` (d log N / d log delta, e.g. ``iterations["loglog_slope"]`` of a
     neighbouring solve; default 1.5, Hertz) only start the iteration on delta.
-    Raises ConvergenceError when delta cannot be bracketed or the regula falsi does not converge, or when the residual
+    Raises InputError when the patch reaches either end of the separation table (it would be truncated), and
+    ConvergenceError when delta cannot be bracketed or the regula falsi does not converge, or when the residual
     |N - N_target| exceeds rtol_N N_target.
     """
     ev = NormalForceEvaluator(prob, layer)
@@ -523,6 +524,12 @@ def solve_normal(prob: NormalProblem, layer: LayerPair | None = None, delta_gues
                                f"delta = {delta:g} mm")
     h = prob.grid_mm
     y = prob.strip_y_mm
+    for r in regions:
+        if r.strips[0] == 0 or r.strips[-1] == y.size - 1:
+            end = y[0] if r.strips[0] == 0 else y[-1]
+            raise InputError("separation.y_mm", f"the contact patch reaches the end of the separation table at "
+                             f"y = {end:.4g} mm (N = {prob.normal_force_N:g} N): extend the table (it covers "
+                             f"{prob.y_mm[0]:.4g}..{prob.y_mm[-1]:.4g} mm)")
     p_peak = np.zeros_like(y)
     patches = []
     for r in regions:

@@ -103,18 +103,6 @@ def build_layers(scene: Scene, strip_y_mm: np.ndarray) -> LayerPair | None:
     return LayerPair(**layers)
 
 
-def check_separation_range(scene: Scene, solution: NormalSolution) -> None:
-    """InputError when the patch reaches the first or last strip: the separation table is too narrow (the patch
-    would be cut off at the table's end)."""
-    p = solution.p_peak_MPa
-    if p.size and (p[0] > 0 or p[-1] > 0):
-        y = solution.strip_y_mm
-        end = y[0] if p[0] > 0 else y[-1]
-        raise InputError(f"{scene.path.name}: separation.y_mm",
-                         f"the contact patch reaches the end of the separation table at y = {end:.4g} mm: extend "
-                         f"the table (it covers {scene.separation.y_mm[0]:.4g}..{scene.separation.y_mm[-1]:.4g} mm)")
-
-
 def check_table_coverage(scene: Scene, solution: NormalSolution) -> None:
     """InputError when a strip in contact lies outside a body's calibration table."""
     if scene.layer is None:
@@ -216,7 +204,17 @@ def normal_problem(scene: Scene) -> NormalProblem:
 
 def simulate(scene: Scene) -> SimulationRun:
     """Run the scene; returns the result dict and the arrays for the pictures. Raises InputError for bad input
-    found while solving (a layer table not covering the contact) and ConvergenceError for solver failures."""
+    found while solving (a layer table not covering the contact, a patch reaching the end of the separation table)
+    and ConvergenceError for solver failures."""
+    try:
+        return _simulate(scene)
+    except InputError as err:
+        if err.what == "separation.y_mm":  # name the scene file
+            raise InputError(f"{scene.path.name}: separation.y_mm", err.problem) from None
+        raise
+
+
+def _simulate(scene: Scene) -> SimulationRun:
     t_start = time.perf_counter()
     prob = normal_problem(scene)
     y = prob.strip_y_mm
@@ -230,7 +228,6 @@ def simulate(scene: Scene) -> SimulationRun:
         t0 = time.perf_counter()
         sol = solve_normal(prob)
         t_normal = time.perf_counter() - t0
-        check_separation_range(scene, sol)
         snap, t_tang = solve_patches(scene, sol, 1)
         snapshots.append(snap)
         history.append(pass_dict(snap, None, {"normal_s": t_normal, "tangential_s": t_tang}))
@@ -242,7 +239,6 @@ def simulate(scene: Scene) -> SimulationRun:
 
         def on_pass(record, solution):
             t_pass = time.perf_counter() - clock[0]
-            check_separation_range(scene, solution)
             check_table_coverage(scene, solution)
             snap, t_tang = solve_patches(scene, solution, len(history) + 1)
             if not snapshots:

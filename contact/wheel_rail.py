@@ -259,10 +259,6 @@ def _balance(cands: list[ContactCandidate], sign: int, inputs: WheelRailInputs, 
     if len(cands) == 1:
         c, prob, pair, coords, clamped = built[0]
         return [(c, Q / cos_g[0], prob, pair, coords, clamped)], float("nan")
-    # primary alone carrying Q -> upper bracket
-    c1, prob1, pair1 = built[primary][:3]
-    sol1 = solve_normal(prob1, pair1)
-    delta_hi = (sol1.delta_mm + c1.normal_gap_mm) / cos_g[primary]
     evaluators = [NormalForceEvaluator(prob, pair) for _, prob, pair, _, _ in built]
 
     def forces(Delta: float) -> np.ndarray:
@@ -275,6 +271,23 @@ def _balance(cands: list[ContactCandidate], sign: int, inputs: WheelRailInputs, 
     def excess(Delta: float) -> float:
         return float(forces(Delta) @ cos_g) - Q
 
+    # primary alone carrying Q -> upper bracket
+    c1, prob1, pair1 = built[primary][:3]
+    try:
+        sol1 = solve_normal(prob1, pair1)
+        delta_hi = (sol1.delta_mm + c1.normal_gap_mm) / cos_g[primary]
+    except InputError as err:
+        if err.what != "separation.y_mm":
+            raise
+        # the primary alone would need more than its separation table: grow the bracket instead (the final
+        # solves of the loaded candidates still check their tables)
+        delta_hi = max(c.normal_gap_mm / cg for c, cg in zip(cands, cos_g)) + 1e-3
+        for _ in range(60):
+            if excess(delta_hi) > 0:
+                break
+            delta_hi *= 2.0
+        else:
+            raise ConvergenceError(f"{case}: vertical load balance: no approach carries {Q:g} N") from None
     if excess(delta_hi) <= 0:  # only the primary is loaded (others cannot close their gap)
         Delta = delta_hi
     else:
@@ -307,6 +320,11 @@ def solve_wheel(rail_profile: Profile, wheel_profile: Profile, inputs: WheelRail
         try:
             return _solve_found(found, rail, wheel_profile, inputs, layers, sign, case, cap)
         except InputError as err:  # a strip in contact without a layer element: widen the layer
+            if err.what == "separation.y_mm":
+                raise InputError(case, "a contact patch reaches the end of its separation function (the barrier "
+                                 "to the neighbouring contact candidate, or the search cap of "
+                                 f"{inputs.search.f_cap_mm:g} mm): the patches would merge, which this planar "
+                                 f"two-candidate model does not represent ({err.problem})") from None
             if k == len(LAYER_F_CAPS_MM) - 1 or not _is_layer_name(err.what):
                 raise
     raise AssertionError("unreachable")

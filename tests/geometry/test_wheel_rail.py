@@ -9,6 +9,7 @@ import pytest
 from contact.characteristic import Characteristic
 from contact.layer_table import LayerTable
 from contact.track_geometry import WheelsetPose
+from meshes.errors import InputError
 from contact.wheel_rail import (
     BALANCE_RTOL,
     WheelRailInputs,
@@ -122,9 +123,17 @@ def test_combined_layer_is_softer(rail60, s1002, placed):
 
 def test_heavy_load_widens_the_layer(rail60, s1002, placed):
     # the virtual penetration exceeds the first layer cap (0.3 mm): solved again with a wider layer, still balanced
-    soft = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.2]), np.array([0, 600.0, 1500.0])))
-    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(7.0), vertical_load_N=150000.0), soft,
+    soft = WheelRailLayers(combined=Characteristic(np.array([0, 0.5, 3.0]), np.array([0, 200.0, 800.0])))
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(3.0), vertical_load_N=150000.0), soft,
                       placed_rail=placed)
     p = sol.patches[0]
     assert p.normal.delta0_mm > 0.3
     assert abs(_vertical(sol) - 150000.0) / 150000.0 < BALANCE_RTOL
+
+
+def test_patches_reaching_the_candidate_barrier_are_a_clear_error(rail60, s1002, placed):
+    # two-point contact under a very soft layer: the flange patch grows to the barrier to the tread candidate
+    soft = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.2]), np.array([0, 600.0, 1500.0])))
+    with pytest.raises(InputError, match="patches would merge"):
+        solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(7.0), vertical_load_N=150000.0), soft,
+                    placed_rail=placed)
