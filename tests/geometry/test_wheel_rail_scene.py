@@ -1,6 +1,7 @@
 """wheel_rail scenes: validation naming the key, a sweep with a bad case still computes the others, CLI run."""
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -56,3 +57,16 @@ def test_cli_runs_a_scene_with_pictures(tmp_path):
     assert {"profiles_in_contact.png", "sweep.png"} <= set(result["pictures"])
     assert all((out / p).is_file() for p in result["pictures"])
     assert result["cases"][1]["roll_rad"] > 0  # the rigid wheelset rolls when the right flange climbs
+
+
+def test_shipped_calibrated_tables_cover_the_shipped_layered_sweep(tmp_path):
+    """scenes/tables/*_default.json (output of `make calibrate`) reach every contact of the 21-case sweep."""
+    scene = Path(__file__).resolve().parents[2] / "scenes" / "wheel_rail_sweep_layers.toml"
+    out = tmp_path / "out"
+    assert main(["simulate", str(scene), "--out", str(out)]) == 0
+    result = json.loads((out / "result.json").read_text())
+    assert len(result["cases"]) == 21 and result["n_failed"] == 0
+    tables = [json.loads((scene.parent / "tables" / f).read_text()) for f in
+              ("rail_60E1_default.json", "wheel_S1002_default.json")]
+    assert all(t["header"]["model"] == "2d" and t["header"]["config"] == "calibration/configs/default.toml"
+               for t in tables)
