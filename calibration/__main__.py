@@ -2,7 +2,8 @@
 [--plots/--no-plots] [--quiet]``.
 
 Exit codes: 0 all positions calibrated; 2 bad input (configuration; nothing written); 4 some positions failed
-(their errors on stderr; the other positions' tables are written).
+(their errors on stderr and in summary.json; no table is written for a body with a failed position, the computed
+positions are cached).
 """
 
 from __future__ import annotations

@@ -246,7 +246,7 @@ class _Problem:
 
 
 def _newton_increment(prob: _Problem, state: SolverState, force: np.ndarray, p_old: float, p_new: float,
-                      max_iter: int):
+                      max_iter: int, p_scale: float = 0.0):
     """Newton iteration from the converged ``state`` at p_old to p_new. Returns (new state, info) or raises
     ConvergenceError with the residual history.
 
@@ -257,7 +257,9 @@ def _newton_increment(prob: _Problem, state: SolverState, force: np.ndarray, p_o
     free = ~prob.fixed
     u = state.u_mm.copy()
     f_ext = p_new * force
-    f_ref_ext = max(np.linalg.norm(f_ext[free]), np.linalg.norm(p_old * force[free]))
+    # reference force: the largest of the increment's ends and of the load level being approached (p_scale), so
+    # that the last sub-step of an unloading to zero is still measured against the level's load, not against 0
+    f_ref_ext = max(abs(p_new), abs(p_old), abs(p_scale)) * np.linalg.norm(force[free])
     residuals, energies = [], []
     e0 = None
     cg_total = 0
@@ -376,10 +378,11 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
             remaining = target - state.p0_MPa
             if abs(step) > abs(remaining):
                 step = remaining
-            p_new = target if abs(remaining - step) <= 1e-12 * max(abs(target), 1.0) else state.p0_MPa + step
+            # the last sub-step lands exactly on the target (no round-off residue of summed steps)
+            p_new = target if abs(remaining - step) <= 1e-9 * max(abs(step_req), abs(target)) else state.p0_MPa + step
             try:
                 state_new, info = _newton_increment(prob, state, prepared.force_per_MPa, state.p0_MPa, p_new,
-                                                    max_iter)
+                                                    max_iter, p_scale=max(abs(start), abs(target)))
             except ConvergenceError as err:
                 if abs(step) / 2 < floor * (1 - 1e-12) or step == 0.0:
                     raise ConvergenceError(f"load step cut below the floor at p0 = {state.p0_MPa:.6g} MPa "

@@ -5,8 +5,10 @@ load settings, the source code of ``calibration``/``meshes``) are hashed (SHA-25
 in ``OUT/cache/<hash>.json``, so a rerun with nothing changed does no FEM, and changing one position (or the fit
 settings only) recomputes only what depends on it. Positions run in parallel in local processes
 (``concurrent.futures.ProcessPoolExecutor``, ``run.workers``) or, given a scheduler address, on a Dask cluster.
-A failed position is reported with its cause and left out of the table (listed under ``failed``); the other
-positions are kept. Every file is written atomically.
+The fits are cached too, keyed by the FEM result, the fit settings and the fitter's sources. A failed position
+is reported with its cause (stderr, ``summary.json``) and its body's table is NOT written (a table with a hole
+would be interpolated across it; a table of an earlier run in the same folder is removed); the other positions
+stay cached, so a rerun computes only what failed. Every file is written atomically.
 """
 
 from __future__ import annotations
@@ -38,11 +40,15 @@ _FEM_SOURCES = ("calibration/indentation.py", "calibration/hertz_geometry.py", "
                 "calibration/fem_assembly.py", "calibration/hertz_load.py", "calibration/material.py",
                 "calibration/return_mapping.py", "calibration/linear_solvers.py", "meshes/*.py")
 
+#: Sources that determine a fit and the table written from it.
+_FIT_SOURCES = ("calibration/characteristic_fit.py", "calibration/pipeline.py", "contact/characteristic.py",
+                "contact/layer_table.py")
 
-def code_hash() -> str:
-    """SHA-256 of the Python sources that determine the FEM results (see _FEM_SOURCES)."""
+
+def code_hash(patterns: tuple[str, ...] = _FEM_SOURCES) -> str:
+    """SHA-256 of the Python sources matching ``patterns`` (default: those that determine the FEM results)."""
     h = hashlib.sha256()
-    for pattern in _FEM_SOURCES:
+    for pattern in patterns:
         for f in sorted(_ROOT.glob(pattern)):
             h.update(str(f.relative_to(_ROOT)).encode())
             h.update(f.read_bytes())
@@ -320,12 +326,13 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
     summary = {"bodies": {}, "positions_computed": len(todo), "positions_cached": n_cached}
     worst = 0.0
     written = []
+    fit_code = code_hash(_FIT_SOURCES)
     for b in cfg.bodies:
         entries, keys = [], []
         for t in (t for t in tasks if t.body == b.body):
             if t.key not in results:
                 continue
-            fit_file = cache / f"fit-{_hash({'fem': t.key, 'fit': asdict(cfg.fit)})}.json"
+            fit_file = cache / f"fit-{_hash({'fem': t.key, 'fit': asdict(cfg.fit), 'code': fit_code})}.json"
             try:
                 entry = json.loads(fit_file.read_text()) if fit_file.is_file() else None
             except (OSError, json.JSONDecodeError):
@@ -341,10 +348,14 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
             keys.append(t.key)
         body_failed = sorted((f for f in failed if f["body"] == b.body), key=lambda f: f["y_mm"])
         info = {"positions": len(b.positions_mm), "calibrated": len(entries), "failed": len(body_failed)}
-        if entries:
+        if body_failed:  # no table with holes; nothing stale from an earlier run either
+            for stale in (out_dir / f"{b.body}_layer_table.json", out_dir / f"{b.body}_layer_table.csv"):
+                stale.unlink(missing_ok=True)
+            info["table"] = None
+        elif entries:
             header = _header(cfg, b, keys)
-            failed_rows = [{"y_mm": f["y_mm"], "error": f["error"]} for f in body_failed]
-            header["inputs_hash"] = _hash({"keys": keys, "fit": asdict(cfg.fit), "failed": failed_rows,
+            failed_rows: list[dict] = []
+            header["inputs_hash"] = _hash({"keys": keys, "fit": asdict(cfg.fit), "fit_code": fit_code,
                                            "plots": plots})
             json_path = out_dir / f"{b.body}_layer_table.json"
             unchanged = _same_inputs(json_path, header["inputs_hash"])
@@ -373,7 +384,9 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
     n_ok = sum(v["calibrated"] for v in summary["bodies"].values())
     log(f"calibration: {n_ok} position(s) calibrated ({len(todo)} computed, {n_cached} cached), "
         f"{len(failed)} failed, {summary['seconds']:.1f} s, worst fit error {100 * worst:.2f} % of max u; "
-        f"tables in {out_dir}")
+        + (f"tables in {out_dir}" if not failed else
+           f"NO table written for {', '.join(sorted({f['body'] for f in failed}))} (failed positions; the others "
+           "are cached: a rerun computes only the failed ones)"))
     return summary
 
 

@@ -40,6 +40,8 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
         with atomic_output_dir(out_dir) as tmp:
             result = run_wheel_rail_scene(data, scene_path, tmp, plots)
             (tmp / "result.json").write_text(result_text(result), encoding="utf-8")
+            written = {str(p.relative_to(tmp)) for p in tmp.rglob("*") if p.is_file()}
+        _remove_stale_files(out_dir, written, ("*.png", "deformed_profiles/*"))
         return result
 
     from contact.scene import parse_scene
@@ -57,18 +59,18 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
             text = result_text(run.result)
         (tmp / "result.json").write_text(text, encoding="utf-8")
         written = {p.name for p in tmp.iterdir()}
-    _remove_stale_pictures(out_dir, written)
+    from contact.result_io import PICTURE_PATTERNS
+
+    _remove_stale_files(out_dir, written, PICTURE_PATTERNS)
     return run.result
 
 
-def _remove_stale_pictures(out_dir: Path, keep: set[str]) -> None:
-    """Pictures of an earlier run into the same folder that this run did not write (another pass count, no
-    --plots) would describe another result: remove them."""
-    from contact.result_io import PICTURE_PATTERNS
-
-    for pattern in PICTURE_PATTERNS:
+def _remove_stale_files(out_dir: Path, keep: set[str], patterns: tuple[str, ...]) -> None:
+    """Files of an earlier run into the same folder that this run did not write (another pass count, no --plots,
+    fewer sweep cases) would describe another result: remove those matching ``patterns`` (relative to out_dir)."""
+    for pattern in patterns:
         for path in out_dir.glob(pattern):
-            if path.name not in keep:
+            if path.is_file() and str(path.relative_to(out_dir)) not in keep:
                 path.unlink(missing_ok=True)
 
 

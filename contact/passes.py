@@ -4,8 +4,12 @@ Each pass: solve the normal problem (Kik–Piotrowski with the layer, :func:`con
 load every strip's element(s) of each body to the strip's peak pressure p(0, y) (the largest along the strip),
 unload them (exact element behaviour), and add each body's residual displacement increment u_p(y) of this pass to
 the separation of the next pass (a dent on either body increases f). Stop when a pass adds no residual displacement
-beyond ``tolerance_mm`` (computational shakedown: the peak pressure then sits at the elastic limit p_2 of the
-reference element) or after ``max_passes``.
+beyond ``tolerance_mm`` (computational shakedown) or after ``max_passes``. Without hardening the peak pressure at
+shakedown sits at the elastic limit p_2 of the reference element (within the tolerance). With hardening, "no added
+residual" can also be alternating plasticity: when p/2 lies beyond the characteristic's last break point the
+Masing residual stops growing with p, so the dent is stable while the sliders still slip back and forth every
+pass (energy is dissipated; ``dissipated_energy_N_per_mm`` of the record shows it) and the peak may stay above
+p_2. The stress tests count such cases (benchmarks/stress_contact.py).
 
 Modes: ``hardening=False`` relaxes the sliders before each pass (the paper's example: the residual deformation is
 moved into the profile, the element starts virgin); ``hardening=True`` keeps the spring/slider state, so an element

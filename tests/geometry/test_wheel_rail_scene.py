@@ -57,6 +57,9 @@ def test_cli_runs_a_scene_with_pictures(tmp_path):
     assert {"profiles_in_contact.png", "sweep.png"} <= set(result["pictures"])
     assert all((out / p).is_file() for p in result["pictures"])
     assert result["cases"][1]["roll_rad"] > 0  # the rigid wheelset rolls when the right flange climbs
+    # a rerun into the same folder without pictures leaves none of the earlier ones behind
+    assert main(["simulate", str(scene), "--out", str(out)]) == 0
+    assert not list(out.glob("*.png")) and (out / "result.json").is_file()
 
 
 def test_shipped_calibrated_tables_cover_the_shipped_layered_sweep(tmp_path):
