@@ -143,3 +143,14 @@ def test_bad_solver_inputs_are_named(block_2d_coarse, disc_2d):
     with pytest.raises(InputError, match="initial_state"):
         run(dirichlet=DIRICHLET_2D, initial_state=SolverState(np.zeros(3), np.zeros((1, 1, 6)),
                                                               np.zeros((1, 1, 6)), np.zeros((1, 1))))
+
+
+def test_unloading_to_zero_in_many_uneven_steps(path_newton, block_2d_coarse, disc_2d):
+    """Sub-steps that do not sum exactly to the target (round-off) end exactly on it, and the last ones of an
+    unloading to zero converge (measured against the level's load, not against zero load)."""
+    fy, _ = path_newton
+    opts = SolverOptions(dirichlet=DIRICHLET_2D, strategy="newton", max_increment_MPa=fy / 43.7)
+    res = solve_load_path(block_2d_coarse, STEEL, LOAD, [1.9 * fy, 0.0], options=opts, disc=disc_2d)
+    assert res.history[-1].p0_MPa == 0.0
+    assert min(abs(i.p0_MPa) for i in res.history[:-1]) > 1e-6 * fy  # no round-off residue step
+    assert all(i.residuals[-1] <= 1e-8 for i in res.history)
