@@ -460,6 +460,7 @@ def _find_delta(ev: NormalForceEvaluator, target: float, delta_guess: float, rto
             step = -r / last_slope if np.isfinite(r) else np.log(4.0)
         d = np.exp(pts[-1][0] + float(np.clip(step, -np.log(4.0), np.log(4.0))))
     side = 0
+    n_at = [lo[1], hi[1]]                            # log(N / target) at the bracket ends (not Illinois-halved)
     for it in range(1, _MAX_BRACKETED_ITERATIONS + 1):
         (xa, fa), (xb, fb) = lo, hi
         if not np.isfinite(fa):                      # N = 0 at lo: bisect
@@ -470,15 +471,23 @@ def _find_delta(ev: NormalForceEvaluator, target: float, delta_guess: float, rto
                 x = 0.5 * (xa + xb)
         d = float(np.exp(x))
         n = ev.force_at(d)
-        if abs(n - target) <= rtol * target or (xb - xa) < 1e-14:
+        if abs(n - target) <= rtol * target:
             return d, steps, it, last_slope
+        if (xb - xa) < 1e-14:  # the bracket has collapsed onto a jump of N(delta)
+            n_lo, n_hi = np.exp(lt + np.array([n_at[0], n_at[1]]))
+            raise ConvergenceError(f"normal approach delta: N(delta) jumps across the target N = {target:g} N at "
+                                   f"delta = {d:g} mm (from {n_lo:g} to {n_hi:g} N; a discontinuity of the region "
+                                   "model, e.g. contact regions merging or separating): no approach gives this "
+                                   "force")
         r = (np.log(n) if n > 0 else -np.inf) - lt
         if r < 0:
+            n_at[0] = r
             lo = (x, r)
             if side == -1:
                 hi = (hi[0], 0.5 * hi[1])            # Illinois: halve the stale end's residual
             side = -1
         else:
+            n_at[1] = r
             hi = (x, r)
             if side == 1 and np.isfinite(lo[1]):
                 lo = (lo[0], 0.5 * lo[1])

@@ -43,3 +43,11 @@ _FEM = [c.name for c in FEM_CASES if c.subset]
 def test_fem_stress_case(name):
     result = run_fem_case(next(c for c in FEM_CASES if c.name == name))
     assert result["outcome"] in ("ok", "clear-error"), result
+
+
+def test_force_inside_a_jump_of_n_delta_is_named():
+    """Seed 577 (two valleys): N(delta) of the region model jumps from 1110 to 1280 N where the regions merge; the
+    target 1230 N lies inside the jump, so no approach gives it: a clear error that says so."""
+    case = random_contact_case(577)
+    assert check_contact_case(case) == "clear-error"
+    assert "jumps across the target" in case.stats["error"]
