@@ -24,10 +24,14 @@ from benchmarks.harness import interleaved_medians, machine_info, max_rss_mb, pe
 from calibration.elastoplastic_solver import SolverOptions, dirichlet_dofs, solve_load_path
 from calibration.fem_assembly import discretise
 from calibration.hertz_load import HertzLoad
+from calibration.linear_solvers import HAVE_PARDISO
 from calibration.material import J2Material
 from calibration.verification_meshes import hertz_block_gmsh
 from meshes.atomic_write import atomic_write_bytes
 
+#: the fast direct solver where pypardiso is installed (x86_64), SuperLU otherwise (labels follow)
+DIRECT, DIRECT_NAME = ("pardiso", "PARDISO") if HAVE_PARDISO else ("scipy", "SuperLU")
+OURS, FELUPE = f"ours (pcg + {DIRECT_NAME})", f"felupe (Newton, {DIRECT_NAME})"
 MAT = J2Material(210000.0, 0.3, 500.0)
 LOAD = HertzLoad(0.0, 1.0, a_mm=1.0)
 DIRICHLET = {"fixed": [0, 1, 2], "side": [0, 1, 2], "symmetry": [0], "sym_y": [1]}
@@ -89,7 +93,6 @@ def richardson(h: list[float], q: list[float]) -> tuple[float, float]:
 def felupe_indentation(mesh_p1, force_per_MPa: np.ndarray, fixed_masks: dict, tol: float = 1e-8) -> dict:
     """The same P1 problem solved with felupe's small-strain J2 model (isotropic hardening K = 0)."""
     import felupe as fem
-    import pypardiso
 
     mesh = fem.Mesh(mesh_p1.p.T.copy(), mesh_p1.t.T.copy(), "tetra")
     region = fem.RegionTetra(mesh)
@@ -109,7 +112,13 @@ def felupe_indentation(mesh_p1, force_per_MPa: np.ndarray, fixed_masks: dict, to
     disp = []
     job = fem.Job([step], callback=lambda i, j, res: disp.append(-field[0].values[centre, 2]))
     t0 = time.perf_counter()
-    job.evaluate(tol=tol, verbose=0, solver=pypardiso.spsolve, maxiter=60)
+    if HAVE_PARDISO:
+        import pypardiso
+
+        spsolve = pypardiso.spsolve
+    else:
+        from scipy.sparse.linalg import spsolve
+    job.evaluate(tol=tol, verbose=0, solver=spsolve, maxiter=60)
     return {"solve_s": time.perf_counter() - t0, "u_peak_mm": disp[7], "dent_mm": disp[-1]}
 
 
@@ -187,11 +196,11 @@ def run(mode: str, out: pathlib.Path) -> dict:
     # solver variants on one level (interleaved medians)
     h_cmp = hs[1]
     mesh_cmp = _mesh(h_cmp)
-    variants = {"pcg + PARDISO": ("pcg", "pardiso"), "newton + PARDISO": ("newton", "pardiso"),
-                "modified + PARDISO": ("modified", "pardiso"), "pcg + SuperLU": ("pcg", "scipy")}
+    variants = {f"pcg + {DIRECT_NAME}": ("pcg", DIRECT), f"newton + {DIRECT_NAME}": ("newton", DIRECT),
+                f"modified + {DIRECT_NAME}": ("modified", DIRECT), "pcg + SuperLU": ("pcg", "scipy")}
     if quick:  # modified Newton: ~2000 iterations, 25x the time of the others (measured); full mode only
-        variants.pop("pcg + SuperLU")
-        variants.pop("modified + PARDISO")
+        variants.pop("pcg + SuperLU", None)
+        variants.pop(f"modified + {DIRECT_NAME}")
     var_times, var_res = _interleaved_runs({k: (lambda s=s, b=b: indentation(h_cmp, s, b, mesh=mesh_cmp))
                                             for k, (s, b) in variants.items()}, repeat=1 if quick else 3)
 
@@ -205,9 +214,9 @@ def run(mode: str, out: pathlib.Path) -> dict:
     h_fe = 0.4 if quick else 0.2
     mesh1, force1, masks = _felupe_case(h_fe)
     fe_times, fe_res = _interleaved_runs({
-        "ours (pcg + PARDISO)": lambda: indentation(h_fe, order=1, mesh=mesh1),
-        "felupe (Newton, PARDISO)": lambda: felupe_indentation(mesh1, force1, masks)}, repeat=2 if quick else 3)
-    ours1, theirs = fe_res["ours (pcg + PARDISO)"], fe_res["felupe (Newton, PARDISO)"]
+        OURS: lambda: indentation(h_fe, order=1, mesh=mesh1),
+        FELUPE: lambda: felupe_indentation(mesh1, force1, masks)}, repeat=2 if quick else 3)
+    ours1, theirs = fe_res[OURS], fe_res[FELUPE]
 
     md = [__doc__.split("\n\n", 1)[1].strip(), "",
           f"Richardson reference (levels h = {hs[-3:]} mm): centre displacement at peak {ref_u * 1000:.4f} um "
@@ -243,11 +252,11 @@ def run(mode: str, out: pathlib.Path) -> dict:
         md.append(f"| {n} | {r['solve_s']:.1f} | {r['u_peak_mm'] * 1000:.4f} | "
                   f"{(r['u_peak_mm'] / ref_inc_u - 1) * 100:+.2f} | {r['dent_mm'] * 1000:.4f} | "
                   f"{(r['dent_mm'] / ref_inc_d - 1) * 100:+.2f} |")
-    ratio = fe_times["felupe (Newton, PARDISO)"] / fe_times["ours (pcg + PARDISO)"]
+    ratio = fe_times[FELUPE] / fe_times[OURS]
     md += ["", f"felupe {__import__('felupe').__version__} on the same P1 tetrahedral mesh (h = {h_fe} mm, "
            f"{ours1['n_dofs']} dofs, same constrained dofs, same consistent nodal forces, same 9 increments, "
-           "both with PARDISO): interleaved median solve times "
-           f"ours {fe_times['ours (pcg + PARDISO)']:.2f} s, felupe {fe_times['felupe (Newton, PARDISO)']:.2f} s "
+           f"both with {DIRECT_NAME}): interleaved median solve times "
+           f"ours {fe_times[OURS]:.2f} s, felupe {fe_times[FELUPE]:.2f} s "
            f"(felupe / ours = {ratio:.2f}). Same discretisation, so equal error: u_peak ours "
            f"{ours1['u_peak_mm'] * 1000:.5f} um vs felupe {theirs['u_peak_mm'] * 1000:.5f} um, dent "
            f"{ours1['dent_mm'] * 1000:.5f} vs {theirs['dent_mm'] * 1000:.5f} um. (P1 tets are much less accurate "
