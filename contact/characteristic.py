@@ -196,6 +196,8 @@ def _merged(u: np.ndarray, p: np.ndarray, name: str) -> Characteristic:
     """A characteristic through (u, p) with collinear interior points removed (keeps slopes strictly decreasing)."""
     u = np.asarray(u, dtype=float)
     p = np.asarray(p, dtype=float)
+    distinct = np.concatenate([[True], np.diff(u) > 1e-12 * max(abs(float(u[-1])), 1e-300)])
+    u, p = u[distinct], p[distinct]  # a break point shared by both bodies appears once
     keep = [0]
     for i in range(1, u.size - 1):
         s_in = (p[i] - p[keep[-1]]) / (u[i] - u[keep[-1]])
