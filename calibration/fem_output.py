@@ -78,8 +78,9 @@ def render_png(path: str | os.PathLike, disc, state, material, field: str, centr
     obliquely from the -x, -y side, so that the planes x = 0 and y = 0 (the symmetry planes of a quarter model,
     sections through the plastic zone) are visible.
     """
-    import pyvista as pv
-    pv.OFF_SCREEN = True
+    from meshes.offscreen import offscreen_pyvista
+
+    pv = offscreen_pyvista()
     grid = pv.from_meshio(to_meshio(disc, state, material))
     c = np.zeros(3)
     if centre_mm is not None:
@@ -94,9 +95,9 @@ def render_png(path: str | os.PathLike, disc, state, material, field: str, centr
     plotter = pv.Plotter(off_screen=True, window_size=(900, 700))
     label = {"von_mises_MPa": "von Mises stress (MPa)", "eq_plastic_strain": "equivalent plastic strain"}[field]
     plotter.add_mesh(part, scalars=field, cmap="viridis", show_edges=False,
-                     scalar_bar_args={"title": label, "vertical": True})
-    if title:
-        plotter.add_text(title, font_size=10)
+                     scalar_bar_args={"title": "", "vertical": True, "position_x": 0.86, "position_y": 0.1,
+                                      "width": 0.05, "height": 0.75})
+    plotter.add_text(f"{label}{', ' + title if title else ''}", font_size=10)
     if disc.plane_strain:
         plotter.view_yz()
     else:

@@ -82,10 +82,11 @@ def _boundary_polydata(mesh: skfem.Mesh):
 def plot_local(mesh: skfem.Mesh, profile, y0: float, path: str | os.PathLike, title: str = "",
                zoom_mm: float = 10.0) -> Path:
     """PNG of a 3D local mesh: overview and close-up (+-``zoom_mm``) of the load point (0, y0, z(y0))."""
-    import pyvista
     from matplotlib.colors import ListedColormap
 
-    pyvista.OFF_SCREEN = True
+    from meshes.offscreen import offscreen_pyvista
+
+    pyvista = offscreen_pyvista()
     poly, names = _boundary_polydata(mesh)
     cmap = ListedColormap([BOUNDARY_COLOURS.get(n, "k") for n in names])
     load = np.array([0.0, y0, float(profile.z(y0))])
