@@ -2,8 +2,8 @@
 [--plots/--no-plots] [--quiet]``.
 
 Exit codes: 0 all positions calibrated; 2 bad input (configuration; nothing written); 4 some positions failed
-(their errors on stderr and in summary.json; no table is written for a body with a failed position, the computed
-positions are cached).
+(their errors on stderr and in summary.json; the tables hold the other positions and list the failed ones, which
+the reader does not interpolate across; the computed positions are cached).
 """
 
 from __future__ import annotations

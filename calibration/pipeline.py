@@ -6,8 +6,8 @@ in ``OUT/cache/<hash>.json``, so a rerun with nothing changed does no FEM, and c
 settings only) recomputes only what depends on it. Positions run in parallel in local processes
 (``concurrent.futures.ProcessPoolExecutor``, ``run.workers``) or, given a scheduler address, on a Dask cluster.
 The fits are cached too, keyed by the FEM result, the fit settings and the fitter's sources. A failed position
-is reported with its cause (stderr, ``summary.json``) and its body's table is NOT written (a table with a hole
-would be interpolated across it; a table of an earlier run in the same folder is removed); the other positions
+is reported with its cause (stderr, ``summary.json``) and listed under ``failed`` in its body's table, which
+holds the other positions (the reader refuses to interpolate across a failed position); the computed positions
 stay cached, so a rerun computes only what failed. Every file is written atomically.
 """
 
@@ -348,13 +348,13 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
             keys.append(t.key)
         body_failed = sorted((f for f in failed if f["body"] == b.body), key=lambda f: f["y_mm"])
         info = {"positions": len(b.positions_mm), "calibrated": len(entries), "failed": len(body_failed)}
-        if body_failed:  # no table with holes; nothing stale from an earlier run either
+        if not entries:  # nothing calibrated: no table, and none left from an earlier run
             for stale in (out_dir / f"{b.body}_layer_table.json", out_dir / f"{b.body}_layer_table.csv"):
                 stale.unlink(missing_ok=True)
             info["table"] = None
-        elif entries:
+        else:
             header = _header(cfg, b, keys)
-            failed_rows: list[dict] = []
+            failed_rows = [{"y_mm": f["y_mm"], "error": f["error"]} for f in body_failed]
             header["inputs_hash"] = _hash({"keys": keys, "fit": asdict(cfg.fit), "fit_code": fit_code,
                                            "plots": plots})
             json_path = out_dir / f"{b.body}_layer_table.json"
@@ -384,9 +384,8 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
     n_ok = sum(v["calibrated"] for v in summary["bodies"].values())
     log(f"calibration: {n_ok} position(s) calibrated ({len(todo)} computed, {n_cached} cached), "
         f"{len(failed)} failed, {summary['seconds']:.1f} s, worst fit error {100 * worst:.2f} % of max u; "
-        + (f"tables in {out_dir}" if not failed else
-           f"NO table written for {', '.join(sorted({f['body'] for f in failed}))} (failed positions; the others "
-           "are cached: a rerun computes only the failed ones)"))
+        + f"tables in {out_dir}" + ("" if not failed else " (failed positions are listed in them and are not "
+                                     "interpolated across; a rerun computes only the failed ones)"))
     return summary
 
 

@@ -12,10 +12,11 @@ File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 1``)::
      "failed": [{"y_mm": y, "error": message}, ...]}
 
 ``positions`` are the calibrated positions (profile coordinate y in mm, frames as in :mod:`meshes.profiles`);
-``failed`` lists positions whose calibration failed (kept for the record, never interpolated over silently:
-interpolation uses the calibrated neighbours). Between positions the characteristic is interpolated linearly in
-y with :meth:`Characteristic.interpolate` (p(u) blended, concave by construction); outside the calibrated range
-:meth:`LayerTable.characteristic_at` raises InputError. This module only reads/writes tables; it does not import
+``failed`` lists positions whose calibration failed; they are never interpolated over: a y between the two
+calibrated neighbours of a failed position (or at it) is an InputError naming the failed position and its cause.
+Between positions the characteristic is interpolated linearly in y with :meth:`Characteristic.interpolate`
+(p(u) blended, concave by construction); outside the calibrated range :meth:`LayerTable.characteristic_at` raises
+InputError. This module only reads/writes tables; it does not import
 the FEM code.
 """
 
@@ -160,6 +161,12 @@ class LayerTable:
         j = int(np.clip(np.searchsorted(ys, y, side="right") - 1, 0, len(ys) - 1))
         if j == len(ys) - 1 or abs(y - ys[j]) <= tol:
             return self.characteristics[j]
+        gap = [f for f in self.failed if ys[j] < float(f["y_mm"]) < ys[j + 1]]
+        if gap:
+            raise InputError(f"position y = {y_mm!r} mm",
+                             f"lies between {ys[j]:g} and {ys[j + 1]:g} mm, across the failed calibration at "
+                             f"y = {float(gap[0]['y_mm']):g} mm of the {self.body} table ({self.source}): "
+                             f"{gap[0].get('error', 'no cause recorded')}")
         t = (y - ys[j]) / (ys[j + 1] - ys[j])
         return Characteristic.interpolate(self.characteristics[j], self.characteristics[j + 1], float(t),
                                           name=f"{self.body} layer at y = {y:g} mm")
@@ -186,6 +193,10 @@ def _validate(header, positions, failed, source) -> list[Characteristic]:
         raise InputError(source, f"header 'body' must be one of {BODIES}, got {header['body']!r}")
     if not positions:
         raise InputError(source, "has no calibrated positions")
+    for i, f in enumerate(failed):
+        y = f.get("y_mm") if isinstance(f, dict) else None
+        if not (isinstance(y, (int, float)) and not isinstance(y, bool) and math.isfinite(y)):
+            raise InputError(f"{source}: failed[{i}]", "must be an object with a finite number 'y_mm'")
     chars, ys = [], []
     for i, pos in enumerate(positions):
         what = f"{source}: positions[{i}]"

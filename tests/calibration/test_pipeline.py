@@ -77,12 +77,11 @@ def test_second_run_uses_the_cache_and_fit_changes_need_no_fem(coarse_run, tmp_p
     assert LayerTable.read(work / "rail_layer_table.json").characteristic_at(0.0).n_segments == 2
 
 
-def test_new_position_is_computed_alone_and_a_failure_writes_no_table(coarse_run, tmp_path, monkeypatch):
+def test_new_position_is_computed_alone_and_a_failure_keeps_the_others(coarse_run, tmp_path, monkeypatch):
     cfg, out, _ = coarse_run
     work = tmp_path / "copy"
     shutil.copytree(out, work)
-    assert (work / "rail_layer_table.json").is_file()  # from the coarse run: must not survive as stale output
-    body = dataclasses.replace(cfg.bodies[0], positions_mm=(-5.0, 0.0, 5.0))
+    body = dataclasses.replace(cfg.bodies[0], positions_mm=(-5.0, 0.0, 5.0, 10.0))
     cfg2 = dataclasses.replace(cfg, bodies=(body,))
     real = pipeline.run_position
 
@@ -93,25 +92,29 @@ def test_new_position_is_computed_alone_and_a_failure_writes_no_table(coarse_run
 
     monkeypatch.setattr(pipeline, "run_position", failing_at_5)
     summary = run_calibration(cfg2, work, show_progress=False, log=_quiet)
-    assert summary["positions_computed"] == 2 and summary["positions_cached"] == 1
+    assert summary["positions_computed"] == 3 and summary["positions_cached"] == 1
     assert [f["y_mm"] for f in summary["failed"]] == [5.0]
     assert "y = 5 mm" in summary["failed"][0]["error"]
-    assert not (work / "rail_layer_table.json").exists() and not (work / "rail_layer_table.csv").exists()
-    assert summary["bodies"]["rail"]["table"] is None
     assert json.loads((work / "summary.json").read_text())["failed"][0]["y_mm"] == 5.0
-    # the failure gone: only the failed position is computed, the table is complete
-    monkeypatch.setattr(pipeline, "run_position", real)
-    summary = run_calibration(cfg2, work, show_progress=False, log=_quiet)
-    assert summary["failed"] == [] and summary["positions_computed"] == 1 and summary["positions_cached"] == 2
     table = LayerTable.read(work / "rail_layer_table.json")
-    assert list(table.y_mm) == [-5.0, 0.0, 5.0] and table.failed == []
-    assert table.characteristic_at(-2.5).n_segments >= 2
+    assert list(table.y_mm) == [-5.0, 0.0, 10.0] and table.failed[0]["y_mm"] == 5.0
+    assert table.characteristic_at(-2.5).n_segments >= 2      # between calibrated neighbours
+    for y in (2.0, 5.0, 7.5):                                  # never across the failed position
+        with pytest.raises(Exception, match="across the failed calibration at y = 5 mm.*Newton did not converge"):
+            table.characteristic_at(y)
     with pytest.raises(Exception, match="outside the calibrated range"):
-        table.characteristic_at(6.0)
+        table.characteristic_at(11.0)
     from calibration.calibration_plots import write_body_plots
 
     for path in write_body_plots(table, body, work / "plots"):
         assert path.stat().st_size > 1000
+    # the failure gone: only the failed position is computed, the table is complete
+    monkeypatch.setattr(pipeline, "run_position", real)
+    summary = run_calibration(cfg2, work, show_progress=False, log=_quiet)
+    assert summary["failed"] == [] and summary["positions_computed"] == 1 and summary["positions_cached"] == 3
+    table = LayerTable.read(work / "rail_layer_table.json")
+    assert list(table.y_mm) == [-5.0, 0.0, 5.0, 10.0] and table.failed == []
+    assert table.characteristic_at(7.5).n_segments >= 2
 
 
 def test_dask_local_cluster_gives_the_same_table(coarse_run, tmp_path):
