@@ -95,3 +95,26 @@ def test_layer_table_does_not_import_the_fem_code():
             "print(bad); sys.exit(1 if bad else 0)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.returncode == 0, out.stdout + out.stderr
+
+
+@pytest.mark.parametrize("name, model, y_range", [
+    ("rail_60E1_default.json", "2d", (-35.9, 15.0)), ("wheel_S1002_default.json", "2d", (-45.0, 30.0)),
+    ("rail_60E1_3d.json", "3d", (-30.0, 15.0)), ("wheel_S1002_3d.json", "3d", (-30.0, 30.0))])
+def test_shipped_tables_are_valid_calibrations(name, model, y_range):
+    """scenes/tables: valid, complete FEM calibrations; p_2 pinned at the FEM first yield; 3D dents below 2D."""
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "scenes" / "tables" / name
+    table = LayerTable.read(path)
+    assert table.header["model"] == model and table.failed == []
+    assert table.y_range_mm == pytest.approx(y_range)
+    for pos in table.positions:
+        assert pos["p2_MPa"] == pytest.approx(pos["first_yield_fem_MPa"], rel=0.03)
+        assert pos["max_error_mm"] <= 0.02 * max(pos["fem_points"]["u_mm"])
+    if model == "3d":
+        other = LayerTable.read(path.with_name(name.replace("_3d", "_default")))
+        for pos in table.positions:
+            y = pos["y_mm"]
+            u2 = other.characteristic_at(y).displacement(2.0 * pos["p2_MPa"])
+            u3 = table.characteristic_at(y).displacement(2.0 * pos["p2_MPa"])
+            assert u3 < u2
