@@ -37,7 +37,8 @@ def _machine_markdown(info: dict) -> str:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.splitlines()[0])
     mode = ap.add_mutually_exclusive_group()
-    mode.add_argument("--quick", action="store_const", dest="mode", const="quick", help="about 2.5 minutes on 2 idle cores (default)")
+    mode.add_argument("--quick", action="store_const", dest="mode", const="quick",
+                      help="about 2.5 minutes on 2 idle cores (default)")
     mode.add_argument("--full", action="store_const", dest="mode", const="full", help="all levels, longer")
     ap.add_argument("--only", nargs="*", default=None, help="benchmark names, e.g. contact fem")
     ap.add_argument("--out", type=Path, default=Path("out/bench"))

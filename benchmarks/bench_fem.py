@@ -206,7 +206,8 @@ def run(mode: str, out: pathlib.Path) -> dict:
 
     # load-increment (time-discretisation) error on the coarsest level: backward-Euler return mapping
     n_incr = (8, 16, 32) if quick else (8, 16, 32, 64)
-    incr = [indentation(hs[0], "newton", mesh=_mesh(hs[0]), increments=n) for n in n_incr]
+    mesh_inc = _mesh(hs[0])
+    incr = [indentation(hs[0], "newton", mesh=mesh_inc, increments=n) for n in n_incr]
     ref_inc_u, p_inc_u = richardson([1 / n for n in n_incr[-3:]], [r["u_peak_mm"] for r in incr[-3:]])
     ref_inc_d, _ = richardson([1 / n for n in n_incr[-3:]], [r["dent_mm"] for r in incr[-3:]])
 
@@ -243,7 +244,8 @@ def run(mode: str, out: pathlib.Path) -> dict:
         md.append(f"| {k} | {var_times[k]:.2f} | {r['newton_iters']} | {r['cg_iters']} | "
                   f"{r['u_peak_mm'] * 1000:.5f} | {r['dent_mm'] * 1000:.5f} |")
     md += ["", f"Load-increment error (h = {hs[0]} mm, newton; the table above uses 8 increments to the peak). "
-           f"Reference: Richardson extrapolation of {'/'.join(map(str, n_incr[-3:]))} increments (observed order {p_inc_u:.2f}): u_peak "
+           f"Reference: Richardson extrapolation of {'/'.join(map(str, n_incr[-3:]))} increments "
+           f"(observed order {p_inc_u:.2f}): u_peak "
            f"{ref_inc_u * 1000:.4f} um, dent {ref_inc_d * 1000:.4f} um. The increment error of 8 increments is larger "
            "than the mesh error of the finest level above: the calibration therefore limits the step to "
            "`max_increment_factor` x first yield (0.15 by default, i.e. about 14 steps to this peak).", "",

@@ -474,7 +474,7 @@ def _find_delta(ev: NormalForceEvaluator, target: float, delta_guess: float, rto
         if abs(n - target) <= rtol * target:
             return d, steps, it, last_slope
         if (xb - xa) < 1e-14:  # the bracket has collapsed onto a jump of N(delta)
-            n_lo, n_hi = np.exp(lt + np.array([n_at[0], n_at[1]]))
+            n_lo, n_hi = np.exp(lt + np.array(n_at))
             raise ConvergenceError(f"normal approach delta: N(delta) jumps across the target N = {target:g} N at "
                                    f"delta = {d:g} mm (from {n_lo:g} to {n_hi:g} N; a discontinuity of the region "
                                    "model, e.g. contact regions merging or separating): no approach gives this "

@@ -16,8 +16,7 @@ File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 1``)::
 calibrated neighbours of a failed position (or at it) is an InputError naming the failed position and its cause.
 Between positions the characteristic is interpolated linearly in y with :meth:`Characteristic.interpolate`
 (p(u) blended, concave by construction); outside the calibrated range :meth:`LayerTable.characteristic_at` raises
-InputError. This module only reads/writes tables; it does not import
-the FEM code.
+InputError. This module only reads/writes tables; it does not import the FEM code.
 """
 
 from __future__ import annotations
