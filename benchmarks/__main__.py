@@ -18,7 +18,7 @@ import traceback
 from pathlib import Path
 
 from benchmarks.harness import machine_info, max_rss_mb
-from meshes.atomic_write import atomic_write_text
+from wrlayer.atomic_write import atomic_write_text
 
 
 def discover() -> list[str]:

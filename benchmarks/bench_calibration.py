@@ -50,8 +50,8 @@ def _coarse_points(work: Path) -> list[dict]:
 
 def fit_error_vs_segments(points: list[dict], n_values=range(2, 9)) -> list[dict]:
     """Max/RMS fit error (relative to max u) and eq. (8) residual error per N over all positions."""
-    from calibration.characteristic_fit import fit_characteristic
-    from meshes.errors import WrLayerError
+    from calibration.fit.characteristic_fit import fit_characteristic
+    from wrlayer.errors import WrLayerError
 
     rows = []
     for n in n_values:
@@ -81,9 +81,9 @@ def fit_error_vs_segments(points: list[dict], n_values=range(2, 9)) -> list[dict
 def model_comparison(quick: bool) -> list[dict]:
     """Rail y = 0: 2D and 3D indentations on several meshes; run time, first yield p_y and FEM residual dents
     after unloading from 1.5 and 2.5 p_y, against the finest 3D run (the last; quadratic tetrahedra)."""
-    from calibration.hertz_geometry import local_geometry
+    from calibration.hertz.geometry import local_geometry
     from calibration.indentation import LoadSettings, MeshSettings, indent
-    from calibration.material import J2Material
+    from calibration.fem.material import J2Material
     from meshes.profiles import get_profile
 
     rail, wheel = get_profile("60E1"), get_profile("S1002")

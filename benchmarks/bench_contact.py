@@ -1,8 +1,8 @@
-"""Benchmark of the normal contact solver with the Prandtl layer (contact.kik_piotrowski, contact.passes).
+"""Benchmark of the normal contact solver with the Prandtl layer (contact.normal.kik_piotrowski, contact.passes.passes).
 
 Speed: median time per normal solve on the paper's example scene (no layer / with the combined layer) and for full
 runs to shakedown. Accuracy: (1) vs the paper's Table 1 (a parabolic stand-in separation; see
-contact/paper_example.py), (2) vs Hertz for a circular contact with alpha = 0.5 (where the KP patch is exactly
+contact/scenes/paper_example.py), (2) vs Hertz for a circular contact with alpha = 0.5 (where the KP patch is exactly
 the Hertz patch, so the error is the discretisation's), (3) grid convergence: error vs a very fine grid, and time.
 Units: s, ms, mm, MPa, MiB.
 """
@@ -16,9 +16,9 @@ import time
 import numpy as np
 
 from benchmarks.harness import median_time, peak_memory_mb
-from contact.kik_piotrowski import NormalProblem, solve_normal
-from contact.paper_example import PAPER_EXAMPLE, paper_layers, paper_problem
-from contact.passes import PassesOptions, run_passes
+from contact.normal.kik_piotrowski import NormalProblem, solve_normal
+from contact.scenes.paper_example import PAPER_EXAMPLE, paper_layers, paper_problem
+from contact.passes.passes import PassesOptions, run_passes
 
 
 def _row(cells) -> str:
@@ -93,7 +93,7 @@ def _halfspace_reference(prob: NormalProblem, h: float, delta: float) -> tuple[n
     (mm) over the 3D separation f(y) + x^2/(2R) < ``delta`` (mm): piecewise-constant pressure, exact rectangle
     kernel influence matrix, active-set iteration of Kalker's NORM type. Returns (x, y, solve) with
     solve(approach) -> cell pressures (MPa). A CONTACT-like reference for the region interaction."""
-    from contact.boussinesq import rectangle_kernel_integral
+    from contact.normal.boussinesq import rectangle_kernel_integral
     step = max(1, int(round(h / prob.grid_mm)))
     yc, fc = prob.strip_y_mm[::step], prob.separation_on_grid_mm[::step]
     xmax = np.sqrt(2 * prob.rolling_radius_mm * delta)
@@ -126,8 +126,8 @@ def _two_regions(quick: bool, repeat: int) -> tuple[str, dict]:
     """scenes/two_patches.toml: regions with / without elastic interaction vs the exact half-space solution."""
     import dataclasses
     from scipy.optimize import brentq
-    from contact.scene import load_scene
-    from contact.simulation import build_layers, normal_problem
+    from contact.scenes.scene import load_scene
+    from contact.scenes.simulation import build_layers, normal_problem
     scene = load_scene(pathlib.Path(__file__).resolve().parents[1] / "scenes" / "two_patches.toml")
     prob = normal_problem(scene)
     layers = build_layers(scene, prob.strip_y_mm)
@@ -222,7 +222,7 @@ def _convergence(grids, h_ref, out: pathlib.Path, repeat: int) -> tuple[str, dic
         fig.suptitle("KP normal solve with the layer, paper scene: error and time vs grid")
         fig.tight_layout()
         path = out / "contact_grid_convergence.png"
-        from meshes.atomic_write import atomic_write_bytes
+        from wrlayer.atomic_write import atomic_write_bytes
         import io
         buf = io.BytesIO()
         fig.savefig(buf, format="png", dpi=110)

@@ -16,16 +16,16 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from benchmarks.harness import machine_info, median_time, peak_memory_mb
-from contact.fastsim import (
+from contact.tangential.fastsim import (
     Creepage,
     _march,
     equivalent_ellipse,
     simplified_theory_fx_ratio,
     solve_tangential,
 )
-from contact.kalker_coefficients import creep_coefficients
-from contact.patch import Patch
-from meshes.atomic_write import atomic_write_bytes
+from contact.tangential.kalker_coefficients import creep_coefficients
+from contact.normal.patch import Patch
+from wrlayer.atomic_write import atomic_write_bytes
 
 E_MPA, NU = 210000.0, 0.28
 G_MPA = E_MPA / (2 * (1 + NU))
@@ -210,7 +210,7 @@ def run(mode: str, out: pathlib.Path) -> dict:
         (f"Peak Python-heap memory of one solve: {mem_typical:.2f} MiB (31 x 60 cells), {mem_big:.2f} MiB "
          "(121 x 240 cells)."),
         "**Convergence with nx** (reference: the same solver at a much finer nx; and, for pure vx, the exact "
-        "continuum solution of the simplified theory, contact.fastsim.simplified_theory_fx_ratio):\n\n"
+        "continuum solution of the simplified theory, contact.tangential.fastsim.simplified_theory_fx_ratio):\n\n"
         + conv_md,
         "**Kalker's linear theory** (reference: Fx = -G a b C11 vx, Fy = -G a b (C22 vy + sqrt(ab) C23 phi), "
         "C_ij from Kalker 1990 Table E3), 41 strips, nx = 60, creepage 1e-7:\n\n" + linear_md,

@@ -21,13 +21,13 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from benchmarks.harness import interleaved_medians, machine_info, max_rss_mb, peak_memory_mb
-from calibration.elastoplastic_solver import SolverOptions, dirichlet_dofs, solve_load_path
-from calibration.fem_assembly import discretise
-from calibration.hertz_load import HertzLoad
-from calibration.linear_solvers import HAVE_PARDISO
-from calibration.material import J2Material
-from calibration.verification_meshes import hertz_block_gmsh
-from meshes.atomic_write import atomic_write_bytes
+from calibration.fem.elastoplastic_solver import SolverOptions, dirichlet_dofs, solve_load_path
+from calibration.fem.assembly import discretise
+from calibration.hertz.load import HertzLoad
+from calibration.fem.linear_solvers import HAVE_PARDISO
+from calibration.fem.material import J2Material
+from calibration.fem.verification_meshes import hertz_block_gmsh
+from wrlayer.atomic_write import atomic_write_bytes
 
 #: the fast direct solver where pypardiso is installed (x86_64), SuperLU otherwise (labels follow)
 DIRECT, DIRECT_NAME = ("pardiso", "PARDISO") if HAVE_PARDISO else ("scipy", "SuperLU")

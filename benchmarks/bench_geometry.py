@@ -19,9 +19,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from benchmarks.harness import machine_info, median_time, peak_memory_mb
-from contact.contact_search import search_contacts
-from contact.track_geometry import TrackLayout, WheelsetPose, place_rail
-from contact.wheel_rail import WheelRailInputs, rigid_roll, solve_wheel
+from contact.wheel_rail.contact_search import search_contacts
+from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
+from contact.wheel_rail.solve import WheelRailInputs, rigid_roll, solve_wheel
 from meshes.profiles import S1002, Rail60E1, get_profile
 
 E_MPA = 2.0 * 82000.0 * 1.28

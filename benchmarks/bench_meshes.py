@@ -19,11 +19,11 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from benchmarks.harness import max_rss_mb, median_time, peak_memory_mb
-from meshes.atomic_write import atomic_write_bytes
-from meshes.local_mesh import local_mesh
-from meshes.mesh_quality import element_quality, mesh_measure
+from wrlayer.atomic_write import atomic_write_bytes
+from meshes.meshing.local_mesh import local_mesh
+from meshes.meshing.mesh_quality import element_quality, mesh_measure
 from meshes.profiles import get_profile, outline_area
-from meshes.section_mesh import default_depth_mm, section_mesh
+from meshes.meshing.section_mesh import default_depth_mm, section_mesh
 
 PROFILES = (("60E1", 0.0), ("S1002", 0.0))
 SETTINGS_2D = {"h_max": 5.0, "refine_radius_mm": 2.0}

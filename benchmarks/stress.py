@@ -27,8 +27,8 @@ from benchmarks.stress_contact import (
     random_contact_case,
 )
 from benchmarks.stress_fem import CENTRE_RTOL, FEM_CASES, run_fem_case
-from meshes.atomic_write import atomic_write_text
-from meshes.errors import cli_guard
+from wrlayer.atomic_write import atomic_write_text
+from wrlayer.errors import cli_guard
 
 CONTACT_ACCEPTED = ("ok", "clear-error")
 FEM_ACCEPTED = ("ok", "clear-error")

@@ -7,7 +7,7 @@ initial stiffness 1e3 .. 1e7 N/mm^3 (very soft .. nearly rigid), creepages 1e-5 
 1..200 passes in either hardening mode, strip grids 0.05 .. 0.5 mm.
 
 :func:`check_contact_case` runs one case and returns ``"ok"`` when every invariant holds, ``"clear-error"`` when the
-solver raised the project's error type (:class:`meshes.errors.WrLayerError`); a violated invariant raises
+solver raised the project's error type (:class:`wrlayer.errors.WrLayerError`); a violated invariant raises
 :class:`InvariantViolation`; any other exception propagates (both are failures of the stress run).
 
 Invariants (units mm, N, MPa):
@@ -32,12 +32,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact.characteristic import Characteristic
-from contact.fastsim import Creepage, solve_tangential
-from contact.kik_piotrowski import NormalProblem, NormalSolution
-from contact.passes import PassesOptions, PassRecord, run_passes
-from contact.prandtl_layer import LayerPair, PrandtlLayer
-from meshes.errors import WrLayerError
+from contact.layer.characteristic import Characteristic
+from contact.tangential.fastsim import Creepage, solve_tangential
+from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
+from contact.passes.passes import PassesOptions, PassRecord, run_passes
+from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
+from wrlayer.errors import WrLayerError
 
 __all__ = [
     "SEPARATION_KINDS",
@@ -199,7 +199,7 @@ def masing_residual_mm(c: Characteristic, p_MPa: np.ndarray) -> np.ndarray:
     """Exact residual displacement (mm) of a virgin Prandtl element loaded to p (MPa) and unloaded (Masing rule for
     the parallel spring-slider model: unloading retraces twice the backbone at half the drop): u(p) - 2 u(p/2).
 
-    Independent of :mod:`contact.prandtl_layer` (uses only the characteristic); equals eq. (8) for p <= 2 p_2.
+    Independent of :mod:`contact.layer.prandtl_layer` (uses only the characteristic); equals eq. (8) for p <= 2 p_2.
     Loading again to a lower peak and unloading leaves it unchanged; a higher peak erases the memory (Masing), so
     with kept state (hardening) the residual after several cycles is this function at the largest peak so far.
     """

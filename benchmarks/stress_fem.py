@@ -1,6 +1,6 @@
 """Stress cases for the elastoplastic FEM engine (plane-strain Hertz load on a graded half block).
 
-Each case loads a half block (``calibration.verification_meshes.hertz_block``, P2 triangles, symmetry at y = 0,
+Each case loads a half block (``calibration.fem.verification_meshes.hertz_block``, P2 triangles, symmetry at y = 0,
 far sides and bottom clamped) with a Hertz pressure of semi-width b = 1 mm to a multiple of the first-yield level
 p_fy and is either
 
@@ -8,7 +8,7 @@ p_fy and is either
   dofs <= 1e-6 |f_ext|; (2) the applied vertical force equals the analytic pi/2 b p0 / 2 (half model) within 1 %;
   (3) the load-centre displacement agrees with the same problem solved in small increments (p_fy / 8, full
   Newton) within ``CENTRE_RTOL``; or
-- the project's clear error (:class:`meshes.errors.WrLayerError`, e.g. ConvergenceError from the step cutting) in
+- the project's clear error (:class:`wrlayer.errors.WrLayerError`, e.g. ConvergenceError from the step cutting) in
   the cases where one is acceptable: beyond the limit load (after the cutting has carried the load at least to
   ``min_progress`` p_fy) and for the modified-Newton strategy (linear convergence). Below the limit load the small
   increment reference converges, so the step cutting must recover there.
@@ -29,16 +29,16 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from calibration.elastoplastic_solver import (
+from calibration.fem.elastoplastic_solver import (
     SolverOptions,
     dirichlet_dofs,
     solve_load_path,
 )
-from calibration.fem_assembly import discretise
-from calibration.hertz_load import HertzLoad
-from calibration.material import J2Material
-from calibration.verification_meshes import hertz_block
-from meshes.errors import WrLayerError
+from calibration.fem.assembly import discretise
+from calibration.hertz.load import HertzLoad
+from calibration.fem.material import J2Material
+from calibration.fem.verification_meshes import hertz_block
+from wrlayer.errors import WrLayerError
 
 __all__ = ["CENTRE_RTOL", "FEM_CASES", "FemCase", "run_fem_case"]
 

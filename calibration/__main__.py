@@ -12,7 +12,7 @@ import argparse
 import dataclasses
 import sys
 
-from meshes.errors import cli_guard, require
+from wrlayer.errors import cli_guard, require
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -24,10 +24,10 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from calibration.characteristic_fit import N_SEGMENTS_RANGE
-from calibration.hertz_geometry import DEFAULT_MAX_LATERAL_RADIUS_MM, DEFAULT_RAIL_CANT_RAD
+from calibration.fit.characteristic_fit import N_SEGMENTS_RANGE
+from calibration.hertz.geometry import DEFAULT_MAX_LATERAL_RADIUS_MM, DEFAULT_RAIL_CANT_RAD
 from calibration.indentation import LoadSettings, MeshSettings
-from meshes.errors import InputError
+from wrlayer.errors import InputError
 
 MODELS = ("2d", "3d")
 
@@ -331,7 +331,7 @@ def load_config(path: str | Path) -> CalibrationConfig:
 
 def material_of(body: BodySettings):
     """The J2Material of a body."""
-    from calibration.material import J2Material
+    from calibration.fem.material import J2Material
 
     return J2Material(**asdict(body.material))
 

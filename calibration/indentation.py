@@ -27,12 +27,12 @@ from pathlib import Path
 
 import numpy as np
 
-from calibration.elastoplastic_solver import SolverOptions, solve_load_path
-from calibration.fem_assembly import discretise
-from calibration.hertz_geometry import LocalGeometry, halfspace_centre_compliance_mm_per_MPa
-from calibration.hertz_load import HertzLoad
-from calibration.material import J2Material, von_mises_MPa
-from meshes.errors import require
+from calibration.fem.elastoplastic_solver import SolverOptions, solve_load_path
+from calibration.fem.assembly import discretise
+from calibration.hertz.geometry import LocalGeometry, halfspace_centre_compliance_mm_per_MPa
+from calibration.hertz.load import HertzLoad
+from calibration.fem.material import J2Material, von_mises_MPa
+from wrlayer.errors import require
 
 
 @dataclass(frozen=True)
@@ -96,8 +96,8 @@ class IndentationResult:
 
 def build_mesh(profile, geometry: LocalGeometry, model: str, mesh: MeshSettings):
     """The 2D section mesh or 3D local mesh refined at the position (sizes from the semi-axes)."""
-    from meshes.local_mesh import local_mesh
-    from meshes.section_mesh import section_mesh
+    from meshes.meshing.local_mesh import local_mesh
+    from meshes.meshing.section_mesh import section_mesh
 
     h_min = min(geometry.b_mm, geometry.a_mm if model == "3d" else geometry.b_mm) / mesh.elements_per_semi_axis
     h_max = max(mesh.h_max_mm, h_min)
@@ -156,7 +156,7 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
     require(all(0 < f <= load_settings.max_factor + 1e-12 for f in load_settings.unload_factors), "unload_factors",
             f"must lie in (0, max_factor = {load_settings.max_factor}], got {list(load_settings.unload_factors)}")
     t0 = time.perf_counter()
-    if out_dir is not None and importlib.util.find_spec("calibration.fem_output") is None:
+    if out_dir is not None and importlib.util.find_spec("calibration.fem.output") is None:
         out_dir = None  # the FEM engine's field output is not available: no VTK/PNG pictures
     mesh = build_mesh(profile, geometry, model, mesh_settings)
     disc = discretise(mesh, mesh_settings.order)

@@ -27,22 +27,22 @@ from typing import Any
 
 import numpy as np
 
-from calibration.characteristic_fit import fit_characteristic
+from calibration.fit.characteristic_fit import fit_characteristic
 from calibration.config import BodySettings, CalibrationConfig
-from calibration.hertz_geometry import given_geometry, local_geometry
-from contact.layer_table import LayerTable
-from meshes.atomic_write import atomic_write_text
-from meshes.errors import InputError, WrLayerError
+from calibration.hertz.geometry import given_geometry, local_geometry
+from contact.layer.layer_table import LayerTable
+from wrlayer.atomic_write import atomic_write_text
+from wrlayer.errors import InputError, WrLayerError
 
 _ROOT = Path(__file__).resolve().parent.parent
 #: Sources that determine a position's FEM result (the cache key includes their content).
-_FEM_SOURCES = ("calibration/indentation.py", "calibration/hertz_geometry.py", "calibration/elastoplastic_solver.py",
-                "calibration/fem_assembly.py", "calibration/hertz_load.py", "calibration/material.py",
-                "calibration/return_mapping.py", "calibration/linear_solvers.py", "meshes/*.py")
+_FEM_SOURCES = ("calibration/indentation.py", "calibration/hertz/geometry.py", "calibration/fem/elastoplastic_solver.py",
+                "calibration/fem/assembly.py", "calibration/hertz/load.py", "calibration/fem/material.py",
+                "calibration/fem/return_mapping.py", "calibration/fem/linear_solvers.py", "meshes/**/*.py")
 
 #: Sources that determine a fit and the table written from it.
-_FIT_SOURCES = ("calibration/characteristic_fit.py", "calibration/pipeline.py", "contact/characteristic.py",
-                "contact/layer_table.py")
+_FIT_SOURCES = ("calibration/fit/characteristic_fit.py", "calibration/pipeline.py", "contact/layer/characteristic.py",
+                "contact/layer/layer_table.py")
 
 
 def code_hash(patterns: tuple[str, ...] = _FEM_SOURCES) -> str:
@@ -112,9 +112,9 @@ class PositionTask:
 def run_position(task: PositionTask, progress_queue=None) -> dict:
     """Worker: the FEM indentation of one position -> {"ok": True, "indentation": {...}} or {"ok": False,
     "error": message}. Never raises for a failed position."""
-    from calibration.hertz_geometry import LocalGeometry
+    from calibration.hertz.geometry import LocalGeometry
     from calibration.indentation import LoadSettings, MeshSettings, indent
-    from calibration.material import J2Material
+    from calibration.fem.material import J2Material
     from meshes.profiles import get_profile
 
     def progress(n):
@@ -372,7 +372,7 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
                         table=str(out_dir / f"{b.body}_layer_table.json"))
             worst = max(worst, max(rel))
             if plots and not unchanged:
-                from calibration.calibration_plots import write_body_plots
+                from calibration.plots import write_body_plots
 
                 written += [str(p) for p in write_body_plots(table, b, out_dir / "plots")]
         summary["bodies"][b.body] = info

@@ -17,14 +17,14 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from meshes.atomic_write import atomic_output_dir, atomic_write_text
-from meshes.errors import InputError, WrLayerError, cli_guard
+from wrlayer.atomic_write import atomic_output_dir, atomic_write_text
+from wrlayer.errors import InputError, WrLayerError, cli_guard
 
 
 def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = False) -> dict[str, Any]:
     """Run one scene file into ``out_dir`` (result.json + pictures, atomically); returns the result dict."""
-    from contact.result_io import result_text
-    from contact.scene import read_scene_data, scene_type
+    from contact.scenes.result_io import result_text
+    from contact.scenes.scene import read_scene_data, scene_type
 
     scene_path, data = read_scene_data(scene_path)
     kind = scene_type(data, scene_path)
@@ -33,10 +33,10 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
         raise InputError(f"--out {out_dir}", "exists and is not a folder")
     if kind == "wheel_rail":
         try:
-            from contact.wheel_rail_scene import run_wheel_rail_scene
+            from contact.wheel_rail.scene import run_wheel_rail_scene
         except ImportError:
             raise InputError(f"{scene_path.name}: type", "scene type 'wheel_rail' not available "
-                             "(contact.wheel_rail_scene missing)") from None
+                             "(contact.wheel_rail.scene missing)") from None
         with atomic_output_dir(out_dir) as tmp:
             result = run_wheel_rail_scene(data, scene_path, tmp, plots)
             (tmp / "result.json").write_text(result_text(result), encoding="utf-8")
@@ -44,22 +44,22 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
         _remove_stale_files(out_dir, written, ("*.png", "deformed_profiles/*"))
         return result
 
-    from contact.scene import parse_scene
+    from contact.scenes.scene import parse_scene
 
     scene = parse_scene(data, scene_path)  # before importing the solvers: a bad scene fails fast
-    from contact.simulation import simulate
+    from contact.scenes.simulation import simulate
 
     run = simulate(scene)
     text = result_text(run.result)  # serialise before anything is written (a failure leaves no file)
     with atomic_output_dir(out_dir) as tmp:
         if plots:
-            from contact.contact_plots import write_scene_plots
+            from contact.scenes.plots import write_scene_plots
 
             run.result["pictures"] = [p.name for p in write_scene_plots(run, tmp)]
             text = result_text(run.result)
         (tmp / "result.json").write_text(text, encoding="utf-8")
         written = {p.name for p in tmp.iterdir()}
-    from contact.result_io import PICTURE_PATTERNS
+    from contact.scenes.result_io import PICTURE_PATTERNS
 
     _remove_stale_files(out_dir, written, PICTURE_PATTERNS)
     return run.result
@@ -77,7 +77,7 @@ def _remove_stale_files(out_dir: Path, keep: set[str], patterns: tuple[str, ...]
 def _simulate(args: argparse.Namespace) -> int:
     result = run_scene_file(args.scene, args.out, plots=args.plots)
     if args.json:
-        from contact.result_io import result_text
+        from contact.scenes.result_io import result_text
 
         sys.stdout.write(result_text(result))
     else:
@@ -86,7 +86,7 @@ def _simulate(args: argparse.Namespace) -> int:
 
 
 def _simulate_all(args: argparse.Namespace) -> int:
-    from contact.result_table import results_table
+    from contact.scenes.result_table import results_table
 
     folder = Path(args.scenes_dir)
     if not folder.is_dir():

@@ -13,7 +13,7 @@ import argparse
 import sys
 import time
 
-from meshes.errors import cli_guard
+from wrlayer.errors import cli_guard
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -42,17 +42,17 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     if args.command == "plots":
-        from meshes.mesh_plots import write_default_plots
+        from meshes.plots import write_default_plots
 
         for path in write_default_plots(args.out):
             print(path)
         return 0
 
-    from meshes.local_mesh import local_mesh
-    from meshes.mesh_io import check_mesh_path, write_mesh
-    from meshes.mesh_quality import element_quality
+    from meshes.meshing.local_mesh import local_mesh
+    from meshes.meshing.mesh_io import check_mesh_path, write_mesh
+    from meshes.meshing.mesh_quality import element_quality
     from meshes.profiles import get_profile
-    from meshes.section_mesh import DEFAULT_GRADING, section_mesh
+    from meshes.meshing.section_mesh import DEFAULT_GRADING, section_mesh
 
     check_mesh_path(args.out)
     profile = get_profile(args.profile)

@@ -11,7 +11,7 @@ import pytest
 import calibration.pipeline as pipeline
 from calibration.config import load_config
 from calibration.pipeline import run_calibration
-from contact.layer_table import LayerTable
+from contact.layer.layer_table import LayerTable
 
 ROOT = Path(__file__).resolve().parents[2]
 COARSE = ROOT / "calibration" / "configs" / "test_coarse.toml"
@@ -104,7 +104,7 @@ def test_new_position_is_computed_alone_and_a_failure_keeps_the_others(coarse_ru
             table.characteristic_at(y)
     with pytest.raises(Exception, match="outside the calibrated range"):
         table.characteristic_at(11.0)
-    from calibration.calibration_plots import write_body_plots
+    from calibration.plots import write_body_plots
 
     for path in write_body_plots(table, body, work / "plots"):
         assert path.stat().st_size > 1000

@@ -4,10 +4,10 @@ import numpy as np
 import skfem
 
 from meshes.__main__ import main
-from meshes.local_mesh import local_mesh
-from meshes.mesh_plots import plot_local, plot_section
+from meshes.meshing.local_mesh import local_mesh
+from meshes.plots import plot_local, plot_section
 from meshes.profiles import get_profile
-from meshes.section_mesh import section_mesh
+from meshes.meshing.section_mesh import section_mesh
 
 
 def test_mesh_command_writes_a_mesh(tmp_path, capsys):

@@ -1,0 +1,410 @@
+"""Incremental Newton driver for small-strain J2 elastoplasticity on scikit-fem meshes (units mm, N, MPa).
+
+Public API (used by the calibration)::
+
+    res = solve_load_path(mesh, material, load, p0_levels_MPa, options=SolverOptions(), vtk_at=(), out_dir=None)
+    res.history            # list[Increment]: p0_MPa, u_centre_mm (into the body), n_plastic, newton_iters, ...
+    res.first_yield_p0_MPa # p0 at which the first quadrature point yields (scaled elastic solution)
+    res.state              # SolverState at the last level (restart: solve_load_path(..., initial_state=state))
+
+Each requested level p0 is reached from the previous one in increments no larger than
+``options.max_increment_MPa``; an increment whose Newton iteration fails is halved (recursively) down to
+``options.min_increment_fraction`` of the requested step, then ``ConvergenceError`` reports the load level and
+the residual history. Convergence requires BOTH ``|r_k| <= rtol * max(|f_ext|, |f_int|)`` and the energy
+norm of the residual ``r_k . P^-1 r_k <= etol * r_0 . P^-1 r_0`` (P: the stiffness factorisation at hand,
+elastic or a recent tangent; one extra back-substitution per iteration).
+
+Stiffness: K_e is assembled and factorised once; the tangent is ``K_e + sum_plastic_elements (K_ep - K_e)``.
+Strategies (``options.strategy``): 'newton' (factorise the consistent tangent each iteration), 'pcg'
+(conjugate gradients on the consistent tangent preconditioned by the last factorisation: the elastic one
+at first, refreshed with the current tangent when CG needs many iterations; default, see benchmarks/bench_fem.py), 'modified' (elastic stiffness only).
+Boundary conditions: homogeneous Dirichlet on named boundaries, default "fixed" -> all components and
+"symmetry" -> u_x (component 0) when present.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+import skfem
+
+from calibration.fem.assembly import Discretisation, discretise
+from calibration.fem.linear_solvers import Factoriser, preconditioned_cg, resolve_backend
+from calibration.fem.material import J2Material, von_mises_MPa
+from calibration.fem.return_mapping import radial_return
+from wrlayer.atomic_write import atomic_write_bytes
+from wrlayer.errors import ConvergenceError, InputError, require
+
+STRATEGIES = ("pcg", "newton", "modified")
+
+
+@dataclass
+class SolverOptions:
+    """Numerical options. rtol: relative residual tolerance; etol: relative energy tolerance; max_newton:
+    iterations per increment (modified Newton gets 10x); max_increment_MPa: largest p0 step (None: the requested
+    levels only); min_increment_fraction: step-cut floor relative to the requested step; linear_solver:
+    'auto' | 'pardiso' | 'scipy'; strategy: 'pcg' | 'newton' | 'modified'; order: element order (None: the
+    mesh's own); dirichlet: {boundary name: components (0=x/y.., 1, 2)} replacing the default
+    {"fixed": all, "symmetry": [0]}; cg_rtol: inner CG tolerance relative to the residual; cg_refresh_iters: refactorise the CG
+    preconditioner with the current tangent when CG needed more iterations than this."""
+
+    rtol: float = 1e-8
+    etol: float = 1e-10
+    max_newton: int = 25
+    max_increment_MPa: float | None = None
+    min_increment_fraction: float = 1.0 / 64.0
+    linear_solver: str = "auto"
+    strategy: str = "pcg"
+    order: int | None = None
+    dirichlet: dict[str, Sequence[int]] | None = None
+    cg_rtol: float = 1e-3
+    cg_refresh_iters: int = 12
+    verbose: bool = False
+
+    def validate(self) -> None:
+        require(0 < self.rtol < 1, "rtol", f"must be in (0, 1), got {self.rtol}")
+        require(0 < self.etol < 1, "etol", f"must be in (0, 1), got {self.etol}")
+        require(self.max_newton >= 1, "max_newton", f"must be >= 1, got {self.max_newton}")
+        require(self.max_increment_MPa is None or self.max_increment_MPa > 0, "max_increment_MPa",
+                f"must be > 0 or None, got {self.max_increment_MPa}")
+        require(0 < self.min_increment_fraction <= 1, "min_increment_fraction",
+                f"must be in (0, 1], got {self.min_increment_fraction}")
+        require(self.strategy in STRATEGIES, "strategy", f"must be one of {STRATEGIES}, got {self.strategy!r}")
+        resolve_backend(self.linear_solver)
+
+
+@dataclass
+class SolverState:
+    """Converged state: displacement u_mm (n_dofs), Mandel plastic strain and back stress (n_elem, n_qp, 6),
+    equivalent plastic strain (n_elem, n_qp), the load level p0_MPa and the stress (MPa, for output)."""
+
+    u_mm: np.ndarray
+    plastic_strain: np.ndarray
+    back_stress_MPa: np.ndarray
+    eq_plastic_strain: np.ndarray
+    p0_MPa: float = 0.0
+    stress_MPa: np.ndarray | None = None
+
+    @classmethod
+    def virgin(cls, disc: Discretisation) -> SolverState:
+        shape = (disc.n_elements, disc.n_qp)
+        return cls(np.zeros(disc.n_dofs), np.zeros(shape + (6,)), np.zeros(shape + (6,)), np.zeros(shape), 0.0,
+                   np.zeros(shape + (6,)))
+
+    def save_state(self, path: str | Path) -> Path:
+        """Write the state to ``path`` (.npz) atomically."""
+        buf = io.BytesIO()
+        arrays = {k: v for k, v in asdict(self).items() if v is not None}
+        arrays["p0_MPa"] = np.array(self.p0_MPa)
+        np.savez(buf, **arrays)
+        return atomic_write_bytes(path, buf.getvalue())
+
+
+def save_state(state: SolverState, path: str | Path) -> Path:
+    """Write ``state`` to ``path`` (.npz) atomically."""
+    return state.save_state(path)
+
+
+def load_state(path: str | Path) -> SolverState:
+    """Read a state written by :func:`save_state`; InputError when missing or malformed."""
+    path = Path(path)
+    try:
+        with np.load(path) as z:
+            kw = {k: z[k] for k in z.files}
+    except (OSError, ValueError) as err:
+        raise InputError(str(path), f"cannot read solver state: {err}") from err
+    try:
+        kw["p0_MPa"] = float(kw["p0_MPa"])
+        return SolverState(**kw)
+    except (KeyError, TypeError) as err:
+        raise InputError(str(path), f"not a solver state file: {err}") from err
+
+
+@dataclass
+class Increment:
+    """One converged increment. p0_MPa: load level; u_centre_mm: normal displacement of the load centre,
+    positive into the body; n_plastic: quadrature points yielding in this increment; n_yielded: points with
+    eq. plastic strain > 0; newton_iters; residuals: relative residual norms per iteration (first = before the
+    first solve); energies: relative energy norms; first_yield: first increment with plastic flow;
+    requested: this p0 is one of the requested levels (else an automatic sub-step); cg_iters: inner CG
+    iterations (pcg strategy)."""
+
+    p0_MPa: float
+    u_centre_mm: float
+    n_plastic: int
+    n_yielded: int
+    newton_iters: int
+    residuals: list[float]
+    energies: list[float]
+    first_yield: bool = False
+    requested: bool = True
+    cg_iters: int = 0
+
+
+@dataclass
+class FemResult:
+    """Result of :func:`solve_load_path`; see the module docstring."""
+
+    history: list[Increment]
+    first_yield_p0_MPa: float
+    state: SolverState
+    centre_mm: np.ndarray | None
+    n_dofs: int
+    files: list[Path] = field(default_factory=list)
+
+
+def dirichlet_dofs(disc: Discretisation, dirichlet: dict[str, Sequence[int]] | None) -> np.ndarray:
+    """Indices of constrained dofs; InputError for unknown boundaries / components or a missing "fixed"."""
+    mesh = disc.mesh
+    names = sorted(mesh.boundaries) if mesh.boundaries else []
+    dim = mesh.dim()
+    if dirichlet is None:
+        if "fixed" not in names:
+            raise InputError("mesh", f"has no boundary named 'fixed' (boundaries: {names})")
+        dirichlet = {"fixed": range(dim)}
+        if "symmetry" in names:
+            dirichlet["symmetry"] = [0]
+    dofs = []
+    for name, comps in dirichlet.items():
+        if name not in names:
+            raise InputError("dirichlet", f"mesh has no boundary named {name!r} (boundaries: {names})")
+        comps = list(comps)
+        require(all(isinstance(c, (int, np.integer)) and 0 <= c < dim for c in comps), "dirichlet",
+                f"components of {name!r} must be integers in [0, {dim - 1}], got {comps}")
+        view = disc.basis.get_dofs(name)
+        dofs.append(view.all([f"u^{c + 1}" for c in comps]))
+    out = np.unique(np.concatenate(dofs)).astype(np.int64)
+    require(out.size > 0, "dirichlet", "constrains no degree of freedom")
+    return out
+
+
+class _Problem:
+    """Assembled pieces shared by all increments of one solve.
+
+    ``factor`` holds one factorisation: the elastic stiffness at first; with the 'pcg' strategy it is refreshed
+    with the current consistent tangent whenever preconditioned CG needed more than ``cg_refresh_iters``
+    iterations; with 'newton' it is the current tangent; with 'modified' it stays elastic.
+    """
+
+    def __init__(self, disc: Discretisation, material: J2Material, constrained: np.ndarray, opts: SolverOptions):
+        self.disc, self.material, self.opts = disc, material, opts
+        n = disc.n_dofs
+        self.fixed = np.zeros(n, dtype=bool)
+        self.fixed[constrained] = True
+        rows = np.repeat(np.arange(n), np.diff(disc.csr_indptr))
+        self.zero_mask = self.fixed[rows] | self.fixed[disc.csr_indices]
+        self.diag_mask = (rows == disc.csr_indices) & self.fixed[rows]
+        C = material.elastic_matrix()
+        self.C_qp = np.broadcast_to(C, (disc.n_elements, disc.n_qp, 6, 6))
+        self.Ke_data = disc.csr_data(disc.element_matrices(self.C_qp))
+        self.factor = Factoriser(disc.csr_indptr, disc.csr_indices, n, opts.linear_solver)
+        self.factor.factorise(self._bc(self.Ke_data.copy()))
+        self.factor_is_elastic = True
+
+    def reset_to_elastic(self) -> None:
+        """Refactorise the elastic stiffness if the kept factorisation is a tangent (after a failed increment the
+        tangent of a diverged iterate may be near-singular, so it must not precondition the cut step)."""
+        if not self.factor_is_elastic:
+            self.factor.factorise(self._bc(self.Ke_data.copy()))
+            self.factor_is_elastic = True
+
+    def _bc(self, data: np.ndarray) -> np.ndarray:
+        data[self.zero_mask] = 0.0
+        data[self.diag_mask] = 1.0
+        return data
+
+    def tangent_data(self, tangent: np.ndarray, plastic_elems: np.ndarray) -> np.ndarray:
+        """CSR data of K_e + sum over plastic elements of (K_ep - K_e), Dirichlet rows/cols replaced."""
+        data = self.Ke_data.copy()
+        if plastic_elems.size:
+            dK = (self.disc.element_matrices(tangent, plastic_elems)
+                  - self.disc.element_matrices(self.C_qp, plastic_elems))
+            data += self.disc.csr_data(dK, plastic_elems)
+        return self._bc(data)
+
+    def solve_correction(self, r: np.ndarray, tangent: np.ndarray, plastic_elems: np.ndarray) -> tuple[np.ndarray, int]:
+        """Newton correction for residual r (free dofs) with the chosen strategy; returns (du, cg iterations)."""
+        strategy = self.opts.strategy
+        if strategy == "modified" or (plastic_elems.size == 0 and self.factor_is_elastic):
+            return self.factor.solve(r), 0
+        data = self.tangent_data(tangent, plastic_elems)
+        if strategy == "newton":
+            self.factor.factorise(data)
+            self.factor_is_elastic = plastic_elems.size == 0
+            return self.factor.solve(r), 0
+        K = self.disc.csr_matrix(data)
+        du, iters = preconditioned_cg(K.dot, r, self.factor.solve, rtol=self.opts.cg_rtol, max_iter=500)
+        if iters > self.opts.cg_refresh_iters:
+            self.factor.factorise(data)
+            self.factor_is_elastic = plastic_elems.size == 0
+        return du, iters
+
+
+def _newton_increment(prob: _Problem, state: SolverState, force: np.ndarray, p_old: float, p_new: float,
+                      max_iter: int, p_scale: float = 0.0):
+    """Newton iteration from the converged ``state`` at p_old to p_new. Returns (new state, info) or raises
+    ConvergenceError with the residual history.
+
+    Converged when |r_k| <= rtol * max(|f_ext|, |f_int|) and r_k . P^-1 r_k <= etol * r_0 . P^-1 r_0 (energy
+    norm of the residual; P the current factorisation: elastic or a recent tangent).
+    """
+    disc, mat, opts = prob.disc, prob.material, prob.opts
+    free = ~prob.fixed
+    u = state.u_mm.copy()
+    f_ext = p_new * force
+    # reference force: the largest of the increment's ends and of the load level being approached (p_scale), so
+    # that the last sub-step of an unloading to zero is still measured against the level's load, not against 0
+    f_ref_ext = max(abs(p_new), abs(p_old), abs(p_scale)) * np.linalg.norm(force[free])
+    residuals, energies = [], []
+    e0 = None
+    cg_total = 0
+    for it in range(max_iter + 1):
+        res = radial_return(mat, disc.strain(u), state.plastic_strain, state.back_stress_MPa,
+                            state.eq_plastic_strain, with_tangent=opts.strategy != "modified")
+        f_int = disc.internal_force(res.stress_MPa)
+        r = f_ext - f_int
+        r[prob.fixed] = 0.0
+        ref = max(f_ref_ext, np.linalg.norm(f_int[free]), 1e-300)
+        rnorm = np.linalg.norm(r) / ref
+        if not math.isfinite(rnorm):
+            break
+        residuals.append(rnorm)
+        if it == 0 and rnorm <= 1e-3 * opts.rtol:  # nothing to do (e.g. the same level again)
+            energies.append(0.0)
+            return _converged(u, res, p_new, it, residuals, energies, cg_total)
+        energy = abs(float(r @ prob.factor.solve(r)))  # energy norm of the residual (current factorisation)
+        e0 = energy if e0 is None else e0
+        energies.append(energy / max(e0, 1e-300))
+        if opts.verbose:
+            print(f"    p0={p_new:.6g} it={it} |r|/ref={rnorm:.3e} energy={energies[-1]:.3e}")
+        if rnorm <= opts.rtol and energies[-1] <= opts.etol:
+            return _converged(u, res, p_new, it, residuals, energies, cg_total)
+        if it == max_iter or rnorm > 1e6 or (it >= 4 and rnorm > 10 * residuals[0]):
+            break
+        plastic_elems = np.nonzero(res.plastic.any(axis=1))[0]
+        try:
+            du, ncg = prob.solve_correction(r, res.tangent_MPa, plastic_elems)
+        except ConvergenceError as err:
+            residuals.append(float("nan"))
+            if opts.verbose:
+                print(f"    linear solve failed: {err}")
+            break
+        cg_total += ncg
+        du[prob.fixed] = 0.0
+        u = u + du
+    hist = ", ".join(f"{x:.3e}" for x in residuals)
+    raise ConvergenceError(f"Newton did not converge from p0 = {p_old:.6g} to {p_new:.6g} MPa "
+                           f"(relative residuals: {hist})")
+
+
+def _converged(u, res, p_new, it, residuals, energies, cg_total):
+    new = SolverState(u, res.plastic_strain, res.back_stress_MPa, res.eq_plastic_strain, p_new, res.stress_MPa)
+    return new, dict(iters=it, residuals=residuals, energies=energies, n_plastic=int(np.count_nonzero(res.plastic)),
+                     cg_iters=cg_total)
+
+
+def _first_yield(prob: _Problem, force: np.ndarray) -> float:
+    """p0 (MPa) at which the max quadrature-point von Mises stress of the elastic solution reaches yield."""
+    r = force.copy()
+    r[prob.fixed] = 0.0
+    if prob.factor_is_elastic:
+        u1 = prob.factor.solve(r)
+    else:  # the kept factorisation is a tangent: solve K_e u = r by CG preconditioned with it
+        K_e = prob.disc.csr_matrix(prob._bc(prob.Ke_data.copy()))
+        u1, _ = preconditioned_cg(K_e.dot, r, prob.factor.solve, rtol=1e-12, max_iter=500)
+    vm = von_mises_MPa(prob.disc.strain(u1) @ prob.material.elastic_matrix())
+    peak = float(vm.max())
+    return prob.material.yield_MPa / peak if peak > 0 else float("inf")
+
+
+def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa: Iterable[float],
+                    options: SolverOptions | None = None, vtk_at: Iterable[int] | str = (),
+                    out_dir: str | Path | None = None, initial_state: SolverState | None = None,
+                    disc: Discretisation | None = None) -> FemResult:
+    """Follow the load path p0_levels_MPa (MPa; may go up and down) and return a :class:`FemResult`.
+
+    mesh: skfem MeshTri1/2 (plane strain, coordinates (y, z)) or MeshTet1/2 (3D, (x, y, z)) with named
+    boundaries; load: HertzLoad / UniformPressure (anything with ``prepare(basis)``); vtk_at: indices into
+    p0_levels_MPa (or "all") at which VTK (.vtu) and PNG files are written to out_dir; initial_state: restart
+    from a saved state (its p0_MPa is the starting level); disc: a prebuilt discretisation of ``mesh`` (reuse it
+    across calls: it also caches the elastic stiffness and its factorisation for the same material/constraints).
+    """
+    opts = options or SolverOptions()
+    opts.validate()
+    require(isinstance(material, J2Material), "material", "must be a J2Material")
+    levels = [float(p) for p in p0_levels_MPa]
+    require(len(levels) > 0, "p0_levels_MPa", "must contain at least one level")
+    require(all(math.isfinite(p) and p >= 0 for p in levels), "p0_levels_MPa",
+            f"must be finite and >= 0 MPa, got {levels}")
+    if disc is None:
+        disc = discretise(mesh, opts.order)
+    prepared = load.prepare(disc.basis)
+    key = (material, None if opts.dirichlet is None else tuple(sorted((k, tuple(v)) for k, v in
+                                                                      opts.dirichlet.items())),
+           resolve_backend(opts.linear_solver), opts.strategy == "modified")
+    prob = disc.problem_cache.get(key)
+    if prob is None:  # assemble + factorise K_e once per discretisation, material and constraints
+        disc.problem_cache.clear()
+        prob = _Problem(disc, material, dirichlet_dofs(disc, opts.dirichlet), opts)
+        disc.problem_cache[key] = prob
+    prob.opts = opts
+    if opts.strategy == "modified":
+        prob.reset_to_elastic()
+    state = initial_state if initial_state is not None else SolverState.virgin(disc)
+    if initial_state is not None:
+        require(state.u_mm.shape == (disc.n_dofs,), "initial_state",
+                f"has {state.u_mm.size} dofs, the discretisation {disc.n_dofs}")
+    vtk_idx = set(range(len(levels))) if vtk_at == "all" else {int(i) for i in vtk_at}
+    require(not vtk_idx or out_dir is not None, "out_dir", "must be given when vtk_at is not empty")
+    first_yield = _first_yield(prob, prepared.force_per_MPa)
+    history: list[Increment] = []
+    files: list[Path] = []
+    yielded_before = bool(np.any(state.eq_plastic_strain > 0))
+    max_iter = opts.max_newton * (10 if opts.strategy == "modified" else 1)
+    for k, target in enumerate(levels):
+        start = state.p0_MPa
+        n_sub = 1
+        if opts.max_increment_MPa is not None:
+            n_sub = max(1, math.ceil(abs(target - start) / opts.max_increment_MPa - 1e-9))
+        step_req = (target - start) / n_sub
+        floor = abs(step_req) * opts.min_increment_fraction
+        step = step_req
+        while True:
+            remaining = target - state.p0_MPa
+            if abs(step) > abs(remaining):
+                step = remaining
+            # the last sub-step lands exactly on the target (no round-off residue of summed steps)
+            p_new = target if abs(remaining - step) <= 1e-9 * max(abs(step_req), abs(target)) else state.p0_MPa + step
+            try:
+                state_new, info = _newton_increment(prob, state, prepared.force_per_MPa, state.p0_MPa, p_new,
+                                                    max_iter, p_scale=max(abs(start), abs(target)))
+            except ConvergenceError as err:
+                if abs(step) / 2 < floor * (1 - 1e-12) or step == 0.0:
+                    raise ConvergenceError(f"load step cut below the floor at p0 = {state.p0_MPa:.6g} MPa "
+                                           f"towards {target:.6g} MPa: {err}") from None
+                step /= 2
+                prob.reset_to_elastic()
+                if opts.verbose:
+                    print(f"  cutting the step to {step:.6g} MPa")
+                continue
+            state = state_new
+            step = step_req if abs(2 * step) >= abs(step_req) else 2 * step  # grow back after a cut
+            n_yielded = int(np.count_nonzero(state.eq_plastic_strain > 0))
+            fy = (not yielded_before) and n_yielded > 0
+            yielded_before = yielded_before or fy
+            history.append(Increment(p_new, prepared.centre_displacement_mm(state.u_mm), info["n_plastic"],
+                                     n_yielded, info["iters"], info["residuals"], info["energies"], fy,
+                                     p_new == target, info["cg_iters"]))
+            if opts.verbose:
+                print(f"  p0 = {p_new:.6g} MPa: {info['iters']} iterations, {info['n_plastic']} plastic points")
+            if p_new == target:
+                break
+        if k in vtk_idx:
+            from calibration.fem.output import write_increment_output
+            files += write_increment_output(disc, state, material, prepared, Path(out_dir), k)
+    return FemResult(history, first_yield, state, prepared.centre_mm, disc.n_dofs, files)

@@ -1,0 +1,135 @@
+"""Output of an FE state: VTK (.vtu via meshio) and off-screen PNG renders (pyvista) around the load.
+
+Points are written in physical 3D coordinates: 3D meshes as (x, y, z), plane-strain meshes (y, z) as (0, y, z).
+Point data: displacement_mm (3 components, physical order). Cell data (element averages of the quadrature-point
+values): stress_MPa (3x3 tensor, physical (x, y, z) order; in plane strain sigma_xx is the out-of-plane stress),
+von_mises_MPa, eq_plastic_strain, plastic (1 where any quadrature point has yielded). Files are written atomically.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import meshio
+import numpy as np
+
+from calibration.fem.material import mandel_to_tensor, von_mises_MPa
+from wrlayer.atomic_write import atomic_write_bytes
+
+# plane strain: tensor indices (0, 1, 2) = (y, z, x) -> physical order (x, y, z)
+_PLANE_TO_PHYSICAL = np.array([2, 0, 1])
+
+
+def _write_via_temp(path: Path, writer) -> Path:
+    """Call ``writer(tmp_path)`` in a scratch folder and move the bytes into ``path`` atomically."""
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp_path = Path(tmp) / path.name
+        writer(str(tmp_path))
+        return atomic_write_bytes(path, tmp_path.read_bytes())
+
+
+def cell_fields(disc, state, material) -> dict[str, np.ndarray]:
+    """Element-averaged stress tensor (n_el, 3, 3), von Mises, eq. plastic strain and plastic flag."""
+    stress = state.stress_MPa if state.stress_MPa is not None else np.zeros(state.plastic_strain.shape)
+    w = disc.dx / disc.dx.sum(axis=1, keepdims=True)
+    sig = np.einsum("eq,eqi->ei", w, stress)
+    tensor = mandel_to_tensor(sig)
+    if disc.plane_strain:
+        tensor = tensor[:, _PLANE_TO_PHYSICAL][:, :, _PLANE_TO_PHYSICAL]
+    return {"stress_MPa": tensor.reshape(-1, 9),
+            "von_mises_MPa": np.einsum("eq,eq->e", w, von_mises_MPa(stress)),
+            "eq_plastic_strain": np.einsum("eq,eq->e", w, state.eq_plastic_strain),
+            "plastic": (state.eq_plastic_strain > 0).any(axis=1).astype(np.int8)}
+
+
+def to_meshio(disc, state, material) -> meshio.Mesh:
+    """Linear-cell meshio mesh (vertices only) with the displacement and cell fields."""
+    mesh = disc.mesh
+    dim = mesh.dim()
+    nodal = disc.basis.nodal_dofs  # (dim, n_vertices)
+    nv = nodal.shape[1]
+    pts = np.zeros((nv, 3))
+    disp = np.zeros((nv, 3))
+    if dim == 3:
+        pts[:] = mesh.p[:, :nv].T
+        disp[:] = state.u_mm[nodal].T
+    else:
+        pts[:, 1:] = mesh.p[:, :nv].T
+        disp[:, 1:] = state.u_mm[nodal].T
+    cells = [("tetra" if dim == 3 else "triangle", mesh.t[:dim + 1].T)]
+    fields = cell_fields(disc, state, material)
+    return meshio.Mesh(pts, cells, point_data={"displacement_mm": disp},
+                       cell_data={k: [v] for k, v in fields.items()})
+
+
+def write_vtu(path: str | os.PathLike, disc, state, material) -> Path:
+    """Write the state as a .vtu file (atomic)."""
+    m = to_meshio(disc, state, material)
+    return _write_via_temp(Path(path), lambda p: meshio.write(p, m))
+
+
+def render_png(path: str | os.PathLike, disc, state, material, field: str, centre_mm, half_width_mm: float,
+               title: str = "") -> Path:
+    """Off-screen pyvista render of a cell field in a box of half width ``half_width_mm`` around the centre.
+
+    The cells whose centres lie in the box are shown. 2D: the zoomed section (camera along x). 3D: seen
+    obliquely from the -x, -y side, so that the planes x = 0 and y = 0 (the symmetry planes of a quarter model,
+    sections through the plastic zone) are visible.
+    """
+    from wrlayer.offscreen import offscreen_pyvista
+
+    pv = offscreen_pyvista()
+    grid = pv.from_meshio(to_meshio(disc, state, material))
+    c = np.zeros(3)
+    if centre_mm is not None:
+        c[3 - len(centre_mm):] = centre_mm
+    h = half_width_mm
+    bounds = [c[0] - h, c[0] + h, c[1] - h, c[1] + h, c[2] - h, c[2] + h]
+    if disc.plane_strain:
+        bounds[0:2] = [-1.0, 1.0]
+    centres = grid.cell_centers().points
+    inside = np.all((centres >= np.array(bounds[0::2]) - 1e-12) & (centres <= np.array(bounds[1::2]) + 1e-12), axis=1)
+    part = grid.extract_cells(np.nonzero(inside)[0])
+    plotter = pv.Plotter(off_screen=True, window_size=(900, 700))
+    label = {"von_mises_MPa": "von Mises stress (MPa)", "eq_plastic_strain": "equivalent plastic strain"}[field]
+    plotter.add_mesh(part, scalars=field, cmap="viridis", show_edges=False,
+                     scalar_bar_args={"title": "", "vertical": True, "position_x": 0.86, "position_y": 0.1,
+                                      "width": 0.05, "height": 0.75})
+    plotter.add_text(f"{label}{', ' + title if title else ''}", font_size=10)
+    if disc.plane_strain:
+        plotter.view_yz()
+    else:
+        # look at the symmetry planes x = 0 and y = 0 of a quarter model (sections through the plastic zone)
+        plotter.camera_position = [(c[0] - 3 * h, c[1] - 2.5 * h, c[2] + 2 * h), tuple(c - [0, 0, 0.3 * h]),
+                                   (0, 0, 1)]
+    plotter.show_axes()
+    out = _write_via_temp(Path(path), lambda p: plotter.screenshot(p))
+    plotter.close()
+    return out
+
+
+def plastic_zone_half_width(disc, state, centre_mm, minimum_mm: float) -> float:
+    """Half width (mm) of a box around the centre containing all yielded points (x1.5), at least ``minimum_mm``."""
+    yielded = state.eq_plastic_strain > 0
+    if centre_mm is None or not yielded.any():
+        return minimum_mm
+    x = disc.qp_coordinates()[:, yielded]
+    d = np.max(np.abs(x - np.asarray(centre_mm)[:, None]))
+    return max(minimum_mm, 1.5 * float(d))
+
+
+def write_increment_output(disc, state, material, prepared, out_dir: Path, index: int,
+                           minimum_half_width_mm: float | None = None) -> list[Path]:
+    """VTK and two PNGs (von Mises, equivalent plastic strain) for level ``index`` into ``out_dir``."""
+    out_dir = Path(out_dir)
+    stem = f"level_{index:03d}"
+    files = [write_vtu(out_dir / f"{stem}.vtu", disc, state, material)]
+    size = float(np.max(np.ptp(disc.mesh.p, axis=1)))
+    hw = plastic_zone_half_width(disc, state, prepared.centre_mm, minimum_half_width_mm or 0.1 * size)
+    title = f"p0 = {state.p0_MPa:.1f} MPa"
+    for field, tag in (("von_mises_MPa", "von_mises"), ("eq_plastic_strain", "eq_plastic_strain")):
+        files.append(render_png(out_dir / f"{stem}_{tag}.png", disc, state, material, field, prepared.centre_mm,
+                                hw, title))
+    return files

@@ -1,0 +1,6 @@
+"""Fitting the Prandtl element to an FEM characteristic (paper eqs. 4-8, units mm, MPa).
+
+- :mod:`~calibration.fit.characteristic_fit`: piecewise-linear concave fit -> springs k_i and slider thresholds T_0i.
+
+Depends on: wrlayer, contact.layer (the characteristic and table format it produces).
+"""

@@ -1,0 +1,234 @@
+"""Per-position layer tables: the calibrated Prandtl characteristic along a profile (units mm, MPa, N/mm^3).
+
+File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 1``)::
+
+    {"format": ..., "format_version": 1,
+     "header": {"body": "rail"|"wheel", "profile": name, "material": {...}, "model": "2d"|"3d",
+                "mesh": {...}, "load": {...}, "fit": {...}, "software": {...}, "code_version": ...,
+                "inputs_hash": sha256 of all inputs, ...},
+     "positions": [{"y_mm": y, "characteristic": {"u_mm": [...], "p_MPa": [...]}, "n_segments": N,
+                    "k_N_per_mm3": [...], "T0_MPa": [...], "max_error_mm": ..., "rms_error_mm": ...,
+                    "geometry": {...}, "fem": {...}, ...}, ...],      # y_mm strictly increasing
+     "failed": [{"y_mm": y, "error": message}, ...]}
+
+``positions`` are the calibrated positions (profile coordinate y in mm, frames as in :mod:`meshes.profiles`);
+``failed`` lists positions whose calibration failed; they are never interpolated over: a y between the two
+calibrated neighbours of a failed position (or at it) is an InputError naming the failed position and its cause.
+Between positions the characteristic is interpolated linearly in y with :meth:`Characteristic.interpolate`
+(p(u) blended, concave by construction); outside the calibrated range :meth:`LayerTable.characteristic_at` raises
+InputError. This module only reads/writes tables; it does not import the FEM code.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from contact.layer.characteristic import Characteristic
+from wrlayer.atomic_write import atomic_write_text
+from wrlayer.errors import InputError
+
+FORMAT = "wrlayer-layer-table"
+FORMAT_VERSION = 1
+BODIES = ("rail", "wheel")
+#: Relative tolerance between stored (k_i, T_0i) and those re-derived from the stored characteristic.
+PARAMETER_RTOL = 1e-6
+MAX_SEGMENTS = 8
+
+
+@dataclass
+class LayerTable:
+    """A validated layer table. ``positions``: list of dicts (see module docstring) sorted by y_mm;
+    ``characteristics``: the parsed Characteristic of each position."""
+
+    header: dict[str, Any]
+    positions: list[dict[str, Any]]
+    failed: list[dict[str, Any]] = field(default_factory=list)
+    source: str = "layer table"
+
+    def __post_init__(self):
+        self.characteristics = _validate(self.header, self.positions, self.failed, self.source)
+
+    # ------------------------------------------------------------------ reading / writing
+    @classmethod
+    def read(cls, path: str | Path) -> "LayerTable":
+        """Read and validate a JSON table (InputError naming the file and the problem)."""
+        path = Path(path)
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            raise InputError(str(path), "layer table file not found") from None
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
+            raise InputError(str(path), f"not a readable JSON layer table: {err}") from None
+        return cls.from_dict(data, str(path))
+
+    @classmethod
+    def from_dict(cls, data: Any, source: str = "layer table") -> "LayerTable":
+        if not isinstance(data, dict):
+            raise InputError(source, "must be a JSON object")
+        if data.get("format") != FORMAT:
+            raise InputError(source, f"'format' must be {FORMAT!r}, got {data.get('format')!r}")
+        if data.get("format_version") != FORMAT_VERSION:
+            raise InputError(source, f"unsupported format_version {data.get('format_version')!r} "
+                                     f"(this reader: {FORMAT_VERSION})")
+        for key, kind in (("header", dict), ("positions", list)):
+            if not isinstance(data.get(key), kind):
+                raise InputError(source, f"missing or malformed {key!r} ({kind.__name__} expected)")
+        failed = data.get("failed", [])
+        if not isinstance(failed, list):
+            raise InputError(source, "'failed' must be a list")
+        return cls(data["header"], data["positions"], failed, source)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"format": FORMAT, "format_version": FORMAT_VERSION, "header": self.header,
+                "positions": self.positions, "failed": self.failed}
+
+    def to_json(self) -> str:
+        return json.dumps(_plain(self.to_dict()), indent=1, allow_nan=False) + "\n"
+
+    def to_csv(self) -> str:
+        """One row per calibrated position: geometry, N, S_i, k_i, T_0i, the points, fit errors (units in names)."""
+        cols = (["body", "profile", "y_mm", "n_segments", "p2_MPa", "max_error_mm", "rms_error_mm", "a_mm", "b_mm"]
+                + [f"S{i}_N_per_mm3" for i in range(1, MAX_SEGMENTS + 1)]
+                + [f"k{i}_N_per_mm3" for i in range(1, MAX_SEGMENTS + 1)]
+                + [f"T0{i}_MPa" for i in range(1, MAX_SEGMENTS)]
+                + [f"u{i}_mm" for i in range(1, MAX_SEGMENTS + 2)] + [f"p{i}_MPa" for i in range(1, MAX_SEGMENTS + 2)])
+        buf = io.StringIO()
+        w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
+        w.writeheader()
+        for pos, ch in zip(self.positions, self.characteristics):
+            geo = pos.get("geometry", {})
+            row = {"body": self.body, "profile": self.profile_name, "y_mm": pos["y_mm"],
+                   "n_segments": ch.n_segments, "p2_MPa": ch.elastic_limit_MPa,
+                   "max_error_mm": pos.get("max_error_mm"), "rms_error_mm": pos.get("rms_error_mm"),
+                   "a_mm": geo.get("a_mm"), "b_mm": geo.get("b_mm")}
+            par = ch.to_parameters()
+            for i, v in enumerate(ch.slopes, 1):
+                row[f"S{i}_N_per_mm3"] = repr(float(v))
+            for i, v in enumerate(par.k_N_per_mm3, 1):
+                row[f"k{i}_N_per_mm3"] = repr(float(v))
+            for i, v in enumerate(par.T0_MPa, 1):
+                row[f"T0{i}_MPa"] = repr(float(v))
+            for i, (u, p) in enumerate(zip(ch.u_mm, ch.p_MPa), 1):
+                row[f"u{i}_mm"], row[f"p{i}_MPa"] = repr(float(u)), repr(float(p))
+            w.writerow(row)
+        return buf.getvalue()
+
+    def write(self, json_path: str | Path, csv_path: str | Path | None = None) -> list[Path]:
+        """Write the JSON (and CSV) atomically; returns the paths."""
+        out = [atomic_write_text(json_path, self.to_json())]
+        if csv_path is not None:
+            out.append(atomic_write_text(csv_path, self.to_csv()))
+        return out
+
+    # ------------------------------------------------------------------ queries
+    @property
+    def body(self) -> str:
+        return self.header["body"]
+
+    @property
+    def profile_name(self) -> str:
+        return self.header["profile"]
+
+    @property
+    def y_mm(self) -> np.ndarray:
+        return np.array([float(p["y_mm"]) for p in self.positions])
+
+    @property
+    def y_range_mm(self) -> tuple[float, float]:
+        y = self.y_mm
+        return float(y[0]), float(y[-1])
+
+    def characteristic_at(self, y_mm: float) -> Characteristic:
+        """The characteristic at profile coordinate y (mm): linear in y between calibrated positions (exact at
+        them); InputError outside the calibrated range."""
+        y = float(y_mm)
+        lo, hi = self.y_range_mm
+        tol = 1e-9 * max(1.0, abs(lo), abs(hi))
+        if not (math.isfinite(y) and lo - tol <= y <= hi + tol):
+            raise InputError(f"position y = {y_mm!r} mm",
+                             f"outside the calibrated range [{lo:g}, {hi:g}] mm of the {self.body} table "
+                             f"({self.profile_name}, {self.source})")
+        ys = self.y_mm
+        j = int(np.clip(np.searchsorted(ys, y, side="right") - 1, 0, len(ys) - 1))
+        if j == len(ys) - 1 or abs(y - ys[j]) <= tol:
+            return self.characteristics[j]
+        gap = [f for f in self.failed if ys[j] < float(f["y_mm"]) < ys[j + 1]]
+        if gap:
+            raise InputError(f"position y = {y_mm!r} mm",
+                             f"lies between {ys[j]:g} and {ys[j + 1]:g} mm, across the failed calibration at "
+                             f"y = {float(gap[0]['y_mm']):g} mm of the {self.body} table ({self.source}): "
+                             f"{gap[0].get('error', 'no cause recorded')}")
+        t = (y - ys[j]) / (ys[j + 1] - ys[j])
+        return Characteristic.interpolate(self.characteristics[j], self.characteristics[j + 1], float(t),
+                                          name=f"{self.body} layer at y = {y:g} mm")
+
+
+def _plain(obj):
+    """numpy scalars/arrays -> JSON-able Python objects."""
+    if isinstance(obj, dict):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _plain(obj.tolist())
+    if isinstance(obj, np.generic):
+        return obj.item()
+    return obj
+
+
+def _validate(header, positions, failed, source) -> list[Characteristic]:
+    for key in ("body", "profile"):
+        if key not in header:
+            raise InputError(source, f"header has no {key!r}")
+    if header["body"] not in BODIES:
+        raise InputError(source, f"header 'body' must be one of {BODIES}, got {header['body']!r}")
+    if not positions:
+        raise InputError(source, "has no calibrated positions")
+    for i, f in enumerate(failed):
+        y = f.get("y_mm") if isinstance(f, dict) else None
+        if not (isinstance(y, (int, float)) and not isinstance(y, bool) and math.isfinite(y)):
+            raise InputError(f"{source}: failed[{i}]", "must be an object with a finite number 'y_mm'")
+    chars, ys = [], []
+    for i, pos in enumerate(positions):
+        what = f"{source}: positions[{i}]"
+        if not isinstance(pos, dict):
+            raise InputError(what, "must be an object")
+        try:
+            y = float(pos["y_mm"])
+        except KeyError:
+            raise InputError(what, "missing 'y_mm'") from None
+        except (TypeError, ValueError):
+            raise InputError(what, f"'y_mm' must be a number, got {pos['y_mm']!r}") from None
+        if not math.isfinite(y):
+            raise InputError(what, "'y_mm' must be finite")
+        what = f"{source}: position y = {y:g} mm"
+        if not isinstance(pos.get("characteristic"), dict):
+            raise InputError(what, "missing 'characteristic' {u_mm, p_MPa}")
+        ch = Characteristic.from_dict(pos["characteristic"], what)
+        if ch.n_segments > MAX_SEGMENTS:
+            raise InputError(what, f"has {ch.n_segments} segments (at most {MAX_SEGMENTS})")
+        par = ch.to_parameters()
+        for key, derived in (("k_N_per_mm3", par.k_N_per_mm3), ("T0_MPa", par.T0_MPa)):
+            if key in pos:
+                try:
+                    stored = np.asarray(pos[key], dtype=float)
+                except (TypeError, ValueError):
+                    raise InputError(what, f"{key!r} must be a list of numbers") from None
+                if stored.shape != derived.shape or not np.allclose(stored, derived, rtol=PARAMETER_RTOL, atol=0):
+                    raise InputError(what, f"{key!r} disagrees with the characteristic (eqs. 4-6)")
+        chars.append(ch)
+        ys.append(y)
+    if np.any(np.diff(ys) <= 0):
+        raise InputError(source, "positions' y_mm must be strictly increasing")
+    for i, f in enumerate(failed):
+        if not (isinstance(f, dict) and "y_mm" in f and "error" in f):
+            raise InputError(source, f"failed[{i}] must have 'y_mm' and 'error'")
+    return chars

@@ -1,0 +1,156 @@
+"""Repeated passes at the same normal force: residual dents, shakedown and strain hardening (paper section 5).
+
+Each pass: solve the normal problem (Kik–Piotrowski with the layer, :func:`contact.normal.kik_piotrowski.solve_normal`),
+load every strip's element(s) of each body to the strip's peak pressure p(0, y) (the largest along the strip),
+unload them (exact element behaviour), and add each body's residual displacement increment u_p(y) of this pass to
+the separation of the next pass (a dent on either body increases f). Stop when a pass adds no residual displacement
+beyond ``tolerance_mm`` (computational shakedown) or after ``max_passes``. Without hardening the peak pressure at
+shakedown sits at the elastic limit p_2 of the reference element (within the tolerance). With hardening, "no added
+residual" can also be alternating plasticity: when p/2 lies beyond the characteristic's last break point the
+Masing residual stops growing with p, so the dent is stable while the sliders still slip back and forth every
+pass (energy is dissipated; ``dissipated_energy_N_per_mm`` of the record shows it) and the peak may stay above
+p_2. The stress tests count such cases (benchmarks/stress_contact.py).
+
+Modes: ``hardening=False`` relaxes the sliders before each pass (the paper's example: the residual deformation is
+moved into the profile, the element starts virgin); ``hardening=True`` keeps the spring/slider state, so an element
+does not move inelastically until the load exceeds what its stuck sliders hold. Units: mm, N, MPa.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, layer_points, solve_normal
+from contact.layer.prandtl_layer import LayerPair
+from wrlayer.errors import require
+
+__all__ = ["PassesOptions", "PassRecord", "run_passes"]
+
+
+@dataclass(frozen=True)
+class PassesOptions:
+    """max_passes >= 1; tolerance_mm: shakedown when a pass adds at most this residual anywhere (mm)."""
+
+    max_passes: int = 50
+    tolerance_mm: float = 1e-6
+    hardening: bool = False
+
+    def __post_init__(self):
+        require(int(self.max_passes) >= 1, "max_passes", f"must be >= 1, got {self.max_passes!r}")
+        require(bool(np.isfinite(self.tolerance_mm) and self.tolerance_mm >= 0), "tolerance_mm",
+                f"must be >= 0, got {self.tolerance_mm!r}")
+
+
+@dataclass(frozen=True)
+class PassRecord:
+    """One pass (1-based ``index``). Lengths mm, pressures MPa, forces N.
+
+    u0_mm: layer displacement (all layers) at the reference point under load; up0_mm: residual displacement added
+    at the reference point in this pass; max_residual_mm: largest residual added in this pass (any strip);
+    cumulative_residual_mm: per body ("wheel", "rail", "combined"), the dents so far on the strip grid
+    ``strip_y_mm``; dissipated_energy_N_per_mm: per body, the largest accumulated friction work of an element.
+    shakedown: this pass added no residual beyond the tolerance.
+    """
+
+    index: int
+    delta_mm: float
+    delta0_mm: float
+    p_max_MPa: float
+    length_mm: float
+    width_mm: float
+    area_mm2: float
+    normal_force_N: float
+    residual_N: float
+    u0_mm: float
+    up0_mm: float
+    max_residual_mm: float
+    elastic: bool
+    shakedown: bool
+    strip_y_mm: np.ndarray
+    p_peak_MPa: np.ndarray
+    cumulative_residual_mm: dict = field(default_factory=dict)
+    dissipated_energy_N_per_mm: dict = field(default_factory=dict)
+    iterations: dict = field(default_factory=dict)
+
+    def summary(self) -> dict:
+        """The scalar numbers (JSON-serialisable)."""
+        keys = ("index", "delta_mm", "delta0_mm", "p_max_MPa", "length_mm", "width_mm", "area_mm2",
+                "normal_force_N", "residual_N", "u0_mm", "up0_mm", "max_residual_mm", "elastic", "shakedown")
+        return {k: getattr(self, k) for k in keys}
+
+
+def _next_delta_guess(deltas: list[float]) -> float | None:
+    """Start value of the next pass's approach (mm): linear extrapolation of the last two passes' deltas (the
+    sequence changes smoothly towards shakedown); only a start value, the solve brackets from any guess > 0."""
+    if len(deltas) < 2:
+        return deltas[-1] if deltas else None
+    return 2.0 * deltas[-1] - deltas[-2]
+
+
+def run_passes(prob: NormalProblem, layer_pair: LayerPair | None, options: PassesOptions = PassesOptions(),
+               on_pass: Callable[[PassRecord, NormalSolution], None] | None = None
+               ) -> tuple[list[PassRecord], np.ndarray]:
+    """Passes until shakedown or ``options.max_passes``. The caller's layers are not modified (copied).
+
+    Returns (records, final_f): final_f is the separation on the strip grid ``prob.strip_y_mm`` (mm) after the
+    last pass's dents, i.e. the separation the next pass would see (not shifted to a zero minimum).
+    ``on_pass(record, solution)`` is called after each pass (e.g. for the tangential solve).
+    """
+    layers = None if layer_pair is None else layer_pair.copy()
+    y, h = prob.strip_y_mm, prob.grid_mm
+    base_offset = np.zeros_like(y) if prob.f_offset_mm is None else np.asarray(prob.f_offset_mm, dtype=float)
+    offset = base_offset.copy()
+    bodies = {} if layers is None else layers.bodies()
+    cumulative = {name: np.zeros_like(y) for name in bodies}
+    points = {name: layer_points(lay, y, h) for name, lay in bodies.items()}
+    records: list[PassRecord] = []
+    deltas: list[float] = []
+    slope = None
+    for k in range(1, int(options.max_passes) + 1):
+        current = prob if k == 1 else prob.with_offset(offset)
+        sol = solve_normal(current, layers, delta_guess_mm=_next_delta_guess(deltas), loglog_slope_guess=slope)
+        deltas.append(sol.delta_mm)
+        slope = sol.iterations["loglog_slope"]
+        ref = max(sol.regions, key=lambda r: r.p0_MPa).reference
+        added = np.zeros_like(y)
+        u0 = up0 = 0.0
+        energy = {}
+        for name, layer in bodies.items():
+            ix = points[name]
+            on = ix >= 0
+            p_points = np.zeros(layer.n_points)
+            p_points[ix[on]] = sol.p_peak_MPa[on]
+            before = layer.u_mm.copy()
+            loaded = layer.load_to(p_points)
+            residual = layer.unload()
+            inc = np.zeros_like(y)
+            inc[on] = (residual - before)[ix[on]]
+            cumulative[name] = cumulative[name] + inc
+            added += inc
+            if ix[ref] >= 0:
+                u0 += loaded[ix[ref]] - before[ix[ref]]
+                up0 += inc[ref]
+            energy[name] = float(layer.dissipated_energy_N_per_mm.max(initial=0.0))
+        max_added = float(np.max(np.abs(added))) if added.size else 0.0
+        shakedown = max_added <= options.tolerance_mm
+        rec = PassRecord(
+            index=k, delta_mm=sol.delta_mm, delta0_mm=sol.delta0_mm, p_max_MPa=sol.p_max_MPa,
+            length_mm=sol.length_mm, width_mm=sol.width_mm, area_mm2=sol.area_mm2,
+            normal_force_N=sol.normal_force_N, residual_N=sol.residual_N, u0_mm=float(u0), up0_mm=float(up0),
+            max_residual_mm=max_added, elastic=sol.elastic, shakedown=shakedown, strip_y_mm=y,
+            p_peak_MPa=sol.p_peak_MPa, cumulative_residual_mm={n: c.copy() for n, c in cumulative.items()},
+            dissipated_energy_N_per_mm=energy, iterations=dict(sol.iterations))
+        records.append(rec)
+        offset = offset + added
+        if on_pass is not None:
+            on_pass(rec, sol)
+        if layers is not None and not options.hardening:
+            layers = layers.relaxed()
+            bodies = layers.bodies()
+        if shakedown:
+            break
+    final = prob if len(records) == 0 else prob.with_offset(offset)
+    return records, final.separation_unshifted_on_grid_mm

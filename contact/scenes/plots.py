@@ -1,0 +1,187 @@
+"""Pictures of a contact scene run (matplotlib, Agg): patches, separation and residuals, shakedown history.
+
+- ``patch_pass<N>.png``: the patch(es) of pass N on the square grid (x rolling direction, y lateral), pressure
+  contours (MPa), slip cells grey and adhesion cells white (like the paper's Figs. 6–8), a 1 x 1 mm box for scale
+  and the rolling-direction arrow. Written for the first and the last pass.
+- ``separation.png``: the separation f(y) before the first and after the last pass, the residual displacements of
+  each layer (cumulative), and the peak pressure p(0, y) of the first and last pass against the elastic limit p_2.
+- ``shakedown.png``: area, p_max and approach delta against the pass number (scenes with more than one pass).
+Units: mm, MPa.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Rectangle
+from matplotlib.ticker import MaxNLocator
+
+from contact.tangential.fastsim import sample_on_grid
+
+_SLIP = ListedColormap(["#ffffff", "#9a9a9a"])  # adhesion white, slip grey
+
+
+def _elastic_limit(run) -> float | None:
+    layer = run.scene.layer
+    if layer is None:
+        return None
+    chars = [layer.combined] if layer.combined is not None else [
+        b.characteristic_at(0.0) for b in (layer.wheel, layer.rail) if b is not None]
+    limits = [c.elastic_limit_MPa for c in chars if np.isfinite(c.elastic_limit_MPa)]
+    return min(limits) if limits else None
+
+
+def _p2_label(p2: float) -> str:
+    return f"elastic limit p$_2$ = {p2:.0f} MPa (at the contact point)"
+
+
+def plot_patch(snapshot, path: Path, title: str) -> Path:
+    """The patches of one pass on their grid: pressure contours, slip cells grey, scale box, rolling arrow."""
+    sol = snapshot.solution
+    h = sol.patches[0].grid_mm
+    x_max = max(p.x_lead_mm.max() for p in sol.patches)
+    y_lo = min(yr + p.y_mm[0] for yr, p in zip(snapshot.y_ref_mm, snapshot.local_patches)) - 0.5 * h
+    y_hi = max(yr + p.y_mm[-1] for yr, p in zip(snapshot.y_ref_mm, snapshot.local_patches)) + 0.5 * h
+    span_x, span_y = 2.0 * x_max + 4.0, (y_hi - y_lo) + 3.0
+    width = 11.0
+    height = float(np.clip(width * span_y / span_x + 1.6, 3.0, 9.0))
+    fig, ax = plt.subplots(figsize=(width, height), constrained_layout=True)
+    p_levels = None
+    contour = None
+    any_slip = False
+    for yr, patch, tr in zip(snapshot.y_ref_mm, snapshot.local_patches, snapshot.tangential):
+        x, mask = patch.grid()
+        y = yr + patch.y_mm
+        xe = np.append(x - 0.5 * h, x[-1] + 0.5 * h)
+        ye = np.append(y - 0.5 * h, y[-1] + 0.5 * h)
+        pressure = patch.pressure_MPa(x[:, None]).T  # (ny, nx)
+        slip = np.zeros_like(mask) if tr is None else sample_on_grid(patch, tr).slip
+        any_slip |= bool(slip.any())
+        edge = "#d0d0d0" if x.size <= 80 else "face"
+        ax.pcolormesh(xe, ye, np.ma.masked_where(~mask, slip.astype(float)), cmap=_SLIP, vmin=0, vmax=1,
+                      edgecolors=edge, linewidth=0.2, shading="flat")
+        if p_levels is None:
+            p_levels = np.linspace(0.0, sol.p_max_MPa, 9)[1:-1]
+        if y.size > 1:
+            contour = ax.contour(x, y, np.where(mask, pressure, 0.0), levels=p_levels, cmap="viridis",
+                                 linewidths=1.0)
+            ax.clabel(contour, fmt="%.0f", fontsize=7)
+        # outline: leading and trailing edges of the strips
+        ax.step(patch.x_lead_mm, y, where="mid", color="k", lw=0.8)
+        ax.step(-patch.x_lead_mm, y, where="mid", color="k", lw=0.8)
+        ax.plot([0.0], [yr], "k+", ms=8)
+    # 1 x 1 mm scale box and rolling direction
+    bx, by = -x_max - 1.5, y_lo - 1.8
+    ax.add_patch(Rectangle((bx, by), 1.0, 1.0, fill=False, lw=1.2, color="k"))
+    ax.text(bx + 1.3, by + 0.5, "1 x 1 mm", va="center", fontsize=8)
+    ax.annotate("", xy=(x_max, by + 0.5), xytext=(x_max - 6.0, by + 0.5),
+                arrowprops={"arrowstyle": "->", "lw": 1.5})
+    ax.text(x_max - 3.0, by + 0.8, "rolling direction x", ha="center", va="bottom", fontsize=8)
+    ax.set_xlim(-x_max - 2.0, x_max + 2.0)
+    ax.set_ylim(y_lo - 2.2, y_hi + 0.8)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (rolling direction) [mm]")
+    ax.set_ylabel("y (lateral) [mm]")
+    d = snapshot
+    first = d.tangential[0]
+    info = (f"N = {sol.normal_force_N / 1e3:.1f} kN, area {sol.area_mm2:.1f} mm$^2$, "
+            f"p$_{{max}}$ = {sol.p_max_MPa:.0f} MPa, delta = {sol.delta_mm:.5f} mm")
+    if first is not None:
+        fx = sum(t.Fx_N for t in d.tangential) / 1e3
+        fy = sum(t.Fy_N for t in d.tangential) / 1e3
+        info += f", F$_x$ = {fx:.2f} kN, F$_y$ = {fy:.2f} kN"
+    legend = "pressure contours [MPa]" + ("; grey: slip, white: adhesion" if first is not None else "")
+    ax.set_title(f"{title}\n{info}\n{legend}", fontsize=9)
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path
+
+
+def plot_separation(run, path: Path) -> Path:
+    """Separation before/after the passes, cumulative residual displacement per layer, peak pressure p(0, y)."""
+    y = run.strip_y_mm
+    on = (run.first.solution.p_peak_MPa > 0) | (run.last.solution.p_peak_MPa > 0)
+    lo, hi = y[on].min(), y[on].max()
+    pad = max(1.0, 0.5 * (hi - lo))
+    view = (y >= lo - pad) & (y <= hi + pad)
+    rows = 3 if run.residual_mm else 2
+    fig, axes = plt.subplots(rows, 1, figsize=(8.5, 2.9 * rows), sharex=True, constrained_layout=True)
+    ax = axes[0]
+    ax.plot(y[view], run.separation_before_mm[view] * 1e3, label="before the first pass")
+    if run.residual_mm:
+        ax.plot(y[view], run.separation_after_mm[view] * 1e3, "--", label=f"after pass {len(run.history)}")
+    ax.axhline(run.first.solution.delta0_mm * 1e3, color="C0", lw=0.7, ls=":",
+               label=f"virtual penetration delta$_0$ pass 1 = {run.first.solution.delta0_mm * 1e3:.1f} µm")
+    ax.set_ylabel("separation f [µm]")
+    ax.set_ylim(0, max(3.0 * run.first.solution.delta0_mm * 1e3, 1e-3))
+    ax.legend(fontsize=8)
+    if run.residual_mm:
+        ax = axes[1]
+        for name, up in run.residual_mm.items():
+            ax.plot(y[view], np.asarray(up)[view] * 1e3, label=f"{name} layer")
+        ax.legend(fontsize=8)
+        ax.set_ylabel(f"residual u$_p$ after pass {len(run.history)} [µm]")
+    ax = axes[-1]
+    ax.plot(y[view], run.first.solution.p_peak_MPa[view], label="pass 1")
+    if len(run.history) > 1:
+        ax.plot(y[view], run.last.solution.p_peak_MPa[view], "--", label=f"pass {len(run.history)}")
+    p2 = _elastic_limit(run)
+    if p2 is not None:
+        ax.axhline(p2, color="r", lw=0.8, ls=":", label=_p2_label(p2))
+    ax.set_ylabel("peak pressure p(0, y) [MPa]")
+    ax.set_xlabel("y (lateral) [mm]")
+    ax.legend(fontsize=8)
+    for a in axes:
+        a.grid(alpha=0.3)
+    fig.suptitle(f"{run.scene.title}: separation, residual displacements, peak pressure", fontsize=10)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_shakedown(run, path: Path) -> Path:
+    """Area, p_max and delta against the pass number."""
+    hist = run.history
+    n = np.array([h["pass"] for h in hist])
+    fig, axes = plt.subplots(3, 1, figsize=(7.5, 7.5), sharex=True, constrained_layout=True)
+    for ax, key, label in zip(axes, ("area_mm2", "p_max_MPa", "delta_mm"),
+                              ("area [mm$^2$]", "p$_{max}$ [MPa]", "approach delta [mm]")):
+        ax.plot(n, [h[key] for h in hist], "o-", ms=3)
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    p2 = _elastic_limit(run)
+    if p2 is not None:
+        axes[1].axhline(p2, color="r", lw=0.8, ls=":", label=_p2_label(p2))
+        axes[1].legend(fontsize=8)
+    sd = run.result.get("shakedown_pass")
+    if sd is not None:
+        for ax in axes:
+            ax.axvline(sd, color="k", lw=0.7, ls="--")
+        axes[0].text(sd, axes[0].get_ylim()[0], f"shakedown: pass {sd} ", fontsize=8, va="bottom", ha="right")
+    axes[-1].set_xlabel("pass")
+    axes[-1].xaxis.set_major_locator(MaxNLocator(integer=True))
+    mode = "state kept (hardening)" if run.scene.passes.hardening else "sliders relaxed before each pass"
+    fig.suptitle(f"{run.scene.title}\nshakedown history ({mode})", fontsize=10)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def write_scene_plots(run, out_dir: str | Path) -> list[Path]:
+    """All pictures of a run into ``out_dir``; returns their paths."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    title = run.scene.title
+    paths = [plot_patch(run.first, out / f"patch_pass{run.first.number}.png", f"{title}: pass {run.first.number}")]
+    if run.last.number != run.first.number:
+        paths.append(plot_patch(run.last, out / f"patch_pass{run.last.number}.png", f"{title}: pass {run.last.number}"))
+    paths.append(plot_separation(run, out / "separation.png"))
+    if len(run.history) > 1:
+        paths.append(plot_shakedown(run, out / "shakedown.png"))
+    return paths

@@ -1,0 +1,500 @@
+"""Contact scenes: TOML files -> validated dataclasses (units mm, N, MPa, s).
+
+A scene describes one Kik–Piotrowski contact (paper section 4) with an optional Prandtl-body layer, optional
+creepages for FASTSIM and optional repeated passes (section 5). Keys (all carry their unit):
+
+    title, description                       free text (optional)
+    type                                     "kik_piotrowski" (default) or "wheel_rail" (dispatched elsewhere)
+    [load]       normal_force_N, rolling_radius_mm                             (both > 0, required)
+    [material]   E_MPa (> 0), poisson (0 <= nu < 0.5)                          (required)
+    [separation] y_mm, f_mm      table, y strictly increasing, finite           (or)
+                 lateral_radius_mm, half_width_mm (default 10), step_mm (default grid_mm / 4):
+                 the parabola f = y^2 / (2 R_y) sampled on [-half_width, half_width]
+    [layer]      u_mm, p_MPa     ONE characteristic for wheel and rail together (the paper's eq. 13 layer)  (or)
+    [layer.wheel], [layer.rail]  per body: u_mm + p_MPa, or table (calibration JSON, relative to the scene file)
+                                 + position_mm (profile coordinate of the contact point on that body)
+    [tangential] creepage_x, creepage_y (-), spin_per_mm (1/mm), friction (>= 0), speed_mm_s (> 0, default 1000),
+                 flexibility ("three" (default), "single", "blended": FASTSIM flexibility rule, contact.tangential.fastsim)
+    [passes]     max (>= 1, default 1), hardening (bool, default false), tolerance_mm (> 0, default 1e-6)
+    [method]     alpha (0 < alpha <= 1, default 0.55), grid_mm (> 0, default 0.1), fastsim_cells (>= 2, default 60)
+    [reference]  published numbers to compare with (optional; any of the Table 1 keys, see REFERENCE_KEYS)
+
+Every problem raises :class:`wrlayer.errors.InputError` naming the file and the key, e.g.
+``scene.toml: load.normal_force_N: must be > 0, got -5``. Unknown keys are errors (they catch typos).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from contact.layer.characteristic import Characteristic
+from wrlayer.errors import InputError
+
+SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
+BODIES = ("wheel", "rail")
+#: Largest number of lateral strips (separation table width / grid_mm) a scene may ask for.
+MAX_STRIPS = 20000
+#: Keys allowed in [reference]: published values of the last pass (Table 1 rows), units in the names.
+REFERENCE_KEYS = ("source", "length_mm", "width_mm", "area_mm2", "delta_mm", "Fx_N", "Fy_N", "p_max_MPa",
+                  "WT_max", "PT_max_W_per_mm2", "passes", "u0_mm", "up0_mm")
+
+
+# ---------------------------------------------------------------------------------------------------- dataclasses
+@dataclass(frozen=True)
+class LoadSpec:
+    normal_force_N: float
+    rolling_radius_mm: float
+
+
+@dataclass(frozen=True)
+class MaterialSpec:
+    E_MPa: float
+    poisson: float
+
+    @property
+    def G_MPa(self) -> float:
+        """Shear modulus E / (2 (1 + nu)) (MPa)."""
+        return self.E_MPa / (2.0 * (1.0 + self.poisson))
+
+
+@dataclass(frozen=True)
+class SeparationSpec:
+    """Profile separation f(y) (mm) as a table; ``kind`` says how it was given ("table" or "parabola")."""
+
+    y_mm: np.ndarray
+    f_mm: np.ndarray
+    kind: str = "table"
+    lateral_radius_mm: float | None = None
+
+
+@dataclass(frozen=True)
+class BodyLayerSpec:
+    """One body's layer: a characteristic, or a calibration table read at ``position_mm`` (+ strip offsets)."""
+
+    body: str
+    characteristic: Characteristic | None = None
+    table_path: Path | None = None
+    position_mm: float | None = None
+    table: Any = None  # contact.layer.layer_table.LayerTable when table_path is given
+
+    def characteristic_at(self, offset_mm: float = 0.0, what: str = "layer") -> Characteristic:
+        """The characteristic at the contact point shifted by ``offset_mm`` along the profile (InputError if the
+        table does not cover it)."""
+        if self.characteristic is not None:
+            return self.characteristic
+        y = float(self.position_mm) + float(offset_mm)
+        lo, hi = (float(v) for v in self.table.y_range_mm)
+        if not lo <= y <= hi:
+            raise InputError(f"{what}.table", f"does not cover the contact location y = {y:.4g} mm on the "
+                             f"{self.body} (table {self.table_path.name} covers {lo:.4g}..{hi:.4g} mm)")
+        try:
+            return self.table.characteristic_at(y)
+        except InputError as err:
+            raise InputError(f"{what}.table", str(err)) from None
+
+
+@dataclass(frozen=True)
+class LayerSpec:
+    """Either ``combined`` (one characteristic for wheel and rail together, eq. 13) or per body."""
+
+    combined: Characteristic | None = None
+    wheel: BodyLayerSpec | None = None
+    rail: BodyLayerSpec | None = None
+
+    @property
+    def uses_tables(self) -> bool:
+        return any(b is not None and b.table_path is not None for b in (self.wheel, self.rail))
+
+
+@dataclass(frozen=True)
+class TangentialSpec:
+    creepage_x: float = 0.0
+    creepage_y: float = 0.0
+    spin_per_mm: float = 0.0
+    friction: float = 0.3
+    speed_mm_s: float = 1000.0
+    flexibility: str = "three"
+
+    @property
+    def has_creepage(self) -> bool:
+        return not (self.creepage_x == 0.0 and self.creepage_y == 0.0 and self.spin_per_mm == 0.0)
+
+
+@dataclass(frozen=True)
+class PassesSpec:
+    max: int = 1
+    hardening: bool = False
+    tolerance_mm: float = 1e-6
+
+
+@dataclass(frozen=True)
+class MethodSpec:
+    alpha: float = 0.55
+    grid_mm: float = 0.1
+    fastsim_cells: int = 60
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated contact scene. ``data`` is the TOML content as read; ``content_hash`` covers the scene file
+    and every file it refers to (sha256)."""
+
+    path: Path
+    title: str
+    description: str
+    load: LoadSpec
+    material: MaterialSpec
+    separation: SeparationSpec
+    layer: LayerSpec | None
+    tangential: TangentialSpec | None
+    passes: PassesSpec
+    method: MethodSpec
+    reference: dict[str, Any] = field(default_factory=dict)
+    data: dict[str, Any] = field(default_factory=dict)
+    content_hash: str = ""
+
+    @property
+    def name(self) -> str:
+        return self.path.stem
+
+
+# ---------------------------------------------------------------------------------------------------- reading
+def read_scene_data(path: str | Path) -> tuple[Path, dict[str, Any]]:
+    """Read a TOML scene file (InputError when missing, unreadable or not valid TOML)."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(str(path), "no such scene file")
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except (OSError, UnicodeDecodeError) as err:
+        raise InputError(str(path), f"cannot read the file ({err})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(path.name, f"not valid TOML ({err})") from None
+    return path, data
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a Kik–Piotrowski scene file."""
+    path, data = read_scene_data(path)
+    return parse_scene(data, path)
+
+
+def scene_type(data: dict[str, Any], path: Path) -> str:
+    """The scene's top-level ``type`` ("kik_piotrowski" when absent)."""
+    kind = data.get("type", "kik_piotrowski")
+    if kind not in SCENE_TYPES:
+        raise InputError(f"{path.name}: type", f"must be one of {', '.join(SCENE_TYPES)}, got {kind!r}")
+    return kind
+
+
+class SceneKeys:
+    """Typed, validating access to one TOML table of a scene file (public: the wheel–rail scene parser uses it).
+
+    ``SceneKeys(file, prefix, table)``: ``file`` is the scene file's name, ``prefix`` the key path of the table
+    ("" for the top level, e.g. "load" or "layer.rail"). The getters (:meth:`number`, :meth:`integer`,
+    :meth:`boolean`, :meth:`text`, :meth:`array`, :meth:`sub`) check type, finiteness and bounds and raise
+    :class:`wrlayer.errors.InputError` naming ``<file>: <prefix>.<key>`` (e.g. ``scene.toml: load.normal_force_N``);
+    :meth:`check_known` rejects unknown keys. Raises InputError when ``table`` is not a TOML table.
+    """
+
+    def __init__(self, file: str, prefix: str, table: Any):
+        self.file, self.prefix = file, prefix
+        if not isinstance(table, dict):
+            raise InputError(f"{file}: {prefix}", f"must be a table ([{prefix}]), got {_kind(table)}")
+        self.table = table
+
+    def what(self, key: str) -> str:
+        """The error location of ``key``: ``<file>: <prefix>.<key>``."""
+        return f"{self.file}: {self.prefix}.{key}" if self.prefix else f"{self.file}: {key}"
+
+    def error(self, key: str, problem: str) -> InputError:
+        """An InputError for ``key`` (to raise)."""
+        return InputError(self.what(key), problem)
+
+    def check_known(self, allowed: tuple[str, ...]) -> None:
+        """Raise InputError for the first key of the table not in ``allowed``."""
+        for key in self.table:
+            if key not in allowed:
+                raise self.error(key, f"unknown key (allowed: {', '.join(allowed)})")
+
+    def number(self, key: str, default: float | None = None, *, gt: float | None = None, ge: float | None = None,
+               lt: float | None = None, le: float | None = None) -> float:
+        """A finite number (int or float, not bool), ``default`` when absent (None: required), within the bounds."""
+        if key not in self.table:
+            if default is None:
+                raise self.error(key, "missing (required)")
+            return default
+        value = self.table[key]
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(key, f"must be a number, got {_kind(value)} {value!r}")
+        value = float(value)
+        if not math.isfinite(value):
+            raise self.error(key, f"must be a finite number, got {value!r}")
+        for bound, ok, sign in ((gt, lambda v, b: v > b, ">"), (ge, lambda v, b: v >= b, ">="),
+                                (lt, lambda v, b: v < b, "<"), (le, lambda v, b: v <= b, "<=")):
+            if bound is not None and not ok(value, bound):
+                raise self.error(key, f"must be {sign} {bound:g}, got {value:g}")
+        return value
+
+    def integer(self, key: str, default: int, *, ge: int) -> int:
+        """An integer >= ``ge``, ``default`` when absent."""
+        if key not in self.table:
+            return default
+        value = self.table[key]
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.error(key, f"must be an integer, got {_kind(value)} {value!r}")
+        if value < ge:
+            raise self.error(key, f"must be >= {ge}, got {value}")
+        return int(value)
+
+    def boolean(self, key: str, default: bool) -> bool:
+        """true/false, ``default`` when absent."""
+        value = self.table.get(key, default)
+        if not isinstance(value, bool):
+            raise self.error(key, f"must be true or false, got {_kind(value)} {value!r}")
+        return value
+
+    def text(self, key: str, default: str | None = None) -> str:
+        """A string, ``default`` when absent (None: required)."""
+        if key not in self.table:
+            if default is None:
+                raise self.error(key, "missing (required)")
+            return default
+        value = self.table[key]
+        if not isinstance(value, str):
+            raise self.error(key, f"must be a string, got {_kind(value)} {value!r}")
+        return value
+
+    def array(self, key: str, min_len: int = 2) -> np.ndarray:
+        """A required list of at least ``min_len`` finite numbers, as a float array."""
+        if key not in self.table:
+            raise self.error(key, "missing (required)")
+        value = self.table[key]
+        if not isinstance(value, list):
+            raise self.error(key, f"must be a list of numbers, got {_kind(value)}")
+        bad = [v for v in value if isinstance(v, bool) or not isinstance(v, (int, float))]
+        if bad:
+            raise self.error(key, f"must be a list of numbers, found {_kind(bad[0])} {bad[0]!r}")
+        arr = np.asarray(value, dtype=float)
+        if not np.all(np.isfinite(arr)):
+            raise self.error(key, "contains NaN or infinite values")
+        if arr.size < min_len:
+            raise self.error(key, f"needs at least {min_len} values, got {arr.size}")
+        return arr
+
+    def sub(self, key: str) -> SceneKeys | None:
+        """The sub-table ``key`` as SceneKeys (prefix extended), None when absent."""
+        if key not in self.table:
+            return None
+        return SceneKeys(self.file, f"{self.prefix}.{key}" if self.prefix else key, self.table[key])
+
+
+def _kind(value: Any) -> str:
+    return {bool: "boolean", int: "integer", float: "number", str: "string", list: "list",
+            dict: "table"}.get(type(value), type(value).__name__)
+
+
+TOP_KEYS = ("title", "description", "type", "load", "material", "separation", "layer", "tangential", "passes",
+            "method", "reference")
+
+
+def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
+    """Validate the TOML content of a Kik–Piotrowski scene read from ``path`` (relative paths resolve from its
+    folder). Raises InputError naming ``<file>: <section>.<key>``."""
+    path = Path(path)
+    file = path.name
+    top = SceneKeys(file, "", data)
+    top.check_known(TOP_KEYS)
+    kind = scene_type(data, path)
+    if kind != "kik_piotrowski":
+        raise InputError(f"{file}: type", f"a {kind!r} scene is not a Kik–Piotrowski scene")
+    title = top.text("title", path.stem)
+    description = top.text("description", "")
+
+    for required in ("load", "material", "separation"):
+        if required not in data:
+            raise InputError(f"{file}: {required}", f"missing section [{required}] (required)")
+
+    load_keys = top.sub("load")
+    load_keys.check_known(("normal_force_N", "rolling_radius_mm"))
+    load = LoadSpec(load_keys.number("normal_force_N", gt=0.0), load_keys.number("rolling_radius_mm", gt=0.0))
+
+    mat_keys = top.sub("material")
+    mat_keys.check_known(("E_MPa", "poisson"))
+    material = MaterialSpec(mat_keys.number("E_MPa", gt=0.0), mat_keys.number("poisson", ge=0.0, lt=0.5))
+
+    method = MethodSpec()
+    if (keys := top.sub("method")) is not None:
+        keys.check_known(("alpha", "grid_mm", "fastsim_cells"))
+        method = MethodSpec(alpha=keys.number("alpha", 0.55, gt=0.0, le=1.0),
+                            grid_mm=keys.number("grid_mm", 0.1, gt=0.0),
+                            fastsim_cells=keys.integer("fastsim_cells", 60, ge=2))
+
+    separation = _parse_separation(top.sub("separation"), method.grid_mm)
+    n_strips = (separation.y_mm[-1] - separation.y_mm[0]) / method.grid_mm
+    if n_strips > MAX_STRIPS:
+        raise InputError(f"{file}: method.grid_mm", f"{method.grid_mm:g} mm gives {n_strips:.0f} strips over the "
+                         f"separation table (at most {MAX_STRIPS}): use a coarser grid or a shorter table")
+    if n_strips < 2:
+        raise InputError(f"{file}: method.grid_mm", f"{method.grid_mm:g} mm is wider than the separation table "
+                         f"({separation.y_mm[0]:g}..{separation.y_mm[-1]:g} mm)")
+    hashes = [hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else ""]
+    layer = None
+    if (keys := top.sub("layer")) is not None:
+        layer = _parse_layer(keys, path.parent, hashes)
+
+    tangential = None
+    if (keys := top.sub("tangential")) is not None:
+        keys.check_known(("creepage_x", "creepage_y", "spin_per_mm", "friction", "speed_mm_s", "flexibility"))
+        tangential = TangentialSpec(creepage_x=keys.number("creepage_x", 0.0),
+                                    creepage_y=keys.number("creepage_y", 0.0),
+                                    spin_per_mm=keys.number("spin_per_mm", 0.0),
+                                    friction=keys.number("friction", ge=0.0),
+                                    speed_mm_s=keys.number("speed_mm_s", 1000.0, gt=0.0),
+                                    flexibility=keys.text("flexibility", "three"))
+        from contact.tangential.fastsim import (
+            FLEXIBILITY_RULES,  # lazy: fastsim compiles with numba
+        )
+
+        if tangential.flexibility not in FLEXIBILITY_RULES:
+            raise keys.error("flexibility", f"must be one of {', '.join(FLEXIBILITY_RULES)}, "
+                             f"got {tangential.flexibility!r}")
+
+    passes = PassesSpec()
+    if (keys := top.sub("passes")) is not None:
+        keys.check_known(("max", "hardening", "tolerance_mm"))
+        passes = PassesSpec(max=keys.integer("max", 1, ge=1), hardening=keys.boolean("hardening", False),
+                            tolerance_mm=keys.number("tolerance_mm", 1e-6, gt=0.0))
+        if passes.max > 1 and layer is None:
+            raise keys.error("max", f"repeated passes ({passes.max}) need a [layer] (without a layer every pass "
+                             "is the same elastic contact)")
+
+    reference: dict[str, Any] = {}
+    if (keys := top.sub("reference")) is not None:
+        keys.check_known(REFERENCE_KEYS)
+        for key in keys.table:
+            reference[key] = keys.text(key) if key == "source" else keys.number(key)
+
+    return Scene(path=path, title=title, description=description, load=load, material=material,
+                 separation=separation, layer=layer, tangential=tangential, passes=passes, method=method,
+                 reference=reference, data=data, content_hash=hashlib.sha256("".join(hashes).encode()).hexdigest())
+
+
+def _parse_separation(keys: SceneKeys, grid_mm: float) -> SeparationSpec:
+    if "lateral_radius_mm" in keys.table:
+        keys.check_known(("lateral_radius_mm", "half_width_mm", "step_mm"))
+        radius = keys.number("lateral_radius_mm", gt=0.0)
+        half = keys.number("half_width_mm", 10.0, gt=0.0)
+        step = keys.number("step_mm", grid_mm / 4.0, gt=0.0)
+        if half / step > 2 * MAX_STRIPS:
+            what = keys.what("step_mm") if "step_mm" in keys.table else f"{keys.file}: method.grid_mm"
+            raise InputError(what, f"gives {2 * half / step:.0f} separation points over +-{half:g} mm "
+                             f"(at most {4 * MAX_STRIPS}): use a coarser grid")
+        n = math.ceil(half / step)
+        y = np.linspace(-n * step, n * step, 2 * n + 1)
+        return SeparationSpec(y, y * y / (2.0 * radius), kind="parabola", lateral_radius_mm=radius)
+    keys.check_known(("y_mm", "f_mm"))
+    y = keys.array("y_mm", min_len=3)
+    f = keys.array("f_mm", min_len=3)
+    if y.size != f.size:
+        raise keys.error("f_mm", f"has {f.size} values but y_mm has {y.size}")
+    steps = np.diff(y)
+    if np.any(steps <= 0):
+        i = int(np.argmax(steps <= 0))
+        raise keys.error("y_mm", f"must be strictly increasing (f must be a function of y): y[{i}] = {y[i]:g} "
+                         f">= y[{i + 1}] = {y[i + 1]:g}")
+    return SeparationSpec(y, f)
+
+
+def _parse_layer(keys: SceneKeys, base: Path, hashes: list[str]) -> LayerSpec:
+    has_bodies = any(b in keys.table for b in BODIES)
+    has_points = any(k in keys.table for k in ("u_mm", "p_MPa"))
+    if has_bodies and has_points:
+        raise keys.error("u_mm", "give either one combined characteristic (layer.u_mm, layer.p_MPa) or per body "
+                         "layers ([layer.wheel], [layer.rail]), not both")
+    if has_points:
+        keys.check_known(("u_mm", "p_MPa"))
+        return LayerSpec(combined=_characteristic(keys))
+    keys.check_known(BODIES)
+    if not has_bodies:
+        raise InputError(keys.what("u_mm"), "missing: [layer] needs u_mm and p_MPa, or [layer.wheel]/[layer.rail]")
+    bodies = {body: _parse_body(keys.sub(body), body, base, hashes) for body in BODIES if body in keys.table}
+    return LayerSpec(wheel=bodies.get("wheel"), rail=bodies.get("rail"))
+
+
+def _characteristic(keys: SceneKeys) -> Characteristic:
+    u = keys.array("u_mm")
+    p = keys.array("p_MPa")
+    return Characteristic(u, p, name=f"{keys.what('u_mm')}/p_MPa")
+
+
+def _parse_body(keys: SceneKeys, body: str, base: Path, hashes: list[str]) -> BodyLayerSpec:
+    if "table" in keys.table:
+        keys.check_known(("table", "position_mm"))
+        rel = keys.text("table")
+        table_path = (base / rel).resolve()
+        if not table_path.is_file():
+            raise keys.error("table", f"no such calibration table {rel!r} (looked at {table_path})")
+        position = keys.number("position_mm")
+        try:
+            from contact.layer.layer_table import LayerTable
+        except ImportError:
+            raise keys.error("table", "calibration tables are not available (contact.layer.layer_table missing)") from None
+        try:
+            table = LayerTable.read(table_path)
+        except InputError as err:
+            raise keys.error("table", str(err)) from None
+        if getattr(table, "body", body) not in (body, None):
+            raise keys.error("table", f"is a {table.body} table, expected a {body} table")
+        hashes.append(hashlib.sha256(table_path.read_bytes()).hexdigest())
+        spec = BodyLayerSpec(body, table_path=table_path, position_mm=position, table=table)
+        spec.characteristic_at(0.0, f"{keys.file}: {keys.prefix}")  # the table must cover the contact point
+        return spec
+    keys.check_known(("u_mm", "p_MPa", "table", "position_mm"))
+    if "position_mm" in keys.table:
+        raise keys.error("position_mm", "only used with a calibration table (layer.<body>.table)")
+    return BodyLayerSpec(body, characteristic=_characteristic(keys))
+
+
+def scene_inputs(scene: Scene) -> dict[str, Any]:
+    """The parsed scene as JSON-serialisable data: resolved values (defaults filled in), resolved paths, hashes."""
+    layer: dict[str, Any] | None = None
+    if scene.layer is not None:
+        layer = {}
+        if scene.layer.combined is not None:
+            layer["combined"] = scene.layer.combined.to_dict()
+        for body in BODIES:
+            spec = getattr(scene.layer, body)
+            if spec is None:
+                continue
+            if spec.table_path is not None:
+                layer[body] = {"table": str(spec.table_path), "position_mm": spec.position_mm,
+                               "characteristic_at_position": spec.characteristic_at(0.0).to_dict()}
+            else:
+                layer[body] = spec.characteristic.to_dict()
+    sep = scene.separation
+    return {
+        "scene_file": str(scene.path.resolve()),
+        "content_sha256": scene.content_hash,
+        "title": scene.title,
+        "description": scene.description,
+        "load": vars(scene.load).copy(),
+        "material": {**vars(scene.material), "G_MPa": scene.material.G_MPa},
+        "separation": {"kind": sep.kind, "lateral_radius_mm": sep.lateral_radius_mm,
+                       "y_mm": sep.y_mm.tolist(), "f_mm": sep.f_mm.tolist()},
+        "layer": layer,
+        "tangential": None if scene.tangential is None else vars(scene.tangential).copy(),
+        "passes": vars(scene.passes).copy(),
+        "method": vars(scene.method).copy(),
+        "reference": dict(scene.reference),
+        "scene_toml": scene.data,
+    }

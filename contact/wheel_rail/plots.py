@@ -1,0 +1,159 @@
+"""Pictures of a wheel_rail scene (matplotlib, Agg): the profiles in contact with contact points and patches, and
+the sweep (contact position, p_max, forces against the lateral displacement). Units mm, N, MPa."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from contact.wheel_rail.track_geometry import wheel_locus, wheel_sample_y
+from contact.wheel_rail.solve import WheelRailSolution, residual_on_profiles
+
+SIDE_COLOURS = {"right": "tab:blue", "left": "tab:orange"}
+
+
+def _profiles_panel(ax, sol: WheelRailSolution, title: str) -> None:
+    """One wheel on its rail in the side frame, zoomed on the rail head; contact points and patch extents."""
+    rail, inputs = sol.rail, sol.inputs
+    pose = inputs.pose.for_side(inputs.side)
+    ax.plot(rail.Y_mm, rail.Z_mm, color="0.3", lw=1.2, label=f"rail {rail.profile.name}")
+    y = wheel_sample_y(sol.wheel, 0.1)
+    loc = wheel_locus(sol.wheel, inputs.layout, pose, y)
+    Zw = loc.Z_mm + sol.search.wheel_height_mm
+    keep = (loc.Y_mm > rail.Y_mm[0] - 25) & (loc.Y_mm < rail.Y_mm[-1] + 10)
+    ax.plot(loc.Y_mm[keep], Zw[keep], color="tab:green", lw=1.2, label="wheel (rigid contact position)")
+    for p in sol.patches:
+        c = p.candidate
+        ax.plot(c.Y_mm, c.Z_mm, "o", color="tab:red", ms=5)
+        on = p.normal.p_peak_MPa > 0
+        if np.any(on):
+            eta = p.strip_sign * p.problem.strip_y_mm[on]
+            q = c.rail_coordinate(eta)
+            pts = rail.point(q)
+            ax.plot(pts[:, 0], pts[:, 1], "-", color="tab:red", lw=4, alpha=0.6)
+        ax.annotate(f"{np.degrees(c.contact_angle_rad):.1f} deg\n{p.normal_force_N / 1e3:.1f} kN", (c.Y_mm, c.Z_mm),
+                    textcoords="offset points", xytext=(6, 8), fontsize=7, color="tab:red")
+    for c in sol.unloaded:
+        ax.plot(c.Y_mm, c.Z_mm, "x", color="0.5", ms=5)
+    ax.set_xlim(rail.Y_mm[0] - 20, rail.Y_mm[-1] + 5)
+    ax.set_ylim(-30, 15)
+    ax.set_aspect("equal")
+    ax.set_xlabel("Y (mm, side frame: field side +)")
+    ax.set_ylabel("Z (mm)")
+    ax.set_title(title, fontsize=8)
+    ax.grid(alpha=0.3)
+
+
+def write_wheel_rail_plots(result: dict[str, Any], solutions: list[dict[str, WheelRailSolution] | None],
+                           out_dir: Path) -> list[Path]:
+    """profiles_in_contact.png (first, middle and last computed case), sweep.png (if more than one case) and
+    residual_displacements.png (if any case left a residual displacement)."""
+    out_dir = Path(out_dir)
+    paths = []
+    ok = [k for k, s in enumerate(solutions) if s is not None]
+    picks = sorted({ok[0], ok[len(ok) // 2], ok[-1]}) if ok else []
+    if picks:
+        sides = list(solutions[picks[0]])
+        fig, axes = plt.subplots(len(sides), len(picks), figsize=(4.2 * len(picks), 3.6 * len(sides)), squeeze=False)
+        for j, k in enumerate(picks):
+            case = result["cases"][k]
+            for i, side in enumerate(sides):
+                _profiles_panel(axes[i, j], solutions[k][side],
+                                f"{side} wheel: lateral {case['lateral_mm']:g} mm, yaw {case['yaw_rad'] * 1e3:.1f} "
+                                f"mrad, roll {case['roll_rad'] * 1e3:.2f} mrad")
+        axes[0, 0].legend(fontsize=7, loc="lower left")
+        fig.tight_layout()
+        path = out_dir / "profiles_in_contact.png"
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        paths.append(path)
+    if len(result["cases"]) > 1 and ok:
+        paths.append(_sweep_plot(result, out_dir / "sweep.png"))
+    residual = _residual_plot(result, solutions, out_dir / "residual_displacements.png")
+    if residual is not None:
+        paths.append(residual)
+    return paths
+
+
+def _residual_plot(result: dict[str, Any], solutions: list, path: Path) -> Path | None:
+    """Residual displacement u_p (mm, into the body) against the profile coordinate, rail and wheel, per case."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+    cmap = plt.get_cmap("viridis")
+    drawn = False
+    n = max(len(solutions) - 1, 1)
+    for k, sols in enumerate(solutions):
+        if not sols:
+            continue
+        for side, sol in sols.items():
+            for ax, body in zip(axes, ("rail", "wheel")):
+                res = residual_on_profiles(sol.patches).get(body)
+                if res is None or not np.any(res[1] > 1e-9):
+                    continue
+                order = np.argsort(res[0])
+                ax.plot(res[0][order], res[1][order] * 1e3, "-" if side == "right" else "--", color=cmap(k / n),
+                        lw=1, label=f"{result['cases'][k]['lateral_mm']:g} mm, {side}")
+                drawn = True
+    if not drawn:
+        plt.close(fig)
+        return None
+    for ax, body in zip(axes, ("rail", "wheel")):
+        ax.set_xlabel(f"{body} profile coordinate y (mm, field side +)")
+        ax.set_ylabel("residual displacement u_p (um, into the body)")
+        ax.set_title(f"{body}: residual displacement after the passes", fontsize=9)
+        ax.grid(alpha=0.3)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
+    (a_pos, a_p), (a_n, a_f) = axes
+    sides = sorted({s for c in result["cases"] if "wheels" in c for s in c["wheels"]})
+    for side in sides:
+        col = SIDE_COLOURS.get(side, "k")
+        rows = [(c["lateral_mm"], p, w) for c in result["cases"] if "wheels" in c and side in c["wheels"]
+                for w in [c["wheels"][side]] for p in w["patches"]]
+        if not rows:
+            continue
+        d = np.array([r[0] for r in rows])
+        a_pos.plot(d, [r[1]["y_rail_mm"] for r in rows], "o", color=col, ms=4, label=f"{side}: rail y")
+        a_pos.plot(d, [r[1]["y_wheel_mm"] for r in rows], "s", mfc="none", color=col, ms=4, label=f"{side}: wheel y")
+        a_p.plot(d, [r[1]["p_max_MPa"] for r in rows], "o", color=col, ms=4, label=side)
+        a_n.plot(d, [r[1]["normal_force_N"] / 1e3 for r in rows], "o", color=col, ms=4, label=f"{side}: N")
+        a_n.plot(d, [np.degrees(r[1]["contact_angle_rad"]) for r in rows], "^", mfc="none", color=col, ms=4,
+                 label=f"{side}: contact angle (deg)")
+        a_f.plot(d, [r[1]["Fx_N"] / 1e3 for r in rows], "o", color=col, ms=4, label=f"{side}: F_x")
+        a_f.plot(d, [r[1]["Fy_N"] / 1e3 for r in rows], "s", mfc="none", color=col, ms=4, label=f"{side}: F_y")
+        cases = [c for c in result["cases"] if "wheels" in c and side in c["wheels"]]
+        a_f.plot([c["lateral_mm"] for c in cases], [c["wheels"][side]["force_on_wheel_track_N"][1] / 1e3
+                                                    for c in cases], "-", color=col, lw=1, label=f"{side}: total F_Y")
+    for c in result["cases"]:
+        if "error" in c:
+            for ax in axes.ravel():
+                ax.axvline(c["lateral_mm"], color="r", lw=0.8, ls=":")
+    a_pos.set_ylabel("contact position (profile coordinate, mm)")
+    a_p.set_ylabel("p_max (MPa)")
+    a_n.set_ylabel("normal force (kN) / contact angle (deg)")
+    a_f.set_ylabel("force on the wheel (kN): creep F_x, F_y (contact frame), total F_Y (track)")
+    for ax in axes.ravel():
+        ax.set_xlabel("wheelset lateral displacement (mm)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(result["inputs"].get("title", ""), fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+__all__ = ["write_wheel_rail_plots"]

@@ -1,0 +1,456 @@
+"""Scenes of type "wheel_rail": wheels on rails placed in a track, one case or a sweep (units mm, N, MPa, s, rad).
+
+Run by ``python -m contact simulate SCENE --out DIR`` (and ``simulate-all``), which calls
+:func:`run_wheel_rail_scene`. Keys (every one optional unless marked; unknown keys are errors)::
+
+    type = "wheel_rail"                                   (required)
+    title, description                                    free text
+    [profiles]  rail = "60E1", wheel = "S1002"            a standard name or a profile file (.prr/.prw/.txt/.csv,
+                                                          relative to the scene file)
+    [track]     gauge_mm = 1435, gauge_depth_mm = 14, inclination = 40 (1:40; or inclination_rad),
+                back_to_back_mm = 1360, flange_back_y_mm = -70 (wheel profile coordinate of the flange back)
+    [wheel]     nominal_radius_mm = 460, side = "right" | "left" | "both"
+    [wheelset]  lateral_mm = 0 (towards the right rail), yaw_rad = 0, roll_rad = 0 or "auto" (the rigid
+                wheelset's roll at which both wheels touch), pitch_rate_rad_s (default: speed / nominal radius)
+    [load]      vertical_load_N = 10000 (per wheel), speed_mm_s = 2000
+    [material]  E_MPa = 210000 or G_MPa, poisson = 0.28
+    [tangential] friction = 0.3 (0: no tangential solution)
+    [layers]    rail = "table.json", wheel = "table.json" (calibration tables, relative to the scene file), or
+                [layers.combined] u_mm, p_MPa (one characteristic for both bodies, the paper's eq. 13 layer)
+    [passes]    max = 1, hardening = false, tolerance_mm = 1e-6
+    [method]    alpha = 0.55, grid_mm = 0.1, fastsim_cells = 60, merge_mm, candidate_gap_mm, f_cap_mm
+    [sweep]     lateral_mm, yaw_rad, roll_rad: a list of values or {start, stop, step} (stop included);
+                mode = "zip" (default; lists of equal length, case k takes the k-th value of each) or "product"
+    [output]    deformed_profiles = true (with layers: write each case's deformed rail/wheel profiles as SIMPACK
+                .prr/.prw and CSV and read them back)
+
+A case that fails (bad geometry: profiles that do not meet, the flange through the rail; or a solver failure) is
+recorded with its error message in ``cases[k].error`` and the other cases are still computed; the scene itself
+fails only when every case fails. Validation errors name ``<file>: <section>.<key>``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import math
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from contact.layer.characteristic import Characteristic
+from contact.wheel_rail.contact_search import SearchSettings
+from contact.passes.passes import PassesOptions
+from contact.scenes.result_io import UNITS, code_version
+from contact.scenes.scene import SceneKeys
+from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
+from contact.wheel_rail.solve import (
+    PatchSolution,
+    WheelRailInputs,
+    WheelRailLayers,
+    WheelRailSolution,
+    deformed_profile,
+    residual_on_profiles,
+    rigid_roll,
+    solve_wheel,
+)
+from wrlayer.errors import ConvergenceError, InputError
+from meshes.profiles import get_profile
+
+TOP_KEYS = ("title", "description", "type", "profiles", "track", "wheel", "wheelset", "load", "material",
+            "tangential", "layers", "passes", "method", "sweep", "output")
+SWEEP_KEYS = ("lateral_mm", "yaw_rad", "roll_rad")
+
+
+# ------------------------------------------------------------------------------------------------ parsing
+def _profile(keys: SceneKeys, key: str, default: str, base: Path, body: str):
+    name = keys.text(key, default)
+    candidate = base / name
+    target = str(candidate) if candidate.suffix.lower() in (".prr", ".prw", ".txt", ".csv") else name
+    if target != name and not candidate.is_file():
+        raise keys.error(key, f"no such profile file {name!r} (looked at {candidate})")
+    try:
+        prof = get_profile(target, body=body) if Path(target).suffix.lower() in (".txt", ".csv") \
+            else get_profile(target)
+    except InputError as err:
+        raise InputError(keys.what(key), str(err)) from None
+    if prof.body != body:
+        raise InputError(keys.what(key), f"{prof.name} is a {prof.body} profile, expected a {body} profile")
+    return prof
+
+
+def _values(keys: SceneKeys, key: str) -> np.ndarray:
+    """A sweep axis: a list of numbers or {start, stop, step} (stop included within step/1e6)."""
+    value = keys.table[key]
+    if isinstance(value, dict):
+        sub = keys.sub(key)
+        sub.check_known(("start", "stop", "step"))
+        start, stop, step = sub.number("start"), sub.number("stop"), sub.number("step", gt=0.0)
+        if stop < start:
+            raise sub.error("stop", f"must be >= start ({start:g}), got {stop:g}")
+        n = math.floor((stop - start) / step + 1e-6) + 1
+        return start + step * np.arange(n)
+    return keys.array(key, min_len=1)
+
+
+def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, Any]:
+    """Validate a wheel_rail scene; returns the parsed objects (profiles, layout, cases, inputs template, layers)."""
+    scene_path = Path(scene_path)
+    file, base = scene_path.name, scene_path.parent
+    top = SceneKeys(file, "", data)
+    top.check_known(TOP_KEYS)
+    known = {
+        "profiles": ("rail", "wheel"),
+        "track": ("gauge_mm", "gauge_depth_mm", "inclination", "inclination_rad", "back_to_back_mm",
+                  "flange_back_y_mm"),
+        "wheel": ("nominal_radius_mm", "side"),
+        "wheelset": ("lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s"),
+        "load": ("vertical_load_N", "speed_mm_s"),
+        "material": ("E_MPa", "G_MPa", "poisson"),
+        "tangential": ("friction",),
+        "layers": ("rail", "wheel", "combined"),
+        "passes": ("max", "hardening", "tolerance_mm"),
+        "method": ("alpha", "grid_mm", "fastsim_cells", "merge_mm", "candidate_gap_mm", "f_cap_mm"),
+        "sweep": SWEEP_KEYS + ("mode",),
+        "output": ("deformed_profiles",),
+    }
+    sec = {name: top.sub(name) for name in known if name in data}
+    for name, allowed in known.items():
+        if name in sec:
+            sec[name].check_known(allowed)
+    for key in ("title", "description"):
+        top.text(key, "")
+
+    def s(name: str) -> SceneKeys:
+        return sec.get(name) or SceneKeys(file, name, {})
+
+    rail = _profile(s("profiles"), "rail", "60E1", base, "rail")
+    track = s("track")
+    if "inclination" in track.table and "inclination_rad" in track.table:
+        raise track.error("inclination", "give either inclination (1:n) or inclination_rad, not both")
+    if "inclination_rad" in track.table:
+        incl = track.number("inclination_rad", ge=-0.2, le=0.2)
+    else:
+        ratio = track.number("inclination", 40.0)
+        if ratio == 0:
+            incl = 0.0
+        elif ratio < 5:
+            raise track.error("inclination", f"1:n needs n >= 5 (or 0 for an upright rail), got {ratio:g}")
+        else:
+            incl = math.atan(1.0 / ratio)
+    wheel_keys = s("wheel")
+    r0 = wheel_keys.number("nominal_radius_mm", 460.0, gt=0.0)
+    wheel = _profile(s("profiles"), "wheel", "S1002", base, "wheel")
+    try:
+        layout = TrackLayout(gauge_mm=track.number("gauge_mm", 1435.0), gauge_depth_mm=track.number("gauge_depth_mm",
+                             14.0, gt=0.0), inclination_rad=incl, back_to_back_mm=track.number("back_to_back_mm",
+                             1360.0, gt=0.0), flange_back_y_mm=track.number("flange_back_y_mm", -70.0),
+                             nominal_radius_mm=r0)
+    except InputError as err:
+        raise InputError(f"{file}: track.{err.what}", err.problem) from None
+    side = wheel_keys.text("side", "right")
+    if side not in ("right", "left", "both"):
+        raise wheel_keys.error("side", f"must be 'right', 'left' or 'both', got {side!r}")
+    ws = s("wheelset")
+    roll_value = ws.table.get("roll_rad", 0.0)
+    roll_auto = roll_value == "auto"
+    base_pose = {"lateral_mm": ws.number("lateral_mm", 0.0), "yaw_rad": ws.number("yaw_rad", 0.0, ge=-0.2, le=0.2),
+                 "roll_rad": 0.0 if roll_auto else ws.number("roll_rad", 0.0, ge=-0.2, le=0.2)}
+    pitch = ws.number("pitch_rate_rad_s") if "pitch_rate_rad_s" in ws.table else None
+    load = s("load")
+    mat = s("material")
+    nu = mat.number("poisson", 0.28, ge=0.0, lt=0.5)
+    if "E_MPa" in mat.table and "G_MPa" in mat.table:
+        raise mat.error("G_MPa", "give either E_MPa or G_MPa, not both")
+    E = 2.0 * mat.number("G_MPa", gt=0.0) * (1.0 + nu) if "G_MPa" in mat.table else mat.number("E_MPa", 210000.0,
+                                                                                                  gt=0.0)
+    met, pas = s("method"), s("passes")
+    search = SearchSettings(merge_mm=met.number("merge_mm", 0.005, ge=0.0),
+                            candidate_gap_mm=met.number("candidate_gap_mm", 1.0, gt=0.0),
+                            f_cap_mm=met.number("f_cap_mm", 2.0, gt=0.0))
+    inputs = {"layout": layout, "side": "right",
+              "vertical_load_N": load.number("vertical_load_N", 10000.0, gt=0.0),
+              "speed_mm_s": load.number("speed_mm_s", 2000.0, gt=0.0), "pitch_rate_rad_s": pitch,
+              "friction": s("tangential").number("friction", 0.3, ge=0.0), "E_MPa": E, "poisson": nu,
+              "alpha": met.number("alpha", 0.55, gt=0.0, le=1.0), "grid_mm": met.number("grid_mm", 0.1, gt=0.0),
+              "fastsim_cells": met.integer("fastsim_cells", 60, ge=2),
+              "passes": PassesOptions(max_passes=pas.integer("max", 1, ge=1),
+                                      tolerance_mm=pas.number("tolerance_mm", 1e-6, ge=0.0),
+                                      hardening=pas.boolean("hardening", False)),
+              "search": search}
+    layers, hashes = _parse_layers(sec.get("layers"), base)
+    sweep = sec.get("sweep")
+    cases = _cases(sweep, base_pose)
+    if roll_auto and sweep is not None and "roll_rad" in sweep.table:
+        raise sweep.error("roll_rad", "cannot sweep the roll angle when wheelset.roll_rad = \"auto\"")
+    out = s("output")
+    return {"rail": rail, "wheel": wheel, "layout": layout, "sides": ["right", "left"] if side == "both" else [side],
+            "roll_auto": roll_auto, "cases": cases, "inputs": inputs, "layers": layers, "table_sha256": hashes,
+            "deformed_profiles": out.boolean("deformed_profiles", True)}
+
+
+def _parse_layers(keys: SceneKeys | None, base: Path) -> tuple[WheelRailLayers | None, dict]:
+    if keys is None:
+        return None, {}
+    hashes: dict[str, str] = {}
+    if "combined" in keys.table:
+        if "rail" in keys.table or "wheel" in keys.table:
+            raise keys.error("combined", "give either per-body tables (rail, wheel) or combined, not both")
+        sub = keys.sub("combined")
+        sub.check_known(("u_mm", "p_MPa"))
+        return WheelRailLayers(combined=Characteristic(sub.array("u_mm"), sub.array("p_MPa"),
+                                                       name=sub.what("u_mm/p_MPa"))), hashes
+    from contact.layer.layer_table import LayerTable
+
+    tables, names = {}, {}
+    for body in ("rail", "wheel"):
+        if body not in keys.table:
+            continue
+        rel = keys.text(body)
+        path = (base / rel).resolve()
+        if not path.is_file():
+            raise keys.error(body, f"no such calibration table {rel!r} (looked at {path})")
+        try:
+            table = LayerTable.read(path)
+        except InputError as err:
+            raise keys.error(body, str(err)) from None
+        if table.body != body:
+            raise keys.error(body, f"{rel} is a {table.body} table, expected a {body} table")
+        tables[body], names[body] = table, path.name
+        hashes[body] = hashlib.sha256(path.read_bytes()).hexdigest()
+    if not tables:
+        raise keys.error("rail", "[layers] needs rail and/or wheel tables, or [layers.combined]")
+    return WheelRailLayers(rail=tables.get("rail"), wheel=tables.get("wheel"), names=names), hashes
+
+
+def _cases(sweep: SceneKeys | None, base_pose: dict[str, float]) -> list[dict[str, float]]:
+    if sweep is None:
+        return [dict(base_pose)]
+    axes = {k: _values(sweep, k) for k in SWEEP_KEYS if k in sweep.table}
+    if not axes:
+        raise sweep.error("lateral_mm", "[sweep] needs at least one of lateral_mm, yaw_rad, roll_rad")
+    mode = sweep.text("mode", "zip")
+    if mode not in ("zip", "product"):
+        raise sweep.error("mode", f"must be 'zip' or 'product', got {mode!r}")
+    names = list(axes)
+    if mode == "zip":
+        sizes = {k: v.size for k, v in axes.items()}
+        if len(set(sizes.values())) > 1:
+            raise sweep.error("mode", f"'zip' needs sweep lists of equal length, got {sizes}")
+        rows = list(zip(*(axes[k] for k in names)))
+    else:
+        rows = list(itertools.product(*(axes[k] for k in names)))
+    cases = []
+    for row in rows:
+        case = dict(base_pose)
+        case.update({k: float(v) for k, v in zip(names, row)})
+        cases.append(case)
+    for case in cases:
+        for key in ("yaw_rad", "roll_rad"):
+            if abs(case[key]) >= 0.2:
+                raise sweep.error(key, f"angle {case[key]:g} rad is not plausible (|angle| < 0.2 rad)")
+    return cases
+
+
+# ------------------------------------------------------------------------------------------------ results
+def patch_result(p: PatchSolution) -> dict[str, Any]:
+    """JSON-serialisable numbers of one loaded patch (track-frame forces; see contact.wheel_rail.contact_search for the
+    location conventions)."""
+    c, ns = p.candidate, p.normal
+    t = p.tangential
+    out = {
+        "y_rail_mm": c.y_rail_mm, "y_wheel_mm": c.y_wheel_mm,
+        "Y_track_mm": float(p.point_track[1]), "Z_track_mm": c.Z_mm, "X_lead_mm": c.X_mm,
+        "contact_angle_rad": c.contact_angle_rad, "contact_angle_deg": math.degrees(c.contact_angle_rad),
+        "wheel_contact_angle_rad": c.wheel_contact_angle_rad, "wheel_radius_mm": c.wheel_radius_mm,
+        "rolling_radius_kp_mm": c.rolling_radius_kp_mm, "normal_gap_mm": c.normal_gap_mm,
+        "normal_force_N": p.normal_force_N, "delta_mm": ns.delta_mm, "delta0_mm": ns.delta0_mm,
+        "area_mm2": ns.area_mm2, "p_max_MPa": ns.p_max_MPa, "length_mm": ns.length_mm, "width_mm": ns.width_mm,
+        "n_regions": len(ns.patches),
+        "regions": [{"eta_min_mm": float(pt.y_mm[0]), "eta_max_mm": float(pt.y_mm[-1]), "p0_MPa": r.p0_MPa,
+                     "normal_force_N": r.normal_force_N} for pt, r in zip(ns.patches, ns.regions)],
+        "creepage_x": p.kinematics.vx, "creepage_y": p.kinematics.vy, "spin_per_mm": p.kinematics.phi_per_mm,
+        "Fx_N": p.Fx_N, "Fy_N": p.Fy_N, "Mz_Nmm": p.Mz_Nmm,
+        "WT_max": max((r.WT_max_N_per_mm for r in t), default=None),
+        "PT_max_W_per_mm2": max((r.PT_max_W_per_mm2 for r in t), default=None),
+        "force_on_wheel_track_N": p.force_track_N().tolist(),
+        "normal_track": p.normal_track.tolist(), "lateral_track": p.lateral_track.tolist(),
+        "elastic": bool(ns.elastic), "u0_mm": ns.u0_mm,
+    }
+    y, f = p.problem.strip_y_mm, p.problem.separation_on_grid_mm
+    near = f <= 2.0 * ns.delta0_mm  # the strips in contact and their neighbourhood
+    out["strips"] = {"eta_mm": y[near].tolist(), "f_mm": f[near].tolist(), "p_peak_MPa": ns.p_peak_MPa[near].tolist(),
+                     "y_rail_mm": p.rail_y_of_strip[near].tolist(), "y_wheel_mm": p.wheel_y_of_strip[near].tolist()}
+    if p.passes:
+        out["passes"] = [{**r.summary(), "max_cumulative_residual_mm":
+                          {b: float(np.max(v, initial=0.0)) for b, v in r.cumulative_residual_mm.items()}}
+                         for r in p.passes]
+    return out
+
+
+def wheel_result(sol: WheelRailSolution) -> dict[str, Any]:
+    Q = sol.inputs.vertical_load_N
+    force = sum((p.force_track_N() for p in sol.patches), np.zeros(3))
+    return {
+        "side": sol.inputs.side, "wheel_height_mm": sol.search.wheel_height_mm, "approach_mm": sol.approach_mm,
+        "vertical_balance_rel": sol.vertical_balance_rel,
+        "normal_vertical_N": float(sum(p.normal_force_N * math.cos(p.candidate.contact_angle_rad)
+                                       for p in sol.patches)),
+        "force_on_wheel_track_N": force.tolist(), "Y_over_Q": float(force[1] / Q), "n_patches": len(sol.patches),
+        "patches": [patch_result(p) for p in sol.patches],
+        "unloaded_candidates": [{"y_rail_mm": c.y_rail_mm, "y_wheel_mm": c.y_wheel_mm, "normal_gap_mm": c.normal_gap_mm,
+                                 "contact_angle_rad": c.contact_angle_rad} for c in sol.unloaded],
+        "flange_tip": {"y_wheel_mm": sol.search.flange_tip[0], "Y_side_mm": sol.search.flange_tip[1]},
+    }
+
+
+# ------------------------------------------------------------------------------------------------ run
+def solve_case(parsed: dict[str, Any], case: dict[str, float], placed_rail=None) -> tuple[dict, dict]:
+    """One case of the scene: (result entry, {side: WheelRailSolution}); raises InputError/ConvergenceError."""
+    layout, rail, wheel = parsed["layout"], parsed["rail"], parsed["wheel"]
+    placed_rail = placed_rail or place_rail(rail, layout)
+    roll = case["roll_rad"]
+    pose = WheelsetPose(case["lateral_mm"], case["yaw_rad"], 0.0 if parsed["roll_auto"] else roll)
+    if parsed["roll_auto"]:
+        roll = rigid_roll(placed_rail, wheel, layout, pose, parsed["inputs"]["search"])
+        pose = WheelsetPose(pose.lateral_mm, pose.yaw_rad, roll)
+    sols = {}
+    for side in parsed["sides"]:
+        inputs = WheelRailInputs(**{**parsed["inputs"], "side": side, "pose": pose})
+        sols[side] = solve_wheel(rail, wheel, inputs, parsed["layers"], placed_rail,
+                                 case=f"case lateral {pose.lateral_mm:g} mm, yaw {pose.yaw_rad:g} rad, {side} wheel")
+    entry = {"lateral_mm": pose.lateral_mm, "yaw_rad": pose.yaw_rad, "roll_rad": pose.roll_rad,
+             "wheels": {side: wheel_result(s) for side, s in sols.items()}}
+    if len(sols) == 2:  # rolling radius difference of the main (largest normal force) patches, left - right
+        r = {side: max(s.patches, key=lambda p: p.normal_force_N).candidate.wheel_radius_mm for side, s in sols.items()}
+        entry["rolling_radius_difference_mm"] = r["left"] - r["right"]
+    return entry, sols
+
+
+def write_deformed_profiles(parsed: dict[str, Any], sols: dict[str, WheelRailSolution], out_dir: Path,
+                            stem: str) -> list[dict[str, Any]]:
+    """Deformed rail and wheel profiles of one case (every side), written as SIMPACK and CSV and read back."""
+    from meshes.profiles.io import read_profile, write_simpack, write_text
+
+    written = []
+    for side, sol in sols.items():
+        for body, (ys, up) in residual_on_profiles(sol.patches).items():
+            if not np.any(up > 1e-9):
+                continue
+            prof = parsed[body]
+            pts = deformed_profile(prof, ys, up)
+            ext = ".prr" if body == "rail" else ".prw"
+            for suffix in (ext, ".csv"):
+                path = out_dir / "deformed_profiles" / f"{stem}_{side}_{body}{suffix}"
+                path.parent.mkdir(parents=True, exist_ok=True)
+                if suffix == ".csv":
+                    write_text(path, pts, comment=f"{prof.name} with residual displacements ({stem}, {side})")
+                    back = read_profile(path, body=body)
+                else:
+                    write_simpack(path, pts, body=body, comment=f"{prof.name} deformed {stem} {side}")
+                    back = read_profile(path)
+                err = float(np.max(np.abs(back.z(pts[:, 0]) - pts[:, 1])))
+                written.append({"file": str(path.relative_to(out_dir)), "body": body, "side": side,
+                                "max_residual_mm": float(up.max()), "read_back_max_error_mm": err})
+    return written
+
+
+def run_wheel_rail_scene(data: dict[str, Any], scene_path: Path, out_dir: Path, plots: bool) -> dict[str, Any]:
+    """Run a wheel_rail scene (see the module docstring); pictures and deformed profiles go into ``out_dir``."""
+    t0 = time.perf_counter()
+    scene_path, out_dir = Path(scene_path), Path(out_dir)
+    parsed = parse_wheel_rail_scene(data, scene_path)
+    placed = place_rail(parsed["rail"], parsed["layout"])
+    entries, all_sols = [], []
+    for k, case in enumerate(parsed["cases"]):
+        try:
+            entry, sols = solve_case(parsed, case, placed)
+            if parsed["layers"] is not None and parsed["deformed_profiles"]:
+                entry["deformed_profiles"] = write_deformed_profiles(parsed, sols, out_dir, f"case{k:03d}")
+        except (InputError, ConvergenceError) as err:
+            entry, sols = {"lateral_mm": case["lateral_mm"], "yaw_rad": case["yaw_rad"],
+                           "roll_rad": case["roll_rad"], "error": str(err)}, None
+        entry["case"] = k
+        entries.append(entry)
+        all_sols.append(sols)
+    if all(s is None for s in all_sols):
+        raise InputError(scene_path.name, f"every case failed; first: {entries[0]['error']}")
+    result = {
+        "type": "wheel_rail",
+        "inputs": _inputs_echo(parsed, scene_path, data),
+        "code_version": code_version(),
+        "units": {**UNITS, "angles": "rad (contact_angle_deg in degrees)",
+                  "Fx_N, Fy_N": "N (creep forces of the rail on the wheel, contact frame x = rolling direction, "
+                                "y = contact-plane lateral axis with positive track-Y component)"},
+        "conventions": CONVENTIONS,
+        "rail_placement": {"dy_mm": placed.dy_mm, "dz_mm": placed.dz_mm, "angle_rad": placed.angle_rad,
+                           "gauge_point_Y_mm": placed.gauge_point[0], "gauge_point_Z_mm": placed.gauge_point[1],
+                           "top_y_rail_mm": placed.top_q_mm},
+        "cases": entries,
+        "n_failed": sum(1 for e in entries if "error" in e),
+        "timings_s": {"total": time.perf_counter() - t0},
+    }
+    if plots:
+        from contact.wheel_rail.plots import write_wheel_rail_plots
+
+        result["pictures"] = [p.name for p in write_wheel_rail_plots(result, all_sols, out_dir)]
+    return result
+
+
+CONVENTIONS = {
+    "y_rail_mm": "rail profile coordinate of the contact point: from the head centre line, + towards the field side "
+                 "(gauge side negative); same for both rails",
+    "y_wheel_mm": "wheel profile coordinate (S1002: S, 0 at the taping line, + towards the field side, flange "
+                  "negative); same for both wheels",
+    "Y_track_mm": "lateral track coordinate of the wheel contact point (from the track centre, + towards the right "
+                  "rail)",
+    "contact_angle_rad": "angle of the contact normal from the vertical, positive when it tilts towards the track "
+                         "centre (flange contact ~ +1.2 rad), same sign for both wheels",
+    "rolling_radius_kp_mm": "Kik-Piotrowski radius in the rolling direction: 1/(k_c cos^2 b + k_m sin^2 b); without "
+                            "yaw r / cos(wheel contact angle)",
+    "strips": "per strip of a patch (track orientation, eta = 0 at the contact point): separation f in the contact "
+              "plane (shifted to min 0), peak pressure p(0, eta), and the strip's profile coordinates on rail and wheel",
+    "lateral_mm/yaw_rad/roll_rad": "wheelset displacement towards the right rail; yaw counter-clockwise seen from "
+                                   "above; roll lifting the right wheel",
+}
+
+
+def _inputs_echo(parsed: dict[str, Any], scene_path: Path, data: dict[str, Any]) -> dict[str, Any]:
+    lay = parsed["layout"]
+    inp = parsed["inputs"]
+    layers = parsed["layers"]
+    return {
+        "scene_file": str(scene_path.resolve()),
+        "content_sha256": hashlib.sha256(scene_path.read_bytes()).hexdigest() if scene_path.is_file() else None,
+        "title": data.get("title", ""), "description": data.get("description", ""),
+        "rail_profile": parsed["rail"].name, "wheel_profile": parsed["wheel"].name,
+        "track": {"gauge_mm": lay.gauge_mm, "gauge_depth_mm": lay.gauge_depth_mm,
+                  "inclination_rad": lay.inclination_rad, "back_to_back_mm": lay.back_to_back_mm,
+                  "flange_back_y_mm": lay.flange_back_y_mm, "nominal_radius_mm": lay.nominal_radius_mm},
+        "sides": parsed["sides"], "roll": "auto" if parsed["roll_auto"] else "given",
+        "vertical_load_N": inp["vertical_load_N"], "speed_mm_s": inp["speed_mm_s"],
+        "pitch_rate_rad_s": inp["pitch_rate_rad_s"] if inp["pitch_rate_rad_s"] is not None
+        else inp["speed_mm_s"] / lay.nominal_radius_mm,
+        "friction": inp["friction"], "E_MPa": inp["E_MPa"], "poisson": inp["poisson"],
+        "G_MPa": inp["E_MPa"] / (2.0 * (1.0 + inp["poisson"])),
+        "method": {"alpha": inp["alpha"], "grid_mm": inp["grid_mm"], "fastsim_cells": inp["fastsim_cells"],
+                   **vars(inp["search"])},
+        "passes": vars(inp["passes"]),
+        "layers": None if layers is None else (
+            {"combined": layers.combined.to_dict()} if layers.combined is not None else
+            {**{b: n for b, n in layers.names.items()}, "sha256": parsed["table_sha256"]}),
+        "scene_toml": data,
+    }
+
+
+__all__ = [
+    "CONVENTIONS",
+    "parse_wheel_rail_scene",
+    "patch_result",
+    "run_wheel_rail_scene",
+    "solve_case",
+    "wheel_result",
+    "write_deformed_profiles",
+]

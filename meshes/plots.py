@@ -1,0 +1,141 @@
+"""Pictures of section (2D, matplotlib) and local (3D, pyvista off-screen) meshes, refinement visible (mm).
+
+- :func:`plot_section`: the triangles with the named boundaries coloured, and a close-up of the load point.
+- :func:`plot_local`: the boundary facets of the 3D mesh coloured by boundary name with element edges, an
+  overview and a close-up of the load region (the x = 0 symmetry face shows the refinement in depth).
+PNG files are written atomically.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+import skfem
+from matplotlib.collections import LineCollection
+
+from wrlayer.atomic_write import atomic_write_bytes
+
+BOUNDARY_COLOURS = {"surface": "tab:red", "side": "tab:blue", "fixed": "tab:green", "symmetry": "tab:orange",
+                    "end": "tab:gray"}
+
+
+def _save_figure(fig, path: str | os.PathLike) -> Path:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=150)
+    plt.close(fig)
+    return atomic_write_bytes(path, buf.getvalue())
+
+
+def _draw_section(ax, mesh: skfem.Mesh) -> None:
+    ax.triplot(mesh.p[0], mesh.p[1], mesh.t.T, color="0.35", lw=0.3)
+    for name, facets in mesh.boundaries.items():
+        segments = mesh.p[:, mesh.facets[:, facets]].transpose(2, 1, 0)  # (n, 2 ends, (y, z))
+        ax.add_collection(LineCollection(segments, colors=BOUNDARY_COLOURS.get(name, "k"), lw=1.2, label=name))
+
+
+def plot_section(mesh: skfem.Mesh, profile, y0: float, path: str | os.PathLike, title: str = "",
+                 zoom_mm: float | None = None) -> Path:
+    """PNG of a 2D section mesh: the whole section and a close-up of +-``zoom_mm`` around (y0, z(y0))."""
+    z0 = float(profile.z(y0))
+    lengths = np.linalg.norm(mesh.p[:, mesh.facets[0]] - mesh.p[:, mesh.facets[1]], axis=0)
+    zoom = zoom_mm or max(4.0, 15.0 * float(lengths.min()))
+    inward = -1.0 if profile.body == "rail" else 1.0  # direction from the surface into the material
+    window = (y0 - zoom, y0 + zoom, *sorted((z0 - 0.25 * inward * zoom, z0 + 1.25 * inward * zoom)))
+    fig, (ax, close) = plt.subplots(1, 2, figsize=(13, 6), gridspec_kw={"width_ratios": [1.3, 1]})
+    for axis in (ax, close):
+        _draw_section(axis, mesh)
+        axis.plot([y0], [z0], "k+", ms=14, mew=1.5)
+        axis.set_aspect("equal")
+        axis.set_xlabel("y (mm)")
+        axis.set_ylabel("z (mm)")
+    close.set_xlim(window[:2])
+    close.set_ylim(window[2:])
+    ax.indicate_inset_zoom(close, edgecolor="k")
+    close.legend(loc="lower right" if profile.body == "rail" else "upper right", fontsize=8, framealpha=0.9)
+    ax.set_title(title or f"{profile.name}: {mesh.nvertices} nodes, {mesh.nelements} elements")
+    close.set_title(f"load point y0 = {y0:g} mm (+)")
+    fig.tight_layout()
+    return _save_figure(fig, path)
+
+
+def _boundary_polydata(mesh: skfem.Mesh):
+    import pyvista
+
+    faces, group = [], []
+    names = list(mesh.boundaries)
+    for k, name in enumerate(names):
+        tri = mesh.facets[:, mesh.boundaries[name]].T
+        faces.append(np.c_[np.full(len(tri), 3), tri])
+        group.append(np.full(len(tri), k))
+    poly = pyvista.PolyData(mesh.p.T.copy(), np.concatenate(faces).ravel())
+    poly.cell_data["boundary"] = np.concatenate(group)
+    return poly, names
+
+
+def plot_local(mesh: skfem.Mesh, profile, y0: float, path: str | os.PathLike, title: str = "",
+               zoom_mm: float = 10.0) -> Path:
+    """PNG of a 3D local mesh: overview and close-up (+-``zoom_mm``) of the load point (0, y0, z(y0))."""
+    from matplotlib.colors import ListedColormap
+
+    from wrlayer.offscreen import offscreen_pyvista
+
+    pyvista = offscreen_pyvista()
+    poly, names = _boundary_polydata(mesh)
+    cmap = ListedColormap([BOUNDARY_COLOURS.get(n, "k") for n in names])
+    load = np.array([0.0, y0, float(profile.z(y0))])
+    view = np.array([-1.0, 0.7, 0.8 if profile.body == "rail" else -0.8])
+    plotter = pyvista.Plotter(off_screen=True, shape=(1, 2), window_size=(1600, 800), border=False)
+    for col in (0, 1):
+        plotter.subplot(0, col)
+        plotter.add_mesh(poly, scalars="boundary", cmap=cmap, clim=(-0.5, len(names) - 0.5), show_edges=True,
+                         edge_color="black", line_width=0.5, show_scalar_bar=False)
+        plotter.add_mesh(pyvista.PolyData(load[None, :]), color="black", point_size=12,
+                         render_points_as_spheres=True)
+        plotter.view_vector(view, viewup=(0.0, 0.0, 1.0))
+        if col == 0:
+            plotter.reset_camera()
+            plotter.add_text(title or f"{profile.name}: {mesh.nvertices} nodes, {mesh.nelements} tetrahedra",
+                             font_size=10)
+        else:
+            plotter.camera.focal_point = load
+            plotter.camera.position = load + 3.0 * zoom_mm * view / np.linalg.norm(view)
+            plotter.add_text("load region (x = 0 is the symmetry plane)", font_size=10)
+    plotter.subplot(0, 0)
+    plotter.add_legend([(n, BOUNDARY_COLOURS.get(n, "k")) for n in names], bcolor="white", size=(0.16, 0.18),
+                       loc="upper right")
+    image = plotter.screenshot(None, return_img=True)
+    plotter.close()
+    fig = plt.figure(figsize=(image.shape[1] / 150, image.shape[0] / 150))
+    fig.figimage(image)
+    return _save_figure(fig, path)
+
+
+#: The meshes drawn by ``python -m meshes plots``: (profile, y0 mm, 2D h_min/h_max/refine radius mm,
+#: 3D h_min/h_max/length mm/refine box half-sizes mm).
+DEFAULT_PLOTS = (("60E1", 0.0), ("S1002", 0.0))
+DEFAULT_2D = {"h_min": 0.3, "h_max": 5.0, "refine_radius_mm": 2.0}
+DEFAULT_3D = {"h_min": 0.5, "h_max": 8.0, "length_mm": 30.0, "refine_box": (3.0, 4.0, 2.0)}
+
+
+def write_default_plots(out_dir: str | os.PathLike) -> list[Path]:
+    """PNG pictures of the default 2D and 3D meshes of the 60E1 rail and S1002 wheel into ``out_dir``."""
+    from wrlayer.atomic_write import atomic_output_dir
+    from meshes.meshing.local_mesh import local_mesh
+    from meshes.profiles import get_profile
+    from meshes.meshing.section_mesh import section_mesh
+
+    names = []
+    with atomic_output_dir(out_dir) as tmp:
+        for name, y0 in DEFAULT_PLOTS:
+            profile = get_profile(name)
+            plot_section(section_mesh(profile, y0, **DEFAULT_2D), profile, y0, tmp / f"section_{name}.png")
+            plot_local(local_mesh(profile, y0, **DEFAULT_3D), profile, y0, tmp / f"local_{name}.png")
+            names += [f"section_{name}.png", f"local_{name}.png"]
+    return [Path(out_dir) / n for n in names]

@@ -1,0 +1,99 @@
+"""Scene parsing: the shipped scenes, defaults, the parabola separation, per-body layers, the inputs record."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from contact.scenes.result_io import result_text
+from contact.scenes.scene import load_scene, parse_scene, scene_inputs
+from wrlayer.errors import InputError
+
+SCENES = Path(__file__).resolve().parents[3] / "scenes"
+KP_SCENES = sorted(p for p in SCENES.glob("*.toml") if "type = \"wheel_rail\"" not in p.read_text())
+
+MINIMAL = {
+    "load": {"normal_force_N": 20000.0, "rolling_radius_mm": 400.0},
+    "material": {"E_MPa": 210000.0, "poisson": 0.28},
+    "separation": {"y_mm": [-4.0, 0.0, 4.0], "f_mm": [0.16, 0.0, 0.16]},
+}
+LAYER = {"u_mm": [0.0, 0.0202, 0.0301, 0.06], "p_MPa": [0.0, 1190.0, 1456.0, 1800.0]}
+
+
+def scene_with(**sections):
+    data = {k: dict(v) for k, v in MINIMAL.items()}
+    data.update(sections)
+    return parse_scene(data, Path("/tmp/test_scene.toml"))
+
+
+@pytest.mark.parametrize("path", KP_SCENES, ids=[p.stem for p in KP_SCENES])
+def test_shipped_scenes_load(path):
+    scene = load_scene(path)
+    assert scene.load.normal_force_N > 0 and scene.separation.y_mm.size >= 3
+    json.loads(result_text({"inputs": scene_inputs(scene)}))  # the inputs record is strict JSON
+
+
+def test_paper_scenes_share_the_paper_inputs():
+    """The three paper scenes differ only in the layer and the passes (R = 1600 mm, N = 100 kN, creepages)."""
+    scenes = [load_scene(SCENES / f"paper_{n}.toml") for n in ("no_layer", "with_layer", "shakedown")]
+    for s in scenes:
+        assert (s.load.normal_force_N, s.load.rolling_radius_mm) == (100000.0, 1600.0)
+        assert (s.tangential.creepage_x, s.tangential.creepage_y, s.tangential.spin_per_mm) == (0.002, 0.0, 0.0012)
+        np.testing.assert_array_equal(s.separation.f_mm, scenes[0].separation.f_mm)
+    assert scenes[0].layer is None
+    assert scenes[1].layer.combined.elastic_limit_MPa == 1190.0 and scenes[1].passes.max == 1
+    assert scenes[2].passes.max > 19 and not scenes[2].passes.hardening
+
+
+def test_defaults():
+    s = scene_with()
+    assert (s.method.alpha, s.method.grid_mm, s.method.fastsim_cells) == (0.55, 0.1, 60)
+    assert (s.passes.max, s.passes.hardening, s.passes.tolerance_mm) == (1, False, 1e-6)
+    assert s.layer is None and s.tangential is None and s.title == "test_scene"
+    t = scene_with(tangential={"creepage_x": 0.001, "friction": 0.25}).tangential
+    assert (t.creepage_y, t.spin_per_mm, t.speed_mm_s, t.friction) == (0.0, 0.0, 1000.0, 0.25)
+    assert t.has_creepage
+    assert math.isclose(s.material.G_MPa, 210000.0 / 2.56)
+
+
+def test_parabola_separation_is_sampled_exactly_on_the_strip_centres():
+    s = scene_with(separation={"lateral_radius_mm": 31.7, "half_width_mm": 5.0}, method={"grid_mm": 0.2})
+    y, f = s.separation.y_mm, s.separation.f_mm
+    assert y[0] == pytest.approx(-5.0) and y[-1] == pytest.approx(5.0)
+    assert np.allclose(np.diff(y), 0.05)  # grid / 4
+    np.testing.assert_allclose(f, y * y / (2 * 31.7))
+    on_grid = np.isclose((y / 0.2) - np.round(y / 0.2), 0.0, atol=1e-9)
+    assert on_grid.sum() == 51  # every strip centre j * h is a table point
+
+
+def test_combined_and_per_body_layers():
+    s = scene_with(layer=LAYER)
+    assert s.layer.combined.n_segments == 3 and s.layer.wheel is None
+    s = scene_with(layer={"wheel": LAYER, "rail": {"u_mm": [0.0, 0.01, 0.03], "p_MPa": [0.0, 1000.0, 1400.0]}})
+    assert s.layer.combined is None
+    assert s.layer.wheel.characteristic.p_MPa[1] == 1190.0 and s.layer.rail.characteristic.p_MPa[1] == 1000.0
+    inputs = scene_inputs(s)
+    assert set(inputs["layer"]) == {"wheel", "rail"}
+
+
+def test_messages_name_file_and_key():
+    with pytest.raises(InputError, match=r"^test_scene.toml: load.normal_force_N: must be > 0, got -5$"):
+        scene_with(load={"normal_force_N": -5, "rolling_radius_mm": 400.0})
+    with pytest.raises(InputError, match=r"test_scene.toml: layer.rail.u_mm/p_MPa: .*concave"):
+        scene_with(layer={"rail": {"u_mm": [0.0, 0.01, 0.02], "p_MPa": [0.0, 100.0, 1000.0]}})
+    with pytest.raises(InputError, match=r"method.fastsim_cells: must be >= 2"):
+        scene_with(method={"fastsim_cells": 1})
+    with pytest.raises(InputError, match=r"reference.p_max: unknown key"):
+        scene_with(reference={"p_max": 1.0})
+
+
+def test_content_hash_follows_the_file(tmp_path):
+    a = tmp_path / "a.toml"
+    text = (SCENES / "hertz_check.toml").read_text()
+    a.write_text(text)
+    h1 = load_scene(a).content_hash
+    a.write_text(text.replace("50000.0", "50001.0"))
+    h2 = load_scene(a).content_hash
+    assert h1 != h2 and len(h1) == 64

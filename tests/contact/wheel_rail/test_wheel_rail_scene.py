@@ -1,0 +1,75 @@
+"""wheel_rail scenes: validation naming the key, a sweep with a bad case still computes the others, CLI run."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from contact.__main__ import main
+from contact.wheel_rail.scene import parse_wheel_rail_scene, run_wheel_rail_scene
+from wrlayer.errors import InputError
+
+
+def _scene(**sections):
+    data = {"type": "wheel_rail", "wheel": {"side": "right"}}
+    data.update(sections)
+    return data
+
+
+@pytest.mark.parametrize("data, match", [
+    (_scene(track={"gauge": 1435.0}), r"s.toml: track.gauge: unknown key"),
+    (_scene(wheel={"side": "middle"}), r"s.toml: wheel.side: must be 'right', 'left' or 'both'"),
+    (_scene(track={"gauge_mm": 1300.0}), r"s.toml: track.gauge_mm: impossible gauge"),
+    (_scene(load={"vertical_load_N": -1.0}), r"s.toml: load.vertical_load_N: must be > 0"),
+    (_scene(profiles={"rail": "S1002"}), r"s.toml: profiles.rail: S1002 is a wheel profile"),
+    (_scene(profiles={"wheel": "missing.prw"}), r"s.toml: profiles.wheel: no such profile file"),
+    (_scene(sweep={"lateral_mm": [0.0, 1.0], "yaw_rad": [0.0]}), r"s.toml: sweep.mode: 'zip' needs"),
+    (_scene(layers={"rail": "none.json"}), r"s.toml: layers.rail: no such calibration table"),
+    (_scene(material={"E_MPa": 2e5, "G_MPa": 8e4}), r"s.toml: material.G_MPa: give either"),
+])
+def test_validation_names_the_key(tmp_path, data, match):
+    with pytest.raises(InputError, match=match):
+        parse_wheel_rail_scene(data, tmp_path / "s.toml")
+
+
+def test_sweep_with_bad_case_computes_the_others(tmp_path):
+    data = _scene(sweep={"lateral_mm": [0.0, 25.0, 3.0]}, wheel={"side": "both"},
+                  wheelset={"roll_rad": 0.0})
+    result = run_wheel_rail_scene(data, tmp_path / "s.toml", tmp_path, plots=False)
+    cases = result["cases"]
+    assert result["n_failed"] == 1
+    assert "flange through the rail" in cases[1]["error"] and "lateral 25 mm" in cases[1]["error"]
+    for k in (0, 2):
+        for side in ("right", "left"):
+            w = cases[k]["wheels"][side]
+            assert abs(w["normal_vertical_N"] - 10000.0) / 10000.0 < 1e-6
+            assert w["patches"][0]["creepage_x"] is not None
+    json.dumps(result)  # JSON-serialisable
+
+
+def test_cli_runs_a_scene_with_pictures(tmp_path):
+    scene = tmp_path / "wr.toml"
+    scene.write_text('type = "wheel_rail"\n[wheel]\nside = "both"\n[wheelset]\nroll_rad = "auto"\n'
+                     '[sweep]\nlateral_mm = [0.0, 6.0]\nyaw_rad = [0.0, 0.012]\n', encoding="utf-8")
+    out = tmp_path / "out"
+    assert main(["simulate", str(scene), "--out", str(out), "--plots"]) == 0
+    result = json.loads((out / "result.json").read_text())
+    assert {"profiles_in_contact.png", "sweep.png"} <= set(result["pictures"])
+    assert all((out / p).is_file() for p in result["pictures"])
+    assert result["cases"][1]["roll_rad"] > 0  # the rigid wheelset rolls when the right flange climbs
+    # a rerun into the same folder without pictures leaves none of the earlier ones behind
+    assert main(["simulate", str(scene), "--out", str(out)]) == 0
+    assert not list(out.glob("*.png")) and (out / "result.json").is_file()
+
+
+def test_shipped_calibrated_tables_cover_the_shipped_layered_sweep(tmp_path):
+    """scenes/tables/*_default.json (output of `make calibrate`) reach every contact of the 21-case sweep."""
+    scene = Path(__file__).resolve().parents[3] / "scenes" / "wheel_rail_sweep_layers.toml"
+    out = tmp_path / "out"
+    assert main(["simulate", str(scene), "--out", str(out)]) == 0
+    result = json.loads((out / "result.json").read_text())
+    assert len(result["cases"]) == 21 and result["n_failed"] == 0
+    tables = [json.loads((scene.parent / "tables" / f).read_text()) for f in
+              ("rail_60E1_default.json", "wheel_S1002_default.json")]
+    assert all(t["header"]["model"] == "2d" and t["header"]["config"] == "calibration/configs/default.toml"
+               for t in tables)
