@@ -36,6 +36,7 @@ import numpy as np
 
 from contact.layer.characteristic import Characteristic
 from wrlayer.errors import InputError
+from wrlayer.validate import Keys
 
 SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
 BODIES = ("wheel", "rail")
@@ -196,111 +197,9 @@ def scene_type(data: dict[str, Any], path: Path) -> str:
     return kind
 
 
-class SceneKeys:
-    """Typed, validating access to one TOML table of a scene file (public: the wheel–rail scene parser uses it).
-
-    ``SceneKeys(file, prefix, table)``: ``file`` is the scene file's name, ``prefix`` the key path of the table
-    ("" for the top level, e.g. "load" or "layer.rail"). The getters (:meth:`number`, :meth:`integer`,
-    :meth:`boolean`, :meth:`text`, :meth:`array`, :meth:`sub`) check type, finiteness and bounds and raise
-    :class:`wrlayer.errors.InputError` naming ``<file>: <prefix>.<key>`` (e.g. ``scene.toml: load.normal_force_N``);
-    :meth:`check_known` rejects unknown keys. Raises InputError when ``table`` is not a TOML table.
-    """
-
-    def __init__(self, file: str, prefix: str, table: Any):
-        self.file, self.prefix = file, prefix
-        if not isinstance(table, dict):
-            raise InputError(f"{file}: {prefix}", f"must be a table ([{prefix}]), got {_kind(table)}")
-        self.table = table
-
-    def what(self, key: str) -> str:
-        """The error location of ``key``: ``<file>: <prefix>.<key>``."""
-        return f"{self.file}: {self.prefix}.{key}" if self.prefix else f"{self.file}: {key}"
-
-    def error(self, key: str, problem: str) -> InputError:
-        """An InputError for ``key`` (to raise)."""
-        return InputError(self.what(key), problem)
-
-    def check_known(self, allowed: tuple[str, ...]) -> None:
-        """Raise InputError for the first key of the table not in ``allowed``."""
-        for key in self.table:
-            if key not in allowed:
-                raise self.error(key, f"unknown key (allowed: {', '.join(allowed)})")
-
-    def number(self, key: str, default: float | None = None, *, gt: float | None = None, ge: float | None = None,
-               lt: float | None = None, le: float | None = None) -> float:
-        """A finite number (int or float, not bool), ``default`` when absent (None: required), within the bounds."""
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, "missing (required)")
-            return default
-        value = self.table[key]
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.error(key, f"must be a number, got {_kind(value)} {value!r}")
-        value = float(value)
-        if not math.isfinite(value):
-            raise self.error(key, f"must be a finite number, got {value!r}")
-        for bound, ok, sign in ((gt, lambda v, b: v > b, ">"), (ge, lambda v, b: v >= b, ">="),
-                                (lt, lambda v, b: v < b, "<"), (le, lambda v, b: v <= b, "<=")):
-            if bound is not None and not ok(value, bound):
-                raise self.error(key, f"must be {sign} {bound:g}, got {value:g}")
-        return value
-
-    def integer(self, key: str, default: int, *, ge: int) -> int:
-        """An integer >= ``ge``, ``default`` when absent."""
-        if key not in self.table:
-            return default
-        value = self.table[key]
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise self.error(key, f"must be an integer, got {_kind(value)} {value!r}")
-        if value < ge:
-            raise self.error(key, f"must be >= {ge}, got {value}")
-        return int(value)
-
-    def boolean(self, key: str, default: bool) -> bool:
-        """true/false, ``default`` when absent."""
-        value = self.table.get(key, default)
-        if not isinstance(value, bool):
-            raise self.error(key, f"must be true or false, got {_kind(value)} {value!r}")
-        return value
-
-    def text(self, key: str, default: str | None = None) -> str:
-        """A string, ``default`` when absent (None: required)."""
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, "missing (required)")
-            return default
-        value = self.table[key]
-        if not isinstance(value, str):
-            raise self.error(key, f"must be a string, got {_kind(value)} {value!r}")
-        return value
-
-    def array(self, key: str, min_len: int = 2) -> np.ndarray:
-        """A required list of at least ``min_len`` finite numbers, as a float array."""
-        if key not in self.table:
-            raise self.error(key, "missing (required)")
-        value = self.table[key]
-        if not isinstance(value, list):
-            raise self.error(key, f"must be a list of numbers, got {_kind(value)}")
-        bad = [v for v in value if isinstance(v, bool) or not isinstance(v, (int, float))]
-        if bad:
-            raise self.error(key, f"must be a list of numbers, found {_kind(bad[0])} {bad[0]!r}")
-        arr = np.asarray(value, dtype=float)
-        if not np.all(np.isfinite(arr)):
-            raise self.error(key, "contains NaN or infinite values")
-        if arr.size < min_len:
-            raise self.error(key, f"needs at least {min_len} values, got {arr.size}")
-        return arr
-
-    def sub(self, key: str) -> SceneKeys | None:
-        """The sub-table ``key`` as SceneKeys (prefix extended), None when absent."""
-        if key not in self.table:
-            return None
-        return SceneKeys(self.file, f"{self.prefix}.{key}" if self.prefix else key, self.table[key])
-
-
-def _kind(value: Any) -> str:
-    return {bool: "boolean", int: "integer", float: "number", str: "string", list: "list",
-            dict: "table"}.get(type(value), type(value).__name__)
+class SceneKeys(Keys):
+    """Typed, validating access to one TOML table of a scene file: :class:`wrlayer.validate.Keys` (the one
+    validation layer of every reader; public: the wheel–rail scene parser uses it)."""
 
 
 TOP_KEYS = ("title", "description", "type", "load", "material", "separation", "layer", "tangential", "passes",
