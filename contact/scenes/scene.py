@@ -42,6 +42,10 @@ SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
 BODIES = ("wheel", "rail")
 #: Largest number of lateral strips (separation table width / grid_mm) a scene may ask for.
 MAX_STRIPS = 20000
+#: Largest number of FASTSIM cells per strip (method.fastsim_cells): beyond it the cell arrays alone take GBs.
+MAX_FASTSIM_CELLS = 10000
+#: Largest passes.max: every pass keeps its record (strip arrays); the paper's shakedown takes 20-50 passes.
+MAX_PASSES = 100000
 #: Keys allowed in [reference]: published values of the last pass (Table 1 rows), units in the names.
 REFERENCE_KEYS = ("source", "length_mm", "width_mm", "area_mm2", "delta_mm", "Fx_N", "Fy_N", "p_max_MPa",
                   "WT_max", "PT_max_W_per_mm2", "passes", "u0_mm", "up0_mm")
@@ -236,7 +240,7 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
         keys.check_known(("alpha", "grid_mm", "fastsim_cells"))
         method = MethodSpec(alpha=keys.number("alpha", 0.55, gt=0.0, le=1.0),
                             grid_mm=keys.number("grid_mm", 0.1, gt=0.0),
-                            fastsim_cells=keys.integer("fastsim_cells", 60, ge=2))
+                            fastsim_cells=keys.integer("fastsim_cells", 60, ge=2, le=MAX_FASTSIM_CELLS))
 
     separation = _parse_separation(top.sub("separation"), method.grid_mm)
     n_strips = (separation.y_mm[-1] - separation.y_mm[0]) / method.grid_mm
@@ -271,7 +275,7 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
     passes = PassesSpec()
     if (keys := top.sub("passes")) is not None:
         keys.check_known(("max", "hardening", "tolerance_mm"))
-        passes = PassesSpec(max=keys.integer("max", 1, ge=1), hardening=keys.boolean("hardening", False),
+        passes = PassesSpec(max=keys.integer("max", 1, ge=1, le=MAX_PASSES), hardening=keys.boolean("hardening", False),
                             tolerance_mm=keys.number("tolerance_mm", 1e-6, gt=0.0))
         if passes.max > 1 and layer is None:
             raise keys.error("max", f"repeated passes ({passes.max}) need a [layer] (without a layer every pass "

@@ -39,12 +39,13 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from tqdm import tqdm
 
 from contact.layer.characteristic import Characteristic
 from contact.wheel_rail.contact_search import SearchSettings
 from contact.passes.passes import PassesOptions
 from contact.scenes.result_io import UNITS, code_version
-from contact.scenes.scene import SceneKeys
+from contact.scenes.scene import MAX_FASTSIM_CELLS, MAX_PASSES, SceneKeys
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
 from contact.wheel_rail.solve import (
     PatchSolution,
@@ -62,6 +63,9 @@ from meshes.profiles import get_profile
 TOP_KEYS = ("title", "description", "type", "profiles", "track", "wheel", "wheelset", "load", "material",
             "tangential", "layers", "passes", "method", "sweep", "output")
 SWEEP_KEYS = ("lateral_mm", "yaw_rad", "roll_rad")
+#: Largest number of sweep cases (values per axis, and cases of the product): a hard size limit, checked before
+#: any case is built; the cost guard (contact.scenes.cost) refuses long runs below it unless forced.
+MAX_CASES = 100000
 
 
 # ------------------------------------------------------------------------------------------------ parsing
@@ -91,8 +95,10 @@ def _values(keys: SceneKeys, key: str) -> np.ndarray:
         if stop < start:
             raise sub.error("stop", f"must be >= start ({start:g}), got {stop:g}")
         n = math.floor((stop - start) / step + 1e-6) + 1
+        if n > MAX_CASES:
+            raise sub.error("step", f"gives {n:.3g} values from {start:g} to {stop:g} (at most {MAX_CASES})")
         return start + step * np.arange(n)
-    return keys.array(key, min_len=1)
+    return keys.array(key, min_len=1, max_len=MAX_CASES)
 
 
 def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, Any]:
@@ -175,8 +181,8 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
               "speed_mm_s": load.number("speed_mm_s", 2000.0, gt=0.0), "pitch_rate_rad_s": pitch,
               "friction": s("tangential").number("friction", 0.3, ge=0.0), "E_MPa": E, "poisson": nu,
               "alpha": met.number("alpha", 0.55, gt=0.0, le=1.0), "grid_mm": met.number("grid_mm", 0.1, gt=0.0),
-              "fastsim_cells": met.integer("fastsim_cells", 60, ge=2),
-              "passes": PassesOptions(max_passes=pas.integer("max", 1, ge=1),
+              "fastsim_cells": met.integer("fastsim_cells", 60, ge=2, le=MAX_FASTSIM_CELLS),
+              "passes": PassesOptions(max_passes=pas.integer("max", 1, ge=1, le=MAX_PASSES),
                                       tolerance_mm=pas.number("tolerance_mm", 1e-6, ge=0.0),
                                       hardening=pas.boolean("hardening", False)),
               "search": search}
@@ -241,6 +247,10 @@ def _cases(sweep: SceneKeys | None, base_pose: dict[str, float]) -> list[dict[st
             raise sweep.error("mode", f"'zip' needs sweep lists of equal length, got {sizes}")
         rows = list(zip(*(axes[k] for k in names)))
     else:
+        n_cases = math.prod(v.size for v in axes.values())
+        if n_cases > MAX_CASES:
+            raise sweep.error("mode", f"'product' of {' x '.join(str(v.size) for v in axes.values())} values gives "
+                              f"{n_cases:.3g} cases (at most {MAX_CASES})")
         rows = list(itertools.product(*(axes[k] for k in names)))
     cases = []
     for row in rows:
@@ -364,7 +374,8 @@ def run_wheel_rail_scene(data: dict[str, Any], scene_path: Path, out_dir: Path, 
     parsed = parse_wheel_rail_scene(data, scene_path)
     placed = place_rail(parsed["rail"], parsed["layout"])
     entries, all_sols = [], []
-    for k, case in enumerate(parsed["cases"]):
+    for k, case in enumerate(tqdm(parsed["cases"], desc=scene_path.name, unit="case", disable=None,
+                                  leave=False) if len(parsed["cases"]) > 1 else parsed["cases"]):
         try:
             entry, sols = solve_case(parsed, case, placed)
             if parsed["layers"] is not None and parsed["deformed_profiles"]:
