@@ -35,16 +35,18 @@ def _human(seconds: float) -> str:
 @dataclass(frozen=True)
 class CostEstimate:
     """``factors``: named counts whose product is the work (e.g. {"cases": 21, "passes": 60}); ``seconds``: the
-    estimated wall time (s); ``what``: the input the run comes from (named in the refusal)."""
+    estimated wall time (s); ``what``: the input the run comes from (named in the refusal); ``note``: said after
+    the factors (e.g. "on 2 workers")."""
 
     what: str
     factors: dict[str, float] = field(default_factory=dict)
     seconds: float = 0.0
+    note: str = ""
 
     def describe(self) -> str:
         """``"21 cases x 60 passes x 160 strips ~ 2.1 s"``."""
         parts = " x ".join(f"{_count(v)} {k}" for k, v in self.factors.items())
-        return f"{parts} ~ {_human(self.seconds)}"
+        return f"{parts}{' ' + self.note if self.note else ''} ~ {_human(self.seconds)}"
 
 
 def _count(v: float) -> str:
