@@ -66,6 +66,8 @@ SWEEP_KEYS = ("lateral_mm", "yaw_rad", "roll_rad")
 #: Largest number of sweep cases (values per axis, and cases of the product): a hard size limit, checked before
 #: any case is built; the cost guard (contact.scenes.cost) refuses long runs below it unless forced.
 MAX_CASES = 100000
+#: Finest strip grid of a wheel–rail scene (mm): finer grids only multiply the cost (and overflow the strip count).
+MIN_GRID_MM = 1e-3
 
 
 # ------------------------------------------------------------------------------------------------ parsing
@@ -155,6 +157,8 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
                              1360.0, gt=0.0), flange_back_y_mm=track.number("flange_back_y_mm", -70.0),
                              nominal_radius_mm=r0)
     except InputError as err:
+        if err.what.startswith(f"{file}: "):  # already names the file and key (a bad number)
+            raise
         raise InputError(f"{file}: track.{err.what}", err.problem) from None
     side = wheel_keys.text("side", "right")
     if side not in ("right", "left", "both"):
@@ -180,7 +184,7 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
               "vertical_load_N": load.number("vertical_load_N", 10000.0, gt=0.0),
               "speed_mm_s": load.number("speed_mm_s", 2000.0, gt=0.0), "pitch_rate_rad_s": pitch,
               "friction": s("tangential").number("friction", 0.3, ge=0.0), "E_MPa": E, "poisson": nu,
-              "alpha": met.number("alpha", 0.55, gt=0.0, le=1.0), "grid_mm": met.number("grid_mm", 0.1, gt=0.0),
+              "alpha": met.number("alpha", 0.55, gt=0.0, le=1.0), "grid_mm": met.number("grid_mm", 0.1, ge=MIN_GRID_MM),
               "fastsim_cells": met.integer("fastsim_cells", 60, ge=2, le=MAX_FASTSIM_CELLS),
               "passes": PassesOptions(max_passes=pas.integer("max", 1, ge=1, le=MAX_PASSES),
                                       tolerance_mm=pas.number("tolerance_mm", 1e-6, ge=0.0),
