@@ -6,9 +6,13 @@
 ``simulate`` writes ``DIR/result.json`` (and pictures with ``--plots``) atomically: on any error nothing is
 written; the folder is built beside DIR and replaces it as a whole (:func:`wrlayer.atomic_write.replace_output_dir`:
 a lock refuses a second run into the same DIR, files of an earlier run never survive beside the new ones). A run
-whose estimated cost exceeds the limit is refused up front unless ``--force`` (:mod:`contact.scenes.cost`). ``simulate-all`` runs every ``*.toml`` of the folder into ``OUT/<scene-stem>/``, then prints a table like
-the paper's Table 1 and writes it to ``OUT/table.md`` and ``OUT/table.csv``; a failing scene is reported in one
-line, the others still run, and the exit code is non-zero if any failed.
+whose estimated cost exceeds the limit is refused up front unless ``--force`` (:mod:`contact.scenes.cost`).
+``simulate-all`` runs every ``*.toml`` of the folder into ``OUT/<scene-stem>/``, then prints a table like the
+paper's Table 1 and writes it to ``OUT/table.md`` and ``OUT/table.csv``; a failing scene is reported in one line,
+the others still run, and the exit code is non-zero if any failed.
+
+Exit codes: 0 success; 1 some scenes of ``simulate-all`` failed (each reported in one line); 2 bad input (scene,
+table or profile file, a refused cost, a busy ``--out``); 3 numerical failure (ConvergenceError); 130 interrupted.
 """
 
 from __future__ import annotations

@@ -44,6 +44,16 @@ BODIES = ("wheel", "rail")
 MAX_STRIPS = 20000
 #: Largest number of FASTSIM cells per strip (method.fastsim_cells): beyond it the cell arrays alone take GBs.
 MAX_FASTSIM_CELLS = 10000
+#: Plausible Young's modulus range (MPa): from soft polymers to beyond tungsten carbide; outside it the contact
+#: patch or approach is absurd (a 1e-33 MPa modulus asks for a 1e15-cell patch).
+MIN_E_MPA, MAX_E_MPA = 1.0, 1e7
+#: Plausible ranges of the other scene quantities (the solvers underflow or ask for absurd grids outside them):
+#: rolling radius 1 mm .. 1 km, lateral radius >= 0.01 mm, normal force >= 1 mN, alpha >= 0.01, grid >= 1 um.
+MIN_RADIUS_MM, MAX_RADIUS_MM = 1.0, 1e6
+MIN_LATERAL_RADIUS_MM = 1e-2
+MIN_FORCE_N = 1e-3
+MIN_ALPHA = 1e-2
+MIN_GRID_MM = 1e-3
 #: Largest passes.max: every pass keeps its record (strip arrays); the paper's shakedown takes 20-50 passes.
 MAX_PASSES = 100000
 #: Keys allowed in [reference]: published values of the last pass (Table 1 rows), units in the names.
@@ -229,23 +239,25 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
 
     load_keys = top.sub("load")
     load_keys.check_known(("normal_force_N", "rolling_radius_mm"))
-    load = LoadSpec(load_keys.number("normal_force_N", gt=0.0), load_keys.number("rolling_radius_mm", gt=0.0))
+    load = LoadSpec(load_keys.number("normal_force_N", ge=MIN_FORCE_N),
+                    load_keys.number("rolling_radius_mm", ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM))
 
     mat_keys = top.sub("material")
     mat_keys.check_known(("E_MPa", "poisson"))
-    material = MaterialSpec(mat_keys.number("E_MPa", gt=0.0), mat_keys.number("poisson", ge=0.0, lt=0.5))
+    material = MaterialSpec(mat_keys.number("E_MPa", ge=MIN_E_MPA, le=MAX_E_MPA),
+                            mat_keys.number("poisson", ge=0.0, lt=0.5))
 
     method = MethodSpec()
     if (keys := top.sub("method")) is not None:
         keys.check_known(("alpha", "grid_mm", "fastsim_cells"))
-        method = MethodSpec(alpha=keys.number("alpha", 0.55, gt=0.0, le=1.0),
-                            grid_mm=keys.number("grid_mm", 0.1, gt=0.0),
+        method = MethodSpec(alpha=keys.number("alpha", 0.55, ge=MIN_ALPHA, le=1.0),
+                            grid_mm=keys.number("grid_mm", 0.1, ge=MIN_GRID_MM),
                             fastsim_cells=keys.integer("fastsim_cells", 60, ge=2, le=MAX_FASTSIM_CELLS))
 
     separation = _parse_separation(top.sub("separation"), method.grid_mm)
     n_strips = (separation.y_mm[-1] - separation.y_mm[0]) / method.grid_mm
     if n_strips > MAX_STRIPS:
-        raise InputError(f"{file}: method.grid_mm", f"{method.grid_mm:g} mm gives {n_strips:.0f} strips over the "
+        raise InputError(f"{file}: method.grid_mm", f"{method.grid_mm:g} mm gives {n_strips:.3g} strips over the "
                          f"separation table (at most {MAX_STRIPS}): use a coarser grid or a shorter table")
     if n_strips < 2:
         raise InputError(f"{file}: method.grid_mm", f"{method.grid_mm:g} mm is wider than the separation table "
@@ -295,12 +307,12 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
 def _parse_separation(keys: SceneKeys, grid_mm: float) -> SeparationSpec:
     if "lateral_radius_mm" in keys.table:
         keys.check_known(("lateral_radius_mm", "half_width_mm", "step_mm"))
-        radius = keys.number("lateral_radius_mm", gt=0.0)
+        radius = keys.number("lateral_radius_mm", ge=MIN_LATERAL_RADIUS_MM)
         half = keys.number("half_width_mm", 10.0, gt=0.0)
         step = keys.number("step_mm", grid_mm / 4.0, gt=0.0)
         if half / step > 2 * MAX_STRIPS:
             what = keys.what("step_mm") if "step_mm" in keys.table else f"{keys.file}: method.grid_mm"
-            raise InputError(what, f"gives {2 * half / step:.0f} separation points over +-{half:g} mm "
+            raise InputError(what, f"gives {2 * half / step:.3g} separation points over +-{half:g} mm "
                              f"(at most {4 * MAX_STRIPS}): use a coarser grid")
         n = math.ceil(half / step)
         y = np.linspace(-n * step, n * step, 2 * n + 1)

@@ -45,7 +45,18 @@ from contact.layer.characteristic import Characteristic
 from contact.wheel_rail.contact_search import SearchSettings
 from contact.passes.passes import PassesOptions
 from contact.scenes.result_io import UNITS, code_version
-from contact.scenes.scene import MAX_FASTSIM_CELLS, MAX_PASSES, SceneKeys
+from contact.scenes.scene import (
+    MAX_E_MPA,
+    MAX_FASTSIM_CELLS,
+    MAX_PASSES,
+    MAX_RADIUS_MM,
+    MIN_ALPHA,
+    MIN_E_MPA,
+    MIN_FORCE_N,
+    MIN_GRID_MM,
+    MIN_RADIUS_MM,
+    SceneKeys,
+)
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
 from contact.wheel_rail.solve import (
     PatchSolution,
@@ -66,8 +77,6 @@ SWEEP_KEYS = ("lateral_mm", "yaw_rad", "roll_rad")
 #: Largest number of sweep cases (values per axis, and cases of the product): a hard size limit, checked before
 #: any case is built; the cost guard (contact.scenes.cost) refuses long runs below it unless forced.
 MAX_CASES = 100000
-#: Finest strip grid of a wheel–rail scene (mm): finer grids only multiply the cost (and overflow the strip count).
-MIN_GRID_MM = 1e-3
 
 
 # ------------------------------------------------------------------------------------------------ parsing
@@ -149,7 +158,7 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
         else:
             incl = math.atan(1.0 / ratio)
     wheel_keys = s("wheel")
-    r0 = wheel_keys.number("nominal_radius_mm", 460.0, gt=0.0)
+    r0 = wheel_keys.number("nominal_radius_mm", 460.0, ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM)
     wheel = _profile(s("profiles"), "wheel", "S1002", base, "wheel")
     try:
         layout = TrackLayout(gauge_mm=track.number("gauge_mm", 1435.0), gauge_depth_mm=track.number("gauge_depth_mm",
@@ -174,17 +183,18 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
     nu = mat.number("poisson", 0.28, ge=0.0, lt=0.5)
     if "E_MPa" in mat.table and "G_MPa" in mat.table:
         raise mat.error("G_MPa", "give either E_MPa or G_MPa, not both")
-    E = 2.0 * mat.number("G_MPa", gt=0.0) * (1.0 + nu) if "G_MPa" in mat.table else mat.number("E_MPa", 210000.0,
-                                                                                                  gt=0.0)
+    E = 2.0 * mat.number("G_MPa", ge=MIN_E_MPA / 3.0, le=MAX_E_MPA / 2.0) * (1.0 + nu) if "G_MPa" in mat.table \
+        else mat.number("E_MPa", 210000.0, ge=MIN_E_MPA, le=MAX_E_MPA)
     met, pas = s("method"), s("passes")
     search = SearchSettings(merge_mm=met.number("merge_mm", 0.005, ge=0.0),
                             candidate_gap_mm=met.number("candidate_gap_mm", 1.0, gt=0.0),
                             f_cap_mm=met.number("f_cap_mm", 2.0, gt=0.0))
     inputs = {"layout": layout, "side": "right",
-              "vertical_load_N": load.number("vertical_load_N", 10000.0, gt=0.0),
+              "vertical_load_N": load.number("vertical_load_N", 10000.0, ge=MIN_FORCE_N),
               "speed_mm_s": load.number("speed_mm_s", 2000.0, gt=0.0), "pitch_rate_rad_s": pitch,
               "friction": s("tangential").number("friction", 0.3, ge=0.0), "E_MPa": E, "poisson": nu,
-              "alpha": met.number("alpha", 0.55, gt=0.0, le=1.0), "grid_mm": met.number("grid_mm", 0.1, ge=MIN_GRID_MM),
+              "alpha": met.number("alpha", 0.55, ge=MIN_ALPHA, le=1.0),
+              "grid_mm": met.number("grid_mm", 0.1, ge=MIN_GRID_MM),
               "fastsim_cells": met.integer("fastsim_cells", 60, ge=2, le=MAX_FASTSIM_CELLS),
               "passes": PassesOptions(max_passes=pas.integer("max", 1, ge=1, le=MAX_PASSES),
                                       tolerance_mm=pas.number("tolerance_mm", 1e-6, ge=0.0),
