@@ -14,11 +14,11 @@ import argparse
 import dataclasses
 import sys
 
-from wrlayer.errors import cli_guard, require
+from wrlayer.errors import ArgumentParser, cli_guard, require
 
 
-def _parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="python -m calibration",
+def _parser() -> ArgumentParser:
+    ap = ArgumentParser(prog="python -m calibration",
                                  description="FEM calibration of Prandtl surface-layer tables along profiles")
     sub = ap.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="calibrate the bodies and positions of a TOML configuration")

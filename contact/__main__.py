@@ -25,7 +25,7 @@ from typing import Any
 
 from wrlayer.atomic_write import atomic_write_text, output_lock, replace_output_dir
 from wrlayer.cost import guard
-from wrlayer.errors import InputError, WrLayerError, cli_guard
+from wrlayer.errors import ArgumentParser, InputError, WrLayerError, cli_guard
 
 
 def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = False,
@@ -127,8 +127,8 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
     return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m contact", description="Kik–Piotrowski contact with the "
+def build_parser() -> ArgumentParser:
+    parser = ArgumentParser(prog="python -m contact", description="Kik–Piotrowski contact with the "
                                      "Prandtl-body layer, FASTSIM, passes to shakedown (units mm, N, MPa, s).")
     sub = parser.add_subparsers(dest="command", required=True)
     one = sub.add_parser("simulate", help="run one scene file")

@@ -13,11 +13,11 @@ import argparse
 import sys
 import time
 
-from wrlayer.errors import cli_guard
+from wrlayer.errors import ArgumentParser, cli_guard
 
 
-def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m meshes", description=__doc__.split("\n\n")[0])
+def _parser() -> ArgumentParser:
+    parser = ArgumentParser(prog="python -m meshes", description=__doc__.split("\n\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
     plots = sub.add_parser("plots", help="pictures of the default meshes")
     plots.add_argument("--out", required=True, help="output folder for the PNG files")

@@ -81,8 +81,11 @@ def _pid_alive(pid: int) -> bool:
 
 def _staging_dir(path: Path, kind: str = "staging") -> Path:
     """A new run-unique hidden sibling of ``path``: ``.<name>.<kind>-<pid>-<random>`` (user permissions)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.{kind}-{os.getpid()}-", dir=path.parent))
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.{kind}-{os.getpid()}-", dir=path.parent))
+    except OSError as err:
+        raise InputError(str(path), f"cannot create the output folder here ({err.strerror or err})") from None
     _user_mode(tmp, directory=True)
     return tmp
 
@@ -139,8 +142,11 @@ def output_lock(path: str | os.PathLike, what: str | None = None) -> Iterator[Pa
     """
     path = Path(path)
     what = what or f"--out {path}"
-    path.parent.mkdir(parents=True, exist_ok=True)
     lock = path.parent / f".{path.name}.lock"
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise InputError(what, f"cannot create the output folder here ({err.strerror or err})") from None
     while True:
         fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
         try:

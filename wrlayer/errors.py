@@ -3,12 +3,21 @@
 Every package (meshes, calibration, contact) raises these, so that a command-line user sees
 ``error: <input>: <what is wrong>`` and a non-zero exit code instead of a traceback.
 
-- :class:`InputError`: bad user input (a file, a key, a value). Exit code 2.
-- :class:`ConvergenceError`: a numerical iteration failed (Newton, bracketing, ...). Exit code 3.
+Exit codes of every entry point (``python -m contact``, ``python -m calibration``, ``python -m meshes``; see
+docs/inputs-and-errors.md):
+
+- 0: success.
+- 1: a batch finished with some items failed (``simulate-all``: failing scenes), or a stress run found failures.
+- 2: bad input — :class:`InputError`: a file, key, value or command-line argument (also an unusable ``--out``,
+  a run refused by its cost estimate, an output folder in use by another run, an unreadable/unwritable path).
+- 3: numerical failure — :class:`ConvergenceError` (Newton, bracketing, a degenerate mesh, out of memory).
+- 4: calibration finished but some positions failed (the tables hold the others).
+- 130: interrupted (Ctrl-C).
 """
 
 from __future__ import annotations
 
+import argparse
 import functools
 import sys
 from typing import Callable
@@ -48,14 +57,36 @@ def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
         try:
             rc = main(*args, **kwargs)
         except WrLayerError as err:
-            print(f"error: {err}", file=sys.stderr)
+            print(f"error: {_one_line(str(err))}", file=sys.stderr)
             return err.exit_code
         except KeyboardInterrupt:
             print("error: interrupted", file=sys.stderr)
             return 130
+        except OSError as err:  # a path the user gave cannot be read or written (permissions, disk full, ...)
+            where = err.filename if err.filename is not None else "file system"
+            print(f"error: {where}: {err.strerror or err}", file=sys.stderr)
+            return InputError.exit_code
+        except MemoryError:
+            print("error: out of memory (the run is too large for this machine; reduce the grid, cells, passes "
+                  "or cases)", file=sys.stderr)
+            return ConvergenceError.exit_code
         return 0 if rc is None else int(rc)
 
     return wrapped
+
+
+def _one_line(text: str, limit: int = 600) -> str:
+    """The message on one line, cut to ``limit`` characters."""
+    text = " ".join(text.split())
+    return text if len(text) <= limit else text[: limit - 4] + " ..."
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse with the project's error format: a bad command-line argument is ONE line
+    ``error: <prog>: <problem>`` (no usage block) and exit code 2."""
+
+    def error(self, message: str):
+        self.exit(InputError.exit_code, f"error: {self.prog}: {message} (see {self.prog} --help)\n")
 
 
 def require(condition: bool, what: str, problem: str) -> None:
