@@ -21,6 +21,7 @@ import skfem
 from matplotlib.collections import LineCollection
 
 from wrlayer.atomic_write import atomic_write_bytes
+from wrlayer.plotting import DPI
 
 BOUNDARY_COLOURS = {"surface": "tab:red", "side": "tab:blue", "fixed": "tab:green", "symmetry": "tab:orange",
                     "end": "tab:gray"}
@@ -28,7 +29,7 @@ BOUNDARY_COLOURS = {"surface": "tab:red", "side": "tab:blue", "fixed": "tab:gree
 
 def _save_figure(fig, path: str | os.PathLike) -> Path:
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=150)
+    fig.savefig(buf, format="png", dpi=DPI)
     plt.close(fig)
     return atomic_write_bytes(path, buf.getvalue())
 
