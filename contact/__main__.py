@@ -23,9 +23,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from wrlayer import cli
 from wrlayer.atomic_write import atomic_write_text, output_lock, replace_output_dir
 from wrlayer.cost import guard
-from wrlayer.errors import ArgumentParser, InputError, WrLayerError, cli_guard
+from wrlayer.errors import InputError, WrLayerError, cli_guard
 
 
 def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = False,
@@ -127,18 +128,22 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
     return 0
 
 
-def build_parser() -> ArgumentParser:
-    parser = ArgumentParser(prog="python -m contact", description="Kik–Piotrowski contact with the "
-                                     "Prandtl-body layer, FASTSIM, passes to shakedown (units mm, N, MPa, s).")
+def build_parser() -> argparse.ArgumentParser:
+    parser = cli.parser("python -m contact", "Kik–Piotrowski contact with the Prandtl-body layer, FASTSIM, passes to "
+                        "shakedown, wheel-on-rail scenes (units mm, N, MPa, s).",
+                        ["python -m contact simulate scenes/paper_with_layer.toml --out out/one --plots",
+                         "python -m contact simulate-all scenes --out out/simulate"])
     sub = parser.add_subparsers(dest="command", required=True)
-    one = sub.add_parser("simulate", help="run one scene file")
+    one = cli.subparser(sub, "simulate", "run one scene file",
+                        ["python -m contact simulate scenes/calibrated_layers.toml --out out/one --plots"])
     one.add_argument("scene", help="scene TOML file")
     one.add_argument("--out", required=True, help="output folder (result.json, pictures)")
     one.add_argument("--json", action="store_true", help="also print the result JSON")
     one.add_argument("--plots", action="store_true", help="write PNG pictures")
     one.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     one.set_defaults(func=_simulate)
-    many = sub.add_parser("simulate-all", help="run every *.toml in a folder and print a Table 1")
+    many = cli.subparser(sub, "simulate-all", "run every *.toml in a folder and print a Table 1",
+                         ["python -m contact simulate-all scenes --out out/simulate --plots"])
     many.add_argument("scenes_dir", help="folder of scene TOML files")
     many.add_argument("--out", required=True, help="output folder (one subfolder per scene, table.md, table.csv)")
     many.add_argument("--plots", action="store_true", help="write PNG pictures")

@@ -39,7 +39,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from tqdm import tqdm
 
 from contact.layer.characteristic import Characteristic
 from contact.wheel_rail.contact_search import SearchSettings
@@ -69,6 +68,7 @@ from contact.wheel_rail.solve import (
     solve_wheel,
 )
 from wrlayer.errors import ConvergenceError, InputError
+from wrlayer.progress import progress
 from meshes.profiles import get_profile
 
 TOP_KEYS = ("title", "description", "type", "profiles", "track", "wheel", "wheelset", "load", "material",
@@ -388,8 +388,7 @@ def run_wheel_rail_scene(data: dict[str, Any], scene_path: Path, out_dir: Path, 
     parsed = parse_wheel_rail_scene(data, scene_path)
     placed = place_rail(parsed["rail"], parsed["layout"])
     entries, all_sols = [], []
-    for k, case in enumerate(tqdm(parsed["cases"], desc=scene_path.name, unit="case", disable=None,
-                                  leave=False) if len(parsed["cases"]) > 1 else parsed["cases"]):
+    for k, case in enumerate(progress(parsed["cases"], desc=scene_path.name, unit="case", leave=False)):
         try:
             entry, sols = solve_case(parsed, case, placed)
             if parsed["layers"] is not None and parsed["deformed_profiles"]:
