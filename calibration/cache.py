@@ -24,6 +24,8 @@ def _read_json(path: Path) -> tuple[Any, str | None]:
         return None, "missing"
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
         return None, f"not readable JSON ({err})"
+    except RecursionError:
+        return None, "nested too deeply"
 
 
 def check_indentation(data: Any, what: str) -> dict:

@@ -329,6 +329,8 @@ def load_config(path: str | Path) -> CalibrationConfig:
         data = tomllib.loads(raw.decode("utf-8"))
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as err:
         raise InputError(str(path), f"not valid TOML: {err}") from None
+    except RecursionError:
+        raise InputError(str(path), "arrays or tables nested too deeply to read") from None
     return parse_config(data, str(path), path.parent)
 
 

@@ -68,6 +68,8 @@ class LayerTable:
             raise InputError(str(path), "layer table file not found") from None
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
             raise InputError(str(path), f"not a readable JSON layer table: {err}") from None
+        except RecursionError:
+            raise InputError(str(path), "arrays or objects nested too deeply to read") from None
         return cls.from_dict(data, str(path))
 
     @classmethod

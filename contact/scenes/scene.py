@@ -194,6 +194,8 @@ def read_scene_data(path: str | Path) -> tuple[Path, dict[str, Any]]:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise InputError(path.name, f"not valid TOML ({err})") from None
+    except RecursionError:
+        raise InputError(path.name, "arrays or tables nested too deeply to read") from None
     return path, data
 
 

@@ -56,6 +56,7 @@ SCENE_BAD = [
     ("layer_u_deeply_nested", "layer", "u_mm", "[[[[[[0.0]]]]], 0.02, 0.03, 0.06]", "layer.u_mm[0]"),
     ("layer_u_string_entry", "layer", "u_mm", '[0.0, "0.02", 0.03, 0.06]', "layer.u_mm[1]: must be a number"),
     ("layer_u_bool_entry", "layer", "u_mm", "[0.0, true, 0.03, 0.06]", "layer.u_mm[1]: must be a number"),
+    ("layer_u_nested_100000_deep", "layer", "u_mm", "[" * 100000 + "]" * 100000, "nested too deeply"),
     ("layer_p_nan_entry", "layer", "p_MPa", "[0.0, nan, 1456.0, 1900.0]", "layer.p_MPa[1]: must be a finite"),
     ("layer_p_huge_entry", "layer", "p_MPa", "[0.0, 1190.0, 1456.0, 1e300]", "layer.p_MPa[3]: must be of magnitude"),
     ("layer_p_not_list", "layer", "p_MPa", "1900.0", "layer.p_MPa: must be a list of numbers"),
@@ -113,6 +114,12 @@ WHEEL_RAIL_BAD = [
     ("rail_profile_number", "profiles", "rail", "60", "profiles.rail: must be a string"),
     ("wheel_profile_unknown", "profiles", "wheel", '"S9999"', "profiles.wheel"),
     ("wheel_profile_missing_file", "profiles", "wheel", '"nothing.prw"', "profiles.wheel: no such profile file"),
+    ("type_unknown", None, "type", '"wheel_rails"', "type: must be one of"),
+    ("title_list", None, "title", "[1]", "title: must be a string"),
+    ("description_bool", None, "description", "true", "description: must be a string"),
+    ("inclination_rad_big", "track", "inclination_rad", "0.5", "track.inclination"),
+    ("G_and_E", "material", "G_MPa", "82000.0", "material.G_MPa: give either E_MPa or G_MPa"),
+    ("layers_wheel_number", "layers", "wheel", "3", "layers.wheel: must be a string"),
     ("gauge_string", "track", "gauge_mm", '"1435"', "track.gauge_mm: must be a number"),
     ("gauge_nan", "track", "gauge_mm", "nan", "track.gauge_mm: must be a finite"),
     ("gauge_depth_negative", "track", "gauge_depth_mm", "-14.0", "track.gauge_depth_mm: must be > 0"),
@@ -148,6 +155,7 @@ WHEEL_RAIL_BAD = [
     ("sweep_string_entry", "sweep", "lateral_mm", '[0.0, "1.0"]', "sweep.lateral_mm[1]: must be a number"),
     ("sweep_step_zero", "sweep", "lateral_mm", "{ start = 0.0, stop = 1.0, step = 0.0 }",
      "sweep.lateral_mm.step: must be > 0"),
+    ("sweep_roll_string", "sweep", "roll_rad", '["0.0"]', "sweep.roll_rad[0]: must be a number"),
     ("sweep_mode_unknown", "sweep", "mode", '"all"', "sweep.mode: must be"),
     ("deformed_profiles_int", "output", "deformed_profiles", "1", "output.deformed_profiles: must be true or false"),
     ("layers_combined_nested", "layers", "combined", "{ u_mm = [[0.0, 0.02]], p_MPa = [0.0, 1000.0] }",
@@ -207,6 +215,7 @@ CONFIG_BODY_BAD = [
     ("body_positions_nested", "positions_mm", "[[0.0, 1.0]]", "bodies[0].positions_mm[0]: must be a number"),
     ("body_positions_string", "positions_mm", '["0.0"]', "bodies[0].positions_mm[0]: must be a number"),
     ("body_positions_inf", "positions_mm", "[inf]", "bodies[0].positions_mm[0]: must be a finite"),
+    ("body_positions_100000_deep", "positions_mm", "[" * 100000 + "]" * 100000, "nested too deeply"),
     ("body_semi_axes_three", "semi_axes_mm", "[7.0, 5.0, 1.0]", "bodies[0].semi_axes_mm: must be [a_mm, b_mm]"),
     ("body_semi_axes_negative", "semi_axes_mm", "[7.0, -5.0]", "bodies[0].semi_axes_mm[1]: must be > 0"),
     ("body_cant_big", "rail_cant_rad", "1.0", "bodies[0].rail_cant_rad: must be <= 0.2"),
@@ -400,6 +409,10 @@ def main() -> None:
     for name, change, fragment in TABLE_BAD:
         (folder / name).write_text(json.dumps(change(table_doc()), indent=1) + "\n", encoding="utf-8")
         expected[name] = fragment
+    deep = json.dumps(table_doc()).replace('"u_mm": [0.0, 0.02, 0.03, 0.06]', '"u_mm": ' + "[" * 100000 + "]" * 100000,
+                                           1)
+    (folder / "u_nested_100000_deep.json").write_text(deep + "\n", encoding="utf-8")
+    expected["u_nested_100000_deep.json"] = "nested too deeply"
     (folder / "good.json").write_text(json.dumps(table_doc(), indent=1) + "\n", encoding="utf-8")
     write_expected(folder, expected)
 
