@@ -141,3 +141,50 @@ def test_random_config_documents_keep_the_contract(doc, tmp_path_factory):
         assert cfg.load.unload_factors[-1] <= cfg.load.max_factor
         assert all(math.isfinite(v) for v in (cfg.bodies[0].material.E_MPa, cfg.reference_load_N))
     assert time.perf_counter() - t0 < TIME_BOUND_S
+
+
+def _wheel_rail_base() -> dict:
+    return {"type": "wheel_rail", "profiles": {"rail": "60E1", "wheel": "S1002"},
+            "track": {"gauge_mm": 1435.0, "inclination": 40.0, "back_to_back_mm": 1360.0},
+            "wheel": {"nominal_radius_mm": 460.0, "side": "right"},
+            "wheelset": {"lateral_mm": 0.0, "yaw_rad": 0.0},
+            "load": {"vertical_load_N": 10000.0, "speed_mm_s": 2000.0},
+            "material": {"E_MPa": 210000.0, "poisson": 0.28}, "tangential": {"friction": 0.3},
+            "passes": {"max": 1}, "method": {"grid_mm": 0.2, "fastsim_cells": 20},
+            "sweep": {"lateral_mm": [0.0, 2.0]}}
+
+
+WHEEL_RAIL_KEYS = [(s, k) for s, t in _wheel_rail_base().items() if isinstance(t, dict) for k in t] + [
+    ("wheelset", "roll_rad"), ("method", "alpha"), ("method", "f_cap_mm"), ("sweep", "mode")]
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True)
+@given(doc=documents(_wheel_rail_base(), WHEEL_RAIL_KEYS))
+def test_random_wheel_rail_documents_keep_the_contract(doc, tmp_path_factory):
+    from contact.scenes.cost import wheel_rail_cost
+    from contact.wheel_rail.scene import parse_wheel_rail_scene, run_wheel_rail_scene
+
+    t0 = time.perf_counter()
+    path = Path("generated.toml")
+    try:
+        guard(wheel_rail_cost(parse_wheel_rail_scene(doc, path), path.name), limit_s=TEST_COST_LIMIT_S)
+        result = run_wheel_rail_scene(doc, path, tmp_path_factory.mktemp("wr"), False)
+    except WrLayerError as err:
+        msg = str(err)
+        assert msg and "\n" not in msg and len(msg) < 400, msg
+        event("clear error")
+    else:
+        event("result")
+        q = result["inputs"]["vertical_load_N"]
+        mu = result["inputs"]["friction"]
+        for case in result["cases"]:
+            if "error" in case:  # a failed case is recorded with its one-line message, the others still run
+                assert "\n" not in case["error"]
+                continue
+            for wheel in case["wheels"].values():
+                assert abs(wheel["vertical_balance_rel"]) <= 1e-6 and wheel["n_patches"] >= 1
+                for p in wheel["patches"]:
+                    assert p["normal_force_N"] > 0 and math.isfinite(p["p_max_MPa"]) and p["p_max_MPa"] > 0
+                    assert math.hypot(p["Fx_N"], p["Fy_N"]) <= mu * p["normal_force_N"] * (1 + 1e-9) + 1e-9
+                assert abs(wheel["normal_vertical_N"] - q) <= 1e-6 * q
+    assert time.perf_counter() - t0 < TIME_BOUND_S
