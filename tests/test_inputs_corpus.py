@@ -15,7 +15,7 @@ import pytest
 
 INPUTS = Path(__file__).resolve().parent / "inputs"
 sys.path.insert(0, str(INPUTS))
-import make_corpus  # noqa: E402  (the generator: base documents and the broken keys)
+import make_corpus
 
 
 def _expected(folder: str) -> list[tuple[Path, str]]:
@@ -47,9 +47,9 @@ def test_every_corpus_file_has_an_expectation():
 def test_base_documents_are_valid(tmp_path):
     from calibration.config import load_config
     from calibration.pipeline import make_tasks
+    from contact.layer.layer_table import LayerTable
     from contact.scenes.scene import load_scene
     from contact.wheel_rail.scene import parse_wheel_rail_scene
-    from contact.layer.layer_table import LayerTable
 
     make_corpus.write_toml(tmp_path / "scene.toml", make_corpus.SCENE, "base")
     assert load_scene(tmp_path / "scene.toml").passes.max == 3

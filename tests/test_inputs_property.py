@@ -12,7 +12,8 @@ import time
 from pathlib import Path
 
 import numpy as np
-from hypothesis import HealthCheck, event, given, settings, strategies as st
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
 
 from calibration.config import parse_config
 from calibration.pipeline import make_tasks

@@ -151,7 +151,7 @@ def rewrap(err: InputError, what: str) -> InputError:
     """``err`` re-attributed to ``what`` without naming an input twice (``a.toml: a.toml: ...``): when the
     inner error already names a path that ``what`` ends with or starts with, the inner location is kept."""
     inner = err.what
-    if inner == what or inner.startswith(what + ":") or inner.startswith(what + "."):
+    if inner == what or inner.startswith((what + ":", what + ".")):
         return InputError(inner, err.problem)
     file = what.split(": ", 1)[0]
     if inner.startswith(file + ": "):
@@ -225,7 +225,7 @@ class Keys:
             raise self.error(key, "missing (required)")
         return number_list(self.table[key], self.what(key), min_len=min_len, max_len=max_len, **bounds)
 
-    def sub(self, key: str) -> "Keys | None":
+    def sub(self, key: str) -> Keys | None:
         """The sub-table ``key`` (prefix extended), None when absent."""
         if key not in self.table:
             return None

@@ -282,7 +282,7 @@ def crown_points(n: int = 41) -> list[tuple[float, float]]:
 
 def simpack(settings: dict[str, str], points=None, kind: str = "0") -> str:
     pts = crown_points() if points is None else points
-    head = [f"! corpus SIMPACK rail profile (own points: R300 crown); z down; lengths mm", "  header.begin",
+    head = ["! corpus SIMPACK rail profile (own points: R300 crown); z down; lengths mm", "  header.begin",
             "    version = 1", f"    type = {kind}", "  header.end", "  spline.begin"]
     base = {"shift.y": "0.0", "shift.z": "0.0", "rotate": "0.0", "mirror.y": "0", "mirror.z": "0",
             "inversion": "0", "units.len.f": "1000.0", "units.ang.f": "1.0"}

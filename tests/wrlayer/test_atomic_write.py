@@ -62,10 +62,9 @@ def test_failed_block_changes_nothing(tmp_path):
     out = tmp_path / "out"
     with replace_output_dir(out) as tmp:
         (tmp / "result.json").write_text("1")
-    with pytest.raises(RuntimeError):
-        with replace_output_dir(out) as tmp:
-            (tmp / "result.json").write_text("2")
-            raise RuntimeError("solver failed")
+    with pytest.raises(RuntimeError), replace_output_dir(out) as tmp:
+        (tmp / "result.json").write_text("2")
+        raise RuntimeError("solver failed")
     assert (out / "result.json").read_text() == "1"
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
 

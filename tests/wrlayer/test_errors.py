@@ -2,8 +2,8 @@
 
 import pytest
 
-from contact.__main__ import main as contact_main
 from calibration.__main__ import main as calibration_main
+from contact.__main__ import main as contact_main
 from meshes.__main__ import main as meshes_main
 from wrlayer.errors import ConvergenceError, InputError, cli_guard
 

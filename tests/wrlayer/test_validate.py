@@ -85,10 +85,10 @@ def test_cost_guard_refuses_with_the_estimate_unless_forced():
 
 def test_scene_cost_grows_with_passes_cells_and_grid(tmp_path):
     import dataclasses
+    from pathlib import Path
 
     from contact.scenes.cost import scene_cost
     from contact.scenes.scene import load_scene
-    from pathlib import Path
 
     scene = load_scene(Path(__file__).resolve().parents[2] / "scenes" / "paper_shakedown.toml")
     base = scene_cost(scene)
