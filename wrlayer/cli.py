@@ -30,6 +30,7 @@ EXIT_CODES = {
     3: "numerical failure (an iteration did not converge; out of memory): nothing written",
     4: "calibration: some positions failed (the tables hold the others and list the failed ones)",
     130: "interrupted (Ctrl-C)",
+    143: "terminated (SIGTERM); the run's staging folders are removed and its workers ended",
 }
 
 

@@ -12,14 +12,17 @@ docs/inputs-and-errors.md):
   a run refused by its cost estimate, an output folder in use by another run, an unreadable/unwritable path).
 - 3: numerical failure — :class:`ConvergenceError` (Newton, bracketing, a degenerate mesh, out of memory).
 - 4: calibration finished but some positions failed (the tables hold the others).
-- 130: interrupted (Ctrl-C).
+- 130: interrupted (Ctrl-C); 143: terminated (SIGTERM). Both remove the run's staging folders and end its
+  worker processes before exiting.
 """
 
 from __future__ import annotations
 
 import argparse
 import functools
+import signal
 import sys
+import threading
 from typing import Callable
 
 
@@ -54,8 +57,12 @@ def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
 
     @functools.wraps(main)
     def wrapped(*args, **kwargs) -> int:
+        previous = _catch_sigterm()
         try:
             rc = main(*args, **kwargs)
+        except Terminated:
+            print("error: terminated (SIGTERM); nothing written", file=sys.stderr)
+            return 143
         except WrLayerError as err:
             print(f"error: {_one_line(str(err))}", file=sys.stderr)
             return err.exit_code
@@ -70,9 +77,31 @@ def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
             print("error: out of memory (the run is too large for this machine; reduce the grid, cells, passes "
                   "or cases)", file=sys.stderr)
             return ConvergenceError.exit_code
+        finally:
+            if previous is not None:
+                signal.signal(signal.SIGTERM, previous)
         return 0 if rc is None else int(rc)
 
     return wrapped
+
+
+class Terminated(BaseException):
+    """Raised in the main thread on SIGTERM while a command runs, so that staging folders are removed and worker
+    processes ended (``finally``/``except BaseException`` blocks run) before the process exits with 143."""
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated()
+
+
+def _catch_sigterm():
+    """Install the SIGTERM handler (main thread only); returns the previous handler to restore, or None."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    try:
+        return signal.signal(signal.SIGTERM, _raise_terminated)
+    except (ValueError, OSError):
+        return None
 
 
 def _one_line(text: str, limit: int = 600) -> str:

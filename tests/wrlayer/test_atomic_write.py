@@ -116,6 +116,15 @@ def test_lock_refuses_a_second_holder(tmp_path):
         pass
 
 
+def _long_sweep(tmp_path: Path) -> Path:
+    """The A-2.2 elastic sweep with 201 instead of 21 cases (several seconds: time to kill it while it stages)."""
+    text = (SCENES / "wheel_rail_sweep_elastic.toml").read_text()
+    text = text.replace("step = 0.5 }", "step = 0.05 }").replace("step = 0.0012 }", "step = 0.00012 }")
+    path = tmp_path / "long_sweep.toml"
+    path.write_text(text)
+    return path
+
+
 def _simulate(scene: Path, out: Path, *extra) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, "-m", "contact", "simulate", str(scene), "--out", str(out), *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV, cwd=ROOT)
@@ -128,7 +137,7 @@ def test_killed_wheel_rail_run_leaves_the_previous_output_and_its_staging_is_cle
     first = _simulate(SCENES / "hertz_check.toml", out)
     assert first.wait(timeout=120) == 0, first.stderr.read()
     before = {p.name: p.read_bytes() for p in out.iterdir()}
-    run = _simulate(SCENES / "wheel_rail_sweep_elastic.toml", out)
+    run = _simulate(_long_sweep(tmp_path), out)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and not list(tmp_path.glob(".out.staging-*")):
         time.sleep(0.05)
@@ -157,3 +166,31 @@ def test_two_runs_into_one_out_never_mix(tmp_path):
     pngs = {p.name for p in out.glob("*.png")}
     assert pngs == set(result.get("pictures", [])), (pngs, result.get("pictures"))
     assert Path(result["inputs"]["scene_file"]).name in ("hertz_check.toml", "paper_no_layer.toml")
+
+
+def test_sigterm_removes_the_staging_folder_at_once(tmp_path):
+    """SIGTERM (the usual ``kill``) of a wheel–rail run while it stages: exit 143 with one line, the staging
+    folder is removed by the run itself, the previous output is unchanged."""
+    out = tmp_path / "out"
+    first = _simulate(SCENES / "hertz_check.toml", out)
+    assert first.wait(timeout=120) == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    run = _simulate(_long_sweep(tmp_path), out)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and not list(tmp_path.glob(".out.staging-*")):
+        time.sleep(0.05)
+    time.sleep(0.3)
+    run.send_signal(signal.SIGTERM)
+    assert run.wait(timeout=60) == 143
+    assert run.stderr.read().strip() == "error: terminated (SIGTERM); nothing written"
+    assert not list(tmp_path.glob(".out.*"))
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+
+
+def test_long_sweep_has_201_cases(tmp_path):
+    import tomllib
+
+    from contact.wheel_rail.scene import parse_wheel_rail_scene
+
+    path = _long_sweep(tmp_path)
+    assert len(parse_wheel_rail_scene(tomllib.loads(path.read_text()), path)["cases"]) == 201
