@@ -22,6 +22,7 @@ that u_L ~ b + c p with b = u_L(p) - c p: the outer iteration of :func:`contact.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer, _move_elements
@@ -60,20 +61,35 @@ class _Body:
         return (u1 - u0).reshape(ny, nx), ((u2 - u1) / _DP).reshape(ny, nx)
 
     def rolling(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        ny, nx = p.shape
-        u_out = np.empty((ny, nx))
-        c_out = np.empty((ny, nx))
-        u, s = self.u.copy(), self.slip.copy()
-        p_prev = np.zeros(ny)
-        for i in range(nx - 1, -1, -1):                       # leading edge (largest x) first
-            col = np.ascontiguousarray(p[:, i])
-            u_new, s_new, _ = _move_elements(u, s, self.k, self.e, self.kl, col)
-            step = np.where(col >= p_prev, _DP, -_DP)           # continue the move in its own direction
-            u_pert = _move_elements(u, s, self.k, self.e, self.kl, col + step)[0]
-            u_out[:, i] = u_new - self.u
-            c_out[:, i] = (u_pert - u_new) / step
-            u, s, p_prev = u_new, s_new, col
-        return u_out, c_out
+        u, c = _rolling_march(np.ascontiguousarray(p), self.u, self.slip, self.k, self.e, self.kl)
+        return u, c
+
+
+@numba.njit(cache=True)
+def _rolling_march(p, u0, slip0, k, e, kl):
+    """Steady rolling: move each line's element from the leading edge (last column) to the trailing edge through
+    the cell pressures p (ny, nx); returns the displacement from the initial state and the tangent compliance in
+    the direction of each move (a move to an equal pressure counts as loading)."""
+    ny, nx = p.shape
+    u_out = np.empty((ny, nx))
+    c_out = np.empty((ny, nx))
+    u = u0.copy()
+    s = slip0.copy()
+    p_prev = np.zeros(ny)
+    step = np.empty(ny)
+    for i in range(nx - 1, -1, -1):
+        col = np.ascontiguousarray(p[:, i])
+        u_new, s_new, _ = _move_elements(u, s, k, e, kl, col)
+        for j in range(ny):
+            step[j] = _DP if col[j] >= p_prev[j] else -_DP
+        u_pert = _move_elements(u, s, k, e, kl, col + step)[0]
+        for j in range(ny):
+            u_out[j, i] = u_new[j] - u0[j]
+            c_out[j, i] = (u_pert[j] - u_new[j]) / step[j]
+        u = u_new
+        s = s_new
+        p_prev = col
+    return u_out, c_out
 
 
 class CellLayer:
