@@ -30,8 +30,9 @@ touching) are added; the solve is repeated until neither happens. All contact re
 elastic interaction is exact). InputError when the patch reaches the end of the separation table.
 
 Outputs per line y_j: p_peak = max_x p (the loading the passes apply to the strip's element), the contact
-extent along x with each end refined by linear extrapolation of p^2 to zero (a Hertz-like edge, p ~ sqrt of the
-distance) and the strip force. Each connected run of lines is a :class:`Patch` with x_lead = half the refined
+extent along x with each end refined by linear extrapolation to zero of p^2 without a layer (the half-space's
+edge, p ~ sqrt of the distance) or of p with a layer (near the edge the layer dominates: p ~ distance), and the
+strip force. Each connected run of lines is a :class:`Patch` with x_lead = half the refined
 extent and the semi-elliptic peak that carries the strip's exact force (for FASTSIM); the exact field is kept in
 ``NormalSolution.field``. Patch length, width (refined the same way along y from p_peak) and area (sum of refined
 extents times h) are reported as for KP.
@@ -123,22 +124,24 @@ class _Grid:
         return np.arange(self.j0, self.j0 + self.ny)
 
 
-def _edge_extension(outer: float, inner: float, step: float) -> float:
-    """Distance beyond the outer contact cell centre where p^2, extrapolated linearly from the outer and the
-    inner cell, reaches 0 (clipped to [0, step]; half a step without a usable inner value)."""
+def _edge_extension(outer: float, inner: float, step: float, power: int) -> float:
+    """Distance beyond the outer contact cell centre where p^power, extrapolated linearly from the outer and the
+    inner cell, reaches 0 (clipped to [0, step]; half a step without a usable inner value). power 2: the
+    half-space's square-root edge; power 1: the linear edge of a contact with a layer (Winkler-like near the edge)."""
     if inner > outer > 0:
-        return float(min(step, step * outer * outer / (inner * inner - outer * outer)))
+        qo, qi = outer ** power, inner ** power
+        return float(min(step, step * qo / (qi - qo)))
     return 0.5 * step
 
 
-def _extent(values: np.ndarray, coords: np.ndarray, step: float) -> tuple[float, float]:
+def _extent(values: np.ndarray, coords: np.ndarray, step: float, power: int) -> tuple[float, float]:
     """(low end, high end) of the positive run of ``values`` along ``coords`` with refined ends."""
     on = np.flatnonzero(values > 0)
     a, b = int(on[0]), int(on[-1])
     lo_in = values[a + 1] if a + 1 <= b else 0.0
     hi_in = values[b - 1] if b - 1 >= a else 0.0
-    return (coords[a] - _edge_extension(values[a], lo_in, step),
-            coords[b] + _edge_extension(values[b], hi_in, step))
+    return (coords[a] - _edge_extension(values[a], lo_in, step, power),
+            coords[b] + _edge_extension(values[b], hi_in, step, power))
 
 
 def _area(length: np.ndarray, y_lines: np.ndarray, y_lo: float, y_hi: float, h: float) -> float:
@@ -305,14 +308,16 @@ def _solution(prob, layer, kp, grid, res, f, u_l, stats, opts_force) -> NormalSo
     p_peak[lines] = line_max
     on = np.flatnonzero(line_max > 0)
     runs = np.split(on, np.flatnonzero(np.diff(on) > 1) + 1)
+    power = 1 if layer is not None and layer.bodies() else 2      # edge law for the refined extents
     patches, regions, lengths, widths, areas = [], [], [], [], []
     for run in runs:
-        ext = np.array([_extent(p[j], x, dx) for j in run])
+        ext = np.array([_extent(p[j], x, dx, power) for j in run])
         x_lead = 0.5 * (ext[:, 1] - ext[:, 0])
         force = p[run].sum(axis=1) * dx * h
         patches.append(Patch(h, y[lines[run]], x_lead, force / (0.5 * np.pi * x_lead * h)))
         y_lo, y_hi = _extent(np.concatenate([[0.0], line_max[run], [0.0]]),
-                             np.concatenate([[y[lines[run[0]]] - h], y[lines[run]], [y[lines[run[-1]]] + h]]), h)
+                             np.concatenate([[y[lines[run[0]]] - h], y[lines[run]], [y[lines[run[-1]]] + h]]), h,
+                             power)
         lengths.append(float(2.0 * x_lead.max()))
         widths.append(float(y_hi - y_lo))
         areas.append(_area(2.0 * x_lead, y[lines[run]], y_lo, y_hi, h))

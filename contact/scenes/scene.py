@@ -18,7 +18,7 @@ creepages for FASTSIM and optional repeated passes (section 5). Keys (all carry 
     [passes]     max (>= 1, default 1), hardening (bool, default false), tolerance_mm (> 0, default 1e-6)
     [method]     alpha (0 < alpha <= 1, default 0.55), grid_mm (> 0, default 0.1), fastsim_cells (>= 2, default 60),
                  normal ("kik_piotrowski" (default, the paper's) or "exact": FFT half-space, docs/exact-solver.md),
-                 exact_cells (exact solver: cells along x over the patch length, 8..1024, default 48),
+                 exact_cells (exact solver: cells along x over the KP patch length, 8..1024, default 48),
                  layer_mode (exact solver: "indentation" (default) or "rolling")
     [reference]  published numbers to compare with (optional; any of the Table 1 keys, see REFERENCE_KEYS)
 

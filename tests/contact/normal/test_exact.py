@@ -85,7 +85,7 @@ def test_grid_grows_when_the_kp_patch_is_too_small():
     wide = solve_exact(prob, options=ExactOptions(margin=0.8))
     assert tight.iterations["grid_changes"] >= 1 and wide.iterations["grid_changes"] == 0
     assert tight.p_max_MPa == pytest.approx(wide.p_max_MPa, rel=1e-5)
-    assert tight.area_mm2 == pytest.approx(wide.area_mm2, rel=1e-9)
+    assert tight.area_mm2 == pytest.approx(wide.area_mm2, rel=1e-5)
     p = tight.field.p_MPa
     assert not (np.any(p[:, 0] > 0) or np.any(p[:, -1] > 0) or np.any(p[0] > 0) or np.any(p[-1] > 0))
 
