@@ -52,7 +52,7 @@ def test_hertz_within_one_percent_at_default_cells(Rx, Ry):
     assert sol.width_mm / 2 == pytest.approx(H["b_mm"], rel=0.01)
     assert sol.normal_force_N == pytest.approx(1.0e4, rel=1e-9)
     assert sol.method == "exact" and len(sol.patches) == 1
-    assert sol.iterations["gap_error_mm"] < 1e-6 * sol.delta_mm
+    assert sol.iterations["gap_error_mm"] < 1e-5 * sol.delta_mm          # CG tolerance, far below the grid error
 
 
 def test_prescribed_approach_gives_the_hertz_force():
