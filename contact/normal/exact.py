@@ -54,7 +54,7 @@ from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, RegionS
 from contact.normal.patch import Patch
 from wrlayer.errors import ConvergenceError, InputError, require
 
-__all__ = ["DEFAULT_CELLS", "CELLS_RANGE", "ExactOptions", "ExactField", "solve_exact"]
+__all__ = ["DEFAULT_CELLS", "CELLS_RANGE", "ExactOptions", "ExactField", "solve_exact", "fastsim_pressure"]
 
 #: Default cells along x over the KP patch length (``method.exact_cells``), from the time-error study
 #: (docs/exact-solver.md): about 0.5 % in p_max on the paper scene.
@@ -98,7 +98,8 @@ class ExactOptions:
 class ExactField:
     """The exact solution on its grid: x_mm (nx,) cell centres, y_mm (ny,) lines (= strips ``lines`` of the
     problem's strip grid), p_MPa (ny, nx), u_layer_mm (ny, nx) layer displacement under load, separation_mm
-    (ny, nx) f(x, y), dx_mm, dy_mm."""
+    (ny, nx) f(x, y), dx_mm, dy_mm; x_extent_mm (ny, 2): refined trailing and leading contact ends of each line
+    (NaN where unloaded)."""
 
     x_mm: np.ndarray
     y_mm: np.ndarray
@@ -108,6 +109,7 @@ class ExactField:
     separation_mm: np.ndarray
     dx_mm: float
     dy_mm: float
+    x_extent_mm: np.ndarray = None
 
 
 @dataclass
@@ -313,8 +315,10 @@ def _solution(prob, layer, kp, grid, res, f, u_l, stats, opts_force) -> NormalSo
     runs = np.split(on, np.flatnonzero(np.diff(on) > 1) + 1)
     power = 1 if layer is not None and layer.bodies() else 2      # edge law for the refined extents
     patches, regions, lengths, widths, areas = [], [], [], [], []
+    extents = np.full((lines.size, 2), np.nan)
     for run in runs:
         ext = np.array([_extent(p[j], x, dx, power) for j in run])
+        extents[run] = ext
         x_lead = 0.5 * (ext[:, 1] - ext[:, 0])
         force = p[run].sum(axis=1) * dx * h
         patches.append(Patch(h, y[lines[run]], x_lead, force / (0.5 * np.pi * x_lead * h)))
@@ -346,10 +350,34 @@ def _solution(prob, layer, kp, grid, res, f, u_l, stats, opts_force) -> NormalSo
                   "cg_change": float(res.change), "gap_error_mm": float(res.gap_error_mm),
                   "layer_mismatch_mm": float(stats["layer_mismatch_mm"])}
     target = prob.normal_force_N
-    fieldv = ExactField(x, y[lines], lines, p, u_l, f, float(dx), float(h))
+    fieldv = ExactField(x, y[lines], lines, p, u_l, f, float(dx), float(h), extents)
     return NormalSolution(
         patches=patches, regions=regions, delta_mm=float(res.delta_mm), delta0_mm=float(prob.alpha * res.delta_mm),
         p_max_MPa=float(p.max()), length_mm=max(lengths), width_mm=float(sum(widths)), area_mm2=float(sum(areas)),
         u0_mm=float(main.u_layer_mm), strip_y_mm=y, p_peak_MPa=p_peak, iterations=iterations,
         residual_N=float(n_total - target) if opts_force else 0.0, elastic=elastic, normal_force_N=n_total,
         method="exact", field=fieldv)
+
+
+def fastsim_pressure(solution: NormalSolution, region: int, nx: int) -> np.ndarray:
+    """The exact pressure of patch ``region`` as FASTSIM cell pressures (n_strips, nx) (MPa): each line's
+    refined contact extent [x_t, x_l] is cut into nx equal cells from the leading edge, the pressure is
+    interpolated linearly between the cell centres of the exact grid (0 at the refined ends) and scaled so that
+    the strip keeps its exact force. (FASTSIM places the strip symmetrically about x = 0; in rolling mode the
+    shift of the strip's centre is not passed on.)"""
+    fld: ExactField = solution.field
+    reg = solution.regions[region]
+    rows = np.searchsorted(fld.lines, reg.strips)
+    out = np.empty((rows.size, nx))
+    frac = (np.arange(nx) + 0.5) / nx
+    for k, r in enumerate(rows):
+        lo, hi = fld.x_extent_mm[r]
+        on = np.flatnonzero(fld.p_MPa[r] > 0)
+        xs = np.concatenate([[lo], fld.x_mm[on], [hi]])
+        ps = np.concatenate([[0.0], fld.p_MPa[r, on], [0.0]])
+        order = np.argsort(xs, kind="stable")
+        pc = np.interp(hi - frac * (hi - lo), xs[order], ps[order])
+        force = fld.p_MPa[r].sum() * fld.dx_mm
+        total = pc.sum() * (hi - lo) / nx
+        out[k] = pc * (force / total) if total > 0 else 0.0
+    return out

@@ -13,7 +13,8 @@ Steps (units mm, N, MPa, s):
 4. With creepages: FASTSIM (:func:`contact.tangential.fastsim.solve_tangential`) on every patch of every pass, each patch in
    its own frame (origin y at the patch's reference strip, the maximum of the virtual penetration), the same
    creepages for all patches; Fx, Fy and Mz are summed over the patches (each Mz about its own patch origin),
-   W_T max and P_T max are the maxima over the patches.
+   W_T max and P_T max are the maxima over the patches. With the exact normal solver each strip's cell pressures
+   are the exact pressure along that line (:func:`contact.normal.exact.fastsim_pressure`), not a semi-ellipse.
 
 ``shakedown_pass`` is the number of the first pass that added no residual displacement beyond
 ``passes.tolerance_mm`` (a purely elastic pass: the paper's shakedown), null when none did or without a layer.
@@ -30,6 +31,7 @@ import numpy as np
 from contact.layer.characteristic import Characteristic
 from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
 from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
+from contact.normal.exact import fastsim_pressure
 from contact.normal.method import solve_normal_with
 from contact.normal.patch import Patch
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
@@ -137,10 +139,12 @@ def solve_patches(scene: Scene, solution: NormalSolution, number: int) -> tuple[
         y_ref.append(yr)
         local.append(lp)
         if ts is not None and ts.has_creepage:
+            shape = None if solution.field is None else fastsim_pressure(solution, len(local) - 1,
+                                                                          scene.method.fastsim_cells)
             tang.append(solve_tangential(lp, Creepage(ts.creepage_x, ts.creepage_y, ts.spin_per_mm),
                                          scene.material.G_MPa, scene.material.poisson, ts.friction,
                                          ts.speed_mm_s, nx=scene.method.fastsim_cells,
-                                         flexibility=ts.flexibility))
+                                         flexibility=ts.flexibility, pressure_cells_MPa=shape))
         else:
             tang.append(None)
     return PassSnapshot(number, solution, tang, local, y_ref), time.perf_counter() - t0

@@ -145,3 +145,28 @@ def test_non_convergence_is_a_convergence_error():
     with pytest.raises(ConvergenceError):
         solve_exact(dataclasses.replace(prob, normal_force_N=5.0e4), layer,
                     options=ExactOptions(layer_max_iter=1))
+
+
+def test_fastsim_gets_the_exact_pressure_shape_and_force():
+    from contact.normal.exact import fastsim_pressure
+    from contact.tangential.fastsim import Creepage, _semi_ellipse_cell_means, solve_tangential
+
+    h = hertz(1.0e4, 300.0, 80.0, E, NU)["b_mm"] / 15.3
+    prob, H = _parabolic(1.0e4, 300.0, 80.0, h)
+    sol = solve_exact(prob)
+    pt = sol.patches[0]
+    nx = 40
+    pn = fastsim_pressure(sol, 0, nx)
+    strip_force = pn.sum(axis=1) * (2.0 * pt.x_lead_mm / nx) * h
+    np.testing.assert_allclose(strip_force.sum(), 1.0e4, rtol=1e-9)
+    ellipse = pt.p_peak_MPa[:, None] * _semi_ellipse_cell_means(nx)[None, :]
+    assert np.max(np.abs(pn - ellipse)) < 0.05 * H["p0_MPa"]          # Hertz: the exact shape is semi-elliptic
+    cr = Creepage(0.001, 0.0, 0.0)
+    G = E / (2 * (1 + NU))
+    same = solve_tangential(pt, cr, G, NU, 0.3, nx=nx, pressure_cells_MPa=ellipse)
+    default = solve_tangential(pt, cr, G, NU, 0.3, nx=nx)
+    assert same.Fx_N == default.Fx_N
+    shaped = solve_tangential(pt, cr, G, NU, 0.3, nx=nx, pressure_cells_MPa=pn)
+    assert shaped.Fx_N == pytest.approx(default.Fx_N, rel=0.02)
+    with pytest.raises(InputError):
+        solve_tangential(pt, cr, G, NU, 0.3, nx=nx, pressure_cells_MPa=pn[:, :-1])
