@@ -165,3 +165,12 @@ def test_every_shipped_scene_runs_with_the_exact_solver(path):
     assert last["iterations"]["cg_iterations"] > 0
     assert np.isfinite(last["p_max_MPa"]) and last["p_max_MPa"] > 0
     assert last["normal_force_N"] == pytest.approx(scene.load.normal_force_N, rel=1e-9)
+
+
+def test_exact_scene_writes_its_pressure_picture(tmp_path):
+    from contact.scenes.plots import write_scene_plots
+
+    run = simulate(load_scene(ROOT / "scenes" / "paper_with_layer_rolling.toml"))
+    paths = write_scene_plots(run, tmp_path)
+    pic = tmp_path / "exact_pressure_pass1.png"
+    assert pic in paths and pic.stat().st_size > 10_000
