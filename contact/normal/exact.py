@@ -204,6 +204,13 @@ def _offgrid_contact(prob: NormalProblem, f_strips: np.ndarray, grid: _Grid, p: 
     on = p > 0
     rows, cols = np.nonzero(on)
     pv = p[on]
+    # screen: 1/r >= 1/(farthest distance) over every loaded cell, so u_E(0, y) >= C sum(p dA) / r_far
+    y_on = y[lines][rows]
+    r_far = np.hypot(np.abs(x[cols]).max() + grid.dx, np.maximum(np.abs(y_on.max() - y[cand]),
+                                                               np.abs(y_on.min() - y[cand])) + h)
+    cand = cand[f_strips[cand] + factor * pv.sum() * grid.dx * h / r_far < delta]
+    if cand.size == 0:
+        return cand
     hits = []
     for start in range(0, cand.size, 64):
         chunk = cand[start:start + 64]

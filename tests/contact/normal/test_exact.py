@@ -170,3 +170,26 @@ def test_fastsim_gets_the_exact_pressure_shape_and_force():
     assert shaped.Fx_N == pytest.approx(default.Fx_N, rel=0.02)
     with pytest.raises(InputError):
         solve_tangential(pt, cr, G, NU, 0.3, nx=nx, pressure_cells_MPa=pn[:, :-1])
+
+
+def test_offgrid_check_finds_a_second_valley_the_grid_misses():
+    """The grid-placement check: a grid over the first valley only, with the converged pressure there, reports
+    the strips of the second (equal) valley, where f + u_E(0, y) < delta."""
+    from contact.normal.exact import _Grid, _offgrid_contact
+
+    y = np.arange(-8.0, 20.0 + 1e-9, 0.05)
+    f = np.minimum(y * y / 50.0, (y - 12.0) ** 2 / 50.0)
+    prob = NormalProblem(y, f, 4.0e4, 500.0, E, NU, grid_mm=0.1)
+    sol = solve_exact(prob)
+    fld = sol.field
+    first = fld.y_mm < 6.0
+    rows = np.flatnonzero(first)
+    grid = _Grid(int(fld.lines[rows[0]]), rows.size, fld.x_mm.size, fld.dx_mm)
+    hits = _offgrid_contact(prob, prob.separation_on_grid_mm, grid, fld.p_MPa[first], sol.delta_mm,
+                            compliance_factor(E, NU))
+    second = sol.regions[1].strips
+    assert hits.size > 0 and set(second) <= set(hits) and prob.strip_y_mm[hits].min() > 6.0
+    # with the full grid nothing is missed
+    full = _Grid(int(fld.lines[0]), fld.lines.size, fld.x_mm.size, fld.dx_mm)
+    assert _offgrid_contact(prob, prob.separation_on_grid_mm, full, fld.p_MPa, sol.delta_mm,
+                            compliance_factor(E, NU)).size == 0
