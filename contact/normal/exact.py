@@ -89,6 +89,11 @@ class ExactOptions:
         require(self.layer_mode in LAYER_MODES, "method.layer_mode",
                 f"must be one of {', '.join(LAYER_MODES)}, got {self.layer_mode!r}")
         require(bool(np.isfinite(self.margin) and 0.0 <= self.margin <= 2.0), "margin", "must lie in [0, 2]")
+        for name in ("cg_max_iter", "layer_max_iter"):
+            require(int(getattr(self, name)) >= 1, name, f"must be >= 1, got {getattr(self, name)!r}")
+        for name in ("cg_tol", "layer_rtol"):
+            v = getattr(self, name)
+            require(bool(np.isfinite(v) and 0.0 < v < 1.0), name, f"must lie in (0, 1), got {v!r}")
         if self.approach_mm is not None:
             require(bool(np.isfinite(self.approach_mm) and self.approach_mm > 0), "approach_mm",
                     f"must be a positive number, got {self.approach_mm!r}")
