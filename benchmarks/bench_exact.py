@@ -92,6 +92,42 @@ def _time_error(cells_list, repeat) -> tuple[str, dict]:
     return "\n".join(lines), data
 
 
+def _time_error_figure(data: dict, out: pathlib.Path) -> list[pathlib.Path]:
+    """error (p_max, area) against CPU time per case, one point per cell count."""
+    import io
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from wrlayer.atomic_write import atomic_write_bytes
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+    for case in ("no layer", "layer, indentation", "layer, rolling"):
+        keys = [k for k in data if k.startswith(case + "/")]
+        cells = [int(k.split("/")[1]) for k in keys]
+        t = [1e3 * data[k]["cpu_s"] for k in keys]
+        for ax, q in zip(axes, ("p_max_MPa", "area_mm2")):
+            err = [max(abs(data[k]["errors_percent"][q]), 1e-4) for k in keys]
+            ax.loglog(t, err, "o-", label=case)
+            for ti, ei, c in zip(t, err, cells):
+                ax.annotate(str(c), (ti, ei), fontsize=7)
+    for ax, q in zip(axes, ("p_max", "area")):
+        ax.set_xlabel("CPU time per solve [ms] (shared machine)")
+        ax.set_ylabel(f"|{q} error| [%] vs fine reference")
+        ax.axhline(1.0, color="0.6", lw=0.8)
+        ax.legend(fontsize=8)
+    fig.suptitle("Exact solver on the paper scene: error against time (labels: exact_cells)")
+    fig.tight_layout()
+    path = out / "exact_time_error.png"
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110)
+    plt.close(fig)
+    atomic_write_bytes(path, buf.getvalue())
+    return [path]
+
+
 def _full_pass(repeat) -> tuple[str, dict]:
     prob = _paper()
     layer = _layer(prob)
@@ -223,6 +259,7 @@ def run(mode: str, out: pathlib.Path) -> dict:
     load = os.getloadavg()
     t0 = time.perf_counter()
     te_md, te_data = _time_error(cells, repeat)
+    figs = _time_error_figure(te_data, out)
     fp_md, fp_data = _full_pass(repeat)
     kp_md, kp_data = _kp_vs_exact(max(3, repeat // 2))
     cm_md, cm_data = _contact_mechanics(repeat)
@@ -235,7 +272,7 @@ def run(mode: str, out: pathlib.Path) -> dict:
         "characteristic, indentation mode)", kp_md,
         "### Side by side with ContactMechanics (Hertz check scene, no layer)", cm_md])
     return {"title": "Exact half-space normal contact (FFT boundary elements) and the KP error",
-            "markdown": md, "figures": [],
+            "markdown": md, "figures": [str(f) for f in figs],
             "data": {"time_error": te_data, "full_pass_s": fp_data, "kp_vs_exact": kp_data,
                      "contact_mechanics": cm_data, "total_s": time.perf_counter() - t0, "loadavg": load}}
 
