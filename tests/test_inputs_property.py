@@ -40,7 +40,8 @@ BASE_SCENE = {
 }
 SCENE_KEYS = [(s, k) for s, table in BASE_SCENE.items() for k in table] + [
     ("tangential", "speed_mm_s"), ("tangential", "flexibility"), ("passes", "hardening"),
-    ("separation", "step_mm"), ("method", "typo_key"), ("load", "unknown")]
+    ("separation", "step_mm"), ("method", "typo_key"), ("load", "unknown"), ("method", "normal"),
+    ("method", "exact_cells"), ("method", "layer_mode")]
 
 BASE_CONFIG = {
     "run": {"model": "2d", "workers": 1, "plots": False},

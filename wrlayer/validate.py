@@ -199,11 +199,9 @@ class Keys:
             return default
         return number(self.table[key], self.what(key), gt=gt, ge=ge, lt=lt, le=le)
 
-    def integer(self, key: str, default: int | None, *, ge: int | None = None, le: int | None = None) -> int:
-        """An integer within the bounds, ``default`` when absent (None: required)."""
+    def integer(self, key: str, default: int | None, *, ge: int | None = None, le: int | None = None) -> int | None:
+        """An integer within the bounds, ``default`` when absent (which may be None: an optional key)."""
         if key not in self.table:
-            if default is None:
-                raise self.error(key, "missing (required)")
             return default
         return integer(self.table[key], self.what(key), ge=ge, le=le)
 

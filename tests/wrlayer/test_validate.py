@@ -119,3 +119,18 @@ def test_absurd_scene_cost_is_refused_through_the_command_line(tmp_path, capsys)
     assert err.startswith("error: costly.toml: estimated cost 100000 passes x 8000 strips x 200 cells ~ ")
     assert "--force" in err
     assert __import__("time").perf_counter() - t0 < 30
+
+
+def test_exact_solver_scenes_cost_more():
+    import dataclasses
+    from pathlib import Path
+
+    from contact.normal.exact import DEFAULT_CELLS
+    from contact.scenes.cost import EXACT_DEFAULT_CELLS, scene_cost
+    from contact.scenes.scene import load_scene
+
+    assert EXACT_DEFAULT_CELLS == DEFAULT_CELLS
+    scene = load_scene(Path(__file__).resolve().parents[2] / "scenes" / "paper_with_layer.toml")
+    exact = dataclasses.replace(scene, method=dataclasses.replace(scene.method, normal="exact", exact_cells=1024))
+    assert scene_cost(exact).seconds > 10 * scene_cost(scene).seconds
+    assert scene_cost(exact).factors["exact cells"] == 1024
