@@ -25,7 +25,7 @@ def calibration_cost(cfg, tasks, scheduler: str | None = None) -> CostEstimate:
     stages = (cfg.load.n_levels + len(cfg.load.unload_factors)) / _DEFAULT_STAGES
     workers = max(1, min(cfg.run.workers, n)) if not scheduler else max(1, cfg.run.workers)
     seconds = n * POSITION_S.get(model, 90.0) * max(density, 0.05) * max(stages, 0.1) / workers
-    return CostEstimate(cfg.source, {f"{model} FEM positions": n}, seconds, note=f"on {workers} worker(s)")
+    return CostEstimate(cfg.source, {f"{model.upper()} FEM position(s)": n}, seconds, note=f"on {workers} worker(s)")
 
 
 __all__ = ["POSITION_S", "calibration_cost"]

@@ -139,3 +139,17 @@ def test_killed_run_leaves_no_workers_and_frees_the_pipes(tmp_path):
         time.sleep(0.2)
     assert not [k for k in kids if _alive(k)]
     assert main(["run", str(COARSE), "--out", str(out), "--quiet"]) == 0
+
+
+def test_costly_calibration_is_refused_with_the_estimate(tmp_path, capsys):
+    """A 3D configuration with a fine mesh: refused before any FEM (exit 2, the estimate, --force named), nothing
+    written."""
+    cfg = tmp_path / "costly.toml"
+    cfg.write_text(COARSE.read_text().replace("elements_per_semi_axis = 3", "elements_per_semi_axis = 40")
+                   .replace('model = "2d"', 'model = "3d"'))
+    out = tmp_path / "out"
+    rc = main(["run", str(cfg), "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and "\n" not in err and not out.exists()
+    assert "estimated cost 1 3D FEM position(s) on 1 worker(s) ~ " in err and "--force" in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["costly.toml"]
