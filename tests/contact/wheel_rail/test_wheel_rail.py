@@ -22,7 +22,8 @@ from contact.wheel_rail.solve import (
 
 
 def _vertical(sol):
-    return sum(p.normal_force_N * math.cos(p.candidate.contact_angle_rad) for p in sol.patches)
+    """Vertical component of the total contact force on the wheel (normal + tangential), N."""
+    return sum(float(p.force_track_N()[2]) for p in sol.patches)
 
 
 @pytest.mark.parametrize("d", [0.5, 5.2, 7.0])
