@@ -1,0 +1,98 @@
+"""The wheel's vertical balance with the tangential forces (Manchester A-2.2 definition), the reported approach and
+the contact reference point (units mm, N, rad)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from contact.wheel_rail.kinematics import creepages
+from contact.wheel_rail.reference_point import weighted_centre_eta
+from contact.wheel_rail.solve import WheelRailInputs, solve_wheel
+from contact.wheel_rail.track_geometry import WheelsetPose, axle_direction
+
+Q = 10000.0
+
+
+def _solve(rail, wheel, placed, lateral, side="right", yaw=0.0, **kw):
+    pose = WheelsetPose(lateral, yaw, 0.0)
+    return solve_wheel(rail, wheel, WheelRailInputs(pose=pose, side=side, vertical_load_N=Q, **kw), placed_rail=placed)
+
+
+def _normal_vertical(sol):
+    return sum(p.normal_force_N * math.cos(p.candidate.contact_angle_rad) for p in sol.patches)
+
+
+@pytest.mark.parametrize("side", ["right", "left"])
+@pytest.mark.parametrize("lateral, n_patches", [(0.5, 1), (5.2, 2), (7.0, 1)])
+@pytest.mark.parametrize("point", ["first_contact", "weighted_centre"])
+def test_vertical_component_of_the_total_contact_force_equals_the_load(rail60, s1002, placed, side, lateral,
+                                                                      n_patches, point):
+    d = lateral if side == "right" else -lateral          # the flange of the wheel named by ``side`` approaches
+    sol = _solve(rail60, s1002, placed, d, side=side, yaw=0.012 * np.sign(d), contact_point=point)
+    assert len(sol.patches) == n_patches
+    total = sum(p.force_track_N() for p in sol.patches)
+    assert abs(total[2] - Q) / Q < 1e-6
+    assert sol.vertical_balance_rel < 1e-6
+    assert sol.vertical_force_N == pytest.approx(total[2], rel=1e-12)
+    # the tangential forces matter: the normal forces alone do not carry Q (on the flange by far)
+    off = abs(_normal_vertical(sol) - Q) / Q
+    assert off > (0.2 if lateral == 7.0 else 1e-3)
+
+
+def test_normal_only_balance_is_still_available_and_differs(rail60, s1002, placed):
+    old = _solve(rail60, s1002, placed, 7.0, yaw=0.0168, balance="normal")
+    new = _solve(rail60, s1002, placed, 7.0, yaw=0.0168)
+    assert _normal_vertical(old) == pytest.approx(Q, rel=1e-6)
+    assert old.vertical_force_N > 1.2 * Q                  # the issue's 13-15 kN on the flange
+    assert new.patches[0].normal_force_N < 0.85 * old.patches[0].normal_force_N
+
+
+@pytest.mark.parametrize("lateral", [0.0, 3.0, 5.2, 8.0])
+def test_approach_is_reported_for_every_case(rail60, s1002, placed, lateral):
+    sol = _solve(rail60, s1002, placed, lateral)
+    assert sol.approach_mm > 0.005
+    for p in sol.patches:
+        c = p.candidate
+        assert p.normal.delta_mm == pytest.approx(sol.approach_mm * math.cos(c.contact_angle_rad) - c.normal_gap_mm,
+                                                  rel=1e-6, abs=1e-9)
+
+
+def test_weighted_centre_is_the_depth_weighted_centre_of_the_interpenetration(rail60, s1002, placed):
+    sol = _solve(rail60, s1002, placed, 0.0)
+    c, delta = sol.patches[0].candidate, sol.patches[0].normal.delta_mm
+    R = c.rolling_radius_kp_mm
+    # brute force over (x, eta): h = delta - f(eta) - x^2 / (2 R) > 0
+    eta = np.linspace(c.eta_mm[0], c.eta_mm[-1], 4001)
+    f = np.interp(eta, c.eta_mm, c.f_mm - c.f_mm.min())
+    x = np.linspace(-15.0, 15.0, 3001)
+    h = np.maximum(delta - f[:, None] - x[None, :] ** 2 / (2 * R), 0.0)
+    ref = float(np.sum(eta[:, None] * h) / np.sum(h))
+    assert weighted_centre_eta(c, delta) == pytest.approx(ref, abs=2e-3)
+
+
+def test_creepages_and_spin_are_evaluated_at_the_chosen_point(rail60, s1002, placed):
+    sols = {k: _solve(rail60, s1002, placed, 0.0, contact_point=k) for k in ("first_contact", "weighted_centre")}
+    wc = sols["weighted_centre"].patches[0]
+    fc = sols["first_contact"].patches[0]
+    assert abs(wc.reference.eta_mm) > 0.3                  # the two points differ on this tread contact
+    assert fc.reference.eta_mm == 0.0
+    for sol in sols.values():
+        p = sol.patches[0]
+        inp = sol.inputs
+        centre = np.array([0.0, inp.pose.lateral_mm, sol.search.wheel_height_mm - sol.approach_mm])
+        kin = creepages(p.point_track, p.normal_track, centre, axle_direction(inp.pose), inp.speed_mm_s,
+                        inp.omega_rad_s)
+        assert (p.kinematics.vx, p.kinematics.vy, p.kinematics.phi_per_mm) == pytest.approx(
+            (kin.vx, kin.vy, kin.phi_per_mm), abs=1e-15)
+        # FASTSIM's strips are about the reference point
+        assert p.tangential[0].y_mm == pytest.approx(p.normal.patches[0].y_mm - p.strip_sign * p.reference.eta_mm)
+    # a conical tread: the longitudinal creepage follows the rolling radius at the point
+    assert wc.kinematics.vx != pytest.approx(fc.kinematics.vx, abs=1e-6)
+
+
+def test_flange_climbing_limit_is_a_convergence_error(rail60, s1002, placed):
+    from wrlayer.errors import ConvergenceError
+
+    with pytest.raises(ConvergenceError, match="flange climbing limit"):
+        _solve(rail60, s1002, placed, 7.0, yaw=0.0168, friction=0.5)
