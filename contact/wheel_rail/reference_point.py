@@ -15,9 +15,11 @@ Units mm, rad. Two definitions (``method.contact_point`` of a wheel_rail scene):
 
   Its longitudinal lead is the contact locus' at the wheel profile coordinate of eta_ref (0 without yaw).
 
-In both cases the 3-D point where the creepages are evaluated lies in the contact plane moved halfway into the
-interpenetration: P_ref = P_0 + eta_ref t - (delta / 2) n (P_0: the rigid contact point, t, n: the contact
-plane's lateral axis and normal), and the wheelset centre is the loaded one (lowered by the vertical approach).
+In both cases the creepages are evaluated at the wheel surface point of the reference point, relative to the
+wheelset centre, in the rigid-contact geometry: P_ref = P_0 + eta_ref t (P_0: the rigid contact point, t: the
+contact plane's lateral axis); lowering the wheelset by its approach moves the centre and its surface together, so
+the rolling radius at the point is the undeformed one (this reproduces CONTACT's creepages of the A-2.2 cases; a
+point halfway into the interpenetration would change the longitudinal creepage by about approach / (2 r0) ~ 3e-5).
 FASTSIM's strip coordinate and the spin moment Mz are taken about eta_ref as well.
 """
 
@@ -55,7 +57,7 @@ def weighted_centre_eta(cand: ContactCandidate, delta_mm: float) -> float:
 @dataclass(frozen=True)
 class ReferencePoint:
     """The chosen point of one patch (side frame): eta_mm along the contact plane; profile coordinates on rail and
-    wheel; point_mm (3,) = (X lead, Y, Z) of P_ref (mm, halfway into the interpenetration)."""
+    wheel; point_mm (3,) = (X lead, Y, Z) of P_ref (mm, rigid-contact geometry)."""
 
     kind: str
     eta_mm: float
@@ -74,8 +76,8 @@ def reference_point(kind: str, cand: ContactCandidate, delta_mm: float, wheel: P
     else:
         eta = weighted_centre_eta(cand, delta_mm)
         lead = float(wheel_locus(wheel, layout, pose_side, np.array([cand.wheel_coordinate(eta)])).X_mm[0])
-    t, n = cand.lateral, cand.normal
-    yz = np.array([cand.Y_mm, cand.Z_mm]) + eta * t[1:] - 0.5 * max(delta_mm, 0.0) * n[1:]
+    t = cand.lateral
+    yz = np.array([cand.Y_mm, cand.Z_mm]) + eta * t[1:]
     return ReferencePoint(kind, eta, float(cand.rail_coordinate(eta)), float(cand.wheel_coordinate(eta)),
                           np.array([lead, yz[0], yz[1]]))
 

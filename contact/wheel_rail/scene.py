@@ -515,6 +515,7 @@ def run_wheel_rail_scene(data: dict[str, Any], scene_path: Path, out_dir: Path, 
         "timings_s": {"total": time.perf_counter() - t0},
     }
     text = cases_csv(result)
+    out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "cases.csv").write_text(text, encoding="utf-8")
     result["cases_csv"] = "cases.csv"
     if plots:

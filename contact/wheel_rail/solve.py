@@ -327,21 +327,19 @@ class _Balance:
             self.ctx.append(_Candidate(c, pair, coords, clamped, cg, sg, NormalForceEvaluator(prob, pair), t_Z))
 
     # -- one candidate at a force
-    def load(self, ctx: _Candidate, force: float, Delta: float | None = None) -> _Loaded:
-        """Solve ``ctx`` at the normal force ``force`` (N); Delta: the wheel's vertical approach (mm; None: from
-        this patch's own approach, for a single loaded candidate)."""
+    def load(self, ctx: _Candidate, force: float) -> _Loaded:
+        """Solve ``ctx`` at the normal force ``force`` (N): normal solution, reference point, creepages there,
+        FASTSIM about it."""
         self.evaluations += 1
         inp = self.inputs
         prob = _problem(ctx.cand, self.sign, inp, force)
         kw = {"delta_guess_mm": ctx.delta_guess} if inp.normal_method.name == "kik_piotrowski" else {}
         sol = solve_normal_with(inp.normal_method, prob, ctx.pair, **kw)
         ctx.delta_guess = sol.delta_mm
-        if Delta is None:
-            Delta = (sol.delta_mm + ctx.cand.normal_gap_mm) / ctx.cos_g
         ref = reference_point(inp.contact_point, ctx.cand, sol.delta_mm, self.wheel, inp.layout, self.pose_side)
         point = _track_vector(ref.point_mm, self.sign)
         n_track = _track_vector(ctx.cand.normal, self.sign)
-        centre = np.array([0.0, inp.pose.lateral_mm, self.found.wheel_height_mm - Delta])
+        centre = np.array([0.0, inp.pose.lateral_mm, self.found.wheel_height_mm])   # rigid-contact geometry
         kin = creepages(point, n_track, centre, self.axle, inp.speed_mm_s, inp.omega_rad_s)
         tang = _tangential(sol, kin, inp, self.sign * ref.eta_mm)
         return _Loaded(ctx, float(force), prob, sol, ref, kin, tang)
@@ -419,7 +417,7 @@ class _Balance:
         for ctx in self.ctx:
             n = self.force_at_approach(ctx, Delta * ctx.cos_g - ctx.cand.normal_gap_mm)
             if n > 1e-9 * Q:
-                out.append(self.load(ctx, n, Delta))
+                out.append(self.load(ctx, n))
         if not out:
             raise ConvergenceError(f"{self.case}: vertical load balance: no patch is loaded at the approach "
                                    f"{Delta:g} mm")

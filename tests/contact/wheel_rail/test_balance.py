@@ -80,7 +80,7 @@ def test_creepages_and_spin_are_evaluated_at_the_chosen_point(rail60, s1002, pla
     for sol in sols.values():
         p = sol.patches[0]
         inp = sol.inputs
-        centre = np.array([0.0, inp.pose.lateral_mm, sol.search.wheel_height_mm - sol.approach_mm])
+        centre = np.array([0.0, inp.pose.lateral_mm, sol.search.wheel_height_mm])
         kin = creepages(p.point_track, p.normal_track, centre, axle_direction(inp.pose), inp.speed_mm_s,
                         inp.omega_rad_s)
         assert (p.kinematics.vx, p.kinematics.vy, p.kinematics.phi_per_mm) == pytest.approx(
