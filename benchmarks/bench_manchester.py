@@ -57,18 +57,18 @@ def to_contact(patch: dict, side: str) -> dict[str, float]:
             "cksi": -patch["creepage_x"], "ceta": -patch["creepage_y"], "cphi_per_mm": -patch["spin_per_mm"]}
 
 
-def _scene_data(**method) -> dict:
-    data = tomllib.loads(SCENE.read_text(encoding="utf-8"))
-    data = copy.deepcopy(data)
+def _scene_data(sweep: dict | None = None, **method) -> dict:
+    data = copy.deepcopy(tomllib.loads(SCENE.read_text(encoding="utf-8")))
     data["method"].update(method)
+    data["sweep"].update(sweep or {})
     return data
 
 
-def run_scene(out: pathlib.Path, **method) -> tuple[dict | None, float, float, str]:
-    """(result or None, wall time s, CPU time s, error text)."""
+def run_scene(out: pathlib.Path, sweep: dict | None = None, **method) -> tuple[dict | None, float, float, str]:
+    """(result or None, wall time s, CPU time s, error text) of the shipped scene with ``method`` keys changed."""
     t0, c0 = time.perf_counter(), time.process_time()
     try:
-        res = run_wheel_rail_scene(_scene_data(**method), SCENE, out, plots=False)
+        res = run_wheel_rail_scene(_scene_data(sweep, **method), SCENE, out, plots=False)
     except InputError as err:
         return None, time.perf_counter() - t0, time.process_time() - c0, str(err)
     return res, time.perf_counter() - t0, time.process_time() - c0, ""
@@ -154,22 +154,32 @@ def _errors(data: list[dict], method: str, key: str, skip=()) -> float:
 
 def _choices_table(out: pathlib.Path, ref: dict) -> tuple[str, dict]:
     """Right wheel, a tread case (2) and a flange case (14): the balance and reference-point choices vs CONTACT."""
-    variants = [("total", "weighted_centre"), ("normal", "weighted_centre"), ("total", "first_contact")]
-    lines = [_row(["method.balance", "method.contact_point", "case", "FN [N]", "FX [N]", "FS [N]", "F_Z wheel [N]",
-                   "Y/Q", "ξ [1e-3]", "y_r [mm]"]), _row(["---"] * 10)]
+    variants = [("total", "weighted_centre", "per case"), ("normal", "weighted_centre", "per case"),
+                ("total", "first_contact", "per case"), ("total", "weighted_centre", "V / r0")]
+    lines = [_row(["method.balance", "method.contact_point", "pitch rate", "case", "FN [N]", "FX [N]", "FS [N]",
+                   "F_Z wheel [N]", "Y/Q", "ξ [1e-3]", "y_r [mm]"]), _row(["---"] * 11)]
     data = {}
-    for bal, point in variants:
-        res, *_ = run_scene(out / f"{bal}_{point}", balance=bal, contact_point=point)
+    # the same cases without the per-case pitch rate (pure rolling at the nominal radius, as before per-case inputs)
+    src = (reference_dir() / "mbench_a22_inputs.csv").read_text(encoding="utf-8").splitlines()
+    rows = list(csv.reader(ln for ln in src if not ln.startswith("#")))
+    keep = [i for i, h in enumerate(rows[0]) if h != "pitch_rate_rad_s"]
+    no_pitch = out / "a22_inputs_without_pitch_rate.csv"
+    no_pitch.write_text("\n".join(",".join(r[i] for i in keep) for r in rows) + "\n", encoding="utf-8")
+    for bal, point, pitch in variants:
+        sweep = {} if pitch == "per case" else {"csv": str(no_pitch)}
+        res, *_ = run_scene(out / f"{bal}_{point}_{pitch.replace(' ', '').replace('/', '')}", sweep=sweep,
+                            balance=bal, contact_point=point)
         for case in (2, 14):
             w = res["cases"][case - 1]["wheels"]["right"]
             p = to_contact(_main(w["patches"]), "right")
-            data[f"{bal}/{point}/{case}"] = {**p, "vertical_force_N": w["vertical_force_N"], "Y_over_Q": w["Y_over_Q"]}
-            lines.append(_row([bal, point, case, f"{p['fn_N']:.0f}", f"{p['fx_N']:.0f}", f"{p['fs_N']:.0f}",
+            data[f"{bal}/{point}/{pitch}/{case}"] = {**p, "vertical_force_N": w["vertical_force_N"],
+                                                     "Y_over_Q": w["Y_over_Q"]}
+            lines.append(_row([bal, point, pitch, case, f"{p['fn_N']:.0f}", f"{p['fx_N']:.0f}", f"{p['fs_N']:.0f}",
                                f"{w['vertical_force_N']:.0f}", f"{w['Y_over_Q']:.3f}", f"{p['cksi'] * 1e3:.3f}",
                                f"{p['ycp_r_mm']:.2f}"]))
     for case in (2, 14):
         rc = max(ref[("right", case)], key=lambda p: p["fn_N"])
-        lines.append(_row(["CONTACT", "(weighted centre)", case, f"{rc['fn_N']:.0f}", f"{rc['fx_N']:.0f}",
+        lines.append(_row(["CONTACT", "(weighted centre)", "per case", case, f"{rc['fn_N']:.0f}", f"{rc['fx_N']:.0f}",
                            f"{rc['fs_N']:.0f}", f"{rc['fz_tr_N']:.0f}", f"{-rc['fy_tr_N'] / 1e4:.3f}",
                            f"{rc['cksi'] * 1e3:.3f}", f"{rc['ycp_r_mm']:.2f}"]))
     return "\n".join(lines) + "\n", data

@@ -18,11 +18,22 @@ Run by ``python -m contact simulate SCENE --out DIR`` (and ``simulate-all``), wh
     [layers]    rail = "table.json", wheel = "table.json" (calibration tables, relative to the scene file), or
                 [layers.combined] u_mm, p_MPa (one characteristic for both bodies, the paper's eq. 13 layer)
     [passes]    max = 1, hardening = false, tolerance_mm = 1e-6
-    [method]    alpha = 0.55, grid_mm = 0.1, fastsim_cells = 60, merge_mm, candidate_gap_mm, f_cap_mm
-    [sweep]     lateral_mm, yaw_rad, roll_rad: a list of values or {start, stop, step} (stop included);
-                mode = "zip" (default; lists of equal length, case k takes the k-th value of each) or "product"
+    [method]    alpha = 0.55, grid_mm = 0.1, fastsim_cells = 60, merge_mm, candidate_gap_mm, f_cap_mm,
+                normal = "kik_piotrowski" | "exact" (the normal solver), exact_cells (exact solver grid),
+                contact_point = "first_contact" (default) | "weighted_centre" (reported point; creepages there),
+                balance = "total" (default: vertical component of normal + tangential forces = load) | "normal"
+    [sweep]     per-case values of lateral_mm, yaw_rad, roll_rad, pitch_rate_rad_s, vertical_load_N, speed_mm_s:
+                a list of values or {start, stop, step} (stop included) per key; mode = "zip" (default; lists
+                of equal length, case k takes the k-th value of each) or "product"; or csv = "cases.csv" (columns
+                named like those keys, one case per row, '#' comments; other columns ignored) with
+                convention = "wrlayer" (default) | "contact" (CONTACT's roll and pitch-rate signs). File names
+                starting with "reference:" are looked up in $WRLAYER_REFERENCE or <repo>/../shared/reference.
     [output]    deformed_profiles = true (with layers: write each case's deformed rail/wheel profiles as SIMPACK
                 .prr/.prw and CSV and read them back)
+
+Output: ``result.json`` and ``cases.csv`` (one row per loaded patch: pose, location, angle, N, Fx, Fy, p_max,
+area, creepages, Y/Q, balance residual, run time; :data:`CSV_COLUMNS`). A progress bar over the cases goes to
+stderr when it is a terminal. Conventions: docs/wheel-rail.md.
 
 A case that fails (bad geometry: profiles that do not meet, the flange through the rail; or a solver failure) is
 recorded with its error message in ``cases[k].error`` and the other cases are still computed; the scene itself

@@ -1,21 +1,37 @@
 """One wheel on its rail: contact search, vertical load balance, normal and tangential solution per patch, layers
 looked up at the contact location, residual displacements mapped back onto both profiles (units mm, N, MPa, s).
 
-Vertical load balance
----------------------
-The wheel is first lowered until it touches the rail (rigid contact, :mod:`contact.wheel_rail.contact_search`). Lowering it
-further by Delta (mm, along -Z) gives each contact candidate i (contact angle gamma_i, normal gap g_i at rigid
-contact, 0 for the first contact) the normal approach delta_i = Delta cos(gamma_i) - g_i. Its Kik–Piotrowski
-normal force N_i(delta_i) (with the layers, if any) acts along its normal, so the vertical balance is
+Vertical load balance (``method.balance``)
+------------------------------------------
+The wheel is first lowered until it touches the rail (rigid contact, :mod:`contact.wheel_rail.contact_search`).
+Lowering it further by Delta (mm, along -Z; reported as ``approach_mm``) gives each contact candidate i (contact
+angle gamma_i, normal gap g_i at rigid contact, 0 for the first contact) the normal approach
+delta_i = Delta cos(gamma_i) - g_i. Patch i carries the normal force N_i along its normal n_i and the creep forces
+F_x,i (rolling direction) and F_s,i (contact-plane lateral axis t_i, whose track-Z component is +-sin(gamma_i)).
+With ``balance = "total"`` (default; the Manchester benchmark's definition) the vertical component of the whole
+contact force on the wheel equals the vertical load Q:
 
-    sum_i N_i(delta_i) cos(gamma_i) = Q      (Q: vertical wheel load; tangential forces are not included)
+    sum_i (N_i cos(gamma_i) + F_s,i t_Z,i) = Q          (t_Z,i = sin(gamma_i) on the right wheel, -sin on the left)
 
-One candidate: N = Q / cos(gamma) directly. Several: Delta is found by Brent's method in [0, Delta_1] (Delta_1:
-the primary patch alone carrying Q), then every loaded patch is solved for its N_i; the balance holds to
-< 1e-9 relative (checked; ConvergenceError above 1e-6). Each patch is a separate Kik–Piotrowski problem in its own
-contact plane (no elastic interaction between patches). Each wheel's vertical position is solved on its own: for
-a whole wheelset with a given (or rigid-contact, "auto") roll angle the two wheels' approaches differ slightly, which
-amounts to an extra roll of (Delta_right - Delta_left) / (wheel distance), ~1e-5 rad at 10 kN, not fed back.
+The tangential forces depend on the normal solution (patch size, mu N), so normal and tangential problems are
+solved together inside the iteration: one loaded candidate: secant iteration on N (each step a normal solve,
+the reference point, the creepages there and FASTSIM), kept inside [Q / (cos + mu |sin|), Q / (cos - mu |sin|)];
+cos(gamma) <= mu |sin(gamma)| (flange climbing limit) is a ConvergenceError. Several candidates: secant iteration
+on the common Delta (started at the normal-only balance found by Brent's method), every candidate's N_i(delta_i)
+from its force-approach relation. Converged to |sum F_Z - Q| <= 1e-10 Q (``vertical_balance_rel`` of the final
+patches is reported; ConvergenceError above 1e-6). ``balance = "normal"``: sum N_i cos(gamma_i) = Q (the earlier
+model, kept for comparison; on the flange it overestimates N by 25-60 %).
+
+Each patch is a separate normal problem in its own contact plane (no elastic interaction between patches), solved
+with ``method.normal`` (:func:`contact.normal.method.solve_normal_with`). Each wheel's vertical position is solved
+on its own: for a whole wheelset with a given (or rigid-contact, "auto") roll angle the two wheels' approaches
+differ slightly, which amounts to an extra roll of (Delta_right - Delta_left) / (wheel distance), ~1e-5 rad at
+10 kN, not fed back (the A-2.2 benchmark prescribes the roll per case).
+
+Reference point (``method.contact_point``)
+------------------------------------------
+"first_contact" or "weighted_centre" (:mod:`contact.wheel_rail.reference_point`): the reported location of a patch,
+the point where the creepages and the spin are evaluated, and the origin of FASTSIM's strip coordinate and Mz.
 
 Layers
 ------

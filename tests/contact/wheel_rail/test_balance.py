@@ -96,3 +96,35 @@ def test_flange_climbing_limit_is_a_convergence_error(rail60, s1002, placed):
 
     with pytest.raises(ConvergenceError, match="flange climbing limit"):
         _solve(rail60, s1002, placed, 7.0, yaw=0.0168, friction=0.5)
+
+
+def _exact_available() -> bool:
+    from contact.normal.kik_piotrowski import NormalProblem
+    from contact.normal.method import NormalMethod, solve_normal_with
+    from wrlayer.errors import InputError
+
+    y = np.linspace(-5.0, 5.0, 101)
+    prob = NormalProblem(y, y ** 2 / 60.0, 5000.0, 460.0, 210000.0, 0.28, grid_mm=0.2)
+    try:
+        solve_normal_with(NormalMethod("exact"), prob)
+    except InputError as err:
+        if "not available" in str(err):
+            return False
+        raise
+    return True
+
+
+@pytest.mark.skipif(not _exact_available(), reason="method.normal = 'exact' raises 'not available in this build' "
+                    "until the exact half-space solver lands on main")
+@pytest.mark.parametrize("lateral, n_patches", [(0.5, 1), (5.2, 2), (7.0, 1)])
+def test_balance_and_approach_with_the_exact_normal_solver(rail60, s1002, placed, lateral, n_patches):
+    from contact.normal.method import NormalMethod
+
+    sol = _solve(rail60, s1002, placed, lateral, normal_method=NormalMethod("exact"),
+                 contact_point="weighted_centre")
+    assert len(sol.patches) == n_patches
+    assert abs(sol.vertical_force_N - Q) / Q < 1e-6
+    for p in sol.patches:
+        c = p.candidate
+        assert p.normal.delta_mm == pytest.approx(sol.approach_mm * math.cos(c.contact_angle_rad) - c.normal_gap_mm,
+                                                  rel=1e-5, abs=1e-8)
