@@ -420,6 +420,7 @@ def wheel_result(sol: WheelRailSolution) -> dict[str, Any]:
         "side": sol.inputs.side, "wheel_height_mm": sol.search.wheel_height_mm, "approach_mm": sol.approach_mm,
         "vertical_balance_rel": sol.vertical_balance_rel, "balance": sol.inputs.balance,
         "balance_iterations": sol.balance_iterations, "vertical_force_N": float(force[2]),
+        "merge_mm": sol.merge_mm,
         "normal_vertical_N": float(sum(p.normal_force_N * math.cos(p.candidate.contact_angle_rad)
                                        for p in sol.patches)),
         "force_on_wheel_track_N": force.tolist(), "Y_over_Q": float(force[1] / Q), "n_patches": len(sol.patches),

@@ -48,6 +48,7 @@ positions and the profile points are moved by -u_p along the profile's outward n
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any, Protocol
@@ -73,6 +74,8 @@ BALANCE_RTOL = 1e-6
 #: The balance iteration stops at |sum F_Z - Q| <= BALANCE_ITER_RTOL Q.
 BALANCE_ITER_RTOL = 1e-10
 BALANCES = ("total", "normal")
+#: Barrier heights (mm) up to which neighbouring candidates are merged when their patches grow into each other.
+MERGE_RETRY_MM = (0.02, 0.05, 0.1, 0.2, 0.5)
 #: Layers are built only on strips whose separation is below the first of these caps (mm) (the virtual penetration
 #: alpha delta stays far below 0.3 mm at wheel loads); if a strip in contact has no element, the case is solved again
 #: with the next cap.
@@ -218,6 +221,7 @@ class WheelRailSolution:
     unloaded: list[ContactCandidate]
     wheel: Profile
     balance_iterations: int = 0
+    merge_mm: float | None = None
 
     @property
     def vertical_force_N(self) -> float:
@@ -505,22 +509,42 @@ def solve_wheel(rail_profile: Profile, wheel_profile: Profile, inputs: WheelRail
                 layers: WheelRailLayers | None = None, placed_rail: PlacedRail | None = None,
                 case: str = "wheel-rail case") -> WheelRailSolution:
     """Solve one wheel on its rail (see the module docstring). ``placed_rail`` may be passed to reuse a placement
-    (it depends only on the rail profile and the layout)."""
-    sign = side_sign(inputs.side)
+    (it depends only on the rail profile and the layout).
+
+    Patches that grow into each other (a patch reaching the barrier to its neighbouring candidate) are merged: the
+    contact search is repeated with a larger ``merge_mm`` (:data:`MERGE_RETRY_MM`) so that the neighbours become one
+    candidate with one separation function (in the contact plane of the lower minimum), on which the normal solver
+    finds the interacting regions itself. ``WheelRailSolution.merge_mm`` records the value used."""
     rail = placed_rail if placed_rail is not None else place_rail(rail_profile, inputs.layout)
+    first_error = None
+    merges = [inputs.search.merge_mm] + [m for m in MERGE_RETRY_MM if m > inputs.search.merge_mm]
+    for merge in merges:
+        try:
+            sol = _solve_with_search(rail, wheel_profile, inputs, layers, case,
+                                     dataclasses.replace(inputs.search, merge_mm=merge))
+            sol.merge_mm = merge
+            return sol
+        except InputError as err:
+            if err.what != "separation.y_mm":
+                raise
+            first_error = first_error or err
+    raise InputError(case, "a contact patch reaches the end of its separation function (the barrier to the "
+                     "neighbouring contact candidate, or the search cap of "
+                     f"{inputs.search.f_cap_mm:g} mm) even with candidates merged up to merge_mm = "
+                     f"{merges[-1]:g} mm ({first_error.problem})") from None
+
+
+def _solve_with_search(rail: PlacedRail, wheel_profile: Profile, inputs: WheelRailInputs,
+                       layers: WheelRailLayers | None, case: str, search: SearchSettings) -> WheelRailSolution:
+    sign = side_sign(inputs.side)
     pose_side = inputs.pose.for_side(inputs.side)
-    found = search_contacts(rail, wheel_profile, inputs.layout, pose_side, inputs.search, case=case)
+    found = search_contacts(rail, wheel_profile, inputs.layout, pose_side, search, case=case)
     layers = layers if layers is not None else WheelRailLayers()
     for k, cap in enumerate(LAYER_F_CAPS_MM):
         try:
             return _solve_found(found, rail, wheel_profile, inputs, layers, sign, case, cap)
         except InputError as err:  # a strip in contact without a layer element: widen the layer
-            if err.what == "separation.y_mm":
-                raise InputError(case, "a contact patch reaches the end of its separation function (the barrier "
-                                 "to the neighbouring contact candidate, or the search cap of "
-                                 f"{inputs.search.f_cap_mm:g} mm): the patches would merge, which this planar "
-                                 f"two-candidate model does not represent ({err.problem})") from None
-            if k == len(LAYER_F_CAPS_MM) - 1 or not _is_layer_name(err.what):
+            if err.what == "separation.y_mm" or k == len(LAYER_F_CAPS_MM) - 1 or not _is_layer_name(err.what):
                 raise
     raise AssertionError("unreachable")
 
