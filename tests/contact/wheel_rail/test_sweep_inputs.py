@@ -93,3 +93,14 @@ def test_shipped_manchester_a22_scene(tmp_path, reference_dir, monkeypatch):
     rows = list(csv.DictReader((out / "cases.csv").open()))
     assert len(rows) == sum(len(w["patches"]) for c in result["cases"] for w in c["wheels"].values())
     assert np.isfinite([float(r["Fx_N"]) for r in rows]).all()
+
+
+def test_no_progress_bar_in_logs_and_failed_cases_in_the_csv(tmp_path, capsys):
+    data = _scene(sweep={"lateral_mm": [0.0, 25.0]})
+    result = run_wheel_rail_scene(data, tmp_path / "s.toml", tmp_path, plots=False)
+    err = capsys.readouterr().err
+    assert "\x1b" not in err and "case/s" not in err            # stderr is not a terminal here: no bar
+    rows = list(csv.DictReader((tmp_path / "cases.csv").open()))
+    assert result["n_failed"] == 1
+    assert rows[0]["error"] == "" and "flange through the rail" in rows[1]["error"]
+    assert float(rows[0]["normal_force_N"]) > 0 and rows[1]["normal_force_N"] == ""
