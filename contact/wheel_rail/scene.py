@@ -374,9 +374,9 @@ def patch_result(p: PatchSolution) -> dict[str, Any]:
         "Y_track_mm": float(p.point_track[1]), "Z_track_mm": float(p.point_track[2]),
         "X_lead_mm": float(p.point_track[0]),
         "first_contact": {"y_rail_mm": c.y_rail_mm, "y_wheel_mm": c.y_wheel_mm, "Y_track_mm": sign * c.Y_mm,
-                          "Z_track_mm": c.Z_mm, "X_lead_mm": c.X_mm},
+                          "Z_track_mm": c.Z_mm, "X_lead_mm": c.X_mm, "contact_angle_rad": c.contact_angle_rad},
         "weighted_centre": _weighted_centre_result(p),
-        "contact_angle_rad": c.contact_angle_rad, "contact_angle_deg": math.degrees(c.contact_angle_rad),
+        "contact_angle_rad": ref.angle_rad, "contact_angle_deg": math.degrees(ref.angle_rad),
         "wheel_contact_angle_rad": c.wheel_contact_angle_rad, "wheel_radius_mm": c.wheel_radius_mm,
         "rolling_radius_kp_mm": c.rolling_radius_kp_mm, "normal_gap_mm": c.normal_gap_mm,
         "normal_force_N": p.normal_force_N, "delta_mm": ns.delta_mm, "delta0_mm": ns.delta0_mm,
@@ -421,8 +421,7 @@ def wheel_result(sol: WheelRailSolution) -> dict[str, Any]:
         "vertical_balance_rel": sol.vertical_balance_rel, "balance": sol.inputs.balance,
         "balance_iterations": sol.balance_iterations, "vertical_force_N": float(force[2]),
         "merge_mm": sol.merge_mm,
-        "normal_vertical_N": float(sum(p.normal_force_N * math.cos(p.candidate.contact_angle_rad)
-                                       for p in sol.patches)),
+        "normal_vertical_N": float(sum(p.normal_force_N * p.normal_track[2] for p in sol.patches)),
         "force_on_wheel_track_N": force.tolist(), "Y_over_Q": float(force[1] / Q), "n_patches": len(sol.patches),
         "patches": [{**patch_result(p), "load_share": p.vertical_N / float(force[2])} for p in sol.patches],
         "unloaded_candidates": [{"y_rail_mm": c.y_rail_mm, "y_wheel_mm": c.y_wheel_mm, "normal_gap_mm": c.normal_gap_mm,
@@ -581,8 +580,9 @@ CONVENTIONS = {
     "vertical_force_N": "Z component of the total contact force on the wheel (normal + tangential); the balance "
                         "(method.balance = total) makes it equal the vertical load",
     "load_share": "a patch's share of the wheel's vertical force",
-    "contact_angle_rad": "angle of the contact normal from the vertical, positive when it tilts towards the track "
-                         "centre (flange contact ~ +1.2 rad), same sign for both wheels",
+    "contact_angle_rad": "angle of the contact normal at the reference point (weighted centre: the weighted mean "
+                         "angle; first_contact.contact_angle_rad: the candidate's) from the vertical, positive when "
+                         "it tilts towards the track centre (flange contact ~ +1.2 rad), same sign for both wheels",
     "rolling_radius_kp_mm": "Kik-Piotrowski radius in the rolling direction: 1/(k_c cos^2 b + k_m sin^2 b); without "
                             "yaw r / cos(wheel contact angle)",
     "strips": "per strip of a patch (track orientation, eta = 0 at the contact point): separation f in the contact "

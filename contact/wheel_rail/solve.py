@@ -302,7 +302,7 @@ class _Candidate:
     cos_g: float
     sin_g: float
     evaluator: NormalForceEvaluator
-    t_Z: float = 0.0                 # Z component of the track-oriented contact-plane lateral axis (+-sin gamma)
+    sign: int = 1
     delta_guess: float | None = None
 
 
@@ -322,7 +322,14 @@ class _Loaded:
     def vertical_N(self) -> float:
         """Z component (track) of the contact force on the wheel: N cos(gamma) + F_s sin(gamma) (N)."""
         fy = sum(t.Fy_N for t in self.tangential)
-        return self.force * self.ctx.cos_g + fy * self.ctx.t_Z
+        n_track, t_track = self.frame
+        return self.force * float(n_track[2]) + fy * float(t_track[2])
+
+    @property
+    def frame(self) -> tuple[np.ndarray, np.ndarray]:
+        """(normal, lateral axis) of the contact plane at the reference point, track frame."""
+        n_track = _track_vector(self.ref.normal, self.ctx.sign)
+        return n_track, contact_frame(n_track)[1]
 
 
 class _Balance:
@@ -332,6 +339,7 @@ class _Balance:
     def __init__(self, found: SearchResult, rail: PlacedRail, wheel: Profile, inputs: WheelRailInputs,
                  layers: WheelRailLayers, sign: int, case: str, f_cap_mm: float):
         self.found, self.wheel, self.inputs, self.sign, self.case = found, wheel, inputs, sign, case
+        self.rail = rail
         self.pose_side = inputs.pose.for_side(inputs.side)
         self.axle = axle_direction(inputs.pose)
         self.evaluations = 0
@@ -343,8 +351,7 @@ class _Balance:
                     "load there")
             prob = _problem(c, sign, inputs, Q / cg)
             pair, coords, clamped = _layer_pair(c, sign, prob, layers, f_cap_mm)
-            t_Z = float(contact_frame(_track_vector(c.normal, sign))[1][2])
-            self.ctx.append(_Candidate(c, pair, coords, clamped, cg, sg, NormalForceEvaluator(prob, pair), t_Z))
+            self.ctx.append(_Candidate(c, pair, coords, clamped, cg, sg, NormalForceEvaluator(prob, pair), sign))
 
     # -- one candidate at a force
     def load(self, ctx: _Candidate, force: float) -> _Loaded:
@@ -356,9 +363,10 @@ class _Balance:
         kw = {"delta_guess_mm": ctx.delta_guess} if inp.normal_method.name == "kik_piotrowski" else {}
         sol = solve_normal_with(inp.normal_method, prob, ctx.pair, **kw)
         ctx.delta_guess = sol.delta_mm
-        ref = reference_point(inp.contact_point, ctx.cand, sol.delta_mm, self.wheel, inp.layout, self.pose_side)
+        ref = reference_point(inp.contact_point, ctx.cand, sol.delta_mm, self.wheel, inp.layout, self.pose_side,
+                              self.rail)
         point = _track_vector(ref.point_mm, self.sign)
-        n_track = _track_vector(ctx.cand.normal, self.sign)
+        n_track = _track_vector(ref.normal, self.sign)
         centre = np.array([0.0, inp.pose.lateral_mm, self.found.wheel_height_mm])   # rigid-contact geometry
         kin = creepages(point, n_track, centre, self.axle, inp.speed_mm_s, inp.omega_rad_s)
         tang = _tangential(sol, kin, inp, self.sign * ref.eta_mm)
@@ -406,9 +414,12 @@ class _Balance:
 
             first = self.load(ctx, n0)
             cache[n0] = first
-            n1 = (Q - (first.vertical_N - n0 * ctx.cos_g)) / ctx.cos_g     # one fixed-point step
+            n_z = float(first.frame[0][2])
+            n1 = (Q - (first.vertical_N - n0 * n_z)) / n_z                    # one fixed-point step
+            # steps kept within the friction bounds (widened: the reference point's angle may differ slightly)
             n = _secant(excess, n0, n1, 1e-13 * n0, 50, f"{self.case}: vertical load balance", f0=first.vertical_N - Q,
-                        bounds=(Q / (ctx.cos_g + mu * abs(ctx.sin_g)), Q / limit), ftol=BALANCE_ITER_RTOL * Q)
+                        bounds=(0.5 * Q / (ctx.cos_g + mu * abs(ctx.sin_g)), 2.0 * Q / limit),
+                        ftol=BALANCE_ITER_RTOL * Q)
             lp = cache.get(n) or self.load(ctx, n)
             return [lp], self._Delta(lp), self.evaluations
         # several candidates: one vertical approach Delta shared by all (Brent on the normal balance first)
@@ -569,8 +580,7 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
         if not coords:
             eta = sign * lp.prob.strip_y_mm
             coords = {"rail": c.rail_coordinate(eta), "wheel": c.wheel_coordinate(eta)}
-        n_track = _track_vector(c.normal, sign)
-        _, t_track, _ = contact_frame(n_track)
+        n_track, t_track = lp.frame
         patch = PatchSolution(c, inputs.side, sign, lp.prob, sol, float(sol.normal_force_N),
                               _track_vector(lp.ref.point_mm, sign), n_track, t_track, lp.kin, tang, records,
                               coords.get("rail"), coords.get("wheel"),

@@ -58,7 +58,7 @@ def test_approach_is_reported_for_every_case(rail60, s1002, placed, lateral):
                                                   rel=1e-6, abs=1e-9)
 
 
-def test_weighted_centre_is_the_depth_weighted_centre_of_the_interpenetration(rail60, s1002, placed):
+def test_weighted_centre_is_the_depth_squared_weighted_centre_of_the_interpenetration(rail60, s1002, placed):
     sol = _solve(rail60, s1002, placed, 0.0)
     c, delta = sol.patches[0].candidate, sol.patches[0].normal.delta_mm
     R = c.rolling_radius_kp_mm
@@ -67,7 +67,7 @@ def test_weighted_centre_is_the_depth_weighted_centre_of_the_interpenetration(ra
     f = np.interp(eta, c.eta_mm, c.f_mm - c.f_mm.min())
     x = np.linspace(-15.0, 15.0, 3001)
     h = np.maximum(delta - f[:, None] - x[None, :] ** 2 / (2 * R), 0.0)
-    ref = float(np.sum(eta[:, None] * h) / np.sum(h))
+    ref = float(np.sum(eta[:, None] * h ** 2) / np.sum(h ** 2))      # depth^2 weighting over the area
     assert weighted_centre_eta(c, delta) == pytest.approx(ref, abs=2e-3)
 
 
@@ -128,3 +128,22 @@ def test_balance_and_approach_with_the_exact_normal_solver(rail60, s1002, placed
         c = p.candidate
         assert p.normal.delta_mm == pytest.approx(sol.approach_mm * math.cos(c.contact_angle_rad) - c.normal_gap_mm,
                                                   rel=1e-5, abs=1e-8)
+
+
+def test_weighted_centre_plane_is_the_weighted_mean_angle_and_carries_the_forces(rail60, s1002, placed):
+    sol = _solve(rail60, s1002, placed, 0.5, contact_point="weighted_centre")
+    p = sol.patches[0]
+    c, delta = p.candidate, p.normal.delta_mm
+    eta = np.linspace(c.eta_mm[0], c.eta_mm[-1], 4001)
+    f = np.interp(eta, c.eta_mm, c.f_mm - c.f_mm.min())
+    g = np.maximum(delta - f, 0.0)
+    q = c.rail_coordinate(eta)
+    n2 = placed.normal(q)
+    gamma = np.arctan2(-n2[:, 0], n2[:, 1])
+    expected = float(np.sum(gamma * g ** 2.5) / np.sum(g ** 2.5))
+    assert p.reference.angle_rad == pytest.approx(expected, abs=2e-4)
+    assert abs(p.reference.angle_rad - c.contact_angle_rad) > 1e-3       # differs from the first-contact plane
+    assert p.normal_track[2] == pytest.approx(math.cos(p.reference.angle_rad), abs=1e-12)
+    # the balance uses that plane: N cos(gamma_ref) + Fs sin(gamma_ref) = Q
+    assert (p.normal_force_N * math.cos(p.reference.angle_rad) + p.Fy_N * math.sin(p.reference.angle_rad)
+            == pytest.approx(Q, rel=1e-9))
