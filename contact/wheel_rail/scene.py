@@ -33,7 +33,8 @@ Run by ``python -m contact simulate SCENE --out DIR`` (and ``simulate-all``), wh
 
 Output: ``result.json`` and ``cases.csv`` (one row per loaded patch: pose, location, angle, N, Fx, Fy, p_max,
 area, creepages, Y/Q, balance residual, run time; :data:`CSV_COLUMNS`). A progress bar over the cases goes to
-stderr when it is a terminal. Conventions: docs/wheel-rail.md.
+stderr when it is a terminal (:mod:`wrlayer.progress`; ``WRLAYER_PROGRESS=0/1`` overrides). Conventions:
+docs/wheel-rail.md.
 
 A case that fails (bad geometry: profiles that do not meet, the flange through the rail; or a solver failure) is
 recorded with its error message in ``cases[k].error`` and the other cases are still computed; the scene itself
@@ -48,7 +49,6 @@ import io
 import itertools
 import math
 import os
-import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -492,11 +492,10 @@ def run_wheel_rail_scene(data: dict[str, Any], scene_path: Path, out_dir: Path, 
     parsed = parse_wheel_rail_scene(data, scene_path)
     placed = place_rail(parsed["rail"], parsed["layout"])
     entries, all_sols = [], []
-    from tqdm import tqdm
+    from wrlayer.progress import progress
 
-    bar = tqdm(parsed["cases"], desc=scene_path.stem, unit="case", file=sys.stderr, leave=False,
-               disable=not sys.stderr.isatty())
-    for k, case in enumerate(bar):
+    for k, case in enumerate(progress(parsed["cases"], desc=scene_path.stem, total=len(parsed["cases"]), unit="case",
+                                      leave=False)):
         t_case = time.perf_counter()
         try:
             entry, sols = solve_case(parsed, case, placed)
