@@ -216,6 +216,9 @@ def run(mode: str, out: pathlib.Path) -> dict:
                 rec = {key: _errors(d, m, key, skip) for key in ("fn_N", "fx_N", "fs_N", "pmax_MPa", "area_mm2")}
                 rec["max_abs_dy_mm"] = max(abs(x[m]["ycp_r_mm"] - x["contact"]["ycp_r_mm"]) for x in d
                                            if x.get(m) and x["case"] not in skip)
+                for key in ("cksi", "ceta", "cphi_per_mm"):
+                    rec[f"max_abs_d{key}"] = max(abs(x[m][key] - x["contact"][key]) for x in d
+                                                 if x.get(m) and x["case"] not in skip)
                 summary[f"{m}/{side}/{label}"] = rec
     md = [f"Machine load while measuring: {os.getloadavg()[0]:.2f} (1-min load average; 2 cores shared).\n",
           "| method | wall time per sweep [s] | CPU time [s] | cases failed | note |", "|---|---|---|---|---|"]
@@ -226,11 +229,13 @@ def run(mode: str, out: pathlib.Path) -> dict:
         md.append(f"| {m} | {wall} | {cpu} | {t.get('n_failed', '—')} | {t['error'][:120] or '21 cases x 2 wheels'} |")
     md.append("\nLargest deviation from CONTACT over the cases (main patch; FN, p_max, area relative to CONTACT's "
               "value, FX and FS relative to CONTACT's mu FN):\n")
-    md.append("| method / wheel / cases | FN | FX / mu FN | FS / mu FN | p_max | area | max abs(Δy_r) [mm] |")
-    md.append("|---|---|---|---|---|---|---|")
+    md.append("| method / wheel / cases | FN | FX / mu FN | FS / mu FN | p_max | area | max abs(Δy_r) [mm] | "
+              "max abs(Δξ), abs(Δη) [1e-3], abs(Δφ) [1e-3/mm] |")
+    md.append("|---|---|---|---|---|---|---|---|")
     for k, v in summary.items():
         md.append(f"| {k} | {v['fn_N']:.1%} | {v['fx_N']:.1%} | {v['fs_N']:.1%} | {v['pmax_MPa']:.1%} | "
-                  f"{v['area_mm2']:.1%} | {v['max_abs_dy_mm']:.2f} |")
+                  f"{v['area_mm2']:.1%} | {v['max_abs_dy_mm']:.2f} | {v['max_abs_dcksi'] * 1e3:.3f}, "
+                  f"{v['max_abs_dceta'] * 1e3:.3f}, {v['max_abs_dcphi_per_mm'] * 1e3:.4f} |")
     md.append("\nRight wheel, per case (ours in CONTACT's sign convention / CONTACT):\n")
     md.append(tables["right"])
     md.append("\nLeft wheel, per case:\n")
