@@ -226,8 +226,7 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
     base_pose.update({"pitch_rate_rad_s": pitch, "vertical_load_N": inputs["vertical_load_N"],
                       "speed_mm_s": inputs["speed_mm_s"]})
     cases, csv_info = _cases(sweep, base_pose, base)
-    if roll_auto and sweep is not None and any(c["roll_rad"] != 0.0 for c in cases) and \
-            ("roll_rad" in sweep.table or "roll_rad" in csv_info.get("columns", ())):
+    if roll_auto and sweep is not None and ("roll_rad" in sweep.table or "roll_rad" in csv_info.get("columns", ())):
         raise sweep.error("roll_rad", "cannot sweep the roll angle when wheelset.roll_rad = \"auto\"")
     out = s("output")
     return {"rail": rail, "wheel": wheel, "layout": layout, "sides": ["right", "left"] if side == "both" else [side],

@@ -104,3 +104,9 @@ def test_no_progress_bar_in_logs_and_failed_cases_in_the_csv(tmp_path, capsys):
     assert result["n_failed"] == 1
     assert rows[0]["error"] == "" and "flange through the rail" in rows[1]["error"]
     assert float(rows[0]["normal_force_N"]) > 0 and rows[1]["normal_force_N"] == ""
+
+
+def test_roll_from_the_csv_conflicts_with_auto_roll(tmp_path):
+    (tmp_path / "c.csv").write_text("lateral_mm,roll_rad\n0.0,0.0\n", encoding="utf-8")
+    with pytest.raises(InputError, match=r"s.toml: sweep.roll_rad: cannot sweep the roll angle when"):
+        parse_wheel_rail_scene(_scene(wheelset={"roll_rad": "auto"}, sweep={"csv": "c.csv"}), tmp_path / "s.toml")
