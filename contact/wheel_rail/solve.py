@@ -606,15 +606,21 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
 def _tangential(sol: NormalSolution, kin: PatchKinematics, inputs: WheelRailInputs,
                 eta_ref_mm: float = 0.0) -> list[TangentialResult]:
     """FASTSIM on every region of the patch; strip coordinate (problem orientation) and spin about ``eta_ref_mm``
-    (the reference point, problem orientation) where the creepages ``kin`` were evaluated."""
+    (the reference point, problem orientation) where the creepages ``kin`` were evaluated. With the exact normal
+    solver each strip carries the exact pressure along its line (semi-ellipses with Kik–Piotrowski)."""
     if inputs.friction == 0:
         return []
     cr = Creepage(kin.vx, kin.vy, kin.phi_per_mm)
     out = []
-    for p in sol.patches:
+    for k, p in enumerate(sol.patches):
         shifted = p if eta_ref_mm == 0.0 else Patch(p.grid_mm, p.y_mm - eta_ref_mm, p.x_lead_mm, p.p_peak_MPa)
+        kw = {}
+        if getattr(sol, "field", None) is not None:   # the exact solver: FASTSIM on its pressure, line by line
+            from contact.normal.exact import fastsim_pressure
+
+            kw["pressure_cells_MPa"] = fastsim_pressure(sol, k, inputs.fastsim_cells)
         out.append(solve_tangential(shifted, cr, inputs.G_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
-                                    nx=inputs.fastsim_cells))
+                                    nx=inputs.fastsim_cells, **kw))
     return out
 
 
