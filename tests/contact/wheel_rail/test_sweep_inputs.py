@@ -85,6 +85,10 @@ def test_shipped_manchester_a22_scene(tmp_path, reference_dir, monkeypatch):
             w = case["wheels"][side]
             assert abs(w["vertical_force_N"] - 10000.0) / 10000.0 < 1e-6
             assert w["approach_mm"] > 0
+            for p in w["patches"]:   # every patch's normal approach follows the wheel's vertical approach
+                gamma = p["first_contact"]["contact_angle_rad"]
+                assert p["delta_mm"] == pytest.approx(w["approach_mm"] * np.cos(gamma) - p["normal_gap_mm"],
+                                                      rel=1e-6, abs=1e-9)
             assert sum(p["load_share"] for p in w["patches"]) == pytest.approx(1.0)
             assert all(p["contact_point"] == "weighted_centre" for p in w["patches"])
     # lateral 5 mm: on the benchmark's profile files the gauge corner carries load together with the tread
