@@ -212,7 +212,9 @@ def run(mode: str, out: pathlib.Path) -> dict:
     for m in names:
         for side in ("right", "left"):
             d = data_by_side[side]
-            for label, skip in (("all cases", ()), ("without case 11", TWO_POINT_CASES)):
+            labels = (("all cases", ()), ("without case 11", TWO_POINT_CASES)) if side == "right" else \
+                (("all cases", ()),)
+            for label, skip in labels:
                 rec = {key: _errors(d, m, key, skip) for key in ("fn_N", "fx_N", "fs_N", "pmax_MPa", "area_mm2")}
                 rec["max_abs_dy_mm"] = max(abs(x[m]["ycp_r_mm"] - x["contact"]["ycp_r_mm"]) for x in d
                                            if x.get(m) and x["case"] not in skip)
