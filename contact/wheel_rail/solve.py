@@ -360,8 +360,7 @@ class _Balance:
         self.evaluations += 1
         inp = self.inputs
         prob = _problem(ctx.cand, self.sign, inp, force)
-        kw = {"delta_guess_mm": ctx.delta_guess} if inp.normal_method.name == "kik_piotrowski" else {}
-        sol = solve_normal_with(inp.normal_method, prob, ctx.pair, **kw)
+        sol = solve_normal_with(inp.normal_method, prob, ctx.pair, delta_guess_mm=ctx.delta_guess)
         ctx.delta_guess = sol.delta_mm
         ref = reference_point(inp.contact_point, ctx.cand, sol.delta_mm, self.wheel, inp.layout, self.pose_side,
                               self.rail)
