@@ -147,3 +147,16 @@ def test_weighted_centre_plane_is_the_weighted_mean_angle_and_carries_the_forces
     # the balance uses that plane: N cos(gamma_ref) + Fs sin(gamma_ref) = Q
     assert (p.normal_force_N * math.cos(p.reference.angle_rad) + p.Fy_N * math.sin(p.reference.angle_rad)
             == pytest.approx(Q, rel=1e-9))
+
+
+@pytest.mark.skipif(not _exact_available(), reason="method.normal = 'exact' raises 'not available in this build' "
+                    "until the exact half-space solver lands on main")
+def test_close_patches_merged_and_solved_on_one_exact_grid(rail60, s1002, placed):
+    from contact.normal.method import NormalMethod
+
+    pose = WheelsetPose(5.0)
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=pose, vertical_load_N=100000.0,
+                                                     normal_method=NormalMethod("exact")), placed_rail=placed)
+    assert sol.merge_mm > WheelRailInputs().search.merge_mm
+    assert len(sol.patches) == 1 and len(sol.patches[0].normal.patches) == 2
+    assert abs(sol.vertical_force_N - 100000.0) / 100000.0 < 1e-6
