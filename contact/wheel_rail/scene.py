@@ -19,7 +19,8 @@ Run by ``python -m contact simulate SCENE --out DIR`` (and ``simulate-all``), wh
                 [layers.combined] u_mm, p_MPa (one characteristic for both bodies, the paper's eq. 13 layer)
     [passes]    max = 1, hardening = false, tolerance_mm = 1e-6
     [method]    alpha = 0.55, grid_mm = 0.1, fastsim_cells = 60, merge_mm, candidate_gap_mm, f_cap_mm,
-                normal = "kik_piotrowski" | "exact" (the normal solver), exact_cells (exact solver grid),
+                normal = "kik_piotrowski" | "exact" (the normal solver), exact_cells (exact solver grid: cells
+                along x over the patch length, 8..1024, default 48), layer_mode ("indentation" | "rolling"),
                 contact_point = "first_contact" (default) | "weighted_centre" (reported point; creepages there),
                 balance = "total" (default: vertical component of normal + tangential forces = load) | "normal"
     [sweep]     per-case values of lateral_mm, yaw_rad, roll_rad, pitch_rate_rad_s, vertical_load_N, speed_mm_s:
@@ -146,7 +147,7 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
         "layers": ("rail", "wheel", "combined"),
         "passes": ("max", "hardening", "tolerance_mm"),
         "method": ("alpha", "grid_mm", "fastsim_cells", "merge_mm", "candidate_gap_mm", "f_cap_mm", "normal",
-                   "exact_cells", "contact_point", "balance"),
+                   "exact_cells", "layer_mode", "contact_point", "balance"),
         "sweep": SWEEP_KEYS + ("mode", "csv", "convention"),
         "output": ("deformed_profiles",),
     }
@@ -273,11 +274,12 @@ def _normal_method(met: SceneKeys):
     from contact.normal.method import NormalMethod
 
     name = met.text("normal", "kik_piotrowski")
-    cells = met.integer("exact_cells", 0, ge=0) if "exact_cells" in met.table else None
+    cells = met.integer("exact_cells", None, ge=1) if "exact_cells" in met.table else None
     try:
-        return NormalMethod(name, exact_cells=cells or None)
+        return NormalMethod(name, exact_cells=cells, layer_mode=met.text("layer_mode", "indentation"))
     except InputError as err:
-        raise met.error("normal", err.problem) from None
+        key = err.what.removeprefix("method.")
+        raise met.error(key if key in ("exact_cells", "layer_mode") else "normal", err.problem) from None
 
 
 def _csv_columns(sweep: SceneKeys, base: Path) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
@@ -609,7 +611,8 @@ def _inputs_echo(parsed: dict[str, Any], scene_path: Path, data: dict[str, Any])
         "friction": inp["friction"], "E_MPa": inp["E_MPa"], "poisson": inp["poisson"],
         "G_MPa": inp["E_MPa"] / (2.0 * (1.0 + inp["poisson"])),
         "method": {"alpha": inp["alpha"], "grid_mm": inp["grid_mm"], "fastsim_cells": inp["fastsim_cells"],
-                   "normal": inp["normal_method"].name, "contact_point": inp["contact_point"],
+                   "normal": inp["normal_method"].name, "exact_cells": inp["normal_method"].exact_cells,
+                   "layer_mode": inp["normal_method"].layer_mode, "contact_point": inp["contact_point"],
                    "balance": inp["balance"], **vars(inp["search"])},
         "sweep_csv": parsed["sweep_csv"] or None,
         "passes": vars(inp["passes"]),

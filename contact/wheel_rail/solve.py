@@ -575,7 +575,8 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
         sol, tang = lp.normal, lp.tangential
         if pair is not None:  # passes (paper section 5) at the balanced force; pass 1 is the balanced solution
             holder: list[NormalSolution] = []
-            records, _ = run_passes(lp.prob, pair, inputs.passes, on_pass=lambda rec, s, h=holder: h.append(s))
+            records, _ = run_passes(lp.prob, pair, inputs.passes, on_pass=lambda rec, s, h=holder: h.append(s),
+                                    method=inputs.normal_method)
         if not coords:
             eta = sign * lp.prob.strip_y_mm
             coords = {"rail": c.rail_coordinate(eta), "wheel": c.wheel_coordinate(eta)}

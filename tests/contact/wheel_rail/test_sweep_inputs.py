@@ -114,3 +114,10 @@ def test_roll_from_the_csv_conflicts_with_auto_roll(tmp_path):
     (tmp_path / "c.csv").write_text("lateral_mm,roll_rad\n0.0,0.0\n", encoding="utf-8")
     with pytest.raises(InputError, match=r"s.toml: sweep.roll_rad: cannot sweep the roll angle when"):
         parse_wheel_rail_scene(_scene(wheelset={"roll_rad": "auto"}, sweep={"csv": "c.csv"}), tmp_path / "s.toml")
+
+
+def test_exact_solver_keys_are_validated(tmp_path):
+    with pytest.raises(InputError, match=r"s.toml: method.exact_cells: must be an integer in \[8, 1024\]"):
+        parse_wheel_rail_scene(_scene(method={"normal": "exact", "exact_cells": 3}), tmp_path / "s.toml")
+    with pytest.raises(InputError, match=r"s.toml: method.layer_mode: must be one of"):
+        parse_wheel_rail_scene(_scene(method={"normal": "exact", "layer_mode": "sliding"}), tmp_path / "s.toml")
