@@ -160,3 +160,17 @@ def test_close_patches_merged_and_solved_on_one_exact_grid(rail60, s1002, placed
     assert sol.merge_mm > WheelRailInputs().search.merge_mm
     assert len(sol.patches) == 1 and len(sol.patches[0].normal.patches) == 2
     assert abs(sol.vertical_force_N - 100000.0) / 100000.0 < 1e-6
+
+
+@pytest.mark.parametrize("method", ["kik_piotrowski", "exact"])
+def test_layered_wheel_with_either_normal_method(rail60, s1002, placed, method):
+    from contact.layer.characteristic import Characteristic
+    from contact.normal.method import NormalMethod
+    from contact.wheel_rail.solve import WheelRailLayers
+
+    layers = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.05]), np.array([0, 300.0, 900.0])))
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(2.0), normal_method=NormalMethod(method)),
+                      layers, placed_rail=placed)
+    p = sol.patches[0]
+    assert not p.normal.elastic and p.passes and p.passes[0].max_residual_mm > 0
+    assert abs(sol.vertical_force_N - Q) / Q < 1e-6
