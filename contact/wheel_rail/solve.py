@@ -538,6 +538,10 @@ def solve_wheel(rail_profile: Profile, wheel_profile: Profile, inputs: WheelRail
             if err.what != "separation.y_mm":
                 raise
             first_error = first_error or err
+        except ConvergenceError as err:
+            if str(err).startswith(case):
+                raise
+            raise ConvergenceError(f"{case}: {err}") from None
     raise InputError(case, "a contact patch reaches the end of its separation function (the barrier to the "
                      "neighbouring contact candidate, or the search cap of "
                      f"{inputs.search.f_cap_mm:g} mm) even with candidates merged up to merge_mm = "

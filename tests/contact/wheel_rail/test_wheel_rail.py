@@ -151,3 +151,12 @@ def test_patches_growing_into_each_other_are_merged_into_one(rail60, s1002, plac
     # at the default merge level the same case is two candidates whose patches run into the barrier
     assert solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.0), vertical_load_N=10000.0),
                        placed_rail=placed).merge_mm == WheelRailInputs().search.merge_mm
+
+
+def test_a_convergence_failure_names_the_case(rail60, s1002, placed):
+    from wrlayer.errors import ConvergenceError
+
+    # analytic profiles, 100 kN at 5.2 mm: the merged patch's regions merge and the KP force jumps past the target
+    with pytest.raises(ConvergenceError, match=r"^my case: .*jumps across the target"):
+        solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.2), vertical_load_N=100000.0),
+                    placed_rail=placed, case="my case")
