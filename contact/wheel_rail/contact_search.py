@@ -71,7 +71,7 @@ import numpy as np
 
 from contact.wheel_rail.track_geometry import PlacedRail, TrackLayout, WheelsetPose, wheel_locus, wheel_sample_y
 from wrlayer.errors import InputError
-from meshes.profiles.base import Profile
+from meshes.profiles import Profile
 
 #: Default search settings (mm).
 MERGE_MM = 0.005

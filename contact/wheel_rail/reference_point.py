@@ -38,7 +38,7 @@ import numpy as np
 
 from contact.wheel_rail.contact_search import ContactCandidate
 from contact.wheel_rail.track_geometry import PlacedRail, TrackLayout, WheelsetPose, wheel_locus
-from meshes.profiles.base import Profile
+from meshes.profiles import Profile
 from wrlayer.errors import InputError
 
 CONTACT_POINTS = ("first_contact", "weighted_centre")

@@ -68,7 +68,7 @@ from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.wheel_rail.track_geometry import PlacedRail, TrackLayout, WheelsetPose, axle_direction, place_rail, side_sign
 from contact.wheel_rail.kinematics import PatchKinematics, contact_frame, creepages
 from wrlayer.errors import ConvergenceError, InputError, require
-from meshes.profiles.base import Profile
+from meshes.profiles import Profile
 
 BALANCE_RTOL = 1e-6
 #: The balance iteration stops at |sum F_Z - Q| <= BALANCE_ITER_RTOL Q.

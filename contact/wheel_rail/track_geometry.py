@@ -34,7 +34,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 from wrlayer.errors import require
 from meshes.profiles.placement import rail_inclination
-from meshes.profiles.base import Profile
+from meshes.profiles import Profile
 
 SIDES = ("right", "left")
 #: Spacing (mm) of the dense rail sample used for lateral look-ups.
