@@ -57,11 +57,10 @@ from typing import Any
 import numpy as np
 
 from contact.layer.characteristic import Characteristic
-from contact.wheel_rail.contact_search import SearchSettings
 from contact.passes.passes import PassesOptions
 from contact.scenes.result_io import UNITS, code_version
 from contact.scenes.scene import SceneKeys
-from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
+from contact.wheel_rail.contact_search import SearchSettings
 from contact.wheel_rail.solve import (
     PatchSolution,
     WheelRailInputs,
@@ -72,8 +71,9 @@ from contact.wheel_rail.solve import (
     rigid_roll,
     solve_wheel,
 )
-from wrlayer.errors import ConvergenceError, InputError
+from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
 from meshes.profiles import get_profile
+from wrlayer.errors import ConvergenceError, InputError
 
 TOP_KEYS = ("title", "description", "type", "profiles", "track", "wheel", "wheelset", "load", "material",
             "tangential", "layers", "passes", "method", "sweep", "output")
@@ -627,10 +627,10 @@ __all__ = [
     "CONVENTIONS",
     "CSV_COLUMNS",
     "cases_csv",
-    "reference_dir",
-    "resolve_path",
     "parse_wheel_rail_scene",
     "patch_result",
+    "reference_dir",
+    "resolve_path",
     "run_wheel_rail_scene",
     "solve_case",
     "wheel_result",

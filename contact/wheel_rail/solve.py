@@ -57,18 +57,25 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact.layer.characteristic import Characteristic
-from contact.wheel_rail.contact_search import ContactCandidate, SearchResult, SearchSettings, search_contacts
-from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
-from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, NormalForceEvaluator, solve_normal
+from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
+from contact.normal.kik_piotrowski import NormalForceEvaluator, NormalProblem, NormalSolution, solve_normal
 from contact.normal.method import NormalMethod, solve_normal_with
 from contact.normal.patch import Patch
-from contact.wheel_rail.reference_point import ReferencePoint, check_contact_point, reference_point
 from contact.passes.passes import PassesOptions, PassRecord, run_passes
-from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
-from contact.wheel_rail.track_geometry import PlacedRail, TrackLayout, WheelsetPose, axle_direction, place_rail, side_sign
+from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
+from contact.wheel_rail.contact_search import ContactCandidate, SearchResult, SearchSettings, search_contacts
 from contact.wheel_rail.kinematics import PatchKinematics, contact_frame, creepages
-from wrlayer.errors import ConvergenceError, InputError, require
+from contact.wheel_rail.reference_point import ReferencePoint, check_contact_point, reference_point
+from contact.wheel_rail.track_geometry import (
+    PlacedRail,
+    TrackLayout,
+    WheelsetPose,
+    axle_direction,
+    place_rail,
+    side_sign,
+)
 from meshes.profiles import Profile
+from wrlayer.errors import ConvergenceError, InputError, require
 
 BALANCE_RTOL = 1e-6
 #: The balance iteration stops at |sum F_Z - Q| <= BALANCE_ITER_RTOL Q.

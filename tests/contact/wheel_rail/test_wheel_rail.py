@@ -8,8 +8,6 @@ import pytest
 
 from contact.layer.characteristic import Characteristic
 from contact.layer.layer_table import LayerTable
-from contact.wheel_rail.track_geometry import WheelsetPose
-from wrlayer.errors import InputError
 from contact.wheel_rail.solve import (
     BALANCE_RTOL,
     WheelRailInputs,
@@ -19,6 +17,8 @@ from contact.wheel_rail.solve import (
     rigid_roll,
     solve_wheel,
 )
+from contact.wheel_rail.track_geometry import WheelsetPose
+from wrlayer.errors import InputError
 
 
 def _vertical(sol):
