@@ -539,6 +539,7 @@ def run_wheel_rail_scene(data: dict[str, Any], scene_path: Path, out_dir: Path, 
 #: Columns of cases.csv (one row per loaded patch; a failed case gets one row with its error).
 CSV_COLUMNS = ("case", "lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s", "vertical_load_N", "speed_mm_s",
                "side", "patch", "contact_point", "y_rail_mm", "y_wheel_mm", "Y_track_mm", "Z_track_mm",
+               "y_rail_first_contact_mm", "y_rail_weighted_centre_mm",
                "contact_angle_deg", "normal_force_N", "load_share", "Fx_N", "Fy_N", "Mz_Nmm", "p_max_MPa",
                "area_mm2", "creepage_x", "creepage_y", "spin_per_mm", "delta_mm", "approach_mm", "Y_over_Q",
                "vertical_force_N", "vertical_balance_rel", "time_s", "error")
@@ -558,6 +559,8 @@ def cases_csv(result: dict[str, Any]) -> str:
         for side, wr in e["wheels"].items():
             for j, pr in enumerate(wr["patches"]):
                 row = {**head, **{k: pr.get(k) for k in CSV_COLUMNS if k in pr}, "side": side, "patch": j,
+                       "y_rail_first_contact_mm": pr["first_contact"]["y_rail_mm"],
+                       "y_rail_weighted_centre_mm": pr["weighted_centre"]["y_rail_mm"],
                        "approach_mm": wr["approach_mm"], "Y_over_Q": wr["Y_over_Q"],
                        "vertical_force_N": wr["vertical_force_N"], "vertical_balance_rel": wr["vertical_balance_rel"],
                        "time_s": e.get("time_s"), "error": ""}

@@ -121,3 +121,14 @@ def test_exact_solver_keys_are_validated(tmp_path):
         parse_wheel_rail_scene(_scene(method={"normal": "exact", "exact_cells": 3}), tmp_path / "s.toml")
     with pytest.raises(InputError, match=r"s.toml: method.layer_mode: must be one of"):
         parse_wheel_rail_scene(_scene(method={"normal": "exact", "layer_mode": "sliding"}), tmp_path / "s.toml")
+
+
+def test_cases_csv_gives_both_reference_points(tmp_path):
+    result = run_wheel_rail_scene(_scene(method={"contact_point": "weighted_centre"}), tmp_path / "s.toml", tmp_path,
+                                  plots=False)
+    row = next(csv.DictReader((tmp_path / "cases.csv").open()))
+    p = result["cases"][0]["wheels"]["right"]["patches"][0]
+    assert float(row["y_rail_mm"]) == pytest.approx(p["weighted_centre"]["y_rail_mm"])
+    assert float(row["y_rail_weighted_centre_mm"]) == pytest.approx(p["weighted_centre"]["y_rail_mm"])
+    assert float(row["y_rail_first_contact_mm"]) == pytest.approx(p["first_contact"]["y_rail_mm"])
+    assert row["contact_point"] == "weighted_centre"
