@@ -143,8 +143,14 @@ class WheelRailInputs:
     normal_method: NormalMethod = field(default_factory=NormalMethod)
     contact_point: str = "first_contact"
     balance: str = "total"
+    normal: NormalMethod | None = None   # alias of normal_method (the wear loop's name)
 
     def __post_init__(self):
+        # ``normal`` sets the method when normal_method is left at its default (so that dataclasses.replace of
+        # normal_method is not undone by the copied alias); afterwards both name the same method
+        if self.normal is not None and self.normal_method == NormalMethod():
+            object.__setattr__(self, "normal_method", self.normal)
+        object.__setattr__(self, "normal", self.normal_method)
         side_sign(self.side)
         check_contact_point(self.contact_point)
         require(self.balance in BALANCES, "method.balance", f"must be one of {', '.join(BALANCES)}, got "
@@ -190,6 +196,7 @@ class PatchSolution:
     residual_mm: dict = field(default_factory=dict)
     clamped_strips: dict = field(default_factory=dict)
     reference: ReferencePoint | None = None
+    pass_normals: list = field(default_factory=list, repr=False)  # normal solution of every pass (wear outputs)
 
     @property
     def vertical_N(self) -> float:
@@ -583,9 +590,9 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
         ctx = lp.ctx
         c, pair, coords, clamped = ctx.cand, ctx.pair, ctx.coords, ctx.clamped
         records: list[PassRecord] = []
+        holder: list[NormalSolution] = []
         sol, tang = lp.normal, lp.tangential
         if pair is not None:  # passes (paper section 5) at the balanced force; pass 1 is the balanced solution
-            holder: list[NormalSolution] = []
             records, _ = run_passes(lp.prob, pair, inputs.passes, on_pass=lambda rec, s, h=holder: h.append(s),
                                     method=inputs.normal_method)
         if not coords:
@@ -598,6 +605,7 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
                               {} if not records else {k: np.asarray(v) for k, v in
                                                       records[-1].cumulative_residual_mm.items()}, clamped,
                               reference=lp.ref)
+        patch.pass_normals = list(holder) if pair is not None else [sol]
         if pair is not None:
             _check_coverage(patch, layers)
         patches.append(patch)

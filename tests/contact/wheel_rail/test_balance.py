@@ -174,3 +174,21 @@ def test_layered_wheel_with_either_normal_method(rail60, s1002, placed, method):
     p = sol.patches[0]
     assert not p.normal.elastic and p.passes and p.passes[0].max_residual_mm > 0
     assert abs(sol.vertical_force_N - Q) / Q < 1e-6
+
+
+def test_normal_is_an_alias_of_normal_method_and_every_pass_is_kept(rail60, s1002, placed):
+    from contact.layer.characteristic import Characteristic
+    from contact.normal.method import NormalMethod
+    from contact.passes.passes import PassesOptions
+    from contact.wheel_rail.solve import WheelRailLayers
+
+    assert WheelRailInputs(normal=NormalMethod("exact")).normal_method.name == "exact"
+    assert WheelRailInputs(normal_method=NormalMethod("exact")).normal.name == "exact"
+    import dataclasses
+
+    assert dataclasses.replace(WheelRailInputs(), normal_method=NormalMethod("exact")).normal.name == "exact"
+    layers = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.05]), np.array([0, 300.0, 900.0])))
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(2.0), passes=PassesOptions(max_passes=3)),
+                      layers, placed_rail=placed)
+    p = sol.patches[0]
+    assert len(p.pass_normals) == len(p.passes) == 3
