@@ -223,8 +223,10 @@ class PatchSolution:
 
 @dataclass(eq=False)
 class WheelRailSolution:
-    """All loaded patches of one wheel; ``approach_mm`` = Delta (vertical, beyond rigid contact);
-    ``wheel_height_mm``: wheelset-centre height at rigid contact; ``vertical_balance_rel``: |sum N cos(gamma) - Q|/Q."""
+    """All loaded patches of one wheel; ``approach_mm`` = Delta (mm, vertical, beyond rigid contact; every wheel, one
+    patch or several); ``vertical_balance_rel``: |sum F_Z - Q| / Q of the balanced quantity (balance "total": the
+    vertical component of normal + tangential forces; "normal": of the normal forces); ``balance_iterations``:
+    patch solves of the balance; ``merge_mm``: the candidate merge level that was used (module docstring)."""
 
     inputs: WheelRailInputs
     search: SearchResult
