@@ -59,10 +59,16 @@ def wheel_rail_cost(parsed: dict[str, Any], what: str) -> CostEstimate:
     strips = WHEEL_RAIL_WINDOW_MM / inputs["grid_mm"]
     cells = inputs["fastsim_cells"] if inputs["friction"] > 0 else 0
     per = CASE_WHEEL_S + (LAYER_CASE_WHEEL_S if parsed["layers"] is not None else 0.0)
-    seconds = cases * wheels * (per + passes * strips * (STRIP_S + cells * CELL_S))
+    per_strip = STRIP_S + cells * CELL_S
     factors: dict[str, float] = {"cases": cases, "wheels": wheels, "passes": passes, "strips": round(strips)}
     if cells:
         factors["cells"] = cells
+    method = inputs.get("normal_method")
+    if method is not None and getattr(method, "name", "") == "exact":
+        exact_cells = method.exact_cells or EXACT_DEFAULT_CELLS
+        factors["exact cells"] = exact_cells
+        per_strip += exact_cells * EXACT_CELL_S
+    seconds = cases * wheels * (per + passes * strips * per_strip)
     return CostEstimate(what, factors, seconds)
 
 

@@ -42,7 +42,7 @@ def test_sweep_with_bad_case_computes_the_others(tmp_path):
     for k in (0, 2):
         for side in ("right", "left"):
             w = cases[k]["wheels"][side]
-            assert abs(w["normal_vertical_N"] - 10000.0) / 10000.0 < 1e-6
+            assert abs(w["vertical_force_N"] - 10000.0) / 10000.0 < 1e-6
             assert w["patches"][0]["creepage_x"] is not None
     json.dumps(result)  # JSON-serialisable
 
