@@ -383,8 +383,9 @@ def _cases(sweep: SceneKeys | None, base_pose: dict[str, Any], base: Path) -> tu
             if abs(case[key]) >= 0.2:
                 raise sweep.error(key, f"angle {case[key]:g} rad is not plausible (|angle| < 0.2 rad)")
         for key, low in (("vertical_load_N", MIN_FORCE_N), ("speed_mm_s", 0.0)):
-            if not case[key] > low:
-                raise sweep.error(key, f"must be > {low:g} in every case, got {case[key]:g}")
+            if not (case[key] > 0 and case[key] >= low):
+                raise sweep.error(key, f"must be > 0 in every case{f' (at least {low:g})' if low else ''}, got "
+                                  f"{case[key]:g}")
     return cases, info
 
 
