@@ -183,3 +183,56 @@ def run(mode: str, out: Path) -> dict:
     return {"title": "Calibration: fit error vs N, 2D vs 3D, make calibrate times", "markdown": "\n".join(md),
             "figures": [str(f) for f in figures],
             "data": {"fit_vs_n": rows, "models": comp, "times": times}}
+
+
+#: The three positions of the convergence study (issue 12): crown, gauge corner, wheel flange root.
+CONVERGENCE_POSITIONS = (("rail", -0.0, "crown"), ("rail", -35.0, "gauge corner"), ("wheel", -37.5, "flange root"))
+
+
+def convergence_case(body: str, y_mm: float, mesh_kw: dict, load_kw: dict | None = None, threads: int = 1,
+                     linear_solver: str = "auto") -> dict:
+    """One 3D indentation of the default calibration's material and load path at a position (the conforming
+    rule of the pipeline applied) with mesh settings ``mesh_kw``: first yield, inelastic displacement u_pl at
+    every load level (as multiples of p_y), FEM residual dents, dofs, seconds (wall, with ``threads`` BLAS
+    threads)."""
+    from calibration.config import load_config
+    from calibration.indentation import LoadSettings, MeshSettings, indent
+    from calibration.config import material_of
+    from calibration.pipeline import limited_threads, position_geometry
+    from meshes.profiles import get_profile
+
+    cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")
+    b = next(x for x in cfg.bodies if x.body == body)
+    profile, mate = get_profile(b.profile), get_profile(b.mate)
+    geo, warning = position_geometry(b, profile, mate, y_mm, cfg.reference_load_N)
+    mesh = dataclasses.replace(cfg.mesh, **mesh_kw)
+    load = dataclasses.replace(cfg.load, **(load_kw or {}))
+    t0 = time.perf_counter()
+    with limited_threads(threads):
+        res = indent(profile, geo, material_of(b), "3d", mesh, load, linear_solver=linear_solver)
+    p = np.asarray(res.p_MPa)
+    return {"body": body, "y_mm": y_mm, "mesh": mesh_kw, "load": load_kw or {}, "a_mm": geo.a_mm,
+            "b_mm": geo.b_mm, "warning": warning, "seconds": time.perf_counter() - t0, "threads": threads,
+            "n_dofs": res.n_dofs, "newton": res.newton_iterations, "first_yield_MPa": res.first_yield_MPa,
+            "p_factor": (p / res.first_yield_MPa).tolist(), "u_pl_mm": res.u_pl_mm,
+            "peak_factor": (np.asarray(res.unload_peaks_MPa) / res.first_yield_MPa).tolist(),
+            "residual_fem_mm": res.residual_fem_mm}
+
+
+def convergence_errors(case: dict, ref: dict) -> dict:
+    """Relative differences of ``case`` against the finer ``ref``: first yield, the peak layer displacement (u_pl
+    at the highest level), the residual dent at every unloading level, and u_pl at every load level above
+    1.2 p_y (compared at the same multiple of each run's p_y), each relative to the reference value."""
+    upl_ref = np.interp(case["p_factor"], ref["p_factor"], ref["u_pl_mm"])
+    upl = np.asarray(case["u_pl_mm"])
+    above = np.asarray(case["p_factor"]) > 1.2
+    res = np.asarray(case["residual_fem_mm"]) / np.asarray(ref["residual_fem_mm"]) - 1.0
+    return {"first_yield": case["first_yield_MPa"] / ref["first_yield_MPa"] - 1.0,
+            "peak_u_pl": upl[-1] / upl_ref[-1] - 1.0,
+            "u_pl_levels_max": float(np.max(np.abs(upl[above] / upl_ref[above] - 1.0))),
+            "residual_levels": res.tolist()}
+
+
+if __name__ == "__main__":  # python -m benchmarks.bench_calibration BODY Y MESH_JSON [THREADS]: one case as JSON
+    print(json.dumps(convergence_case(sys.argv[1], float(sys.argv[2]), json.loads(sys.argv[3]),
+                                      threads=int(sys.argv[4]) if len(sys.argv) > 4 else 1)))
