@@ -214,6 +214,7 @@ def convergence_case(body: str, y_mm: float, mesh_kw: dict, load_kw: dict | None
     return {"body": body, "y_mm": y_mm, "mesh": mesh_kw, "load": load_kw or {}, "a_mm": geo.a_mm,
             "b_mm": geo.b_mm, "warning": warning, "seconds": time.perf_counter() - t0, "threads": threads,
             "n_dofs": res.n_dofs, "newton": res.newton_iterations, "first_yield_MPa": res.first_yield_MPa,
+            "linear_solves": res.linear_solves, "factorisations": res.factorisations,
             "p_factor": (p / res.first_yield_MPa).tolist(), "u_pl_mm": res.u_pl_mm,
             "peak_factor": (np.asarray(res.unload_peaks_MPa) / res.first_yield_MPa).tolist(),
             "residual_fem_mm": res.residual_fem_mm}

@@ -7,7 +7,7 @@ Layout (every key optional except ``[[bodies]]`` with ``body``, ``profile`` and 
     [material]  E_MPa, poisson, yield_MPa, H_iso_MPa, H_kin_MPa            (J2 with linear hardening)
     [load]      reference_load_N, max_factor, n_levels, unload_factors, max_increment_factor
     [mesh]      elements_per_semi_axis, h_max_mm, order, depth_mm, rail_support_below_mm, length_factor, grading,
-                yield_search_radius_factor, reference_depth_factor
+                yield_search_radius_factor, reference_depth_factor, refine_depth_factor
     [fit]       n_segments (1..8), elastic_tolerance, elastic_fraction (former S_1 rule), max_relative_error
     [[bodies]]  body = "rail" | "wheel", profile = name or file (relative to the config), mate = name or file,
                 positions_mm = [...] or positions = {start_mm, stop_mm, step_mm}, semi_axes_mm = [a, b],
@@ -301,7 +301,8 @@ def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> 
         "length_factor": lambda v, k: r.number(v, k, 1.0, 50.0),
         "grading": lambda v, k: r.number(v, k, 0.0, 5.0),
         "yield_search_radius_factor": lambda v, k: r.number(v, k, 0.0, 100.0),
-        "reference_depth_factor": lambda v, k: r.number(v, k, 0.0, 20.0)})
+        "reference_depth_factor": lambda v, k: r.number(v, k, 0.0, 20.0, lo_open=False),
+        "refine_depth_factor": lambda v, k: r.number(v, k, 0.0, 10.0)})
     fit = r.dataclass_from(FitSettings, r.table(data, "fit"), "fit", {
         "n_segments": lambda v, k: int(r.number(v, k, N_SEGMENTS_RANGE[0], N_SEGMENTS_RANGE[1], lo_open=False,
                                                 integer=True)),

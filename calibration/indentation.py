@@ -43,7 +43,8 @@ class MeshSettings:
     per body); rail_support_below_mm: the rail head is also held on its side/underside boundary below
     z = -rail_support_below_mm (the head underside and web), so that the section does not bend over the thin
     web like a cantilever (a plane-strain artefact: the real load is short in x); None: clamped cut only.
-    First yield is searched within yield_search_radius_factor * b of the load centre. reference_depth_factor > 0:
+    3D: h_min fills the box of half-sizes (1.2 a, 1.2 b, refine_depth_factor * b) at the load point (the plastic
+    zone). First yield is searched within yield_search_radius_factor * b of the load centre. reference_depth_factor > 0:
     the layer displacement is measured against the material point reference_depth_factor * max(a, b) (2D: * b)
     below the load centre; 0 (default): against the clamped far field, as a half-space's."""
 
@@ -56,6 +57,7 @@ class MeshSettings:
     grading: float = 0.3
     yield_search_radius_factor: float = 3.0
     reference_depth_factor: float = 0.0
+    refine_depth_factor: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -97,6 +99,8 @@ class IndentationResult:
     u_centre_abs_mm: list[float] = field(default_factory=list)
     fem_absolute_compliance_mm_per_MPa: float | None = None
     u_pl_depth_mm: dict[str, list[float]] = field(default_factory=dict)
+    linear_solves: int = 0
+    factorisations: int = 0
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -113,7 +117,7 @@ def build_mesh(profile, geometry: LocalGeometry, model: str, mesh: MeshSettings)
         return section_mesh(profile, geometry.y_mm, h_min, h_max, depth_mm=mesh.depth_mm, order=mesh.order,
                             refine_radius_mm=1.2 * geometry.b_mm, grading=mesh.grading)
     length = max(mesh.length_factor * geometry.a_mm, 4.0 * geometry.b_mm)
-    box = (1.2 * geometry.a_mm, 1.2 * geometry.b_mm, 1.0 * geometry.b_mm)
+    box = (1.2 * geometry.a_mm, 1.2 * geometry.b_mm, mesh.refine_depth_factor * geometry.b_mm)
     return local_mesh(profile, geometry.y_mm, h_min, h_max, length_mm=length, depth_mm=mesh.depth_mm,
                       order=mesh.order, refine_box=box, grading=mesh.grading)
 
@@ -179,6 +183,13 @@ def point_probe(disc, point_mm: np.ndarray, direction: np.ndarray):
     return sp.csr_matrix(np.asarray(direction, dtype=float)[None, :] @ op)
 
 
+def _solver_counts(disc) -> dict:
+    """Triangular solves and factorisations of the discretisation's kept factoriser (machine-independent cost)."""
+    fac = [v.factor for v in disc.problem_cache.values() if hasattr(v, "factor")]
+    return {"linear_solves": int(sum(f.n_solves for f in fac)),
+            "factorisations": int(sum(f.n_factorisations for f in fac))}
+
+
 def _levels(p_y: float, load: LoadSettings) -> list[float]:
     above = p_y * np.linspace(1.0, load.max_factor, load.n_levels + 1)[1:]
     peaks = [f * p_y for f in load.unload_factors]
@@ -232,8 +243,12 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
         progress(1)
     # unloading in one step (cut on failure like any step): it is elastic up to reverse plasticity, and the
     # many small steps it took before were a third of the increments (benchmarks/bench_fem.py)
+    # rtol 1e-6 / etol 1e-8: the dents agree with 1e-8 / 1e-10 to 1e-7 relative at 22 % fewer solves (measured,
+    # docs/calibration.md)
     opts = SolverOptions(max_increment_MPa=load_settings.max_increment_factor * p_y, dirichlet=dirichlet,
-                         linear_solver=linear_solver, max_unload_increment_MPa=load_settings.max_factor * p_y)
+                         linear_solver=linear_solver, max_unload_increment_MPa=load_settings.max_factor * p_y,
+                         rtol=1e-6, etol=1e-8,
+                         output_label=f"{profile.body} {profile.name}, y = {geometry.y_mm:g} mm ({model.upper()})")
     levels = _levels(p_y, load_settings)
     peaks = sorted(f * p_y for f in load_settings.unload_factors)
     top = max(peaks) if peaks else None
@@ -281,4 +296,5 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
                              int(mesh.t.shape[1]), int(newton), time.perf_counter() - t0, files,
                              reference_depth_mm=float(factors["ref"] * length) if factors["ref"] > 0 else None,
                              u_centre_abs_mm=u_abs.tolist(), fem_absolute_compliance_mm_per_MPa=float(c_el_abs),
-                             u_pl_depth_mm={k: v.tolist() for k, v in u_pl_depth.items()})
+                             u_pl_depth_mm={k: v.tolist() for k, v in u_pl_depth.items()},
+                             **_solver_counts(disc))

@@ -51,7 +51,9 @@ class SolverOptions:
     'auto' | 'pardiso' | 'scipy'; strategy: 'pcg' | 'newton' | 'modified'; order: element order (None: the
     mesh's own); dirichlet: {boundary name: components (0=x/y.., 1, 2)} replacing the default
     {"fixed": all, "symmetry": [0]}; cg_rtol: inner CG tolerance relative to the residual; cg_refresh_iters: refactorise the CG
-    preconditioner with the current tangent when CG needed more iterations than this; max_unload_increment_MPa:
+    preconditioner with the current tangent when CG needed more iterations than this; predictor: start each
+    increment from the linear extrapolation of the previous one (same direction); output_label: heads the titles
+    of the PNG pictures (e.g. body and position); max_unload_increment_MPa:
     largest step towards a LOWER level (None: max_increment_MPa; unloading is nearly elastic, so one step usually
     converges, and a failed step is cut as any other)."""
 
@@ -66,6 +68,8 @@ class SolverOptions:
     dirichlet: dict[str, Sequence[int]] | None = None
     cg_rtol: float = 1e-3
     cg_refresh_iters: int = 12
+    predictor: bool = True
+    output_label: str = ""
     max_unload_increment_MPa: float | None = None
     verbose: bool = False
 
@@ -250,16 +254,17 @@ class _Problem:
 
 
 def _newton_increment(prob: _Problem, state: SolverState, force: np.ndarray, p_old: float, p_new: float,
-                      max_iter: int, p_scale: float = 0.0):
+                      max_iter: int, p_scale: float = 0.0, u_start: np.ndarray | None = None):
     """Newton iteration from the converged ``state`` at p_old to p_new. Returns (new state, info) or raises
     ConvergenceError with the residual history.
 
     Converged when |r_k| <= rtol * max(|f_ext|, |f_int|) and r_k . P^-1 r_k <= etol * r_0 . P^-1 r_0 (energy
-    norm of the residual; P the current factorisation: elastic or a recent tangent).
+    norm of the residual; P the current factorisation: elastic or a recent tangent). ``u_start``: the first
+    iterate (a predictor; default the converged displacement).
     """
     disc, mat, opts = prob.disc, prob.material, prob.opts
     free = ~prob.fixed
-    u = state.u_mm.copy()
+    u = (state.u_mm if u_start is None else u_start).copy()
     f_ext = p_new * force
     # reference force: the largest of the increment's ends and of the load level being approached (p_scale), so
     # that the last sub-step of an unloading to zero is still measured against the level's load, not against 0
@@ -392,6 +397,7 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
     files: list[Path] = []
     yielded_before = bool(np.any(state.eq_plastic_strain > 0))
     max_iter = opts.max_newton * (10 if opts.strategy == "modified" else 1)
+    last = None  # (dp, du) of the last converged increment, for the predictor
     for k, target in enumerate(levels):
         start = state.p0_MPa
         n_sub = 1
@@ -409,10 +415,16 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
                 step = remaining
             # the last sub-step lands exactly on the target (no round-off residue of summed steps)
             p_new = target if abs(remaining - step) <= 1e-9 * max(abs(step_req), abs(target)) else state.p0_MPa + step
+            u_start = None
+            if opts.predictor and last is not None and (p_new - state.p0_MPa) * last[0] > 0:
+                # linear extrapolation of the last converged increment in the same direction
+                u_start = state.u_mm + ((p_new - state.p0_MPa) / last[0]) * last[1]
             try:
                 state_new, info = _newton_increment(prob, state, prepared.force_per_MPa, state.p0_MPa, p_new,
-                                                    max_iter, p_scale=max(abs(start), abs(target)))
+                                                    max_iter, p_scale=max(abs(start), abs(target)),
+                                                    u_start=u_start)
             except ConvergenceError as err:
+                last = None  # the cut step restarts from the converged state
                 if abs(step) / 2 < floor * (1 - 1e-12) or step == 0.0:
                     raise ConvergenceError(f"load step cut below the floor at p0 = {state.p0_MPa:.6g} MPa "
                                            f"towards {target:.6g} MPa: {err}") from None
@@ -421,6 +433,7 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
                 if opts.verbose:
                     print(f"  cutting the step to {step:.6g} MPa")
                 continue
+            last = (p_new - state.p0_MPa, state_new.u_mm - state.u_mm)
             state = state_new
             step = step_req if abs(2 * step) >= abs(step_req) else 2 * step  # grow back after a cut
             n_yielded = int(np.count_nonzero(state.eq_plastic_strain > 0))
@@ -435,5 +448,6 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
                 break
         if k in vtk_idx:
             from calibration.fem.output import write_increment_output
-            files += write_increment_output(disc, state, material, prepared, Path(out_dir), k)
+            files += write_increment_output(disc, state, material, prepared, Path(out_dir), k,
+                                            label=opts.output_label)
     return FemResult(history, first_yield, state, prepared.centre_mm, disc.n_dofs, files)

@@ -118,3 +118,31 @@ def test_shipped_tables_are_valid_calibrations(name, model, y_range):
             u2 = other.characteristic_at(y).displacement(2.0 * pos["p2_MPa"])
             u3 = table.characteristic_at(y).displacement(2.0 * pos["p2_MPa"])
             assert u3 < u2
+
+
+def test_characteristic_scales_with_the_patch_size(tmp_path):
+    """Format 2: displacements scale with sqrt(a b) / sqrt(a_c b_c) (no length in the J2 half-space problem)."""
+    t, (jp, _) = _table(tmp_path)
+    r = LayerTable.read(jp)
+    base = r.characteristic_at(0.0)
+    same = r.characteristic_at(0.0, patch_mm=(7.0, 5.0))
+    np.testing.assert_allclose(same.u_mm, base.u_mm)
+    big = r.characteristic_at(0.0, patch_mm=(14.0, 10.0))  # twice the patch: twice the displacement, same p
+    np.testing.assert_allclose(big.u_mm, 2.0 * base.u_mm)
+    np.testing.assert_allclose(big.p_MPa, base.p_MPa)
+    assert r.calibrated_length_mm(5.0) == pytest.approx(np.sqrt(35.0))
+    with pytest.raises(InputError, match="patch_mm"):
+        r.characteristic_at(0.0, patch_mm=(0.0, 5.0))
+
+
+def test_version_1_tables_are_read_and_unscalable_without_semi_axes(tmp_path):
+    t, (jp, _) = _table(tmp_path)
+    data = json.loads(jp.read_text())
+    assert data["format_version"] == 2
+    data["format_version"] = 1
+    for pos in data["positions"]:
+        pos.pop("geometry")
+    old = LayerTable.from_dict(data, "old.json")
+    np.testing.assert_allclose(old.characteristic_at(0.0).u_mm, t.characteristics[1].u_mm)
+    with pytest.raises(InputError, match="no calibrated semi-axes"):
+        old.characteristic_at(0.0, patch_mm=(7.0, 5.0))
