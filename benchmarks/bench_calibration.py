@@ -178,15 +178,27 @@ def run(mode: str, out: Path) -> dict:
         md.append(f"| {c['model']} | {c['mesh']['elements_per_semi_axis']:g}, {c['mesh']['order']} | {c['n_dofs']} | "
                   f"{c['seconds']:.1f} | {c['first_yield_MPa']:.0f} | {100 * c['first_yield_diff_vs_ref']:+.1f} % | "
                   f"{', '.join(f'{x:.4f}' for x in c['residual_fem_mm'])} |")
+    conv = mesh_convergence() if not quick else []
+    if conv:
+        md += ["", "3D mesh convergence (default load path; reference: 6 elements per semi-axis; dents after "
+               "unloading from 1.5 / 2.0 / 2.5 p_y; one BLAS thread):", "",
+               "| position | elements/semi-axis | dofs | s | solves | first yield | peak u_pl | residual dents |",
+               "|---|---|---|---|---|---|---|---|"]
+        for c in conv:
+            e = c["errors"]
+            md.append(f"| {c['body']} y = {c['y_mm']:g} | {c['mesh']['elements_per_semi_axis']:g} | {c['n_dofs']} | "
+                      f"{c['seconds']:.1f} | {c['linear_solves']} | {100 * e['first_yield']:+.2f} % | "
+                      f"{100 * e['peak_u_pl']:+.2f} % | "
+                      f"{' / '.join(f'{100 * x:+.2f}' for x in e['residual_levels'])} % |")
     times = make_times(not quick)
     md += ["", f"make calibrate: {json.dumps(times)}", "", f"machine: {json.dumps(machine_info())[:300]}"]
     return {"title": "Calibration: fit error vs N, 2D vs 3D, make calibrate times", "markdown": "\n".join(md),
             "figures": [str(f) for f in figures],
-            "data": {"fit_vs_n": rows, "models": comp, "times": times}}
+            "data": {"fit_vs_n": rows, "models": comp, "times": times, "convergence": conv}}
 
 
 #: The three positions of the convergence study (issue 12): crown, gauge corner, wheel flange root.
-CONVERGENCE_POSITIONS = (("rail", -0.0, "crown"), ("rail", -35.0, "gauge corner"), ("wheel", -37.5, "flange root"))
+CONVERGENCE_POSITIONS = (("rail", 0.0, "crown"), ("rail", -35.0, "gauge corner"), ("wheel", -37.5, "flange root"))
 
 
 def convergence_case(body: str, y_mm: float, mesh_kw: dict, load_kw: dict | None = None, threads: int = 1,
@@ -232,6 +244,17 @@ def convergence_errors(case: dict, ref: dict) -> dict:
             "peak_u_pl": upl[-1] / upl_ref[-1] - 1.0,
             "u_pl_levels_max": float(np.max(np.abs(upl[above] / upl_ref[above] - 1.0))),
             "residual_levels": res.tolist()}
+
+
+def mesh_convergence(levels=(3, 4, 6)) -> list[dict]:
+    """The convergence study at CONVERGENCE_POSITIONS: each mesh against the finest (the last level)."""
+    out = []
+    for body, y, _ in CONVERGENCE_POSITIONS:
+        cases = [convergence_case(body, y, {"elements_per_semi_axis": e}) for e in levels]
+        for c in cases:
+            c["errors"] = convergence_errors(c, cases[-1])
+        out += cases
+    return out
 
 
 if __name__ == "__main__":  # python -m benchmarks.bench_calibration BODY Y MESH_JSON [THREADS]: one case as JSON
