@@ -207,9 +207,8 @@ def convergence_case(body: str, y_mm: float, mesh_kw: dict, load_kw: dict | None
     rule of the pipeline applied) with mesh settings ``mesh_kw``: first yield, inelastic displacement u_pl at
     every load level (as multiples of p_y), FEM residual dents, dofs, seconds (wall, with ``threads`` BLAS
     threads)."""
-    from calibration.config import load_config
-    from calibration.indentation import LoadSettings, MeshSettings, indent
-    from calibration.config import material_of
+    from calibration.config import load_config, material_of
+    from calibration.indentation import indent
     from calibration.pipeline import limited_threads, position_geometry
     from meshes.profiles import get_profile
 
