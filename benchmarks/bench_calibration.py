@@ -190,11 +190,19 @@ def run(mode: str, out: Path) -> dict:
                       f"{c['seconds']:.1f} | {c['linear_solves']} | {100 * e['first_yield']:+.2f} % | "
                       f"{100 * e['peak_u_pl']:+.2f} % | "
                       f"{' / '.join(f'{100 * x:+.2f}' for x in e['residual_levels'])} % |")
+    e2e = end_to_end_crown(out / "end_to_end")
+    md += ["", "End to end at the 60E1 crown (100 kN, rail layer of scenes/tables/rail_60E1_default.json): contact "
+           "solver dent u_p(0) vs the FEM dent under the Hertz pressure of the solver's own patch and p_max:", "",
+           "| characteristic | patch a x b [mm] | p_max [MPa] | contact u_p(0) [um] | FEM dent [um] | deviation |",
+           "|---|---|---|---|---|---|"]
+    for r in e2e:
+        md.append(f"| {r['case']} | {r['a_mm']:.2f} x {r['b_mm']:.2f} | {r['p_max_MPa']:.0f} | "
+                  f"{1e3 * r['contact_up0_mm']:.2f} | {1e3 * r['fem_dent_mm']:.2f} | {100 * r['deviation']:+.1f} % |")
     times = make_times(not quick)
     md += ["", f"make calibrate: {json.dumps(times)}", "", f"machine: {json.dumps(machine_info())[:300]}"]
     return {"title": "Calibration: fit error vs N, 2D vs 3D, make calibrate times", "markdown": "\n".join(md),
             "figures": [str(f) for f in figures],
-            "data": {"fit_vs_n": rows, "models": comp, "times": times, "convergence": conv}}
+            "data": {"fit_vs_n": rows, "models": comp, "times": times, "convergence": conv, "end_to_end": e2e}}
 
 
 #: The three positions of the convergence study (issue 12): crown, gauge corner, wheel flange root.
@@ -243,6 +251,71 @@ def convergence_errors(case: dict, ref: dict) -> dict:
             "peak_u_pl": upl[-1] / upl_ref[-1] - 1.0,
             "u_pl_levels_max": float(np.max(np.abs(upl[above] / upl_ref[above] - 1.0))),
             "residual_levels": res.tolist()}
+
+
+def _contact_first_pass(ch, work: Path, tag: str) -> dict:
+    """The crown scene of scenes/calibrated_layers.toml (100 kN, rolling radius 460 mm, lateral 300 mm) with
+    the characteristic ``ch`` as the only layer, one pass: the first pass's result (patch, p_max, u_p(0))."""
+    toml = "\n".join([
+        f'title = "end to end {tag}"', "[load]", "normal_force_N = 100000.0", "rolling_radius_mm = 460.0",
+        "[material]", "E_MPa = 210000.0", "poisson = 0.3", "[separation]", "lateral_radius_mm = 300.0",
+        "half_width_mm = 25.0", "[layer]", f"u_mm = {[float(v) for v in ch.u_mm]}",
+        f"p_MPa = {[float(v) for v in ch.p_MPa]}", "[passes]", "max = 1", "[method]", "alpha = 0.55",
+        "grid_mm = 0.1", ""])
+    work.mkdir(parents=True, exist_ok=True)
+    (work / f"{tag}.toml").write_text(toml)
+    subprocess.run([sys.executable, "-m", "contact", "simulate", str(work / f"{tag}.toml"), "--out",
+                    str(work / tag)], check=True, capture_output=True, cwd=ROOT)
+    return json.loads((work / tag / "result.json").read_text())["passes"][0]
+
+
+def _fem_dent_mm(a_mm: float, b_mm: float, p0_MPa: float) -> float:
+    """FEM residual dent (mm) of the 60E1 crown after the Hertz pressure p0 on the a x b patch (default 3D mesh
+    and material, support 35 mm below)."""
+    from calibration.config import load_config, material_of
+    from calibration.fem.assembly import discretise
+    from calibration.fem.elastoplastic_solver import SolverOptions, solve_load_path
+    from calibration.hertz.geometry import given_geometry
+    from calibration.hertz.load import HertzLoad
+    from calibration.indentation import add_support_boundary, build_mesh
+    from calibration.pipeline import limited_threads
+    from meshes.profiles import get_profile
+
+    cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")
+    rail = get_profile("60E1")
+    geo = given_geometry(rail, 0.0, a_mm, b_mm)
+    mesh = build_mesh(rail, geo, "3d", cfg.mesh)
+    disc = discretise(mesh, cfg.mesh.order)
+    bc = add_support_boundary(mesh, cfg.mesh.rail_support_below_mm)
+    load = HertzLoad(0.0, b_mm, a_mm, z0_mm=geo.z_mm)
+    opts = SolverOptions(dirichlet=bc, max_increment_MPa=150.0, rtol=1e-6, etol=1e-8, max_unload_increment_MPa=p0_MPa)
+    with limited_threads(1):
+        peak = solve_load_path(mesh, material_of(cfg.bodies[0]), load, [p0_MPa], disc=disc, options=opts)
+        unl = solve_load_path(mesh, material_of(cfg.bodies[0]), load, [0.0], disc=disc, options=opts,
+                              initial_state=peak.state)
+    return float(unl.history[-1].u_centre_mm)
+
+
+def end_to_end_crown(work: Path, iterations: int = 3) -> list[dict]:
+    """Issue 12, item 7: the contact solver's residual dent u_p(0) at the crown (rail layer of the shipped 3D
+    table) against the FEM dent under the Hertz pressure of the contact solver's own patch (a = length/2,
+    b = width/2) and peak pressure; without scaling, and with the characteristic scaled to the solver's own patch
+    (``LayerTable.characteristic_at(y, patch_mm)``, fixed point over ``iterations`` solves)."""
+    from contact.layer.layer_table import LayerTable
+
+    table = LayerTable.read(ROOT / "scenes" / "tables" / "rail_60E1_default.json")
+    first = _contact_first_pass(table.characteristic_at(0.0), work, "unscaled")
+    scaled = first
+    for it in range(iterations):
+        patch = (scaled["length_mm"] / 2, scaled["width_mm"] / 2)
+        scaled = _contact_first_pass(table.characteristic_at(0.0, patch_mm=patch), work, f"scaled{it}")
+    rows = []
+    for name, p in (("calibrated patch, not scaled", first), ("scaled to its own patch", scaled)):
+        a, b = p["length_mm"] / 2, p["width_mm"] / 2
+        dent = _fem_dent_mm(a, b, p["p_max_MPa"])
+        rows.append({"case": name, "a_mm": a, "b_mm": b, "p_max_MPa": p["p_max_MPa"], "contact_up0_mm": p["up0_mm"],
+                     "fem_dent_mm": dent, "deviation": p["up0_mm"] / dent - 1.0})
+    return rows
 
 
 def mesh_convergence(levels=(3, 4, 6)) -> list[dict]:
