@@ -253,14 +253,15 @@ def convergence_errors(case: dict, ref: dict) -> dict:
             "residual_levels": res.tolist()}
 
 
-def _contact_first_pass(ch, work: Path, tag: str) -> dict:
-    """The crown scene of scenes/calibrated_layers.toml (100 kN, rolling radius 460 mm, lateral 300 mm) with
-    the characteristic ``ch`` as the only layer, one pass: the first pass's result (patch, p_max, u_p(0))."""
+def _contact_first_pass(table_path: Path, scale: bool, work: Path, tag: str) -> dict:
+    """The crown scene of scenes/calibrated_layers.toml (100 kN, rolling radius 460 mm, lateral 300 mm) with the
+    rail table's layer at y = 0 as the only layer (``scale_to_patch`` = ``scale``), one pass: the first pass's
+    result (patch, p_max, u_p(0))."""
     toml = "\n".join([
         f'title = "end to end {tag}"', "[load]", "normal_force_N = 100000.0", "rolling_radius_mm = 460.0",
         "[material]", "E_MPa = 210000.0", "poisson = 0.3", "[separation]", "lateral_radius_mm = 300.0",
-        "half_width_mm = 25.0", "[layer]", f"u_mm = {[float(v) for v in ch.u_mm]}",
-        f"p_MPa = {[float(v) for v in ch.p_MPa]}", "[passes]", "max = 1", "[method]", "alpha = 0.55",
+        "half_width_mm = 25.0", "[layer.rail]", f'table = "{table_path}"', "position_mm = 0.0",
+        f"scale_to_patch = {'true' if scale else 'false'}", "[passes]", "max = 1", "[method]", "alpha = 0.55",
         "grid_mm = 0.1", ""])
     work.mkdir(parents=True, exist_ok=True)
     (work / f"{tag}.toml").write_text(toml)
@@ -296,19 +297,14 @@ def _fem_dent_mm(a_mm: float, b_mm: float, p0_MPa: float) -> float:
     return float(unl.history[-1].u_centre_mm)
 
 
-def end_to_end_crown(work: Path, iterations: int = 3) -> list[dict]:
+def end_to_end_crown(work: Path) -> list[dict]:
     """Issue 12, item 7: the contact solver's residual dent u_p(0) at the crown (rail layer of the shipped 3D
     table) against the FEM dent under the Hertz pressure of the contact solver's own patch (a = length/2,
-    b = width/2) and peak pressure; without scaling, and with the characteristic scaled to the solver's own patch
-    (``LayerTable.characteristic_at(y, patch_mm)``, fixed point over ``iterations`` solves)."""
-    from contact.layer.layer_table import LayerTable
-
-    table = LayerTable.read(ROOT / "scenes" / "tables" / "rail_60E1_default.json")
-    first = _contact_first_pass(table.characteristic_at(0.0), work, "unscaled")
-    scaled = first
-    for it in range(iterations):
-        patch = (scaled["length_mm"] / 2, scaled["width_mm"] / 2)
-        scaled = _contact_first_pass(table.characteristic_at(0.0, patch_mm=patch), work, f"scaled{it}")
+    b = width/2) and peak pressure; without scaling, and with the scene key ``scale_to_patch = true`` (the
+    characteristic scaled to the solver's own patch by a fixed point, contact.scenes.simulation)."""
+    table_path = ROOT / "scenes" / "tables" / "rail_60E1_default.json"
+    first = _contact_first_pass(table_path, False, work, "unscaled")
+    scaled = _contact_first_pass(table_path, True, work, "scaled")
     rows = []
     for name, p in (("calibrated patch, not scaled", first), ("scaled to its own patch", scaled)):
         a, b = p["length_mm"] / 2, p["width_mm"] / 2
