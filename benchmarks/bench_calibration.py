@@ -314,7 +314,7 @@ def end_to_end_crown(work: Path) -> list[dict]:
     return rows
 
 
-def mesh_convergence(levels=(3, 4, 6)) -> list[dict]:
+def mesh_convergence(levels=(3, 4, 6, 8)) -> list[dict]:
     """The convergence study at CONVERGENCE_POSITIONS: each mesh against the finest (the last level)."""
     out = []
     for body, y, _ in CONVERGENCE_POSITIONS:
