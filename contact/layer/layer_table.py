@@ -98,12 +98,14 @@ class LayerTable:
         return json.dumps(_plain(self.to_dict()), indent=1, allow_nan=False) + "\n"
 
     def to_csv(self) -> str:
-        """One row per calibrated position: geometry, N, S_i, k_i, T_0i, the points, fit errors (units in names)."""
+        """One row per calibrated position: geometry, N, S_i, k_i, T_0i, the points, fit errors (units in names),
+        warnings (e.g. a conforming position calibrated at a lower load)."""
         cols = (["body", "profile", "y_mm", "n_segments", "p2_MPa", "max_error_mm", "rms_error_mm", "a_mm", "b_mm"]
                 + [f"S{i}_N_per_mm3" for i in range(1, MAX_SEGMENTS + 1)]
                 + [f"k{i}_N_per_mm3" for i in range(1, MAX_SEGMENTS + 1)]
                 + [f"T0{i}_MPa" for i in range(1, MAX_SEGMENTS)]
-                + [f"u{i}_mm" for i in range(1, MAX_SEGMENTS + 2)] + [f"p{i}_MPa" for i in range(1, MAX_SEGMENTS + 2)])
+                + [f"u{i}_mm" for i in range(1, MAX_SEGMENTS + 2)] + [f"p{i}_MPa" for i in range(1, MAX_SEGMENTS + 2)]
+                + ["warnings"])
         buf = io.StringIO()
         w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
         w.writeheader()
@@ -112,7 +114,7 @@ class LayerTable:
             row = {"body": self.body, "profile": self.profile_name, "y_mm": pos["y_mm"],
                    "n_segments": ch.n_segments, "p2_MPa": ch.elastic_limit_MPa,
                    "max_error_mm": pos.get("max_error_mm"), "rms_error_mm": pos.get("rms_error_mm"),
-                   "a_mm": geo.get("a_mm"), "b_mm": geo.get("b_mm")}
+                   "a_mm": geo.get("a_mm"), "b_mm": geo.get("b_mm"), "warnings": "; ".join(pos.get("warnings", []))}
             par = ch.to_parameters()
             for i, v in enumerate(ch.slopes, 1):
                 row[f"S{i}_N_per_mm3"] = repr(float(v))

@@ -51,3 +51,17 @@ def test_first_slope_rule():
     with pytest.raises(InputError, match="elastic_tolerance"):
         first_slope_N_per_mm3({**ind, "u_pl_mm": [0.0, 0.0, 0.0]}, FitSettings())
     assert np.isfinite(s1)
+
+
+def test_shipped_tables_flag_the_conforming_positions_in_json_and_csv():
+    import csv
+    import io
+
+    from contact.layer.layer_table import LayerTable
+
+    table = LayerTable.read(ROOT / "scenes" / "tables" / "rail_60E1_default.json")
+    flagged = {p["y_mm"] for p in table.positions if p.get("warnings")}
+    assert flagged == {-35.9, -35.0, -32.5, -30.0}
+    rows = list(csv.DictReader(io.StringIO((ROOT / "scenes" / "tables" / "rail_60E1_default.csv").read_text())))
+    assert {float(r["y_mm"]) for r in rows if "conforming contact" in r["warnings"]} == flagged
+    assert table.to_csv() == (ROOT / "scenes" / "tables" / "rail_60E1_default.csv").read_text()
