@@ -57,7 +57,7 @@ def test_base_documents_are_valid(tmp_path):
     data = tomllib.loads((tmp_path / "wr.toml").read_text())
     assert len(parse_wheel_rail_scene(data, tmp_path / "wr.toml")["cases"]) == 2
     make_corpus.write_toml(tmp_path / "cfg.toml", make_corpus.CONFIG, "base", [make_corpus.BODY])
-    tasks, failed = make_tasks(load_config(tmp_path / "cfg.toml"), tmp_path / "out", plots=False)
+    tasks, failed, _ = make_tasks(load_config(tmp_path / "cfg.toml"), tmp_path / "out", plots=False)
     assert len(tasks) == 1 and not failed
     assert len(LayerTable.read(INPUTS / "bad_layer_tables" / "good.json").positions) == 3
     (tmp_path / "crown.prr").write_text(make_corpus.simpack({}), encoding="utf-8")

@@ -128,7 +128,7 @@ def test_random_config_documents_keep_the_contract(doc, tmp_path_factory):
     t0 = time.perf_counter()
     try:
         cfg = parse_config(doc, "generated.toml", Path("."))
-        tasks, failed = make_tasks(cfg, tmp_path_factory.mktemp("cfg"), plots=False)
+        tasks, failed, _ = make_tasks(cfg, tmp_path_factory.mktemp("cfg"), plots=False)
     except WrLayerError as err:
         msg = str(err)
         assert msg.startswith("generated.toml") and "\n" not in msg and len(msg) < 400, msg

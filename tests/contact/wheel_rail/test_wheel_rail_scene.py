@@ -71,5 +71,5 @@ def test_shipped_calibrated_tables_cover_the_shipped_layered_sweep(tmp_path):
     assert len(result["cases"]) == 21 and result["n_failed"] == 0
     tables = [json.loads((scene.parent / "tables" / f).read_text()) for f in
               ("rail_60E1_default.json", "wheel_S1002_default.json")]
-    assert all(t["header"]["model"] == "2d" and t["header"]["config"] == "calibration/configs/default.toml"
+    assert all(t["header"]["model"] == "3d" and t["header"]["config"] == "calibration/configs/default.toml"
                for t in tables)
