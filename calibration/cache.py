@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import fields
+from dataclasses import MISSING, fields
 from pathlib import Path
 from typing import Any
 
@@ -39,19 +39,24 @@ def check_indentation(data: Any, what: str) -> dict:
     for f in fields(IndentationResult):
         key = validate.join(what, f.name)
         if f.name not in data:
-            if f.name == "files":
+            if f.default is not MISSING or f.default_factory is not MISSING:  # a field with a default may be absent
                 continue
             raise InputError(key, "missing")
         value = data[f.name]
         kind = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))
+        if value is None and "None" in kind:
+            continue
         if f.name == "files":
             if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
                 raise InputError(key, "must be a list of file names")
         elif kind.startswith("list"):
             validate.number_list(value, key, min_len=2 if f.name in ("p_MPa", "u_fem_mm", "u_pl_mm") else 0)
-        elif kind == "int":
+        elif kind.startswith("dict"):
+            for name, item in validate.table(value, key).items():
+                validate.number_list(item, f"{key}.{name}", min_len=0)
+        elif kind.startswith("int"):
             validate.integer(value, key, ge=0)
-        elif kind == "str":
+        elif kind.startswith("str"):
             validate.text(value, key)
         else:
             validate.number(value, key)
