@@ -1,6 +1,6 @@
 """Numerical stress tests: ``python -m benchmarks.stress [--quick|--full] --out DIR [--seed S] [--cases N]``.
 
-Contact solver (:mod:`benchmarks.stress_contact`): seeded random scenes, 100 (quick) or 1000 (full) cases.
+Contact solver (:mod:`benchmarks.stress_contact`): seeded random scenes, 100 (quick) or 5000 (full) cases.
 FEM engine (:mod:`benchmarks.stress_fem`): far too large load increments, nearly perfectly plastic material, the
 limit load, very coarse and (full only) very fine meshes, Poisson's ratio 0.499.
 
@@ -167,14 +167,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--version", action="version", version=version_text("python -m benchmarks.stress"))
     g = ap.add_mutually_exclusive_group()
     g.add_argument("--quick", action="store_const", dest="mode", const="quick", help="100 contact cases (default)")
-    g.add_argument("--full", action="store_const", dest="mode", const="full", help="1000 contact cases, all FEM")
+    g.add_argument("--full", action="store_const", dest="mode", const="full", help="5000 contact cases, all FEM")
     ap.add_argument("--out", type=Path, default=Path("out/stress"), help="output directory")
     ap.add_argument("--seed", type=int, default=0, help="first contact seed")
     ap.add_argument("--cases", type=int, default=None, help="number of contact cases (overrides the mode)")
     ap.add_argument("--no-fem", action="store_true", help="skip the FEM cases")
     args = ap.parse_args(argv)
     mode = args.mode or "quick"
-    n = args.cases if args.cases is not None else (1000 if mode == "full" else 100)
+    n = args.cases if args.cases is not None else (5000 if mode == "full" else 100)
     progress = sys.stderr.isatty()
     contact = run_contact(range(args.seed, args.seed + n), progress)
     fem = {"cases": [], "outcomes": {}, "failures": [], "wall_s": 0.0} if args.no_fem else run_fem(mode, progress)

@@ -1,7 +1,9 @@
 """Command line: ``python -m calibration run CONFIG --out DIR [--scheduler ADDRESS] [--workers N]
 [--plots/--no-plots] [--quiet]``.
 
-Exit codes: 0 all positions calibrated; 2 bad input (configuration; nothing written); 4 some positions failed
+Exit codes: 0 all positions calibrated; 2 bad input (configuration, or a run whose estimated cost exceeds the
+limit without ``--force``, or ``--out`` in use by another run; nothing written); 3 numerical failure of the
+whole run; 4 some positions failed
 (their errors on stderr and in summary.json; the tables hold the other positions and list the failed ones, which
 the reader does not interpolate across; the computed positions are cached).
 """
@@ -31,6 +33,7 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--plots", action=argparse.BooleanOptionalAction, default=None,
                      help="write PNG/VTK pictures (default: config run.plots)")
     run.add_argument("--quiet", action="store_true", help="no progress bars")
+    run.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     return ap
 
 
@@ -45,7 +48,7 @@ def main(argv: list[str] | None = None) -> int:
         require(1 <= args.workers <= 64, "--workers", f"must be in 1..64, got {args.workers}")
         cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, workers=args.workers))
     summary = run_calibration(cfg, args.out, scheduler=args.scheduler, plots=args.plots,
-                              show_progress=not args.quiet)
+                              show_progress=not args.quiet, force=args.force)
     return 4 if summary["failed"] else 0
 
 

@@ -28,9 +28,13 @@ from typing import Any
 from calibration.fit.characteristic_fit import N_SEGMENTS_RANGE
 from calibration.hertz.geometry import DEFAULT_MAX_LATERAL_RADIUS_MM, DEFAULT_RAIL_CANT_RAD
 from calibration.indentation import LoadSettings, MeshSettings
+from wrlayer import validate
 from wrlayer.errors import InputError
 
 MODELS = ("2d", "3d")
+#: Largest number of positions per body (a hard size limit; the cost guard of calibration.cost refuses long runs
+#: below it unless forced).
+MAX_POSITIONS = 500
 
 
 @dataclass(frozen=True)
@@ -122,12 +126,9 @@ class _Reader:
 
     def number(self, value, key: str, lo: float | None = None, hi: float | None = None, lo_open: bool = True,
                integer: bool = False) -> float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            self.fail(key, f"must be a number, got {value!r}")
-        if integer and not isinstance(value, int):
-            self.fail(key, f"must be an integer, got {value!r}")
-        if not math.isfinite(value):
-            self.fail(key, f"must be finite, got {value!r}")
+        if integer:
+            validate.integer(value, f"{self.source}: {key}")
+        validate.number(value, f"{self.source}: {key}")  # a finite real, not a bool or a string (shared rules)
         if lo is not None and (value <= lo if lo_open else value < lo):
             self.fail(key, f"must be {'>' if lo_open else '>='} {lo:g}, got {value!r}")
         if hi is not None and value > hi:
@@ -179,7 +180,9 @@ def _positions(r: _Reader, data: dict, where: str) -> tuple[float, ...]:
         values = data["positions_mm"]
         if not isinstance(values, list) or not values:
             r.fail(f"{where}.positions_mm", "must be a non-empty list of numbers (mm)")
-        ys = [r.number(v, f"{where}.positions_mm", integer=False) for v in values]
+        if len(values) > MAX_POSITIONS:
+            r.fail(f"{where}.positions_mm", f"has {len(values)} positions (at most {MAX_POSITIONS})")
+        ys = [r.number(v, f"{where}.positions_mm[{i}]") for i, v in enumerate(values)]
     else:
         spec = data["positions"]
         if not isinstance(spec, dict):
@@ -194,8 +197,8 @@ def _positions(r: _Reader, data: dict, where: str) -> tuple[float, ...]:
         if b < a:
             r.fail(f"{where}.positions.stop_mm", f"must be >= start_mm ({b:g} < {a:g})")
         n = int(math.floor((b - a) / step + 1e-9)) + 1
-        if n > 500:
-            r.fail(f"{where}.positions.step_mm", f"gives {n} positions (at most 500)")
+        if n > MAX_POSITIONS:
+            r.fail(f"{where}.positions.step_mm", f"gives {n} positions (at most {MAX_POSITIONS})")
         ys = [round(a + i * step, 9) for i in range(n)]
     if len(set(ys)) != len(ys):
         r.fail(f"{where}.positions_mm", "contains duplicate positions")
@@ -227,7 +230,7 @@ def _body(r: _Reader, data, i: int, base: Path, material: MaterialSettings) -> B
         v = data["semi_axes_mm"]
         if not isinstance(v, list) or len(v) != 2:
             r.fail(f"{where}.semi_axes_mm", "must be [a_mm, b_mm] (rolling, lateral)")
-        semi = tuple(r.number(x, f"{where}.semi_axes_mm", 0.0) for x in v)
+        semi = tuple(r.number(x, f"{where}.semi_axes_mm[{i}]", 0.0) for i, x in enumerate(v))
     mate = None
     if "mate" in data:
         mate, mate_profile = _resolve_profile(r, data["mate"], f"{where}.mate", base)
@@ -283,7 +286,7 @@ def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> 
     def factors(v, k):
         if not isinstance(v, list) or not v:
             r.fail(k, "must be a non-empty list of numbers")
-        return tuple(sorted(r.number(x, k, 1.0) for x in v))
+        return tuple(sorted(r.number(x, f"{k}[{i}]", 1.0) for i, x in enumerate(v)))
 
     load = r.dataclass_from(LoadSettings, load_d, "load", {
         "max_factor": lambda v, k: r.number(v, k, 1.0, 10.0),
@@ -334,6 +337,8 @@ def load_config(path: str | Path) -> CalibrationConfig:
         data = tomllib.loads(raw.decode("utf-8"))
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as err:
         raise InputError(str(path), f"not valid TOML: {err}") from None
+    except RecursionError:
+        raise InputError(str(path), "arrays or tables nested too deeply to read") from None
     return parse_config(data, str(path), path.parent)
 
 

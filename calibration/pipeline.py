@@ -35,7 +35,10 @@ from calibration.config import BodySettings, CalibrationConfig
 from calibration.hertz.geometry import (HERTZ_B_OVER_R_LIMIT, conformity, fitted_load_N, given_geometry,
                                         local_geometry)
 from contact.layer.layer_table import LayerTable
-from wrlayer.atomic_write import atomic_write_text
+from calibration.cache import load_fit, load_indentation
+from calibration.cost import calibration_cost
+from wrlayer.atomic_write import atomic_write_text, output_lock
+from wrlayer.cost import guard
 from wrlayer.errors import InputError, WrLayerError
 
 _ROOT = Path(__file__).resolve().parent.parent
@@ -231,6 +234,7 @@ def make_tasks(cfg: CalibrationConfig, out_dir: Path, plots: bool | None = None
             except WrLayerError as err:
                 failed.append({"body": b.body, "y_mm": y, "error": str(err)})
                 continue
+            check_mesh_settings(cfg, b, profile, geo.to_dict())
             fem_inputs = {"profile": _profile_identity(b.profile), "body": b.body, "y_mm": y,
                           "geometry": geo.to_dict(), "material": asdict(b.material), "model": cfg.run.model,
                           "mesh": asdict(cfg.mesh), "load": asdict(cfg.load), "code": code}
@@ -258,6 +262,32 @@ def first_slope_N_per_mm3(ind: dict, fit) -> float:
         raise InputError("fit.elastic_tolerance", f"no inelastic displacement at the largest pressure "
                                                   f"{p[k]:.6g} MPa: S_1 undefined (raise load.max_factor)")
     return float(p[k] / (fit.elastic_tolerance * u_pl[k]))
+
+
+#: Mesh arguments checked by meshes.meshing.section_mesh.check_mesh_inputs -> the configuration key they come from.
+_MESH_KEYS = {"h_min": "mesh.h_max_mm", "h_max": "mesh.h_max_mm", "depth_mm": "mesh.depth_mm",
+              "grading": "mesh.grading", "order": "mesh.order"}
+
+
+def check_mesh_settings(cfg: CalibrationConfig, b: BodySettings, profile, geometry: dict) -> None:
+    """The mesh of one position is possible: h_max_mm >= h_min (= semi-axis / elements_per_semi_axis) and the
+    section depth leaves material at the load point. InputError naming the configuration key and the position
+    (checked before any FEM runs or any file is written)."""
+    from meshes.meshing.section_mesh import DEFAULT_DEPTH_MM, check_mesh_inputs
+
+    m = cfg.mesh
+    a, bb = geometry["a_mm"], geometry["b_mm"]
+    h_min = min(bb, a if cfg.run.model == "3d" else bb) / m.elements_per_semi_axis
+    where = f"{b.body} y = {geometry['y_mm']:g} mm"
+    if m.h_max_mm < h_min:
+        raise InputError(f"{cfg.source}: mesh.h_max_mm", f"{m.h_max_mm:g} mm is below h_min = {h_min:.3g} mm "
+                         f"(semi-axis / mesh.elements_per_semi_axis) at {where}")
+    depth = DEFAULT_DEPTH_MM[profile.body] if m.depth_mm is None else m.depth_mm
+    try:
+        check_mesh_inputs(profile, geometry["y_mm"], h_min, m.h_max_mm, depth, m.order, m.grading)
+    except InputError as err:
+        key = _MESH_KEYS.get(err.what, f"mesh.{err.what}")
+        raise InputError(f"{cfg.source}: {key}", f"{err.problem} ({where})") from None
 
 
 def fit_position(ind: dict, geometry: dict, cfg: CalibrationConfig, what: str) -> dict:
@@ -303,12 +333,16 @@ def _header(cfg: CalibrationConfig, b: BodySettings, keys: list[str]) -> dict:
 
 
 def _same_inputs(json_path: Path, inputs_hash: str) -> bool:
-    """True when ``json_path`` is a valid table made from the same inputs (nothing to rewrite)."""
-    if not json_path.is_file() or not json_path.with_suffix(".csv").is_file():
+    """True when ``json_path`` is a valid table made from the same inputs AND the CSV beside it is exactly the one
+    written from that table (a CSV of another run, e.g. of a second run into the same folder, is rewritten)."""
+    csv_path = json_path.with_suffix(".csv")
+    if not json_path.is_file() or not csv_path.is_file():
         return False
     try:
-        return LayerTable.read(json_path).header.get("inputs_hash") == inputs_hash
-    except WrLayerError:
+        table = LayerTable.read(json_path)
+        return table.header.get("inputs_hash") == inputs_hash and csv_path.read_text(encoding="utf-8") == \
+            table.to_csv()
+    except (WrLayerError, OSError, UnicodeDecodeError):
         return False
 
 
@@ -348,21 +382,69 @@ def _execute(tasks: list[PositionTask], cfg: CalibrationConfig, scheduler: str |
         import multiprocessing as mp
 
         ctx = mp.get_context("spawn")
-        with _thread_environment(min(t.blas_threads for t in tasks)), ctx.Manager() as manager:
-            q = manager.Queue()
-            with cf.ProcessPoolExecutor(max_workers=min(cfg.run.workers, len(tasks)), mp_context=ctx) as pool:
-                futures = {pool.submit(run_position, t, q): t for t in tasks}
-                pending = set(futures)
-                while pending:
-                    done, pending = cf.wait(pending, timeout=0.5, return_when=cf.FIRST_COMPLETED)
-                    _drain(q, bar_steps)
-                    for fut in done:
-                        bar_pos.update(1)
-                        yield futures[fut], fut.result()
+        q = ctx.Queue()  # handed to the workers at start (no Manager process that could outlive a killed run)
+        pool = cf.ProcessPoolExecutor(max_workers=min(cfg.run.workers, len(tasks)), mp_context=ctx,
+                                      initializer=worker_lifeline, initargs=(os.getpid(), q))
+        try:
+            with _thread_environment(min(t.blas_threads for t in tasks)):  # the workers start at the submits
+                futures = {pool.submit(_run_in_worker, t): t for t in tasks}
+            pending = set(futures)
+            while pending:
+                done, pending = cf.wait(pending, timeout=0.5, return_when=cf.FIRST_COMPLETED)
                 _drain(q, bar_steps)
+                for fut in done:
+                    bar_pos.update(1)
+                    yield futures[fut], fut.result()
+            _drain(q, bar_steps)
+            pool.shutdown(wait=True)
+        except BaseException:  # an interrupt or an error: end the workers now, do not wait for their FEM runs
+            for proc in list(getattr(pool, "_processes", {}).values()):
+                proc.terminate()
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+        finally:
+            q.close()
+            q.join_thread()
     finally:
         bar_steps.close()
         bar_pos.close()
+
+
+_WORKER_QUEUE = None
+
+
+def worker_lifeline(parent_pid: int, progress_queue=None) -> None:
+    """Initializer of a calibration worker process: the worker ends with its parent.
+
+    On Linux the kernel sends SIGKILL to the worker when the parent dies (``prctl(PR_SET_PDEATHSIG)``); on every
+    platform a daemon thread checks once a second that the parent is still there and exits the worker otherwise.
+    So a killed run (``kill -9``) leaves no worker computing and holding the caller's pipes open."""
+    global _WORKER_QUEUE
+    _WORKER_QUEUE = progress_queue
+    try:
+        import ctypes
+        import signal
+
+        libc = ctypes.CDLL("libc.so.6", use_errno=True)
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+    if os.getppid() != parent_pid:  # the parent died before the line above took effect
+        os._exit(1)
+
+    def watch():
+        while True:
+            time.sleep(1.0)
+            if os.getppid() != parent_pid:
+                os._exit(1)
+
+    import threading
+
+    threading.Thread(target=watch, name="parent-watchdog", daemon=True).start()
+
+
+def _run_in_worker(task: PositionTask) -> dict:
+    return run_position(task, _WORKER_QUEUE)
 
 
 class _DirectQueue:
@@ -382,11 +464,21 @@ def _drain(q, bar):
 
 
 def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str | None = None,
-                    plots: bool | None = None, show_progress: bool = True, log=print) -> dict:
+                    plots: bool | None = None, show_progress: bool = True, log=print, force: bool = False) -> dict:
     """Calibrate all bodies and positions of ``cfg`` into ``out_dir``; returns the summary (also written as
-    ``summary.json``). Tables: ``OUT/<body>_layer_table.json`` and ``.csv``."""
-    t_start = time.perf_counter()
+    ``summary.json``). Tables: ``OUT/<body>_layer_table.json`` and ``.csv``.
+
+    Holds a lock on ``out_dir`` (a second run into it is refused); cache entries are validated and invalid ones
+    recomputed; the positions to compute are costed first and refused above the limit unless ``force``."""
     out_dir = Path(out_dir)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise InputError(f"--out {out_dir}", "exists and is not a folder")
+    with output_lock(out_dir):
+        return _run_calibration(cfg, out_dir, scheduler, plots, show_progress, log, force)
+
+
+def _run_calibration(cfg, out_dir: Path, scheduler, plots, show_progress, log, force) -> dict:
+    t_start = time.perf_counter()
     plots = cfg.run.plots if plots is None else plots
     scheduler = scheduler if scheduler is not None else (cfg.run.scheduler or None)
     tasks, failed, warnings = make_tasks(cfg, out_dir, plots)
@@ -397,16 +489,17 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
         f = cache / f"{t.key}.json"
         fields_missing = t.fields_dir is not None and not any(Path(t.fields_dir).rglob("*.vtu"))
         if f.is_file() and not fields_missing:
-            try:
-                results[t.key] = json.loads(f.read_text())
+            entry, why = load_indentation(f)
+            if entry is not None:
+                results[t.key] = entry
                 continue
-            except (OSError, json.JSONDecodeError):
-                pass
+            log(f"calibration: cache entry {f.name} of {t.label} is invalid ({why}); recomputing it")
         todo.append(t)
     # longest first (the 3D mesh grows with the patch's elongation a/b: 553 s at a/b = 13.6 against 30-80 s for
     # round patches in the default run), so that no worker is left alone with a long position at the end
     todo.sort(key=lambda t: -max(t.geometry["a_mm"], t.geometry["b_mm"]) / min(t.geometry["a_mm"], t.geometry["b_mm"]))
     n_cached = len(tasks) - len(todo)
+    guard(calibration_cost(cfg, todo, scheduler), force)
     if todo:
         log(f"calibration: {len(todo)} position(s) to compute, {n_cached} cached "
             f"({'Dask ' + scheduler if scheduler else f'{min(cfg.run.workers, len(todo))} local worker(s)'})")
@@ -426,10 +519,7 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
             if t.key not in results:
                 continue
             fit_file = cache / f"fit-{_hash({'fem': t.key, 'fit': asdict(cfg.fit), 'code': fit_code})}.json"
-            try:
-                entry = json.loads(fit_file.read_text()) if fit_file.is_file() else None
-            except (OSError, json.JSONDecodeError):
-                entry = None
+            entry = load_fit(fit_file, t.y_mm)[0] if fit_file.is_file() else None
             if entry is None:
                 try:
                     entry = fit_position(results[t.key], t.geometry, cfg, t.label)

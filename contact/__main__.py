@@ -4,9 +4,15 @@
     python -m contact simulate-all SCENES_DIR --out OUT [--plots]
 
 ``simulate`` writes ``DIR/result.json`` (and pictures with ``--plots``) atomically: on any error nothing is
-written. ``simulate-all`` runs every ``*.toml`` of the folder into ``OUT/<scene-stem>/``, then prints a table like
-the paper's Table 1 and writes it to ``OUT/table.md`` and ``OUT/table.csv``; a failing scene is reported in one
-line, the others still run, and the exit code is non-zero if any failed.
+written; the folder is built beside DIR and replaces it as a whole (:func:`wrlayer.atomic_write.replace_output_dir`:
+a lock refuses a second run into the same DIR, files of an earlier run never survive beside the new ones). A run
+whose estimated cost exceeds the limit is refused up front unless ``--force`` (:mod:`contact.scenes.cost`).
+``simulate-all`` runs every ``*.toml`` of the folder into ``OUT/<scene-stem>/``, then prints a table like the
+paper's Table 1 and writes it to ``OUT/table.md`` and ``OUT/table.csv``; a failing scene is reported in one line,
+the others still run, and the exit code is non-zero if any failed.
+
+Exit codes: 0 success; 1 some scenes of ``simulate-all`` failed (each reported in one line); 2 bad input (scene,
+table or profile file, a refused cost, a busy ``--out``); 3 numerical failure (ConvergenceError); 130 interrupted.
 """
 
 from __future__ import annotations
@@ -17,13 +23,18 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from wrlayer.atomic_write import atomic_output_dir, atomic_write_text
 from wrlayer import cli
+from wrlayer.atomic_write import atomic_write_text, output_lock, replace_output_dir
+from wrlayer.cost import guard
 from wrlayer.errors import InputError, WrLayerError, cli_guard
 
 
-def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = False) -> dict[str, Any]:
-    """Run one scene file into ``out_dir`` (result.json + pictures, atomically); returns the result dict."""
+def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = False,
+                   force: bool = False) -> dict[str, Any]:
+    """Run one scene file into ``out_dir`` (result.json + pictures, atomically); returns the result dict.
+
+    The run's cost is estimated first (:mod:`contact.scenes.cost`); above :data:`wrlayer.cost.LIMIT_SECONDS` it is
+    refused (CostError, exit 2) unless ``force``."""
     from contact.scenes.result_io import result_text
     from contact.scenes.scene import read_scene_data, scene_type
 
@@ -38,45 +49,37 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
         except ImportError:
             raise InputError(f"{scene_path.name}: type", "scene type 'wheel_rail' not available "
                              "(contact.wheel_rail.scene missing)") from None
-        with atomic_output_dir(out_dir) as tmp:
+        from contact.scenes.cost import wheel_rail_cost
+        from contact.wheel_rail.scene import parse_wheel_rail_scene
+
+        guard(wheel_rail_cost(parse_wheel_rail_scene(data, scene_path), scene_path.name), force)
+        with replace_output_dir(out_dir) as tmp:
             result = run_wheel_rail_scene(data, scene_path, tmp, plots)
             (tmp / "result.json").write_text(result_text(result), encoding="utf-8")
-            written = {str(p.relative_to(tmp)) for p in tmp.rglob("*") if p.is_file()}
-        _remove_stale_files(out_dir, written, ("*.png", "deformed_profiles/*"))
         return result
 
     from contact.scenes.scene import parse_scene
 
     scene = parse_scene(data, scene_path)  # before importing the solvers: a bad scene fails fast
+    from contact.scenes.cost import scene_cost
+
+    guard(scene_cost(scene), force)
     from contact.scenes.simulation import simulate
 
     run = simulate(scene)
     text = result_text(run.result)  # serialise before anything is written (a failure leaves no file)
-    with atomic_output_dir(out_dir) as tmp:
+    with replace_output_dir(out_dir) as tmp:
         if plots:
             from contact.scenes.plots import write_scene_plots
 
             run.result["pictures"] = [p.name for p in write_scene_plots(run, tmp)]
             text = result_text(run.result)
         (tmp / "result.json").write_text(text, encoding="utf-8")
-        written = {p.name for p in tmp.iterdir()}
-    from contact.scenes.result_io import PICTURE_PATTERNS
-
-    _remove_stale_files(out_dir, written, PICTURE_PATTERNS)
     return run.result
 
 
-def _remove_stale_files(out_dir: Path, keep: set[str], patterns: tuple[str, ...]) -> None:
-    """Files of an earlier run into the same folder that this run did not write (another pass count, no --plots,
-    fewer sweep cases) would describe another result: remove those matching ``patterns`` (relative to out_dir)."""
-    for pattern in patterns:
-        for path in out_dir.glob(pattern):
-            if path.is_file() and str(path.relative_to(out_dir)) not in keep:
-                path.unlink(missing_ok=True)
-
-
 def _simulate(args: argparse.Namespace) -> int:
-    result = run_scene_file(args.scene, args.out, plots=args.plots)
+    result = run_scene_file(args.scene, args.out, plots=args.plots, force=args.force)
     if args.json:
         from contact.scenes.result_io import result_text
 
@@ -87,8 +90,6 @@ def _simulate(args: argparse.Namespace) -> int:
 
 
 def _simulate_all(args: argparse.Namespace) -> int:
-    from contact.scenes.result_table import results_table
-
     folder = Path(args.scenes_dir)
     if not folder.is_dir():
         raise InputError(str(folder), "no such scenes folder")
@@ -96,11 +97,18 @@ def _simulate_all(args: argparse.Namespace) -> int:
     if not scenes:
         raise InputError(str(folder), "holds no *.toml scene files")
     out = Path(args.out)
+    with output_lock(out):
+        return _run_all(scenes, out, args)
+
+
+def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
+    from contact.scenes.result_table import results_table
+
     results: dict[str, dict[str, Any]] = {}
     failed = []
     for path in scenes:
         try:
-            results[path.stem] = run_scene_file(path, out / path.stem, plots=args.plots)
+            results[path.stem] = run_scene_file(path, out / path.stem, plots=args.plots, force=args.force)
             print(f"{path.name}: ok -> {out / path.stem / 'result.json'}", flush=True)
         except WrLayerError as err:
             failed.append(path.name)
@@ -132,12 +140,14 @@ def build_parser() -> argparse.ArgumentParser:
     one.add_argument("--out", required=True, help="output folder (result.json, pictures)")
     one.add_argument("--json", action="store_true", help="also print the result JSON")
     one.add_argument("--plots", action="store_true", help="write PNG pictures")
+    one.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     one.set_defaults(func=_simulate)
     many = cli.subparser(sub, "simulate-all", "run every *.toml in a folder and print a Table 1",
                          ["python -m contact simulate-all scenes --out out/simulate --plots"])
     many.add_argument("scenes_dir", help="folder of scene TOML files")
     many.add_argument("--out", required=True, help="output folder (one subfolder per scene, table.md, table.csv)")
     many.add_argument("--plots", action="store_true", help="write PNG pictures")
+    many.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     many.set_defaults(func=_simulate_all)
     return parser
 

@@ -1,54 +1,55 @@
-"""Writing output so that a failure never leaves a partial or stale file behind.
+"""Writing output so that a failure never leaves a partial, stale or mixed file or folder behind.
 
-``atomic_write_text`` writes to a temporary file in the same folder and renames it into place;
-``atomic_output_dir`` builds a whole output folder in a temporary sibling and moves it into place only
-when the block finishes without an exception.
+- :func:`atomic_write_text` / :func:`atomic_write_bytes`: a temporary file in the same folder renamed into place;
+  the file gets the user's normal permissions (0666 minus the umask), not tempfile's 0600.
+- :func:`atomic_output_dir`: a folder's files are built in a run-unique staging sibling and moved into ``path``
+  (other files of ``path`` are kept) only when the block succeeds.
+- :func:`replace_output_dir`: a whole output folder built in a run-unique staging sibling and swapped in as a
+  whole (Linux ``renameat2(RENAME_EXCHANGE)``: one atomic step; elsewhere two renames, so a reader may briefly
+  find no folder but never one that mixes two runs), under an exclusive lock (:func:`output_lock`) so that two
+  runs into the same folder cannot interleave. Only a folder that is new, empty or an earlier output of the tool
+  (it holds one of :data:`OUTPUT_FILES`) is replaced; anything else is refused (InputError), never deleted.
+- Staging folders are named ``.<name>.staging-<pid>-<random>``; those whose process is gone (a killed run) are
+  removed by the next run into the same folder (:func:`clean_stale_staging`).
 """
 
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import ctypes.util
+import errno
+import fcntl
 import os
 import shutil
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Iterator
+
+from wrlayer.errors import InputError
+
+#: Files by which an earlier output folder of the tool is recognised (such a folder may be replaced as a whole).
+OUTPUT_FILES = ("result.json",)
 
 
-def _user_mode() -> int:
-    """The mode a plain ``open(path, "w")`` would give a new file: 0o666 less the process umask (mkstemp's own
-    0o600 would make every output private to its writer)."""
-    mask = os.umask(0o022)
+def _umask() -> int:
+    mask = os.umask(0)
     os.umask(mask)
-    return 0o666 & ~mask
+    return mask
 
 
-def atomic_write_text(path: str | os.PathLike, text: str) -> Path:
-    """Write ``text`` to ``path`` atomically (temporary file + rename). Returns the path."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(text)
-            os.fchmod(fh.fileno(), _user_mode())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
-    return path
+def _user_mode(path: str | os.PathLike, directory: bool = False) -> None:
+    """Give ``path`` the permissions a normal ``open``/``mkdir`` would (0666/0777 minus the umask)."""
+    os.chmod(path, (0o777 if directory else 0o666) & ~_umask())
 
 
-def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically (temporary file + rename). Returns the path."""
-    path = Path(path)
+def _write_atomic(path: Path, data: bytes) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
-            os.fchmod(fh.fileno(), _user_mode())
+        _user_mode(tmp)
         os.replace(tmp, path)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
@@ -57,16 +58,67 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
     return path
 
 
+def atomic_write_text(path: str | os.PathLike, text: str) -> Path:
+    """Write ``text`` (UTF-8, "\\n" line ends) to ``path`` atomically (temporary file + rename). Returns the path."""
+    return _write_atomic(Path(path), text.encode("utf-8"))
+
+
+def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically (temporary file + rename). Returns the path."""
+    return _write_atomic(Path(path), bytes(data))
+
+
+# ------------------------------------------------------------------------------------------------ staging
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _staging_dir(path: Path, kind: str = "staging") -> Path:
+    """A new run-unique hidden sibling of ``path``: ``.<name>.<kind>-<pid>-<random>`` (user permissions)."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.{kind}-{os.getpid()}-", dir=path.parent))
+    except OSError as err:
+        raise InputError(str(path), f"cannot create the output folder here ({err.strerror or err})") from None
+    _user_mode(tmp, directory=True)
+    return tmp
+
+
+def clean_stale_staging(path: str | os.PathLike) -> list[Path]:
+    """Remove the staging/old folders beside ``path`` left by runs whose process no longer exists (killed runs);
+    returns the removed folders. Folders of live runs are left alone."""
+    path = Path(path)
+    removed = []
+    if not path.parent.is_dir():
+        return removed
+    for kind in ("staging", "old"):
+        for item in path.parent.glob(f".{path.name}.{kind}-*-*"):
+            try:
+                pid = int(item.name[len(f".{path.name}.{kind}-"):].split("-", 1)[0])
+            except ValueError:
+                continue
+            if item.is_dir() and not _pid_alive(pid):
+                shutil.rmtree(item, ignore_errors=True)
+                removed.append(item)
+    return removed
+
+
 @contextlib.contextmanager
 def atomic_output_dir(path: str | os.PathLike) -> Iterator[Path]:
-    """Yield a temporary folder; on success its files are moved into ``path`` (created if needed).
+    """Yield a run-unique staging folder; on success its files are moved into ``path`` (created if needed).
 
     Files already in ``path`` with other names are kept; files with the same names are replaced.
-    On an exception nothing in ``path`` changes and the temporary folder is removed.
+    On an exception nothing in ``path`` changes and the staging folder is removed.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
+    clean_stale_staging(path)
+    tmp = _staging_dir(path)
     try:
         yield tmp
         path.mkdir(parents=True, exist_ok=True)
@@ -77,3 +129,138 @@ def atomic_output_dir(path: str | os.PathLike) -> Iterator[Path]:
                 os.replace(item, dest)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+# ------------------------------------------------------------------------------------------------ lock
+@contextlib.contextmanager
+def output_lock(path: str | os.PathLike, what: str | None = None) -> Iterator[Path]:
+    """Hold an exclusive lock on the output ``path`` (a file ``.<name>.lock`` beside it) for the block.
+
+    A second run into the same output while the first holds the lock is refused at once with an InputError
+    naming ``what`` (default ``--out <path>``) and the holder's pid. The lock is released (and its file removed)
+    when the block ends, also on an exception; a killed run's lock is released by the operating system.
+    """
+    path = Path(path)
+    what = what or f"--out {path}"
+    lock = path.parent / f".{path.name}.lock"
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise InputError(what, f"cannot create the output folder here ({err.strerror or err})") from None
+    while True:
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as err:
+            os.close(fd)
+            if err.errno not in (errno.EAGAIN, errno.EACCES, errno.EWOULDBLOCK):
+                raise
+            try:
+                holder = lock.read_text().strip() or "?"
+            except OSError:
+                holder = "?"
+            raise InputError(what, f"another run (pid {holder}) is writing into this output folder; wait for it "
+                                   "to finish or choose another --out") from None
+        try:  # the file may have been removed by the previous holder between open and lock: retry
+            same = os.fstat(fd).st_ino == os.stat(lock).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    try:
+        os.ftruncate(fd, 0)
+        os.write(fd, str(os.getpid()).encode())
+        yield lock
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(lock)
+        os.close(fd)
+
+
+# ------------------------------------------------------------------------------------------------ replace
+_RENAME_EXCHANGE = 2
+_AT_FDCWD = -100
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Atomically swap two paths (Linux renameat2 RENAME_EXCHANGE); False where the platform does not allow it."""
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        fn = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    rc = fn(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE)
+    if rc == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.ENOSYS, errno.EINVAL, getattr(errno, "ENOTSUP", errno.EINVAL)):
+        return False
+    raise OSError(err, os.strerror(err), str(b))
+
+
+def check_replaceable(path: str | os.PathLike, what: str | None = None) -> None:
+    """InputError unless ``path`` is absent, an empty folder or an earlier output folder of the tool (holds one
+    of :data:`OUTPUT_FILES`): the tool never deletes a folder it did not write."""
+    path = Path(path)
+    what = what or f"--out {path}"
+    if not path.exists():
+        return
+    if not path.is_dir():
+        raise InputError(what, "exists and is not a folder")
+    if any((path / name).is_file() for name in OUTPUT_FILES) or not any(path.iterdir()):
+        return
+    raise InputError(what, "is a folder with other content (not an output folder of this tool): it would be "
+                           "replaced as a whole; choose a new or empty folder")
+
+
+def _carry_over(old: Path, new: Path, owned: tuple[str, ...]) -> None:
+    """Hard-link (or copy) into ``new`` the files of ``old`` that the tool does not own (a user's notes), unless
+    ``new`` has a file of that name."""
+    for item in old.rglob("*"):
+        rel = item.relative_to(old)
+        if not item.is_file() or any(rel.match(p) for p in owned) or (new / rel).exists():
+            continue
+        (new / rel).parent.mkdir(parents=True, exist_ok=True)
+        try:
+            os.link(item, new / rel)
+        except OSError:
+            shutil.copy2(item, new / rel)
+
+
+@contextlib.contextmanager
+def replace_output_dir(path: str | os.PathLike, what: str | None = None,
+                       owned: tuple[str, ...] = ("result.json", "*.png", "deformed_profiles/*")) -> Iterator[Path]:
+    """Build a whole output folder and put it in place of ``path`` as a whole, under :func:`output_lock`.
+
+    Yields a run-unique staging folder. When the block succeeds, the files of the earlier output that the tool
+    does not own (not matching ``owned``, e.g. a user's notes) are carried over, and the staging folder replaces
+    ``path`` in one step: the tool's files in it all come from this run. On an exception ``path`` is unchanged
+    and the staging folder is removed. Stale staging folders of killed runs are removed first. ``path`` must pass
+    :func:`check_replaceable`.
+    """
+    path = Path(path)
+    with output_lock(path, what):
+        check_replaceable(path, what)
+        clean_stale_staging(path)
+        tmp = _staging_dir(path)
+        try:
+            yield tmp
+            if path.is_dir():
+                _carry_over(path, tmp, owned)
+            if path.exists() and _exchange(tmp, path):
+                shutil.rmtree(tmp, ignore_errors=True)  # tmp now holds the previous output
+            elif path.exists():
+                old = _staging_dir(path, "old")
+                os.replace(path, old / path.name)
+                os.replace(tmp, path)
+                shutil.rmtree(old, ignore_errors=True)
+            else:
+                os.replace(tmp, path)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+__all__ = ["OUTPUT_FILES", "atomic_output_dir", "atomic_write_bytes", "atomic_write_text", "check_replaceable",
+           "clean_stale_staging", "output_lock", "replace_output_dir"]

@@ -18,16 +18,19 @@ import importlib
 import sys
 from collections.abc import Sequence
 
+from wrlayer.errors import ArgumentParser
 from wrlayer.version import version_text
 
 #: Exit codes of every entry point.
 EXIT_CODES = {
     0: "success",
     1: "some scenes of a batch (simulate-all) failed; the others were written",
-    2: "bad input (file, key, value or argument): nothing written",
-    3: "numerical failure (an iteration did not converge): nothing written",
+    2: "bad input (file, key, value or argument; a run refused by its cost estimate without --force; an --out in "
+       "use by another run or not writable): nothing written",
+    3: "numerical failure (an iteration did not converge; out of memory): nothing written",
     4: "calibration: some positions failed (the tables hold the others and list the failed ones)",
     130: "interrupted (Ctrl-C)",
+    143: "terminated (SIGTERM); the run's staging folders are removed and its workers ended",
 }
 
 
@@ -39,8 +42,8 @@ def exit_codes_text() -> str:
 def parser(prog: str, description: str, examples: Sequence[str]) -> argparse.ArgumentParser:
     """An ArgumentParser with ``--version``, the exit codes and the examples in its help (the project's style)."""
     epilog = "examples:\n" + "\n".join(f"  {e}" for e in examples) + "\n\n" + exit_codes_text()
-    ap = argparse.ArgumentParser(prog=prog, description=description, epilog=epilog,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = ArgumentParser(prog=prog, description=description, epilog=epilog,
+                        formatter_class=argparse.RawDescriptionHelpFormatter)  # one-line argument errors, exit 2
     ap.add_argument("--version", action="version", version=version_text(prog))
     return ap
 

@@ -3,14 +3,26 @@
 Every package (meshes, calibration, contact) raises these, so that a command-line user sees
 ``error: <input>: <what is wrong>`` and a non-zero exit code instead of a traceback.
 
-- :class:`InputError`: bad user input (a file, a key, a value). Exit code 2.
-- :class:`ConvergenceError`: a numerical iteration failed (Newton, bracketing, ...). Exit code 3.
+Exit codes of every entry point (``python -m contact``, ``python -m calibration``, ``python -m meshes``; see
+docs/inputs-and-errors.md):
+
+- 0: success.
+- 1: a batch finished with some items failed (``simulate-all``: failing scenes), or a stress run found failures.
+- 2: bad input — :class:`InputError`: a file, key, value or command-line argument (also an unusable ``--out``,
+  a run refused by its cost estimate, an output folder in use by another run, an unreadable/unwritable path).
+- 3: numerical failure — :class:`ConvergenceError` (Newton, bracketing, a degenerate mesh, out of memory).
+- 4: calibration finished but some positions failed (the tables hold the others).
+- 130: interrupted (Ctrl-C); 143: terminated (SIGTERM). Both remove the run's staging folders and end its
+  worker processes before exiting.
 """
 
 from __future__ import annotations
 
+import argparse
 import functools
+import signal
 import sys
+import threading
 from typing import Callable
 
 
@@ -45,17 +57,65 @@ def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
 
     @functools.wraps(main)
     def wrapped(*args, **kwargs) -> int:
+        previous = _catch_sigterm()
         try:
             rc = main(*args, **kwargs)
+        except Terminated:
+            print("error: terminated (SIGTERM); nothing written", file=sys.stderr)
+            return 143
         except WrLayerError as err:
-            print(f"error: {err}", file=sys.stderr)
+            print(f"error: {_one_line(str(err))}", file=sys.stderr)
             return err.exit_code
         except KeyboardInterrupt:
             print("error: interrupted", file=sys.stderr)
             return 130
+        except OSError as err:  # a path the user gave cannot be read or written (permissions, disk full, ...)
+            where = err.filename if err.filename is not None else "file system"
+            print(f"error: {where}: {err.strerror or err}", file=sys.stderr)
+            return InputError.exit_code
+        except MemoryError:
+            print("error: out of memory (the run is too large for this machine; reduce the grid, cells, passes "
+                  "or cases)", file=sys.stderr)
+            return ConvergenceError.exit_code
+        finally:
+            if previous is not None:
+                signal.signal(signal.SIGTERM, previous)
         return 0 if rc is None else int(rc)
 
     return wrapped
+
+
+class Terminated(BaseException):
+    """Raised in the main thread on SIGTERM while a command runs, so that staging folders are removed and worker
+    processes ended (``finally``/``except BaseException`` blocks run) before the process exits with 143."""
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated()
+
+
+def _catch_sigterm():
+    """Install the SIGTERM handler (main thread only); returns the previous handler to restore, or None."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    try:
+        return signal.signal(signal.SIGTERM, _raise_terminated)
+    except (ValueError, OSError):
+        return None
+
+
+def _one_line(text: str, limit: int = 600) -> str:
+    """The message on one line, cut to ``limit`` characters."""
+    text = " ".join(text.split())
+    return text if len(text) <= limit else text[: limit - 4] + " ..."
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse with the project's error format: a bad command-line argument is ONE line
+    ``error: <prog>: <problem>`` (no usage block) and exit code 2."""
+
+    def error(self, message: str):
+        self.exit(InputError.exit_code, f"error: {self.prog}: {message} (see {self.prog} --help)\n")
 
 
 def require(condition: bool, what: str, problem: str) -> None:

@@ -63,13 +63,20 @@ class Characteristic:
         if u[0] != 0.0 or p[0] != 0.0:
             raise InputError(what, f"must start at (u, p) = (0, 0), got ({u[0]:g}, {p[0]:g})")
         if np.any(np.diff(u) <= 0):
-            raise InputError(what, "u_mm must be strictly increasing")
+            i = int(np.argmax(np.diff(u) <= 0))
+            raise InputError(what, f"u_mm must be strictly increasing: u[{i}] = {u[i]:.6g} >= u[{i + 1}] = "
+                             f"{u[i + 1]:.6g} mm")
         if np.any(np.diff(p) <= 0):
-            raise InputError(what, "p_MPa must be strictly increasing (slopes must be positive)")
+            i = int(np.argmax(np.diff(p) <= 0))
+            raise InputError(what, f"p_MPa must be strictly increasing (slopes must be positive): p[{i}] = "
+                             f"{p[i]:.6g} >= p[{i + 1}] = {p[i + 1]:.6g} MPa")
         s = np.diff(p) / np.diff(u)
-        if np.any(np.diff(s) >= -_REL_TOL * s[:-1]):
+        bad = np.diff(s) >= -_REL_TOL * s[:-1]
+        if np.any(bad):
+            i = int(np.argmax(bad))  # the first offending pair of segments (a long array would be unreadable)
             raise InputError(what, "slopes must strictly decrease (the characteristic must be concave); "
-                             f"slopes are {np.array2string(s, precision=4)} N/mm^3")
+                             f"segment {i + 2} (from u = {u[i + 1]:.6g} mm) has slope {s[i + 1]:.6g} N/mm^3 >= "
+                             f"{s[i]:.6g} N/mm^3 of segment {i + 1}")
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -107,13 +114,15 @@ class Characteristic:
     @classmethod
     def from_dict(cls, data: dict[str, Any], name: str = "layer") -> "Characteristic":
         """From ``{"u_mm": [...], "p_MPa": [...]}`` (InputError naming ``name`` on bad content)."""
-        try:
-            u = np.asarray(data["u_mm"], dtype=float)
-            p = np.asarray(data["p_MPa"], dtype=float)
-        except KeyError as err:
-            raise InputError(name, f"missing key {err.args[0]!r}") from None
-        except (TypeError, ValueError):
-            raise InputError(name, "u_mm and p_MPa must be lists of numbers") from None
+        from wrlayer import validate
+
+        validate.table(data, name)
+        for key in ("u_mm", "p_MPa"):
+            if key not in data:
+                raise InputError(name, f"missing key {key!r}")
+        # flat lists of finite real numbers (no strings, booleans or nested lists)
+        u = validate.number_list(data["u_mm"], f"{name}: u_mm", min_len=2)
+        p = validate.number_list(data["p_MPa"], f"{name}: p_MPa", min_len=2)
         return cls(u, p, name)
 
     def to_dict(self) -> dict[str, list[float]]:

@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from contact.layer.characteristic import Characteristic
+from wrlayer import validate
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import InputError
 
@@ -71,6 +72,8 @@ class LayerTable:
             raise InputError(str(path), "layer table file not found") from None
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
             raise InputError(str(path), f"not a readable JSON layer table: {err}") from None
+        except RecursionError:
+            raise InputError(str(path), "arrays or objects nested too deeply to read") from None
         return cls.from_dict(data, str(path))
 
     @classmethod
@@ -227,10 +230,12 @@ def _validate(header, positions, failed, source) -> list[Characteristic]:
     for key in ("body", "profile"):
         if key not in header:
             raise InputError(source, f"header has no {key!r}")
-    if header["body"] not in BODIES:
-        raise InputError(source, f"header 'body' must be one of {BODIES}, got {header['body']!r}")
+    validate.text(header["body"], f"{source}: header.body", BODIES)
+    validate.text(header["profile"], f"{source}: header.profile")
     if not positions:
         raise InputError(source, "has no calibrated positions")
+    if len(positions) > validate.MAX_LIST:
+        raise InputError(f"{source}: positions", f"has {len(positions)} entries (at most {validate.MAX_LIST})")
     for i, f in enumerate(failed):
         y = f.get("y_mm") if isinstance(f, dict) else None
         if not (isinstance(y, (int, float)) and not isinstance(y, bool) and math.isfinite(y)):
@@ -240,14 +245,9 @@ def _validate(header, positions, failed, source) -> list[Characteristic]:
         what = f"{source}: positions[{i}]"
         if not isinstance(pos, dict):
             raise InputError(what, "must be an object")
-        try:
-            y = float(pos["y_mm"])
-        except KeyError:
-            raise InputError(what, "missing 'y_mm'") from None
-        except (TypeError, ValueError):
-            raise InputError(what, f"'y_mm' must be a number, got {pos['y_mm']!r}") from None
-        if not math.isfinite(y):
-            raise InputError(what, "'y_mm' must be finite")
+        if "y_mm" not in pos:
+            raise InputError(what, "missing 'y_mm'")
+        y = validate.number(pos["y_mm"], f"{what}.y_mm")  # a finite real: not a string, not a boolean
         what = f"{source}: position y = {y:g} mm"
         if not isinstance(pos.get("characteristic"), dict):
             raise InputError(what, "missing 'characteristic' {u_mm, p_MPa}")
@@ -257,10 +257,7 @@ def _validate(header, positions, failed, source) -> list[Characteristic]:
         par = ch.to_parameters()
         for key, derived in (("k_N_per_mm3", par.k_N_per_mm3), ("T0_MPa", par.T0_MPa)):
             if key in pos:
-                try:
-                    stored = np.asarray(pos[key], dtype=float)
-                except (TypeError, ValueError):
-                    raise InputError(what, f"{key!r} must be a list of numbers") from None
+                stored = validate.number_list(pos[key], f"{what}: {key}", min_len=0)
                 if stored.shape != derived.shape or not np.allclose(stored, derived, rtol=PARAMETER_RTOL, atol=0):
                     raise InputError(what, f"{key!r} disagrees with the characteristic (eqs. 4-6)")
         chars.append(ch)
@@ -270,4 +267,5 @@ def _validate(header, positions, failed, source) -> list[Characteristic]:
     for i, f in enumerate(failed):
         if not (isinstance(f, dict) and "y_mm" in f and "error" in f):
             raise InputError(source, f"failed[{i}] must have 'y_mm' and 'error'")
+        validate.text(f["error"], f"{source}: failed[{i}].error")
     return chars

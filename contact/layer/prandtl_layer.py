@@ -221,6 +221,20 @@ class PrandtlLayer:
         """Current normal stress of each element (MPa)."""
         return _pressures(self.u_mm, self.slip_mm, self.k_N_per_mm3, self.half_width_mm, self.k_last_N_per_mm3)
 
+    def pressure_roundoff_MPa(self) -> np.ndarray:
+        """Size of the rounding error of :attr:`pressure_MPa` per element (MPa): the pressure is a sum of branch
+        stresses k_i (u - s_i) + k_N u, so its error grows with k_i (|u| + |s_i|), not with p itself."""
+        u = np.abs(self.u_mm)
+        terms = np.sum(self.k_N_per_mm3 * (u[:, None] + np.abs(self.slip_mm)), axis=-1) + self.k_last_N_per_mm3 * u
+        return 1e-12 * terms
+
+    def is_unloaded(self) -> bool:
+        """True when every element is at p = 0 up to rounding (|p| <= 1e-9 MPa + :meth:`pressure_roundoff_MPa`).
+
+        After an exact :meth:`unload` of a deep hardened state p is zero only up to the rounding of u - s_i:
+        e.g. u = 1.57 mm with k_i = 3e6 N/mm^3 leaves |p| = 1.7e-9 MPa (stress seed 1921)."""
+        return bool(np.all(np.abs(self.pressure_MPa) <= 1e-9 + self.pressure_roundoff_MPa()))
+
     def _solve(self, p_target, index=None):
         """Exact monotonic move of points ``index`` to ``p_target``: (u, new slips, dissipation increment)."""
         sl = slice(None) if index is None else index

@@ -20,6 +20,8 @@ import functools
 import numba
 import numpy as np
 
+from wrlayer.errors import ConvergenceError
+
 
 def _corner_antiderivative(x, y):
     """Signed F(x, y) = II_{[0,x]x[0,y]} 1/sqrt(s^2 + t^2) ds dt = x asinh(y/x) + y asinh(x/y) (mm); F(0, y) = 0."""
@@ -53,6 +55,10 @@ def _table(h: float, m: int, ni: int, nj: int) -> np.ndarray:
     rj = 1 << max(int(nj - 1).bit_length(), 4)
     return _kernel_table(float(h), int(m), ri, rj)
 
+
+#: Largest kernel table (x cells of the longest strip x strips) built; beyond it the table would take GBs (a
+#: patch under a 1e-33 MPa modulus is 1e15 cells long). 3e7 cells = 240 MB.
+MAX_TABLE_CELLS = 3e7
 
 _EDGE_CELLS = 8.0   # cells closer than this many widths to x_l use the exact antiderivative (arcsin)
 
@@ -110,6 +116,14 @@ def boussinesq_integral(x_lead_mm, strip_offset: np.ndarray, grid_mm: float, x_s
     a = np.ascontiguousarray(x_lead_mm, dtype=float)
     dj = np.abs(np.asarray(strip_offset, dtype=np.int64))
     hx = grid_mm / x_subdivision
+    if not a.max() > 1e-9 * hx:  # a patch of no length in x: the kernel sum would divide by zero
+        raise ConvergenceError(f"contact patch of half-length x_l = {a.max():.4g} mm on an x cell of {hx:g} mm: "
+                               "degenerate patch (absurd radius or load for the grid)")
+    cells = a.max() / hx * (float(dj.max()) + 1.0)
+    if not (np.all(np.isfinite(a)) and cells <= MAX_TABLE_CELLS):
+        raise ConvergenceError(f"contact patch of half-length x_l = {a.max():.4g} mm over {int(dj.max()) + 1} "
+                               f"strips needs {cells:.3g} kernel cells (at most {MAX_TABLE_CELLS:g}): absurd "
+                               "load, modulus or radius for the grid")
     ni = int(np.ceil(a.max() / hx + 0.5)) + 1
     table = _table(grid_mm, x_subdivision, ni, int(dj.max()) + 1)
     return float(_weighted_sum(a, dj, table, hx))

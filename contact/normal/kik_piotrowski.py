@@ -284,7 +284,7 @@ class NormalForceEvaluator:
         self.layers = [] if layer is None else list(layer.bodies().values())
         self.index = [layer_points(lay, self.y, prob.grid_mm) for lay in self.layers]
         for lay, ix in zip(self.layers, self.index):
-            if np.any(np.abs(lay.pressure_MPa) > 1e-9 * max(1.0, float(np.abs(lay.pressure_MPa).max()))):
+            if not lay.is_unloaded():
                 raise InputError(lay.name, "layer must be unloaded (p = 0) before a normal solve")
         self.minima = _local_minima(self.f) if prob.region_interaction and not _single_valley(self.f) else None
         self.minima_f = None if self.minima is None else self.f[self.minima]     # None: always one region

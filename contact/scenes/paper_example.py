@@ -1,7 +1,7 @@
 """The paper's example (section 5, Table 1) as inputs for the normal solver, and its published numbers.
 
 The paper's Figs. 4 (separation) and 5 (characteristic) are not in the text; the stand-ins below follow
-``/work/shared/reference/paper-notes.md``:
+``../shared/reference/paper-notes.md`` (beside the repository):
 - separation: parabola f(y) = y^2 / (2 R_y), R_y = 31.7 mm, on y in [-8, 8] mm (the notes: reproduces the no-layer
   patch within a few per cent; the real Fig. 4 curve is not a parabola, area and p_max differ by 5–7 %);
 - E = 210 GPa, Poisson 0.3, R = 1600 mm, N = 100 kN, alpha = 0.55, grid h = 0.1 mm;

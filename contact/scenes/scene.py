@@ -39,11 +39,26 @@ import numpy as np
 
 from contact.layer.characteristic import Characteristic
 from wrlayer.errors import InputError
+from wrlayer.validate import Keys
 
 SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
 BODIES = ("wheel", "rail")
 #: Largest number of lateral strips (separation table width / grid_mm) a scene may ask for.
 MAX_STRIPS = 20000
+#: Largest number of FASTSIM cells per strip (method.fastsim_cells): beyond it the cell arrays alone take GBs.
+MAX_FASTSIM_CELLS = 10000
+#: Plausible Young's modulus range (MPa): from soft polymers to beyond tungsten carbide; outside it the contact
+#: patch or approach is absurd (a 1e-33 MPa modulus asks for a 1e15-cell patch).
+MIN_E_MPA, MAX_E_MPA = 1.0, 1e7
+#: Plausible ranges of the other scene quantities (the solvers underflow or ask for absurd grids outside them):
+#: rolling radius 1 mm .. 1 km, lateral radius >= 0.01 mm, normal force >= 1 mN, alpha >= 0.01, grid >= 1 um.
+MIN_RADIUS_MM, MAX_RADIUS_MM = 1.0, 1e6
+MIN_LATERAL_RADIUS_MM = 1e-2
+MIN_FORCE_N = 1e-3
+MIN_ALPHA = 1e-2
+MIN_GRID_MM = 1e-3
+#: Largest passes.max: every pass keeps its record (strip arrays); the paper's shakedown takes 20-50 passes.
+MAX_PASSES = 100000
 #: Keys allowed in [reference]: published values of the last pass (Table 1 rows), units in the names.
 REFERENCE_KEYS = ("source", "length_mm", "width_mm", "area_mm2", "delta_mm", "Fx_N", "Fy_N", "p_max_MPa",
                   "WT_max", "PT_max_W_per_mm2", "passes", "u0_mm", "up0_mm")
@@ -199,6 +214,8 @@ def read_scene_data(path: str | Path) -> tuple[Path, dict[str, Any]]:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise InputError(path.name, f"not valid TOML ({err})") from None
+    except RecursionError:
+        raise InputError(path.name, "arrays or tables nested too deeply to read") from None
     return path, data
 
 
@@ -216,111 +233,9 @@ def scene_type(data: dict[str, Any], path: Path) -> str:
     return kind
 
 
-class SceneKeys:
-    """Typed, validating access to one TOML table of a scene file (public: the wheel–rail scene parser uses it).
-
-    ``SceneKeys(file, prefix, table)``: ``file`` is the scene file's name, ``prefix`` the key path of the table
-    ("" for the top level, e.g. "load" or "layer.rail"). The getters (:meth:`number`, :meth:`integer`,
-    :meth:`boolean`, :meth:`text`, :meth:`array`, :meth:`sub`) check type, finiteness and bounds and raise
-    :class:`wrlayer.errors.InputError` naming ``<file>: <prefix>.<key>`` (e.g. ``scene.toml: load.normal_force_N``);
-    :meth:`check_known` rejects unknown keys. Raises InputError when ``table`` is not a TOML table.
-    """
-
-    def __init__(self, file: str, prefix: str, table: Any):
-        self.file, self.prefix = file, prefix
-        if not isinstance(table, dict):
-            raise InputError(f"{file}: {prefix}", f"must be a table ([{prefix}]), got {_kind(table)}")
-        self.table = table
-
-    def what(self, key: str) -> str:
-        """The error location of ``key``: ``<file>: <prefix>.<key>``."""
-        return f"{self.file}: {self.prefix}.{key}" if self.prefix else f"{self.file}: {key}"
-
-    def error(self, key: str, problem: str) -> InputError:
-        """An InputError for ``key`` (to raise)."""
-        return InputError(self.what(key), problem)
-
-    def check_known(self, allowed: tuple[str, ...]) -> None:
-        """Raise InputError for the first key of the table not in ``allowed``."""
-        for key in self.table:
-            if key not in allowed:
-                raise self.error(key, f"unknown key (allowed: {', '.join(allowed)})")
-
-    def number(self, key: str, default: float | None = None, *, gt: float | None = None, ge: float | None = None,
-               lt: float | None = None, le: float | None = None) -> float:
-        """A finite number (int or float, not bool), ``default`` when absent (None: required), within the bounds."""
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, "missing (required)")
-            return default
-        value = self.table[key]
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.error(key, f"must be a number, got {_kind(value)} {value!r}")
-        value = float(value)
-        if not math.isfinite(value):
-            raise self.error(key, f"must be a finite number, got {value!r}")
-        for bound, ok, sign in ((gt, lambda v, b: v > b, ">"), (ge, lambda v, b: v >= b, ">="),
-                                (lt, lambda v, b: v < b, "<"), (le, lambda v, b: v <= b, "<=")):
-            if bound is not None and not ok(value, bound):
-                raise self.error(key, f"must be {sign} {bound:g}, got {value:g}")
-        return value
-
-    def integer(self, key: str, default: int, *, ge: int) -> int:
-        """An integer >= ``ge``, ``default`` when absent."""
-        if key not in self.table:
-            return default
-        value = self.table[key]
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise self.error(key, f"must be an integer, got {_kind(value)} {value!r}")
-        if value < ge:
-            raise self.error(key, f"must be >= {ge}, got {value}")
-        return int(value)
-
-    def boolean(self, key: str, default: bool) -> bool:
-        """true/false, ``default`` when absent."""
-        value = self.table.get(key, default)
-        if not isinstance(value, bool):
-            raise self.error(key, f"must be true or false, got {_kind(value)} {value!r}")
-        return value
-
-    def text(self, key: str, default: str | None = None) -> str:
-        """A string, ``default`` when absent (None: required)."""
-        if key not in self.table:
-            if default is None:
-                raise self.error(key, "missing (required)")
-            return default
-        value = self.table[key]
-        if not isinstance(value, str):
-            raise self.error(key, f"must be a string, got {_kind(value)} {value!r}")
-        return value
-
-    def array(self, key: str, min_len: int = 2) -> np.ndarray:
-        """A required list of at least ``min_len`` finite numbers, as a float array."""
-        if key not in self.table:
-            raise self.error(key, "missing (required)")
-        value = self.table[key]
-        if not isinstance(value, list):
-            raise self.error(key, f"must be a list of numbers, got {_kind(value)}")
-        bad = [v for v in value if isinstance(v, bool) or not isinstance(v, (int, float))]
-        if bad:
-            raise self.error(key, f"must be a list of numbers, found {_kind(bad[0])} {bad[0]!r}")
-        arr = np.asarray(value, dtype=float)
-        if not np.all(np.isfinite(arr)):
-            raise self.error(key, "contains NaN or infinite values")
-        if arr.size < min_len:
-            raise self.error(key, f"needs at least {min_len} values, got {arr.size}")
-        return arr
-
-    def sub(self, key: str) -> SceneKeys | None:
-        """The sub-table ``key`` as SceneKeys (prefix extended), None when absent."""
-        if key not in self.table:
-            return None
-        return SceneKeys(self.file, f"{self.prefix}.{key}" if self.prefix else key, self.table[key])
-
-
-def _kind(value: Any) -> str:
-    return {bool: "boolean", int: "integer", float: "number", str: "string", list: "list",
-            dict: "table"}.get(type(value), type(value).__name__)
+class SceneKeys(Keys):
+    """Typed, validating access to one TOML table of a scene file: :class:`wrlayer.validate.Keys` (the one
+    validation layer of every reader; public: the wheel–rail scene parser uses it)."""
 
 
 TOP_KEYS = ("title", "description", "type", "load", "material", "separation", "layer", "tangential", "passes",
@@ -346,18 +261,20 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
 
     load_keys = top.sub("load")
     load_keys.check_known(("normal_force_N", "rolling_radius_mm"))
-    load = LoadSpec(load_keys.number("normal_force_N", gt=0.0), load_keys.number("rolling_radius_mm", gt=0.0))
+    load = LoadSpec(load_keys.number("normal_force_N", ge=MIN_FORCE_N),
+                    load_keys.number("rolling_radius_mm", ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM))
 
     mat_keys = top.sub("material")
     mat_keys.check_known(("E_MPa", "poisson"))
-    material = MaterialSpec(mat_keys.number("E_MPa", gt=0.0), mat_keys.number("poisson", ge=0.0, lt=0.5))
+    material = MaterialSpec(mat_keys.number("E_MPa", ge=MIN_E_MPA, le=MAX_E_MPA),
+                            mat_keys.number("poisson", ge=0.0, lt=0.5))
 
     method = MethodSpec()
     if (keys := top.sub("method")) is not None:
         keys.check_known(("alpha", "grid_mm", "fastsim_cells", "normal", "exact_cells", "layer_mode"))
-        method = MethodSpec(alpha=keys.number("alpha", 0.55, gt=0.0, le=1.0),
-                            grid_mm=keys.number("grid_mm", 0.1, gt=0.0),
-                            fastsim_cells=keys.integer("fastsim_cells", 60, ge=2),
+        method = MethodSpec(alpha=keys.number("alpha", 0.55, ge=MIN_ALPHA, le=1.0),
+                            grid_mm=keys.number("grid_mm", 0.1, ge=MIN_GRID_MM),
+                            fastsim_cells=keys.integer("fastsim_cells", 60, ge=2, le=MAX_FASTSIM_CELLS),
                             normal=keys.text("normal", "kik_piotrowski"),
                             exact_cells=keys.integer("exact_cells", None, ge=1),
                             layer_mode=keys.text("layer_mode", "indentation"))
@@ -369,7 +286,7 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
     separation = _parse_separation(top.sub("separation"), method.grid_mm)
     n_strips = (separation.y_mm[-1] - separation.y_mm[0]) / method.grid_mm
     if n_strips > MAX_STRIPS:
-        raise InputError(f"{file}: method.grid_mm", f"{method.grid_mm:g} mm gives {n_strips:.0f} strips over the "
+        raise InputError(f"{file}: method.grid_mm", f"{method.grid_mm:g} mm gives {n_strips:.3g} strips over the "
                          f"separation table (at most {MAX_STRIPS}): use a coarser grid or a shorter table")
     if n_strips < 2:
         raise InputError(f"{file}: method.grid_mm", f"{method.grid_mm:g} mm is wider than the separation table "
@@ -399,7 +316,7 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
     passes = PassesSpec()
     if (keys := top.sub("passes")) is not None:
         keys.check_known(("max", "hardening", "tolerance_mm"))
-        passes = PassesSpec(max=keys.integer("max", 1, ge=1), hardening=keys.boolean("hardening", False),
+        passes = PassesSpec(max=keys.integer("max", 1, ge=1, le=MAX_PASSES), hardening=keys.boolean("hardening", False),
                             tolerance_mm=keys.number("tolerance_mm", 1e-6, gt=0.0))
         if passes.max > 1 and layer is None:
             raise keys.error("max", f"repeated passes ({passes.max}) need a [layer] (without a layer every pass "
@@ -419,12 +336,12 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
 def _parse_separation(keys: SceneKeys, grid_mm: float) -> SeparationSpec:
     if "lateral_radius_mm" in keys.table:
         keys.check_known(("lateral_radius_mm", "half_width_mm", "step_mm"))
-        radius = keys.number("lateral_radius_mm", gt=0.0)
+        radius = keys.number("lateral_radius_mm", ge=MIN_LATERAL_RADIUS_MM)
         half = keys.number("half_width_mm", 10.0, gt=0.0)
         step = keys.number("step_mm", grid_mm / 4.0, gt=0.0)
         if half / step > 2 * MAX_STRIPS:
             what = keys.what("step_mm") if "step_mm" in keys.table else f"{keys.file}: method.grid_mm"
-            raise InputError(what, f"gives {2 * half / step:.0f} separation points over +-{half:g} mm "
+            raise InputError(what, f"gives {2 * half / step:.3g} separation points over +-{half:g} mm "
                              f"(at most {4 * MAX_STRIPS}): use a coarser grid")
         n = math.ceil(half / step)
         y = np.linspace(-n * step, n * step, 2 * n + 1)

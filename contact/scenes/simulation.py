@@ -277,8 +277,14 @@ def _simulate(scene: Scene) -> SimulationRun:
         from contact.passes.passes import PassesOptions, run_passes
 
         clock = [time.perf_counter()]
+        from wrlayer.progress import progress
+
+        # a bar over passes.max on a terminal (the run may stop earlier at shakedown); a plain counter otherwise
+        ticks = progress(range(scene.passes.max), desc=scene.name, unit="pass", leave=False)
+        tick = iter(ticks)
 
         def on_pass(record, solution):
+            next(tick, None)
             t_pass = time.perf_counter() - clock[0]
             check_table_coverage(scene, solution)
             snap, t_tang = solve_patches(scene, solution, len(history) + 1)
@@ -291,7 +297,10 @@ def _simulate(scene: Scene) -> SimulationRun:
 
         opts = PassesOptions(max_passes=scene.passes.max, tolerance_mm=scene.passes.tolerance_mm,
                              hardening=scene.passes.hardening)
-        records, f_after = run_passes(prob, layers, opts, on_pass=on_pass, method=scene.method.normal_method())
+        try:
+            records, f_after = run_passes(prob, layers, opts, on_pass=on_pass, method=scene.method.normal_method())
+        finally:
+            getattr(ticks, "close", lambda: None)()
         f_after = np.asarray(f_after, dtype=float)
         if records:
             residual = {k: np.asarray(v, dtype=float) for k, v in records[-1].cumulative_residual_mm.items()}

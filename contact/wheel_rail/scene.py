@@ -59,7 +59,18 @@ import numpy as np
 from contact.layer.characteristic import Characteristic
 from contact.passes.passes import PassesOptions
 from contact.scenes.result_io import UNITS, code_version
-from contact.scenes.scene import SceneKeys
+from contact.scenes.scene import (
+    MAX_E_MPA,
+    MAX_FASTSIM_CELLS,
+    MAX_PASSES,
+    MAX_RADIUS_MM,
+    MIN_ALPHA,
+    MIN_E_MPA,
+    MIN_FORCE_N,
+    MIN_GRID_MM,
+    MIN_RADIUS_MM,
+    SceneKeys,
+)
 from contact.wheel_rail.contact_search import SearchSettings
 from contact.wheel_rail.solve import (
     PatchSolution,
@@ -74,6 +85,7 @@ from contact.wheel_rail.solve import (
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
 from meshes.profiles import get_profile
 from wrlayer.errors import ConvergenceError, InputError
+from wrlayer.validate import MAX_ABS
 
 TOP_KEYS = ("title", "description", "type", "profiles", "track", "wheel", "wheelset", "load", "material",
             "tangential", "layers", "passes", "method", "sweep", "output")
@@ -82,6 +94,9 @@ SWEEP_KEYS = ("lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s", "vertical
 #: Sign conventions of a sweep CSV: factors applied to its columns ("contact": CONTACT's input files, whose roll and
 #: pitch rate are measured the other way round; see docs/wheel-rail.md).
 CSV_CONVENTIONS = {"wrlayer": {}, "contact": {"roll_rad": -1.0, "pitch_rate_rad_s": -1.0}}
+#: Largest number of sweep cases (values per axis, rows of a sweep CSV, cases of the product): a hard size limit,
+#: checked before any case is built; the cost guard (contact.scenes.cost) refuses long runs below it unless forced.
+MAX_CASES = 100000
 
 
 # ------------------------------------------------------------------------------------------------ parsing
@@ -125,8 +140,10 @@ def _values(keys: SceneKeys, key: str) -> np.ndarray:
         if stop < start:
             raise sub.error("stop", f"must be >= start ({start:g}), got {stop:g}")
         n = math.floor((stop - start) / step + 1e-6) + 1
+        if n > MAX_CASES:
+            raise sub.error("step", f"gives {n:.3g} values from {start:g} to {stop:g} (at most {MAX_CASES})")
         return start + step * np.arange(n)
-    return keys.array(key, min_len=1)
+    return keys.array(key, min_len=1, max_len=MAX_CASES)
 
 
 def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, Any]:
@@ -176,7 +193,7 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
         else:
             incl = math.atan(1.0 / ratio)
     wheel_keys = s("wheel")
-    r0 = wheel_keys.number("nominal_radius_mm", 460.0, gt=0.0)
+    r0 = wheel_keys.number("nominal_radius_mm", 460.0, ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM)
     wheel = _profile(s("profiles"), "wheel", "S1002", base, "wheel")
     try:
         layout = TrackLayout(gauge_mm=track.number("gauge_mm", 1435.0), gauge_depth_mm=track.number("gauge_depth_mm",
@@ -184,6 +201,8 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
                              1360.0, gt=0.0), flange_back_y_mm=track.number("flange_back_y_mm", -70.0),
                              nominal_radius_mm=r0)
     except InputError as err:
+        if err.what.startswith(f"{file}: "):  # already names the file and key (a bad number)
+            raise
         raise InputError(f"{file}: track.{err.what}", err.problem) from None
     side = wheel_keys.text("side", "right")
     if side not in ("right", "left", "both"):
@@ -199,19 +218,20 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
     nu = mat.number("poisson", 0.28, ge=0.0, lt=0.5)
     if "E_MPa" in mat.table and "G_MPa" in mat.table:
         raise mat.error("G_MPa", "give either E_MPa or G_MPa, not both")
-    E = 2.0 * mat.number("G_MPa", gt=0.0) * (1.0 + nu) if "G_MPa" in mat.table else mat.number("E_MPa", 210000.0,
-                                                                                                  gt=0.0)
+    E = 2.0 * mat.number("G_MPa", ge=MIN_E_MPA / 3.0, le=MAX_E_MPA / 2.0) * (1.0 + nu) if "G_MPa" in mat.table \
+        else mat.number("E_MPa", 210000.0, ge=MIN_E_MPA, le=MAX_E_MPA)
     met, pas = s("method"), s("passes")
     search = SearchSettings(merge_mm=met.number("merge_mm", 0.005, ge=0.0),
                             candidate_gap_mm=met.number("candidate_gap_mm", 1.0, gt=0.0),
                             f_cap_mm=met.number("f_cap_mm", 2.0, gt=0.0))
     inputs = {"layout": layout, "side": "right",
-              "vertical_load_N": load.number("vertical_load_N", 10000.0, gt=0.0),
+              "vertical_load_N": load.number("vertical_load_N", 10000.0, ge=MIN_FORCE_N),
               "speed_mm_s": load.number("speed_mm_s", 2000.0, gt=0.0), "pitch_rate_rad_s": pitch,
               "friction": s("tangential").number("friction", 0.3, ge=0.0), "E_MPa": E, "poisson": nu,
-              "alpha": met.number("alpha", 0.55, gt=0.0, le=1.0), "grid_mm": met.number("grid_mm", 0.1, gt=0.0),
-              "fastsim_cells": met.integer("fastsim_cells", 60, ge=2),
-              "passes": PassesOptions(max_passes=pas.integer("max", 1, ge=1),
+              "alpha": met.number("alpha", 0.55, ge=MIN_ALPHA, le=1.0),
+              "grid_mm": met.number("grid_mm", 0.1, ge=MIN_GRID_MM),
+              "fastsim_cells": met.integer("fastsim_cells", 60, ge=2, le=MAX_FASTSIM_CELLS),
+              "passes": PassesOptions(max_passes=pas.integer("max", 1, ge=1, le=MAX_PASSES),
                                       tolerance_mm=pas.number("tolerance_mm", 1e-6, ge=0.0),
                                       hardening=pas.boolean("hardening", False)),
               "search": search, "normal_method": _normal_method(met),
@@ -297,6 +317,8 @@ def _csv_columns(sweep: SceneKeys, base: Path) -> tuple[dict[str, np.ndarray], d
     rows = list(csv.reader(io.StringIO("\n".join(lines))))
     if len(rows) < 2:
         raise sweep.error("csv", f"{rel}: needs a header line and at least one case")
+    if len(rows) - 1 > MAX_CASES:
+        raise sweep.error("csv", f"{rel}: has {len(rows) - 1} cases (at most {MAX_CASES})")
     header = [h.strip() for h in rows[0]]
     used = [h for h in header if h in SWEEP_KEYS]
     if not used:
@@ -313,8 +335,9 @@ def _csv_columns(sweep: SceneKeys, base: Path) -> tuple[dict[str, np.ndarray], d
                 except ValueError:
                     raise sweep.error("csv", f"{rel}: data row {lineno - 1}, column {h}: not a number: {v!r}") \
                         from None
-                if not math.isfinite(x):
-                    raise sweep.error("csv", f"{rel}: data row {lineno - 1}, column {h}: not finite")
+                if not (math.isfinite(x) and abs(x) <= MAX_ABS):
+                    raise sweep.error("csv", f"{rel}: data row {lineno - 1}, column {h}: not a finite number of "
+                                      f"magnitude <= {MAX_ABS:g}: {v!r}")
                 cols[h].append(x * CSV_CONVENTIONS[convention].get(h, 1.0))
     info = {"file": str(path), "sha256": hashlib.sha256(path.read_bytes()).hexdigest(), "convention": convention,
             "columns": used, "ignored_columns": [h for h in header if h not in used]}
@@ -345,6 +368,10 @@ def _cases(sweep: SceneKeys | None, base_pose: dict[str, Any], base: Path) -> tu
             raise sweep.error("mode", f"'zip' needs sweep lists of equal length, got {sizes}")
         rows = list(zip(*(axes[k] for k in names)))
     else:
+        n_cases = math.prod(v.size for v in axes.values())
+        if n_cases > MAX_CASES:
+            raise sweep.error("mode", f"'product' of {' x '.join(str(v.size) for v in axes.values())} values gives "
+                              f"{n_cases:.3g} cases (at most {MAX_CASES})")
         rows = list(itertools.product(*(axes[k] for k in names)))
     cases = []
     for row in rows:
@@ -355,9 +382,10 @@ def _cases(sweep: SceneKeys | None, base_pose: dict[str, Any], base: Path) -> tu
         for key in ("yaw_rad", "roll_rad"):
             if abs(case[key]) >= 0.2:
                 raise sweep.error(key, f"angle {case[key]:g} rad is not plausible (|angle| < 0.2 rad)")
-        for key in ("vertical_load_N", "speed_mm_s"):
-            if not case[key] > 0:
-                raise sweep.error(key, f"must be > 0 in every case, got {case[key]:g}")
+        for key, low in (("vertical_load_N", MIN_FORCE_N), ("speed_mm_s", 0.0)):
+            if not (case[key] > 0 and case[key] >= low):
+                raise sweep.error(key, f"must be > 0 in every case{f' (at least {low:g})' if low else ''}, got "
+                                  f"{case[key]:g}")
     return cases, info
 
 

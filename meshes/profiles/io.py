@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from wrlayer import validate
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import InputError
 from meshes.profiles.base import Profile
@@ -62,6 +63,13 @@ def _floats(fields: list[str], path: Path, lineno: int) -> list[float]:
 def _to_profile(y, z, path: Path, body: str, name: str | None) -> SplineProfile:
     """Spline profile from points in the project frame, reversing a strictly decreasing order."""
     y, z = np.asarray(y, float), np.asarray(z, float)
+    big = ~(np.abs(y) <= MAX_COORD_MM) | ~(np.abs(z) <= MAX_COORD_MM)
+    if np.any(big):
+        i = int(np.argmax(big))
+        raise InputError(str(path), f"point {i + 1}: (y, z) = ({y[i]:.6g}, {z[i]:.6g}) mm is beyond "
+                                    f"{MAX_COORD_MM:g} mm (a unit mistake? profiles span less than 1 m)")
+    if len(y) > validate.MAX_LIST:
+        raise InputError(str(path), f"has {len(y)} profile points (at most {validate.MAX_LIST})")
     if len(y) < 4:
         raise InputError(str(path), f"need at least 4 profile points, found {len(y)}")
     if np.all(np.diff(y) < 0):
@@ -143,10 +151,30 @@ def parse_simpack(path) -> tuple[dict, np.ndarray]:
     return settings, np.array(points, dtype=float).reshape(-1, 2)
 
 
+#: Largest profile coordinate accepted (mm, after unit conversion): wheel and rail profiles span < 1 m; larger
+#: values are a unit mistake or garbage and overflow the spline fit.
+MAX_COORD_MM = 1e5
+#: Per-setting rules of a SIMPACK header (beyond "a finite number"): (check, what it must be).
+_SETTING_RULES = {
+    "units.ang.f": (lambda v: v > 0, "> 0 (angle units per radian)"),
+    "units.len.f": (lambda v: v > 0, "> 0 (length units per metre)"),
+    "header.type": (lambda v: v in (0.0, 1.0), "0 (rail) or 1 (wheel)"),
+    "mirror.y": (lambda v: v in (0.0, 1.0), "0 or 1"),
+    "mirror.z": (lambda v: v in (0.0, 1.0), "0 or 1"),
+    "inversion": (lambda v: v in (0.0, 1.0), "0 or 1"),
+}
+
+
 def _setting(settings: dict, key: str, default: float, path: Path) -> float:
+    """A SIMPACK header setting: a finite number (wrlayer.validate rules) obeying its rule; InputError naming the
+    file and the setting otherwise."""
     val = settings.get(key, default)
     if not isinstance(val, float):
-        raise InputError(str(path), f"setting {key} = {val!r} is not a number")
+        raise InputError(f"{path}: {key}", f"must be a number, got {validate.show(val)}")
+    validate.number(val, f"{path}: {key}")
+    rule = _SETTING_RULES.get(key)
+    if rule is not None and not rule[0](val):
+        raise InputError(f"{path}: {key}", f"must be {rule[1]}, got {val:g}")
     return val
 
 
@@ -178,12 +206,8 @@ def read_simpack(path, name: str | None = None) -> SplineProfile:
     if num("inversion", 0.0):
         y, z = y[::-1], z[::-1]
     len_f = num("units.len.f", 1000.0)
-    if not len_f > 0:
-        raise InputError(str(path), f"units.len.f = {len_f} must be positive")
     to_mm = 1000.0 / len_f
     kind = int(num("header.type", 0.0))
-    if kind not in (0, 1):
-        raise InputError(str(path), f"header type = {kind} is neither 0 (rail) nor 1 (wheel)")
     return _to_profile(y * to_mm, -z * to_mm, path, ("rail", "wheel")[kind], name)
 
 

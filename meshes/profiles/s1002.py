@@ -2,7 +2,7 @@
 
 Frame: y = S (mm), 0 at the taping line, positive towards the field side, flange at negative y;
 z = -F(S) (mm, z up, the flange hangs down); material above the curve; rolling radius
-r(y) = r0 - z(y). Coefficients from ``/work/shared/reference/profiles.md``.
+r(y) = r0 - z(y). Coefficients from ``../shared/reference/profiles.md`` (beside the repository).
 
 Valid range: y in [-70, +60] mm by default. At the flange back y = -70 the section-H arc is
 vertical, so ``dz``/``d2z`` return -inf/-inf exactly there (normal, curvature and arc length are

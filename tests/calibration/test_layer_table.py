@@ -63,7 +63,7 @@ def _corrupt(tmp_path, change):
 @pytest.mark.parametrize("change,match", [
     (lambda d: d.update(format="other"), "'format' must be"),
     (lambda d: d.update(format_version=7), "unsupported format_version"),
-    (lambda d: d["header"].update(body="axle"), "header 'body'"),
+    (lambda d: d["header"].update(body="axle"), "header.body"),
     (lambda d: d["positions"][1].update(y_mm=-20.0), "strictly increasing"),
     (lambda d: d["positions"][1]["k_N_per_mm3"].__setitem__(0, 1.0), "disagrees with the characteristic"),
     (lambda d: d["positions"][0]["characteristic"]["p_MPa"].__setitem__(3, 900.0), "position y = -10 mm"),

@@ -182,3 +182,20 @@ def test_state_round_trip_continues_identically(c, history, after):
     for p in after:
         np.testing.assert_array_equal(twin.move_to([p, -p]), layer.move_to([p, -p]))
     np.testing.assert_array_equal(twin.dissipated_energy, layer.dissipated_energy)
+
+
+def test_unloaded_test_scales_with_the_branch_stresses():
+    """Stiff branches at a deep displacement: p is zero only up to the rounding of k_i (u - s_i); is_unloaded()
+    accepts that rounding (seed 1921 of the stress run) but still refuses a truly loaded element."""
+    k = np.array([[2.4e6, 3.3e6, 4.9e5]])
+    e = np.array([[2e-4, 4.5e-4, 6.2e-4]])
+    lay = PrandtlLayer(np.array([0.0]), k, e, np.array([1900.0]))
+    for p in (3000.0, 1500.0, 4000.0, 2000.0, 4500.0):  # kept state: deep slips
+        lay.load_to(np.array([p]))
+        lay.unload()
+    assert lay.u_mm[0] > 0.5
+    assert abs(lay.pressure_MPa[0]) <= 1e-9 + lay.pressure_roundoff_MPa()[0]
+    assert lay.is_unloaded()
+    shifted = lay.copy()
+    shifted.u_mm = shifted.u_mm + 1e-9   # 1e-9 mm more: p = 6e-3 MPa, a real load
+    assert not shifted.is_unloaded()

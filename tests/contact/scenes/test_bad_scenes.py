@@ -46,7 +46,7 @@ def test_bad_scene_through_the_real_command_line(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "contact", "simulate", str(path), "--out", str(out)],
                           capture_output=True, text=True, timeout=120, check=False)
     assert proc.returncode == 2
-    assert proc.stderr.strip() == "error: negative_force.toml: load.normal_force_N: must be > 0, got -5"
+    assert proc.stderr.strip() == "error: negative_force.toml: load.normal_force_N: must be >= 0.001, got -5"
     assert not out.exists()
 
 

@@ -79,7 +79,7 @@ def test_combined_and_per_body_layers():
 
 
 def test_messages_name_file_and_key():
-    with pytest.raises(InputError, match=r"^test_scene.toml: load.normal_force_N: must be > 0, got -5$"):
+    with pytest.raises(InputError, match=r"^test_scene.toml: load.normal_force_N: must be >= 0.001, got -5$"):
         scene_with(load={"normal_force_N": -5, "rolling_radius_mm": 400.0})
     with pytest.raises(InputError, match=r"test_scene.toml: layer.rail.u_mm/p_MPa: .*concave"):
         scene_with(layer={"rail": {"u_mm": [0.0, 0.01, 0.02], "p_MPa": [0.0, 100.0, 1000.0]}})

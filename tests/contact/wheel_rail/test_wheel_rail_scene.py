@@ -20,7 +20,7 @@ def _scene(**sections):
     (_scene(track={"gauge": 1435.0}), r"s.toml: track.gauge: unknown key"),
     (_scene(wheel={"side": "middle"}), r"s.toml: wheel.side: must be 'right', 'left' or 'both'"),
     (_scene(track={"gauge_mm": 1300.0}), r"s.toml: track.gauge_mm: impossible gauge"),
-    (_scene(load={"vertical_load_N": -1.0}), r"s.toml: load.vertical_load_N: must be > 0"),
+    (_scene(load={"vertical_load_N": -1.0}), r"s.toml: load.vertical_load_N: must be >= 0.001"),
     (_scene(profiles={"rail": "S1002"}), r"s.toml: profiles.rail: S1002 is a wheel profile"),
     (_scene(profiles={"wheel": "missing.prw"}), r"s.toml: profiles.wheel: no such profile file"),
     (_scene(sweep={"lateral_mm": [0.0, 1.0], "yaw_rad": [0.0]}), r"s.toml: sweep.mode: 'zip' needs"),

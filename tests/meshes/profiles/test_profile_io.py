@@ -110,7 +110,7 @@ def test_simpack_bad_row_names_line(tmp_path, head_points, row, message):
     (lambda p: simpack_text(p, block=False), "no point block"),
     (lambda p: simpack_text(p[:3]), "at least 4 profile points"),
     (lambda p: simpack_text(np.r_[p[:10], p[5:6], p[10:]]), "not strictly monotone"),
-    (lambda p: simpack_text(p, type=3), "neither 0 \\(rail\\) nor 1"),
+    (lambda p: simpack_text(p, type=3), "header.type: must be 0 \\(rail\\) or 1 \\(wheel\\), got 3"),
 ])
 def test_simpack_bad_input(tmp_path, head_points, mutate, message):
     path = tmp_path / "bad.prr"

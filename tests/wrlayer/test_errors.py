@@ -1,0 +1,49 @@
+"""Entry points: bad command-line arguments and unusable output paths are one line with exit code 2."""
+
+import pytest
+
+from calibration.__main__ import main as calibration_main
+from contact.__main__ import main as contact_main
+from meshes.__main__ import main as meshes_main
+from wrlayer.errors import ConvergenceError, InputError, cli_guard
+
+
+@pytest.mark.parametrize("main,argv", [
+    (contact_main, ["simulate", "scene.toml"]),                      # --out missing
+    (contact_main, ["fly"]),
+    (calibration_main, ["run", "cfg.toml", "--out", "o", "--workers", "two"]),
+    (meshes_main, ["mesh", "60E1", "--y0", "abc", "--h-min", "1", "--h-max", "5", "--out", "m.vtu"]),
+])
+def test_bad_arguments_are_one_line_exit_2(main, argv, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    err = capsys.readouterr().err
+    assert exc.value.code == 2
+    assert err.count("\n") == 1 and err.startswith("error: python -m "), err
+
+
+def test_unusable_out_is_one_line_exit_2(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    rc = contact_main(["simulate", "scenes/hertz_check.toml", "--out", str(blocker / "out")])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1 and "cannot create the output folder" in err, err
+
+
+def test_guard_maps_errors_to_exit_codes(capsys):
+    def raiser(exc):
+        @cli_guard
+        def main():
+            raise exc
+        return main()
+
+    assert raiser(InputError("a.toml: x", "bad")) == 2
+    assert raiser(ConvergenceError("Newton")) == 3
+    assert raiser(PermissionError(13, "Permission denied", "/root/out")) == 2
+    assert raiser(MemoryError()) == 3
+    assert raiser(KeyboardInterrupt()) == 130
+    lines = capsys.readouterr().err.splitlines()
+    assert lines == ["error: a.toml: x: bad", "error: Newton", "error: /root/out: Permission denied",
+                     lines[3], "error: interrupted"] and lines[3].startswith("error: out of memory")
+    with pytest.raises(ZeroDivisionError):  # a programming error keeps its traceback
+        raiser(ZeroDivisionError())
