@@ -2,6 +2,7 @@
 
     python -m contact simulate SCENE --out DIR [--json] [--plots]
     python -m contact simulate-all SCENES_DIR --out OUT [--plots]
+    python -m contact wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS]   (contact.wear.cli)
 
 ``simulate`` writes ``DIR/result.json`` (and pictures with ``--plots``) atomically: on any error nothing is
 written. ``simulate-all`` runs every ``*.toml`` of the folder into ``OUT/<scene-stem>/``, then prints a table like
@@ -134,6 +135,9 @@ def build_parser() -> argparse.ArgumentParser:
     many.add_argument("--out", required=True, help="output folder (one subfolder per scene, table.md, table.csv)")
     many.add_argument("--plots", action="store_true", help="write PNG pictures")
     many.set_defaults(func=_simulate_all)
+    from contact.wear.cli import add_parser as add_wear_parser
+
+    add_wear_parser(sub)
     return parser
 
 
