@@ -1,0 +1,174 @@
+"""The wear loop: linearity in distance, mass balance, inelastic saturation, mirror symmetry, read-back, stops."""
+
+import json
+
+import numpy as np
+import pytest
+
+from contact.__main__ import main
+from contact.wear import loop as loop_mod
+from contact.wear.condition import BODIES
+from contact.wear.loop import WearStopped, build_tasks, map_tasks, passes_per_km, run_wear
+from contact.wear.profile_grid import ArcGrid
+from contact.wheel_rail.contact_search import SearchSettings, search_contacts
+from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
+from meshes.profiles.io import read_profile, write_simpack
+from wrlayer.errors import InputError
+
+
+
+def test_wear_proportional_to_distance(make_scene):
+    """A tiny distance in one step and in ten steps: same worn area and depth (the profile hardly changes)."""
+    one = run_wear(make_scene(layers=None, wear={"distance_km": 0.02, "steps": 1, "inelastic": False}),
+                   show_progress=False)
+    ten = run_wear(make_scene(layers=None, wear={"distance_km": 0.02, "steps": 10, "inelastic": False}),
+                   show_progress=False)
+    assert len(ten.steps) == 10
+    a1 = one.steps[0].bodies["right", "wheel"].stats["worn_area_mm2"]
+    a10 = sum(s.bodies["right", "wheel"].stats["worn_area_mm2"] for s in ten.steps)
+    assert a1 > 0
+    assert a10 == pytest.approx(a1, rel=1e-4)
+    d1 = one.steps[0].bodies["right", "wheel"].wear_mm
+    d10 = sum(s.bodies["right", "wheel"].wear_mm for s in ten.steps)
+    assert np.max(np.abs(d10 - d1)) < 1e-3 * d1.max()
+
+
+def test_mass_balance(make_scene):
+    """Worn area on the profile grid = sum over strips of depth per pass x strip width x passes (1e-6)."""
+    scene = make_scene(collective={"lateral_mm": [1.0, 3.0], "yaw_rad": [0.0, 0.002], "weights": [0.4, 0.6]})
+    km = 50.0
+    results = map_tasks(build_tasks(scene, {"right": {"rail": scene.parsed["rail"], "wheel": scene.parsed["wheel"]}},
+                                    1, km))
+    per_km = passes_per_km(scene)
+    for body in BODIES:
+        prof = scene.parsed[body]
+        g = ArcGrid.of(prof, 0.2)
+        direct = sum(scene.collective.conditions[r.index].weight * per_km[body] * km * np.sum(r.wear_mm[body])
+                     * r.strip_mm for r in results)
+        on_grid = sum(scene.collective.conditions[r.index].weight * per_km[body] * km
+                      * g.area_mm2(g.deposit(r.y_mm[body], r.wear_mm[body], r.strip_mm)) for r in results)
+        assert direct > 0
+        assert on_grid == pytest.approx(direct, rel=1e-6)
+        assert g.area_mm2(g.smooth(g.deposit(results[0].y_mm[body], results[0].wear_mm[body], 0.2), 1.0)) == \
+            pytest.approx(g.area_mm2(g.deposit(results[0].y_mm[body], results[0].wear_mm[body], 0.2)), rel=1e-6)
+
+
+def test_inelastic_saturates_and_is_zero_without_layer(make_scene):
+    """Without friction (no wear): the first step dents, the next add (almost) nothing; no layer: no dent."""
+    data = {"tangential": {"friction": 0.0}, "load": {"vertical_load_N": 80000.0},
+            "passes": {"max": 40}, "wear": {"distance_km": 300.0, "steps": 3}}
+    run = run_wear(make_scene(**data), show_progress=False)
+    inc = [max(s.bodies["right", b].stats["inelastic_max_mm"] for b in BODIES) for s in run.steps]
+    assert inc[0] > 1e-3
+    assert inc[1] < 0.2 * inc[0] and inc[2] < 0.2 * inc[0]
+    assert all(s.bodies["right", b].stats["wear_max_mm"] == 0 for s in run.steps for b in BODIES)
+    off = run_wear(make_scene(layers=None, **{**data, "wear": {**data["wear"], "inelastic": False}}),
+                   show_progress=False)
+    assert all(s.bodies["right", b].stats["inelastic_max_mm"] == 0 for s in off.steps for b in BODIES)
+
+
+def test_mirror_symmetric_collective_wears_both_wheels_alike(make_scene):
+    scene = make_scene(wheel={"side": "both"}, collective={"lateral_mm": [-2.0, 2.0], "yaw_rad": [-0.002, 0.002], "weights": "uniform"},
+                       wear={"distance_km": 200.0, "steps": 1, "inelastic": False}, layers=None)
+    run = run_wear(scene, show_progress=False)
+    b = run.steps[0].bodies
+    for body in BODIES:
+        r, l = b["right", body], b["left", body]
+        assert r.wear_mm.max() > 0
+        assert np.allclose(r.wear_mm, l.wear_mm, rtol=1e-9, atol=1e-12 * r.wear_mm.max())
+
+
+def test_written_profiles_give_the_same_separation(make_scene, tmp_path):
+    scene = make_scene(wear={"distance_km": 300.0, "steps": 1, "inelastic": False}, layers=None)
+    run = run_wear(scene, show_progress=False)
+    worn = run.steps[0].profiles["right"]
+    path = write_simpack(tmp_path / "w.prw", worn["wheel"].points, body="wheel")
+    back = read_profile(path)
+    layout = scene.parsed["layout"]
+    placed = place_rail(worn["rail"], layout)
+    pose = WheelsetPose(2.0, 0.0, 0.0)
+    a = search_contacts(placed, worn["wheel"], layout, pose, SearchSettings())
+    b = search_contacts(placed, back, layout, pose, SearchSettings())
+    assert len(a.candidates) == len(b.candidates)
+    for ca, cb in zip(a.candidates, b.candidates):
+        f_b = np.interp(ca.eta_mm, cb.eta_mm, cb.f_mm)
+        assert np.max(np.abs(f_b - ca.f_mm)) < 1e-6
+
+
+@pytest.mark.parametrize("over, match", [
+    ({"collective": {"lateral_mm": [0.0, 2.0], "weights": [0.5, 0.6]}}, r"w.toml: collective.weights: must sum to 1"),
+    ({"wear": {"distance_km": -5.0}}, r"w.toml: wear.distance_km: must be a positive distance"),
+    ({"wear": {"law": "linear"}}, r"w.toml: wear.law: must be 'archard' or 'usfd'"),
+    ({"wear": {"steps": 0}}, r"w.toml: wear.steps"),
+    ({"layers": None}, r"w.toml: wear.inelastic: true needs \[layers\]"),
+    ({"method": {"normal": "magic"}}, r"w.toml: method.normal: must be one of"),
+    ({"wear": {"usfd": {"rail": "R999"}}}, r"w.toml: wear.usfd.rail: unknown material"),
+    ({"collective": {"lateral_mm": [0.0], "weights": [1.0], "speed": 3}}, r"w.toml: collective.speed: unknown key"),
+])
+def test_bad_input_names_the_key(tmp_path, wear_dict, over, match):
+    from contact.wear.scene import parse_wear_scene
+
+    with pytest.raises(InputError, match=match):
+        parse_wear_scene(wear_dict(**over), tmp_path / "w.toml")
+
+
+def test_condition_without_contact_stops_naming_the_step(make_scene):
+    scene = make_scene(collective={"lateral_mm": [45.0], "weights": [1.0]}, layers=None,
+                       wear={"inelastic": False})
+    with pytest.raises(WearStopped, match=r"stopped at step 1 .*condition 0"):
+        run_wear(scene, show_progress=False)
+
+
+def test_stop_keeps_completed_steps(tmp_path, wear_dict, monkeypatch, capsys):
+    """A failure in step 2: exit code 1, one line naming the step, step 1's profiles and table kept."""
+    data = wear_dict(layers=None, wear={"distance_km": 20.0, "steps": 2, "inelastic": False})
+    scene_file = tmp_path / "w.toml"
+    scene_file.write_text(_toml(data))
+    real = loop_mod.solve_condition
+
+    def failing(task):
+        if task.step == 2:
+            raise InputError(f"step {task.step}, condition {task.index}", "synthetic failure")
+        return real(task)
+
+    monkeypatch.setattr(loop_mod, "solve_condition", failing)
+    rc = main(["wear", str(scene_file), "--out", str(tmp_path / "out"), "--quiet", "--no-plots"])
+    assert rc != 0
+    err = capsys.readouterr().err
+    assert "step 2" in err and "synthetic failure" in err
+    out = tmp_path / "out"
+    assert (out / "profiles" / "step_001_right_wheel.prw").is_file()
+    assert not (out / "profiles" / "step_002_right_wheel.prw").exists()
+    res = json.loads((out / "result.json").read_text())
+    assert res["status"].startswith("stopped: step 2")
+    assert len(res["steps"]) == 1
+    assert len((out / "steps.csv").read_text().strip().splitlines()) == 1 + 2
+
+
+def _toml(data, prefix=""):
+    """Tiny TOML writer for the test scenes (tables, numbers, strings, lists of numbers)."""
+    lines, tables = [], []
+    for k, v in data.items():
+        if isinstance(v, dict):
+            tables.append((k, v))
+        else:
+            lines.append(f"{k} = {_val(v)}")
+    out = "\n".join(lines) + "\n"
+    for k, v in tables:
+        name = f"{prefix}{k}"
+        scal = {kk: vv for kk, vv in v.items() if not isinstance(vv, dict)}
+        out += f"\n[{name}]\n" + "".join(f"{kk} = {_val(vv)}\n" for kk, vv in scal.items())
+        sub = {kk: vv for kk, vv in v.items() if isinstance(vv, dict)}
+        if sub:
+            out += _toml(sub, prefix=f"{name}.")
+    return out
+
+
+def _val(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(_val(x) for x in v) + "]"
+    return repr(float(v)) if isinstance(v, float) else str(v)
