@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from contact.tangential.frictional_outputs import PATTERNS as FRICTIONAL_PATTERNS
 from wrlayer.atomic_write import atomic_output_dir, atomic_write_text
 from wrlayer.errors import InputError, WrLayerError, cli_guard
 
@@ -42,7 +43,7 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
             result = run_wheel_rail_scene(data, scene_path, tmp, plots)
             (tmp / "result.json").write_text(result_text(result), encoding="utf-8")
             written = {str(p.relative_to(tmp)) for p in tmp.rglob("*") if p.is_file()}
-        _remove_stale_files(out_dir, written, ("*.png", "deformed_profiles/*"))
+        _remove_stale_files(out_dir, written, ("*.png", "deformed_profiles/*") + FRICTIONAL_PATTERNS)
         return result
 
     from contact.scenes.scene import parse_scene
@@ -53,6 +54,10 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
     run = simulate(scene)
     text = result_text(run.result)  # serialise before anything is written (a failure leaves no file)
     with atomic_output_dir(out_dir) as tmp:
+        from contact.tangential.frictional_outputs import write_scene_run  # wear-ready CSVs beside result.json
+
+        run.result["frictional_outputs"] = write_scene_run(run, tmp)
+        text = result_text(run.result)
         if plots:
             from contact.scenes.plots import write_scene_plots
 
@@ -62,7 +67,7 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
         written = {p.name for p in tmp.iterdir()}
     from contact.scenes.result_io import PICTURE_PATTERNS
 
-    _remove_stale_files(out_dir, written, PICTURE_PATTERNS)
+    _remove_stale_files(out_dir, written, PICTURE_PATTERNS + FRICTIONAL_PATTERNS)
     return run.result
 
 
