@@ -13,7 +13,7 @@ Everything returned is plain arrays, so a task can run in another process or on 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -26,6 +26,10 @@ from meshes.profiles import Profile
 from wrlayer.errors import ConvergenceError, InputError
 
 BODIES = ("wheel", "rail")
+#: Worn profiles become conformal: two gap minima close together whose patches meet. The contact search then
+#: treats them as one candidate (separation with two humps, split by the normal solver) by raising the search's
+#: merge barrier (mm) step by step; the value used is reported per condition (``merge_mm``).
+MERGE_RETRY_MM = (0.02, 0.1, 0.5)
 
 
 @dataclass(frozen=True)
@@ -61,6 +65,7 @@ class ConditionResult:
     shakedown: bool = True
     summary: list = field(default_factory=list)
     seconds: float = 0.0
+    merge_mm: float = 0.0
 
 
 def solve_condition(task: ConditionTask) -> ConditionResult:
@@ -71,13 +76,23 @@ def solve_condition(task: ConditionTask) -> ConditionResult:
     if task.normal.name != "kik_piotrowski":
         raise InputError("method.normal", f"{task.normal.name!r} is not available in the wheel-rail solver of this "
                          "build (use \"kik_piotrowski\")")
-    try:
-        placed = place_rail(task.rail, task.inputs.layout)
-        sol = solve_wheel(task.rail, task.wheel, task.inputs, task.layers, placed, case=where)
-    except InputError as err:
-        raise (err if where in err.what else InputError(f"{where}: {err.what}", err.problem)) from None
-    except ConvergenceError as err:
-        raise (err if where in str(err) else ConvergenceError(f"{where}: {err}")) from None
+    placed = place_rail(task.rail, task.inputs.layout)
+    inputs, merged = task.inputs, None
+    for merge in (None,) + MERGE_RETRY_MM:
+        if merge is not None:
+            if merge <= inputs.search.merge_mm:
+                continue
+            inputs = replace(task.inputs, search=replace(task.inputs.search, merge_mm=merge))
+        try:
+            sol = solve_wheel(task.rail, task.wheel, inputs, task.layers, placed, case=where)
+            merged = merge
+            break
+        except InputError as err:
+            if "patches would merge" in err.problem and merge != MERGE_RETRY_MM[-1]:
+                continue  # worn, conformal profiles: two close minima whose patches meet -> one candidate
+            raise (err if where in err.what else InputError(f"{where}: {err.what}", err.problem)) from None
+        except ConvergenceError as err:
+            raise (err if where in str(err) else ConvergenceError(f"{where}: {err}")) from None
     if not sol.patches:
         raise InputError(where, "no contact (no loaded patch)")
     h = float(task.inputs.grid_mm)
@@ -117,6 +132,7 @@ def solve_condition(task: ConditionTask) -> ConditionResult:
         out.wear_mm[b] = np.concatenate(wear[b]) if wear[b] else np.zeros(0)
         out.inelastic_y_mm[b] = np.concatenate(iys[b]) if iys[b] else np.zeros(0)
         out.inelastic_mm[b] = np.concatenate(ins[b]) if ins[b] else np.zeros(0)
+    out.merge_mm = merged if merged is not None else task.inputs.search.merge_mm
     out.seconds = time.perf_counter() - t0
     return out
 

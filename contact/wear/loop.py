@@ -41,7 +41,6 @@ from typing import Callable
 
 import numpy as np
 
-from contact.wear.collective import Condition
 from contact.wear.condition import BODIES, ConditionResult, ConditionTask, solve_condition
 from contact.wear.conicity import radius_difference
 from contact.wear.profile_grid import ArcGrid
@@ -288,7 +287,7 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
                                       parsed["inputs"]["search"])
             rec = StepRecord(step, done_km, length, bodies, conic,
                              [{"condition": r.index, "side": r.side, "passes": r.passes, "shakedown": r.shakedown,
-                               "seconds": r.seconds, "patches": r.summary} for r in results],
+                               "seconds": r.seconds, "merge_mm": r.merge_mm, "patches": r.summary} for r in results],
                              {"solve_s": t_solve, "update_s": t_update, "conditions_s": sum(r.seconds for r in results)},
                              new_profiles, notes)
             profiles = new_profiles
