@@ -172,3 +172,28 @@ def _val(v):
     if isinstance(v, list):
         return "[" + ", ".join(_val(x) for x in v) + "]"
     return repr(float(v)) if isinstance(v, float) else str(v)
+
+
+def test_shipped_example_parses_and_runs_a_short_distance(tmp_path):
+    """The `make wear` scene, cut to 20 km in one step and two conditions (seconds)."""
+    import tomllib
+    from pathlib import Path
+
+    from contact.wear.scene import parse_wear_scene
+
+    path = Path(__file__).resolve().parents[3] / "scenes" / "wear" / "s1002_60e1.toml"
+    data = tomllib.loads(path.read_text())
+    data["wear"].update(distance_km=20.0, steps=1)
+    data["collective"] = {"lateral_mm": [-1.5, 1.5], "yaw_rad": [0.0, 0.0], "weights": "uniform"}
+    data["method"].update(grid_mm=0.2, fastsim_cells=16)
+    run = run_wear(parse_wear_scene(data, path), show_progress=False)
+    assert run.steps[0].bodies["right", "wheel"].stats["wear_max_mm"] > 0
+
+
+def test_local_processes_give_the_same_result(make_scene):
+    kw = dict(layers=None, collective={"lateral_mm": [0.0, 2.0], "weights": "uniform"},
+              wear={"distance_km": 50.0, "steps": 1, "inelastic": False})
+    one = run_wear(make_scene(**kw), show_progress=False)
+    two = run_wear(make_scene(**{**kw, "wear": {**kw["wear"], "workers": 2}}), show_progress=False)
+    a, b = one.steps[0].bodies["right", "wheel"].wear_mm, two.steps[0].bodies["right", "wheel"].wear_mm
+    assert a.max() > 0 and np.array_equal(a, b)
