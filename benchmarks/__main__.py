@@ -19,6 +19,7 @@ from pathlib import Path
 
 from benchmarks.harness import machine_info, max_rss_mb
 from wrlayer.atomic_write import atomic_write_text
+from wrlayer.version import version_text
 
 
 def discover() -> list[str]:
@@ -36,6 +37,7 @@ def _machine_markdown(info: dict) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.splitlines()[0])
+    ap.add_argument("--version", action="version", version=version_text("python -m benchmarks"))
     mode = ap.add_mutually_exclusive_group()
     mode.add_argument("--quick", action="store_const", dest="mode", const="quick",
                       help="about 2.5 minutes on 2 idle cores (default)")

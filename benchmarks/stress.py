@@ -29,6 +29,7 @@ from benchmarks.stress_contact import (
 from benchmarks.stress_fem import CENTRE_RTOL, FEM_CASES, run_fem_case
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import cli_guard
+from wrlayer.version import version_text
 
 CONTACT_ACCEPTED = ("ok", "clear-error")
 FEM_ACCEPTED = ("ok", "clear-error")
@@ -163,6 +164,7 @@ def report_markdown(mode: str, seed0: int, contact: dict, fem: dict, machine: di
 @cli_guard
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.stress", description=__doc__.splitlines()[0])
+    ap.add_argument("--version", action="version", version=version_text("python -m benchmarks.stress"))
     g = ap.add_mutually_exclusive_group()
     g.add_argument("--quick", action="store_const", dest="mode", const="quick", help="100 contact cases (default)")
     g.add_argument("--full", action="store_const", dest="mode", const="full", help="1000 contact cases, all FEM")

@@ -12,14 +12,18 @@ import argparse
 import dataclasses
 import sys
 
+from wrlayer import cli
 from wrlayer.errors import cli_guard, require
 
 
 def _parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="python -m calibration",
-                                 description="FEM calibration of Prandtl surface-layer tables along profiles")
+    ap = cli.parser("python -m calibration", "FEM calibration of Prandtl surface-layer tables along profiles "
+                    "(units mm, N, MPa, s)",
+                    ["python -m calibration run calibration/configs/default.toml --out out/calibration"])
     sub = ap.add_subparsers(dest="command", required=True)
-    run = sub.add_parser("run", help="calibrate the bodies and positions of a TOML configuration")
+    run = cli.subparser(sub, "run", "calibrate the bodies and positions of a TOML configuration",
+                        ["python -m calibration run calibration/configs/test_coarse.toml --out out/cal --no-plots",
+                         "python -m calibration run my.toml --out out/cal --scheduler tcp://host:8786"])
     run.add_argument("config", help="TOML configuration file")
     run.add_argument("--out", required=True, help="output folder (tables, cache, plots, fields)")
     run.add_argument("--scheduler", default=None, help="Dask scheduler address (default: local processes)")

@@ -10,11 +10,12 @@ from pathlib import Path
 import numpy as np
 
 from wrlayer.atomic_write import atomic_write_bytes
+from wrlayer.plotting import DPI
 
 
 def _save(fig, path: Path) -> Path:
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110)
+    fig.savefig(buf, format="png", dpi=DPI)
     import matplotlib.pyplot as plt
 
     plt.close(fig)

@@ -20,6 +20,7 @@ from typing import Any
 
 from contact.tangential.frictional_outputs import PATTERNS as FRICTIONAL_PATTERNS
 from wrlayer.atomic_write import atomic_output_dir, atomic_write_text
+from wrlayer import cli
 from wrlayer.errors import InputError, WrLayerError, cli_guard
 
 
@@ -126,16 +127,20 @@ def _simulate_all(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m contact", description="Kik–Piotrowski contact with the "
-                                     "Prandtl-body layer, FASTSIM, passes to shakedown (units mm, N, MPa, s).")
+    parser = cli.parser("python -m contact", "Kik–Piotrowski contact with the Prandtl-body layer, FASTSIM, passes to "
+                        "shakedown, wheel-on-rail scenes (units mm, N, MPa, s).",
+                        ["python -m contact simulate scenes/paper_with_layer.toml --out out/one --plots",
+                         "python -m contact simulate-all scenes --out out/simulate"])
     sub = parser.add_subparsers(dest="command", required=True)
-    one = sub.add_parser("simulate", help="run one scene file")
+    one = cli.subparser(sub, "simulate", "run one scene file",
+                        ["python -m contact simulate scenes/calibrated_layers.toml --out out/one --plots"])
     one.add_argument("scene", help="scene TOML file")
     one.add_argument("--out", required=True, help="output folder (result.json, pictures)")
     one.add_argument("--json", action="store_true", help="also print the result JSON")
     one.add_argument("--plots", action="store_true", help="write PNG pictures")
     one.set_defaults(func=_simulate)
-    many = sub.add_parser("simulate-all", help="run every *.toml in a folder and print a Table 1")
+    many = cli.subparser(sub, "simulate-all", "run every *.toml in a folder and print a Table 1",
+                         ["python -m contact simulate-all scenes --out out/simulate --plots"])
     many.add_argument("scenes_dir", help="folder of scene TOML files")
     many.add_argument("--out", required=True, help="output folder (one subfolder per scene, table.md, table.csv)")
     many.add_argument("--plots", action="store_true", help="write PNG pictures")

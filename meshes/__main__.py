@@ -13,15 +13,21 @@ import argparse
 import sys
 import time
 
+from wrlayer import cli
 from wrlayer.errors import cli_guard
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m meshes", description=__doc__.split("\n\n")[0])
+    parser = cli.parser("python -m meshes", "Meshes of rail and wheel profiles (lengths in mm).",
+                        ["python -m meshes mesh 60E1 --y0 0 --h-min 0.5 --h-max 5 --out out/mesh/rail_2d.vtu",
+                         "python -m meshes plots --out out/plots"])
     sub = parser.add_subparsers(dest="command", required=True)
-    plots = sub.add_parser("plots", help="pictures of the default meshes")
+    plots = cli.subparser(sub, "plots", "pictures of the default meshes", ["python -m meshes plots --out out/plots"])
     plots.add_argument("--out", required=True, help="output folder for the PNG files")
-    mesh = sub.add_parser("mesh", help="mesh a profile section (2D) or a local 3D block and write it")
+    mesh = cli.subparser(sub, "mesh", "mesh a profile section (2D) or a local 3D block and write it",
+                         ["python -m meshes mesh 60E1 --y0 0 --h-min 0.5 --h-max 5 --out out/mesh/rail_2d.vtu",
+                          "python -m meshes mesh S1002 --y0 0 --h-min 0.5 --h-max 8 --dim 3 --order 2 "
+                          "--refine-box 3 4 2 --out out/mesh/wheel.msh"])
     mesh.add_argument("profile", help="60E1, 54E1, S1002 or a profile file (.prr/.prw/.txt/.csv)")
     mesh.add_argument("--y0", type=float, required=True, help="lateral load position y0 (mm)")
     mesh.add_argument("--h-min", type=float, required=True, help="element size at the load point (mm)")

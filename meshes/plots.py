@@ -21,6 +21,7 @@ import skfem
 from matplotlib.collections import LineCollection
 
 from wrlayer.atomic_write import atomic_write_bytes
+from wrlayer.plotting import DPI
 
 BOUNDARY_COLOURS = {"surface": "tab:red", "side": "tab:blue", "fixed": "tab:green", "symmetry": "tab:orange",
                     "end": "tab:gray"}
@@ -28,7 +29,7 @@ BOUNDARY_COLOURS = {"surface": "tab:red", "side": "tab:blue", "fixed": "tab:gree
 
 def _save_figure(fig, path: str | os.PathLike) -> Path:
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=150)
+    fig.savefig(buf, format="png", dpi=DPI)
     plt.close(fig)
     return atomic_write_bytes(path, buf.getvalue())
 
@@ -126,16 +127,21 @@ DEFAULT_3D = {"h_min": 0.5, "h_max": 8.0, "length_mm": 30.0, "refine_box": (3.0,
 
 def write_default_plots(out_dir: str | os.PathLike) -> list[Path]:
     """PNG pictures of the default 2D and 3D meshes of the 60E1 rail and S1002 wheel into ``out_dir``."""
-    from wrlayer.atomic_write import atomic_output_dir
     from meshes.meshing.local_mesh import local_mesh
-    from meshes.profiles import get_profile
     from meshes.meshing.section_mesh import section_mesh
+    from meshes.profiles import get_profile
+    from wrlayer.atomic_write import atomic_output_dir
+    from wrlayer.progress import progress
 
     names = []
+    jobs = [(name, y0, dim) for name, y0 in DEFAULT_PLOTS for dim in (2, 3)]
     with atomic_output_dir(out_dir) as tmp:
-        for name, y0 in DEFAULT_PLOTS:
+        for name, y0, dim in progress(jobs, desc="meshes", unit="mesh"):
             profile = get_profile(name)
-            plot_section(section_mesh(profile, y0, **DEFAULT_2D), profile, y0, tmp / f"section_{name}.png")
-            plot_local(local_mesh(profile, y0, **DEFAULT_3D), profile, y0, tmp / f"local_{name}.png")
-            names += [f"section_{name}.png", f"local_{name}.png"]
+            if dim == 2:
+                plot_section(section_mesh(profile, y0, **DEFAULT_2D), profile, y0, tmp / f"section_{name}.png")
+                names.append(f"section_{name}.png")
+            else:
+                plot_local(local_mesh(profile, y0, **DEFAULT_3D), profile, y0, tmp / f"local_{name}.png")
+                names.append(f"local_{name}.png")
     return [Path(out_dir) / n for n in names]

@@ -23,6 +23,7 @@ from matplotlib.patches import Rectangle
 from matplotlib.ticker import MaxNLocator
 
 from contact.tangential.fastsim import sample_on_grid
+from wrlayer.plotting import DPI
 
 _SLIP = ListedColormap(["#ffffff", "#9a9a9a"])  # adhesion white, slip grey
 
@@ -67,7 +68,8 @@ def plot_patch(snapshot, path: Path, title: str) -> Path:
         ax.pcolormesh(xe, ye, np.ma.masked_where(~mask, slip.astype(float)), cmap=_SLIP, vmin=0, vmax=1,
                       edgecolors=edge, linewidth=0.2, shading="flat")
         if p_levels is None:
-            p_levels = np.linspace(0.0, sol.p_max_MPa, 9)[1:-1]
+            nice = MaxNLocator(nbins=8, steps=[1, 2, 2.5, 5, 10]).tick_values(0.0, sol.p_max_MPa)
+            p_levels = nice[(nice > 0.0) & (nice < sol.p_max_MPa)]
         if y.size > 1:
             contour = ax.contour(x, y, np.where(mask, pressure, 0.0), levels=p_levels, cmap="viridis",
                                  linewidths=1.0)
@@ -75,7 +77,8 @@ def plot_patch(snapshot, path: Path, title: str) -> Path:
         # outline: leading and trailing edges of the strips
         ax.step(patch.x_lead_mm, y, where="mid", color="k", lw=0.8)
         ax.step(-patch.x_lead_mm, y, where="mid", color="k", lw=0.8)
-        ax.plot([0.0], [yr], "k+", ms=8)
+        ax.plot([0.0], [yr], "k+", ms=8, label="reference point (x = 0, strip of the largest p$_0$)"
+                if yr == snapshot.y_ref_mm[0] else None)
     # 1 x 1 mm scale box and rolling direction
     bx, by = -x_max - 1.5, y_lo - 1.8
     ax.add_patch(Rectangle((bx, by), 1.0, 1.0, fill=False, lw=1.2, color="k"))
@@ -98,7 +101,10 @@ def plot_patch(snapshot, path: Path, title: str) -> Path:
         info += f", F$_x$ = {fx:.2f} kN, F$_y$ = {fy:.2f} kN"
     legend = "pressure contours [MPa]" + ("; grey: slip, white: adhesion" if first is not None else "")
     ax.set_title(f"{title}\n{info}\n{legend}", fontsize=9)
-    fig.savefig(path, dpi=130)
+    if contour is not None:
+        fig.colorbar(contour, ax=ax, label="pressure contour p [MPa]", shrink=0.7, pad=0.01, format="%.0f")
+    ax.legend(loc="upper right", fontsize=8, frameon=False)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
 
@@ -140,7 +146,7 @@ def plot_separation(run, path: Path) -> Path:
     for a in axes:
         a.grid(alpha=0.3)
     fig.suptitle(f"{run.scene.title}: separation, residual displacements, peak pressure", fontsize=10)
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
 
@@ -168,7 +174,7 @@ def plot_shakedown(run, path: Path) -> Path:
     axes[-1].xaxis.set_major_locator(MaxNLocator(integer=True))
     mode = "state kept (hardening)" if run.scene.passes.hardening else "sliders relaxed before each pass"
     fig.suptitle(f"{run.scene.title}\nshakedown history ({mode})", fontsize=10)
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
 

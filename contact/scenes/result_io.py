@@ -6,17 +6,15 @@ Strict JSON is written (no NaN/Infinity: non-finite numbers become null); numpy 
 from __future__ import annotations
 
 import dataclasses
-import functools
 import json
 import math
-import subprocess
-from importlib import metadata
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from wrlayer.atomic_write import atomic_write_text
+from wrlayer.version import code_version  # noqa: F401  (re-exported: results record it)
 
 RESULT_NAME = "result.json"
 #: File-name patterns of the pictures of :mod:`contact.scenes.plots` (stale ones are removed by the command line).
@@ -35,24 +33,6 @@ UNITS = {
     "timings": "s (wall clock)",
     "dissipated_energy_max_N_per_mm": "N/mm (= N mm/mm^2: largest accumulated slider friction work of an element)",
 }
-
-
-@functools.lru_cache(maxsize=1)
-def code_version() -> str:
-    """``git describe --always --dirty`` of the source tree, else the installed package version."""
-    root = Path(__file__).resolve().parents[1]
-    try:
-        out = subprocess.run(["git", "describe", "--always", "--dirty", "--tags"], cwd=root, capture_output=True,
-                             text=True, timeout=10, check=True)
-        desc = out.stdout.strip()
-        if desc:
-            return f"git {desc}"
-    except (OSError, subprocess.SubprocessError):
-        pass
-    try:
-        return f"wrlayer {metadata.version('wrlayer')}"
-    except metadata.PackageNotFoundError:
-        return "unknown"
 
 
 def jsonable(obj: Any) -> Any:

@@ -12,8 +12,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from contact.wheel_rail.track_geometry import wheel_locus, wheel_sample_y
 from contact.wheel_rail.solve import WheelRailSolution, residual_on_profiles
+from contact.wheel_rail.track_geometry import wheel_locus, wheel_sample_y
+from wrlayer.plotting import DPI
 
 SIDE_COLOURS = {"right": "tab:blue", "left": "tab:orange"}
 
@@ -70,7 +71,7 @@ def write_wheel_rail_plots(result: dict[str, Any], solutions: list[dict[str, Whe
         axes[0, 0].legend(fontsize=7, loc="lower left")
         fig.tight_layout()
         path = out_dir / "profiles_in_contact.png"
-        fig.savefig(path, dpi=110)
+        fig.savefig(path, dpi=DPI)
         plt.close(fig)
         paths.append(path)
     if len(result["cases"]) > 1 and ok:
@@ -110,7 +111,7 @@ def _residual_plot(result: dict[str, Any], solutions: list, path: Path) -> Path 
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=6, ncol=2)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
 
@@ -151,7 +152,7 @@ def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
         ax.legend(fontsize=7)
     fig.suptitle(result["inputs"].get("title", ""), fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
 

@@ -1,0 +1,60 @@
+"""--version and help texts of every entry point, and the ``wrlayer`` console command's dispatch."""
+
+import subprocess
+import sys
+
+import pytest
+
+from wrlayer import cli
+from wrlayer.progress import progress, progress_enabled
+from wrlayer.version import code_version, version_text
+
+ENTRY_POINTS = ["contact", "calibration", "meshes", "benchmarks", "benchmarks.stress"]
+
+
+@pytest.mark.parametrize("module", ENTRY_POINTS)
+def test_version_names_package_and_revision(module):
+    run = subprocess.run([sys.executable, "-m", module, "--version"], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    line = run.stdout.strip()
+    assert line.startswith(f"python -m {module} ")
+    assert code_version() in line                      # the code revision, e.g. "git 0b546d5"
+
+
+@pytest.mark.parametrize("argv", [["contact", "simulate"], ["contact", "simulate-all"], ["calibration", "run"],
+                                  ["meshes", "mesh"], ["meshes", "plots"]])
+def test_every_help_has_an_example_and_the_exit_codes(argv):
+    run = subprocess.run([sys.executable, "-m", *argv, "--help"], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0
+    assert "examples:\n  python -m " + argv[0] in run.stdout
+    for code in cli.EXIT_CODES:
+        assert f"\n  {code:>3}  " in run.stdout
+
+
+def test_wrlayer_command_dispatches(tmp_path, capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["--version"])
+    assert exc.value.code == 0
+    assert capsys.readouterr().out.strip() == version_text("wrlayer")
+    # a bad scene path through the console command: the contact entry point's one-line error and exit code 2
+    rc = cli.main(["simulate", str(tmp_path / "missing.toml"), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.startswith("error: ") and err.count("\n") == 1
+    assert not (tmp_path / "o").exists()
+
+
+def test_wrlayer_unknown_command_is_a_usage_error(capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["frobnicate"])
+    assert exc.value.code == 2
+    assert "invalid choice" in capsys.readouterr().err
+
+
+def test_progress_bar_only_on_a_terminal(monkeypatch):
+    monkeypatch.delenv("WRLAYER_PROGRESS", raising=False)
+    items = [1, 2, 3]
+    # pytest captures stderr: not a terminal, so the iterable comes back unchanged (no escape codes in logs)
+    assert progress(items, desc="x") is items
+    monkeypatch.setenv("WRLAYER_PROGRESS", "1")
+    assert progress_enabled() and list(progress(items, desc="x")) == items
+    assert not progress_enabled(quiet=True)

@@ -1,0 +1,37 @@
+"""The package version and the code revision that every result, table and ``--version`` records."""
+
+from __future__ import annotations
+
+import functools
+import subprocess
+from importlib import metadata
+from pathlib import Path
+
+_ROOT = Path(__file__).resolve().parents[1]
+
+
+def package_version() -> str:
+    """The installed ``wrlayer`` version (pyproject.toml), or "unknown" when it is not installed."""
+    try:
+        return metadata.version("wrlayer")
+    except metadata.PackageNotFoundError:
+        return "unknown"
+
+
+@functools.lru_cache(maxsize=1)
+def code_version() -> str:
+    """``git describe --always --dirty`` of the source tree, else the installed package version."""
+    try:
+        out = subprocess.run(["git", "describe", "--always", "--dirty", "--tags"], cwd=_ROOT, capture_output=True,
+                             text=True, timeout=10, check=True)
+        desc = out.stdout.strip()
+        if desc:
+            return f"git {desc}"
+    except (OSError, subprocess.SubprocessError):
+        pass
+    return f"wrlayer {package_version()}"
+
+
+def version_text(prog: str) -> str:
+    """One line for ``--version``: program, package version and code revision."""
+    return f"{prog} {package_version()} ({code_version()})"
