@@ -130,7 +130,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = cli.parser("python -m contact", "Kik–Piotrowski contact with the Prandtl-body layer, FASTSIM, passes to "
                         "shakedown, wheel-on-rail scenes (units mm, N, MPa, s).",
                         ["python -m contact simulate scenes/paper_with_layer.toml --out out/one --plots",
-                         "python -m contact simulate-all scenes --out out/simulate"])
+                         "python -m contact simulate-all scenes --out out/simulate",
+                         "python -m contact wear scenes/wear/s1002_60e1.toml --out out/wear"])
     sub = parser.add_subparsers(dest="command", required=True)
     one = cli.subparser(sub, "simulate", "run one scene file",
                         ["python -m contact simulate scenes/calibrated_layers.toml --out out/one --plots"])

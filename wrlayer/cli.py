@@ -27,6 +27,7 @@ EXIT_CODES = {
     2: "bad input (file, key, value or argument): nothing written",
     3: "numerical failure (an iteration did not converge): nothing written",
     4: "calibration: some positions failed (the tables hold the others and list the failed ones)",
+    5: "wear: the loop stopped at a step (named); the completed steps' profiles and table were written",
     130: "interrupted (Ctrl-C)",
 }
 

@@ -83,7 +83,11 @@ def wear_command(args) -> int:
 
 
 def add_parser(sub) -> None:
-    p = sub.add_parser("wear", help="run a wear scene (profiles evolving by wear and inelastic displacement)")
+    from wrlayer import cli
+
+    p = cli.subparser(sub, "wear", "run a wear scene (profiles evolving by wear and inelastic displacement)",
+                      ["python -m contact wear scenes/wear/s1002_60e1.toml --out out/wear",
+                       "python -m contact wear scenes/wear/s1002_60e1.toml --out out/wear --workers 2 --no-plots"])
     p.add_argument("scene", help="wear scene TOML file")
     p.add_argument("--out", required=True, help="output folder (profiles/, depth/, steps.csv, result.json, PNGs)")
     p.add_argument("--no-plots", action="store_true", help="do not write PNG pictures")

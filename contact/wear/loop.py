@@ -34,6 +34,7 @@ A condition without contact, a solver failure or a profile that folds stops the 
 from __future__ import annotations
 
 import concurrent.futures as cf
+import sys
 import math
 import time
 from dataclasses import dataclass, field
@@ -98,7 +99,9 @@ class WearRun:
 
 
 class WearStopped(WrLayerError):
-    """The loop stopped at a step (the message names it); ``run`` holds the completed steps."""
+    """The loop stopped at a step (the message names it); ``run`` holds the completed steps (exit code 5)."""
+
+    exit_code = 5
 
     def __init__(self, message: str, run: WearRun):
         super().__init__(message)
@@ -234,6 +237,9 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
     (the CLI writes the step's files there). Raises :class:`WearStopped` naming the step on a failure."""
     from tqdm import tqdm
 
+    from wrlayer.progress import progress_enabled
+
+    show_progress = progress_enabled(not show_progress)
     parsed, settings, col = scene.parsed, scene.settings, scene.collective
     layout = parsed["layout"]
     profiles = {side: {"rail": parsed["rail"], "wheel": parsed["wheel"]} for side in parsed["sides"]}
@@ -241,8 +247,9 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
                   radius_difference(profiles, layout, settings.conicity_amplitude_mm, parsed["inputs"]["search"]), [])
     done_km, step = 0.0, 0
     n_tasks = len(col.conditions) * len(profiles)
-    bar_steps = tqdm(total=col.steps, desc="wear steps", unit="step", disable=not show_progress, position=0)
-    bar_cond = tqdm(total=n_tasks, desc="conditions", unit="cond", disable=not show_progress, position=1,
+    bar_steps = tqdm(total=col.steps, desc="wear steps", unit="step", disable=not show_progress, position=0,
+                     file=sys.stderr)
+    bar_cond = tqdm(total=n_tasks, desc="conditions", unit="cond", disable=not show_progress, position=1, file=sys.stderr,
                     leave=False)
     try:
         while done_km < col.distance_km * (1.0 - 1e-12):

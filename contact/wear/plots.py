@@ -12,6 +12,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from contact.wear.loop import WearRun
+from wrlayer.plotting import DPI, MICRO_M
 
 
 def _keys(run: WearRun) -> list[tuple[str, str]]:
@@ -45,7 +46,7 @@ def plot_profiles(run: WearRun, path: Path) -> Path:
     axes[0][0].legend(fontsize=7)
     fig.suptitle("profile evolution (zoomed on the changed part)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
 
@@ -64,12 +65,12 @@ def plot_depths(run: WearRun, path: Path) -> Path:
                         label=f"inelastic, step {rec.index}")
         ax.set_title(f"{s} {b}")
         ax.set_xlabel("y (mm)")
-        ax.set_ylabel("depth per step (um)")
+        ax.set_ylabel(f"depth per step ({MICRO_M})")
         ax.grid(alpha=0.3)
     axes[0][0].legend(fontsize=6)
     fig.suptitle("wear (solid) and inelastic (dashed) depth along the profile, per step")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
 
@@ -86,7 +87,7 @@ def plot_conicity(run: WearRun, path: Path) -> Path:
     ax2.set_ylabel("quasi-conicity dr/(2y)")
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
 
