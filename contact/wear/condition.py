@@ -52,7 +52,8 @@ class ConditionTask:
 class ConditionResult:
     """Per body: strip profile coordinates ``y_mm``, wear depth per pass ``wear_mm`` and accumulated residual
     ``inelastic_mm`` (same strips; mm); ``strip_mm``: strip width. ``passes``: passes run per patch;
-    ``shakedown``: every patch shook down; ``summary``: scalars per patch; ``seconds``: wall time."""
+    ``shakedown``: every patch shook down; ``summary``: scalars per patch; ``seconds``: wall time; ``peaks[body]``:
+    per patch (profile coordinates of the strips, largest peak pressure p(0, y) over the passes in MPa)."""
 
     index: int
     side: str
@@ -66,6 +67,7 @@ class ConditionResult:
     summary: list = field(default_factory=list)
     seconds: float = 0.0
     merge_mm: float = 0.0
+    peaks: dict = field(default_factory=dict)
 
 
 def solve_condition(task: ConditionTask) -> ConditionResult:
@@ -118,6 +120,9 @@ def solve_condition(task: ConditionTask) -> ConditionResult:
                 continue
             iys[b].append(coords[b])
             ins[b].append(u)
+        peak = np.max([r.p_peak_MPa for r in p.passes], axis=0) if p.passes else np.asarray(p.normal.p_peak_MPa)
+        for b in BODIES:  # largest peak pressure of every strip over the passes, at the profile coordinates
+            out.peaks.setdefault(b, []).append((np.asarray(coords[b], float), np.asarray(peak, float)))
         out.passes.append(len(p.passes))
         if p.passes and not p.passes[-1].shakedown:
             out.shakedown = False

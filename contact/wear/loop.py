@@ -14,11 +14,13 @@ Per step
 3. Inelastic displacement: the residual displacement after a condition's passes is where that condition's
    contact shook down (or the cap was reached). All conditions of a step act on the same profile, so the step's
    inelastic increment is the pointwise envelope (maximum) over the conditions, NOT their sum: each condition's
-   dent is already the state at which its own passes stop adding. Assumption (stated): between steps the dent is
-   moved into the profile and the layer elements start virgin on the dented profile (the paper's mode for its
-   19 passes, and ``passes.hardening`` applies within a step's passes). The layer state itself is NOT carried
-   between steps; because the dented profile lowers the pressure to about the elastic limit, the next step adds
-   (almost) nothing until wear changes the profile again: the inelastic part saturates while wear goes on.
+   dent is already the state at which its own passes stop adding. Between steps the dent is moved into the
+   profile, and the layer state is kept per profile position (``layer_state = "hardening"``, the default): every
+   position remembers the largest peak pressure it has carried and its element is hardened to it
+   (:mod:`contact.wear.layer_state`), so a later step adds a residual only where the load exceeds that. With
+   ``layer_state = "virgin"`` the elements start virgin on the dented profile every step (the paper's mode for its
+   19 passes). ``passes.hardening`` applies within a step's passes. Either way the inelastic part saturates
+   while wear goes on.
 4. Step control: the nominal step is (remaining distance) / (remaining nominal steps). If the largest smoothed wear
    depth of that step exceeds ``max_depth_per_step_mm``, the step is shortened in proportion (wear is linear in
    distance on a fixed profile); the inelastic increment does not scale with the step (it saturates within a few
@@ -48,7 +50,8 @@ from contact.wear.profile_grid import ArcGrid
 from contact.wear.scene import WearScene
 from contact.passes.passes import PassesOptions
 from contact.wheel_rail.contact_search import raw_min_gap
-from contact.wheel_rail.solve import WheelRailInputs, rigid_roll
+from contact.wear.layer_state import HardenedTable
+from contact.wheel_rail.solve import WheelRailInputs, WheelRailLayers, rigid_roll
 from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
 from scipy.optimize import brentq
 from wrlayer.errors import ConvergenceError, InputError, WrLayerError
@@ -176,8 +179,42 @@ def _roll(scene: WearScene, profiles: dict, pose: WheelsetPose) -> float:
             from None
 
 
-def build_tasks(scene: WearScene, profiles: dict, step: int, step_km: float) -> list[ConditionTask]:
-    """The (condition, side) tasks of a step on the current profiles."""
+def side_layers(scene: WearScene, state: dict | None, side: str) -> WheelRailLayers | None:
+    """The layers of one side: the scene's, with every table position hardened to its largest peak pressure so
+    far (``state[(side, body)] = (y, p_hist)``) in the hardening mode."""
+    layers = scene.parsed["layers"]
+    if not scene.settings.inelastic or layers is None:
+        return None
+    if scene.settings.layer_state != "hardening" or layers.combined is not None or not state:
+        return layers
+    tables = {}
+    for body in BODIES:
+        table = getattr(layers, body)
+        if table is not None and (side, body) in state:
+            y, p = state[side, body]
+            table = HardenedTable(table, y, p)
+        tables[body] = table
+    return WheelRailLayers(rail=tables["rail"], wheel=tables["wheel"], names=layers.names)
+
+
+def update_state(state: dict, results: list[ConditionResult]) -> None:
+    """p_hist = max(p_hist, this step's peak pressures) on each (side, body) grid of profile coordinates."""
+    for r in results:
+        for body, patches in r.peaks.items():
+            if (r.side, body) not in state:
+                continue
+            y, p = state[r.side, body]
+            for ys, pk in patches:
+                order = np.argsort(ys)
+                ys, pk = ys[order], pk[order]
+                inside = (y >= ys[0]) & (y <= ys[-1])
+                p[inside] = np.maximum(p[inside], np.interp(y[inside], ys, pk))
+
+
+def build_tasks(scene: WearScene, profiles: dict, step: int, step_km: float, state: dict | None = None
+                ) -> list[ConditionTask]:
+    """The (condition, side) tasks of a step on the current profiles (``state``: the layer state, see
+    :func:`side_layers`)."""
     parsed = scene.parsed
     cap = parsed["inputs"]["passes"].max_passes
     n_km = passes_per_km(scene)["wheel"]
@@ -196,8 +233,7 @@ def build_tasks(scene: WearScene, profiles: dict, step: int, step_km: float) -> 
                                         "vertical_load_N": c.vertical_load_N, "speed_mm_s": c.speed_mm_s,
                                         "passes": PassesOptions(n_pass, opts.tolerance_mm, opts.hardening)})
             tasks.append(ConditionTask(k, side, c, profiles[side]["rail"], profiles[side]["wheel"], inputs,
-                                       parsed["layers"] if scene.settings.inelastic else None, scene.law,
-                                       scene.normal, step))
+                                       side_layers(scene, state, side), scene.law, scene.normal, step))
     return tasks
 
 
@@ -246,6 +282,8 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
     run = WearRun(scene, {s: dict(p) for s, p in profiles.items()},
                   radius_difference(profiles, layout, settings.conicity_amplitude_mm, parsed["inputs"]["search"]), [])
     done_km, step = 0.0, 0
+    state = {(s, b): (ArcGrid.of(p[b], settings.grid_mm).y_mm, np.zeros(ArcGrid.of(p[b], settings.grid_mm).y_mm.size))
+             for s, p in profiles.items() for b in BODIES}
     n_tasks = len(col.conditions) * len(profiles)
     bar_steps = tqdm(total=col.steps, desc="wear steps", unit="step", disable=not show_progress, position=0,
                      file=sys.stderr)
@@ -260,10 +298,11 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
             remaining_steps = max(1, col.steps - len(run.steps))
             nominal_km = (col.distance_km - done_km) / remaining_steps
             t0 = time.perf_counter()
-            tasks = build_tasks(scene, profiles, step, nominal_km)
+            tasks = build_tasks(scene, profiles, step, nominal_km, state)
             bar_cond.reset(total=len(tasks))
             results = map_tasks(tasks, settings.workers, settings.scheduler, on_done=lambda r: bar_cond.update(1))
             t_solve = time.perf_counter() - t0
+            update_state(state, results)
             t1 = time.perf_counter()
             grids = {(s, b): ArcGrid.of(profiles[s][b], settings.grid_mm) for s in profiles for b in BODIES}
             rate, inel = _depth_rates(scene, grids, results)

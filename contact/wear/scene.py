@@ -16,6 +16,8 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.scene`: [profiles], [
                 density_kg_m3 = 7850                       steel density (mass loss, USFD law)
                 rail_passes_per_wheel_pass = 1.0           passes a rail section sees per wheel revolution
                 inelastic = true                           add the layer's residual displacement (needs [layers])
+                layer_state = "hardening" | "virgin"       keep each profile position's largest load between steps
+                                                           (contact.wear.layer_state) or start virgin every step
                 workers = 1, scheduler = ""                local processes per step / a Dask scheduler address
                 conicity_amplitude_mm = 3.0                lateral amplitude of the rolling-radius difference
     [wear.archard.wheel], [wear.archard.rail]              ArchardMap keys (hardness_MPa, k_seizure, k_low_speed,
@@ -45,7 +47,7 @@ from wrlayer.errors import InputError
 WHEEL_RAIL_SECTIONS = ("title", "description", "profiles", "track", "wheel", "wheelset", "load", "material",
                        "tangential", "layers", "passes", "method")
 WEAR_KEYS = ("law", "distance_km", "steps", "max_depth_per_step_mm", "smoothing_mm", "grid_mm", "density_kg_m3",
-             "rail_passes_per_wheel_pass", "inelastic", "workers", "scheduler", "conicity_amplitude_mm", "archard",
+             "rail_passes_per_wheel_pass", "inelastic", "layer_state", "workers", "scheduler", "conicity_amplitude_mm", "archard",
              "usfd")
 ARCHARD_KEYS = ("hardness_MPa", "k_seizure", "k_low_speed", "k_mid_speed", "k_high_speed", "v_low_m_s",
                 "v_high_m_s", "seizure_pressure_ratio")
@@ -61,6 +63,7 @@ class WearSettings:
     grid_mm: float = 0.2
     rail_passes_per_wheel_pass: float = 1.0
     inelastic: bool = True
+    layer_state: str = "hardening"
     workers: int = 1
     scheduler: str = ""
     conicity_amplitude_mm: float = 3.0
@@ -113,9 +116,12 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
         grid_mm=wear.number("grid_mm", 0.2, gt=0.0, le=2.0),
         rail_passes_per_wheel_pass=wear.number("rail_passes_per_wheel_pass", 1.0, ge=0.0),
         inelastic=wear.boolean("inelastic", True),
+        layer_state=wear.text("layer_state", "hardening"),
         workers=wear.integer("workers", 1, ge=1),
         scheduler=wear.text("scheduler", ""),
         conicity_amplitude_mm=wear.number("conicity_amplitude_mm", 3.0, gt=0.0))
+    if settings.layer_state not in ("hardening", "virgin"):
+        raise wear.error("layer_state", f"must be 'hardening' or 'virgin', got {settings.layer_state!r}")
     if settings.inelastic and parsed["layers"] is None:
         raise wear.error("inelastic", "true needs [layers] (the Prandtl layer gives the inelastic displacement); "
                          "set inelastic = false for abrasive wear alone")

@@ -54,17 +54,43 @@ def test_mass_balance(make_scene):
 
 
 def test_inelastic_saturates_and_is_zero_without_layer(make_scene):
-    """Without friction (no wear): the first step dents, the next add (almost) nothing; no layer: no dent."""
+    """Without friction (no wear): the first step dents; with the layer state kept (hardening) the later steps add
+    exactly nothing (shakedown), virgin elements on the dented profile add little; no layer: no dent."""
     data = {"tangential": {"friction": 0.0}, "load": {"vertical_load_N": 80000.0},
             "passes": {"max": 40}, "wear": {"distance_km": 300.0, "steps": 3}}
+
+    def increments(run):
+        return [max(s.bodies["right", b].stats["inelastic_max_mm"] for b in BODIES) for s in run.steps]
+
     run = run_wear(make_scene(**data), show_progress=False)
-    inc = [max(s.bodies["right", b].stats["inelastic_max_mm"] for b in BODIES) for s in run.steps]
+    inc = increments(run)
     assert inc[0] > 1e-3
-    assert inc[1] < 0.2 * inc[0] and inc[2] < 0.2 * inc[0]
+    assert inc[1] < 1e-15 and inc[2] < 1e-15  # round-off
     assert all(s.bodies["right", b].stats["wear_max_mm"] == 0 for s in run.steps for b in BODIES)
+    virgin = increments(run_wear(make_scene(**{**data, "wear": {**data["wear"], "layer_state": "virgin"}}),
+                                 show_progress=False))
+    assert virgin[0] == pytest.approx(inc[0], rel=1e-12)
+    assert 0 < virgin[1] < 0.1 * virgin[0] and virgin[2] < 0.1 * virgin[0]
     off = run_wear(make_scene(layers=None, **{**data, "wear": {**data["wear"], "inelastic": False}}),
                    show_progress=False)
     assert all(s.bodies["right", b].stats["inelastic_max_mm"] == 0 for s in off.steps for b in BODIES)
+
+
+def test_hardened_characteristic_residual_is_the_increment():
+    """An element hardened to p_hist: no residual up to p_hist, u_p(p) - u_p(p_hist) beyond (eq. 8)."""
+    from contact.layer.layer_table import LayerTable
+    from contact.wear.layer_state import hardened
+
+    from pathlib import Path
+
+    table = LayerTable.read(Path(__file__).resolve().parents[3] / "scenes" / "tables" / "rail_60E1_default.json")
+    c = table.characteristic_at(1.0)
+    assert hardened(c, 0.9 * c.elastic_limit_MPa) is c
+    for ph in (1.3 * c.elastic_limit_MPa, 1.2 * c.p_MPa[-1]):
+        h = hardened(c, ph)
+        for p in (0.5 * ph, ph, 1.2 * ph, 1.6 * ph):
+            expected = max(float(c.residual_displacement(p) - c.residual_displacement(ph)), 0.0)
+            assert float(h.residual_displacement(p)) == pytest.approx(expected, abs=1e-12)
 
 
 def test_mirror_symmetric_collective_wears_both_wheels_alike(make_scene):
@@ -103,6 +129,7 @@ def test_written_profiles_give_the_same_separation(make_scene, tmp_path):
     ({"layers": None}, r"w.toml: wear.inelastic: true needs \[layers\]"),
     ({"method": {"normal": "magic"}}, r"w.toml: method.normal: must be one of"),
     ({"wear": {"usfd": {"rail": "R999"}}}, r"w.toml: wear.usfd.rail: unknown material"),
+    ({"wear": {"layer_state": "soft"}}, r"w.toml: wear.layer_state: must be 'hardening' or 'virgin'"),
     ({"collective": {"lateral_mm": [0.0], "weights": [1.0], "speed": 3}}, r"w.toml: collective.speed: unknown key"),
 ])
 def test_bad_input_names_the_key(tmp_path, wear_dict, over, match):
