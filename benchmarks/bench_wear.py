@@ -9,7 +9,6 @@ Base case: the shipped example scenes/wear/s1002_60e1.toml (S1002 on 60E1 1:40, 
 from __future__ import annotations
 
 import cProfile
-import dataclasses
 import pathlib
 import pstats
 import time

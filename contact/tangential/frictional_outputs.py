@@ -20,8 +20,8 @@ case, side, patch, region, pass) are written as the first columns.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from pathlib import Path
-from typing import Iterable
 
 import numpy as np
 

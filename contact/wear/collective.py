@@ -66,4 +66,4 @@ class LoadCollective:
         return self.distance_km / self.steps
 
 
-__all__ = ["Condition", "LoadCollective", "WEIGHT_SUM_TOL"]
+__all__ = ["WEIGHT_SUM_TOL", "Condition", "LoadCollective"]

@@ -17,7 +17,8 @@ depends on the regime (Jendel's map, as reproduced e.g. by Braghin et al. 2006 a
     K4  p <= 0.8 H, v_slip > 0.7 m/s     k = 1..10e-4      (mild, oxidative)
 
 The map gives ranges; the defaults are the middle of each range (350e-4, 5.5e-4, 35e-4, 5.5e-4) and each value is
-a scene key. (The map was built for dry contact; Enblom & Berg scale it down for wet and lubricated contact.) H defaults to 2550 MPa (260 HB, the minimum hardness of rail grade R260, 1 HB = 9.807 MPa) for both
+a scene key. (The map was built for dry contact; Enblom & Berg scale it down for wet and lubricated contact.)
+H defaults to 2550 MPa (260 HB, the minimum hardness of rail grade R260, 1 HB = 9.807 MPa) for both
 bodies; set it per body.
 
 USFD T-gamma law (Lewis & Dwyer-Joyce 2004; Braghin et al. 2006, Wear 261, 1253-1264)

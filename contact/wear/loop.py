@@ -36,24 +36,24 @@ A condition without contact, a solver failure or a profile that folds stops the 
 from __future__ import annotations
 
 import concurrent.futures as cf
-import sys
 import math
+import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
+from scipy.optimize import brentq
 
+from contact.passes.passes import PassesOptions
 from contact.wear.condition import BODIES, ConditionResult, ConditionTask, solve_condition
 from contact.wear.conicity import radius_difference
+from contact.wear.layer_state import HardenedTable
 from contact.wear.profile_grid import ArcGrid
 from contact.wear.scene import WearScene
-from contact.passes.passes import PassesOptions
 from contact.wheel_rail.contact_search import raw_min_gap
-from contact.wear.layer_state import HardenedTable
 from contact.wheel_rail.solve import WheelRailInputs, WheelRailLayers, rigid_roll
 from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
-from scipy.optimize import brentq
 from wrlayer.errors import ConvergenceError, InputError, WrLayerError
 
 MAX_STEP_FACTOR = 50  # at most this many times the nominal number of steps (step control guard)
@@ -163,7 +163,7 @@ def _roll(scene: WearScene, profiles: dict, pose: WheelsetPose) -> float:
     parsed = scene.parsed
     layout, settings = parsed["layout"], parsed["inputs"]["search"]
     if len(profiles) == 1:
-        (side, pr), = profiles.items()
+        (_side, pr), = profiles.items()
         return rigid_roll(place_rail(pr["rail"], layout), pr["wheel"], layout, pose, settings)
     placed = {s: place_rail(p["rail"], layout) for s, p in profiles.items()}
 
@@ -282,13 +282,16 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
     run = WearRun(scene, {s: dict(p) for s, p in profiles.items()},
                   radius_difference(profiles, layout, settings.conicity_amplitude_mm, parsed["inputs"]["search"]), [])
     done_km, step = 0.0, 0
-    state = {(s, b): (ArcGrid.of(p[b], settings.grid_mm).y_mm, np.zeros(ArcGrid.of(p[b], settings.grid_mm).y_mm.size))
-             for s, p in profiles.items() for b in BODIES}
+    state = {}  # (side, body) -> (profile coordinates y, largest peak pressure so far p_hist) for the layer state
+    for s, p in profiles.items():
+        for b in BODIES:
+            y_nodes = ArcGrid.of(p[b], settings.grid_mm).y_mm
+            state[s, b] = (y_nodes, np.zeros(y_nodes.size))
     n_tasks = len(col.conditions) * len(profiles)
     bar_steps = tqdm(total=col.steps, desc="wear steps", unit="step", disable=not show_progress, position=0,
                      file=sys.stderr)
-    bar_cond = tqdm(total=n_tasks, desc="conditions", unit="cond", disable=not show_progress, position=1, file=sys.stderr,
-                    leave=False)
+    bar_cond = tqdm(total=n_tasks, desc="conditions", unit="cond", disable=not show_progress, position=1,
+                    file=sys.stderr, leave=False)
     try:
         while done_km < col.distance_km * (1.0 - 1e-12):
             step += 1
@@ -334,7 +337,8 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
             rec = StepRecord(step, done_km, length, bodies, conic,
                              [{"condition": r.index, "side": r.side, "passes": r.passes, "shakedown": r.shakedown,
                                "seconds": r.seconds, "merge_mm": r.merge_mm, "patches": r.summary} for r in results],
-                             {"solve_s": t_solve, "update_s": t_update, "conditions_s": sum(r.seconds for r in results)},
+                             {"solve_s": t_solve, "update_s": t_update,
+                              "conditions_s": sum(r.seconds for r in results)},
                              new_profiles, notes)
             profiles = new_profiles
             done_km += length

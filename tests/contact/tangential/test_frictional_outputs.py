@@ -27,7 +27,7 @@ def test_fields_are_consistent():
     assert np.allclose(c["PT_W_per_mm2"], 1e-3 * 3000.0 * c["Tgamma_A_N_per_mm2"], rtol=1e-12)
     s = strip_fields(t, patch.x_lead_mm, patch.p_peak_MPa)
     assert np.allclose(s["Tgamma_A_mean_N_per_mm2"] * 2 * patch.x_lead_mm, t.WT_N_per_mm)
-    strips, cells = frictional_tables([({"pass": 1}, t, patch.y_mm, patch.x_lead_mm, patch.p_peak_MPa, {})])
+    _strips, cells = frictional_tables([({"pass": 1}, t, patch.y_mm, patch.x_lead_mm, patch.p_peak_MPa, {})])
     rows = list(csv.DictReader(io.StringIO("\n".join(cells.splitlines()[1:]))))
     assert len(rows) == patch.n_strips * 24
     total = sum(float(r["work_N_per_mm"]) * float(r["dx_mm"]) * 0.1 for r in rows)

@@ -55,7 +55,7 @@ def test_strip_depth_is_the_cell_sum(law):
     t = solve_tangential(patch, Creepage(0.003, 0.0, 0.0), 82000.0, 0.28, 0.3, 2000.0, nx=30)
     wl = WearLaw(law)
     cw = wear_of(t, wl)
-    work, slip, tga = cell_work(t)
+    _work, slip, tga = cell_work(t)
     if law == "archard":
         k = np.where(t.slip_velocity_mm_s * 1e-3 <= 0.2, 5.5e-4, 35e-4)
         hand = (k * t.pn_MPa * slip / 2550.0).sum(axis=1)

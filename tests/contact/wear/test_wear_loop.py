@@ -16,7 +16,6 @@ from meshes.profiles.io import read_profile, write_simpack
 from wrlayer.errors import InputError
 
 
-
 def test_wear_proportional_to_distance(make_scene):
     """A tiny distance in one step and in ten steps: same worn area and depth (the profile hardly changes)."""
     one = run_wear(make_scene(layers=None, wear={"distance_km": 0.02, "steps": 1, "inelastic": False}),
@@ -78,10 +77,10 @@ def test_inelastic_saturates_and_is_zero_without_layer(make_scene):
 
 def test_hardened_characteristic_residual_is_the_increment():
     """An element hardened to p_hist: no residual up to p_hist, u_p(p) - u_p(p_hist) beyond (eq. 8)."""
+    from pathlib import Path
+
     from contact.layer.layer_table import LayerTable
     from contact.wear.layer_state import hardened
-
-    from pathlib import Path
 
     table = LayerTable.read(Path(__file__).resolve().parents[3] / "scenes" / "tables" / "rail_60E1_default.json")
     c = table.characteristic_at(1.0)
@@ -94,7 +93,8 @@ def test_hardened_characteristic_residual_is_the_increment():
 
 
 def test_mirror_symmetric_collective_wears_both_wheels_alike(make_scene):
-    scene = make_scene(wheel={"side": "both"}, collective={"lateral_mm": [-2.0, 2.0], "yaw_rad": [-0.002, 0.002], "weights": "uniform"},
+    scene = make_scene(wheel={"side": "both"},
+                       collective={"lateral_mm": [-2.0, 2.0], "yaw_rad": [-0.002, 0.002], "weights": "uniform"},
                        wear={"distance_km": 200.0, "steps": 1, "inelastic": False}, layers=None)
     run = run_wear(scene, show_progress=False)
     b = run.steps[0].bodies
@@ -218,8 +218,8 @@ def test_shipped_example_parses_and_runs_a_short_distance(tmp_path):
 
 
 def test_local_processes_give_the_same_result(make_scene):
-    kw = dict(layers=None, collective={"lateral_mm": [0.0, 2.0], "weights": "uniform"},
-              wear={"distance_km": 50.0, "steps": 1, "inelastic": False})
+    kw = {"layers": None, "collective": {"lateral_mm": [0.0, 2.0], "weights": "uniform"},
+              "wear": {"distance_km": 50.0, "steps": 1, "inelastic": False}}
     one = run_wear(make_scene(**kw), show_progress=False)
     two = run_wear(make_scene(**{**kw, "wear": {**kw["wear"], "workers": 2}}), show_progress=False)
     a, b = one.steps[0].bodies["right", "wheel"].wear_mm, two.steps[0].bodies["right", "wheel"].wear_mm
