@@ -19,7 +19,8 @@ depends on the regime (Jendel's map, as reproduced e.g. by Braghin et al. 2006 a
 The map gives ranges; the defaults are the middle of each range (350e-4, 5.5e-4, 35e-4, 5.5e-4) and each value is
 a scene key. (The map was built for dry contact; Enblom & Berg scale it down for wet and lubricated contact.)
 H defaults to 2550 MPa (260 HB, the minimum hardness of rail grade R260, 1 HB = 9.807 MPa) for both
-bodies; set it per body.
+bodies; set it per body. The assignment of the ranges to the velocity bands follows the map as reproduced in the
+secondary literature (Jendel's figure itself was not available to check; see docs/wear.md).
 
 USFD T-gamma law (Lewis & Dwyer-Joyce 2004; Braghin et al. 2006, Wear 261, 1253-1264)
 --------------------------------------------------------------------------------------
