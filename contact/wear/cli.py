@@ -38,7 +38,8 @@ def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Tru
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out}", "exists and is not a folder")
     out.mkdir(parents=True, exist_ok=True)
-    for stale in list(out.glob("profiles/step_*")) + list(out.glob("depth/step_*")):
+    for stale in list(out.glob("profiles/step_*")) + list(out.glob("depth/step_*")) + \
+            [p for p in out.glob("calibration/step_*/**/*") if p.is_file()]:
         stale.unlink()  # an earlier run's steps would be mistaken for this run's
     files: dict[Any, Any] = {}
 
@@ -61,7 +62,7 @@ def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Tru
         return result_dict(run, files, status)
 
     try:
-        run = run_wear(scene, on_step=on_step, show_progress=show_progress)
+        run = run_wear(scene, on_step=on_step, show_progress=show_progress, work_dir=out)
     except WearStopped as stop:
         finish(stop.run, f"stopped: {stop.run.stopped}")
         raise

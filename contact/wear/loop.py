@@ -41,6 +41,7 @@ import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
@@ -179,22 +180,42 @@ def _roll(scene: WearScene, profiles: dict, pose: WheelsetPose) -> float:
             from None
 
 
-def side_layers(scene: WearScene, state: dict | None, side: str) -> WheelRailLayers | None:
-    """The layers of one side: the scene's, with every table position hardened to its largest peak pressure so
-    far (``state[(side, body)] = (y, p_hist)``) in the hardening mode."""
+def side_layers(scene: WearScene, state: dict | None, side: str, recalibrated: dict | None = None
+                ) -> WheelRailLayers | None:
+    """The layers of one side: the scene's (or the tables recalibrated on the worn profiles,
+    ``recalibrated[(side, body)]``), with every table position hardened to its largest peak pressure so far
+    (``state[(side, body)] = (y, p_hist)``) in the hardening mode."""
     layers = scene.parsed["layers"]
     if not scene.settings.inelastic or layers is None:
         return None
-    if scene.settings.layer_state != "hardening" or layers.combined is not None or not state:
+    if layers.combined is not None:
         return layers
+    recalibrated = recalibrated or {}
+    hardening = scene.settings.layer_state == "hardening" and state
     tables = {}
     for body in BODIES:
-        table = getattr(layers, body)
-        if table is not None and (side, body) in state:
+        table = recalibrated.get((side, body), getattr(layers, body))
+        if hardening and table is not None and (side, body) in state:
             y, p = state[side, body]
             table = HardenedTable(table, y, p)
         tables[body] = table
-    return WheelRailLayers(rail=tables["rail"], wheel=tables["wheel"], names=layers.names)
+    names = {**layers.names, **{b: f"recalibrated {b} table" for (s, b) in recalibrated if s == side}}
+    return WheelRailLayers(rail=tables["rail"], wheel=tables["wheel"], names=names)
+
+
+def _recalibrate(scene: WearScene, profiles: dict, step: int, work_dir: Path | None, recalibrated: dict) -> None:
+    """Recalibrate the tables of every side on its current profiles (contact.wear.recalibrate)."""
+    import tempfile
+
+    from contact.wear.recalibrate import recalibrate_side
+
+    base = Path(work_dir) if work_dir is not None else Path(tempfile.mkdtemp(prefix="wrlayer-recal-"))
+    for side, prof in profiles.items():
+        tables = recalibrate_side(scene.settings.recalibrate_template, prof,
+                                  base / "calibration" / f"step_{step:03d}_{side}", scene.settings.scheduler,
+                                  what=f"step {step}: wear.recalibrate ({side} side)")
+        for body, table in tables.items():
+            recalibrated[side, body] = table
 
 
 def update_state(state: dict, results: list[ConditionResult]) -> None:
@@ -211,8 +232,8 @@ def update_state(state: dict, results: list[ConditionResult]) -> None:
                 p[inside] = np.maximum(p[inside], np.interp(y[inside], ys, pk))
 
 
-def build_tasks(scene: WearScene, profiles: dict, step: int, step_km: float, state: dict | None = None
-                ) -> list[ConditionTask]:
+def build_tasks(scene: WearScene, profiles: dict, step: int, step_km: float, state: dict | None = None,
+                recalibrated: dict | None = None) -> list[ConditionTask]:
     """The (condition, side) tasks of a step on the current profiles (``state``: the layer state, see
     :func:`side_layers`)."""
     parsed = scene.parsed
@@ -233,7 +254,8 @@ def build_tasks(scene: WearScene, profiles: dict, step: int, step_km: float, sta
                                         "vertical_load_N": c.vertical_load_N, "speed_mm_s": c.speed_mm_s,
                                         "passes": PassesOptions(n_pass, opts.tolerance_mm, opts.hardening)})
             tasks.append(ConditionTask(k, side, c, profiles[side]["rail"], profiles[side]["wheel"], inputs,
-                                       side_layers(scene, state, side), scene.law, scene.normal, step))
+                                       side_layers(scene, state, side, recalibrated), scene.law, scene.normal,
+                                       step))
     return tasks
 
 
@@ -268,9 +290,10 @@ def _stats(grid: ArcGrid, wear: np.ndarray, inel: np.ndarray, length_km: float, 
 
 
 def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | None = None,
-             show_progress: bool = True) -> WearRun:
+             show_progress: bool = True, work_dir: Path | None = None) -> WearRun:
     """Run the loop (see the module docstring). ``on_step(record, run)`` is called after every completed step
-    (the CLI writes the step's files there). Raises :class:`WearStopped` naming the step on a failure."""
+    (the CLI writes the step's files there). Raises :class:`WearStopped` naming the step on a failure.
+    ``work_dir``: where recalibrations ([wear.recalibrate]) put their files (default: a temporary folder)."""
     from tqdm import tqdm
 
     from wrlayer.progress import progress_enabled
@@ -287,6 +310,7 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
         for b in BODIES:
             y_nodes = ArcGrid.of(p[b], settings.grid_mm).y_mm
             state[s, b] = (y_nodes, np.zeros(y_nodes.size))
+    recalibrated: dict = {}
     n_tasks = len(col.conditions) * len(profiles)
     bar_steps = tqdm(total=col.steps, desc="wear steps", unit="step", disable=not show_progress, position=0,
                      file=sys.stderr)
@@ -301,7 +325,7 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
             remaining_steps = max(1, col.steps - len(run.steps))
             nominal_km = (col.distance_km - done_km) / remaining_steps
             t0 = time.perf_counter()
-            tasks = build_tasks(scene, profiles, step, nominal_km, state)
+            tasks = build_tasks(scene, profiles, step, nominal_km, state, recalibrated)
             bar_cond.reset(total=len(tasks))
             results = map_tasks(tasks, settings.workers, settings.scheduler, on_done=lambda r: bar_cond.update(1))
             t_solve = time.perf_counter() - t0
@@ -343,6 +367,13 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
             profiles = new_profiles
             done_km += length
             run.steps.append(rec)
+            if (settings.recalibrate_every and step % settings.recalibrate_every == 0
+                    and done_km < col.distance_km * (1.0 - 1e-12)):
+                t2 = time.perf_counter()
+                _recalibrate(scene, profiles, step, work_dir, recalibrated)
+                rec.timings["recalibration_s"] = time.perf_counter() - t2
+                rec.notes.append(f"layer tables recalibrated on the profiles after step {step} "
+                                 f"({', '.join(sorted({f'{s} {b}' for s, b in recalibrated}))})")
             if on_step is not None:
                 on_step(rec, run)
             bar_steps.total = max(bar_steps.total, len(run.steps) + (1 if done_km < col.distance_km else 0))

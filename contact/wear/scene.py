@@ -22,6 +22,9 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.scene`: [profiles], [
                 conicity_amplitude_mm = 3.0                lateral amplitude of the rolling-radius difference
     [wear.archard.wheel], [wear.archard.rail]              ArchardMap keys (hardness_MPa, k_seizure, k_low_speed,
                                                            k_mid_speed, k_high_speed, v_low_m_s, v_high_m_s)
+    [wear.recalibrate] config = "template.toml", every_steps = 1   recalibrate the layer tables on the worn profiles
+                                                           (contact.wear.recalibrate; placeholders @wheel_profile@,
+                                                           @rail_profile@ in the calibration template)
     [wear.usfd]  wheel = "R8T", rail = "R8T"              a published material, or a table {t1, t2, mild_slope,
                                                            severe_rate, cat_slope, cat_offset}
     [collective] either [[collective.condition]] tables (lateral_mm, yaw_rad = 0, vertical_load_N and speed_mm_s
@@ -48,7 +51,7 @@ WHEEL_RAIL_SECTIONS = ("title", "description", "profiles", "track", "wheel", "wh
                        "tangential", "layers", "passes", "method")
 WEAR_KEYS = ("law", "distance_km", "steps", "max_depth_per_step_mm", "smoothing_mm", "grid_mm", "density_kg_m3",
              "rail_passes_per_wheel_pass", "inelastic", "layer_state", "workers", "scheduler", "conicity_amplitude_mm",
-             "archard",
+             "archard", "recalibrate",
              "usfd")
 ARCHARD_KEYS = ("hardness_MPa", "k_seizure", "k_low_speed", "k_mid_speed", "k_high_speed", "v_low_m_s",
                 "v_high_m_s", "seizure_pressure_ratio")
@@ -68,6 +71,9 @@ class WearSettings:
     workers: int = 1
     scheduler: str = ""
     conicity_amplitude_mm: float = 3.0
+    recalibrate_config: str = ""
+    recalibrate_template: str = ""
+    recalibrate_every: int = 0
 
 
 @dataclass(frozen=True)
@@ -121,6 +127,7 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
         workers=wear.integer("workers", 1, ge=1),
         scheduler=wear.text("scheduler", ""),
         conicity_amplitude_mm=wear.number("conicity_amplitude_mm", 3.0, gt=0.0))
+    settings = _recalibration(wear, scene_path.parent, settings, parsed)
     if settings.layer_state not in ("hardening", "virgin"):
         raise wear.error("layer_state", f"must be 'hardening' or 'virgin', got {settings.layer_state!r}")
     if settings.inelastic and parsed["layers"] is None:
@@ -141,6 +148,31 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     except InputError as err:
         raise InputError(err.what if err.what.startswith(file) else f"{file}: {err.what}", err.problem) from None
     return WearScene(scene_path, data, parsed, normal, law, collective, settings)
+
+
+def _recalibration(wear: SceneKeys, base: Path, settings: WearSettings, parsed: dict) -> WearSettings:
+    """[wear.recalibrate]: the calibration template (must use a placeholder) and the interval in steps."""
+    import dataclasses
+
+    from contact.wear.recalibrate import PLACEHOLDERS, template_bodies
+
+    sub = wear.sub("recalibrate") if "recalibrate" in wear.table else None
+    if sub is None:
+        return settings
+    sub.check_known(("config", "every_steps"))
+    rel = sub.text("config")
+    path = (base / rel).resolve()
+    if not path.is_file():
+        raise sub.error("config", f"no such calibration template {rel!r} (looked at {path})")
+    text = path.read_text(encoding="utf-8")
+    if not template_bodies(text):
+        raise sub.error("config", f"{rel} uses neither placeholder {' nor '.join(PLACEHOLDERS.values())} "
+                        "(where the worn profile files go)")
+    layers = parsed["layers"]
+    if layers is None or layers.combined is not None:
+        raise sub.error("config", "recalibration needs per-body [layers] tables (rail and/or wheel)")
+    return dataclasses.replace(settings, recalibrate_config=str(path), recalibrate_template=text,
+                               recalibrate_every=sub.integer("every_steps", 1, ge=1))
 
 
 def _law(wear: SceneKeys) -> WearLaw:
