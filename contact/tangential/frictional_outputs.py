@@ -20,6 +20,7 @@ case, side, patch, region, pass) are written as the first columns.
 
 from __future__ import annotations
 
+import io
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -62,34 +63,38 @@ def _fmt(v) -> str:
     return str(v) if isinstance(v, (str, int, np.integer)) else f"{float(v):.7g}"
 
 
+def _block(prefix: str, columns: list[np.ndarray]) -> str:
+    """Rows ``prefix`` + the columns (numbers, 7 significant digits), comma-separated."""
+    buf = io.StringIO()
+    np.savetxt(buf, np.column_stack([np.ravel(c).astype(float) for c in columns]), fmt="%.7g", delimiter=",")
+    return "".join(prefix + line + "\n" for line in buf.getvalue().splitlines())
+
+
 def frictional_tables(items: Iterable[tuple[dict, TangentialResult, np.ndarray, np.ndarray, np.ndarray, dict]]
                       ) -> tuple[str, str] | None:
     """CSV texts (strips, cells) of ``items``: (labels, result, strip y (mm, the frame to report), x_lead, p_peak,
     extra per-strip columns {name: (ny,) array}, e.g. profile coordinates). None when there is no result."""
-    strip_rows, cell_rows = [], []
+    strips, cells = [], []
     strip_head = cell_head = None
     for labels, t, y, xl, pk, extra in items:
         if t is None:
             continue
-        lab_names = list(labels)
-        extra_names = list(extra)
+        lab_names, extra_names = list(labels), list(extra)
         if strip_head is None:
             strip_head = lab_names + list(STRIP_COLUMNS[:1]) + extra_names + list(STRIP_COLUMNS[1:])
             cell_head = lab_names + list(CELL_COLUMNS[:1]) + extra_names + list(CELL_COLUMNS[1:])
-        lab = [_fmt(labels[k]) for k in lab_names]
-        s = strip_fields(t, xl, pk)
-        c = cell_fields(t)
+        prefix = "".join(_fmt(labels[k]) + "," for k in lab_names)
+        sf, cf = strip_fields(t, xl, pk), cell_fields(t)
         y = np.asarray(y, float)
-        for j in range(y.size):
-            ex = [_fmt(extra[k][j]) for k in extra_names]
-            strip_rows.append(",".join(lab + [_fmt(y[j])] + ex + [_fmt(s[k][j]) for k in STRIP_COLUMNS[1:]]))
-            for k in range(c["x_mm"].shape[1]):
-                cell_rows.append(",".join(lab + [_fmt(y[j])] + ex + [_fmt(c[n][j, k]) for n in CELL_COLUMNS[1:]]))
+        nx = cf["x_mm"].shape[1]
+        ex = [np.asarray(extra[k], float) for k in extra_names]
+        strips.append(_block(prefix, [y, *ex] + [sf[k] for k in STRIP_COLUMNS[1:]]))
+        cells.append(_block(prefix, [np.repeat(y, nx), *[np.repeat(e, nx) for e in ex]]
+                            + [np.broadcast_to(cf[n], cf["x_mm"].shape) for n in CELL_COLUMNS[1:]]))
     if strip_head is None:
         return None
     note = "# wrlayer frictional outputs; units mm, N, MPa, s, W (see contact/tangential/frictional_outputs.py)\n"
-    return (note + ",".join(strip_head) + "\n" + "\n".join(strip_rows) + "\n",
-            note + ",".join(cell_head) + "\n" + "\n".join(cell_rows) + "\n")
+    return (note + ",".join(strip_head) + "\n" + "".join(strips), note + ",".join(cell_head) + "\n" + "".join(cells))
 
 
 def write_tables(out_dir: Path, tables: tuple[str, str] | None) -> list[str]:
