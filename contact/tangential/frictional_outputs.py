@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contact.tangential.fastsim import TangentialResult
+from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
 from wrlayer.atomic_write import atomic_write_text
 
 STRIP_FILE = "frictional_strips.csv"
@@ -118,10 +118,23 @@ def write_scene_run(run, out_dir: Path) -> list[str]:
     return write_tables(out_dir, frictional_tables(items))
 
 
+def _pass_tangential(sol, p, normal) -> list:
+    """FASTSIM on every region of a later pass's normal solution, with the patch's creepages and the case's
+    material, friction, speed and cells (as the wheel–rail solver does for the first pass)."""
+    inp = sol.inputs
+    if inp.friction == 0:
+        return []
+    kin = p.kinematics
+    cr = Creepage(kin.vx, kin.vy, kin.phi_per_mm)
+    return [solve_tangential(r, cr, inp.G_MPa, inp.poisson, inp.friction, inp.speed_mm_s, nx=inp.fastsim_cells)
+            for r in normal.patches]
+
+
 def write_wheel_rail(sols: list, out_dir: Path) -> list[str]:
     """Wheel–rail scene: ``sols[case] = {side: WheelRailSolution}`` (None for a failed case); the FASTSIM solution of
-    each patch region (the first pass, the one the solver's tangential problem is solved for), strips in the patch's
-    strip coordinate with their rail and wheel profile coordinates."""
+    each patch region in every pass (pass 1: the solver's own; later passes: FASTSIM on that pass's normal
+    solution with the same creepages), strips in the patch's strip coordinate with their rail and wheel profile
+    coordinates."""
     items = []
     for k, case in enumerate(sols):
         if not case:
@@ -129,11 +142,14 @@ def write_wheel_rail(sols: list, out_dir: Path) -> list[str]:
         for side, sol in case.items():
             for ip, p in enumerate(sol.patches):
                 grid = p.problem.strip_y_mm
-                for ir, (patch, t) in enumerate(zip(p.normal.patches, p.tangential)):
-                    extra = {"y_rail_mm": np.interp(patch.y_mm, grid, p.rail_y_of_strip),
-                             "y_wheel_mm": np.interp(patch.y_mm, grid, p.wheel_y_of_strip)}
-                    items.append(({"case": k, "side": side, "patch": ip, "region": ir, "pass": 1}, t, patch.y_mm,
-                                  patch.x_lead_mm, patch.p_peak_MPa, extra))
+                normals = getattr(p, "pass_normals", None) or [p.normal]
+                for npass, normal in enumerate(normals, start=1):
+                    tang = p.tangential if npass == 1 else _pass_tangential(sol, p, normal)
+                    for ir, (patch, t) in enumerate(zip(normal.patches, tang)):
+                        extra = {"y_rail_mm": np.interp(patch.y_mm, grid, p.rail_y_of_strip),
+                                 "y_wheel_mm": np.interp(patch.y_mm, grid, p.wheel_y_of_strip)}
+                        items.append(({"case": k, "side": side, "patch": ip, "region": ir, "pass": npass}, t,
+                                      patch.y_mm, patch.x_lead_mm, patch.p_peak_MPa, extra))
     return write_tables(out_dir, frictional_tables(items))
 
 

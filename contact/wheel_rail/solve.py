@@ -148,6 +148,7 @@ class PatchSolution:
     wheel_y_of_strip: np.ndarray | None = None
     residual_mm: dict = field(default_factory=dict)
     clamped_strips: dict = field(default_factory=dict)
+    pass_normals: list = field(default_factory=list, repr=False)  # normal solution of every pass (wear outputs)
 
     @property
     def Fx_N(self) -> float:
@@ -361,6 +362,7 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
                               kin, tang, records, coords.get("rail"), coords.get("wheel"),
                               {} if not records else {k: np.asarray(v) for k, v in
                                                       records[-1].cumulative_residual_mm.items()}, clamped)
+        patch.pass_normals = holder if pair is not None else [sol]
         if pair is not None:
             _check_coverage(patch, layers)
         patches.append(patch)

@@ -55,3 +55,24 @@ def test_kik_piotrowski_scene_writes_every_pass(tmp_path):
         (tmp_path / "kp" / "frictional_strips.csv").read_text().splitlines()[1:]))))
     assert {int(r["pass"]) for r in rows} == set(range(1, res["n_passes"] + 1))
     assert res["frictional_outputs"] == ["frictional_strips.csv", "frictional_cells.csv"]
+
+
+def test_wheel_rail_scene_writes_every_pass(tmp_path):
+    from pathlib import Path
+
+    tables = Path(__file__).resolve().parents[3] / "scenes" / "tables"
+    scene = tmp_path / "s.toml"
+    scene.write_text('type = "wheel_rail"\n[wheel]\nside = "right"\n[load]\nvertical_load_N = 80000.0\n'
+                     f'[layers]\nrail = "{tables / "rail_60E1_default.json"}"\n'
+                     f'wheel = "{tables / "wheel_S1002_default.json"}"\n'
+                     '[passes]\nmax = 3\n[method]\ngrid_mm = 0.2\nfastsim_cells = 10\n'
+                     '[wheelset]\nlateral_mm = 2.0\nyaw_rad = 0.002\n')
+    assert main(["simulate", str(scene), "--out", str(tmp_path / "wr")]) == 0
+    import json
+
+    res = json.loads((tmp_path / "wr" / "result.json").read_text())
+    n_passes = len(res["cases"][0]["wheels"]["right"]["patches"][0]["passes"])
+    assert n_passes > 1
+    rows = list(csv.DictReader(io.StringIO("\n".join(
+        (tmp_path / "wr" / "frictional_strips.csv").read_text().splitlines()[1:]))))
+    assert {int(r["pass"]) for r in rows if r["patch"] == "0"} == set(range(1, n_passes + 1))
