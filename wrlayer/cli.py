@@ -50,6 +50,7 @@ def parser(prog: str, description: str, examples: Sequence[str]) -> argparse.Arg
 COMMANDS = {
     "simulate": ("contact.__main__", ["simulate"], "run one contact scene (Kik-Piotrowski or wheel-rail)"),
     "simulate-all": ("contact.__main__", ["simulate-all"], "run every scene of a folder and print a Table 1"),
+    "wear": ("contact.__main__", ["wear"], "wear simulation: profiles evolving by wear and inelastic displacement"),
     "calibrate": ("calibration.__main__", ["run"], "FEM calibration of layer tables from a TOML configuration"),
     "mesh": ("meshes.__main__", ["mesh"], "mesh a profile section (2D) or local block (3D)"),
     "mesh-plots": ("meshes.__main__", ["plots"], "pictures of the default meshes"),
