@@ -93,15 +93,17 @@ def test_hardened_characteristic_residual_is_the_increment():
 
 
 def test_mirror_symmetric_collective_wears_both_wheels_alike(make_scene):
-    scene = make_scene(wheel={"side": "both"},
+    """Both wheels, rigid-wheelset roll, layers with their state, two steps: wear and inelastic depth alike."""
+    scene = make_scene(wheel={"side": "both"}, wheelset={"roll_rad": "auto"}, load={"vertical_load_N": 80000.0},
                        collective={"lateral_mm": [-2.0, 2.0], "yaw_rad": [-0.002, 0.002], "weights": "uniform"},
-                       wear={"distance_km": 200.0, "steps": 1, "inelastic": False}, layers=None)
+                       wear={"distance_km": 400.0, "steps": 2})
     run = run_wear(scene, show_progress=False)
-    b = run.steps[0].bodies
-    for body in BODIES:
-        r, l = b["right", body], b["left", body]
-        assert r.wear_mm.max() > 0
-        assert np.allclose(r.wear_mm, l.wear_mm, rtol=1e-9, atol=1e-12 * r.wear_mm.max())
+    for step in run.steps:
+        for body in BODIES:
+            r, l = step.bodies["right", body], step.bodies["left", body]
+            assert r.wear_mm.max() > 0 and r.inelastic_mm.max() > 0
+            assert np.max(np.abs(r.wear_mm - l.wear_mm)) < 1e-9 * r.wear_mm.max()
+            assert np.max(np.abs(r.inelastic_mm - l.inelastic_mm)) < 1e-9 * r.inelastic_mm.max()
 
 
 def test_written_profiles_give_the_same_separation(make_scene, tmp_path):
