@@ -269,3 +269,11 @@ positions_mm = [-25.0, -12.0, 0.0, 12.0, 25.0]
     bad.write_text('[[bodies]]\nbody = "wheel"\nprofile = "S1002"\n')
     with pytest.raises(InputError, match="wear.recalibrate.config: .*placeholder"):
         make_scene(wear={"recalibrate": {"config": str(bad)}})
+
+
+def test_folding_worn_profile_stops_naming_the_step(make_scene):
+    """An absurd step (no step control, no smoothing) folds the profile: a clear stop at step 1."""
+    scene = make_scene(layers=None, wear={"distance_km": 200000.0, "steps": 1, "max_depth_per_step_mm": 1000.0,
+                                          "inelastic": False})
+    with pytest.raises(WearStopped, match=r"stopped at step 1 .*step 1: right wheel profile: .*non-monotone"):
+        run_wear(scene, show_progress=False)
