@@ -20,10 +20,13 @@ def _keys(run: WearRun) -> list[tuple[str, str]]:
 
 
 def plot_profiles(run: WearRun, path: Path) -> Path:
+    """Top: the profiles after every step over the initial one (zoomed on the changed part). Bottom: the total
+    change (normal distance from the initial profile, material removed positive) after every step."""
     keys = _keys(run)
-    fig, axes = plt.subplots(1, len(keys), figsize=(4.2 * len(keys), 4.0), squeeze=False)
+    fig, axes = plt.subplots(2, len(keys), figsize=(4.2 * len(keys), 6.5), squeeze=False, sharex="col")
     cmap = plt.get_cmap("viridis")
-    for ax, (s, b) in zip(axes[0], keys):
+    for col, (s, b) in enumerate(keys):
+        ax, ax2 = axes[0][col], axes[1][col]
         first = run.initial_profiles[s][b]
         changed = np.zeros(0)
         for rec in run.steps:
@@ -36,15 +39,22 @@ def plot_profiles(run: WearRun, path: Path) -> Path:
         ax.plot(y, first.z(y), "k-", lw=1.2, label="initial")
         for k, rec in enumerate(run.steps):
             prof = rec.profiles[s][b]
+            c = cmap((k + 1) / max(1, len(run.steps)))
             yy = y[(y >= prof.y_min) & (y <= prof.y_max)]
-            ax.plot(yy, prof.z(yy), color=cmap((k + 1) / max(1, len(run.steps))), lw=0.9,
-                    label=f"{rec.end_km:.0f} km")
+            ax.plot(yy, prof.z(yy), color=c, lw=0.9, label=f"{rec.end_km:.0f} km")
+            pts = prof.points if hasattr(prof, "points") else np.column_stack(prof.sample(0.2))
+            pts = pts[(pts[:, 0] >= y[0]) & (pts[:, 0] <= y[-1])]
+            if pts.size:
+                d, _ = first.signed_distance(pts)
+                ax2.plot(pts[:, 0], np.abs(d) * 1e3, color=c, lw=0.9)
         ax.set_title(f"{s} {b}")
-        ax.set_xlabel("y (mm)")
         ax.set_ylabel("z (mm)")
         ax.grid(alpha=0.3)
+        ax2.set_xlabel("y (mm)")
+        ax2.set_ylabel(f"total change ({MICRO_M})")
+        ax2.grid(alpha=0.3)
     axes[0][0].legend(fontsize=7)
-    fig.suptitle("profile evolution (zoomed on the changed part)")
+    fig.suptitle("profile evolution: profiles (top) and total change from the initial profile (bottom)")
     fig.tight_layout()
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
