@@ -277,3 +277,23 @@ def test_folding_worn_profile_stops_naming_the_step(make_scene):
                                           "inelastic": False})
     with pytest.raises(WearStopped, match=r"stopped at step 1 .*step 1: right wheel profile: .*non-monotone"):
         run_wear(scene, show_progress=False)
+
+
+def test_cli_writes_profiles_table_pictures(tmp_path, wear_dict):
+    data = wear_dict(layers=None, wear={"distance_km": 40.0, "steps": 2, "inelastic": False})
+    scene_file = tmp_path / "w.toml"
+    scene_file.write_text(_toml(data))
+    out = tmp_path / "out"
+    assert main(["wear", str(scene_file), "--out", str(out), "--quiet"]) == 0
+    res = json.loads((out / "result.json").read_text())
+    assert res["status"] == "complete" and len(res["steps"]) == 2
+    assert set(res["pictures"]) == {"profile_evolution.png", "depth_per_step.png", "rolling_radius_difference.png"}
+    for name in res["pictures"]:
+        assert (out / name).read_bytes()[:4] == b"\x89PNG"
+    for step in res["steps"]:
+        for f in step["files"]:
+            assert f["read_back_max_error_mm"] < 1e-9
+            assert all((out / name).is_file() for name in f["files"])
+    back = read_profile(out / "profiles" / "step_002_right_rail.prr")
+    assert back.body == "rail"
+    assert len((out / "steps.csv").read_text().strip().splitlines()) == 1 + 2 * 2
