@@ -297,3 +297,19 @@ def test_cli_writes_profiles_table_pictures(tmp_path, wear_dict):
     back = read_profile(out / "profiles" / "step_002_right_rail.prr")
     assert back.body == "rail"
     assert len((out / "steps.csv").read_text().strip().splitlines()) == 1 + 2 * 2
+
+
+def test_area_between_profiles_equals_worn_area(make_scene):
+    """The updated profile encloses the worn area: integral of z_old - z_new over y (rail; wheel: opposite sign)
+    equals the worn area on the grid up to the curvature term (depth x curvature: < 0.5 % here)."""
+    run = run_wear(make_scene(layers=None, wear={"distance_km": 300.0, "steps": 1, "inelastic": False,
+                                                 "smoothing_mm": 1.0}), show_progress=False)
+    step = run.steps[0]
+    for body, sign in (("rail", 1.0), ("wheel", -1.0)):
+        old, new = run.initial_profiles["right"][body], step.profiles["right"][body]
+        lo, hi = max(old.y_min, new.y_min) + 1.0, min(old.y_max, new.y_max) - 1.0
+        y = np.linspace(lo, hi, 200001)
+        area = sign * np.trapezoid(old.z(y) - new.z(y), y)
+        worn = step.bodies["right", body].stats["worn_area_mm2"]
+        assert worn > 0.1
+        assert area == pytest.approx(worn, rel=5e-3)
