@@ -93,8 +93,9 @@ def frictional_tables(items: Iterable[tuple[dict, TangentialResult, np.ndarray, 
                             + [np.broadcast_to(cf[n], cf["x_mm"].shape) for n in CELL_COLUMNS[1:]]))
     if strip_head is None:
         return None
-    note = "# wrlayer frictional outputs; units mm, N, MPa, s, W (see contact/tangential/frictional_outputs.py)\n"
-    return (note + ",".join(strip_head) + "\n" + "".join(strips), note + ",".join(cell_head) + "\n" + "".join(cells))
+    # plain CSV (header line, no comment line: numpy.genfromtxt(names=True), pandas and spreadsheets read it);
+    # the units are in the column names
+    return ",".join(strip_head) + "\n" + "".join(strips), ",".join(cell_head) + "\n" + "".join(cells)
 
 
 def write_tables(out_dir: Path, tables: tuple[str, str] | None) -> list[str]:

@@ -69,8 +69,7 @@ def write_step(out_dir: Path, rec: StepRecord) -> list[dict]:
                          zip(g.y_mm, g.s_mm, g.z_mm, bs.wear_mm, bs.inelastic_mm))
         path = out_dir / "depth" / f"{stem}.csv"
         path.parent.mkdir(parents=True, exist_ok=True)
-        atomic_write_text(path, f"# step {rec.index} ({rec.start_km:.6g}..{rec.end_km:.6g} km), {s} {b}; mm\n"
-                                f"y_mm,s_mm,z_before_mm,wear_mm,inelastic_mm\n{rows}\n")
+        atomic_write_text(path, f"y_mm,s_mm,z_before_mm,wear_mm,inelastic_mm\n{rows}\n")  # step: see result.json
         info["depth_file"] = str(path.relative_to(out_dir))
         written.append({"side": s, "body": b, **info})
     return written

@@ -28,7 +28,7 @@ def test_fields_are_consistent():
     s = strip_fields(t, patch.x_lead_mm, patch.p_peak_MPa)
     assert np.allclose(s["Tgamma_A_mean_N_per_mm2"] * 2 * patch.x_lead_mm, t.WT_N_per_mm)
     _strips, cells = frictional_tables([({"pass": 1}, t, patch.y_mm, patch.x_lead_mm, patch.p_peak_MPa, {})])
-    rows = list(csv.DictReader(io.StringIO("\n".join(cells.splitlines()[1:]))))
+    rows = list(csv.DictReader(io.StringIO(cells)))
     assert len(rows) == patch.n_strips * 24
     total = sum(float(r["work_N_per_mm"]) * float(r["dx_mm"]) * 0.1 for r in rows)
     assert total == pytest.approx(float(np.sum(t.WT_N_per_mm * 0.1 * t.dx_mm)), rel=1e-5)
@@ -51,8 +51,7 @@ def test_kik_piotrowski_scene_writes_every_pass(tmp_path):
     import json
 
     res = json.loads((tmp_path / "kp" / "result.json").read_text())
-    rows = list(csv.DictReader(io.StringIO("\n".join(
-        (tmp_path / "kp" / "frictional_strips.csv").read_text().splitlines()[1:]))))
+    rows = list(csv.DictReader(io.StringIO((tmp_path / "kp" / "frictional_strips.csv").read_text())))
     assert {int(r["pass"]) for r in rows} == set(range(1, res["n_passes"] + 1))
     assert res["frictional_outputs"] == ["frictional_strips.csv", "frictional_cells.csv"]
 
@@ -73,6 +72,14 @@ def test_wheel_rail_scene_writes_every_pass(tmp_path):
     res = json.loads((tmp_path / "wr" / "result.json").read_text())
     n_passes = len(res["cases"][0]["wheels"]["right"]["patches"][0]["passes"])
     assert n_passes > 1
-    rows = list(csv.DictReader(io.StringIO("\n".join(
-        (tmp_path / "wr" / "frictional_strips.csv").read_text().splitlines()[1:]))))
+    rows = list(csv.DictReader(io.StringIO((tmp_path / "wr" / "frictional_strips.csv").read_text())))
     assert {int(r["pass"]) for r in rows if r["patch"] == "0"} == set(range(1, n_passes + 1))
+
+
+def test_csv_reads_with_numpy_header_names():
+    patch, t = _result()
+    strips, cells = frictional_tables([({"case": 0, "pass": 1}, t, patch.y_mm, patch.x_lead_mm, patch.p_peak_MPa,
+                                        {})])
+    arr = np.genfromtxt(io.StringIO(cells), delimiter=",", names=True)
+    assert arr.size == patch.n_strips * 24
+    assert np.allclose(arr["PT_W_per_mm2"], 1e-3 * 3000.0 * arr["Tgamma_A_N_per_mm2"], rtol=1e-5, atol=1e-12)
