@@ -119,44 +119,69 @@ def passes_per_km(scene: WearScene) -> dict:
     return {"wheel": n, "rail": n * scene.settings.rail_passes_per_wheel_pass}
 
 
+class TaskRunner:
+    """Runs condition tasks in-process (workers = 1), on a pool of local processes (spawn; kept for all steps) or
+    on a Dask cluster (``scheduler`` address, the same option as calibration; one thread per worker is the
+    cluster's setting; the client is kept for all steps). Use as a context manager."""
+
+    def __init__(self, workers: int = 1, scheduler: str = ""):
+        self.workers, self.scheduler = int(workers), scheduler
+        self._pool = self._client = None
+
+    def __enter__(self) -> TaskRunner:
+        if self.scheduler:
+            try:
+                from distributed import Client
+            except ImportError:
+                raise InputError("wear.scheduler", "needs the 'distributed' package (pip install "
+                                 "dask[distributed])") from None
+            try:
+                self._client = Client(self.scheduler, timeout="20s")
+            except (OSError, TimeoutError, ValueError) as err:
+                raise InputError("wear.scheduler", f"cannot connect to the Dask scheduler {self.scheduler!r}: "
+                                 f"{err}") from None
+        elif self.workers > 1:
+            import multiprocessing as mp
+
+            self._pool = cf.ProcessPoolExecutor(max_workers=self.workers, mp_context=mp.get_context("spawn"))
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._client is not None:
+            self._client.close()
+        if self._pool is not None:
+            self._pool.shutdown(cancel_futures=True)
+
+    def map(self, tasks: list[ConditionTask], on_done: Callable[[ConditionResult], None] | None = None
+            ) -> list[ConditionResult]:
+        """Results in task order; the first failure is re-raised."""
+        done: dict[int, ConditionResult] = {}
+        id_of = {(t.index, t.side): k for k, t in enumerate(tasks)}
+
+        def finish(res: ConditionResult):
+            done[id_of[res.index, res.side]] = res
+            if on_done is not None:
+                on_done(res)
+
+        if self._client is not None:
+            from distributed import as_completed
+
+            for fut in as_completed([self._client.submit(solve_condition, t, pure=False) for t in tasks]):
+                finish(fut.result())
+        elif self._pool is not None and len(tasks) > 1:
+            for fut in cf.as_completed([self._pool.submit(solve_condition, t) for t in tasks]):
+                finish(fut.result())
+        else:
+            for t in tasks:
+                finish(solve_condition(t))
+        return [done[k] for k in range(len(tasks))]
+
+
 def map_tasks(tasks: list[ConditionTask], workers: int = 1, scheduler: str = "",
               on_done: Callable[[ConditionResult], None] | None = None) -> list[ConditionResult]:
-    """Solve the tasks in-process (workers = 1), on local processes (spawn) or on a Dask cluster (``scheduler``
-    address; the same option as calibration; one thread per worker is the cluster's setting). Results in task
-    order; the first failure is re-raised."""
-    done: dict[int, ConditionResult] = {}
-
-    def finish(res: ConditionResult):
-        done[id_of[res.index, res.side]] = res
-        if on_done is not None:
-            on_done(res)
-
-    id_of = {(t.index, t.side): k for k, t in enumerate(tasks)}
-    if scheduler:
-        try:
-            from distributed import Client, as_completed
-        except ImportError:
-            raise InputError("wear.scheduler", "needs the 'distributed' package (pip install dask[distributed])") \
-                from None
-        try:
-            client = Client(scheduler, timeout="20s")
-        except (OSError, TimeoutError, ValueError) as err:
-            raise InputError("wear.scheduler", f"cannot connect to the Dask scheduler {scheduler!r}: {err}") from None
-        with client:
-            futures = [client.submit(solve_condition, t, pure=False) for t in tasks]
-            for fut in as_completed(futures):
-                finish(fut.result())
-    elif workers > 1 and len(tasks) > 1:
-        import multiprocessing as mp
-
-        with cf.ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=mp.get_context("spawn")) as pool:
-            futures = [pool.submit(solve_condition, t) for t in tasks]
-            for fut in cf.as_completed(futures):
-                finish(fut.result())
-    else:
-        for t in tasks:
-            finish(solve_condition(t))
-    return [done[k] for k in range(len(tasks))]
+    """Solve the tasks once (see :class:`TaskRunner`)."""
+    with TaskRunner(workers, scheduler) as runner:
+        return runner.map(tasks, on_done)
 
 
 def _roll(scene: WearScene, profiles: dict, pose: WheelsetPose) -> float:
@@ -312,6 +337,7 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
             state[s, b] = (y_nodes, np.zeros(y_nodes.size))
     recalibrated: dict = {}
     n_tasks = len(col.conditions) * len(profiles)
+    runner = TaskRunner(settings.workers, settings.scheduler).__enter__()  # a bad scheduler fails before step 1
     bar_steps = tqdm(total=col.steps, desc="wear steps", unit="step", disable=not show_progress, position=0,
                      file=sys.stderr)
     bar_cond = tqdm(total=n_tasks, desc="conditions", unit="cond", disable=not show_progress, position=1,
@@ -327,7 +353,7 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
             t0 = time.perf_counter()
             tasks = build_tasks(scene, profiles, step, nominal_km, state, recalibrated)
             bar_cond.reset(total=len(tasks))
-            results = map_tasks(tasks, settings.workers, settings.scheduler, on_done=lambda r: bar_cond.update(1))
+            results = runner.map(tasks, on_done=lambda r: bar_cond.update(1))
             t_solve = time.perf_counter() - t0
             update_state(state, results)
             t1 = time.perf_counter()
@@ -383,10 +409,11 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
         raise WearStopped(f"wear loop stopped at step {step} after {done_km:.6g} km ({len(run.steps)} completed steps "
                           f"kept): {err}", run) from None
     finally:
+        runner.__exit__(None, None, None)
         bar_cond.close()
         bar_steps.close()
     return run
 
 
-__all__ = ["BodyStep", "StepRecord", "WearRun", "WearStopped", "build_tasks", "map_tasks", "passes_per_km",
-           "run_wear"]
+__all__ = ["BodyStep", "StepRecord", "TaskRunner", "WearRun", "WearStopped", "build_tasks", "map_tasks",
+           "passes_per_km", "run_wear"]
