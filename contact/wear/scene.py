@@ -207,10 +207,11 @@ def _law(wear: SceneKeys) -> WearLaw:
         else:
             keys = sub.sub(body)
             keys.check_known(USFD_KEYS)
+            vals = {k: keys.number(k) for k in USFD_KEYS}
             try:
-                usfd[body] = UsfdTable(name=f"custom {body}", **{k: keys.number(k) for k in USFD_KEYS})
+                usfd[body] = UsfdTable(name=f"custom {body}", **vals)
             except InputError as err:
-                raise InputError(keys.what(err.what), err.problem) from None
+                raise InputError(sub.what(body), err.problem) from None
     return WearLaw(name, archard, usfd, wear.number("density_kg_m3", 7850.0, gt=0.0))
 
 
