@@ -125,6 +125,16 @@ def run(mode: str, out: pathlib.Path) -> dict:
                                   "smoothing_mm": sigma}), show_progress=False)
         smooth.append({"smoothing_mm": sigma, **_deviation(r)})
 
+    # the two wear laws on the same first step (rates on the new profiles)
+    laws = []
+    for law in ("archard", "usfd"):
+        r = run_wear(_scene(wear={"law": law, **one_step["wear"]}), show_progress=False)
+        st = r.steps[0]
+        for body in ("wheel", "rail"):
+            b = st.bodies["right", body]
+            laws.append({"law": law, "body": body, "max_mm_per_1000km": b.stats["wear_max_mm"] / st.length_km * 1e3,
+                         "area_mm2_per_1000km": b.stats["worn_area_mm2"] / st.length_km * 1e3})
+
     fig, ax = plt.subplots(1, 2, figsize=(9, 3.5))
     ax[0].plot(n_conds, t_cond, "o-")
     ax[0].set_xlabel("conditions (x 2 wheels)")
@@ -155,8 +165,11 @@ def run(mode: str, out: pathlib.Path) -> dict:
            "|---|---|---|---|"]
     md += [f"| {c['smoothing_mm']} | {c['right_wheel_max_change_mm']:.4f} | {c['right_rail_max_change_mm']:.4f} | "
            f"{c['delta_r_mm']:.4f} |" for c in smooth]
+    md += ["", "| law (first step, right side) | body | max wear mm per 1000 km | worn area mm^2 per 1000 km |",
+           "|---|---|---|---|"]
+    md += [f"| {c['law']} | {c['body']} | {c['max_mm_per_1000km']:.4f} | {c['area_mm2_per_1000km']:.3f} |" for c in laws]
     return {"title": "Wear loop: time per step, split, step and smoothing convergence", "markdown": "\n".join(md),
             "figures": [str(fig_path)],
             "data": {"conditions": list(n_conds), "time_per_step_s": t_cond,
                      "grids": [list(g) for g in grids], "time_per_step_grid_s": t_grid, "split_s": split,
-                     "step_convergence": conv, "smoothing": smooth}}
+                     "step_convergence": conv, "smoothing": smooth, "laws": laws}}
