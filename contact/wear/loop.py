@@ -4,7 +4,7 @@ update the profiles, repeat (units mm, N, MPa, s; distances in km).
 Per step
 --------
 1. Every condition c of the collective is solved on every simulated side (:mod:`contact.wear.condition`), on local
-   processes or a Dask cluster (:func:`map_tasks`). Each condition runs min(passes cap, its passes in the step)
+   processes or a Dask cluster (:mod:`contact.wear.runner`). Each condition runs min(passes cap, its passes in the step)
    passes of the layer machinery (:mod:`contact.passes.passes`).
 2. Abrasive wear is linear in distance for a fixed profile: a wheel point passes the contact once per revolution,
    n_w = 1e6 / (2 pi r0) passes per km (r0: the nominal rolling radius); a rail section sees
@@ -35,7 +35,6 @@ A condition without contact, a solver failure or a profile that folds stops the 
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import math
 import sys
 import time
@@ -47,10 +46,11 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact.passes.passes import PassesOptions
-from contact.wear.condition import BODIES, ConditionResult, ConditionTask, solve_condition
+from contact.wear.condition import BODIES, ConditionResult, ConditionTask
 from contact.wear.conicity import radius_difference
 from contact.wear.layer_state import HardenedTable
 from contact.wear.profile_grid import ArcGrid
+from contact.wear.runner import TaskRunner, map_tasks
 from contact.wear.scene import WearScene
 from contact.wheel_rail.contact_search import raw_min_gap
 from contact.wheel_rail.solve import WheelRailInputs, WheelRailLayers, rigid_roll
@@ -117,71 +117,6 @@ def passes_per_km(scene: WearScene) -> dict:
     r0 = scene.parsed["layout"].nominal_radius_mm
     n = 1e6 / (2.0 * math.pi * r0)
     return {"wheel": n, "rail": n * scene.settings.rail_passes_per_wheel_pass}
-
-
-class TaskRunner:
-    """Runs condition tasks in-process (workers = 1), on a pool of local processes (spawn; kept for all steps) or
-    on a Dask cluster (``scheduler`` address, the same option as calibration; one thread per worker is the
-    cluster's setting; the client is kept for all steps). Use as a context manager."""
-
-    def __init__(self, workers: int = 1, scheduler: str = ""):
-        self.workers, self.scheduler = int(workers), scheduler
-        self._pool = self._client = None
-
-    def __enter__(self) -> TaskRunner:
-        if self.scheduler:
-            try:
-                from distributed import Client
-            except ImportError:
-                raise InputError("wear.scheduler", "needs the 'distributed' package (pip install "
-                                 "dask[distributed])") from None
-            try:
-                self._client = Client(self.scheduler, timeout="20s")
-            except (OSError, TimeoutError, ValueError) as err:
-                raise InputError("wear.scheduler", f"cannot connect to the Dask scheduler {self.scheduler!r}: "
-                                 f"{err}") from None
-        elif self.workers > 1:
-            import multiprocessing as mp
-
-            self._pool = cf.ProcessPoolExecutor(max_workers=self.workers, mp_context=mp.get_context("spawn"))
-        return self
-
-    def __exit__(self, *exc) -> None:
-        if self._client is not None:
-            self._client.close()
-        if self._pool is not None:
-            self._pool.shutdown(cancel_futures=True)
-
-    def map(self, tasks: list[ConditionTask], on_done: Callable[[ConditionResult], None] | None = None
-            ) -> list[ConditionResult]:
-        """Results in task order; the first failure is re-raised."""
-        done: dict[int, ConditionResult] = {}
-        id_of = {(t.index, t.side): k for k, t in enumerate(tasks)}
-
-        def finish(res: ConditionResult):
-            done[id_of[res.index, res.side]] = res
-            if on_done is not None:
-                on_done(res)
-
-        if self._client is not None:
-            from distributed import as_completed
-
-            for fut in as_completed([self._client.submit(solve_condition, t, pure=False) for t in tasks]):
-                finish(fut.result())
-        elif self._pool is not None and len(tasks) > 1:
-            for fut in cf.as_completed([self._pool.submit(solve_condition, t) for t in tasks]):
-                finish(fut.result())
-        else:
-            for t in tasks:
-                finish(solve_condition(t))
-        return [done[k] for k in range(len(tasks))]
-
-
-def map_tasks(tasks: list[ConditionTask], workers: int = 1, scheduler: str = "",
-              on_done: Callable[[ConditionResult], None] | None = None) -> list[ConditionResult]:
-    """Solve the tasks once (see :class:`TaskRunner`)."""
-    with TaskRunner(workers, scheduler) as runner:
-        return runner.map(tasks, on_done)
 
 
 def _roll(scene: WearScene, profiles: dict, pose: WheelsetPose) -> float:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from contact.__main__ import main
-from contact.wear import loop as loop_mod
+from contact.wear import condition as condition_mod
 from contact.wear.condition import BODIES
 from contact.wear.loop import WearStopped, build_tasks, map_tasks, passes_per_km, run_wear
 from contact.wear.profile_grid import ArcGrid
@@ -155,14 +155,14 @@ def test_stop_keeps_completed_steps(tmp_path, wear_dict, monkeypatch, capsys):
     data = wear_dict(layers=None, wear={"distance_km": 20.0, "steps": 2, "inelastic": False})
     scene_file = tmp_path / "w.toml"
     scene_file.write_text(_toml(data))
-    real = loop_mod.solve_condition
+    real = condition_mod.solve_condition
 
     def failing(task):
         if task.step == 2:
             raise InputError(f"step {task.step}, condition {task.index}", "synthetic failure")
         return real(task)
 
-    monkeypatch.setattr(loop_mod, "solve_condition", failing)
+    monkeypatch.setattr(condition_mod, "solve_condition", failing)
     rc = main(["wear", str(scene_file), "--out", str(tmp_path / "out"), "--quiet", "--no-plots"])
     assert rc == 5
     err = capsys.readouterr().err
