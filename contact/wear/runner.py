@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 from collections.abc import Callable
+from typing import Self
 
 from contact.wear import condition as _condition
 from contact.wear.condition import ConditionResult, ConditionTask
@@ -28,7 +29,7 @@ class TaskRunner:
         self.workers, self.scheduler = int(workers), scheduler
         self._pool = self._client = None
 
-    def __enter__(self) -> TaskRunner:
+    def __enter__(self) -> Self:
         if self.scheduler:
             try:
                 from distributed import Client
