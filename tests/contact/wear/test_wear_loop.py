@@ -110,17 +110,23 @@ def test_written_profiles_give_the_same_separation(make_scene, tmp_path):
     scene = make_scene(wear={"distance_km": 300.0, "steps": 1, "inelastic": False}, layers=None)
     run = run_wear(scene, show_progress=False)
     worn = run.steps[0].profiles["right"]
-    path = write_simpack(tmp_path / "w.prw", worn["wheel"].points, body="wheel")
-    back = read_profile(path)
+    from meshes.profiles.io import write_text
+
     layout = scene.parsed["layout"]
-    placed = place_rail(worn["rail"], layout)
     pose = WheelsetPose(2.0, 0.0, 0.0)
+    placed = place_rail(worn["rail"], layout)
     a = search_contacts(placed, worn["wheel"], layout, pose, SearchSettings())
-    b = search_contacts(placed, back, layout, pose, SearchSettings())
-    assert len(a.candidates) == len(b.candidates)
-    for ca, cb in zip(a.candidates, b.candidates):
-        f_b = np.interp(ca.eta_mm, cb.eta_mm, cb.f_mm)
-        assert np.max(np.abs(f_b - ca.f_mm)) < 1e-6
+    for back in (read_profile(write_simpack(tmp_path / "w.prw", worn["wheel"].points, body="wheel")),
+                 read_profile(write_text(tmp_path / "w.csv", worn["wheel"].points), body="wheel")):
+        b = search_contacts(placed, back, layout, pose, SearchSettings())
+        assert len(a.candidates) == len(b.candidates)
+        for ca, cb in zip(a.candidates, b.candidates):
+            f_b = np.interp(ca.eta_mm, cb.eta_mm, cb.f_mm)
+            assert np.max(np.abs(f_b - ca.f_mm)) < 1e-6
+    rail_back = read_profile(write_simpack(tmp_path / "r.prr", worn["rail"].points, body="rail"))
+    c = search_contacts(place_rail(rail_back, layout), worn["wheel"], layout, pose, SearchSettings())
+    for ca, cc in zip(a.candidates, c.candidates):
+        assert np.max(np.abs(np.interp(ca.eta_mm, cc.eta_mm, cc.f_mm) - ca.f_mm)) < 1e-6
 
 
 @pytest.mark.parametrize("over, match", [
