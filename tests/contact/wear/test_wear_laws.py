@@ -63,3 +63,16 @@ def test_strip_depth_is_the_cell_sum(law):
         hand = (UsfdTable().rate(tga) * t.dx_mm[:, None] * 1e-3 / 7850.0).sum(axis=1)
     assert np.allclose(cw.strip_depth_mm["wheel"], hand, rtol=1e-12, atol=0)
     assert cw.strip_depth_mm["wheel"].max() > 0
+
+
+def test_archard_in_full_slip_is_proportional_to_frictional_work():
+    """Full slip: traction = mu p, so k p s / H = k/(mu H) x (frictional work per area); per strip to ~1 %."""
+    patch = _patch()
+    mu, H, k = 0.3, 2000.0, 5.5e-4
+    t = solve_tangential(patch, Creepage(0.05, 0.0, 0.0), 82000.0, 0.28, mu, 2000.0, nx=60)
+    assert t.slip.mean() > 0.9
+    law = WearLaw("archard", archard={"wheel": ArchardMap(hardness_MPa=H, k_low_speed=k, k_mid_speed=k,
+                                                          k_high_speed=k, seizure_pressure_ratio=10.0),
+                                      "rail": ArchardMap()})
+    depth = wear_of(t, law).strip_depth_mm["wheel"]
+    assert np.allclose(depth, k / (mu * H) * t.WT_N_per_mm, rtol=0.02)
