@@ -18,7 +18,11 @@ WEIGHT_SUM_TOL = 1e-9
 
 @dataclass(frozen=True)
 class Condition:
-    """One running condition (mm, rad, N per wheel, mm/s) and its weight (share of the distance, 0..1]."""
+    """One running condition (mm, rad, N per wheel, mm/s) and its weight (share of the distance, 0..1].
+
+    ``pitch_rate_rad_s``: the wheelset's angular velocity (rad/s); None = the scene's (default: pure rolling at the
+    nominal radius, V / r0). A value different from V / r0 adds a longitudinal creepage (traction or braking).
+    """
 
     lateral_mm: float
     yaw_rad: float
@@ -26,6 +30,7 @@ class Condition:
     speed_mm_s: float
     weight: float
     label: str = ""
+    pitch_rate_rad_s: float | None = None
 
     def describe(self) -> str:
         return (self.label or f"lateral {self.lateral_mm:g} mm, yaw {self.yaw_rad:g} rad, "

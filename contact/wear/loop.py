@@ -210,7 +210,8 @@ def build_tasks(scene: WearScene, profiles: dict, step: int, step_km: float, sta
         n_pass = int(max(1, min(cap, math.ceil(c.weight * step_km * n_km))))
         opts = parsed["inputs"]["passes"]
         for side in profiles:
-            inputs = WheelRailInputs(**{**parsed["inputs"], "side": side, "pose": pose,
+            pitch = parsed["inputs"]["pitch_rate_rad_s"] if c.pitch_rate_rad_s is None else c.pitch_rate_rad_s
+            inputs = WheelRailInputs(**{**parsed["inputs"], "side": side, "pose": pose, "pitch_rate_rad_s": pitch,
                                         "vertical_load_N": c.vertical_load_N, "speed_mm_s": c.speed_mm_s,
                                         "passes": PassesOptions(n_pass, opts.tolerance_mm, opts.hardening)})
             tasks.append(ConditionTask(k, side, c, profiles[side]["rail"], profiles[side]["wheel"], inputs,

@@ -28,7 +28,7 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.scene`: [profiles], [
     [wear.usfd]  wheel = "R8T", rail = "R8T"              a published material, or a table {t1, t2, mild_slope,
                                                            severe_rate, cat_slope, cat_offset}
     [collective] either [[collective.condition]] tables (lateral_mm, yaw_rad = 0, vertical_load_N and speed_mm_s
-                 defaulting to [load], weight) or a sweep: lateral_mm (list or {start, stop, step}), yaw_rad (one
+                 defaulting to [load], weight, label, pitch_rate_rad_s (traction/braking; default the scene's)) or a sweep: lateral_mm (list or {start, stop, step}), yaw_rad (one
                  number or a list of the same length), weights (a list of the same length, or "uniform").
 """
 
@@ -226,10 +226,12 @@ def _conditions(col: SceneKeys, parsed: dict) -> list[Condition]:
         out = []
         for k, row in enumerate(rows):
             keys = SceneKeys(col.file, f"{col.prefix}.condition[{k}]", row)
-            keys.check_known(("lateral_mm", "yaw_rad", "vertical_load_N", "speed_mm_s", "weight", "label"))
+            keys.check_known(("lateral_mm", "yaw_rad", "vertical_load_N", "speed_mm_s", "weight", "label",
+                              "pitch_rate_rad_s"))
+            pitch = keys.number("pitch_rate_rad_s", gt=0.0) if "pitch_rate_rad_s" in keys.table else None
             out.append(Condition(keys.number("lateral_mm", 0.0), keys.number("yaw_rad", 0.0, gt=-0.2, lt=0.2),
                                  keys.number("vertical_load_N", Q0, gt=0.0), keys.number("speed_mm_s", V0, gt=0.0),
-                                 keys.number("weight"), keys.text("label", "")))
+                                 keys.number("weight"), keys.text("label", ""), pitch))
         return out
     col.check_known(("lateral_mm", "yaw_rad", "weights"))
     if "lateral_mm" not in col.table:

@@ -321,3 +321,20 @@ def test_area_between_profiles_equals_worn_area(make_scene):
         worn = step.bodies["right", body].stats["worn_area_mm2"]
         assert worn > 0.1
         assert area == pytest.approx(worn, rel=5e-3)
+
+
+def test_condition_pitch_rate_adds_longitudinal_creepage(tmp_path, wear_dict):
+    """A braking condition (wheel turning slower than V/r0) wears more than free rolling at the same position."""
+    from contact.wear.scene import parse_wear_scene
+
+    free = {"lateral_mm": 0.0, "weight": 1.0}
+    braking = {**free, "pitch_rate_rad_s": 2000.0 / 460.0 * (1.0 - 0.003)}
+    runs = []
+    for c in (free, braking):
+        data = wear_dict(layers=None, wear={"distance_km": 10.0, "steps": 1, "inelastic": False})
+        data["collective"] = {"condition": [c]}
+        runs.append(run_wear(parse_wear_scene(data, tmp_path / "w.toml"), show_progress=False))
+    kx = [r.steps[0].conditions[0]["patches"][0]["creepage_x"] for r in runs]
+    area = [r.steps[0].bodies["right", "wheel"].stats["worn_area_mm2"] for r in runs]
+    assert abs(kx[1] - kx[0]) > 2e-3
+    assert area[1] > 2.0 * area[0]
