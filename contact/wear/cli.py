@@ -39,6 +39,7 @@ def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Tru
         raise InputError(f"--out {out}", "exists and is not a folder")
     out.mkdir(parents=True, exist_ok=True)
     for stale in list(out.glob("profiles/step_*")) + list(out.glob("depth/step_*")) + \
+            list(out.glob("layer_state/step_*")) + \
             [p for p in out.glob("calibration/step_*/**/*") if p.is_file()]:
         stale.unlink()  # an earlier run's steps would be mistaken for this run's
     files: dict[Any, Any] = {}

@@ -74,7 +74,8 @@ class BodyStep:
 @dataclass
 class StepRecord:
     """A completed step: index (1-based), start and length (km), bodies[(side, body)], conicity after the step,
-    condition summaries, timings (s)."""
+    condition summaries, timings (s); ``layer_state[(side, body)]`` = (profile y, largest peak pressure so far, MPa)
+    after the step (hardening mode)."""
 
     index: int
     start_km: float
@@ -85,6 +86,7 @@ class StepRecord:
     timings: dict
     profiles: dict
     notes: list = field(default_factory=list)
+    layer_state: dict = field(default_factory=dict)
 
     @property
     def end_km(self) -> float:
@@ -326,6 +328,8 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
                              {"solve_s": t_solve, "update_s": t_update,
                               "conditions_s": sum(r.seconds for r in results)},
                              new_profiles, notes)
+            if settings.inelastic and settings.layer_state == "hardening":
+                rec.layer_state = {k: (y.copy(), p.copy()) for k, (y, p) in state.items()}
             profiles = new_profiles
             done_km += length
             run.steps.append(rec)

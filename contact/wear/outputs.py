@@ -5,6 +5,8 @@ completed step. Each file is written atomically.
                                                     read back with meshes.profiles.io, the largest |z| error recorded)
     depth/step_NNN_<side>_<body>.csv                per profile node: y, arc length s, z before the step, wear depth,
                                                     inelastic depth of the step (mm)
+    layer_state/step_NNN_<side>_<body>.csv          hardening mode: largest peak pressure carried so far (MPa) at the
+                                                    profile coordinates y (mm) of the initial profile
     steps.csv                                       one row per step, side and body: distance, wear and inelastic
                                                     max/location/area, mass loss, rolling-radius difference
     result.json                                     inputs, units, every step's numbers, status ("complete" or
@@ -71,6 +73,12 @@ def write_step(out_dir: Path, rec: StepRecord) -> list[dict]:
         path.parent.mkdir(parents=True, exist_ok=True)
         atomic_write_text(path, f"y_mm,s_mm,z_before_mm,wear_mm,inelastic_mm\n{rows}\n")  # step: see result.json
         info["depth_file"] = str(path.relative_to(out_dir))
+        if (s, b) in rec.layer_state:
+            y, p = rec.layer_state[s, b]
+            state_path = out_dir / "layer_state" / f"{stem}.csv"
+            state_path.parent.mkdir(parents=True, exist_ok=True)
+            atomic_write_text(state_path, "y_mm,p_hist_MPa\n" + "".join(f"{a:.9e},{c:.9e}\n" for a, c in zip(y, p)))
+            info["layer_state_file"] = str(state_path.relative_to(out_dir))
         written.append({"side": s, "body": b, **info})
     return written
 

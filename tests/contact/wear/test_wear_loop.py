@@ -63,6 +63,8 @@ def test_inelastic_saturates_and_is_zero_without_layer(make_scene):
 
     run = run_wear(make_scene(**data), show_progress=False)
     inc = increments(run)
+    y, p_hist = run.steps[-1].layer_state["right", "rail"]
+    assert p_hist.max() > 1000.0 and np.all(p_hist >= 0) and y.size == p_hist.size
     assert inc[0] > 1e-3
     assert inc[1] < 1e-15 and inc[2] < 1e-15  # round-off
     assert all(s.bodies["right", b].stats["wear_max_mm"] == 0 for s in run.steps for b in BODIES)
