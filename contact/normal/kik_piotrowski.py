@@ -172,7 +172,9 @@ class RegionSolution:
 class NormalSolution:
     """Result of :func:`solve_normal` (units mm, N, MPa). ``u0_mm`` is the layer displacement (all layers) at the
     reference point of the main patch (largest p_0); ``p_peak_MPa`` is p(0, y) on the whole strip grid (0 outside
-    contact); ``elastic`` is True when no layer element yields under this load."""
+    contact); ``elastic`` is True when no layer element yields under this load. ``method``: the normal solver that
+    produced it ("kik_piotrowski" or "exact"); ``field``: the exact solver's pressure grid
+    (:class:`contact.normal.exact.ExactField`), None for Kik–Piotrowski."""
 
     patches: list[Patch]
     regions: list[RegionSolution]
@@ -189,6 +191,8 @@ class NormalSolution:
     residual_N: float
     elastic: bool
     normal_force_N: float
+    method: str = "kik_piotrowski"
+    field: object = None
 
 
 def _regions(g: np.ndarray) -> list[np.ndarray]:

@@ -1,6 +1,7 @@
 """Repeated passes at the same normal force: residual dents, shakedown and strain hardening (paper section 5).
 
-Each pass: solve the normal problem (Kik–Piotrowski with the layer, :func:`contact.normal.kik_piotrowski.solve_normal`),
+Each pass: solve the normal problem (Kik–Piotrowski with the layer, :func:`contact.normal.kik_piotrowski.solve_normal`,
+or the exact solver, ``method``),
 load every strip's element(s) of each body to the strip's peak pressure p(0, y) (the largest along the strip),
 unload them (exact element behaviour), and add each body's residual displacement increment u_p(y) of this pass to
 the separation of the next pass (a dent on either body increases f). Stop when a pass adds no residual displacement
@@ -23,7 +24,8 @@ from typing import Callable
 
 import numpy as np
 
-from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, layer_points, solve_normal
+from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, layer_points
+from contact.normal.method import NormalMethod, solve_normal_with
 from contact.layer.prandtl_layer import LayerPair
 from wrlayer.errors import require
 
@@ -91,13 +93,14 @@ def _next_delta_guess(deltas: list[float]) -> float | None:
 
 
 def run_passes(prob: NormalProblem, layer_pair: LayerPair | None, options: PassesOptions = PassesOptions(),
-               on_pass: Callable[[PassRecord, NormalSolution], None] | None = None
-               ) -> tuple[list[PassRecord], np.ndarray]:
+               on_pass: Callable[[PassRecord, NormalSolution], None] | None = None,
+               method: NormalMethod = NormalMethod()) -> tuple[list[PassRecord], np.ndarray]:
     """Passes until shakedown or ``options.max_passes``. The caller's layers are not modified (copied).
 
     Returns (records, final_f): final_f is the separation on the strip grid ``prob.strip_y_mm`` (mm) after the
     last pass's dents, i.e. the separation the next pass would see (not shifted to a zero minimum).
-    ``on_pass(record, solution)`` is called after each pass (e.g. for the tangential solve).
+    ``on_pass(record, solution)`` is called after each pass (e.g. for the tangential solve). ``method``: the
+    normal solver (``method.normal``; the exact solver's p_peak is the largest pressure on each line y).
     """
     layers = None if layer_pair is None else layer_pair.copy()
     y, h = prob.strip_y_mm, prob.grid_mm
@@ -111,7 +114,8 @@ def run_passes(prob: NormalProblem, layer_pair: LayerPair | None, options: Passe
     slope = None
     for k in range(1, int(options.max_passes) + 1):
         current = prob if k == 1 else prob.with_offset(offset)
-        sol = solve_normal(current, layers, delta_guess_mm=_next_delta_guess(deltas), loglog_slope_guess=slope)
+        sol = solve_normal_with(method, current, layers, delta_guess_mm=_next_delta_guess(deltas),
+                                loglog_slope_guess=slope)
         deltas.append(sol.delta_mm)
         slope = sol.iterations["loglog_slope"]
         ref = max(sol.regions, key=lambda r: r.p0_MPa).reference

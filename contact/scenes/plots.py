@@ -6,6 +6,8 @@
 - ``separation.png``: the separation f(y) before the first and after the last pass, the residual displacements of
   each layer (cumulative), and the peak pressure p(0, y) of the first and last pass against the elastic limit p_2.
 - ``shakedown.png``: area, p_max and approach delta against the pass number (scenes with more than one pass).
+- ``exact_pressure_pass<N>.png``: with ``method.normal = "exact"``, the pressure on the exact solver's grid and
+  p(x) (and the layer displacement) on the line of the largest pressure.
 Units: mm, MPa.
 """
 
@@ -179,6 +181,49 @@ def plot_shakedown(run, path: Path) -> Path:
     return path
 
 
+def plot_exact_field(snapshot, path: Path, title: str) -> Path:
+    """The exact normal solver's pressure on its own grid (method.normal = "exact"): the cell pressures (colour),
+    the refined contact ends of every line, and p along x on the line of the largest pressure (its asymmetry
+    shows the rolling mode's unloading behind the peak)."""
+    sol = snapshot.solution
+    fld = sol.field
+    xe = np.append(fld.x_mm - 0.5 * fld.dx_mm, fld.x_mm[-1] + 0.5 * fld.dx_mm)
+    ye = np.append(fld.y_mm - 0.5 * fld.dy_mm, fld.y_mm[-1] + 0.5 * fld.dy_mm)
+    span_x, span_y = xe[-1] - xe[0], ye[-1] - ye[0]
+    width = 11.0
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(width, float(np.clip(width * span_y / span_x, 1.5, 6.0)) + 4.2),
+                                  constrained_layout=True, height_ratios=[max(span_y / span_x * 3.0, 0.6), 1.0])
+    mesh = ax.pcolormesh(xe, ye, np.ma.masked_where(fld.p_MPa <= 0, fld.p_MPa), cmap="viridis", shading="flat")
+    ok = np.isfinite(fld.x_extent_mm[:, 0])
+    ax.plot(fld.x_extent_mm[ok, 0], fld.y_mm[ok], "k.", ms=2, label="refined contact ends (trailing / leading)")
+    ax.plot(fld.x_extent_mm[ok, 1], fld.y_mm[ok], "k.", ms=2)
+    ax.set_xlim(xe[0], xe[-1])
+    ax.set_ylim(ye[0], ye[-1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (rolling direction; material moves from +x to -x) [mm]")
+    ax.set_ylabel("y (lateral) [mm]")
+    ax.legend(loc="upper right", fontsize=8, frameon=False)
+    fig.colorbar(mesh, ax=ax, label="p [MPa]", shrink=0.8, pad=0.01, format="%.0f")
+    j = int(np.argmax(fld.p_MPa.max(axis=1)))
+    ax2.step(fld.x_mm, fld.p_MPa[j], where="mid", color="C0", label=f"p(x) on the line y = {fld.y_mm[j]:.2f} mm")
+    if np.any(fld.u_layer_mm != 0):
+        ax3 = ax2.twinx()
+        ax3.plot(fld.x_mm, 1e3 * fld.u_layer_mm[j], color="C3", lw=1.0, label="layer displacement u$_L$")
+        ax3.set_ylabel("u$_L$ [µm]", color="C3")
+    ax2.axvline(0.0, color="0.6", lw=0.6)
+    ax2.set_xlim(xe[0], xe[-1])
+    ax2.set_xlabel("x [mm]")
+    ax2.set_ylabel("p [MPa]")
+    ax2.legend(loc="upper left", fontsize=8, frameon=False)
+    it = sol.iterations
+    ax.set_title(f"{title}\nexact solver: {it['grid_cells'][0]} x {it['grid_cells'][1]} cells of "
+                 f"{it['cell_mm'][0]:.3f} x {it['cell_mm'][1]:.3f} mm, p$_{{max}}$ = {sol.p_max_MPa:.0f} MPa, "
+                 f"area {sol.area_mm2:.1f} mm$^2$, delta = {sol.delta_mm:.5f} mm", fontsize=9)
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
 def write_scene_plots(run, out_dir: str | Path) -> list[Path]:
     """All pictures of a run into ``out_dir``; returns their paths."""
     out = Path(out_dir)
@@ -187,6 +232,10 @@ def write_scene_plots(run, out_dir: str | Path) -> list[Path]:
     paths = [plot_patch(run.first, out / f"patch_pass{run.first.number}.png", f"{title}: pass {run.first.number}")]
     if run.last.number != run.first.number:
         paths.append(plot_patch(run.last, out / f"patch_pass{run.last.number}.png", f"{title}: pass {run.last.number}"))
+    for snap in ([run.first] if run.last.number == run.first.number else [run.first, run.last]):
+        if getattr(snap.solution, "field", None) is not None:
+            paths.append(plot_exact_field(snap, out / f"exact_pressure_pass{snap.number}.png",
+                                          f"{title}: pass {snap.number}"))
     paths.append(plot_separation(run, out / "separation.png"))
     if len(run.history) > 1:
         paths.append(plot_shakedown(run, out / "shakedown.png"))

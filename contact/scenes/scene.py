@@ -16,7 +16,10 @@ creepages for FASTSIM and optional repeated passes (section 5). Keys (all carry 
     [tangential] creepage_x, creepage_y (-), spin_per_mm (1/mm), friction (>= 0), speed_mm_s (> 0, default 1000),
                  flexibility ("three" (default), "single", "blended": FASTSIM flexibility rule, contact.tangential.fastsim)
     [passes]     max (>= 1, default 1), hardening (bool, default false), tolerance_mm (> 0, default 1e-6)
-    [method]     alpha (0 < alpha <= 1, default 0.55), grid_mm (> 0, default 0.1), fastsim_cells (>= 2, default 60)
+    [method]     alpha (0 < alpha <= 1, default 0.55), grid_mm (> 0, default 0.1), fastsim_cells (>= 2, default 60),
+                 normal ("kik_piotrowski" (default, the paper's) or "exact": FFT half-space, docs/exact-solver.md),
+                 exact_cells (exact solver: cells along x over the KP patch length, 8..1024, default 48),
+                 layer_mode (exact solver: "indentation" (default) or "rolling")
     [reference]  published numbers to compare with (optional; any of the Table 1 keys, see REFERENCE_KEYS)
 
 Every problem raises :class:`wrlayer.errors.InputError` naming the file and the key, e.g.
@@ -136,9 +139,21 @@ class PassesSpec:
 
 @dataclass(frozen=True)
 class MethodSpec:
+    """[method]: KP's alpha, the strip grid (mm), FASTSIM cells; ``normal`` the normal solver ("kik_piotrowski"
+    or "exact"), ``exact_cells`` (None: the exact solver's default) and ``layer_mode`` of the exact solver."""
+
     alpha: float = 0.55
     grid_mm: float = 0.1
     fastsim_cells: int = 60
+    normal: str = "kik_piotrowski"
+    exact_cells: int | None = None
+    layer_mode: str = "indentation"
+
+    def normal_method(self):
+        """The :class:`contact.normal.method.NormalMethod` of these keys."""
+        from contact.normal.method import NormalMethod
+
+        return NormalMethod(self.normal, self.exact_cells, self.layer_mode)
 
 
 @dataclass(frozen=True)
@@ -334,10 +349,17 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
 
     method = MethodSpec()
     if (keys := top.sub("method")) is not None:
-        keys.check_known(("alpha", "grid_mm", "fastsim_cells"))
+        keys.check_known(("alpha", "grid_mm", "fastsim_cells", "normal", "exact_cells", "layer_mode"))
         method = MethodSpec(alpha=keys.number("alpha", 0.55, gt=0.0, le=1.0),
                             grid_mm=keys.number("grid_mm", 0.1, gt=0.0),
-                            fastsim_cells=keys.integer("fastsim_cells", 60, ge=2))
+                            fastsim_cells=keys.integer("fastsim_cells", 60, ge=2),
+                            normal=keys.text("normal", "kik_piotrowski"),
+                            exact_cells=keys.integer("exact_cells", None, ge=1),
+                            layer_mode=keys.text("layer_mode", "indentation"))
+        try:
+            method.normal_method()
+        except InputError as err:
+            raise InputError(f"{file}: {err.what}", err.problem) from None
 
     separation = _parse_separation(top.sub("separation"), method.grid_mm)
     n_strips = (separation.y_mm[-1] - separation.y_mm[0]) / method.grid_mm

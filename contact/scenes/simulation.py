@@ -1,6 +1,8 @@
 """Run a contact scene: normal contact (Kik–Piotrowski with the layer), passes, FASTSIM -> the result dict.
 
 Steps (units mm, N, MPa, s):
+0. The normal solver is ``method.normal``: Kik–Piotrowski (default) or the exact half-space solver
+   (:func:`contact.normal.method.solve_normal_with`); everything below works with either.
 1. The separation table goes onto the solver's fixed strip grid (:class:`contact.normal.kik_piotrowski.NormalProblem`).
 2. Layers (if any) are built on that grid: one combined characteristic (the paper's eq. 13 layer) or one per body;
    a per-body calibration table is read at ``position_mm + y`` for every strip y (outside the table's range the
@@ -11,7 +13,8 @@ Steps (units mm, N, MPa, s):
 4. With creepages: FASTSIM (:func:`contact.tangential.fastsim.solve_tangential`) on every patch of every pass, each patch in
    its own frame (origin y at the patch's reference strip, the maximum of the virtual penetration), the same
    creepages for all patches; Fx, Fy and Mz are summed over the patches (each Mz about its own patch origin),
-   W_T max and P_T max are the maxima over the patches.
+   W_T max and P_T max are the maxima over the patches. With the exact normal solver each strip's cell pressures
+   are the exact pressure along that line (:func:`contact.normal.exact.fastsim_pressure`), not a semi-ellipse.
 
 ``shakedown_pass`` is the number of the first pass that added no residual displacement beyond
 ``passes.tolerance_mm`` (a purely elastic pass: the paper's shakedown), null when none did or without a layer.
@@ -27,7 +30,9 @@ import numpy as np
 
 from contact.layer.characteristic import Characteristic
 from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
-from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, solve_normal
+from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
+from contact.normal.exact import fastsim_pressure
+from contact.normal.method import solve_normal_with
 from contact.normal.patch import Patch
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.scenes.result_io import UNITS, code_version
@@ -135,10 +140,12 @@ def solve_patches(scene: Scene, solution: NormalSolution, number: int) -> tuple[
         y_ref.append(yr)
         local.append(lp)
         if ts is not None and ts.has_creepage:
+            shape = None if solution.field is None else fastsim_pressure(solution, len(local) - 1,
+                                                                          scene.method.fastsim_cells)
             tang.append(solve_tangential(lp, Creepage(ts.creepage_x, ts.creepage_y, ts.spin_per_mm),
                                          scene.material.G_MPa, scene.material.poisson, ts.friction,
                                          ts.speed_mm_s, nx=scene.method.fastsim_cells,
-                                         flexibility=ts.flexibility))
+                                         flexibility=ts.flexibility, pressure_cells_MPa=shape))
         else:
             tang.append(None)
     return PassSnapshot(number, solution, tang, local, y_ref), time.perf_counter() - t0
@@ -197,6 +204,13 @@ def reference_deviation(reference: dict[str, Any], last: dict[str, Any]) -> dict
 
 
 # ---------------------------------------------------------------------------------------------------- the run
+_NORMAL_METHOD_TEXT = {
+    "kik_piotrowski": "Kik-Piotrowski virtual penetration with the Prandtl-body layer (paper eqs. 9-15)",
+    "exact": "exact half-space (FFT boundary elements, Polonsky-Keer CG) with the Prandtl-body layer cell by cell "
+             "(layer_mode {m.layer_mode}, exact_cells {cells})",
+}
+
+
 def normal_problem(scene: Scene) -> NormalProblem:
     sep, load, mat, met = scene.separation, scene.load, scene.material, scene.method
     return NormalProblem(sep.y_mm, sep.f_mm, load.normal_force_N, load.rolling_radius_mm, mat.E_MPa, mat.poisson,
@@ -228,7 +242,7 @@ def _simulate(scene: Scene) -> SimulationRun:
 
     if layers is None:
         t0 = time.perf_counter()
-        sol = solve_normal(prob)
+        sol = solve_normal_with(scene.method.normal_method(), prob)
         t_normal = time.perf_counter() - t0
         snap, t_tang = solve_patches(scene, sol, 1)
         snapshots.append(snap)
@@ -254,7 +268,7 @@ def _simulate(scene: Scene) -> SimulationRun:
 
         opts = PassesOptions(max_passes=scene.passes.max, tolerance_mm=scene.passes.tolerance_mm,
                              hardening=scene.passes.hardening)
-        records, f_after = run_passes(prob, layers, opts, on_pass=on_pass)
+        records, f_after = run_passes(prob, layers, opts, on_pass=on_pass, method=scene.method.normal_method())
         f_after = np.asarray(f_after, dtype=float)
         if records:
             residual = {k: np.asarray(v, dtype=float) for k, v in records[-1].cumulative_residual_mm.items()}
@@ -264,7 +278,8 @@ def _simulate(scene: Scene) -> SimulationRun:
         "inputs": scene_inputs(scene),
         "code_version": code_version(),
         "units": UNITS,
-        "method": {"normal": "Kik-Piotrowski virtual penetration with the Prandtl-body layer (paper eqs. 9-15)",
+        "method": {"normal": _NORMAL_METHOD_TEXT[scene.method.normal].format(
+            m=scene.method, cells=scene.method.normal_method().exact_options().cells),
                    "tangential": None if scene.tangential is None or not scene.tangential.has_creepage
                    else "FASTSIM on the strips of each patch (Kalker; equivalent-ellipse flexibilities)",
                    "layer": None if layers is None else sorted(layers.bodies())},

@@ -286,12 +286,15 @@ def _check_inputs(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx):
 
 
 def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: float, friction: float,
-                     speed_mm_s: float = 1000.0, nx: int = 60, flexibility: str = "three") -> TangentialResult:
+                     speed_mm_s: float = 1000.0, nx: int = 60, flexibility: str = "three",
+                     pressure_cells_MPa: np.ndarray | None = None) -> TangentialResult:
     """FASTSIM on the patch's strips with ``nx`` cells per strip; see the module docstring for conventions.
 
     G_MPa: shear modulus (E / (2 (1 + nu)), both bodies of one steel); poisson: Poisson's ratio; friction: Coulomb
     coefficient mu (>= 0); speed_mm_s: rolling speed V (only scales slip velocities and P_T); flexibility: "three"
-    (default), "single" or "blended", see :func:`flexibilities`.
+    (default), "single" or "blended", see :func:`flexibilities`; pressure_cells_MPa: optional (ny, nx) cell
+    pressures of each strip from the leading edge (MPa) replacing the semi-elliptic cell means (the exact normal
+    solver's shape, :func:`contact.normal.exact.fastsim_pressure`).
     """
     _check_inputs(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx)
     require(flexibility in FLEXIBILITY_RULES, "flexibility", f"must be one of {FLEXIBILITY_RULES}, got {flexibility!r}")
@@ -302,7 +305,12 @@ def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: fl
     xl, y = patch.x_lead_mm, patch.y_mm
     dx = 2.0 * xl / nx
     x = xl[:, None] * (1.0 - (2.0 * np.arange(nx) + 1.0) / nx)[None, :]
-    pn = patch.p_peak_MPa[:, None] * _semi_ellipse_cell_means(nx)[None, :]
+    if pressure_cells_MPa is None:
+        pn = patch.p_peak_MPa[:, None] * _semi_ellipse_cell_means(nx)[None, :]
+    else:                                   # a given pressure shape per strip (the exact normal solver's)
+        pn = np.asarray(pressure_cells_MPa, dtype=float)
+        require(pn.shape == (ny, nx) and bool(np.all(np.isfinite(pn)) and np.all(pn >= 0)), "pressure_cells_MPa",
+                f"needs ({ny}, {nx}) finite values >= 0 (strips x cells from the leading edge)")
     if creepage.is_zero():
         tx = np.zeros((ny, nx))
         ty, du, work = tx.copy(), tx.copy(), tx.copy()

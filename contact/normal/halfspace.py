@@ -1,0 +1,77 @@
+"""Elastic half-space on a uniform rectangular grid: influence coefficients and their FFT convolution.
+
+Units: mm, MPa (N/mm^2). Two bodies of (quasi-)identical material pressed together: the normal surface
+displacement of both together caused by a pressure p (Boussinesq, combined compliance)
+
+    u(x, y) = 2 (1 - nu^2) / (pi E) * II p(s, t) / sqrt((x - s)^2 + (y - t)^2) ds dt      (paper eq. 13's kernel)
+
+The pressure is constant on every cell (dx by dy, centres x_i = x_0 + i dx, y_j = y_0 + j dy). The influence
+coefficient of cell (k, l) on the centre of cell (i, j) is Love's (1929) closed form: the exact integral of 1/r
+over the rectangle, by the corner antiderivative F(x, y) = x asinh(y/x) + y asinh(x/y) (no epsilon at the
+singularity; :func:`contact.normal.boussinesq.rectangle_kernel_integral`). It depends only on the offsets
+(i - k, j - l), so u = K * p is a 2-D linear convolution, evaluated exactly (no periodic wrap-around) by a
+zero-padded real FFT of size at least (2 ny - 1) x (2 nx - 1); the kernel's transform is cached per grid
+(nx, ny, dx, dy).
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import scipy.fft as sfft
+
+from contact.normal.boussinesq import rectangle_kernel_integral
+
+__all__ = ["HalfSpace", "influence_coefficients", "compliance_factor"]
+
+
+def compliance_factor(E_MPa: float, poisson: float) -> float:
+    """2 (1 - nu^2) / (pi E) (1/MPa): both bodies of modulus E and Poisson's ratio nu (the KP solver's factor)."""
+    return 2.0 * (1.0 - poisson ** 2) / (np.pi * E_MPa)
+
+
+def influence_coefficients(di: np.ndarray, dj: np.ndarray, dx: float, dy: float) -> np.ndarray:
+    """II 1/r over a cell (dx x dy, mm) whose centre is at offset (di dx, dj dy) from the field point (mm).
+
+    Multiply by :func:`compliance_factor` to get mm of displacement per MPa of cell pressure."""
+    xc = np.asarray(di, dtype=float) * dx
+    yc = np.asarray(dj, dtype=float) * dy
+    return rectangle_kernel_integral(xc - 0.5 * dx, xc + 0.5 * dx, yc - 0.5 * dy, yc + 0.5 * dy)
+
+
+@functools.lru_cache(maxsize=32)
+def _kernel_spectrum(ny: int, nx: int, dy: float, dx: float) -> tuple[np.ndarray, tuple[int, int]]:
+    """rfft2 of the wrapped kernel on the padded shape (>= 2n - 1 each way, fast FFT length)."""
+    shape = (sfft.next_fast_len(2 * ny - 1, real=True), sfft.next_fast_len(2 * nx - 1, real=True))
+    oy = np.arange(shape[0])
+    ox = np.arange(shape[1])
+    oy = np.where(oy < ny, oy, oy - shape[0])            # offsets -(n-1)..(n-1) wrapped; others never read
+    ox = np.where(ox < nx, ox, ox - shape[1])
+    k = influence_coefficients(ox[None, :], oy[:, None], dx, dy)
+    spec = sfft.rfft2(k)
+    spec.setflags(write=False)
+    return spec, shape
+
+
+class HalfSpace:
+    """The convolution u = C * p on a grid of ny lines (y) by nx cells (x), cell dx by dy (mm).
+
+    ``C``: :func:`compliance_factor` (1/MPa). :meth:`displacement` maps a (ny, nx) pressure (MPa) to the
+    (ny, nx) displacement of both bodies together at the cell centres (mm)."""
+
+    def __init__(self, ny: int, nx: int, dy: float, dx: float, factor: float):
+        self.ny, self.nx, self.dy, self.dx, self.factor = int(ny), int(nx), float(dy), float(dx), float(factor)
+        spec, self.shape = _kernel_spectrum(self.ny, self.nx, self.dy, self.dx)
+        self._spec = spec * self.factor
+        self.evaluations = 0
+
+    def displacement(self, p: np.ndarray) -> np.ndarray:
+        """u = C * p (mm) for the cell pressures p (ny, nx) (MPa)."""
+        self.evaluations += 1
+        ph = sfft.rfft2(p, s=self.shape)
+        return sfft.irfft2(ph * self._spec, s=self.shape)[: self.ny, : self.nx]
+
+    def self_influence(self) -> float:
+        """Displacement of a cell centre under a unit pressure on that cell alone (mm/MPa)."""
+        return float(self.factor * influence_coefficients(0, 0, self.dx, self.dy))
