@@ -75,9 +75,6 @@ def solve_condition(task: ConditionTask) -> ConditionResult:
     the step and the condition."""
     t0 = time.perf_counter()
     where = f"step {task.step}, condition {task.index} ({task.condition.describe()}), {task.side} wheel"
-    if task.normal.name != "kik_piotrowski":
-        raise InputError("method.normal", f"{task.normal.name!r} is not available in the wheel-rail solver of this "
-                         "build (use \"kik_piotrowski\")")
     placed = place_rail(task.rail, task.inputs.layout)
     inputs, merged = task.inputs, None
     for merge in (None,) + MERGE_RETRY_MM:

@@ -215,6 +215,7 @@ def build_tasks(scene: WearScene, profiles: dict, step: int, step_km: float, sta
             pitch = parsed["inputs"]["pitch_rate_rad_s"] if c.pitch_rate_rad_s is None else c.pitch_rate_rad_s
             inputs = WheelRailInputs(**{**parsed["inputs"], "side": side, "pose": pose, "pitch_rate_rad_s": pitch,
                                         "vertical_load_N": c.vertical_load_N, "speed_mm_s": c.speed_mm_s,
+                                        "normal": scene.normal,
                                         "passes": PassesOptions(n_pass, opts.tolerance_mm, opts.hardening)})
             tasks.append(ConditionTask(k, side, c, profiles[side]["rail"], profiles[side]["wheel"], inputs,
                                        side_layers(scene, state, side, recalibrated), scene.law, scene.normal,

@@ -4,7 +4,8 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.scene`: [profiles], [
 [material], [tangential], [layers], [passes], [method]) except [sweep] and [output], plus::
 
     type = "wear"                                          (required)
-    [method]    normal = "kik_piotrowski" | "exact"        (the method.normal choice of every scene)
+    [method]    normal = "kik_piotrowski" | "exact",       the method.normal choice of every scene; exact_cells,
+                layer_mode                                 the exact solver's options (contact.normal.method)
     [wear]      law = "archard" | "usfd"                  the abrasive wear law (contact.wear.laws)
                 distance_km (required, > 0)                total running distance of the wheel
                 steps (required, >= 1)                     nominal number of profile-update steps
@@ -101,15 +102,23 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     wr = {k: v for k, v in data.items() if k in WHEEL_RAIL_SECTIONS}
     wr["type"] = "wheel_rail"
     method = dict(wr.get("method", {})) if isinstance(wr.get("method"), dict) else wr.get("method", {})
-    normal_name = "kik_piotrowski"
-    if isinstance(method, dict) and "normal" in method:
-        normal_name = SceneKeys(file, "method", method).text("normal")
-        method.pop("normal")
+    normal_kw = {}
+    if isinstance(method, dict):
+        mk = SceneKeys(file, "method", method)
+        if "normal" in method:
+            normal_kw["name"] = mk.text("normal")
+        if "exact_cells" in method:
+            normal_kw["exact_cells"] = mk.integer("exact_cells", 48, ge=1)
+        if "layer_mode" in method:
+            normal_kw["layer_mode"] = mk.text("layer_mode")
+        for key in ("normal", "exact_cells", "layer_mode"):
+            method.pop(key, None)
         wr["method"] = method
     try:
-        normal = NormalMethod(normal_name)
+        normal = NormalMethod(**normal_kw)
     except InputError as err:
-        raise InputError(f"{file}: method.normal", err.problem) from None
+        key = err.what if err.what.startswith("method.") else "method.normal"
+        raise InputError(f"{file}: {key}", err.problem) from None
     wr["output"] = {"deformed_profiles": False}
     parsed = parse_wheel_rail_scene(wr, scene_path)
     wear = top.sub("wear")

@@ -43,6 +43,7 @@ from contact.layer.characteristic import Characteristic
 from contact.wheel_rail.contact_search import ContactCandidate, SearchResult, SearchSettings, search_contacts
 from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
 from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, NormalForceEvaluator, solve_normal
+from contact.normal.method import NormalMethod, solve_normal_with
 from contact.passes.passes import PassesOptions, PassRecord, run_passes
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.wheel_rail.track_geometry import PlacedRail, TrackLayout, WheelsetPose, axle_direction, place_rail, side_sign
@@ -105,6 +106,7 @@ class WheelRailInputs:
     fastsim_cells: int = 60
     passes: PassesOptions = field(default_factory=lambda: PassesOptions(max_passes=1))
     search: SearchSettings = field(default_factory=SearchSettings)
+    normal: NormalMethod = field(default_factory=NormalMethod)  # the patches' normal solver (load split: KP)
 
     def __post_init__(self):
         side_sign(self.side)
@@ -349,10 +351,11 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
         kin = creepages(point, n_track, centre, axle, inputs.speed_mm_s, inputs.omega_rad_s)
         records: list[PassRecord] = []
         if pair is None:
-            sol = solve_normal(prob)
+            sol = solve_normal_with(inputs.normal, prob)
         else:
             holder: list[NormalSolution] = []
-            records, _ = run_passes(prob, pair, inputs.passes, on_pass=lambda rec, s, h=holder: h.append(s))
+            records, _ = run_passes(prob, pair, inputs.passes, on_pass=lambda rec, s, h=holder: h.append(s),
+                                    method=inputs.normal)
             sol = holder[0]
         tang = _tangential(sol, kin, inputs)
         if not coords:

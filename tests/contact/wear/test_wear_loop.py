@@ -138,6 +138,7 @@ def test_written_profiles_give_the_same_separation(make_scene, tmp_path):
     ({"wear": {"steps": 0}}, r"w.toml: wear.steps"),
     ({"layers": None}, r"w.toml: wear.inelastic: true needs \[layers\]"),
     ({"method": {"normal": "magic"}}, r"w.toml: method.normal: must be one of"),
+    ({"method": {"normal": "exact", "layer_mode": "sideways"}}, r"w.toml: method.layer_mode"),
     ({"wear": {"usfd": {"rail": "R999"}}}, r"w.toml: wear.usfd.rail: unknown material"),
     ({"wear": {"layer_state": "soft"}}, r"w.toml: wear.layer_state: must be 'hardening' or 'virgin'"),
     ({"wear": {"law": "usfd", "usfd": {"rail": {"t1": 5.0}}}}, r"^w.toml: wear.usfd.rail.t2: missing \(required\)$"),
@@ -340,3 +341,15 @@ def test_condition_pitch_rate_adds_longitudinal_creepage(tmp_path, wear_dict):
     area = [r.steps[0].bodies["right", "wheel"].stats["worn_area_mm2"] for r in runs]
     assert abs(kx[1] - kx[0]) > 2e-3
     assert area[1] > 2.0 * area[0]
+
+
+def test_exact_normal_method_runs_the_loop(make_scene):
+    """method.normal = "exact" (FFT half-space with the layer) in the wear loop: same order as Kik–Piotrowski."""
+    kw = {"wear": {"distance_km": 100.0, "steps": 1}, "passes": {"max": 3}}
+    kp = run_wear(make_scene(**kw), show_progress=False).steps[0]
+    ex = run_wear(make_scene(method={"normal": "exact", "exact_cells": 24}, **kw), show_progress=False).steps[0]
+    for body in BODIES:
+        a, b = kp.bodies["right", body].stats, ex.bodies["right", body].stats
+        assert b["wear_max_mm"] > 0 and b["inelastic_max_mm"] > 0
+        assert b["worn_area_mm2"] == pytest.approx(a["worn_area_mm2"], rel=0.3)
+    assert ex.conditions[0]["patches"][0]["p_max_MPa"] != kp.conditions[0]["patches"][0]["p_max_MPa"]
