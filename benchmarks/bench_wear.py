@@ -125,6 +125,26 @@ def run(mode: str, out: pathlib.Path) -> dict:
                                   "smoothing_mm": sigma}), show_progress=False)
         smooth.append({"smoothing_mm": sigma, **_deviation(r)})
 
+    # the normal method (full mode): one step with Kik–Piotrowski and with the exact solver, interleaved
+    methods = []
+    if not quick:
+        cfgs = {"kik_piotrowski": {}, "exact (24 cells)": {"normal": "exact", "exact_cells": 24},
+                "exact (48 cells)": {"normal": "exact"}}
+        scenes = {k: _scene(method=v, **one_step) for k, v in cfgs.items()}
+        for sc in scenes.values():
+            run_wear(sc, show_progress=False)
+        times = {k: [] for k in scenes}
+        last = {}
+        for _ in range(3):
+            for k, sc in scenes.items():
+                t0 = time.perf_counter()
+                last[k] = run_wear(sc, show_progress=False)
+                times[k].append(time.perf_counter() - t0)
+        for k in scenes:
+            st = last[k].steps[0].bodies["right", "wheel"].stats
+            methods.append({"method": k, "s_per_step": float(np.median(times[k])), "wear_max_mm": st["wear_max_mm"],
+                            "worn_area_mm2": st["worn_area_mm2"], "inelastic_max_mm": st["inelastic_max_mm"]})
+
     # the two wear laws on the same first step (rates on the new profiles)
     laws = []
     for law in ("archard", "usfd"):
@@ -168,8 +188,13 @@ def run(mode: str, out: pathlib.Path) -> dict:
     md += ["", "| law (first step, right side) | body | max wear mm per 1000 km | worn area mm^2 per 1000 km |",
            "|---|---|---|---|"]
     md += [f"| {c['law']} | {c['body']} | {c['max_mm_per_1000km']:.4f} | {c['area_mm2_per_1000km']:.3f} |" for c in laws]
+    if methods:
+        md += ["", "| normal method (one step) | s per step | wheel max wear mm | worn area mm^2 | inelastic mm |",
+               "|---|---|---|---|---|"]
+        md += [f"| {m['method']} | {m['s_per_step']:.2f} | {m['wear_max_mm']:.4f} | {m['worn_area_mm2']:.3f} | "
+               f"{m['inelastic_max_mm']:.4f} |" for m in methods]
     return {"title": "Wear loop: time per step, split, step and smoothing convergence", "markdown": "\n".join(md),
             "figures": [str(fig_path)],
             "data": {"conditions": list(n_conds), "time_per_step_s": t_cond,
                      "grids": [list(g) for g in grids], "time_per_step_grid_s": t_grid, "split_s": split,
-                     "step_convergence": conv, "smoothing": smooth, "laws": laws}}
+                     "step_convergence": conv, "smoothing": smooth, "laws": laws, "normal_methods": methods}}
