@@ -178,8 +178,153 @@ def run(mode: str, out: Path) -> dict:
         md.append(f"| {c['model']} | {c['mesh']['elements_per_semi_axis']:g}, {c['mesh']['order']} | {c['n_dofs']} | "
                   f"{c['seconds']:.1f} | {c['first_yield_MPa']:.0f} | {100 * c['first_yield_diff_vs_ref']:+.1f} % | "
                   f"{', '.join(f'{x:.4f}' for x in c['residual_fem_mm'])} |")
+    conv = mesh_convergence() if not quick else []
+    if conv:
+        md += ["", "3D mesh convergence (default load path; reference: 6 elements per semi-axis; dents after "
+               "unloading from 1.5 / 2.0 / 2.5 p_y; one BLAS thread):", "",
+               "| position | elements/semi-axis | dofs | s | solves | first yield | peak u_pl | residual dents |",
+               "|---|---|---|---|---|---|---|---|"]
+        for c in conv:
+            e = c["errors"]
+            md.append(f"| {c['body']} y = {c['y_mm']:g} | {c['mesh']['elements_per_semi_axis']:g} | {c['n_dofs']} | "
+                      f"{c['seconds']:.1f} | {c['linear_solves']} | {100 * e['first_yield']:+.2f} % | "
+                      f"{100 * e['peak_u_pl']:+.2f} % | "
+                      f"{' / '.join(f'{100 * x:+.2f}' for x in e['residual_levels'])} % |")
+    e2e = end_to_end_crown(out / "end_to_end")
+    md += ["", "End to end at the 60E1 crown (100 kN, rail layer of scenes/tables/rail_60E1_default.json): contact "
+           "solver dent u_p(0) vs the FEM dent under the Hertz pressure of the solver's own patch and p_max:", "",
+           "| characteristic | patch a x b [mm] | p_max [MPa] | contact u_p(0) [um] | FEM dent [um] | deviation |",
+           "|---|---|---|---|---|---|"]
+    for r in e2e:
+        md.append(f"| {r['case']} | {r['a_mm']:.2f} x {r['b_mm']:.2f} | {r['p_max_MPa']:.0f} | "
+                  f"{1e3 * r['contact_up0_mm']:.2f} | {1e3 * r['fem_dent_mm']:.2f} | {100 * r['deviation']:+.1f} % |")
     times = make_times(not quick)
     md += ["", f"make calibrate: {json.dumps(times)}", "", f"machine: {json.dumps(machine_info())[:300]}"]
     return {"title": "Calibration: fit error vs N, 2D vs 3D, make calibrate times", "markdown": "\n".join(md),
             "figures": [str(f) for f in figures],
-            "data": {"fit_vs_n": rows, "models": comp, "times": times}}
+            "data": {"fit_vs_n": rows, "models": comp, "times": times, "convergence": conv, "end_to_end": e2e}}
+
+
+#: The three positions of the convergence study (issue 12): crown, gauge corner, wheel flange root.
+CONVERGENCE_POSITIONS = (("rail", 0.0, "crown"), ("rail", -35.0, "gauge corner"), ("wheel", -37.5, "flange root"))
+
+
+def convergence_case(body: str, y_mm: float, mesh_kw: dict, load_kw: dict | None = None, threads: int = 1,
+                     linear_solver: str = "auto") -> dict:
+    """One 3D indentation of the default calibration's material and load path at a position (the conforming
+    rule of the pipeline applied) with mesh settings ``mesh_kw``: first yield, inelastic displacement u_pl at
+    every load level (as multiples of p_y), FEM residual dents, dofs, seconds (wall, with ``threads`` BLAS
+    threads)."""
+    from calibration.config import load_config, material_of
+    from calibration.indentation import indent
+    from calibration.pipeline import limited_threads, position_geometry
+    from meshes.profiles import get_profile
+
+    cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")
+    b = next(x for x in cfg.bodies if x.body == body)
+    profile, mate = get_profile(b.profile), get_profile(b.mate)
+    geo, warning = position_geometry(b, profile, mate, y_mm, cfg.reference_load_N)
+    mesh = dataclasses.replace(cfg.mesh, **mesh_kw)
+    load = dataclasses.replace(cfg.load, **(load_kw or {}))
+    t0 = time.perf_counter()
+    with limited_threads(threads):
+        res = indent(profile, geo, material_of(b), "3d", mesh, load, linear_solver=linear_solver)
+    p = np.asarray(res.p_MPa)
+    return {"body": body, "y_mm": y_mm, "mesh": mesh_kw, "load": load_kw or {}, "a_mm": geo.a_mm,
+            "b_mm": geo.b_mm, "warning": warning, "seconds": time.perf_counter() - t0, "threads": threads,
+            "n_dofs": res.n_dofs, "newton": res.newton_iterations, "first_yield_MPa": res.first_yield_MPa,
+            "linear_solves": res.linear_solves, "factorisations": res.factorisations,
+            "p_factor": (p / res.first_yield_MPa).tolist(), "u_pl_mm": res.u_pl_mm,
+            "peak_factor": (np.asarray(res.unload_peaks_MPa) / res.first_yield_MPa).tolist(),
+            "residual_fem_mm": res.residual_fem_mm}
+
+
+def convergence_errors(case: dict, ref: dict) -> dict:
+    """Relative differences of ``case`` against the finer ``ref``: first yield, the peak layer displacement (u_pl
+    at the highest level), the residual dent at every unloading level, and u_pl at every load level above
+    1.2 p_y (compared at the same multiple of each run's p_y), each relative to the reference value."""
+    upl_ref = np.interp(case["p_factor"], ref["p_factor"], ref["u_pl_mm"])
+    upl = np.asarray(case["u_pl_mm"])
+    above = np.asarray(case["p_factor"]) > 1.2
+    res = np.asarray(case["residual_fem_mm"]) / np.asarray(ref["residual_fem_mm"]) - 1.0
+    return {"first_yield": case["first_yield_MPa"] / ref["first_yield_MPa"] - 1.0,
+            "peak_u_pl": upl[-1] / upl_ref[-1] - 1.0,
+            "u_pl_levels_max": float(np.max(np.abs(upl[above] / upl_ref[above] - 1.0))),
+            "residual_levels": res.tolist()}
+
+
+def _contact_first_pass(table_path: Path, scale: bool, work: Path, tag: str) -> dict:
+    """The crown scene of scenes/calibrated_layers.toml (100 kN, rolling radius 460 mm, lateral 300 mm) with the
+    rail table's layer at y = 0 as the only layer (``scale_to_patch`` = ``scale``), one pass: the first pass's
+    result (patch, p_max, u_p(0))."""
+    toml = "\n".join([
+        f'title = "end to end {tag}"', "[load]", "normal_force_N = 100000.0", "rolling_radius_mm = 460.0",
+        "[material]", "E_MPa = 210000.0", "poisson = 0.3", "[separation]", "lateral_radius_mm = 300.0",
+        "half_width_mm = 25.0", "[layer.rail]", f'table = "{table_path}"', "position_mm = 0.0",
+        f"scale_to_patch = {'true' if scale else 'false'}", "[passes]", "max = 1", "[method]", "alpha = 0.55",
+        "grid_mm = 0.1", ""])
+    work.mkdir(parents=True, exist_ok=True)
+    (work / f"{tag}.toml").write_text(toml)
+    subprocess.run([sys.executable, "-m", "contact", "simulate", str(work / f"{tag}.toml"), "--out",
+                    str(work / tag)], check=True, capture_output=True, cwd=ROOT)
+    return json.loads((work / tag / "result.json").read_text())["passes"][0]
+
+
+def _fem_dent_mm(a_mm: float, b_mm: float, p0_MPa: float) -> float:
+    """FEM residual dent (mm) of the 60E1 crown after the Hertz pressure p0 on the a x b patch (default 3D mesh
+    and material, support 35 mm below)."""
+    from calibration.config import load_config, material_of
+    from calibration.fem.assembly import discretise
+    from calibration.fem.elastoplastic_solver import SolverOptions, solve_load_path
+    from calibration.hertz.geometry import given_geometry
+    from calibration.hertz.load import HertzLoad
+    from calibration.indentation import add_support_boundary, build_mesh
+    from calibration.pipeline import limited_threads
+    from meshes.profiles import get_profile
+
+    cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")
+    rail = get_profile("60E1")
+    geo = given_geometry(rail, 0.0, a_mm, b_mm)
+    mesh = build_mesh(rail, geo, "3d", cfg.mesh)
+    disc = discretise(mesh, cfg.mesh.order)
+    bc = add_support_boundary(mesh, cfg.mesh.rail_support_below_mm)
+    load = HertzLoad(0.0, b_mm, a_mm, z0_mm=geo.z_mm)
+    opts = SolverOptions(dirichlet=bc, max_increment_MPa=150.0, rtol=1e-6, etol=1e-8, max_unload_increment_MPa=p0_MPa)
+    with limited_threads(1):
+        peak = solve_load_path(mesh, material_of(cfg.bodies[0]), load, [p0_MPa], disc=disc, options=opts)
+        unl = solve_load_path(mesh, material_of(cfg.bodies[0]), load, [0.0], disc=disc, options=opts,
+                              initial_state=peak.state)
+    return float(unl.history[-1].u_centre_mm)
+
+
+def end_to_end_crown(work: Path) -> list[dict]:
+    """Issue 12, item 7: the contact solver's residual dent u_p(0) at the crown (rail layer of the shipped 3D
+    table) against the FEM dent under the Hertz pressure of the contact solver's own patch (a = length/2,
+    b = width/2) and peak pressure; without scaling, and with the scene key ``scale_to_patch = true`` (the
+    characteristic scaled to the solver's own patch by a fixed point, contact.scenes.simulation)."""
+    table_path = ROOT / "scenes" / "tables" / "rail_60E1_default.json"
+    first = _contact_first_pass(table_path, False, work, "unscaled")
+    scaled = _contact_first_pass(table_path, True, work, "scaled")
+    rows = []
+    for name, p in (("calibrated patch, not scaled", first), ("scaled to its own patch", scaled)):
+        a, b = p["length_mm"] / 2, p["width_mm"] / 2
+        dent = _fem_dent_mm(a, b, p["p_max_MPa"])
+        rows.append({"case": name, "a_mm": a, "b_mm": b, "p_max_MPa": p["p_max_MPa"], "contact_up0_mm": p["up0_mm"],
+                     "fem_dent_mm": dent, "deviation": p["up0_mm"] / dent - 1.0})
+    return rows
+
+
+def mesh_convergence(levels=(3, 4, 6, 8)) -> list[dict]:
+    """The convergence study at CONVERGENCE_POSITIONS: each mesh against the finest (the last level)."""
+    out = []
+    for body, y, _ in CONVERGENCE_POSITIONS:
+        cases = [convergence_case(body, y, {"elements_per_semi_axis": e}) for e in levels]
+        for c in cases:
+            c["errors"] = convergence_errors(c, cases[-1])
+        out += cases
+    return out
+
+
+if __name__ == "__main__":  # python -m benchmarks.bench_calibration BODY Y MESH_JSON [THREADS]: one case as JSON
+    print(json.dumps(convergence_case(sys.argv[1], float(sys.argv[2]), json.loads(sys.argv[3]),
+                                      threads=int(sys.argv[4]) if len(sys.argv) > 4 else 1)))

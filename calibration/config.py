@@ -6,8 +6,9 @@ Layout (every key optional except ``[[bodies]]`` with ``body``, ``profile`` and 
                 linear_solver = "scipy" | "pardiso" | "auto" (SuperLU is the faster for 2D sections)
     [material]  E_MPa, poisson, yield_MPa, H_iso_MPa, H_kin_MPa            (J2 with linear hardening)
     [load]      reference_load_N, max_factor, n_levels, unload_factors, max_increment_factor
-    [mesh]      elements_per_semi_axis, h_max_mm, order, depth_mm, rail_support_below_mm, length_factor, grading, yield_search_radius_factor
-    [fit]       n_segments (1..8), elastic_fraction, max_relative_error
+    [mesh]      elements_per_semi_axis, h_max_mm, order, depth_mm, rail_support_below_mm, length_factor, grading,
+                yield_search_radius_factor, reference_depth_factor, refine_depth_factor
+    [fit]       n_segments (1..8), elastic_tolerance, elastic_fraction (former S_1 rule), max_relative_error
     [[bodies]]  body = "rail" | "wheel", profile = name or file (relative to the config), mate = name or file,
                 positions_mm = [...] or positions = {start_mm, stop_mm, step_mm}, semi_axes_mm = [a, b],
                 rail_cant_rad, max_lateral_radius_mm, wheel_radius_mm, [bodies.material] (overrides)
@@ -55,11 +56,15 @@ class MaterialSettings:
 
 @dataclass(frozen=True)
 class FitSettings:
-    """n_segments N; elastic_fraction f (layer's elastic part / half-space displacement, sets S_1);
-    max_relative_error: largest accepted fit error relative to max u."""
+    """n_segments N; elastic_tolerance t: S_1 = p_max / (t u_pl(p_max)), the layer's elastic displacement at the
+    largest calibrated pressure being t times its inelastic one (docs/calibration.md: the layer has no elasticity
+    of its own, the half-space carries it; t = the 1 % accuracy of the FEM layer displacement);
+    elastic_fraction f: the former rule S_1 = 1 / (f c_hs) (c_hs: half-space centre compliance), used only when
+    given; max_relative_error: largest accepted fit error relative to max u."""
 
     n_segments: int = 5
-    elastic_fraction: float = 0.02
+    elastic_tolerance: float = 0.01
+    elastic_fraction: float | None = None
     max_relative_error: float = 0.1
 
 
@@ -295,10 +300,13 @@ def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> 
         "rail_support_below_mm": lambda v, k: r.number(v, k, 0.0, 500.0),
         "length_factor": lambda v, k: r.number(v, k, 1.0, 50.0),
         "grading": lambda v, k: r.number(v, k, 0.0, 5.0),
-        "yield_search_radius_factor": lambda v, k: r.number(v, k, 0.0, 100.0)})
+        "yield_search_radius_factor": lambda v, k: r.number(v, k, 0.0, 100.0),
+        "reference_depth_factor": lambda v, k: r.number(v, k, 0.0, 20.0, lo_open=False),
+        "refine_depth_factor": lambda v, k: r.number(v, k, 0.0, 10.0)})
     fit = r.dataclass_from(FitSettings, r.table(data, "fit"), "fit", {
         "n_segments": lambda v, k: int(r.number(v, k, N_SEGMENTS_RANGE[0], N_SEGMENTS_RANGE[1], lo_open=False,
                                                 integer=True)),
+        "elastic_tolerance": lambda v, k: r.number(v, k, 0.0, 1.0),
         "elastic_fraction": lambda v, k: r.number(v, k, 0.0, 1.0),
         "max_relative_error": lambda v, k: r.number(v, k, 0.0, 10.0)})
     if fit.n_segments < 2:

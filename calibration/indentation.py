@@ -1,18 +1,18 @@
 """One calibration position: mesh, elastoplastic Hertzian indentation with unloading branches -> raw
-characteristic points (units mm, N, MPa).
+characteristic points (units mm, N, MPa). The definition is documented in docs/calibration.md:
 
-Definition of the layer characteristic at a position (documented in the README):
-
-- The FEM model (2D plane-strain section or 3D local half model) is loaded by the Hertzian pressure with the
-  position's semi-axes; p0 rises monotonically to ``max_factor`` times the FEM first-yield pressure p_y (first
-  yield within a few semi-axes of the load centre; see :func:`local_first_yield_MPa`).
-- u_FEM(p0) is the normal displacement of the load centre (into the body). Its elastic part on the SAME mesh is
-  c_el p0 (c_el from the linear solution), so the inelastic part u_pl(p0) = u_FEM(p0) - c_el p0 is free of the
-  mesh's and the finite section's elastic error. With elastic unloading u_pl equals the residual dent; the FEM
-  unloading runs from several peaks check this (``reverse_plasticity_mm`` = u_res,FEM - u_pl at the peak).
-- The layer's elastic part is a stated small fraction f (``elastic_fraction``) of the half-space centre
-  displacement of this body under the same Hertz pressure, c_hs p0 (the contact solver computes the half-space
-  part itself), so S_1 = 1 / (f c_hs).
+- The FEM model (3D local half model, default; or the 2D plane-strain section) is loaded by the Hertzian
+  pressure with the position's semi-axes; p0 rises monotonically to ``max_factor`` times the FEM first-yield
+  pressure p_y (first yield within a few semi-axes of the load centre; see :func:`local_first_yield_MPa`).
+- u_FEM(p0) is the normal displacement of the load centre (into the body) against the clamped far-field cut, as
+  on a half-space (or, with ``reference_depth_factor`` > 0, against the material point that far below it). Its
+  elastic part on the SAME mesh is c_el p0 (c_el from the linear solution), so the inelastic part
+  u_pl(p0) = u_FEM(p0) - c_el p0 is free of the mesh's and the finite section's elastic error. In 3D it does not
+  depend on the support or the cut depth (tests/calibration/test_support_independence.py, < 1 %). With elastic
+  unloading u_pl equals the residual dent; the FEM unloading runs from several peaks check this
+  (``reverse_plasticity_mm`` = u_res,FEM - u_pl at the peak).
+- The layer has no elasticity of its own (the contact solver's half-space carries it): S_1 is set so that the
+  layer's elastic displacement is below the FEM's accuracy (calibration.pipeline.first_slope_N_per_mm3).
 - The monotonic characteristic is u(p) = p / S_1 + u_pl(p) with p_2 = p_y. Eq. (8) then returns u_pl(p0), the
   FEM residual dent, by construction (up to reverse plasticity, reported).
 """
@@ -26,6 +26,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
+import scipy.sparse as sp
 
 from calibration.fem.elastoplastic_solver import SolverOptions, solve_load_path
 from calibration.fem.assembly import discretise
@@ -42,7 +43,10 @@ class MeshSettings:
     per body); rail_support_below_mm: the rail head is also held on its side/underside boundary below
     z = -rail_support_below_mm (the head underside and web), so that the section does not bend over the thin
     web like a cantilever (a plane-strain artefact: the real load is short in x); None: clamped cut only.
-    First yield is searched within yield_search_radius_factor * b of the load centre."""
+    3D: h_min fills the box of half-sizes (1.2 a, 1.2 b, refine_depth_factor * b) at the load point (the plastic
+    zone). First yield is searched within yield_search_radius_factor * b of the load centre. reference_depth_factor > 0:
+    the layer displacement is measured against the material point reference_depth_factor * max(a, b) (2D: * b)
+    below the load centre; 0 (default): against the clamped far field, as a half-space's."""
 
     elements_per_semi_axis: float = 8.0
     h_max_mm: float = 6.0
@@ -52,6 +56,8 @@ class MeshSettings:
     length_factor: float = 5.0
     grading: float = 0.3
     yield_search_radius_factor: float = 3.0
+    reference_depth_factor: float = 0.0
+    refine_depth_factor: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -89,6 +95,12 @@ class IndentationResult:
     newton_iterations: int
     seconds: float
     files: list[str] = field(default_factory=list)
+    reference_depth_mm: float | None = None
+    u_centre_abs_mm: list[float] = field(default_factory=list)
+    fem_absolute_compliance_mm_per_MPa: float | None = None
+    u_pl_depth_mm: dict[str, list[float]] = field(default_factory=dict)
+    linear_solves: int = 0
+    factorisations: int = 0
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -105,9 +117,23 @@ def build_mesh(profile, geometry: LocalGeometry, model: str, mesh: MeshSettings)
         return section_mesh(profile, geometry.y_mm, h_min, h_max, depth_mm=mesh.depth_mm, order=mesh.order,
                             refine_radius_mm=1.2 * geometry.b_mm, grading=mesh.grading)
     length = max(mesh.length_factor * geometry.a_mm, 4.0 * geometry.b_mm)
-    box = (1.2 * geometry.a_mm, 1.2 * geometry.b_mm, 1.0 * geometry.b_mm)
+    box = (1.2 * geometry.a_mm, 1.2 * geometry.b_mm, mesh.refine_depth_factor * geometry.b_mm)
     return local_mesh(profile, geometry.y_mm, h_min, h_max, length_mm=length, depth_mm=mesh.depth_mm,
                       order=mesh.order, refine_box=box, grading=mesh.grading)
+
+
+#: Fewest elements across the contact's shorter semi-axis (h_min = min(a, b) / elements_per_semi_axis): below
+#: this the Hertz pressure is carried by one or two element faces and the dent is not resolved.
+MIN_ELEMENTS_PER_SEMI_AXIS = 2.0
+
+
+def check_resolution(geometry: LocalGeometry, model: str, mesh: MeshSettings) -> None:
+    """InputError naming ``mesh.elements_per_semi_axis`` when the mesh is too coarse for the contact."""
+    short = min(geometry.a_mm, geometry.b_mm) if model == "3d" else geometry.b_mm
+    require(mesh.elements_per_semi_axis >= MIN_ELEMENTS_PER_SEMI_AXIS, "mesh.elements_per_semi_axis",
+            f"{mesh.elements_per_semi_axis:g} elements across the semi-axis {short:.3g} mm (h_min = "
+            f"{short / mesh.elements_per_semi_axis:.3g} mm) is too coarse for the load: at least "
+            f"{MIN_ELEMENTS_PER_SEMI_AXIS:g} are needed")
 
 
 def add_support_boundary(mesh, below_mm: float) -> dict:
@@ -137,6 +163,33 @@ def local_first_yield_MPa(disc, elastic_result, material: J2Material, radius_mm:
     return float(material.yield_MPa / np.max(vm[near]))
 
 
+def point_probe(disc, point_mm: np.ndarray, direction: np.ndarray):
+    """Sparse (1, n_dofs) functional: the displacement component along ``direction`` at ``point_mm`` inside the
+    mesh (element found by barycentric coordinates of its vertices); InputError when the point is outside."""
+    from calibration.hertz.load import _probe
+
+    mesh = disc.mesh
+    dim = mesh.dim()
+    point = np.asarray(point_mm, dtype=float)
+    v = mesh.p[:, mesh.t[:dim + 1]]                       # (dim, dim+1, n_elem)
+    A = np.moveaxis(v[:, 1:] - v[:, :1], -1, 0)           # (n_elem, dim, dim)
+    with np.errstate(all="ignore"):
+        lam = np.linalg.solve(A, (point[:, None] - v[:, 0])[..., None].transpose(1, 0, 2))[..., 0]
+    full = np.column_stack([1.0 - lam.sum(axis=1), lam])
+    inside = np.nonzero(np.all(full >= -1e-9, axis=1))[0]
+    require(inside.size > 0, "reference_depth_factor",
+            f"the reference point {np.round(point, 3).tolist()} mm lies outside the mesh (section too shallow)")
+    op = _probe(disc.basis, point, int(inside[0]))        # (dim, n_dofs)
+    return sp.csr_matrix(np.asarray(direction, dtype=float)[None, :] @ op)
+
+
+def _solver_counts(disc) -> dict:
+    """Triangular solves and factorisations of the discretisation's kept factoriser (machine-independent cost)."""
+    fac = [v.factor for v in disc.problem_cache.values() if hasattr(v, "factor")]
+    return {"linear_solves": int(sum(f.n_solves for f in fac)),
+            "factorisations": int(sum(f.n_factorisations for f in fac))}
+
+
 def _levels(p_y: float, load: LoadSettings) -> list[float]:
     above = p_y * np.linspace(1.0, load.max_factor, load.n_levels + 1)[1:]
     peaks = [f * p_y for f in load.unload_factors]
@@ -145,12 +198,16 @@ def _levels(p_y: float, load: LoadSettings) -> list[float]:
 
 def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = "2d",
            mesh_settings: MeshSettings = MeshSettings(), load_settings: LoadSettings = LoadSettings(),
-           out_dir: Path | None = None, progress=None, linear_solver: str = "auto") -> IndentationResult:
+           out_dir: Path | None = None, progress=None, linear_solver: str = "auto",
+           extra_depth_factors: tuple[float, ...] = ()) -> IndentationResult:
     """Run the indentation of one position; ``progress(n)`` is called after each load stage (optional);
     linear_solver: 'auto' | 'pardiso' | 'scipy' (SuperLU: faster for small 2D sections on a busy machine).
 
-    VTK/PNG fields at the highest peak and after unloading from it are written to ``out_dir`` when given.
-    Raises ConvergenceError (FEM) or InputError (geometry, mesh) naming the cause.
+    The layer displacement is the normal displacement of the load centre (relative to the material point at the
+    reference depth d_ref = reference_depth_factor * max(a, b) below it when that factor is > 0). ``extra_depth_factors``:
+    further reference depths (same unit) whose inelastic displacements are reported in ``u_pl_depth_mm``
+    (benchmarks). VTK/PNG fields at the highest peak and after unloading from it are written to ``out_dir``
+    when given. Raises ConvergenceError (FEM) or InputError (geometry, mesh) naming the cause.
     """
     require(model in ("2d", "3d"), "model", f"must be '2d' or '3d', got {model!r}")
     require(all(0 < f <= load_settings.max_factor + 1e-12 for f in load_settings.unload_factors), "unload_factors",
@@ -158,6 +215,7 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
     t0 = time.perf_counter()
     if out_dir is not None and importlib.util.find_spec("calibration.fem.output") is None:
         out_dir = None  # the FEM engine's field output is not available: no VTK/PNG pictures
+    check_resolution(geometry, model, mesh_settings)
     mesh = build_mesh(profile, geometry, model, mesh_settings)
     disc = discretise(mesh, mesh_settings.order)
     dirichlet = None
@@ -165,16 +223,32 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
         dirichlet = add_support_boundary(mesh, mesh_settings.rail_support_below_mm)
     load = HertzLoad(geometry.y_mm, geometry.b_mm, geometry.a_mm if model == "3d" else None,
                      z0_mm=geometry.z_mm)
+    where = load.centre_only(disc.basis)
+    length = max(geometry.a_mm, geometry.b_mm) if model == "3d" else geometry.b_mm
+    factors = {"ref": mesh_settings.reference_depth_factor}
+    factors.update({f"{f:g}": float(f) for f in extra_depth_factors})
+    probes = {name: point_probe(disc, where.centre_mm - f * length * where.normal_out, -where.normal_out)
+              for name, f in factors.items() if f > 0}
+    probes["ref"] = probes.get("ref", lambda u: 0.0)  # factor 0: against the clamped far field
     p_probe = 1.0
-    elastic = solve_load_path(mesh, material, load, [p_probe], disc=disc, options=SolverOptions(dirichlet=dirichlet, linear_solver=linear_solver))
+    elastic = solve_load_path(mesh, material, load, [p_probe], disc=disc, probes=probes,
+                              options=SolverOptions(dirichlet=dirichlet, linear_solver=linear_solver))
     p_y = local_first_yield_MPa(disc, elastic, material, mesh_settings.yield_search_radius_factor * geometry.b_mm)
-    c_el = elastic.history[-1].u_centre_mm / p_probe
-    require(math.isfinite(p_y) and p_y > 0 and c_el > 0, "indentation",
-            f"elastic solution at y = {geometry.y_mm:g} mm is degenerate (p_y = {p_y}, compliance {c_el})")
+    h_el = elastic.history[-1]
+    c_el_abs = h_el.u_centre_mm / p_probe
+    c_el = {k: (h_el.u_centre_mm - v) / p_probe for k, v in h_el.probes_mm.items()}
+    require(math.isfinite(p_y) and p_y > 0 and c_el["ref"] > 0, "indentation",
+            f"elastic solution at y = {geometry.y_mm:g} mm is degenerate (p_y = {p_y}, compliance {c_el['ref']})")
     if progress:
         progress(1)
+    # unloading in one step (cut on failure like any step): it is elastic up to reverse plasticity, and the
+    # many small steps it took before were a third of the increments (benchmarks/bench_fem.py)
+    # rtol 1e-6 / etol 1e-8: the dents agree with 1e-8 / 1e-10 to 1e-7 relative at 22 % fewer solves (measured,
+    # docs/calibration.md)
     opts = SolverOptions(max_increment_MPa=load_settings.max_increment_factor * p_y, dirichlet=dirichlet,
-                         linear_solver=linear_solver)
+                         linear_solver=linear_solver, max_unload_increment_MPa=load_settings.max_factor * p_y,
+                         rtol=1e-6, etol=1e-8,
+                         output_label=f"{profile.body} {profile.name}, y = {geometry.y_mm:g} mm ({model.upper()})")
     levels = _levels(p_y, load_settings)
     peaks = sorted(f * p_y for f in load_settings.unload_factors)
     top = max(peaks) if peaks else None
@@ -186,28 +260,41 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
         stage = [p for p in levels if start < p <= end + 1e-9 * end]
         write = out_dir is not None and top is not None and abs(end - top) <= 1e-9 * top
         res = solve_load_path(mesh, material, load, stage, options=opts, initial_state=state, disc=disc,
-                              vtk_at=[len(stage) - 1] if write else (), out_dir=out_dir / "peak" if write else None)
+                              vtk_at=[len(stage) - 1] if write else (), out_dir=out_dir / "peak" if write else None,
+                              probes=probes)
         state = res.state
         history += res.history
         files += [str(f) for f in res.files]
         newton += sum(h.newton_iters for h in res.history)
         if any(abs(end - pk) <= 1e-9 * pk for pk in peaks):
             unl = solve_load_path(mesh, material, load, [0.0], options=opts, initial_state=state, disc=disc,
-                                  vtk_at=[0] if write else (), out_dir=out_dir / "unloaded" if write else None)
-            residuals.append(unl.history[-1].u_centre_mm)
+                                  vtk_at=[0] if write else (), out_dir=out_dir / "unloaded" if write else None,
+                                  probes=probes)
+            h = unl.history[-1]
+            residuals.append(h.u_centre_mm - h.probes_mm["ref"])
             newton += sum(h.newton_iters for h in unl.history)
             files += [str(f) for f in unl.files]
         if progress:
             progress(1)
         start = end
     p = np.array([0.0] + [h.p0_MPa for h in history])
-    u = np.array([0.0] + [h.u_centre_mm for h in history])
-    u_pl = u - c_el * p
-    u_pl[p <= p_y] = np.maximum(u_pl[p <= p_y], 0.0)
+    u_abs = np.array([0.0] + [h.u_centre_mm for h in history])
+    u_pl_depth = {}
+    for name in factors:
+        rel = u_abs - np.array([0.0] + [h.probes_mm[name] for h in history])
+        pl = rel - c_el[name] * p
+        pl[p <= p_y] = np.maximum(pl[p <= p_y], 0.0)
+        u_pl_depth[name] = pl
+    u_pl = u_pl_depth.pop("ref")
+    u = u_abs - np.array([0.0] + [h.probes_mm["ref"] for h in history])
     u_pl_at_peaks = np.interp(peaks, p, u_pl)
     c_hs = halfspace_centre_compliance_mm_per_MPa(geometry.a_mm, geometry.b_mm, material.E_MPa, material.poisson)
     return IndentationResult(model, p.tolist(), u.tolist(), u_pl.tolist(), float(p_y),
-                             float(elastic.first_yield_p0_MPa), float(c_el), float(c_hs),
+                             float(elastic.first_yield_p0_MPa), float(c_el["ref"]), float(c_hs),
                              [float(x) for x in peaks], [float(x) for x in residuals],
                              (np.array(residuals) - u_pl_at_peaks).tolist(), int(disc.n_dofs),
-                             int(mesh.t.shape[1]), int(newton), time.perf_counter() - t0, files)
+                             int(mesh.t.shape[1]), int(newton), time.perf_counter() - t0, files,
+                             reference_depth_mm=float(factors["ref"] * length) if factors["ref"] > 0 else None,
+                             u_centre_abs_mm=u_abs.tolist(), fem_absolute_compliance_mm_per_MPa=float(c_el_abs),
+                             u_pl_depth_mm={k: v.tolist() for k, v in u_pl_depth.items()},
+                             **_solver_counts(disc))

@@ -14,8 +14,11 @@ stay cached, so a rerun computes only what failed. Every file is written atomica
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
+import dataclasses
 import hashlib
 import json
+import os
 import platform
 import queue as queue_mod
 import sys
@@ -29,7 +32,8 @@ import numpy as np
 
 from calibration.fit.characteristic_fit import fit_characteristic
 from calibration.config import BodySettings, CalibrationConfig
-from calibration.hertz.geometry import given_geometry, local_geometry
+from calibration.hertz.geometry import (HERTZ_B_OVER_R_LIMIT, conformity, fitted_load_N, given_geometry,
+                                        local_geometry)
 from contact.layer.layer_table import LayerTable
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import InputError, WrLayerError
@@ -103,6 +107,8 @@ class PositionTask:
     key: str
     fields_dir: str | None
     linear_solver: str = "scipy"
+    blas_threads: int = 1
+
 
     @property
     def label(self) -> str:
@@ -111,15 +117,61 @@ class PositionTask:
 
 def run_position(task: PositionTask, progress_queue=None) -> dict:
     """Worker: the FEM indentation of one position -> {"ok": True, "indentation": {...}} or {"ok": False,
-    "error": message}. Never raises for a failed position."""
-    from calibration.hertz.geometry import LocalGeometry
-    from calibration.indentation import LoadSettings, MeshSettings, indent
-    from calibration.fem.material import J2Material
-    from meshes.profiles import get_profile
+    "error": message}, with the BLAS/MKL thread pools limited to ``task.blas_threads``. Never raises for a failed
+    position."""
 
     def progress(n):
         if progress_queue is not None:
             progress_queue.put(n)
+
+    try:
+        with limited_threads(task.blas_threads):
+            return _run_position(task, progress)
+    except Exception as err:  # a failed position must not stop the others; report the cause
+        return {"ok": False, "error": f"{task.label}: {type(err).__name__}: {err}"}
+
+
+#: Environment variables of the BLAS/LAPACK/OpenMP thread pools (read when a library is loaded).
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS", "NUMBA_NUM_THREADS")
+
+
+def blas_threads_per_worker(workers: int) -> int:
+    """Threads per calibration worker: the machine's cores shared evenly (at least 1). Measured on 2 cores: one
+    3D position takes about 3-6x longer when MKL/OpenBLAS threads oversubscribe the cores (README issue 12;
+    benchmarks/bench_calibration.py)."""
+    return max(1, (os.cpu_count() or 1) // max(1, int(workers)))
+
+
+@contextlib.contextmanager
+def _thread_environment(n: int):
+    """Set THREAD_VARIABLES to ``n`` while worker processes are spawned (they read them before numpy/MKL load;
+    threadpoolctl in run_position limits them again), then restore this process's environment."""
+    old = {var: os.environ.get(var) for var in THREAD_VARIABLES}
+    os.environ.update({var: str(max(1, int(n))) for var in THREAD_VARIABLES})
+    try:
+        yield
+    finally:
+        for var, value in old.items():
+            if value is None:
+                os.environ.pop(var, None)
+            else:
+                os.environ[var] = value
+
+
+def limited_threads(n: int):
+    """Context limiting the BLAS/MKL/OpenMP pools of this process to ``n`` threads (threadpoolctl; the MKL
+    of pypardiso is loaded first so that it is limited too)."""
+    from threadpoolctl import threadpool_limits
+
+    import calibration.fem.linear_solvers  # noqa: F401 - loads MKL (pypardiso) before the limit is applied
+    return threadpool_limits(limits=max(1, int(n)))
+
+
+def _run_position(task: PositionTask, progress) -> dict:
+    from calibration.hertz.geometry import LocalGeometry
+    from calibration.indentation import LoadSettings, MeshSettings, indent
+    from calibration.fem.material import J2Material
+    from meshes.profiles import get_profile
 
     try:
         profile = get_profile(task.profile)
@@ -141,25 +193,41 @@ def n_stages(load: dict) -> int:
     return 1 + len(set(load["unload_factors"]) | {load["max_factor"]})
 
 
-def make_tasks(cfg: CalibrationConfig, out_dir: Path, plots: bool | None = None) -> tuple[list[PositionTask], list[dict]]:
-    """Tasks for all positions, and failures found already while computing the local geometry. With ``plots``
+def position_geometry(b: BodySettings, profile, mate, y: float, reference_load_N: float):
+    """(LocalGeometry, warning or None) of one position: the Hertz patch at the reference load, or, at a
+    conforming position (b/R_min > HERTZ_B_OVER_R_LIMIT), at the load whose patch has b/R_min at the limit."""
+    if b.semi_axes_mm is not None:
+        return given_geometry(profile, y, *b.semi_axes_mm), None
+    args = (b.material.E_MPa, b.material.poisson, b.rail_cant_rad, b.wheel_radius_mm, b.max_lateral_radius_mm)
+    geo = local_geometry(profile, y, mate, reference_load_N, *args)
+    ratio = conformity(geo)
+    if ratio <= HERTZ_B_OVER_R_LIMIT:
+        return geo, None
+    load_n = fitted_load_N(geo)
+    geo = local_geometry(profile, y, mate, load_n, *args)
+    return geo, (f"{b.body} y = {y:g} mm: conforming contact (b/R = {ratio:.2f} > {HERTZ_B_OVER_R_LIMIT:g} at "
+                 f"{reference_load_N:g} N: the Hertz half-space load does not fit); calibrated at {load_n:.4g} N "
+                 f"(b = {geo.b_mm:.3g} mm, b/R = {conformity(geo):.2f})")
+
+
+def make_tasks(cfg: CalibrationConfig, out_dir: Path, plots: bool | None = None
+               ) -> tuple[list[PositionTask], list[dict], list[dict]]:
+    """Tasks for all positions, failures found already while computing the local geometry, and warnings
+    (conforming positions, b/R above HERTZ_B_OVER_R_LIMIT, calibrated at a lower load). With ``plots``
     (default: the configuration's) each task writes VTK/PNG fields into OUT/fields/<body>_y<y>mm."""
     plots = cfg.run.plots if plots is None else plots
     from meshes.profiles import get_profile
 
     code = code_hash()
-    tasks, failed = [], []
+    tasks, failed, warnings = [], [], []
     for b in cfg.bodies:
         profile = get_profile(b.profile)
         mate = get_profile(b.mate) if b.mate else None
         for y in b.positions_mm:
             try:
-                if b.semi_axes_mm is not None:
-                    geo = given_geometry(profile, y, *b.semi_axes_mm)
-                else:
-                    geo = local_geometry(profile, y, mate, cfg.reference_load_N, b.material.E_MPa,
-                                         b.material.poisson, b.rail_cant_rad, b.wheel_radius_mm,
-                                         b.max_lateral_radius_mm)
+                geo, warning = position_geometry(b, profile, mate, y, cfg.reference_load_N)
+                if warning:
+                    warnings.append({"body": b.body, "y_mm": y, "warning": warning})
             except WrLayerError as err:
                 failed.append({"body": b.body, "y_mm": y, "error": str(err)})
                 continue
@@ -170,16 +238,33 @@ def make_tasks(cfg: CalibrationConfig, out_dir: Path, plots: bool | None = None)
             fields = out_dir / "fields" / f"{b.body}_y{y:+08.3f}mm" if plots else None
             tasks.append(PositionTask(b.body, b.profile, float(y), geo.to_dict(), asdict(b.material),
                                       cfg.run.model, asdict(cfg.mesh), asdict(cfg.load), key,
-                                      str(fields) if fields else None, cfg.run.linear_solver))
-    return tasks, failed
+                                      str(fields) if fields else None, cfg.run.linear_solver,
+                                      blas_threads_per_worker(cfg.run.workers)))
+    return tasks, failed, warnings
+
+
+def first_slope_N_per_mm3(ind: dict, fit) -> float:
+    """The layer's elastic slope S_1 (N/mm^3). The FEM body is homogeneous steel whose elasticity the contact
+    solver's half-space already carries, so the layer has no elastic displacement of its own (S_1 -> inf); the
+    Prandtl element needs a finite S_1 (eqs. 4-6), taken so that its elastic displacement at the largest
+    calibrated pressure is ``fit.elastic_tolerance`` times the FEM inelastic one there (below the FEM's accuracy):
+    S_1 = p_max / (t u_pl(p_max)). With ``fit.elastic_fraction`` given, the former S_1 = 1 / (f c_hs)."""
+    if fit.elastic_fraction is not None:
+        return 1.0 / (fit.elastic_fraction * ind["halfspace_compliance_mm_per_MPa"])
+    p = np.asarray(ind["p_MPa"])
+    u_pl = np.asarray(ind["u_pl_mm"])
+    k = int(np.argmax(p))
+    if not u_pl[k] > 0:
+        raise InputError("fit.elastic_tolerance", f"no inelastic displacement at the largest pressure "
+                                                  f"{p[k]:.6g} MPa: S_1 undefined (raise load.max_factor)")
+    return float(p[k] / (fit.elastic_tolerance * u_pl[k]))
 
 
 def fit_position(ind: dict, geometry: dict, cfg: CalibrationConfig, what: str) -> dict:
     """The table entry of one position: fitted characteristic, parameters, errors, geometry and raw FEM data."""
     p = np.asarray(ind["p_MPa"])
     u_pl = np.asarray(ind["u_pl_mm"])
-    c_hs = ind["halfspace_compliance_mm_per_MPa"]
-    s1 = 1.0 / (cfg.fit.elastic_fraction * c_hs)
+    s1 = first_slope_N_per_mm3(ind, cfg.fit)
     u = p / s1 + u_pl
     fit = fit_characteristic(p, u, cfg.fit.n_segments, s1_N_per_mm3=s1, p2_MPa=ind["first_yield_MPa"], what=what,
                              max_relative_error=cfg.fit.max_relative_error)
@@ -207,8 +292,11 @@ def _header(cfg: CalibrationConfig, b: BodySettings, keys: list[str]) -> dict:
             "units": {"length": "mm", "pressure": "MPa", "stiffness": "N/mm^3", "force": "N"},
             "material": asdict(b.material), "mesh": asdict(cfg.mesh), "load": asdict(cfg.load),
             "reference_load_N": cfg.reference_load_N, "fit": asdict(cfg.fit),
-            "definition": "u(p) = p/S_1 + u_pl(p); u_pl = FEM centre displacement minus the same mesh's elastic "
-                          "part; S_1 = 1/(elastic_fraction * half-space centre compliance); p_2 = FEM first yield",
+            "definition": "u(p) = p/S_1 + u_pl(p); u_pl = FEM approach of the load centre towards the material "
+                          "point reference_depth_factor * max(a, b) below it, minus the same mesh's elastic part; "
+                          "S_1 = p_max / (elastic_tolerance * u_pl(p_max)) (or 1/(elastic_fraction * half-space "
+                          "centre compliance) when elastic_fraction is given); p_2 = FEM first yield "
+                          "(docs/calibration.md)",
             "software": software_versions(), "code_version": code_version(), "code_hash": code_hash(),
             "config": cfg.source,
             "created_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
@@ -242,7 +330,9 @@ def _execute(tasks: list[PositionTask], cfg: CalibrationConfig, scheduler: str |
             except (OSError, TimeoutError, ValueError) as err:
                 raise InputError("scheduler", f"cannot connect to the Dask scheduler {scheduler!r}: {err}") from None
             with client:
-                futures = {client.submit(run_position, t, pure=False): t for t in tasks}
+                # a Dask worker runs as many tasks as it has threads: one BLAS thread per task
+                futures = {client.submit(run_position, dataclasses.replace(t, blas_threads=1), pure=False): t
+                           for t in tasks}
                 for fut in as_completed(futures):
                     t = futures[fut]
                     bar_steps.update(n_stages(t.load))
@@ -258,7 +348,7 @@ def _execute(tasks: list[PositionTask], cfg: CalibrationConfig, scheduler: str |
         import multiprocessing as mp
 
         ctx = mp.get_context("spawn")
-        with ctx.Manager() as manager:
+        with _thread_environment(min(t.blas_threads for t in tasks)), ctx.Manager() as manager:
             q = manager.Queue()
             with cf.ProcessPoolExecutor(max_workers=min(cfg.run.workers, len(tasks)), mp_context=ctx) as pool:
                 futures = {pool.submit(run_position, t, q): t for t in tasks}
@@ -299,7 +389,7 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
     out_dir = Path(out_dir)
     plots = cfg.run.plots if plots is None else plots
     scheduler = scheduler if scheduler is not None else (cfg.run.scheduler or None)
-    tasks, failed = make_tasks(cfg, out_dir, plots)
+    tasks, failed, warnings = make_tasks(cfg, out_dir, plots)
     cache = out_dir / "cache"
     results: dict[str, dict] = {}
     todo = []
@@ -313,6 +403,9 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
             except (OSError, json.JSONDecodeError):
                 pass
         todo.append(t)
+    # longest first (the 3D mesh grows with the patch's elongation a/b: 553 s at a/b = 13.6 against 30-80 s for
+    # round patches in the default run), so that no worker is left alone with a long position at the end
+    todo.sort(key=lambda t: -max(t.geometry["a_mm"], t.geometry["b_mm"]) / min(t.geometry["a_mm"], t.geometry["b_mm"]))
     n_cached = len(tasks) - len(todo)
     if todo:
         log(f"calibration: {len(todo)} position(s) to compute, {n_cached} cached "
@@ -344,7 +437,8 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
                     failed.append({"body": b.body, "y_mm": t.y_mm, "error": str(err)})
                     continue
                 atomic_write_text(fit_file, json.dumps(entry))
-            entries.append(entry)
+            notes = [w["warning"] for w in warnings if w["body"] == b.body and w["y_mm"] == t.y_mm]
+            entries.append(dict(entry, warnings=notes) if notes else entry)
             keys.append(t.key)
         body_failed = sorted((f for f in failed if f["body"] == b.body), key=lambda f: f["y_mm"])
         info = {"positions": len(b.positions_mm), "calibrated": len(entries), "failed": len(body_failed)}
@@ -355,8 +449,9 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
         else:
             header = _header(cfg, b, keys)
             failed_rows = [{"y_mm": f["y_mm"], "error": f["error"]} for f in body_failed]
+            header["conforming_limit_b_over_R"] = HERTZ_B_OVER_R_LIMIT
             header["inputs_hash"] = _hash({"keys": keys, "fit": asdict(cfg.fit), "fit_code": fit_code,
-                                           "plots": plots})
+                                           "plots": plots, "warnings": [w for w in warnings if w["body"] == b.body]})
             json_path = out_dir / f"{b.body}_layer_table.json"
             unchanged = _same_inputs(json_path, header["inputs_hash"])
             table = LayerTable.read(json_path) if unchanged else LayerTable(header, entries, failed_rows,
@@ -376,9 +471,11 @@ def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str 
 
                 written += [str(p) for p in write_body_plots(table, b, out_dir / "plots")]
         summary["bodies"][b.body] = info
-    summary.update(failed=failed, worst_relative_fit_error=worst, seconds=time.perf_counter() - t_start,
-                   files=written)
+    summary.update(failed=failed, warnings=warnings, worst_relative_fit_error=worst,
+                   seconds=time.perf_counter() - t_start, files=written)
     atomic_write_text(out_dir / "summary.json", json.dumps(summary, indent=1) + "\n")
+    for w in warnings:
+        print(f"warning: {w['warning']}", file=sys.stderr)
     for f in failed:
         print(f"error: {f['error']}", file=sys.stderr)
     n_ok = sum(v["calibrated"] for v in summary["bodies"].values())

@@ -70,13 +70,21 @@ def write_vtu(path: str | os.PathLike, disc, state, material) -> Path:
     return _write_via_temp(Path(path), lambda p: meshio.write(p, m))
 
 
+def _scale_length(h: float) -> float:
+    """A round length (1, 2 or 5 x 10^k mm) of about half the box half-width, for the scale bar."""
+    target = 0.5 * h
+    k = 10.0 ** np.floor(np.log10(target))
+    return float(max(m * k for m in (1.0, 2.0, 5.0) if m * k <= target))
+
+
 def render_png(path: str | os.PathLike, disc, state, material, field: str, centre_mm, half_width_mm: float,
                title: str = "") -> Path:
     """Off-screen pyvista render of a cell field in a box of half width ``half_width_mm`` around the centre.
 
-    The cells whose centres lie in the box are shown. 2D: the zoomed section (camera along x). 3D: seen
-    obliquely from the -x, -y side, so that the planes x = 0 and y = 0 (the symmetry planes of a quarter model,
-    sections through the plastic zone) are visible.
+    3D: the half model is cut smoothly by the box (clipped cells, not whole jagged elements) and seen obliquely
+    from the -x side, so that the symmetry plane x = 0 (a section through the plastic zone, outlined and labelled)
+    and the loaded surface are visible; a scale bar gives the length in mm and the colour bar sits below the
+    model. 2D: the zoomed section (camera along x) with the same scale bar and colour bar.
     """
     from wrlayer.offscreen import offscreen_pyvista
 
@@ -89,20 +97,42 @@ def render_png(path: str | os.PathLike, disc, state, material, field: str, centr
     bounds = [c[0] - h, c[0] + h, c[1] - h, c[1] + h, c[2] - h, c[2] + h]
     if disc.plane_strain:
         bounds[0:2] = [-1.0, 1.0]
-    centres = grid.cell_centers().points
-    inside = np.all((centres >= np.array(bounds[0::2]) - 1e-12) & (centres <= np.array(bounds[1::2]) + 1e-12), axis=1)
-    part = grid.extract_cells(np.nonzero(inside)[0])
-    plotter = pv.Plotter(off_screen=True, window_size=(900, 700))
+        centres = grid.cell_centers().points
+        inside = np.all((centres >= np.array(bounds[0::2]) - 1e-12)
+                        & (centres <= np.array(bounds[1::2]) + 1e-12), axis=1)
+        part = grid.extract_cells(np.nonzero(inside)[0])
+    else:
+        # smooth: element averages interpolated to the vertices (no faceted element pattern)
+        part = grid.clip_box(bounds, invert=False, crinkle=False).cell_data_to_point_data()
+    plotter = pv.Plotter(off_screen=True, window_size=(1000, 800))
     label = {"von_mises_MPa": "von Mises stress (MPa)", "eq_plastic_strain": "equivalent plastic strain"}[field]
     plotter.add_mesh(part, scalars=field, cmap="viridis", show_edges=False,
-                     scalar_bar_args={"title": "", "vertical": True, "position_x": 0.86, "position_y": 0.1,
-                                      "width": 0.05, "height": 0.75})
-    plotter.add_text(f"{label}{', ' + title if title else ''}", font_size=10)
+                     scalar_bar_args={"title": label, "vertical": False, "position_x": 0.2, "position_y": 0.03,
+                                      "width": 0.6, "height": 0.06, "title_font_size": 14, "label_font_size": 12,
+                                      "fmt": "%.3g"})
+    plotter.add_text(title or label, font_size=11, position="upper_edge")
+    L = _scale_length(h)
+    top = c[2] + 0.05 * h
+    if disc.plane_strain:
+        p0 = np.array([0.0, c[1] - 0.9 * h, c[2] - 0.9 * h])
+    else:
+        p0 = np.array([c[0], c[1] - 0.9 * h, top])
+        # the symmetry plane x = 0 through the load centre: outline of its part in the box, labelled
+        sym = part.slice(normal="x", origin=(c[0] + 1e-6 * h, c[1], c[2]))
+        if sym.n_points:
+            plotter.add_mesh(sym.extract_feature_edges(boundary_edges=True, feature_edges=False,
+                                                       manifold_edges=False), color="white", line_width=3)
+            plotter.add_point_labels([np.array([c[0], c[1] + 0.6 * h, c[2] - 0.8 * h])],
+                                     ["symmetry plane x = 0"], font_size=12, text_color="black",
+                                     shape_opacity=0.6, always_visible=True)
+    p1 = p0 + np.array([0.0, L, 0.0])
+    plotter.add_mesh(pv.Line(p0, p1), color="red", line_width=5)
+    plotter.add_point_labels([0.5 * (p0 + p1)], [f"{L:g} mm"], font_size=14, text_color="black",
+                             shape_opacity=0.6, always_visible=True)
     if disc.plane_strain:
         plotter.view_yz()
     else:
-        # look at the symmetry planes x = 0 and y = 0 of a quarter model (sections through the plastic zone)
-        plotter.camera_position = [(c[0] - 3 * h, c[1] - 2.5 * h, c[2] + 2 * h), tuple(c - [0, 0, 0.3 * h]),
+        plotter.camera_position = [(c[0] - 3 * h, c[1] - 2.0 * h, c[2] + 1.6 * h), tuple(c - [0, 0, 0.3 * h]),
                                    (0, 0, 1)]
     plotter.show_axes()
     out = _write_via_temp(Path(path), lambda p: plotter.screenshot(p))
@@ -121,15 +151,17 @@ def plastic_zone_half_width(disc, state, centre_mm, minimum_mm: float) -> float:
 
 
 def write_increment_output(disc, state, material, prepared, out_dir: Path, index: int,
-                           minimum_half_width_mm: float | None = None) -> list[Path]:
-    """VTK and two PNGs (von Mises, equivalent plastic strain) for level ``index`` into ``out_dir``."""
+                           minimum_half_width_mm: float | None = None, label: str = "") -> list[Path]:
+    """VTK and two PNGs (von Mises, equivalent plastic strain) for level ``index`` into ``out_dir``; ``label``
+    (e.g. body, profile and position) heads the pictures' titles."""
     out_dir = Path(out_dir)
     stem = f"level_{index:03d}"
     files = [write_vtu(out_dir / f"{stem}.vtu", disc, state, material)]
     size = float(np.max(np.ptp(disc.mesh.p, axis=1)))
     hw = plastic_zone_half_width(disc, state, prepared.centre_mm, minimum_half_width_mm or 0.1 * size)
-    title = f"p0 = {state.p0_MPa:.1f} MPa"
+    names = {"von_mises_MPa": "von Mises stress", "eq_plastic_strain": "equivalent plastic strain"}
     for field, tag in (("von_mises_MPa", "von_mises"), ("eq_plastic_strain", "eq_plastic_strain")):
+        title = f"{label + ': ' if label else ''}{names[field]} at p0 = {state.p0_MPa:.0f} MPa"
         files.append(render_png(out_dir / f"{stem}_{tag}.png", disc, state, material, field, prepared.centre_mm,
                                 hw, title))
     return files

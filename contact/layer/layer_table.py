@@ -1,14 +1,15 @@
 """Per-position layer tables: the calibrated Prandtl characteristic along a profile (units mm, MPa, N/mm^3).
 
-File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 1``)::
+File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 2``; version 1 is read too)::
 
-    {"format": ..., "format_version": 1,
+    {"format": ..., "format_version": 2,
      "header": {"body": "rail"|"wheel", "profile": name, "material": {...}, "model": "2d"|"3d",
                 "mesh": {...}, "load": {...}, "fit": {...}, "software": {...}, "code_version": ...,
                 "inputs_hash": sha256 of all inputs, ...},
      "positions": [{"y_mm": y, "characteristic": {"u_mm": [...], "p_MPa": [...]}, "n_segments": N,
                     "k_N_per_mm3": [...], "T0_MPa": [...], "max_error_mm": ..., "rms_error_mm": ...,
-                    "geometry": {...}, "fem": {...}, ...}, ...],      # y_mm strictly increasing
+                    "geometry": {"a_mm", "b_mm", ...}, "fem": {...}, "warnings": [...] (v2), ...}, ...],
+                                                                     # y_mm strictly increasing
      "failed": [{"y_mm": y, "error": message}, ...]}
 
 ``positions`` are the calibrated positions (profile coordinate y in mm, frames as in :mod:`meshes.profiles`);
@@ -36,7 +37,10 @@ from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import InputError
 
 FORMAT = "wrlayer-layer-table"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+#: Versions this reader accepts. 2 (issue 12): positions may carry "warnings" (conforming contact) and the
+#: characteristic can be scaled to a patch size (``characteristic_at(y, patch_mm)``, needs geometry a_mm, b_mm).
+SUPPORTED_VERSIONS = (1, 2)
 BODIES = ("rail", "wheel")
 #: Relative tolerance between stored (k_i, T_0i) and those re-derived from the stored characteristic.
 PARAMETER_RTOL = 1e-6
@@ -75,9 +79,9 @@ class LayerTable:
             raise InputError(source, "must be a JSON object")
         if data.get("format") != FORMAT:
             raise InputError(source, f"'format' must be {FORMAT!r}, got {data.get('format')!r}")
-        if data.get("format_version") != FORMAT_VERSION:
+        if data.get("format_version") not in SUPPORTED_VERSIONS:
             raise InputError(source, f"unsupported format_version {data.get('format_version')!r} "
-                                     f"(this reader: {FORMAT_VERSION})")
+                                     f"(this reader: {', '.join(map(str, SUPPORTED_VERSIONS))})")
         for key, kind in (("header", dict), ("positions", list)):
             if not isinstance(data.get(key), kind):
                 raise InputError(source, f"missing or malformed {key!r} ({kind.__name__} expected)")
@@ -94,12 +98,14 @@ class LayerTable:
         return json.dumps(_plain(self.to_dict()), indent=1, allow_nan=False) + "\n"
 
     def to_csv(self) -> str:
-        """One row per calibrated position: geometry, N, S_i, k_i, T_0i, the points, fit errors (units in names)."""
+        """One row per calibrated position: geometry, N, S_i, k_i, T_0i, the points, fit errors (units in names),
+        warnings (e.g. a conforming position calibrated at a lower load)."""
         cols = (["body", "profile", "y_mm", "n_segments", "p2_MPa", "max_error_mm", "rms_error_mm", "a_mm", "b_mm"]
                 + [f"S{i}_N_per_mm3" for i in range(1, MAX_SEGMENTS + 1)]
                 + [f"k{i}_N_per_mm3" for i in range(1, MAX_SEGMENTS + 1)]
                 + [f"T0{i}_MPa" for i in range(1, MAX_SEGMENTS)]
-                + [f"u{i}_mm" for i in range(1, MAX_SEGMENTS + 2)] + [f"p{i}_MPa" for i in range(1, MAX_SEGMENTS + 2)])
+                + [f"u{i}_mm" for i in range(1, MAX_SEGMENTS + 2)] + [f"p{i}_MPa" for i in range(1, MAX_SEGMENTS + 2)]
+                + ["warnings"])
         buf = io.StringIO()
         w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
         w.writeheader()
@@ -108,7 +114,7 @@ class LayerTable:
             row = {"body": self.body, "profile": self.profile_name, "y_mm": pos["y_mm"],
                    "n_segments": ch.n_segments, "p2_MPa": ch.elastic_limit_MPa,
                    "max_error_mm": pos.get("max_error_mm"), "rms_error_mm": pos.get("rms_error_mm"),
-                   "a_mm": geo.get("a_mm"), "b_mm": geo.get("b_mm")}
+                   "a_mm": geo.get("a_mm"), "b_mm": geo.get("b_mm"), "warnings": "; ".join(pos.get("warnings", []))}
             par = ch.to_parameters()
             for i, v in enumerate(ch.slopes, 1):
                 row[f"S{i}_N_per_mm3"] = repr(float(v))
@@ -146,9 +152,42 @@ class LayerTable:
         y = self.y_mm
         return float(y[0]), float(y[-1])
 
-    def characteristic_at(self, y_mm: float) -> Characteristic:
+    def calibrated_length_mm(self, y_mm: float) -> float | None:
+        """The patch length sqrt(a b) (mm) the characteristic at y was calibrated on (linear in y between
+        positions); None when the table does not record the semi-axes (older tables)."""
+        lengths = []
+        for pos in self.positions:
+            geo = pos.get("geometry") or {}
+            a, b = geo.get("a_mm"), geo.get("b_mm")
+            if not (isinstance(a, (int, float)) and isinstance(b, (int, float)) and a > 0 and b > 0):
+                return None
+            lengths.append(math.sqrt(a * b))
+        return float(np.interp(float(y_mm), self.y_mm, lengths))
+
+    def characteristic_at(self, y_mm: float, patch_mm: tuple[float, float] | None = None) -> Characteristic:
         """The characteristic at profile coordinate y (mm): linear in y between calibrated positions (exact at
-        them); InputError outside the calibrated range."""
+        them); InputError outside the calibrated range.
+
+        patch_mm = (a, b): the semi-axes (mm) of the contact patch the layer is used on. The displacements are
+        then scaled by sqrt(a b) / sqrt(a_c b_c), (a_c, b_c) the calibrated patch: a half-space of J2 material
+        with linear hardening under a Hertz pressure p0 sqrt(1 - (x/a)^2 - (y/b)^2) has no length of its own,
+        so at fixed p0 and a/b its displacements are proportional to the patch size (docs/calibration.md;
+        measured x1.26 for a x1.27 patch, issue 12). InputError for a table without the calibrated semi-axes."""
+        ch = self._characteristic_at(y_mm)
+        if patch_mm is None:
+            return ch
+        a, b = (float(v) for v in patch_mm)
+        if not (math.isfinite(a) and math.isfinite(b) and a > 0 and b > 0):
+            raise InputError("patch_mm", f"semi-axes must be positive finite mm, got {patch_mm!r}")
+        ref = self.calibrated_length_mm(y_mm)
+        if ref is None:
+            raise InputError(self.source, "records no calibrated semi-axes (geometry a_mm, b_mm): cannot scale the "
+                                          "characteristic to the patch size")
+        scale = math.sqrt(a * b) / ref
+        return Characteristic(np.asarray(ch.u_mm) * scale, np.asarray(ch.p_MPa),
+                              f"{ch.name} scaled to the patch {a:.3g} x {b:.3g} mm (x{scale:.3g})")
+
+    def _characteristic_at(self, y_mm: float) -> Characteristic:
         y = float(y_mm)
         lo, hi = self.y_range_mm
         tol = 1e-9 * max(1.0, abs(lo), abs(hi))

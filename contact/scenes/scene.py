@@ -86,10 +86,13 @@ class BodyLayerSpec:
     table_path: Path | None = None
     position_mm: float | None = None
     table: Any = None  # contact.layer.layer_table.LayerTable when table_path is given
+    scale_to_patch: bool = False  # scale the table's characteristic to the solved patch size (issue 12)
 
-    def characteristic_at(self, offset_mm: float = 0.0, what: str = "layer") -> Characteristic:
+    def characteristic_at(self, offset_mm: float = 0.0, what: str = "layer",
+                          patch_mm: tuple[float, float] | None = None) -> Characteristic:
         """The characteristic at the contact point shifted by ``offset_mm`` along the profile (InputError if the
-        table does not cover it)."""
+        table does not cover it); with ``scale_to_patch`` and ``patch_mm`` = (a, b) in mm, scaled to that patch
+        (``LayerTable.characteristic_at``)."""
         if self.characteristic is not None:
             return self.characteristic
         y = float(self.position_mm) + float(offset_mm)
@@ -98,6 +101,8 @@ class BodyLayerSpec:
             raise InputError(f"{what}.table", f"does not cover the contact location y = {y:.4g} mm on the "
                              f"{self.body} (table {self.table_path.name} covers {lo:.4g}..{hi:.4g} mm)")
         try:
+            if self.scale_to_patch and patch_mm is not None:
+                return self.table.characteristic_at(y, patch_mm=patch_mm)
             return self.table.characteristic_at(y)
         except InputError as err:
             raise InputError(f"{what}.table", str(err)) from None
@@ -461,7 +466,7 @@ def _characteristic(keys: SceneKeys) -> Characteristic:
 
 def _parse_body(keys: SceneKeys, body: str, base: Path, hashes: list[str]) -> BodyLayerSpec:
     if "table" in keys.table:
-        keys.check_known(("table", "position_mm"))
+        keys.check_known(("table", "position_mm", "scale_to_patch"))
         rel = keys.text("table")
         table_path = (base / rel).resolve()
         if not table_path.is_file():
@@ -478,10 +483,13 @@ def _parse_body(keys: SceneKeys, body: str, base: Path, hashes: list[str]) -> Bo
         if getattr(table, "body", body) not in (body, None):
             raise keys.error("table", f"is a {table.body} table, expected a {body} table")
         hashes.append(hashlib.sha256(table_path.read_bytes()).hexdigest())
-        spec = BodyLayerSpec(body, table_path=table_path, position_mm=position, table=table)
+        spec = BodyLayerSpec(body, table_path=table_path, position_mm=position, table=table,
+                             scale_to_patch=keys.boolean("scale_to_patch", False))
         spec.characteristic_at(0.0, f"{keys.file}: {keys.prefix}")  # the table must cover the contact point
         return spec
-    keys.check_known(("u_mm", "p_MPa", "table", "position_mm"))
+    keys.check_known(("u_mm", "p_MPa", "table", "position_mm", "scale_to_patch"))
+    if "scale_to_patch" in keys.table:
+        raise keys.error("scale_to_patch", "only used with a calibration table (layer.<body>.table)")
     if "position_mm" in keys.table:
         raise keys.error("position_mm", "only used with a calibration table (layer.<body>.table)")
     return BodyLayerSpec(body, characteristic=_characteristic(keys))
@@ -500,6 +508,7 @@ def scene_inputs(scene: Scene) -> dict[str, Any]:
                 continue
             if spec.table_path is not None:
                 layer[body] = {"table": str(spec.table_path), "position_mm": spec.position_mm,
+                               "scale_to_patch": spec.scale_to_patch,
                                "characteristic_at_position": spec.characteristic_at(0.0).to_dict()}
             else:
                 layer[body] = spec.characteristic.to_dict()

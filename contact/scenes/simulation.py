@@ -77,20 +77,22 @@ class SimulationRun:
 
 
 # ---------------------------------------------------------------------------------------------------- layers
-def _clamped(spec: BodyLayerSpec, what: str):
+def _clamped(spec: BodyLayerSpec, what: str, patch_mm: tuple[float, float] | None = None):
     """y -> characteristic of a table layer at position + y, clamped to the table's range (coverage is checked
-    after the solve, on the strips actually in contact)."""
+    after the solve, on the strips actually in contact); scaled to ``patch_mm`` when the spec asks for it."""
     lo, hi = (float(v) for v in spec.table.y_range_mm)
 
     def at(y: float) -> Characteristic:
         offset = min(max(spec.position_mm + y, lo), hi) - spec.position_mm
-        return spec.characteristic_at(offset, what)
+        return spec.characteristic_at(offset, what, patch_mm)
 
     return at
 
 
-def build_layers(scene: Scene, strip_y_mm: np.ndarray) -> LayerPair | None:
-    """The scene's layers on the strip grid (PrandtlLayer per body, or one combined layer)."""
+def build_layers(scene: Scene, strip_y_mm: np.ndarray, patch_mm: tuple[float, float] | None = None
+                 ) -> LayerPair | None:
+    """The scene's layers on the strip grid (PrandtlLayer per body, or one combined layer); table layers with
+    ``scale_to_patch`` scaled to ``patch_mm`` = (a, b) (mm)."""
     spec = scene.layer
     if spec is None:
         return None
@@ -105,7 +107,7 @@ def build_layers(scene: Scene, strip_y_mm: np.ndarray) -> LayerPair | None:
         if b.characteristic is not None:
             layers[body] = PrandtlLayer.uniform(b.characteristic, strip_y_mm, name=what)
         else:
-            layers[body] = PrandtlLayer.along(_clamped(b, what), strip_y_mm, name=what)
+            layers[body] = PrandtlLayer.along(_clamped(b, what, patch_mm), strip_y_mm, name=what)
     return LayerPair(**layers)
 
 
@@ -211,6 +213,26 @@ _NORMAL_METHOD_TEXT = {
 }
 
 
+#: Fixed-point solves (at most) that scale table layers to the solved patch, and the relative change that ends it.
+PATCH_SCALING_ITERATIONS, PATCH_SCALING_TOLERANCE = 6, 1e-3
+
+
+def scale_layers_to_patch(scene: Scene, prob: NormalProblem, layers: LayerPair):
+    """Issue 12: a table characteristic holds for the patch size it was calibrated on (its displacements scale
+    with sqrt(a b)). Solve the first pass's normal problem, rebuild the layers scaled to the solved semi-axes
+    (a, b) = (length/2, width/2), and repeat until the patch changes by less than PATCH_SCALING_TOLERANCE.
+    Returns (layers, (a, b), solves)."""
+    patch = None
+    for it in range(1, PATCH_SCALING_ITERATIONS + 1):
+        sol = solve_normal_with(scene.method.normal_method(), prob, layers)
+        new = (0.5 * sol.length_mm, 0.5 * sol.width_mm)
+        layers = build_layers(scene, prob.strip_y_mm, new)
+        if patch is not None and max(abs(n / o - 1.0) for n, o in zip(new, patch)) < PATCH_SCALING_TOLERANCE:
+            return layers, new, it
+        patch = new
+    return layers, patch, PATCH_SCALING_ITERATIONS
+
+
 def normal_problem(scene: Scene) -> NormalProblem:
     sep, load, mat, met = scene.separation, scene.load, scene.material, scene.method
     return NormalProblem(sep.y_mm, sep.f_mm, load.normal_force_N, load.rolling_radius_mm, mat.E_MPa, mat.poisson,
@@ -235,6 +257,11 @@ def _simulate(scene: Scene) -> SimulationRun:
     y = prob.strip_y_mm
     f_before = prob.separation_on_grid_mm.copy()
     layers = build_layers(scene, y)
+    scaled = None
+    if layers is not None and scene.layer is not None and any(
+            getattr(getattr(scene.layer, b), "scale_to_patch", False) for b in BODIES):
+        layers, patch, solves = scale_layers_to_patch(scene, prob, layers)
+        scaled = {"a_mm": patch[0], "b_mm": patch[1], "solves": solves}
     snapshots: list[PassSnapshot] = []
     history: list[dict[str, Any]] = []
     residual: dict[str, np.ndarray] = {}
@@ -283,6 +310,7 @@ def _simulate(scene: Scene) -> SimulationRun:
                    "tangential": None if scene.tangential is None or not scene.tangential.has_creepage
                    else "FASTSIM on the strips of each patch (Kalker; equivalent-ellipse flexibilities)",
                    "layer": None if layers is None else sorted(layers.bodies())},
+        "layer_scaled_to_patch": scaled,
         "n_passes": len(history),
         "shakedown_pass": shakedown,
         "passes": history,

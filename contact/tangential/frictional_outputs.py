@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
+from contact.tangential.fastsim import TangentialResult
 from wrlayer.atomic_write import atomic_write_text
 
 STRIP_FILE = "frictional_strips.csv"
@@ -120,15 +120,12 @@ def write_scene_run(run, out_dir: Path) -> list[str]:
 
 
 def _pass_tangential(sol, p, normal) -> list:
-    """FASTSIM on every region of a later pass's normal solution, with the patch's creepages and the case's
-    material, friction, speed and cells (as the wheel–rail solver does for the first pass)."""
-    inp = sol.inputs
-    if inp.friction == 0:
-        return []
-    kin = p.kinematics
-    cr = Creepage(kin.vx, kin.vy, kin.phi_per_mm)
-    return [solve_tangential(r, cr, inp.G_MPa, inp.poisson, inp.friction, inp.speed_mm_s, nx=inp.fastsim_cells)
-            for r in normal.patches]
+    """FASTSIM on every region of a later pass's normal solution, exactly as the wheel–rail solver does for the
+    first pass (its creepages, reference point and, with the exact solver, pressures)."""
+    from contact.wheel_rail.solve import _tangential
+
+    eta_ref = p.strip_sign * p.reference.eta_mm if getattr(p, "reference", None) is not None else 0.0
+    return _tangential(normal, p.kinematics, sol.inputs, eta_ref)
 
 
 def write_wheel_rail(sols: list, out_dir: Path) -> list[str]:

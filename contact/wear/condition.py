@@ -103,10 +103,10 @@ def solve_condition(task: ConditionTask) -> ConditionResult:
     for p in sol.patches:
         grid = p.problem.strip_y_mm
         coords = {"rail": p.rail_y_of_strip, "wheel": p.wheel_y_of_strip}
-        for t in p.tangential:
-            cw = wear_of(t, task.law)
+        for region, t in zip(p.normal.patches, p.tangential):
+            cw = wear_of(t, task.law)  # strips as the region's (FASTSIM's y may be shifted to the reference point)
             for b in BODIES:
-                ys[b].append(np.interp(cw.y_mm, grid, coords[b]))
+                ys[b].append(np.interp(region.y_mm, grid, coords[b]))
                 wear[b].append(cw.strip_depth_mm[b])
         for b in BODIES:
             if b in p.residual_mm:

@@ -70,8 +70,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contact.wheel_rail.track_geometry import PlacedRail, TrackLayout, WheelsetPose, wheel_locus, wheel_sample_y
+from meshes.profiles import Profile
 from wrlayer.errors import InputError
-from meshes.profiles.base import Profile
 
 #: Default search settings (mm).
 MERGE_MM = 0.005

@@ -18,11 +18,24 @@ Run by ``python -m contact simulate SCENE --out DIR`` (and ``simulate-all``), wh
     [layers]    rail = "table.json", wheel = "table.json" (calibration tables, relative to the scene file), or
                 [layers.combined] u_mm, p_MPa (one characteristic for both bodies, the paper's eq. 13 layer)
     [passes]    max = 1, hardening = false, tolerance_mm = 1e-6
-    [method]    alpha = 0.55, grid_mm = 0.1, fastsim_cells = 60, merge_mm, candidate_gap_mm, f_cap_mm
-    [sweep]     lateral_mm, yaw_rad, roll_rad: a list of values or {start, stop, step} (stop included);
-                mode = "zip" (default; lists of equal length, case k takes the k-th value of each) or "product"
+    [method]    alpha = 0.55, grid_mm = 0.1, fastsim_cells = 60, merge_mm, candidate_gap_mm, f_cap_mm,
+                normal = "kik_piotrowski" | "exact" (the normal solver), exact_cells (exact solver grid: cells
+                along x over the patch length, 8..1024, default 48), layer_mode ("indentation" | "rolling"),
+                contact_point = "first_contact" (default) | "weighted_centre" (reported point; creepages there),
+                balance = "total" (default: vertical component of normal + tangential forces = load) | "normal"
+    [sweep]     per-case values of lateral_mm, yaw_rad, roll_rad, pitch_rate_rad_s, vertical_load_N, speed_mm_s:
+                a list of values or {start, stop, step} (stop included) per key; mode = "zip" (default; lists
+                of equal length, case k takes the k-th value of each) or "product"; or csv = "cases.csv" (columns
+                named like those keys, one case per row, '#' comments; other columns ignored) with
+                convention = "wrlayer" (default) | "contact" (CONTACT's roll and pitch-rate signs). File names
+                starting with "reference:" are looked up in $WRLAYER_REFERENCE or <repo>/../shared/reference.
     [output]    deformed_profiles = true (with layers: write each case's deformed rail/wheel profiles as SIMPACK
                 .prr/.prw and CSV and read them back)
+
+Output: ``result.json`` and ``cases.csv`` (one row per loaded patch: pose, location, angle, N, Fx, Fy, p_max,
+area, creepages, Y/Q, balance residual, run time; :data:`CSV_COLUMNS`). A progress bar over the cases goes to
+stderr when it is a terminal (:mod:`wrlayer.progress`; ``WRLAYER_PROGRESS=0/1`` overrides). Conventions:
+docs/wheel-rail.md.
 
 A case that fails (bad geometry: profiles that do not meet, the flange through the rail; or a solver failure) is
 recorded with its error message in ``cases[k].error`` and the other cases are still computed; the scene itself
@@ -31,9 +44,12 @@ fails only when every case fails. Validation errors name ``<file>: <section>.<ke
 
 from __future__ import annotations
 
+import csv
 import hashlib
+import io
 import itertools
 import math
+import os
 import time
 from pathlib import Path
 from typing import Any
@@ -41,11 +57,10 @@ from typing import Any
 import numpy as np
 
 from contact.layer.characteristic import Characteristic
-from contact.wheel_rail.contact_search import SearchSettings
 from contact.passes.passes import PassesOptions
 from contact.scenes.result_io import UNITS, code_version
 from contact.scenes.scene import SceneKeys
-from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
+from contact.wheel_rail.contact_search import SearchSettings
 from contact.wheel_rail.solve import (
     PatchSolution,
     WheelRailInputs,
@@ -56,18 +71,37 @@ from contact.wheel_rail.solve import (
     rigid_roll,
     solve_wheel,
 )
-from wrlayer.errors import ConvergenceError, InputError
+from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
 from meshes.profiles import get_profile
+from wrlayer.errors import ConvergenceError, InputError
 
 TOP_KEYS = ("title", "description", "type", "profiles", "track", "wheel", "wheelset", "load", "material",
             "tangential", "layers", "passes", "method", "sweep", "output")
-SWEEP_KEYS = ("lateral_mm", "yaw_rad", "roll_rad")
+#: Per-case inputs a sweep may vary (a list per key, a {start, stop, step} range, or a column of a CSV file).
+SWEEP_KEYS = ("lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s", "vertical_load_N", "speed_mm_s")
+#: Sign conventions of a sweep CSV: factors applied to its columns ("contact": CONTACT's input files, whose roll and
+#: pitch rate are measured the other way round; see docs/wheel-rail.md).
+CSV_CONVENTIONS = {"wrlayer": {}, "contact": {"roll_rad": -1.0, "pitch_rate_rad_s": -1.0}}
 
 
 # ------------------------------------------------------------------------------------------------ parsing
+def reference_dir() -> Path:
+    """The shared reference folder: ``$WRLAYER_REFERENCE`` or ``<repo>/../shared/reference``."""
+    env = os.environ.get("WRLAYER_REFERENCE")
+    return Path(env) if env else Path(__file__).resolve().parents[2].parent / "shared" / "reference"
+
+
+def resolve_path(name: str, base: Path) -> Path:
+    """A file named in a scene: ``reference:REL`` is REL inside :func:`reference_dir`, anything else is relative to
+    the scene file's folder ``base``."""
+    if name.startswith("reference:"):
+        return reference_dir() / name[len("reference:"):]
+    return base / name
+
+
 def _profile(keys: SceneKeys, key: str, default: str, base: Path, body: str):
     name = keys.text(key, default)
-    candidate = base / name
+    candidate = resolve_path(name, base)
     target = str(candidate) if candidate.suffix.lower() in (".prr", ".prw", ".txt", ".csv") else name
     if target != name and not candidate.is_file():
         raise keys.error(key, f"no such profile file {name!r} (looked at {candidate})")
@@ -112,8 +146,9 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
         "tangential": ("friction",),
         "layers": ("rail", "wheel", "combined"),
         "passes": ("max", "hardening", "tolerance_mm"),
-        "method": ("alpha", "grid_mm", "fastsim_cells", "merge_mm", "candidate_gap_mm", "f_cap_mm"),
-        "sweep": SWEEP_KEYS + ("mode",),
+        "method": ("alpha", "grid_mm", "fastsim_cells", "merge_mm", "candidate_gap_mm", "f_cap_mm", "normal",
+                   "exact_cells", "layer_mode", "contact_point", "balance"),
+        "sweep": SWEEP_KEYS + ("mode", "csv", "convention"),
         "output": ("deformed_profiles",),
     }
     sec = {name: top.sub(name) for name in known if name in data}
@@ -179,15 +214,25 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
               "passes": PassesOptions(max_passes=pas.integer("max", 1, ge=1),
                                       tolerance_mm=pas.number("tolerance_mm", 1e-6, ge=0.0),
                                       hardening=pas.boolean("hardening", False)),
-              "search": search}
+              "search": search, "normal_method": _normal_method(met),
+              "contact_point": met.text("contact_point", "first_contact"),
+              "balance": met.text("balance", "total")}
+    for key in ("contact_point", "balance"):
+        try:
+            WheelRailInputs(**{k: v for k, v in inputs.items() if k in (key,)})
+        except InputError as err:
+            raise met.error(key, err.problem) from None
     layers, hashes = _parse_layers(sec.get("layers"), base)
     sweep = sec.get("sweep")
-    cases = _cases(sweep, base_pose)
-    if roll_auto and sweep is not None and "roll_rad" in sweep.table:
+    base_pose.update({"pitch_rate_rad_s": pitch, "vertical_load_N": inputs["vertical_load_N"],
+                      "speed_mm_s": inputs["speed_mm_s"]})
+    cases, csv_info = _cases(sweep, base_pose, base)
+    if roll_auto and sweep is not None and ("roll_rad" in sweep.table or "roll_rad" in csv_info.get("columns", ())):
         raise sweep.error("roll_rad", "cannot sweep the roll angle when wheelset.roll_rad = \"auto\"")
     out = s("output")
     return {"rail": rail, "wheel": wheel, "layout": layout, "sides": ["right", "left"] if side == "both" else [side],
             "roll_auto": roll_auto, "cases": cases, "inputs": inputs, "layers": layers, "table_sha256": hashes,
+            "sweep_csv": csv_info,
             "deformed_profiles": out.boolean("deformed_profiles", True)}
 
 
@@ -225,12 +270,71 @@ def _parse_layers(keys: SceneKeys | None, base: Path) -> tuple[WheelRailLayers |
     return WheelRailLayers(rail=tables.get("rail"), wheel=tables.get("wheel"), names=names), hashes
 
 
-def _cases(sweep: SceneKeys | None, base_pose: dict[str, float]) -> list[dict[str, float]]:
+def _normal_method(met: SceneKeys):
+    from contact.normal.method import NormalMethod
+
+    name = met.text("normal", "kik_piotrowski")
+    cells = met.integer("exact_cells", None, ge=1) if "exact_cells" in met.table else None
+    try:
+        return NormalMethod(name, exact_cells=cells, layer_mode=met.text("layer_mode", "indentation"))
+    except InputError as err:
+        key = err.what.removeprefix("method.")
+        raise met.error(key if key in ("exact_cells", "layer_mode") else "normal", err.problem) from None
+
+
+def _csv_columns(sweep: SceneKeys, base: Path) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+    """The sweep CSV (``sweep.csv``): columns named like the sweep keys (others are ignored and listed), '#'
+    comment lines, one case per row; ``sweep.convention`` = "wrlayer" (default) or "contact" (sign factors)."""
+    rel = sweep.text("csv")
+    path = resolve_path(rel, base)
+    if not path.is_file():
+        raise sweep.error("csv", f"no such file {rel!r} (looked at {path})")
+    convention = sweep.text("convention", "wrlayer")
+    if convention not in CSV_CONVENTIONS:
+        raise sweep.error("convention", f"must be one of {', '.join(CSV_CONVENTIONS)}, got {convention!r}")
+    text = path.read_text(encoding="utf-8", errors="replace")
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    rows = list(csv.reader(io.StringIO("\n".join(lines))))
+    if len(rows) < 2:
+        raise sweep.error("csv", f"{rel}: needs a header line and at least one case")
+    header = [h.strip() for h in rows[0]]
+    used = [h for h in header if h in SWEEP_KEYS]
+    if not used:
+        raise sweep.error("csv", f"{rel}: no column named like a sweep key ({', '.join(SWEEP_KEYS)}); header: "
+                          f"{', '.join(header)}")
+    cols: dict[str, list[float]] = {h: [] for h in used}
+    for lineno, row in enumerate(rows[1:], start=2):
+        if len(row) != len(header):
+            raise sweep.error("csv", f"{rel}: data row {lineno - 1} has {len(row)} fields, the header {len(header)}")
+        for h, v in zip(header, row):
+            if h in cols:
+                try:
+                    x = float(v)
+                except ValueError:
+                    raise sweep.error("csv", f"{rel}: data row {lineno - 1}, column {h}: not a number: {v!r}") \
+                        from None
+                if not math.isfinite(x):
+                    raise sweep.error("csv", f"{rel}: data row {lineno - 1}, column {h}: not finite")
+                cols[h].append(x * CSV_CONVENTIONS[convention].get(h, 1.0))
+    info = {"file": str(path), "sha256": hashlib.sha256(path.read_bytes()).hexdigest(), "convention": convention,
+            "columns": used, "ignored_columns": [h for h in header if h not in used]}
+    return {k: np.array(v) for k, v in cols.items()}, info
+
+
+def _cases(sweep: SceneKeys | None, base_pose: dict[str, Any], base: Path) -> tuple[list[dict[str, Any]], dict]:
     if sweep is None:
-        return [dict(base_pose)]
-    axes = {k: _values(sweep, k) for k in SWEEP_KEYS if k in sweep.table}
+        return [dict(base_pose)], {}
+    axes, info = {}, {}
+    if "csv" in sweep.table:
+        both = [k for k in SWEEP_KEYS if k in sweep.table]
+        axes, info = _csv_columns(sweep, base)
+        if both:
+            raise sweep.error(both[0], "give the per-case values either in the CSV (sweep.csv) or as lists, not both")
+    elif "convention" in sweep.table:
+        raise sweep.error("convention", "applies to a sweep CSV only (sweep.csv)")
+    axes.update({k: _values(sweep, k) for k in SWEEP_KEYS if k in sweep.table})
     if not axes:
-        raise sweep.error("lateral_mm", "[sweep] needs at least one of lateral_mm, yaw_rad, roll_rad")
+        raise sweep.error("lateral_mm", f"[sweep] needs at least one of {', '.join(SWEEP_KEYS)} or a csv")
     mode = sweep.text("mode", "zip")
     if mode not in ("zip", "product"):
         raise sweep.error("mode", f"must be 'zip' or 'product', got {mode!r}")
@@ -251,7 +355,10 @@ def _cases(sweep: SceneKeys | None, base_pose: dict[str, float]) -> list[dict[st
         for key in ("yaw_rad", "roll_rad"):
             if abs(case[key]) >= 0.2:
                 raise sweep.error(key, f"angle {case[key]:g} rad is not plausible (|angle| < 0.2 rad)")
-    return cases
+        for key in ("vertical_load_N", "speed_mm_s"):
+            if not case[key] > 0:
+                raise sweep.error(key, f"must be > 0 in every case, got {case[key]:g}")
+    return cases, info
 
 
 # ------------------------------------------------------------------------------------------------ results
@@ -260,10 +367,17 @@ def patch_result(p: PatchSolution) -> dict[str, Any]:
     location conventions)."""
     c, ns = p.candidate, p.normal
     t = p.tangential
+    ref = p.reference
+    sign = p.strip_sign
     out = {
-        "y_rail_mm": c.y_rail_mm, "y_wheel_mm": c.y_wheel_mm,
-        "Y_track_mm": float(p.point_track[1]), "Z_track_mm": c.Z_mm, "X_lead_mm": c.X_mm,
-        "contact_angle_rad": c.contact_angle_rad, "contact_angle_deg": math.degrees(c.contact_angle_rad),
+        "contact_point": ref.kind, "eta_ref_mm": ref.eta_mm,
+        "y_rail_mm": ref.y_rail_mm, "y_wheel_mm": ref.y_wheel_mm,
+        "Y_track_mm": float(p.point_track[1]), "Z_track_mm": float(p.point_track[2]),
+        "X_lead_mm": float(p.point_track[0]),
+        "first_contact": {"y_rail_mm": c.y_rail_mm, "y_wheel_mm": c.y_wheel_mm, "Y_track_mm": sign * c.Y_mm,
+                          "Z_track_mm": c.Z_mm, "X_lead_mm": c.X_mm, "contact_angle_rad": c.contact_angle_rad},
+        "weighted_centre": _weighted_centre_result(p),
+        "contact_angle_rad": ref.angle_rad, "contact_angle_deg": math.degrees(ref.angle_rad),
         "wheel_contact_angle_rad": c.wheel_contact_angle_rad, "wheel_radius_mm": c.wheel_radius_mm,
         "rolling_radius_kp_mm": c.rolling_radius_kp_mm, "normal_gap_mm": c.normal_gap_mm,
         "normal_force_N": p.normal_force_N, "delta_mm": ns.delta_mm, "delta0_mm": ns.delta0_mm,
@@ -290,16 +404,27 @@ def patch_result(p: PatchSolution) -> dict[str, Any]:
     return out
 
 
+def _weighted_centre_result(p: PatchSolution) -> dict[str, float]:
+    from contact.wheel_rail.reference_point import weighted_centre_eta
+
+    c = p.candidate
+    eta = weighted_centre_eta(c, p.normal.delta_mm)
+    return {"eta_mm": eta, "y_rail_mm": float(c.rail_coordinate(eta)), "y_wheel_mm": float(c.wheel_coordinate(eta)),
+            "Y_track_mm": p.strip_sign * float(c.Y_mm + eta * c.lateral[1]), "Z_track_mm": float(c.Z_mm + eta
+                                                                                                  * c.lateral[2])}
+
+
 def wheel_result(sol: WheelRailSolution) -> dict[str, Any]:
     Q = sol.inputs.vertical_load_N
     force = sum((p.force_track_N() for p in sol.patches), np.zeros(3))
     return {
         "side": sol.inputs.side, "wheel_height_mm": sol.search.wheel_height_mm, "approach_mm": sol.approach_mm,
-        "vertical_balance_rel": sol.vertical_balance_rel,
-        "normal_vertical_N": float(sum(p.normal_force_N * math.cos(p.candidate.contact_angle_rad)
-                                       for p in sol.patches)),
+        "vertical_balance_rel": sol.vertical_balance_rel, "balance": sol.inputs.balance,
+        "balance_iterations": sol.balance_iterations, "vertical_force_N": float(force[2]),
+        "merge_mm": sol.merge_mm,
+        "normal_vertical_N": float(sum(p.normal_force_N * p.normal_track[2] for p in sol.patches)),
         "force_on_wheel_track_N": force.tolist(), "Y_over_Q": float(force[1] / Q), "n_patches": len(sol.patches),
-        "patches": [patch_result(p) for p in sol.patches],
+        "patches": [{**patch_result(p), "load_share": p.vertical_N / float(force[2])} for p in sol.patches],
         "unloaded_candidates": [{"y_rail_mm": c.y_rail_mm, "y_wheel_mm": c.y_wheel_mm, "normal_gap_mm": c.normal_gap_mm,
                                  "contact_angle_rad": c.contact_angle_rad} for c in sol.unloaded],
         "flange_tip": {"y_wheel_mm": sol.search.flange_tip[0], "Y_side_mm": sol.search.flange_tip[1]},
@@ -317,11 +442,15 @@ def solve_case(parsed: dict[str, Any], case: dict[str, float], placed_rail=None)
         roll = rigid_roll(placed_rail, wheel, layout, pose, parsed["inputs"]["search"])
         pose = WheelsetPose(pose.lateral_mm, pose.yaw_rad, roll)
     sols = {}
+    per_case = {k: case[k] for k in ("pitch_rate_rad_s", "vertical_load_N", "speed_mm_s") if k in case}
     for side in parsed["sides"]:
-        inputs = WheelRailInputs(**{**parsed["inputs"], "side": side, "pose": pose})
+        inputs = WheelRailInputs(**{**parsed["inputs"], **per_case, "side": side, "pose": pose})
         sols[side] = solve_wheel(rail, wheel, inputs, parsed["layers"], placed_rail,
                                  case=f"case lateral {pose.lateral_mm:g} mm, yaw {pose.yaw_rad:g} rad, {side} wheel")
+    any_inputs = next(iter(sols.values())).inputs
     entry = {"lateral_mm": pose.lateral_mm, "yaw_rad": pose.yaw_rad, "roll_rad": pose.roll_rad,
+             "pitch_rate_rad_s": any_inputs.omega_rad_s, "vertical_load_N": any_inputs.vertical_load_N,
+             "speed_mm_s": any_inputs.speed_mm_s,
              "wheels": {side: wheel_result(s) for side, s in sols.items()}}
     if len(sols) == 2:  # rolling radius difference of the main (largest normal force) patches, left - right
         r = {side: max(s.patches, key=lambda p: p.normal_force_N).candidate.wheel_radius_mm for side, s in sols.items()}
@@ -364,15 +493,19 @@ def run_wheel_rail_scene(data: dict[str, Any], scene_path: Path, out_dir: Path, 
     parsed = parse_wheel_rail_scene(data, scene_path)
     placed = place_rail(parsed["rail"], parsed["layout"])
     entries, all_sols = [], []
-    for k, case in enumerate(parsed["cases"]):
+    from wrlayer.progress import progress
+
+    for k, case in enumerate(progress(parsed["cases"], desc=scene_path.stem, total=len(parsed["cases"]), unit="case",
+                                      leave=False)):
+        t_case = time.perf_counter()
         try:
             entry, sols = solve_case(parsed, case, placed)
             if parsed["layers"] is not None and parsed["deformed_profiles"]:
                 entry["deformed_profiles"] = write_deformed_profiles(parsed, sols, out_dir, f"case{k:03d}")
         except (InputError, ConvergenceError) as err:
-            entry, sols = {"lateral_mm": case["lateral_mm"], "yaw_rad": case["yaw_rad"],
-                           "roll_rad": case["roll_rad"], "error": str(err)}, None
+            entry, sols = {**{key: case.get(key) for key in SWEEP_KEYS}, "error": str(err)}, None
         entry["case"] = k
+        entry["time_s"] = time.perf_counter() - t_case
         entries.append(entry)
         all_sols.append(sols)
     if all(s is None for s in all_sols):
@@ -395,11 +528,48 @@ def run_wheel_rail_scene(data: dict[str, Any], scene_path: Path, out_dir: Path, 
     from contact.tangential.frictional_outputs import write_wheel_rail  # wear-ready CSVs beside result.json
 
     result["frictional_outputs"] = write_wheel_rail(all_sols, out_dir)
+    text = cases_csv(result)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "cases.csv").write_text(text, encoding="utf-8")
+    result["cases_csv"] = "cases.csv"
     if plots:
         from contact.wheel_rail.plots import write_wheel_rail_plots
 
         result["pictures"] = [p.name for p in write_wheel_rail_plots(result, all_sols, out_dir)]
     return result
+
+
+#: Columns of cases.csv (one row per loaded patch; a failed case gets one row with its error).
+CSV_COLUMNS = ("case", "lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s", "vertical_load_N", "speed_mm_s",
+               "side", "patch", "contact_point", "y_rail_mm", "y_wheel_mm", "Y_track_mm", "Z_track_mm",
+               "y_rail_first_contact_mm", "y_rail_weighted_centre_mm",
+               "contact_angle_deg", "normal_force_N", "load_share", "Fx_N", "Fy_N", "Mz_Nmm", "p_max_MPa",
+               "area_mm2", "creepage_x", "creepage_y", "spin_per_mm", "delta_mm", "approach_mm", "Y_over_Q",
+               "vertical_force_N", "vertical_balance_rel", "time_s", "error")
+
+
+def cases_csv(result: dict[str, Any]) -> str:
+    """The per-case table of a wheel_rail result as CSV text (columns :data:`CSV_COLUMNS`; units in the names)."""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(CSV_COLUMNS)
+    for e in result["cases"]:
+        head = {k: e.get(k) for k in CSV_COLUMNS[:7]}
+        head["case"] = e["case"]
+        if "error" in e:
+            w.writerow([head.get(k, "") if k in head else (e["error"] if k == "error" else "") for k in CSV_COLUMNS])
+            continue
+        for side, wr in e["wheels"].items():
+            for j, pr in enumerate(wr["patches"]):
+                row = {**head, **{k: pr.get(k) for k in CSV_COLUMNS if k in pr}, "side": side, "patch": j,
+                       "y_rail_first_contact_mm": pr["first_contact"]["y_rail_mm"],
+                       "y_rail_weighted_centre_mm": pr["weighted_centre"]["y_rail_mm"],
+                       "approach_mm": wr["approach_mm"], "Y_over_Q": wr["Y_over_Q"],
+                       "vertical_force_N": wr["vertical_force_N"], "vertical_balance_rel": wr["vertical_balance_rel"],
+                       "time_s": e.get("time_s"), "error": ""}
+                w.writerow(["" if row.get(k) is None else (f"{row[k]:.10g}" if isinstance(row[k], float) else row[k])
+                            for k in CSV_COLUMNS])
+    return buf.getvalue()
 
 
 CONVENTIONS = {
@@ -409,8 +579,16 @@ CONVENTIONS = {
                   "negative); same for both wheels",
     "Y_track_mm": "lateral track coordinate of the wheel contact point (from the track centre, + towards the right "
                   "rail)",
-    "contact_angle_rad": "angle of the contact normal from the vertical, positive when it tilts towards the track "
-                         "centre (flange contact ~ +1.2 rad), same sign for both wheels",
+    "contact_point": "y_rail_mm, y_wheel_mm, Y_track_mm, Z_track_mm, X_lead_mm of a patch are its reference point "
+                     "(method.contact_point: first_contact = rigid first contact, weighted_centre = centre of the "
+                     "interpenetration region weighted by the depth), in the contact plane; creepages, spin, FASTSIM "
+                     "and Mz refer to it; first_contact and weighted_centre are both reported; see docs/wheel-rail.md",
+    "vertical_force_N": "Z component of the total contact force on the wheel (normal + tangential); the balance "
+                        "(method.balance = total) makes it equal the vertical load",
+    "load_share": "a patch's share of the wheel's vertical force",
+    "contact_angle_rad": "angle of the contact normal at the reference point (weighted centre: the weighted mean "
+                         "angle; first_contact.contact_angle_rad: the candidate's) from the vertical, positive when "
+                         "it tilts towards the track centre (flange contact ~ +1.2 rad), same sign for both wheels",
     "rolling_radius_kp_mm": "Kik-Piotrowski radius in the rolling direction: 1/(k_c cos^2 b + k_m sin^2 b); without "
                             "yaw r / cos(wheel contact angle)",
     "strips": "per strip of a patch (track orientation, eta = 0 at the contact point): separation f in the contact "
@@ -439,7 +617,10 @@ def _inputs_echo(parsed: dict[str, Any], scene_path: Path, data: dict[str, Any])
         "friction": inp["friction"], "E_MPa": inp["E_MPa"], "poisson": inp["poisson"],
         "G_MPa": inp["E_MPa"] / (2.0 * (1.0 + inp["poisson"])),
         "method": {"alpha": inp["alpha"], "grid_mm": inp["grid_mm"], "fastsim_cells": inp["fastsim_cells"],
-                   **vars(inp["search"])},
+                   "normal": inp["normal_method"].name, "exact_cells": inp["normal_method"].exact_cells,
+                   "layer_mode": inp["normal_method"].layer_mode, "contact_point": inp["contact_point"],
+                   "balance": inp["balance"], **vars(inp["search"])},
+        "sweep_csv": parsed["sweep_csv"] or None,
         "passes": vars(inp["passes"]),
         "layers": None if layers is None else (
             {"combined": layers.combined.to_dict()} if layers.combined is not None else
@@ -450,8 +631,12 @@ def _inputs_echo(parsed: dict[str, Any], scene_path: Path, data: dict[str, Any])
 
 __all__ = [
     "CONVENTIONS",
+    "CSV_COLUMNS",
+    "cases_csv",
     "parse_wheel_rail_scene",
     "patch_result",
+    "reference_dir",
+    "resolve_path",
     "run_wheel_rail_scene",
     "solve_case",
     "wheel_result",

@@ -1,21 +1,37 @@
 """One wheel on its rail: contact search, vertical load balance, normal and tangential solution per patch, layers
 looked up at the contact location, residual displacements mapped back onto both profiles (units mm, N, MPa, s).
 
-Vertical load balance
----------------------
-The wheel is first lowered until it touches the rail (rigid contact, :mod:`contact.wheel_rail.contact_search`). Lowering it
-further by Delta (mm, along -Z) gives each contact candidate i (contact angle gamma_i, normal gap g_i at rigid
-contact, 0 for the first contact) the normal approach delta_i = Delta cos(gamma_i) - g_i. Its Kik–Piotrowski
-normal force N_i(delta_i) (with the layers, if any) acts along its normal, so the vertical balance is
+Vertical load balance (``method.balance``)
+------------------------------------------
+The wheel is first lowered until it touches the rail (rigid contact, :mod:`contact.wheel_rail.contact_search`).
+Lowering it further by Delta (mm, along -Z; reported as ``approach_mm``) gives each contact candidate i (contact
+angle gamma_i, normal gap g_i at rigid contact, 0 for the first contact) the normal approach
+delta_i = Delta cos(gamma_i) - g_i. Patch i carries the normal force N_i along its normal n_i and the creep forces
+F_x,i (rolling direction) and F_s,i (contact-plane lateral axis t_i, whose track-Z component is +-sin(gamma_i)).
+With ``balance = "total"`` (default; the Manchester benchmark's definition) the vertical component of the whole
+contact force on the wheel equals the vertical load Q:
 
-    sum_i N_i(delta_i) cos(gamma_i) = Q      (Q: vertical wheel load; tangential forces are not included)
+    sum_i (N_i cos(gamma_i) + F_s,i t_Z,i) = Q          (t_Z,i = sin(gamma_i) on the right wheel, -sin on the left)
 
-One candidate: N = Q / cos(gamma) directly. Several: Delta is found by Brent's method in [0, Delta_1] (Delta_1:
-the primary patch alone carrying Q), then every loaded patch is solved for its N_i; the balance holds to
-< 1e-9 relative (checked; ConvergenceError above 1e-6). Each patch is a separate Kik–Piotrowski problem in its own
-contact plane (no elastic interaction between patches). Each wheel's vertical position is solved on its own: for
-a whole wheelset with a given (or rigid-contact, "auto") roll angle the two wheels' approaches differ slightly, which
-amounts to an extra roll of (Delta_right - Delta_left) / (wheel distance), ~1e-5 rad at 10 kN, not fed back.
+The tangential forces depend on the normal solution (patch size, mu N), so normal and tangential problems are
+solved together inside the iteration: one loaded candidate: secant iteration on N (each step a normal solve,
+the reference point, the creepages there and FASTSIM), kept inside [Q / (cos + mu |sin|), Q / (cos - mu |sin|)];
+cos(gamma) <= mu |sin(gamma)| (flange climbing limit) is a ConvergenceError. Several candidates: secant iteration
+on the common Delta (started at the normal-only balance found by Brent's method), every candidate's N_i(delta_i)
+from its force-approach relation. Converged to |sum F_Z - Q| <= 1e-10 Q (``vertical_balance_rel`` of the final
+patches is reported; ConvergenceError above 1e-6). ``balance = "normal"``: sum N_i cos(gamma_i) = Q (the earlier
+model, kept for comparison; on the flange it overestimates N by 25-60 %).
+
+Each patch is a separate normal problem in its own contact plane (no elastic interaction between patches), solved
+with ``method.normal`` (:func:`contact.normal.method.solve_normal_with`). Each wheel's vertical position is solved
+on its own: for a whole wheelset with a given (or rigid-contact, "auto") roll angle the two wheels' approaches
+differ slightly, which amounts to an extra roll of (Delta_right - Delta_left) / (wheel distance), ~1e-5 rad at
+10 kN, not fed back (the A-2.2 benchmark prescribes the roll per case).
+
+Reference point (``method.contact_point``)
+------------------------------------------
+"first_contact" or "weighted_centre" (:mod:`contact.wheel_rail.reference_point`): the reported location of a patch,
+the point where the creepages and the spin are evaluated, and the origin of FASTSIM's strip coordinate and Mz.
 
 Layers
 ------
@@ -32,6 +48,7 @@ positions and the profile points are moved by -u_p along the profile's outward n
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any, Protocol
@@ -40,18 +57,32 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact.layer.characteristic import Characteristic
-from contact.wheel_rail.contact_search import ContactCandidate, SearchResult, SearchSettings, search_contacts
-from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
-from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, NormalForceEvaluator, solve_normal
-from contact.normal.method import NormalMethod, solve_normal_with
-from contact.passes.passes import PassesOptions, PassRecord, run_passes
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
-from contact.wheel_rail.track_geometry import PlacedRail, TrackLayout, WheelsetPose, axle_direction, place_rail, side_sign
+from contact.normal.kik_piotrowski import NormalForceEvaluator, NormalProblem, NormalSolution, solve_normal
+from contact.normal.method import NormalMethod, solve_normal_with
+from contact.normal.patch import Patch
+from contact.passes.passes import PassesOptions, PassRecord, run_passes
+from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
+from contact.wheel_rail.contact_search import ContactCandidate, SearchResult, SearchSettings, search_contacts
 from contact.wheel_rail.kinematics import PatchKinematics, contact_frame, creepages
+from contact.wheel_rail.reference_point import ReferencePoint, check_contact_point, reference_point
+from contact.wheel_rail.track_geometry import (
+    PlacedRail,
+    TrackLayout,
+    WheelsetPose,
+    axle_direction,
+    place_rail,
+    side_sign,
+)
+from meshes.profiles import Profile
 from wrlayer.errors import ConvergenceError, InputError, require
-from meshes.profiles.base import Profile
 
 BALANCE_RTOL = 1e-6
+#: The balance iteration stops at |sum F_Z - Q| <= BALANCE_ITER_RTOL Q.
+BALANCE_ITER_RTOL = 1e-10
+BALANCES = ("total", "normal")
+#: Barrier heights (mm) up to which neighbouring candidates are merged when their patches grow into each other.
+MERGE_RETRY_MM = (0.02, 0.05, 0.1, 0.2, 0.5)
 #: Layers are built only on strips whose separation is below the first of these caps (mm) (the virtual penetration
 #: alpha delta stays far below 0.3 mm at wheel loads); if a strip in contact has no element, the case is solved again
 #: with the next cap.
@@ -89,7 +120,10 @@ class WheelRailLayers:
 class WheelRailInputs:
     """Everything but the profiles for one wheel on its rail (units mm, N, MPa, s, rad).
 
-    pitch_rate_rad_s None means pure rolling at the nominal radius: V / r0.
+    pitch_rate_rad_s None means pure rolling at the nominal radius: V / r0. normal_method: ``method.normal``;
+    contact_point: "first_contact" | "weighted_centre" (:mod:`contact.wheel_rail.reference_point`); balance:
+    "total" (the vertical component of the whole contact force, tangential forces included, equals the load) or
+    "normal" (normal forces only; the earlier model, kept for comparison).
     """
 
     layout: TrackLayout = field(default_factory=TrackLayout)
@@ -106,10 +140,21 @@ class WheelRailInputs:
     fastsim_cells: int = 60
     passes: PassesOptions = field(default_factory=lambda: PassesOptions(max_passes=1))
     search: SearchSettings = field(default_factory=SearchSettings)
-    normal: NormalMethod = field(default_factory=NormalMethod)  # the patches' normal solver (load split: KP)
+    normal_method: NormalMethod = field(default_factory=NormalMethod)
+    contact_point: str = "first_contact"
+    balance: str = "total"
+    normal: NormalMethod | None = None   # alias of normal_method (the wear loop's name)
 
     def __post_init__(self):
+        # ``normal`` sets the method when normal_method is left at its default (so that dataclasses.replace of
+        # normal_method is not undone by the copied alias); afterwards both name the same method
+        if self.normal is not None and self.normal_method == NormalMethod():
+            object.__setattr__(self, "normal_method", self.normal)
+        object.__setattr__(self, "normal", self.normal_method)
         side_sign(self.side)
+        check_contact_point(self.contact_point)
+        require(self.balance in BALANCES, "method.balance", f"must be one of {', '.join(BALANCES)}, got "
+                f"{self.balance!r}")
         for key in ("vertical_load_N", "speed_mm_s", "E_MPa", "grid_mm"):
             v = getattr(self, key)
             require(bool(np.isfinite(v)) and v > 0, key, f"must be a positive number, got {v!r}")
@@ -150,7 +195,13 @@ class PatchSolution:
     wheel_y_of_strip: np.ndarray | None = None
     residual_mm: dict = field(default_factory=dict)
     clamped_strips: dict = field(default_factory=dict)
+    reference: ReferencePoint | None = None
     pass_normals: list = field(default_factory=list, repr=False)  # normal solution of every pass (wear outputs)
+
+    @property
+    def vertical_N(self) -> float:
+        """Z component of the contact force on the wheel (track frame): N cos(gamma) + F_s sin(gamma) (N)."""
+        return float(self.force_track_N()[2])
 
     @property
     def Fx_N(self) -> float:
@@ -172,8 +223,10 @@ class PatchSolution:
 
 @dataclass(eq=False)
 class WheelRailSolution:
-    """All loaded patches of one wheel; ``approach_mm`` = Delta (vertical, beyond rigid contact);
-    ``wheel_height_mm``: wheelset-centre height at rigid contact; ``vertical_balance_rel``: |sum N cos(gamma) - Q|/Q."""
+    """All loaded patches of one wheel; ``approach_mm`` = Delta (mm, vertical, beyond rigid contact; every wheel, one
+    patch or several); ``vertical_balance_rel``: |sum F_Z - Q| / Q of the balanced quantity (balance "total": the
+    vertical component of normal + tangential forces; "normal": of the normal forces); ``balance_iterations``:
+    patch solves of the balance; ``merge_mm``: the candidate merge level that was used (module docstring)."""
 
     inputs: WheelRailInputs
     search: SearchResult
@@ -183,6 +236,13 @@ class WheelRailSolution:
     vertical_balance_rel: float
     unloaded: list[ContactCandidate]
     wheel: Profile
+    balance_iterations: int = 0
+    merge_mm: float | None = None
+
+    @property
+    def vertical_force_N(self) -> float:
+        """Z component of the total contact force on the wheel (N)."""
+        return float(sum(p.vertical_N for p in self.patches))
 
 
 def _track_vector(v: np.ndarray, sign: int) -> np.ndarray:
@@ -246,89 +306,275 @@ def _check_coverage(patch: PatchSolution, layers: WheelRailLayers) -> None:
                              f"{ys.max():.4g} mm on the {body}, the table covers {lo:.4g}..{hi:.4g} mm")
 
 
-def _balance(cands: list[ContactCandidate], sign: int, inputs: WheelRailInputs, layers: WheelRailLayers,
-             case: str = "wheel-rail case", f_cap_mm: float = LAYER_F_CAPS_MM[0]) -> tuple[list[tuple[ContactCandidate, float, NormalProblem, Any, dict, dict]], float]:
-    """Normal forces of the candidates that carry the vertical load (see the module docstring)."""
-    Q = inputs.vertical_load_N
-    cos_g = np.array([math.cos(c.contact_angle_rad) for c in cands])
-    require(bool(np.all(cos_g > 0.05)), case,
-            "a contact normal is (nearly) horizontal: the wheel cannot carry a vertical load there")
-    primary = int(np.argmin([c.normal_gap_mm for c in cands]))
-    built = []
-    for c, cg in zip(cands, cos_g):
-        prob = _problem(c, sign, inputs, Q / cg)
-        pair, coords, clamped = _layer_pair(c, sign, prob, layers, f_cap_mm)
-        built.append((c, prob, pair, coords, clamped))
-    if len(cands) == 1:
-        c, prob, pair, coords, clamped = built[0]
-        return [(c, Q / cos_g[0], prob, pair, coords, clamped)], float("nan")
-    evaluators = [NormalForceEvaluator(prob, pair) for _, prob, pair, _, _ in built]
+# ------------------------------------------------------------------------------------------------ load balance
+@dataclass(eq=False)
+class _Candidate:
+    """A contact candidate prepared for the balance: layers, angle, the KP approach -> force evaluator."""
 
-    def forces(Delta: float) -> np.ndarray:
-        out = np.zeros(len(cands))
-        for i, (c, cg) in enumerate(zip(cands, cos_g)):
-            d = Delta * cg - c.normal_gap_mm
-            out[i] = evaluators[i].force_at(d) if d > 0 else 0.0
+    cand: ContactCandidate
+    pair: Any
+    coords: dict
+    clamped: dict
+    cos_g: float
+    sin_g: float
+    evaluator: NormalForceEvaluator
+    sign: int = 1
+    delta_guess: float | None = None
+
+
+@dataclass(eq=False)
+class _Loaded:
+    """One candidate solved at a normal force: normal and tangential solution at its reference point."""
+
+    ctx: _Candidate
+    force: float
+    prob: NormalProblem
+    normal: NormalSolution
+    ref: ReferencePoint
+    kin: PatchKinematics
+    tangential: list[TangentialResult]
+
+    @property
+    def vertical_N(self) -> float:
+        """Z component (track) of the contact force on the wheel: N cos(gamma) + F_s sin(gamma) (N)."""
+        fy = sum(t.Fy_N for t in self.tangential)
+        n_track, t_track = self.frame
+        return self.force * float(n_track[2]) + fy * float(t_track[2])
+
+    @property
+    def frame(self) -> tuple[np.ndarray, np.ndarray]:
+        """(normal, lateral axis) of the contact plane at the reference point, track frame."""
+        n_track = _track_vector(self.ref.normal, self.ctx.sign)
+        return n_track, contact_frame(n_track)[1]
+
+
+class _Balance:
+    """Vertical load balance of one wheel (module docstring): the candidates' normal forces such that the vertical
+    component of the total contact force (or, with ``balance = "normal"``, of the normal forces only) equals Q."""
+
+    def __init__(self, found: SearchResult, rail: PlacedRail, wheel: Profile, inputs: WheelRailInputs,
+                 layers: WheelRailLayers, sign: int, case: str, f_cap_mm: float):
+        self.found, self.wheel, self.inputs, self.sign, self.case = found, wheel, inputs, sign, case
+        self.rail = rail
+        self.pose_side = inputs.pose.for_side(inputs.side)
+        self.axle = axle_direction(inputs.pose)
+        self.evaluations = 0
+        Q = inputs.vertical_load_N
+        self.ctx = []
+        for c in found.candidates:
+            cg, sg = math.cos(c.contact_angle_rad), math.sin(c.contact_angle_rad)
+            require(cg > 0.05, case, "a contact normal is (nearly) horizontal: the wheel cannot carry a vertical "
+                    "load there")
+            prob = _problem(c, sign, inputs, Q / cg)
+            pair, coords, clamped = _layer_pair(c, sign, prob, layers, f_cap_mm)
+            self.ctx.append(_Candidate(c, pair, coords, clamped, cg, sg, NormalForceEvaluator(prob, pair), sign))
+
+    # -- one candidate at a force
+    def load(self, ctx: _Candidate, force: float) -> _Loaded:
+        """Solve ``ctx`` at the normal force ``force`` (N): normal solution, reference point, creepages there,
+        FASTSIM about it."""
+        self.evaluations += 1
+        inp = self.inputs
+        prob = _problem(ctx.cand, self.sign, inp, force)
+        sol = solve_normal_with(inp.normal_method, prob, ctx.pair, delta_guess_mm=ctx.delta_guess)
+        ctx.delta_guess = sol.delta_mm
+        ref = reference_point(inp.contact_point, ctx.cand, sol.delta_mm, self.wheel, inp.layout, self.pose_side,
+                              self.rail)
+        point = _track_vector(ref.point_mm, self.sign)
+        n_track = _track_vector(ref.normal, self.sign)
+        centre = np.array([0.0, inp.pose.lateral_mm, self.found.wheel_height_mm])   # rigid-contact geometry
+        kin = creepages(point, n_track, centre, self.axle, inp.speed_mm_s, inp.omega_rad_s)
+        tang = _tangential(sol, kin, inp, self.sign * ref.eta_mm)
+        return _Loaded(ctx, float(force), prob, sol, ref, kin, tang)
+
+    def force_at_approach(self, ctx: _Candidate, delta: float) -> float:
+        """Normal force (N) of a candidate at the normal approach ``delta`` (mm); 0 when it does not touch."""
+        if delta <= 0:
+            return 0.0
+        n_kp = ctx.evaluator.force_at(delta)
+        if self.inputs.normal_method.name == "kik_piotrowski" or n_kp <= 0:
+            return n_kp
+        # another normal method: invert its force -> approach relation, starting at the KP force
+        def miss(log_n: float) -> float:
+            return self._solve_only(ctx, math.exp(log_n)).delta_mm - delta
+        x = _secant(miss, math.log(n_kp), math.log(n_kp) + 0.05, 1e-12, 40, f"{self.case}: approach of a patch")
+        return math.exp(x)
+
+    def _solve_only(self, ctx: _Candidate, force: float) -> NormalSolution:
+        return solve_normal_with(self.inputs.normal_method, _problem(ctx.cand, self.sign, self.inputs, force),
+                                 ctx.pair)
+
+    # -- the balance
+    def solve(self) -> tuple[list[_Loaded], float, int]:
+        """(loaded candidates, vertical approach Delta (mm), number of balance iterations)."""
+        Q = self.inputs.vertical_load_N
+        with_tangential = self.inputs.balance == "total" and self.inputs.friction > 0
+        if len(self.ctx) == 1:
+            ctx = self.ctx[0]
+            n0 = Q / ctx.cos_g
+            if not with_tangential:
+                lp = self.load(ctx, n0)
+                return [lp], self._Delta(lp), 1
+            mu = self.inputs.friction
+            limit = ctx.cos_g - mu * abs(ctx.sin_g)
+            if not limit > 0:
+                raise ConvergenceError(f"{self.case}: vertical load balance: at the contact angle "
+                                       f"{math.degrees(ctx.cand.contact_angle_rad):.1f} deg with friction {mu:g} the "
+                                       "contact force cannot carry the vertical load (flange climbing limit)")
+            cache: dict[float, _Loaded] = {}
+
+            def excess(n: float) -> float:
+                cache[n] = self.load(ctx, n)
+                return cache[n].vertical_N - Q
+
+            first = self.load(ctx, n0)
+            cache[n0] = first
+            n_z = float(first.frame[0][2])
+            n1 = (Q - (first.vertical_N - n0 * n_z)) / n_z                    # one fixed-point step
+            # steps kept within the friction bounds (widened: the reference point's angle may differ slightly)
+            n = _secant(excess, n0, n1, 1e-13 * n0, 50, f"{self.case}: vertical load balance", f0=first.vertical_N - Q,
+                        bounds=(0.5 * Q / (ctx.cos_g + mu * abs(ctx.sin_g)), 2.0 * Q / limit),
+                        ftol=BALANCE_ITER_RTOL * Q)
+            lp = cache.get(n) or self.load(ctx, n)
+            return [lp], self._Delta(lp), self.evaluations
+        # several candidates: one vertical approach Delta shared by all (Brent on the normal balance first)
+        Delta0 = self._normal_only_Delta()
+        if not with_tangential:
+            return self._at_Delta(Delta0), Delta0, self.evaluations
+        cache_d: dict[float, list[_Loaded]] = {}
+
+        def excess_d(Delta: float) -> float:
+            cache_d[Delta] = self._at_Delta(Delta)
+            return sum(lp.vertical_N for lp in cache_d[Delta]) - Q
+
+        e0 = excess_d(Delta0)
+        Delta1 = Delta0 * (1.0 - 0.5 * e0 / Q)
+        Delta = _secant(excess_d, Delta0, Delta1, 1e-14 * max(Delta0, 1e-3), 50, f"{self.case}: vertical load "
+                        "balance (several patches)", f0=e0, bounds=(0.0, None),
+                        ftol=BALANCE_ITER_RTOL * Q)
+        return cache_d.get(Delta) or self._at_Delta(Delta), Delta, self.evaluations
+
+    def _Delta(self, lp: _Loaded) -> float:
+        return (lp.normal.delta_mm + lp.ctx.cand.normal_gap_mm) / lp.ctx.cos_g
+
+    def _at_Delta(self, Delta: float) -> list[_Loaded]:
+        Q = self.inputs.vertical_load_N
+        out = []
+        for ctx in self.ctx:
+            n = self.force_at_approach(ctx, Delta * ctx.cos_g - ctx.cand.normal_gap_mm)
+            if n > 1e-9 * Q:
+                out.append(self.load(ctx, n))
+        if not out:
+            raise ConvergenceError(f"{self.case}: vertical load balance: no patch is loaded at the approach "
+                                   f"{Delta:g} mm")
         return out
 
-    def excess(Delta: float) -> float:
-        return float(forces(Delta) @ cos_g) - Q
+    def _normal_only_Delta(self) -> float:
+        """Delta with sum N_i cos(gamma_i) = Q (KP force-approach relations; Brent)."""
+        Q = self.inputs.vertical_load_N
+        ctx = self.ctx
 
-    # primary alone carrying Q -> upper bracket
-    c1, prob1, pair1 = built[primary][:3]
-    try:
-        sol1 = solve_normal(prob1, pair1)
-        delta_hi = (sol1.delta_mm + c1.normal_gap_mm) / cos_g[primary]
-    except InputError as err:
-        if err.what != "separation.y_mm":
-            raise
-        # the primary alone would need more than its separation table: grow the bracket instead (the final
-        # solves of the loaded candidates still check their tables)
-        delta_hi = max(c.normal_gap_mm / cg for c, cg in zip(cands, cos_g)) + 1e-3
-        for _ in range(60):
-            if excess(delta_hi) > 0:
-                break
-            delta_hi *= 2.0
-        else:
-            raise ConvergenceError(f"{case}: vertical load balance: no approach carries {Q:g} N") from None
-    if excess(delta_hi) <= 0:  # only the primary is loaded (others cannot close their gap)
-        Delta = delta_hi
-    else:
+        def forces(Delta: float) -> np.ndarray:
+            return np.array([c.evaluator.force_at(Delta * c.cos_g - c.cand.normal_gap_mm)
+                             if Delta * c.cos_g > c.cand.normal_gap_mm else 0.0 for c in ctx])
+
+        def excess(Delta: float) -> float:
+            return float(forces(Delta) @ np.array([c.cos_g for c in ctx])) - Q
+
+        primary = min(ctx, key=lambda c: c.cand.normal_gap_mm)
         try:
-            Delta = brentq(excess, 0.0, delta_hi, xtol=1e-15, rtol=1e-14, maxiter=200)
+            sol1 = solve_normal(primary.evaluator.prob, primary.pair)
+            delta_hi = (sol1.delta_mm + primary.cand.normal_gap_mm) / primary.cos_g
+        except InputError as err:
+            if err.what != "separation.y_mm":
+                raise
+            delta_hi = max(c.cand.normal_gap_mm / c.cos_g for c in ctx) + 1e-3
+            for _ in range(60):
+                if excess(delta_hi) > 0:
+                    break
+                delta_hi *= 2.0
+            else:
+                raise ConvergenceError(f"{self.case}: vertical load balance: no approach carries {Q:g} N") from None
+        if excess(delta_hi) <= 0:  # only the primary is loaded (the others cannot close their gap)
+            return delta_hi
+        try:
+            return float(brentq(excess, 0.0, delta_hi, xtol=1e-15, rtol=1e-14, maxiter=200))
         except (ValueError, RuntimeError) as err:
-            raise ConvergenceError(f"vertical load balance: Brent failed ({err})") from None
-    n = forces(Delta)
-    loaded = []
-    for i, (c, prob, pair, coords, clamped) in enumerate(built):
-        if n[i] > 1e-9 * Q:
-            loaded.append((c, float(n[i]), prob, pair, coords, clamped))
-    # tiny forces dropped: rescale onto the exact balance through the solver's own N target
-    total = sum(f * math.cos(c.contact_angle_rad) for c, f, *_ in loaded)
-    loaded = [(c, f * Q / total, *rest) for c, f, *rest in loaded]
-    return loaded, float(Delta)
+            raise ConvergenceError(f"{self.case}: vertical load balance: Brent failed ({err})") from None
+
+
+def _secant(fun, x0: float, x1: float, xtol: float, maxiter: int, what: str, f0: float | None = None,
+            bounds: tuple[float | None, float | None] = (None, None), ftol: float = 0.0) -> float:
+    """Root of a smooth monotone scalar function by the secant method, steps kept inside ``bounds`` (halfway to a
+    bound when a step would leave them); stops when a step is below ``xtol`` or |f| <= ``ftol``.
+    ConvergenceError after ``maxiter`` steps."""
+    lo, hi = bounds
+    f0 = fun(x0) if f0 is None else f0
+    if abs(f0) <= ftol:
+        return x0
+    f1 = fun(x1)
+    for _ in range(maxiter):
+        if abs(f1) <= ftol or abs(x1 - x0) <= xtol:
+            return x1
+        if f1 == f0:
+            break
+        x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
+        if lo is not None and x2 <= lo:
+            x2 = 0.5 * (x1 + lo)
+        if hi is not None and x2 >= hi:
+            x2 = 0.5 * (x1 + hi)
+        if not math.isfinite(x2):
+            break
+        x0, f0, x1 = x1, f1, x2
+        f1 = fun(x1)
+    raise ConvergenceError(f"{what}: the secant iteration did not converge (last step {x1 - x0:.3g}, residual "
+                           f"{f1:.3g})")
 
 
 def solve_wheel(rail_profile: Profile, wheel_profile: Profile, inputs: WheelRailInputs,
                 layers: WheelRailLayers | None = None, placed_rail: PlacedRail | None = None,
                 case: str = "wheel-rail case") -> WheelRailSolution:
     """Solve one wheel on its rail (see the module docstring). ``placed_rail`` may be passed to reuse a placement
-    (it depends only on the rail profile and the layout)."""
-    sign = side_sign(inputs.side)
+    (it depends only on the rail profile and the layout).
+
+    Patches that grow into each other (a patch reaching the barrier to its neighbouring candidate) are merged: the
+    contact search is repeated with a larger ``merge_mm`` (:data:`MERGE_RETRY_MM`) so that the neighbours become one
+    candidate with one separation function (in the contact plane of the lower minimum), on which the normal solver
+    finds the interacting regions itself. ``WheelRailSolution.merge_mm`` records the value used."""
     rail = placed_rail if placed_rail is not None else place_rail(rail_profile, inputs.layout)
+    first_error = None
+    merges = [inputs.search.merge_mm] + [m for m in MERGE_RETRY_MM if m > inputs.search.merge_mm]
+    for merge in merges:
+        try:
+            sol = _solve_with_search(rail, wheel_profile, inputs, layers, case,
+                                     dataclasses.replace(inputs.search, merge_mm=merge))
+            sol.merge_mm = merge
+            return sol
+        except InputError as err:
+            if err.what != "separation.y_mm":
+                raise
+            first_error = first_error or err
+        except ConvergenceError as err:
+            if str(err).startswith(case):
+                raise
+            raise ConvergenceError(f"{case}: {err}") from None
+    raise InputError(case, "a contact patch reaches the end of its separation function (the barrier to the "
+                     "neighbouring contact candidate, or the search cap of "
+                     f"{inputs.search.f_cap_mm:g} mm) even with candidates merged up to merge_mm = "
+                     f"{merges[-1]:g} mm ({first_error.problem})") from None
+
+
+def _solve_with_search(rail: PlacedRail, wheel_profile: Profile, inputs: WheelRailInputs,
+                       layers: WheelRailLayers | None, case: str, search: SearchSettings) -> WheelRailSolution:
+    sign = side_sign(inputs.side)
     pose_side = inputs.pose.for_side(inputs.side)
-    found = search_contacts(rail, wheel_profile, inputs.layout, pose_side, inputs.search, case=case)
+    found = search_contacts(rail, wheel_profile, inputs.layout, pose_side, search, case=case)
     layers = layers if layers is not None else WheelRailLayers()
     for k, cap in enumerate(LAYER_F_CAPS_MM):
         try:
             return _solve_found(found, rail, wheel_profile, inputs, layers, sign, case, cap)
         except InputError as err:  # a strip in contact without a layer element: widen the layer
-            if err.what == "separation.y_mm":
-                raise InputError(case, "a contact patch reaches the end of its separation function (the barrier "
-                                 "to the neighbouring contact candidate, or the search cap of "
-                                 f"{inputs.search.f_cap_mm:g} mm): the patches would merge, which this planar "
-                                 f"two-candidate model does not represent ({err.problem})") from None
-            if k == len(LAYER_F_CAPS_MM) - 1 or not _is_layer_name(err.what):
+            if err.what == "separation.y_mm" or k == len(LAYER_F_CAPS_MM) - 1 or not _is_layer_name(err.what):
                 raise
     raise AssertionError("unreachable")
 
@@ -339,53 +585,64 @@ def _is_layer_name(what: str) -> bool:
 
 def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, inputs: WheelRailInputs,
                  layers: WheelRailLayers, sign: int, case: str, f_cap_mm: float) -> WheelRailSolution:
-    loaded, Delta = _balance(found.candidates, sign, inputs, layers, case, f_cap_mm)
-    centre = np.array([0.0, inputs.pose.lateral_mm, found.wheel_height_mm])
-    axle = axle_direction(inputs.pose)
+    balance = _Balance(found, rail, wheel_profile, inputs, layers, sign, case, f_cap_mm)
+    loaded, Delta, iterations = balance.solve()
     patches = []
-    for c, force, prob, pair, coords, clamped in loaded:
-        prob = _problem(c, sign, inputs, force)
-        n_track = _track_vector(c.normal, sign)
-        _, t_track, _ = contact_frame(n_track)
-        point = _track_vector(c.wheel_point, sign)
-        kin = creepages(point, n_track, centre, axle, inputs.speed_mm_s, inputs.omega_rad_s)
+    for lp in loaded:
+        ctx = lp.ctx
+        c, pair, coords, clamped = ctx.cand, ctx.pair, ctx.coords, ctx.clamped
         records: list[PassRecord] = []
-        if pair is None:
-            sol = solve_normal_with(inputs.normal, prob)
-        else:
-            holder: list[NormalSolution] = []
-            records, _ = run_passes(prob, pair, inputs.passes, on_pass=lambda rec, s, h=holder: h.append(s),
-                                    method=inputs.normal)
-            sol = holder[0]
-        tang = _tangential(sol, kin, inputs)
+        holder: list[NormalSolution] = []
+        sol, tang = lp.normal, lp.tangential
+        if pair is not None:  # passes (paper section 5) at the balanced force; pass 1 is the balanced solution
+            records, _ = run_passes(lp.prob, pair, inputs.passes, on_pass=lambda rec, s, h=holder: h.append(s),
+                                    method=inputs.normal_method)
         if not coords:
-            eta = sign * prob.strip_y_mm
+            eta = sign * lp.prob.strip_y_mm
             coords = {"rail": c.rail_coordinate(eta), "wheel": c.wheel_coordinate(eta)}
-        patch = PatchSolution(c, inputs.side, sign, prob, sol, float(sol.normal_force_N), point, n_track, t_track,
-                              kin, tang, records, coords.get("rail"), coords.get("wheel"),
+        n_track, t_track = lp.frame
+        patch = PatchSolution(c, inputs.side, sign, lp.prob, sol, float(sol.normal_force_N),
+                              _track_vector(lp.ref.point_mm, sign), n_track, t_track, lp.kin, tang, records,
+                              coords.get("rail"), coords.get("wheel"),
                               {} if not records else {k: np.asarray(v) for k, v in
-                                                      records[-1].cumulative_residual_mm.items()}, clamped)
-        patch.pass_normals = holder if pair is not None else [sol]
+                                                      records[-1].cumulative_residual_mm.items()}, clamped,
+                              reference=lp.ref)
+        patch.pass_normals = list(holder) if pair is not None else [sol]
         if pair is not None:
             _check_coverage(patch, layers)
         patches.append(patch)
     Q = inputs.vertical_load_N
-    vertical = sum(p.normal_force_N * math.cos(p.candidate.contact_angle_rad) for p in patches)
+    if inputs.balance == "total":
+        vertical = sum(float(p.force_track_N()[2]) for p in patches)
+    else:
+        vertical = sum(p.normal_force_N * math.cos(p.candidate.contact_angle_rad) for p in patches)
     rel = abs(vertical - Q) / Q
     if not rel <= BALANCE_RTOL:
         raise ConvergenceError(f"{case}: vertical load balance off by {rel:.3g} (relative) > {BALANCE_RTOL:g}")
     unloaded = [c for c in found.candidates if all(c is not p.candidate for p in patches)]
-    return WheelRailSolution(inputs, found, rail, patches, 0.0 if math.isnan(Delta) else Delta, rel, unloaded,
-                             wheel_profile)
+    return WheelRailSolution(inputs, found, rail, patches, float(Delta), rel, unloaded, wheel_profile,
+                             balance_iterations=iterations)
 
 
-def _tangential(sol: NormalSolution, kin: PatchKinematics, inputs: WheelRailInputs) -> list[TangentialResult]:
-    """FASTSIM on every region of the patch (strip coordinate relative to the contact point, spin about it)."""
+def _tangential(sol: NormalSolution, kin: PatchKinematics, inputs: WheelRailInputs,
+                eta_ref_mm: float = 0.0) -> list[TangentialResult]:
+    """FASTSIM on every region of the patch; strip coordinate (problem orientation) and spin about ``eta_ref_mm``
+    (the reference point, problem orientation) where the creepages ``kin`` were evaluated. With the exact normal
+    solver each strip carries the exact pressure along its line (semi-ellipses with Kik–Piotrowski)."""
     if inputs.friction == 0:
         return []
     cr = Creepage(kin.vx, kin.vy, kin.phi_per_mm)
-    return [solve_tangential(p, cr, inputs.G_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
-                             nx=inputs.fastsim_cells) for p in sol.patches]
+    out = []
+    for k, p in enumerate(sol.patches):
+        shifted = p if eta_ref_mm == 0.0 else Patch(p.grid_mm, p.y_mm - eta_ref_mm, p.x_lead_mm, p.p_peak_MPa)
+        kw = {}
+        if getattr(sol, "field", None) is not None:   # the exact solver: FASTSIM on its pressure, line by line
+            from contact.normal.exact import fastsim_pressure
+
+            kw["pressure_cells_MPa"] = fastsim_pressure(sol, k, inputs.fastsim_cells)
+        out.append(solve_tangential(shifted, cr, inputs.G_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
+                                    nx=inputs.fastsim_cells, **kw))
+    return out
 
 
 # ------------------------------------------------------------------------------------------------ deformed profiles

@@ -32,9 +32,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from wrlayer.errors import require
+from meshes.profiles import Profile
 from meshes.profiles.placement import rail_inclination
-from meshes.profiles.base import Profile
+from wrlayer.errors import require
 
 SIDES = ("right", "left")
 #: Spacing (mm) of the dense rail sample used for lateral look-ups.

@@ -12,7 +12,7 @@ ROOT = Path(__file__).resolve().parents[2]
 BAD = sorted((ROOT / "tests" / "inputs" / "bad_calibration_configs").glob("*.toml"))
 
 
-@pytest.mark.parametrize("name", ["default.toml", "default_3d.toml", "test_coarse.toml"])
+@pytest.mark.parametrize("name", ["default.toml", "default_2d.toml", "test_coarse.toml"])
 def test_shipped_configurations_parse(name):
     cfg = load_config(ROOT / "calibration" / "configs" / name)
     assert cfg.bodies and all(b.positions_mm for b in cfg.bodies)
@@ -23,6 +23,7 @@ def test_default_configuration_covers_rail_and_wheel():
     cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")
     bodies = {b.body: b for b in cfg.bodies}
     assert bodies["rail"].profile == "60E1" and bodies["wheel"].profile == "S1002"
+    assert cfg.run.model == "3d"  # issue 12: 3D is the default; 2D is default_2d.toml
     assert len(bodies["rail"].positions_mm) >= 5 and len(bodies["wheel"].positions_mm) >= 5
 
 

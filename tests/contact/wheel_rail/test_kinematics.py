@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from contact.wheel_rail.track_geometry import WheelsetPose, axle_direction
 from contact.wheel_rail.kinematics import contact_frame, creepages
+from contact.wheel_rail.track_geometry import WheelsetPose, axle_direction
 
 V, R0 = 2000.0, 460.0
 

@@ -8,8 +8,6 @@ import pytest
 
 from contact.layer.characteristic import Characteristic
 from contact.layer.layer_table import LayerTable
-from contact.wheel_rail.track_geometry import WheelsetPose
-from wrlayer.errors import InputError
 from contact.wheel_rail.solve import (
     BALANCE_RTOL,
     WheelRailInputs,
@@ -19,10 +17,13 @@ from contact.wheel_rail.solve import (
     rigid_roll,
     solve_wheel,
 )
+from contact.wheel_rail.track_geometry import WheelsetPose
+from wrlayer.errors import InputError
 
 
 def _vertical(sol):
-    return sum(p.normal_force_N * math.cos(p.candidate.contact_angle_rad) for p in sol.patches)
+    """Vertical component of the total contact force on the wheel (normal + tangential), N."""
+    return sum(float(p.force_track_N()[2]) for p in sol.patches)
 
 
 @pytest.mark.parametrize("d", [0.5, 5.2, 7.0])
@@ -131,9 +132,31 @@ def test_heavy_load_widens_the_layer(rail60, s1002, placed):
     assert abs(_vertical(sol) - 150000.0) / 150000.0 < BALANCE_RTOL
 
 
-def test_patches_reaching_the_candidate_barrier_are_a_clear_error(rail60, s1002, placed):
-    # two-point contact under a very soft layer: the flange patch grows to the barrier to the tread candidate
+def test_patches_that_cannot_be_merged_are_a_clear_error(rail60, s1002, placed):
+    # a very soft layer at 150 kN: the flange patch runs off its separation function even after merging candidates
     soft = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.2]), np.array([0, 600.0, 1500.0])))
-    with pytest.raises(InputError, match="patches would merge"):
+    with pytest.raises(InputError, match=r"wheel-rail case: a contact patch reaches the end of its separation "
+                                         r"function .* even with candidates merged up to merge_mm = 0.5 mm"):
         solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(7.0), vertical_load_N=150000.0), soft,
                     placed_rail=placed)
+
+
+def test_patches_growing_into_each_other_are_merged_into_one(rail60, s1002, placed):
+    # 100 kN at lateral 5 mm: tread and gauge-corner patches meet; solved as one patch with two regions
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.0), vertical_load_N=100000.0),
+                      placed_rail=placed)
+    assert sol.merge_mm > WheelRailInputs().search.merge_mm
+    assert len(sol.patches) == 1 and len(sol.patches[0].normal.patches) == 2
+    assert abs(_vertical(sol) - 100000.0) / 100000.0 < BALANCE_RTOL
+    # at the default merge level the same case is two candidates whose patches run into the barrier
+    assert solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.0), vertical_load_N=10000.0),
+                       placed_rail=placed).merge_mm == WheelRailInputs().search.merge_mm
+
+
+def test_a_convergence_failure_names_the_case(rail60, s1002, placed):
+    from wrlayer.errors import ConvergenceError
+
+    # analytic profiles, 100 kN at 5.2 mm: the merged patch's regions merge and the KP force jumps past the target
+    with pytest.raises(ConvergenceError, match=r"^my case: .*jumps across the target"):
+        solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.2), vertical_load_N=100000.0),
+                    placed_rail=placed, case="my case")

@@ -42,7 +42,7 @@ def test_sweep_with_bad_case_computes_the_others(tmp_path):
     for k in (0, 2):
         for side in ("right", "left"):
             w = cases[k]["wheels"][side]
-            assert abs(w["normal_vertical_N"] - 10000.0) / 10000.0 < 1e-6
+            assert abs(w["vertical_force_N"] - 10000.0) / 10000.0 < 1e-6
             assert w["patches"][0]["creepage_x"] is not None
     json.dumps(result)  # JSON-serialisable
 
@@ -71,5 +71,5 @@ def test_shipped_calibrated_tables_cover_the_shipped_layered_sweep(tmp_path):
     assert len(result["cases"]) == 21 and result["n_failed"] == 0
     tables = [json.loads((scene.parent / "tables" / f).read_text()) for f in
               ("rail_60E1_default.json", "wheel_S1002_default.json")]
-    assert all(t["header"]["model"] == "2d" and t["header"]["config"] == "calibration/configs/default.toml"
+    assert all(t["header"]["model"] == "3d" and t["header"]["config"] == "calibration/configs/default.toml"
                for t in tables)
