@@ -9,7 +9,7 @@ OUT ?= out
 export PYVISTA_OFF_SCREEN := true
 export MPLBACKEND := Agg
 
-.PHONY: all setup test simulate calibrate bench bench-full stress plots clean distclean
+.PHONY: all setup test simulate wear calibrate bench bench-full stress plots clean distclean
 
 all: test
 
@@ -43,6 +43,10 @@ test: $(STAMP)
 
 simulate: $(STAMP)
 	$(PY) -m contact simulate-all scenes --out $(OUT)/simulate --plots
+
+# Wear simulation example (S1002 on 60E1, a small load collective, 3000 km): profiles, table and pictures.
+wear: $(STAMP)
+	$(PY) -m contact wear scenes/wear/s1002_60e1.toml --out $(OUT)/wear
 
 calibrate: $(STAMP)
 	$(PY) -m calibration run calibration/configs/default.toml --out $(OUT)/calibration

@@ -2,6 +2,7 @@
 
     python -m contact simulate SCENE --out DIR [--json] [--plots]
     python -m contact simulate-all SCENES_DIR --out OUT [--plots]
+    python -m contact wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS]   (contact.wear.cli)
 
 ``simulate`` writes ``DIR/result.json`` (and pictures with ``--plots``) atomically: on any error nothing is
 written; the folder is built beside DIR and replaces it as a whole (:func:`wrlayer.atomic_write.replace_output_dir`:
@@ -12,7 +13,9 @@ paper's Table 1 and writes it to ``OUT/table.md`` and ``OUT/table.csv``; a faili
 the others still run, and the exit code is non-zero if any failed.
 
 Exit codes: 0 success; 1 some scenes of ``simulate-all`` failed (each reported in one line); 2 bad input (scene,
-table or profile file, a refused cost, a busy ``--out``); 3 numerical failure (ConvergenceError); 130 interrupted.
+table or profile file, a refused cost, a busy ``--out``); 3 numerical failure (ConvergenceError); 5 wear loop
+stopped at a step (see
+:mod:`contact.wear.cli`); 130 interrupted; 143 terminated.
 """
 
 from __future__ import annotations
@@ -69,6 +72,12 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
     run = simulate(scene)
     text = result_text(run.result)  # serialise before anything is written (a failure leaves no file)
     with replace_output_dir(out_dir) as tmp:
+        from contact.tangential.frictional_outputs import write_scene_run
+
+        # wear-ready CSVs beside result.json
+
+        run.result["frictional_outputs"] = write_scene_run(run, tmp)
+        text = result_text(run.result)
         if plots:
             from contact.scenes.plots import write_scene_plots
 
@@ -132,7 +141,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = cli.parser("python -m contact", "Kik–Piotrowski contact with the Prandtl-body layer, FASTSIM, passes to "
                         "shakedown, wheel-on-rail scenes (units mm, N, MPa, s).",
                         ["python -m contact simulate scenes/paper_with_layer.toml --out out/one --plots",
-                         "python -m contact simulate-all scenes --out out/simulate"])
+                         "python -m contact simulate-all scenes --out out/simulate",
+                         "python -m contact wear scenes/wear/s1002_60e1.toml --out out/wear"])
     sub = parser.add_subparsers(dest="command", required=True)
     one = cli.subparser(sub, "simulate", "run one scene file",
                         ["python -m contact simulate scenes/calibrated_layers.toml --out out/one --plots"])
@@ -149,6 +159,9 @@ def build_parser() -> argparse.ArgumentParser:
     many.add_argument("--plots", action="store_true", help="write PNG pictures")
     many.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     many.set_defaults(func=_simulate_all)
+    from contact.wear.cli import add_parser as add_wear_parser
+
+    add_wear_parser(sub)
     return parser
 
 

@@ -29,6 +29,7 @@ EXIT_CODES = {
        "use by another run or not writable): nothing written",
     3: "numerical failure (an iteration did not converge; out of memory): nothing written",
     4: "calibration: some positions failed (the tables hold the others and list the failed ones)",
+    5: "wear: the loop stopped at a step (named); the completed steps' profiles and table were written",
     130: "interrupted (Ctrl-C)",
     143: "terminated (SIGTERM); the run's staging folders are removed and its workers ended",
 }
@@ -52,6 +53,7 @@ def parser(prog: str, description: str, examples: Sequence[str]) -> argparse.Arg
 COMMANDS = {
     "simulate": ("contact.__main__", ["simulate"], "run one contact scene (Kik-Piotrowski or wheel-rail)"),
     "simulate-all": ("contact.__main__", ["simulate-all"], "run every scene of a folder and print a Table 1"),
+    "wear": ("contact.__main__", ["wear"], "wear simulation: profiles evolving by wear and inelastic displacement"),
     "calibrate": ("calibration.__main__", ["run"], "FEM calibration of layer tables from a TOML configuration"),
     "mesh": ("meshes.__main__", ["mesh"], "mesh a profile section (2D) or local block (3D)"),
     "mesh-plots": ("meshes.__main__", ["plots"], "pictures of the default meshes"),

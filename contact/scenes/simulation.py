@@ -69,6 +69,7 @@ class SimulationRun:
     separation_before_mm: np.ndarray
     separation_after_mm: np.ndarray
     residual_mm: dict[str, np.ndarray] = field(default_factory=dict)
+    every_pass: list[PassSnapshot] = field(default_factory=list)
 
     @property
     def history(self) -> list[dict[str, Any]]:
@@ -264,6 +265,7 @@ def _simulate(scene: Scene) -> SimulationRun:
     snapshots: list[PassSnapshot] = []
     history: list[dict[str, Any]] = []
     residual: dict[str, np.ndarray] = {}
+    every: list[PassSnapshot] = []  # every pass, for the wear-ready frictional outputs
 
     if layers is None:
         t0 = time.perf_counter()
@@ -271,6 +273,7 @@ def _simulate(scene: Scene) -> SimulationRun:
         t_normal = time.perf_counter() - t0
         snap, t_tang = solve_patches(scene, sol, 1)
         snapshots.append(snap)
+        every.append(snap)
         history.append(pass_dict(snap, None, {"normal_s": t_normal, "tangential_s": t_tang}))
         f_after = f_before
     else:
@@ -288,6 +291,7 @@ def _simulate(scene: Scene) -> SimulationRun:
             t_pass = time.perf_counter() - clock[0]
             check_table_coverage(scene, solution)
             snap, t_tang = solve_patches(scene, solution, len(history) + 1)
+            every.append(snap)
             if not snapshots:
                 snapshots.append(snap)
             else:
@@ -325,4 +329,4 @@ def _simulate(scene: Scene) -> SimulationRun:
         "solver": {"total_s": time.perf_counter() - t_start,
                    "delta_evaluations": int(sum(h["iterations"].get("delta_evaluations", 0) for h in history))},
     }
-    return SimulationRun(scene, result, snapshots[0], snapshots[-1], y, f_before, f_after, residual)
+    return SimulationRun(scene, result, snapshots[0], snapshots[-1], y, f_before, f_after, residual, every)

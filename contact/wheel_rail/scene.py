@@ -553,6 +553,9 @@ def run_wheel_rail_scene(data: dict[str, Any], scene_path: Path, out_dir: Path, 
         "n_failed": sum(1 for e in entries if "error" in e),
         "timings_s": {"total": time.perf_counter() - t0},
     }
+    from contact.tangential.frictional_outputs import write_wheel_rail  # wear-ready CSVs beside result.json
+
+    result["frictional_outputs"] = write_wheel_rail(all_sols, out_dir)
     text = cases_csv(result)
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "cases.csv").write_text(text, encoding="utf-8")

@@ -21,7 +21,8 @@ def test_version_names_package_and_revision(module):
     assert code_version() in line                      # the code revision, e.g. "git 0b546d5"
 
 
-@pytest.mark.parametrize("argv", [["contact", "simulate"], ["contact", "simulate-all"], ["calibration", "run"],
+@pytest.mark.parametrize("argv", [["contact", "simulate"], ["contact", "simulate-all"], ["contact", "wear"],
+                                  ["calibration", "run"],
                                   ["meshes", "mesh"], ["meshes", "plots"]])
 def test_every_help_has_an_example_and_the_exit_codes(argv):
     run = subprocess.run([sys.executable, "-m", *argv, "--help"], capture_output=True, text=True, timeout=120)

@@ -112,7 +112,9 @@ def test_json_flag_prints_the_result_and_plots_are_written(tmp_path, capsys):
     for name in names:
         data = (out / name).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20_000
-    assert sorted(p.name for p in out.iterdir()) == sorted(names | {"result.json"})
+    frictional = {"frictional_strips.csv", "frictional_cells.csv"}  # wear-ready outputs (with creepage)
+    assert set(result["frictional_outputs"]) == frictional
+    assert sorted(p.name for p in out.iterdir()) == sorted(names | {"result.json"} | frictional)
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary folders left
     # strain hardening: the state is kept, so the passes stop adding residual quickly, below p_max of pass 1
     assert 1 < result["shakedown_pass"] == n <= 5 and not result["passes"][0]["shakedown"]

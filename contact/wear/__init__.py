@@ -1,0 +1,10 @@
+"""Wear simulation: wheel and rail profiles that evolve by abrasive wear and by the inelastic displacement of the
+Prandtl surface layer (units mm, N, MPa, s; distances in km where named so). Reference: docs/wear.md.
+
+Modules (one concept each): :mod:`laws` (Archard with the Jendel map, USFD T-gamma), :mod:`collective` (load
+collective), :mod:`scene` (the TOML "wear" scene), :mod:`condition` (one running condition solved and turned into
+depths), :mod:`runner` (in-process, local processes or Dask), :mod:`layer_state` (the layer's state per profile
+position between steps), :mod:`profile_grid` (deposit, smoothing, profile update), :mod:`recalibrate` (layer
+tables on the worn profiles), :mod:`conicity` (rolling-radius difference), :mod:`loop` (the step loop),
+:mod:`outputs` (files), :mod:`plots` (pictures), :mod:`cli` (``python -m contact wear``).
+"""

@@ -1,0 +1,76 @@
+"""The layer's state per profile position between wear steps: strain hardening (units mm, MPa).
+
+A Prandtl element (paper section 2) loaded monotonically to p_hist and unloaded (without reverse slip of its
+sliders, i.e. for p_hist below about twice its elastic limit) keeps its slipped sliders at their break stress
+minus the unloading. Reloaded, it responds elastically with the initial slope S_1 until p_hist, where every slipped
+slider is back at its break stress, and then follows its virgin characteristic, shifted by the residual
+u_p(p_hist) already left in the surface (the paper's "strain hardening": an element does not move on the next load
+unless the load exceeds what its stuck sliders hold). That reloading response is itself a monotonic
+characteristic,
+
+    (0, 0) -> (p_hist / S_1, p_hist) -> (u_i - u_p(p_hist), p_i) for the virgin points with p_i > p_hist,
+
+so a hardened element can be given to the solvers as a virgin element of this characteristic
+(:func:`hardened`): its residual after a load p is 0 for p <= p_hist and u_p(p) - u_p(p_hist) beyond.
+
+Between wear steps the loop keeps, per side and body, the largest peak pressure p_hist(y) every profile position
+has carried (profile coordinate y of the initial profile, interpolated between the positions of a grid), and the
+next step's solver looks the layer up through :class:`HardenedTable`. Assumptions (stated): the residual of
+each step is moved into the profile (the dent is part of the new profile); the profile coordinate of a material
+point does not change by wear (the depths are < 1 mm, the lateral shift of y is smaller); no reverse slip on
+unloading. A ``combined`` (one characteristic for both bodies) layer has no positions: it stays virgin.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from contact.layer.characteristic import Characteristic
+
+_TOL = 1e-9
+
+
+def hardened(char: Characteristic, p_hist_MPa: float) -> Characteristic:
+    """The reloading characteristic of an element of ``char`` loaded to ``p_hist_MPa`` and unloaded (see the module
+    docstring); ``char`` itself when p_hist is at or below its elastic limit."""
+    p_hist = float(p_hist_MPa)
+    if not p_hist > char.elastic_limit_MPa * (1.0 + _TOL):
+        return char
+    s1 = char.initial_stiffness
+    up = float(char.displacement(p_hist)) - p_hist / s1
+    keep = char.p_MPa > p_hist * (1.0 + _TOL)
+    u = [0.0, p_hist / s1] + list(char.u_mm[keep] - up)
+    p = [0.0, p_hist] + list(char.p_MPa[keep])
+    if not np.any(keep):  # beyond the last point: the last segment continues
+        slope = float(char.slopes[-1])
+        u.append(u[-1] + 0.01)
+        p.append(p_hist + slope * 0.01)
+    return Characteristic(np.array(u), np.array(p), name=f"{char.name}, hardened to {p_hist:.6g} MPa")
+
+
+@dataclass(frozen=True)
+class HardenedTable:
+    """A layer table (``characteristic_at(y)``, ``y_range_mm``) whose elements carry the peak pressures
+    ``p_hist_MPa`` at the profile coordinates ``y_mm`` (linear between them, 0 outside)."""
+
+    table: object
+    y_mm: np.ndarray
+    p_hist_MPa: np.ndarray
+
+    @property
+    def y_range_mm(self) -> tuple[float, float]:
+        return self.table.y_range_mm
+
+    @property
+    def body(self) -> str:
+        return self.table.body
+
+    def characteristic_at(self, y_mm: float) -> Characteristic:
+        virgin = self.table.characteristic_at(y_mm)
+        p = float(np.interp(float(y_mm), self.y_mm, self.p_hist_MPa, left=0.0, right=0.0))
+        return hardened(virgin, p)
+
+
+__all__ = ["HardenedTable", "hardened"]

@@ -1,0 +1,156 @@
+"""Files of a wear run (units mm, N, MPa, s; distances in km), written step by step so that a stop keeps every
+completed step. Each file is written atomically.
+
+    profiles/step_000_<side>_<body>.{prr|prw,csv}   initial profiles; step_NNN_...: after step NNN (SIMPACK and CSV,
+                                                    read back with meshes.profiles.io, the largest |z| error recorded)
+    depth/step_NNN_<side>_<body>.csv                per profile node: y, arc length s, z before the step, wear depth,
+                                                    inelastic depth of the step (mm)
+    layer_state/step_NNN_<side>_<body>.csv          hardening mode: largest peak pressure carried so far (MPa) at the
+                                                    profile coordinates y (mm) of the initial profile
+    steps.csv                                       one row per step, side and body: distance, wear and inelastic
+                                                    max/location/area, mass loss, rolling-radius difference
+    result.json                                     inputs, units, every step's numbers, status ("complete" or
+                                                    "stopped: <reason naming the step>")
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from contact.scenes.result_io import code_version
+from contact.wear.loop import StepRecord, WearRun
+from meshes.profiles.io import read_profile, write_simpack, write_text
+from wrlayer.atomic_write import atomic_write_text
+
+UNITS = {"length": "mm", "distance": "km", "force": "N", "stress": "MPa", "speed": "mm/s", "area": "mm^2",
+         "mass_loss_g_per_km": "g of wheel material per km of running (the whole wheel circumference)",
+         "mass_loss_g_per_m_rail_per_km": "g of rail material per metre of rail per km of wheel running"}
+TABLE_COLUMNS = ("step", "start_km", "length_km", "end_km", "side", "body", "wear_max_mm", "wear_max_y_mm",
+                 "worn_area_mm2", "inelastic_max_mm", "inelastic_max_y_mm", "inelastic_area_mm2", "mass_loss",
+                 "mass_loss_unit", "delta_r_mm", "quasi_conicity")
+
+
+def write_profile_pair(out_dir: Path, stem: str, profile, body: str) -> dict[str, Any]:
+    """Write one profile as SIMPACK and CSV, read both back; returns file names and the read-back error (mm)."""
+    pts = profile.points if hasattr(profile, "points") else np.column_stack(profile.sample(0.2))
+    ext = ".prr" if body == "rail" else ".prw"
+    files, err = [], 0.0
+    for suffix in (ext, ".csv"):
+        path = out_dir / "profiles" / f"{stem}{suffix}"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if suffix == ".csv":
+            write_text(path, pts, comment=f"{profile.name} ({body}), wrlayer wear loop")
+            back = read_profile(path, body=body)
+        else:
+            write_simpack(path, pts, body=body, comment=f"{profile.name} wrlayer wear loop")
+            back = read_profile(path)
+        err = max(err, float(np.max(np.abs(back.z(pts[:, 0]) - pts[:, 1]))))
+        files.append(str(path.relative_to(out_dir)))
+    return {"files": files, "read_back_max_error_mm": err}
+
+
+def write_initial(out_dir: Path, run: WearRun) -> list[dict]:
+    return [{"side": s, "body": b, **write_profile_pair(out_dir, f"step_000_{s}_{b}", p[b], b)}
+            for s, p in run.initial_profiles.items() for b in ("wheel", "rail")]
+
+
+def write_step(out_dir: Path, rec: StepRecord) -> list[dict]:
+    """Profiles and depth distributions of one completed step."""
+    written = []
+    for (s, b), bs in rec.bodies.items():
+        stem = f"step_{rec.index:03d}_{s}_{b}"
+        info = write_profile_pair(out_dir, stem, rec.profiles[s][b], b)
+        g = bs.grid
+        rows = "\n".join(f"{y:.9e},{sv:.9e},{z:.9e},{w:.9e},{i:.9e}" for y, sv, z, w, i in
+                         zip(g.y_mm, g.s_mm, g.z_mm, bs.wear_mm, bs.inelastic_mm))
+        path = out_dir / "depth" / f"{stem}.csv"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write_text(path, f"y_mm,s_mm,z_before_mm,wear_mm,inelastic_mm\n{rows}\n")  # step: see result.json
+        info["depth_file"] = str(path.relative_to(out_dir))
+        if (s, b) in rec.layer_state:
+            y, p = rec.layer_state[s, b]
+            state_path = out_dir / "layer_state" / f"{stem}.csv"
+            state_path.parent.mkdir(parents=True, exist_ok=True)
+            atomic_write_text(state_path, "y_mm,p_hist_MPa\n" + "".join(f"{a:.9e},{c:.9e}\n" for a, c in zip(y, p)))
+            info["layer_state_file"] = str(state_path.relative_to(out_dir))
+        written.append({"side": s, "body": b, **info})
+    return written
+
+
+def table_rows(run: WearRun) -> list[dict]:
+    rows = []
+    for rec in run.steps:
+        for (s, b), bs in rec.bodies.items():
+            st = bs.stats
+            unit = "g/km" if b == "wheel" else "g/(m rail km)"
+            mass = st.get("mass_loss_g_per_km", st.get("mass_loss_g_per_m_rail_per_km"))
+            rows.append({"step": rec.index, "start_km": rec.start_km, "length_km": rec.length_km,
+                         "end_km": rec.end_km, "side": s, "body": b, **{k: st[k] for k in TABLE_COLUMNS if k in st},
+                         "mass_loss": mass, "mass_loss_unit": unit, "delta_r_mm": rec.conicity["delta_r_mm"],
+                         "quasi_conicity": rec.conicity["quasi_conicity"]})
+    return rows
+
+
+def write_table(out_dir: Path, run: WearRun) -> Path:
+    rows = table_rows(run)
+    lines = [",".join(TABLE_COLUMNS)]
+    for r in rows:
+        lines.append(",".join(f"{r[c]:.9g}" if isinstance(r[c], float) else str(r[c]) for c in TABLE_COLUMNS))
+    return atomic_write_text(out_dir / "steps.csv", "\n".join(lines) + "\n")
+
+
+def _jsonable(x):
+    if isinstance(x, dict):
+        return {str(k): _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return _jsonable(x.tolist())
+    if isinstance(x, (np.floating, float)):
+        v = float(x)
+        return v if math.isfinite(v) else None
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    return x
+
+
+def result_dict(run: WearRun, files: dict, status: str) -> dict[str, Any]:
+    sc = run.scene
+    col, st = sc.collective, sc.settings
+    path = Path(sc.path)
+    return _jsonable({
+        "type": "wear", "status": status, "code_version": code_version(), "units": UNITS,
+        "inputs": {
+            "scene_file": str(path.resolve()),
+            "content_sha256": hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None,
+            "rail_profile": sc.parsed["rail"].name, "wheel_profile": sc.parsed["wheel"].name,
+            "sides": list(run.initial_profiles), "normal_method": sc.normal.name, "law": sc.law.name,
+            "archard": {b: vars(m) for b, m in sc.law.archard.items()},
+            "usfd": {b: vars(t) for b, t in sc.law.usfd.items()}, "density_kg_m3": sc.law.density_kg_m3,
+            "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": vars(st),
+            "conditions": [vars(c) for c in col.conditions],
+            "passes_cap": sc.parsed["inputs"]["passes"].max_passes,
+            "layers": None if sc.parsed["layers"] is None else dict(sc.parsed["layers"].names),
+            "scene_toml": sc.data},
+        "initial": {"conicity": run.initial_conicity, "profiles": files.get("initial", [])},
+        "steps": [{"step": r.index, "start_km": r.start_km, "length_km": r.length_km, "end_km": r.end_km,
+                   "notes": r.notes, "conicity": r.conicity, "timings_s": r.timings,
+                   "bodies": [{"side": s, "body": b, **bs.stats} for (s, b), bs in r.bodies.items()],
+                   "files": files.get(r.index, []), "conditions": r.conditions} for r in run.steps],
+        "distance_done_km": run.steps[-1].end_km if run.steps else 0.0,
+        "pictures": files.get("pictures", []),
+    })
+
+
+def write_result(out_dir: Path, run: WearRun, files: dict, status: str) -> Path:
+    return atomic_write_text(out_dir / "result.json", json.dumps(result_dict(run, files, status), indent=1) + "\n")
+
+
+__all__ = ["TABLE_COLUMNS", "UNITS", "result_dict", "table_rows", "write_initial", "write_profile_pair",
+           "write_result", "write_step", "write_table"]

@@ -1,0 +1,113 @@
+"""Pictures of a wear run (units mm, km): profile evolution (overlay, zoomed on the changed part), wear and
+inelastic depth along the profile per step, rolling-radius difference against distance."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from contact.wear.loop import WearRun
+from wrlayer.plotting import DPI, MICRO_M
+
+
+def _keys(run: WearRun) -> list[tuple[str, str]]:
+    return [(s, b) for s in run.initial_profiles for b in ("wheel", "rail")]
+
+
+def plot_profiles(run: WearRun, path: Path) -> Path:
+    """Top: the profiles after every step over the initial one (zoomed on the changed part). Bottom: the total
+    change (normal distance from the initial profile, material removed positive) after every step."""
+    keys = _keys(run)
+    fig, axes = plt.subplots(2, len(keys), figsize=(4.2 * len(keys), 6.5), squeeze=False, sharex="col")
+    cmap = plt.get_cmap("viridis")
+    for col, (s, b) in enumerate(keys):
+        ax, ax2 = axes[0][col], axes[1][col]
+        first = run.initial_profiles[s][b]
+        changed = np.zeros(0)
+        for rec in run.steps:
+            bs = rec.bodies[s, b]
+            tot = bs.wear_mm + bs.inelastic_mm
+            if np.any(tot > 0):
+                changed = np.concatenate([changed, bs.grid.y_mm[tot > 0.02 * tot.max()]])
+        lo, hi = (changed.min() - 3, changed.max() + 3) if changed.size else (first.y_min, first.y_max)
+        y = np.linspace(max(lo, first.y_min), min(hi, first.y_max), 400)
+        ax.plot(y, first.z(y), "k-", lw=1.2, label="initial")
+        for k, rec in enumerate(run.steps):
+            prof = rec.profiles[s][b]
+            c = cmap((k + 1) / max(1, len(run.steps)))
+            yy = y[(y >= prof.y_min) & (y <= prof.y_max)]
+            ax.plot(yy, prof.z(yy), color=c, lw=0.9, label=f"{rec.end_km:.0f} km")
+            pts = prof.points if hasattr(prof, "points") else np.column_stack(prof.sample(0.2))
+            pts = pts[(pts[:, 0] >= y[0]) & (pts[:, 0] <= y[-1])]
+            if pts.size:
+                d, _ = first.signed_distance(pts)
+                ax2.plot(pts[:, 0], np.abs(d) * 1e3, color=c, lw=0.9)
+        ax.set_title(f"{s} {b}")
+        ax.set_ylabel("z (mm)")
+        ax.grid(alpha=0.3)
+        ax2.set_xlabel("y (mm)")
+        ax2.set_ylabel(f"total change ({MICRO_M})")
+        ax2.grid(alpha=0.3)
+    axes[0][0].legend(fontsize=7)
+    fig.suptitle("profile evolution: profiles (top) and total change from the initial profile (bottom)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def plot_depths(run: WearRun, path: Path) -> Path:
+    keys = _keys(run)
+    fig, axes = plt.subplots(1, len(keys), figsize=(4.2 * len(keys), 3.8), squeeze=False)
+    cmap = plt.get_cmap("viridis")
+    for ax, (s, b) in zip(axes[0], keys):
+        for k, rec in enumerate(run.steps):
+            bs = rec.bodies[s, b]
+            c = cmap((k + 1) / max(1, len(run.steps)))
+            ax.plot(bs.grid.y_mm, bs.wear_mm * 1e3, color=c, lw=1.0, label=f"wear, step {rec.index}")
+            if np.any(bs.inelastic_mm > 0):
+                ax.plot(bs.grid.y_mm, bs.inelastic_mm * 1e3, color=c, lw=1.0, ls="--",
+                        label=f"inelastic, step {rec.index}")
+        ax.set_title(f"{s} {b}")
+        ax.set_xlabel("y (mm)")
+        ax.set_ylabel(f"depth per step ({MICRO_M})")
+        ax.grid(alpha=0.3)
+    axes[0][0].legend(fontsize=6)
+    fig.suptitle("wear (solid) and inelastic (dashed) depth along the profile, per step")
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def plot_conicity(run: WearRun, path: Path) -> Path:
+    km = [0.0] + [r.end_km for r in run.steps]
+    dr = [run.initial_conicity["delta_r_mm"]] + [r.conicity["delta_r_mm"] for r in run.steps]
+    amp = run.scene.settings.conicity_amplitude_mm
+    fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    ax.plot(km, dr, "o-")
+    ax.set_xlabel("running distance (km)")
+    ax.set_ylabel(f"rolling-radius difference at {amp:g} mm (mm)")
+    ax2 = ax.secondary_yaxis("right", functions=(lambda d: d / (2 * amp), lambda q: q * 2 * amp))
+    ax2.set_ylabel("quasi-conicity dr/(2y)")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def write_wear_plots(run: WearRun, out_dir: Path) -> list[Path]:
+    out_dir = Path(out_dir)
+    if not run.steps:
+        return []
+    return [plot_profiles(run, out_dir / "profile_evolution.png"), plot_depths(run, out_dir / "depth_per_step.png"),
+            plot_conicity(run, out_dir / "rolling_radius_difference.png")]
+
+
+__all__ = ["plot_conicity", "plot_depths", "plot_profiles", "write_wear_plots"]

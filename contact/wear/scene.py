@@ -1,0 +1,266 @@
+"""The TOML "wear" scene (units mm, N, MPa, s, rad; distance in km). Run by ``python -m contact wear SCENE --out DIR``.
+
+Everything of a wheel_rail scene (:mod:`contact.wheel_rail.scene`: [profiles], [track], [wheel], [wheelset], [load],
+[material], [tangential], [layers], [passes], [method]) except [sweep] and [output], plus::
+
+    type = "wear"                                          (required)
+    [method]    normal = "kik_piotrowski" | "exact",       the method.normal choice of every scene; exact_cells,
+                layer_mode                                 the exact solver's options (contact.normal.method)
+    [wear]      law = "archard" | "usfd"                  the abrasive wear law (contact.wear.laws)
+                distance_km (required, > 0)                total running distance of the wheel
+                steps (required, >= 1)                     nominal number of profile-update steps
+                max_depth_per_step_mm = 0.1                step control: a step is shortened so that the largest
+                                                           depth change (wear + inelastic) stays below this
+                smoothing_mm = 1.0                         standard deviation (mm of arc length) of the Gaussian
+                                                           filter applied to each step's depth distributions
+                grid_mm = 0.2                              arc-length spacing of the profile update grid
+                density_kg_m3 = 7850                       steel density (mass loss, USFD law)
+                rail_passes_per_wheel_pass = 1.0           passes a rail section sees per wheel revolution
+                inelastic = true                           add the layer's residual displacement (needs [layers])
+                layer_state = "hardening" | "virgin"       keep each profile position's largest load between steps
+                                                           (contact.wear.layer_state) or start virgin every step
+                workers = 1, scheduler = ""                local processes per step / a Dask scheduler address
+                conicity_amplitude_mm = 3.0                lateral amplitude of the rolling-radius difference
+    [wear.archard.wheel], [wear.archard.rail]              ArchardMap keys (hardness_MPa, k_seizure, k_low_speed,
+                                                           k_mid_speed, k_high_speed, v_low_m_s, v_high_m_s)
+    [wear.recalibrate] config = "template.toml", every_steps = 1   recalibrate the layer tables on the worn profiles
+                                                           (contact.wear.recalibrate; placeholders @wheel_profile@,
+                                                           @rail_profile@ in the calibration template)
+    [wear.usfd]  wheel = "R8T", rail = "R8T"              a published material, or a table {t1, t2, mild_slope,
+                                                           severe_rate, cat_slope, cat_offset}
+    [collective] either [[collective.condition]] tables (lateral_mm, yaw_rad = 0, vertical_load_N and speed_mm_s
+                 defaulting to [load], weight, label, pitch_rate_rad_s (traction/braking; default the scene's)) or a sweep: lateral_mm (list or {start, stop, step}), yaw_rad (one
+                 number or a list of the same length), weights (a list of the same length, or "uniform").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from contact.normal.method import NormalMethod
+from contact.scenes.scene import SceneKeys
+from contact.wear.collective import Condition, LoadCollective
+from contact.wear.laws import USFD_MATERIALS, ArchardMap, UsfdTable, WearLaw
+from contact.wheel_rail.scene import _values, parse_wheel_rail_scene
+from wrlayer.errors import InputError
+
+WHEEL_RAIL_SECTIONS = ("title", "description", "profiles", "track", "wheel", "wheelset", "load", "material",
+                       "tangential", "layers", "passes", "method")
+WEAR_KEYS = ("law", "distance_km", "steps", "max_depth_per_step_mm", "smoothing_mm", "grid_mm", "density_kg_m3",
+             "rail_passes_per_wheel_pass", "inelastic", "layer_state", "workers", "scheduler", "conicity_amplitude_mm",
+             "archard", "recalibrate",
+             "usfd")
+ARCHARD_KEYS = ("hardness_MPa", "k_seizure", "k_low_speed", "k_mid_speed", "k_high_speed", "v_low_m_s",
+                "v_high_m_s", "seizure_pressure_ratio")
+USFD_KEYS = ("t1", "t2", "mild_slope", "severe_rate", "cat_slope", "cat_offset")
+
+
+@dataclass(frozen=True)
+class WearSettings:
+    """The [wear] numbers (mm, km)."""
+
+    max_depth_per_step_mm: float = 0.1
+    smoothing_mm: float = 1.0
+    grid_mm: float = 0.2
+    rail_passes_per_wheel_pass: float = 1.0
+    inelastic: bool = True
+    layer_state: str = "hardening"
+    workers: int = 1
+    scheduler: str = ""
+    conicity_amplitude_mm: float = 3.0
+    recalibrate_config: str = ""
+    recalibrate_template: str = ""
+    recalibrate_every: int = 0
+
+
+@dataclass(frozen=True)
+class WearScene:
+    """A parsed wear scene: the wheel-rail part (``parsed``, as :func:`parse_wheel_rail_scene` returns it), the
+    normal method, the law, the collective and the settings."""
+
+    path: Path
+    data: dict
+    parsed: dict
+    normal: NormalMethod
+    law: WearLaw
+    collective: LoadCollective
+    settings: WearSettings
+
+
+def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
+    """Validate a wear scene (InputError naming ``<file>: <section>.<key>``)."""
+    scene_path = Path(scene_path)
+    file = scene_path.name
+    top = SceneKeys(file, "", data)
+    top.check_known(("type",) + WHEEL_RAIL_SECTIONS + ("wear", "collective"))
+    if data.get("type") != "wear":
+        raise top.error("type", f"must be \"wear\" for python -m contact wear, got {data.get('type')!r}")
+    wr = {k: v for k, v in data.items() if k in WHEEL_RAIL_SECTIONS}
+    wr["type"] = "wheel_rail"
+    method = dict(wr.get("method", {})) if isinstance(wr.get("method"), dict) else wr.get("method", {})
+    normal_kw = {}
+    if isinstance(method, dict):
+        mk = SceneKeys(file, "method", method)
+        if "normal" in method:
+            normal_kw["name"] = mk.text("normal")
+        if "exact_cells" in method:
+            normal_kw["exact_cells"] = mk.integer("exact_cells", 48, ge=1)
+        if "layer_mode" in method:
+            normal_kw["layer_mode"] = mk.text("layer_mode")
+        for key in ("normal", "exact_cells", "layer_mode"):
+            method.pop(key, None)
+        wr["method"] = method
+    try:
+        normal = NormalMethod(**normal_kw)
+    except InputError as err:
+        key = err.what if err.what.startswith("method.") else "method.normal"
+        raise InputError(f"{file}: {key}", err.problem) from None
+    wr["output"] = {"deformed_profiles": False}
+    parsed = parse_wheel_rail_scene(wr, scene_path)
+    wear = top.sub("wear")
+    if wear is None:
+        raise top.error("wear", "a wear scene needs a [wear] table (law, distance_km, steps)")
+    wear.check_known(WEAR_KEYS)
+    law = _law(wear)
+    settings = WearSettings(
+        max_depth_per_step_mm=wear.number("max_depth_per_step_mm", 0.1, gt=0.0),
+        smoothing_mm=wear.number("smoothing_mm", 1.0, ge=0.0),
+        grid_mm=wear.number("grid_mm", 0.2, gt=0.0, le=2.0),
+        rail_passes_per_wheel_pass=wear.number("rail_passes_per_wheel_pass", 1.0, ge=0.0),
+        inelastic=wear.boolean("inelastic", True),
+        layer_state=wear.text("layer_state", "hardening"),
+        workers=wear.integer("workers", 1, ge=1),
+        scheduler=wear.text("scheduler", ""),
+        conicity_amplitude_mm=wear.number("conicity_amplitude_mm", 3.0, gt=0.0))
+    settings = _recalibration(wear, scene_path.parent, settings, parsed)
+    if settings.layer_state not in ("hardening", "virgin"):
+        raise wear.error("layer_state", f"must be 'hardening' or 'virgin', got {settings.layer_state!r}")
+    if settings.inelastic and parsed["layers"] is None:
+        raise wear.error("inelastic", "true needs [layers] (the Prandtl layer gives the inelastic displacement); "
+                         "set inelastic = false for abrasive wear alone")
+    distance = wear.number("distance_km")
+    if not distance > 0:
+        raise wear.error("distance_km", f"must be a positive distance, got {distance:g}")
+    steps = wear.integer("steps", 1, ge=1) if "steps" in wear.table else None
+    if steps is None:
+        raise wear.error("steps", "required (number of profile-update steps)")
+    col = top.sub("collective")
+    if col is None:
+        raise top.error("collective", "a wear scene needs a [collective] (running conditions with weights)")
+    conds = _conditions(col, parsed)
+    try:
+        collective = LoadCollective(tuple(conds), distance, steps, where=f"{file}: collective")
+    except InputError as err:
+        raise InputError(err.what if err.what.startswith(file) else f"{file}: {err.what}", err.problem) from None
+    return WearScene(scene_path, data, parsed, normal, law, collective, settings)
+
+
+def _recalibration(wear: SceneKeys, base: Path, settings: WearSettings, parsed: dict) -> WearSettings:
+    """[wear.recalibrate]: the calibration template (must use a placeholder) and the interval in steps."""
+    import dataclasses
+
+    from contact.wear.recalibrate import PLACEHOLDERS, template_bodies
+
+    sub = wear.sub("recalibrate") if "recalibrate" in wear.table else None
+    if sub is None:
+        return settings
+    sub.check_known(("config", "every_steps"))
+    rel = sub.text("config")
+    path = (base / rel).resolve()
+    if not path.is_file():
+        raise sub.error("config", f"no such calibration template {rel!r} (looked at {path})")
+    text = path.read_text(encoding="utf-8")
+    if not template_bodies(text):
+        raise sub.error("config", f"{rel} uses neither placeholder {' nor '.join(PLACEHOLDERS.values())} "
+                        "(where the worn profile files go)")
+    layers = parsed["layers"]
+    if layers is None or layers.combined is not None:
+        raise sub.error("config", "recalibration needs per-body [layers] tables (rail and/or wheel)")
+    return dataclasses.replace(settings, recalibrate_config=str(path), recalibrate_template=text,
+                               recalibrate_every=sub.integer("every_steps", 1, ge=1))
+
+
+def _law(wear: SceneKeys) -> WearLaw:
+    name = wear.text("law", "archard")
+    if name not in ("archard", "usfd"):
+        raise wear.error("law", f"must be 'archard' or 'usfd', got {name!r}")
+    archard = {}
+    sub = wear.sub("archard") if "archard" in wear.table else None
+    for body in ("wheel", "rail"):
+        keys = sub.sub(body) if sub is not None and body in sub.table else None
+        if sub is not None:
+            sub.check_known(("wheel", "rail"))
+        vals = {}
+        if keys is not None:
+            keys.check_known(ARCHARD_KEYS)
+            vals = {k: keys.number(k, ge=0.0) for k in ARCHARD_KEYS if k in keys.table}
+        try:
+            archard[body] = ArchardMap(**vals)
+        except InputError as err:
+            raise InputError(f"{wear.what('archard')}.{body}.{err.what}", err.problem) from None
+    usfd = {}
+    sub = wear.sub("usfd") if "usfd" in wear.table else None
+    if sub is not None:
+        sub.check_known(("wheel", "rail"))
+    for body in ("wheel", "rail"):
+        value = sub.table.get(body, "R8T") if sub is not None else "R8T"
+        if isinstance(value, str):
+            if value not in USFD_MATERIALS:
+                raise sub.error(body, f"unknown material {value!r}; published: {', '.join(USFD_MATERIALS)}, or give "
+                                f"a table {{{', '.join(USFD_KEYS)}}}")
+            usfd[body] = USFD_MATERIALS[value]
+        else:
+            keys = sub.sub(body)
+            keys.check_known(USFD_KEYS)
+            vals = {k: keys.number(k) for k in USFD_KEYS}
+            try:
+                usfd[body] = UsfdTable(name=f"custom {body}", **vals)
+            except InputError as err:
+                raise InputError(sub.what(body), err.problem) from None
+    return WearLaw(name, archard, usfd, wear.number("density_kg_m3", 7850.0, gt=0.0))
+
+
+def _conditions(col: SceneKeys, parsed: dict) -> list[Condition]:
+    load = parsed["inputs"]
+    Q0, V0 = load["vertical_load_N"], load["speed_mm_s"]
+    if "condition" in col.table:
+        col.check_known(("condition",))
+        rows = col.table["condition"]
+        if not isinstance(rows, list) or not rows:
+            raise col.error("condition", "must be an array of tables [[collective.condition]]")
+        out = []
+        for k, row in enumerate(rows):
+            keys = SceneKeys(col.file, f"{col.prefix}.condition[{k}]", row)
+            keys.check_known(("lateral_mm", "yaw_rad", "vertical_load_N", "speed_mm_s", "weight", "label",
+                              "pitch_rate_rad_s"))
+            pitch = keys.number("pitch_rate_rad_s", gt=0.0) if "pitch_rate_rad_s" in keys.table else None
+            out.append(Condition(keys.number("lateral_mm", 0.0), keys.number("yaw_rad", 0.0, gt=-0.2, lt=0.2),
+                                 keys.number("vertical_load_N", Q0, gt=0.0), keys.number("speed_mm_s", V0, gt=0.0),
+                                 keys.number("weight"), keys.text("label", ""), pitch))
+        return out
+    col.check_known(("lateral_mm", "yaw_rad", "weights"))
+    if "lateral_mm" not in col.table:
+        raise col.error("lateral_mm", "give [[collective.condition]] tables or a sweep (lateral_mm, weights)")
+    lat = _values(col, "lateral_mm") if isinstance(col.table["lateral_mm"], dict) else col.array("lateral_mm", 1)
+    yaw_value = col.table.get("yaw_rad", 0.0)
+    yaw = np.full(lat.size, col.number("yaw_rad", 0.0)) if not isinstance(yaw_value, list) \
+        else col.array("yaw_rad", 1)
+    if yaw.size != lat.size:
+        raise col.error("yaw_rad", f"needs {lat.size} values (one per lateral_mm), got {yaw.size}")
+    w_value = col.table.get("weights")
+    if w_value is None:
+        raise col.error("weights", "required: a list (one weight per condition) or \"uniform\"")
+    if w_value == "uniform":
+        weights = np.full(lat.size, 1.0 / lat.size)
+    else:
+        weights = col.array("weights", 1)
+        if weights.size != lat.size:
+            raise col.error("weights", f"needs {lat.size} values (one per lateral_mm), got {weights.size}")
+    return [Condition(float(a), float(b), Q0, V0, float(w)) for a, b, w in zip(lat, yaw, weights)]
+
+
+__all__ = ["WearScene", "WearSettings", "parse_wear_scene"]

@@ -1,0 +1,51 @@
+"""Small wear scenes for fast tests (coarse grids, few passes)."""
+
+from pathlib import Path
+
+import pytest
+
+from contact.wear.scene import parse_wear_scene
+
+REPO = Path(__file__).resolve().parents[3]
+TABLES = REPO / "scenes" / "tables"
+
+
+def wear_data(**over):
+    """A one-side wear scene (dict) with calibrated layers; sections in ``over`` replace or extend the defaults."""
+    data = {
+        "type": "wear",
+        "profiles": {"rail": "60E1", "wheel": "S1002"},
+        "wheel": {"nominal_radius_mm": 460.0, "side": "right"},
+        "wheelset": {"roll_rad": 0.0},
+        "load": {"vertical_load_N": 40000.0, "speed_mm_s": 2000.0},
+        "material": {"G_MPa": 82000.0, "poisson": 0.28},
+        "tangential": {"friction": 0.3},
+        "layers": {"rail": str(TABLES / "rail_60E1_default.json"), "wheel": str(TABLES / "wheel_S1002_default.json")},
+        "passes": {"max": 8},
+        "method": {"grid_mm": 0.2, "fastsim_cells": 16},
+        "wear": {"law": "archard", "distance_km": 100.0, "steps": 1, "max_depth_per_step_mm": 10.0,
+                 "smoothing_mm": 0.0, "grid_mm": 0.2},
+        "collective": {"lateral_mm": [2.0], "yaw_rad": 0.002, "weights": [1.0]},
+    }
+    for key, value in over.items():
+        if value is None:
+            data.pop(key, None)
+        elif isinstance(value, dict) and isinstance(data.get(key), dict):
+            data[key] = {**data[key], **value}
+        else:
+            data[key] = value
+    return data
+
+
+@pytest.fixture
+def make_scene(tmp_path):
+    def make(**over):
+        return parse_wear_scene(wear_data(**over), tmp_path / "w.toml")
+
+    return make
+
+
+@pytest.fixture
+def wear_dict():
+    """The scene-dict builder :func:`wear_data`."""
+    return wear_data
