@@ -7,7 +7,6 @@ import dataclasses
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq
 
 import contact.normal.kik_piotrowski as kp
 from contact.normal.boussinesq import boussinesq_integral
