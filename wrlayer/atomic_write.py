@@ -30,6 +30,10 @@ from wrlayer.errors import InputError
 
 #: Files by which an earlier output folder of the tool is recognised (such a folder may be replaced as a whole).
 OUTPUT_FILES = ("result.json",)
+#: Files of an output folder that the tool writes (never carried over from an earlier run: a run that does not
+#: write one of them, e.g. no frictional CSVs without a tangential problem, must not leave the old one beside its
+#: result). Relative paths, matched with :meth:`pathlib.PurePath.match`.
+OWNED_PATTERNS = ("result.json", "*.png", "*.csv", "deformed_profiles/*")
 
 
 def _umask() -> int:
@@ -231,7 +235,7 @@ def _carry_over(old: Path, new: Path, owned: tuple[str, ...]) -> None:
 
 @contextlib.contextmanager
 def replace_output_dir(path: str | os.PathLike, what: str | None = None,
-                       owned: tuple[str, ...] = ("result.json", "*.png", "deformed_profiles/*")) -> Iterator[Path]:
+                       owned: tuple[str, ...] = OWNED_PATTERNS) -> Iterator[Path]:
     """Build a whole output folder and put it in place of ``path`` as a whole, under :func:`output_lock`.
 
     Yields a run-unique staging folder. When the block succeeds, the files of the earlier output that the tool
@@ -262,5 +266,5 @@ def replace_output_dir(path: str | os.PathLike, what: str | None = None,
             shutil.rmtree(tmp, ignore_errors=True)
 
 
-__all__ = ["OUTPUT_FILES", "atomic_output_dir", "atomic_write_bytes", "atomic_write_text", "check_replaceable",
+__all__ = ["OUTPUT_FILES", "OWNED_PATTERNS", "atomic_output_dir", "atomic_write_bytes", "atomic_write_text", "check_replaceable",
            "clean_stale_staging", "output_lock", "replace_output_dir"]

@@ -131,6 +131,16 @@ def test_rerun_without_plots_removes_the_old_pictures(tmp_path):
     assert sorted(p.name for p in out.iterdir()) == ["notes.txt", "result.json"]
 
 
+def test_rerun_without_tangential_problem_removes_the_old_frictional_csvs(tmp_path):
+    out = tmp_path / "out"
+    first = run(SCENES / "paper_with_layer.toml", out)
+    assert first["frictional_outputs"] == ["frictional_strips.csv", "frictional_cells.csv"]
+    assert (out / "frictional_cells.csv").is_file()
+    second = run(SCENES / "hertz_check.toml", out)  # no creepage: no frictional CSVs of its own
+    assert second["frictional_outputs"] == []
+    assert sorted(p.name for p in out.iterdir()) == ["result.json"]
+
+
 def test_failed_run_leaves_the_previous_output_untouched(tmp_path):
     out = tmp_path / "out"
     run(SCENES / "hertz_check.toml", out)
