@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
-from calibration.fem.elastoplastic_solver import SolverOptions, solve_load_path
+from calibration.fem.elastoplastic_solver import SolverOptions, SolverState, solve_load_path
 from calibration.fem.assembly import discretise
 from calibration.hertz.geometry import LocalGeometry, halfspace_centre_compliance_mm_per_MPa
 from calibration.hertz.load import HertzLoad
@@ -206,8 +206,9 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
     The layer displacement is the normal displacement of the load centre (relative to the material point at the
     reference depth d_ref = reference_depth_factor * max(a, b) below it when that factor is > 0). ``extra_depth_factors``:
     further reference depths (same unit) whose inelastic displacements are reported in ``u_pl_depth_mm``
-    (benchmarks). VTK/PNG fields at the highest peak and after unloading from it are written to ``out_dir``
-    when given. Raises ConvergenceError (FEM) or InputError (geometry, mesh) naming the cause.
+    (benchmarks). When ``out_dir`` is given, VTK/PNG fields at the highest peak and after unloading from it are
+    written there, and every converged level of the whole path as a ParaView time series
+    ``out_dir/load_path/load_path.pvd`` (load level p0_MPa in each file's FieldData). Raises ConvergenceError (FEM) or InputError (geometry, mesh) naming the cause.
     """
     require(model in ("2d", "3d"), "model", f"must be '2d' or '3d', got {model!r}")
     require(all(0 < f <= load_settings.max_factor + 1e-12 for f in load_settings.unload_factors), "unload_factors",
@@ -255,13 +256,19 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
     state, history, newton = None, [], 0
     residuals, files = [], []
     stage_ends = sorted(set(peaks + [levels[-1]]))
+    series = None
+    if out_dir is not None:  # every converged level of the path as a ParaView time series
+        from calibration.fem.output import FieldSeries
+
+        series = FieldSeries(Path(out_dir) / "load_path", material)
+        series(disc, SolverState.virgin(disc))  # step 0: the unloaded body
     start = 0.0
     for end in stage_ends:
         stage = [p for p in levels if start < p <= end + 1e-9 * end]
         write = out_dir is not None and top is not None and abs(end - top) <= 1e-9 * top
         res = solve_load_path(mesh, material, load, stage, options=opts, initial_state=state, disc=disc,
                               vtk_at=[len(stage) - 1] if write else (), out_dir=out_dir / "peak" if write else None,
-                              probes=probes)
+                              probes=probes, on_level=series)
         state = res.state
         history += res.history
         files += [str(f) for f in res.files]
@@ -269,7 +276,7 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
         if any(abs(end - pk) <= 1e-9 * pk for pk in peaks):
             unl = solve_load_path(mesh, material, load, [0.0], options=opts, initial_state=state, disc=disc,
                                   vtk_at=[0] if write else (), out_dir=out_dir / "unloaded" if write else None,
-                                  probes=probes)
+                                  probes=probes, on_level=series)
             h = unl.history[-1]
             residuals.append(h.u_centre_mm - h.probes_mm["ref"])
             newton += sum(h.newton_iters for h in unl.history)
@@ -277,6 +284,8 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
         if progress:
             progress(1)
         start = end
+    if series is not None:
+        files += [str(p) for _, p in series.steps] + [str(series.write_pvd())]
     p = np.array([0.0] + [h.p0_MPa for h in history])
     u_abs = np.array([0.0] + [h.u_centre_mm for h in history])
     u_pl_depth = {}

@@ -347,7 +347,8 @@ def _probe_values(probes: dict | None, u: np.ndarray) -> dict[str, float]:
 def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa: Iterable[float],
                     options: SolverOptions | None = None, vtk_at: Iterable[int] | str = (),
                     out_dir: str | Path | None = None, initial_state: SolverState | None = None,
-                    disc: Discretisation | None = None, probes: dict | None = None) -> FemResult:
+                    disc: Discretisation | None = None, probes: dict | None = None,
+                    on_level=None) -> FemResult:
     """Follow the load path p0_levels_MPa (MPa; may go up and down) and return a :class:`FemResult`.
 
     mesh: skfem MeshTri1/2 (plane strain, coordinates (y, z)) or MeshTet1/2 (3D, (x, y, z)) with named
@@ -356,7 +357,8 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
     from a saved state (its p0_MPa is the starting level); disc: a prebuilt discretisation of ``mesh`` (reuse it
     across calls: it also caches the elastic stiffness and its factorisation for the same material/constraints);
     probes: {name: linear functional (sparse 1 x n_dofs or a callable u -> float)} recorded in each increment's
-    ``probes_mm``.
+    ``probes_mm``; on_level: called as ``on_level(disc, state, prepared)`` after each level of the path has
+    converged (e.g. to write a field time series, :func:`calibration.fem.output.FieldSeries`).
     """
     opts = options or SolverOptions()
     opts.validate()
@@ -446,6 +448,8 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
                 print(f"  p0 = {p_new:.6g} MPa: {info['iters']} iterations, {info['n_plastic']} plastic points")
             if p_new == target:
                 break
+        if on_level is not None:
+            on_level(disc, state, prepared)
         if k in vtk_idx:
             from calibration.fem.output import write_increment_output
             files += write_increment_output(disc, state, material, prepared, Path(out_dir), k,

@@ -3,20 +3,23 @@
 Points are written in physical 3D coordinates: 3D meshes as (x, y, z), plane-strain meshes (y, z) as (0, y, z).
 Point data: displacement_mm (3 components, physical order). Cell data (element averages of the quadrature-point
 values): stress_MPa (3x3 tensor, physical (x, y, z) order; in plane strain sigma_xx is the out-of-plane stress),
-von_mises_MPa, eq_plastic_strain, plastic (1 where any quadrature point has yielded). Files are written atomically.
+von_mises_MPa, eq_plastic_strain, plastic (1 where any quadrature point has yielded). Field data: p0_MPa (the
+load level). :class:`FieldSeries` writes a whole load path as a ParaView time series (.pvd). Files are written
+atomically.
 """
 
 from __future__ import annotations
 
 import os
 import tempfile
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import meshio
 import numpy as np
 
 from calibration.fem.material import mandel_to_tensor, von_mises_MPa
-from wrlayer.atomic_write import atomic_write_bytes
+from wrlayer.atomic_write import atomic_write_bytes, atomic_write_text
 
 # plane strain: tensor indices (0, 1, 2) = (y, z, x) -> physical order (x, y, z)
 _PLANE_TO_PHYSICAL = np.array([2, 0, 1])
@@ -61,13 +64,53 @@ def to_meshio(disc, state, material) -> meshio.Mesh:
     cells = [("tetra" if dim == 3 else "triangle", mesh.t[:dim + 1].T)]
     fields = cell_fields(disc, state, material)
     return meshio.Mesh(pts, cells, point_data={"displacement_mm": disp},
-                       cell_data={k: [v] for k, v in fields.items()})
+                       cell_data={k: [v] for k, v in fields.items()},
+                       field_data={"p0_MPa": np.array([state.p0_MPa])})  # the load level (ParaView: FieldData)
 
 
 def write_vtu(path: str | os.PathLike, disc, state, material) -> Path:
-    """Write the state as a .vtu file (atomic)."""
+    """Write the state as a .vtu file (atomic), with the load level p0_MPa as FieldData (written through VTK:
+    meshio's .vtu writer drops field data)."""
+    import pyvista as pv
+
     m = to_meshio(disc, state, material)
-    return _write_via_temp(Path(path), lambda p: meshio.write(p, m))
+    grid = pv.from_meshio(m)
+    for name, value in m.field_data.items():
+        grid.field_data[name] = value
+    return _write_via_temp(Path(path), lambda p: grid.save(p, binary=True))
+
+
+@dataclass
+class FieldSeries:
+    """The FE fields along a load path as a ParaView time series: ``<folder>/<stem>_NNN.vtu``, one per converged
+    load level (loading and unloading), and ``<folder>/<stem>.pvd`` listing them.
+
+    ParaView's time is the step number along the path (0, 1, 2, ...; the pressure goes up and down, so it cannot
+    be the time); the load level p0 (MPa, peak Hertz pressure) of each step is in the file's FieldData
+    ``p0_MPa`` (shown by ParaView's "Annotate Global Data" filter) and in a comment of the .pvd. Use as the
+    ``on_level`` callback of :func:`calibration.fem.elastoplastic_solver.solve_load_path`; call :meth:`write_pvd`
+    at the end.
+    """
+
+    folder: Path
+    material: object
+    stem: str = "load_path"
+    steps: list = field(default_factory=list)
+
+    def __call__(self, disc, state, prepared=None) -> Path:
+        path = write_vtu(Path(self.folder) / f"{self.stem}_{len(self.steps):03d}.vtu", disc, state, self.material)
+        self.steps.append((float(state.p0_MPa), path))
+        return path
+
+    def write_pvd(self) -> Path:
+        """Write ``<stem>.pvd`` (atomic); returns its path."""
+        rows = "\n".join(f'    <DataSet timestep="{i}" part="0" file="{path.name}"/>  <!-- p0 = {p0:.6g} MPa -->'
+                         for i, (p0, path) in enumerate(self.steps))
+        text = ('<?xml version="1.0"?>\n<!-- FE fields along the load path (units mm, MPa); timestep = step number, '
+                'the load level p0_MPa is in each file\'s FieldData -->\n'
+                '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n  <Collection>\n'
+                f"{rows}\n  </Collection>\n</VTKFile>\n")
+        return atomic_write_text(Path(self.folder) / f"{self.stem}.pvd", text)
 
 
 def _scale_length(h: float) -> float:

@@ -38,8 +38,11 @@ def _profiles_panel(ax, sol: WheelRailSolution, title: str) -> None:
             q = c.rail_coordinate(eta)
             pts = rail.point(q)
             ax.plot(pts[:, 0], pts[:, 1], "-", color="tab:red", lw=4, alpha=0.6)
-        ax.annotate(f"{np.degrees(c.contact_angle_rad):.1f} deg\n{p.normal_force_N / 1e3:.1f} kN", (c.Y_mm, c.Z_mm),
-                    textcoords="offset points", xytext=(6, 8), fontsize=7, color="tab:red")
+    for i, p in enumerate(sorted(sol.patches, key=lambda p: p.candidate.Y_mm)):
+        c = p.candidate  # labels alternate above/below the profile so that two close patches do not overlap
+        ax.annotate(f"{np.degrees(c.contact_angle_rad):.1f}°, {p.normal_force_N / 1e3:.1f} kN", (c.Y_mm, c.Z_mm),
+                    textcoords="offset points", xytext=(-4, 10) if i % 2 == 0 else (4, -16), fontsize=7,
+                    color="tab:red", ha="right" if i % 2 == 0 else "left")
     for c in sol.unloaded:
         ax.plot(c.Y_mm, c.Z_mm, "x", color="0.5", ms=5)
     ax.set_xlim(rail.Y_mm[0] - 20, rail.Y_mm[-1] + 5)
@@ -61,7 +64,7 @@ def write_wheel_rail_plots(result: dict[str, Any], solutions: list[dict[str, Whe
     picks = sorted({ok[0], ok[len(ok) // 2], ok[-1]}) if ok else []
     if picks:
         sides = list(solutions[picks[0]])
-        fig, axes = plt.subplots(len(sides), len(picks), figsize=(4.2 * len(picks), 3.6 * len(sides)), squeeze=False)
+        fig, axes = plt.subplots(len(sides), len(picks), figsize=(4.4 * len(picks), 2.6 * len(sides)), squeeze=False)
         for j, k in enumerate(picks):
             case = result["cases"][k]
             for i, side in enumerate(sides):
@@ -69,6 +72,8 @@ def write_wheel_rail_plots(result: dict[str, Any], solutions: list[dict[str, Whe
                                 f"{side} wheel: lateral {case['lateral_mm']:g} mm, yaw {case['yaw_rad'] * 1e3:.1f} "
                                 f"mrad, roll {case['roll_rad'] * 1e3:.2f} mrad")
         axes[0, 0].legend(fontsize=7, loc="lower left")
+        fig.suptitle("profiles in contact (red: loaded patches with contact angle and normal force; grey x: "
+                     "unloaded candidates)", fontsize=8)
         fig.tight_layout()
         path = out_dir / "profiles_in_contact.png"
         fig.savefig(path, dpi=DPI)
@@ -105,7 +110,7 @@ def _residual_plot(result: dict[str, Any], solutions: list, path: Path) -> Path 
         return None
     for ax, body in zip(axes, ("rail", "wheel")):
         ax.set_xlabel(f"{body} profile coordinate y (mm, field side +)")
-        ax.set_ylabel("residual displacement u_p (um, into the body)")
+        ax.set_ylabel("residual displacement u_p (µm, into the body)")
         ax.set_title(f"{body}: residual displacement after the passes", fontsize=9)
         ax.grid(alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
@@ -116,41 +121,58 @@ def _residual_plot(result: dict[str, Any], solutions: list, path: Path) -> Path 
     return path
 
 
+def _sweep_axis(result: dict[str, Any]) -> tuple[str, str]:
+    """The sweep's abscissa: the lateral displacement if it varies over the cases, else the case number."""
+    lateral = {c.get("lateral_mm") for c in result["cases"]}
+    if len(lateral) > 1:
+        return "lateral_mm", "wheelset lateral displacement (mm)"
+    return "case", "case"
+
+
 def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
-    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
-    (a_pos, a_p), (a_n, a_f) = axes
-    sides = sorted({s for c in result["cases"] if "wheels" in c for s in c["wheels"]})
+    """Six panels over the cases, one quantity each, one colour per wheel, one marker per patch of a case:
+    contact position on the rail (mm), contact angle (°), normal force (kN), p_max (MPa), creep forces F_x and F_y
+    of the rail on the wheel in the contact frame (kN), and the wheel's Y/Q (track frame)."""
+    fig, axes = plt.subplots(3, 2, figsize=(10, 9.5), sharex=True)
+    (a_pos, a_ang), (a_n, a_p), (a_f, a_yq) = axes
+    key, xlabel = _sweep_axis(result)
+    x_of = (lambda k, c: c["lateral_mm"]) if key == "lateral_mm" else (lambda k, c: k + 1)
+    cases = list(enumerate(result["cases"]))
+    sides = sorted({s for _, c in cases if "wheels" in c for s in c["wheels"]})
     for side in sides:
         col = SIDE_COLOURS.get(side, "k")
-        rows = [(c["lateral_mm"], p, w) for c in result["cases"] if "wheels" in c and side in c["wheels"]
-                for w in [c["wheels"][side]] for p in w["patches"]]
+        rows = [(x_of(k, c), p) for k, c in cases if "wheels" in c and side in c["wheels"]
+                for p in c["wheels"][side]["patches"]]
         if not rows:
             continue
-        d = np.array([r[0] for r in rows])
-        a_pos.plot(d, [r[1]["y_rail_mm"] for r in rows], "o", color=col, ms=4, label=f"{side}: rail y")
-        a_pos.plot(d, [r[1]["y_wheel_mm"] for r in rows], "s", mfc="none", color=col, ms=4, label=f"{side}: wheel y")
-        a_p.plot(d, [r[1]["p_max_MPa"] for r in rows], "o", color=col, ms=4, label=side)
-        a_n.plot(d, [r[1]["normal_force_N"] / 1e3 for r in rows], "o", color=col, ms=4, label=f"{side}: N")
-        a_n.plot(d, [np.degrees(r[1]["contact_angle_rad"]) for r in rows], "^", mfc="none", color=col, ms=4,
-                 label=f"{side}: contact angle (deg)")
-        a_f.plot(d, [r[1]["Fx_N"] / 1e3 for r in rows], "o", color=col, ms=4, label=f"{side}: F_x")
-        a_f.plot(d, [r[1]["Fy_N"] / 1e3 for r in rows], "s", mfc="none", color=col, ms=4, label=f"{side}: F_y")
-        cases = [c for c in result["cases"] if "wheels" in c and side in c["wheels"]]
-        a_f.plot([c["lateral_mm"] for c in cases], [c["wheels"][side]["force_on_wheel_track_N"][1] / 1e3
-                                                    for c in cases], "-", color=col, lw=1, label=f"{side}: total F_Y")
-    for c in result["cases"]:
-        if "error" in c:
-            for ax in axes.ravel():
-                ax.axvline(c["lateral_mm"], color="r", lw=0.8, ls=":")
-    a_pos.set_ylabel("contact position (profile coordinate, mm)")
-    a_p.set_ylabel("p_max (MPa)")
-    a_n.set_ylabel("normal force (kN) / contact angle (deg)")
-    a_f.set_ylabel("force on the wheel (kN): creep F_x, F_y (contact frame), total F_Y (track)")
+        x = np.array([r[0] for r in rows])
+        mark = dict(color=col, ms=4, ls="none")
+        a_pos.plot(x, [r[1]["y_rail_mm"] for r in rows], "o", label=f"{side} wheel", **mark)
+        a_ang.plot(x, [np.degrees(r[1]["contact_angle_rad"]) for r in rows], "o", label=f"{side} wheel", **mark)
+        a_n.plot(x, [r[1]["normal_force_N"] / 1e3 for r in rows], "o", label=f"{side} wheel", **mark)
+        a_p.plot(x, [r[1]["p_max_MPa"] for r in rows], "o", label=f"{side} wheel", **mark)
+        a_f.plot(x, [r[1]["Fx_N"] / 1e3 for r in rows], "o", label=f"{side}: F_x", **mark)
+        a_f.plot(x, [r[1]["Fy_N"] / 1e3 for r in rows], "s", mfc="none", label=f"{side}: F_y", **mark)
+        wheels = [(x_of(k, c), c["wheels"][side]) for k, c in cases if "wheels" in c and side in c["wheels"]]
+        a_yq.plot([w[0] for w in wheels], [w[1].get("Y_over_Q", np.nan) for w in wheels], "o-", color=col, ms=4,
+                  lw=1, label=f"{side} wheel")
+    failed = [x_of(k, c) for k, c in cases if "error" in c]
     for ax in axes.ravel():
-        ax.set_xlabel("wheelset lateral displacement (mm)")
+        for xf in failed:
+            ax.axvline(xf, color="r", lw=0.8, ls=":")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
-    fig.suptitle(result["inputs"].get("title", ""), fontsize=9)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
+    a_pos.set_ylabel("contact position on the rail\ny_rail (mm, field side +)")
+    a_ang.set_ylabel("contact angle γ (°)")
+    a_n.set_ylabel("normal force N (kN)")
+    a_p.set_ylabel("largest pressure p_max (MPa)")
+    a_f.set_ylabel("creep forces on the wheel (kN)\ncontact frame")
+    a_yq.set_ylabel("Y/Q of the wheel (track frame)")
+    for ax in axes[-1]:
+        ax.set_xlabel(xlabel)
+    note = "one marker per loaded patch; red dotted lines: failed cases" if failed else "one marker per loaded patch"
+    fig.suptitle(f"{result['inputs'].get('title', '')}\n{note}", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=DPI)
     plt.close(fig)

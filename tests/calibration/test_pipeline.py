@@ -143,17 +143,40 @@ def test_2d_plane_strain_option_end_to_end(coarse_run, tmp_path):
     """The 2D option still runs; its dent is larger than the 3D one at the same multiple of first yield (the
     plane-strain line load is the a/b -> inf limit, more severe than the a/b ~ 1.3 ellipse)."""
     cfg = load_config(COARSE)
-    cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, model="2d"),
+    cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, model="2d", plots=True),
                               mesh=dataclasses.replace(cfg.mesh, elements_per_semi_axis=3.0, h_max_mm=10.0, order=1))
     summary = run_calibration(cfg, tmp_path, show_progress=False, log=_quiet)
     assert summary["failed"] == []
     pos = LayerTable.read(tmp_path / "rail_layer_table.json").positions[0]
     assert pos["fem"]["model"] == "2d"
+    _check_load_path_series(tmp_path / "fields" / "rail_y+000.000mm" / "load_path", pos, cfg)
     assert pos["p2_MPa"] == pytest.approx(pos["first_yield_fem_MPa"], rel=0.03)
     # plane-strain line contact, von Mises, nu = 0.3: half-space first yield at 1.79 Y (coarse section: 15 %)
     assert pos["first_yield_fem_MPa"] == pytest.approx(1.79 * 500.0, rel=0.15)
     pos3 = LayerTable.read(coarse_run[1] / "rail_layer_table.json").positions[0]
     assert pos["residual_fem_mm"][-1] > 1.1 * pos3["residual_fem_mm"][-1] > 0
+
+
+def _check_load_path_series(folder: Path, pos: dict, cfg) -> None:
+    """The FE fields of the whole load path are a ParaView time series: one .vtu per converged level (loading and
+    unloading), listed in load_path.pvd in path order, each with its load level p0_MPa as FieldData."""
+    import xml.etree.ElementTree as ET
+
+    import meshio
+
+    sets = ET.parse(folder / "load_path.pvd").getroot().find("Collection").findall("DataSet")
+    assert [int(d.get("timestep")) for d in sets] == list(range(len(sets)))
+    p0 = [float(meshio.read(folder / d.get("file")).field_data["p0_MPa"][0]) for d in sets]
+    p_y = pos["first_yield_fem_MPa"]
+    assert p0[0] == 0.0 and max(p0) == pytest.approx(cfg.load.max_factor * p_y, rel=1e-9)
+    # loading to each unloading peak, back to zero, and on: zero appears once more per unloading peak
+    assert sum(1 for p in p0[1:] if p == 0.0) == len(cfg.load.unload_factors)
+    assert any(b < a for a, b in zip(p0, p0[1:]))
+    for d in sets:  # every dataset is a full field file
+        m = meshio.read(folder / d.get("file"))
+        assert {"von_mises_MPa", "eq_plastic_strain", "stress_MPa"} <= set(m.cell_data)
+    last = meshio.read(folder / sets[-1].get("file"))
+    assert last.cell_data["plastic"][0].sum() > 0  # unloaded after the highest peak: plastic zone kept
 
 
 def test_output_files_get_the_users_normal_permissions(coarse_run):
