@@ -193,7 +193,7 @@ def run(mode: str, out: Path) -> dict:
     e2e = end_to_end_crown(out / "end_to_end")
     md += ["", "End to end at the 60E1 crown (100 kN, rail layer of scenes/tables/rail_60E1_default.json): contact "
            "solver dent u_p(0) vs the FEM dent under the Hertz pressure of the solver's own patch and p_max:", "",
-           "| characteristic | patch a x b [mm] | p_max [MPa] | contact u_p(0) [um] | FEM dent [um] | deviation |",
+           "| characteristic | patch a x b [mm] | p_max [MPa] | contact u_p(0) [µm] | FEM dent [µm] | deviation |",
            "|---|---|---|---|---|---|"]
     for r in e2e:
         md.append(f"| {r['case']} | {r['a_mm']:.2f} x {r['b_mm']:.2f} | {r['p_max_MPa']:.0f} | "

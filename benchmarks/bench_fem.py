@@ -220,10 +220,10 @@ def run(mode: str, out: pathlib.Path) -> dict:
     ours1, theirs = fe_res[OURS], fe_res[FELUPE]
 
     md = [__doc__.split("\n\n", 1)[1].strip(), "",
-          f"Richardson reference (levels h = {hs[-3:]} mm): centre displacement at peak {ref_u * 1000:.4f} um "
-          f"(observed order {p_u:.2f}), dent {ref_d * 1000:.4f} um (order {p_d:.2f}).", "",
+          f"Richardson reference (levels h = {hs[-3:]} mm): centre displacement at peak {ref_u * 1000:.4f} µm "
+          f"(observed order {p_u:.2f}), dent {ref_d * 1000:.4f} µm (order {p_d:.2f}).", "",
           "| h mm | dofs | elements | mesh s | solve s | heap MiB | max RSS MiB | Newton its | CG its | "
-          "u_peak um | err % | dent um | err % | first yield / Y |",
+          "u_peak µm | err % | dent µm | err % | first yield / Y |",
           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         md.append(f"| {r['h_mm']:g} | {r['n_dofs']} | {r['n_elements']} | {r['mesh_s']:.2f} | {r['solve_s']:.2f} | "
@@ -232,13 +232,13 @@ def run(mode: str, out: pathlib.Path) -> dict:
                   f"{r['err_dent_pct']:+.2f} | {r['first_yield_over_Y']:.4f} |")
     md += ["", f"Elastic check against the half-space (Boussinesq/Hertz, p0 = 100 MPa, h = {elastic[0]['h_mm']} mm, far faces clamped; "
            "the truncation error decays like a / block size):", "",
-           "| block mm | dofs | time s | w0 FE um | w0 half-space um | error % | first yield / Y (Johnson: 1.61) |",
+           "| block mm | dofs | time s | w0 FE µm | w0 half-space µm | error % | first yield / Y (Johnson: 1.61) |",
            "|---|---|---|---|---|---|---|"]
     for e in elastic:
         md.append(f"| {e['block_mm']:g} | {e['n_dofs']} | {e['time_s']:.1f} | {e['w0_mm'] * 1000:.4f} | "
                   f"{e['w0_exact_mm'] * 1000:.4f} | {e['err_pct']:+.2f} | {e['first_yield_over_Y']:.4f} |")
     md += ["", f"Linear-solver strategies on h = {h_cmp} mm ({var_res[next(iter(var_res))]['n_dofs']} dofs), "
-           "interleaved medians (s):", "", "| variant | solve s | Newton its | CG its | u_peak um | dent um |",
+           "interleaved medians (s):", "", "| variant | solve s | Newton its | CG its | u_peak µm | dent µm |",
            "|---|---|---|---|---|---|"]
     for k, r in var_res.items():
         md.append(f"| {k} | {var_times[k]:.2f} | {r['newton_iters']} | {r['cg_iters']} | "
@@ -246,10 +246,10 @@ def run(mode: str, out: pathlib.Path) -> dict:
     md += ["", f"Load-increment error (h = {hs[0]} mm, newton; the table above uses 8 increments to the peak). "
            f"Reference: Richardson extrapolation of {'/'.join(map(str, n_incr[-3:]))} increments "
            f"(observed order {p_inc_u:.2f}): u_peak "
-           f"{ref_inc_u * 1000:.4f} um, dent {ref_inc_d * 1000:.4f} um. The increment error of 8 increments is larger "
+           f"{ref_inc_u * 1000:.4f} µm, dent {ref_inc_d * 1000:.4f} µm. The increment error of 8 increments is larger "
            "than the mesh error of the finest level above: the calibration therefore limits the step to "
            "`max_increment_factor` x first yield (0.15 by default, i.e. about 14 steps to this peak).", "",
-           "| increments to the peak | solve s | u_peak um | err % | dent um | err % |", "|---|---|---|---|---|---|"]
+           "| increments to the peak | solve s | u_peak µm | err % | dent µm | err % |", "|---|---|---|---|---|---|"]
     for n, r in zip(n_incr, incr):
         md.append(f"| {n} | {r['solve_s']:.1f} | {r['u_peak_mm'] * 1000:.4f} | "
                   f"{(r['u_peak_mm'] / ref_inc_u - 1) * 100:+.2f} | {r['dent_mm'] * 1000:.4f} | "
@@ -260,8 +260,8 @@ def run(mode: str, out: pathlib.Path) -> dict:
            f"both with {DIRECT_NAME}): interleaved median solve times "
            f"ours {fe_times[OURS]:.2f} s, felupe {fe_times[FELUPE]:.2f} s "
            f"(felupe / ours = {ratio:.2f}). Same discretisation, so equal error: u_peak ours "
-           f"{ours1['u_peak_mm'] * 1000:.5f} um vs felupe {theirs['u_peak_mm'] * 1000:.5f} um, dent "
-           f"{ours1['dent_mm'] * 1000:.5f} vs {theirs['dent_mm'] * 1000:.5f} um. (P1 tets are much less accurate "
+           f"{ours1['u_peak_mm'] * 1000:.5f} µm vs felupe {theirs['u_peak_mm'] * 1000:.5f} µm, dent "
+           f"{ours1['dent_mm'] * 1000:.5f} vs {theirs['dent_mm'] * 1000:.5f} µm. (P1 tets are much less accurate "
            "than P2 for this problem; the comparison is of the solvers, not of the elements.)"]
     data = {"levels": rows, "richardson": {"u_peak_mm": ref_u, "order_u": p_u, "dent_mm": ref_d, "order_dent": p_d},
             "elastic_half_space": elastic, "variants": {k: dict(var_res[k], median_s=var_times[k]) for k in var_res},
