@@ -25,7 +25,7 @@ import numpy as np
 
 from contact.scenes.result_io import code_version
 from contact.wear.loop import StepRecord, WearRun
-from meshes.profiles.io import read_profile, write_simpack, write_text
+from meshes.profiles.io import write_profile_files
 from wrlayer.atomic_write import atomic_write_text
 
 UNITS = {"length": "mm", "distance": "km", "force": "N", "stress": "MPa", "speed": "mm/s", "area": "mm^2",
@@ -39,19 +39,9 @@ TABLE_COLUMNS = ("step", "start_km", "length_km", "end_km", "side", "body", "wea
 def write_profile_pair(out_dir: Path, stem: str, profile, body: str) -> dict[str, Any]:
     """Write one profile as SIMPACK and CSV, read both back; returns file names and the read-back error (mm)."""
     pts = profile.points if hasattr(profile, "points") else np.column_stack(profile.sample(0.2))
-    ext = ".prr" if body == "rail" else ".prw"
-    files, err = [], 0.0
-    for suffix in (ext, ".csv"):
-        path = out_dir / "profiles" / f"{stem}{suffix}"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        if suffix == ".csv":
-            write_text(path, pts, comment=f"{profile.name} ({body}), wrlayer wear loop")
-            back = read_profile(path, body=body)
-        else:
-            write_simpack(path, pts, body=body, comment=f"{profile.name} wrlayer wear loop")
-            back = read_profile(path)
-        err = max(err, float(np.max(np.abs(back.z(pts[:, 0]) - pts[:, 1]))))
-        files.append(str(path.relative_to(out_dir)))
+    paths, err = write_profile_files(out_dir / "profiles" / stem, pts, body,
+                                     f"{profile.name} ({body}), wrlayer wear loop")
+    files = [str(p.relative_to(out_dir)) for p in paths]
     return {"files": files, "read_back_max_error_mm": err}
 
 

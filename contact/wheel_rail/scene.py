@@ -489,7 +489,7 @@ def solve_case(parsed: dict[str, Any], case: dict[str, float], placed_rail=None)
 def write_deformed_profiles(parsed: dict[str, Any], sols: dict[str, WheelRailSolution], out_dir: Path,
                             stem: str) -> list[dict[str, Any]]:
     """Deformed rail and wheel profiles of one case (every side), written as SIMPACK and CSV and read back."""
-    from meshes.profiles.io import read_profile, write_simpack, write_text
+    from meshes.profiles.io import write_profile_files
 
     written = []
     for side, sol in sols.items():
@@ -498,17 +498,9 @@ def write_deformed_profiles(parsed: dict[str, Any], sols: dict[str, WheelRailSol
                 continue
             prof = parsed[body]
             pts = deformed_profile(prof, ys, up)
-            ext = ".prr" if body == "rail" else ".prw"
-            for suffix in (ext, ".csv"):
-                path = out_dir / "deformed_profiles" / f"{stem}_{side}_{body}{suffix}"
-                path.parent.mkdir(parents=True, exist_ok=True)
-                if suffix == ".csv":
-                    write_text(path, pts, comment=f"{prof.name} with residual displacements ({stem}, {side})")
-                    back = read_profile(path, body=body)
-                else:
-                    write_simpack(path, pts, body=body, comment=f"{prof.name} deformed {stem} {side}")
-                    back = read_profile(path)
-                err = float(np.max(np.abs(back.z(pts[:, 0]) - pts[:, 1])))
+            paths, err = write_profile_files(out_dir / "deformed_profiles" / f"{stem}_{side}_{body}", pts, body,
+                                             f"{prof.name} with residual displacements ({stem}, {side})")
+            for path in paths:
                 written.append({"file": str(path.relative_to(out_dir)), "body": body, "side": side,
                                 "max_residual_mm": float(up.max()), "read_back_max_error_mm": err})
     return written

@@ -312,3 +312,20 @@ def read_profile(path, **kw) -> SplineProfile:
     if suffix in (".txt", ".csv"):
         return read_text(path, **kw)
     raise InputError(str(path), "unknown profile file type (expected .prr, .prw, .txt or .csv)")
+
+
+def write_profile_files(stem_path, points: np.ndarray, body: str, comment: str = "") -> tuple[list[Path], float]:
+    """Write the points (n, 2) of a profile (mm, z up) as SIMPACK (``<stem>.prr`` rail / ``.prw`` wheel) and as CSV
+    (``<stem>.csv``), read both back and return the paths and the largest read-back error in z (mm).
+
+    The read-back check makes a written profile trustworthy for the next tool (a wear step, a multibody code)."""
+    stem_path = Path(stem_path)
+    stem_path.parent.mkdir(parents=True, exist_ok=True)
+    simpack = stem_path.with_name(stem_path.name + (".prr" if body == "rail" else ".prw"))
+    text = stem_path.with_name(stem_path.name + ".csv")
+    write_simpack(simpack, points, body=body, comment=comment)
+    write_text(text, points, comment=comment)
+    err = 0.0
+    for back in (read_profile(simpack), read_profile(text, body=body)):
+        err = max(err, float(np.max(np.abs(back.z(points[:, 0]) - points[:, 1]))))
+    return [simpack, text], err

@@ -8,6 +8,7 @@ from meshes.profiles.io import (
     read_profile,
     read_simpack,
     read_text,
+    write_profile_files,
     write_simpack,
     write_text,
 )
@@ -160,3 +161,17 @@ def test_text_bad_input(tmp_path, text, message):
 def test_text_bad_units(tmp_path):
     with pytest.raises(InputError, match="units"):
         read_text(tmp_path / "x.txt", units="inch")
+
+
+@pytest.mark.parametrize("body, profile", [("rail", Rail60E1()), ("wheel", S1002())])
+def test_profile_files_pair_is_read_back_exactly(tmp_path, body, profile):
+    """A written profile (SIMPACK with the body's suffix, and CSV) reads back to the same points."""
+    y, z = profile.sample(0.5)
+    pts = np.column_stack([y, z + 1e-3 * np.sin(y)])  # a deformed profile, not the analytic one
+    paths, err = write_profile_files(tmp_path / "sub" / "p", pts, body, "test (deformed)")
+    assert [p.name for p in paths] == [f"p.{'prr' if body == 'rail' else 'prw'}", "p.csv"]
+    assert err < 1e-9
+    for path in paths:
+        back = read_profile(path) if path.suffix != ".csv" else read_profile(path, body=body)
+        assert back.body == body
+        np.testing.assert_allclose(back.z(pts[:, 0]), pts[:, 1], atol=1e-9)
