@@ -350,11 +350,14 @@ def _execute(tasks: list[PositionTask], cfg: CalibrationConfig, scheduler: str |
     """Run the tasks (local processes, in-process for workers = 1, or Dask); yields (task, result)."""
     from tqdm import tqdm
 
+    from wrlayer.progress import progress_enabled
+
     if not tasks:
         return
     steps_total = sum(n_stages(t.load) for t in tasks)
-    bar_pos = tqdm(total=len(tasks), desc="positions", unit="pos", disable=not show_progress, position=0)
-    bar_steps = tqdm(total=steps_total, desc="load stages", unit="stage", disable=not show_progress, position=1)
+    show = progress_enabled(quiet=not show_progress)  # bars on a terminal only: no escape codes in a log
+    bar_pos = tqdm(total=len(tasks), desc="positions", unit="pos", disable=not show, position=0)
+    bar_steps = tqdm(total=steps_total, desc="load stages", unit="stage", disable=not show, position=1)
     try:
         if scheduler:
             from distributed import Client, as_completed
