@@ -126,3 +126,18 @@ def test_bad_layer_table(path, fragment, tmp_path, capsys):
     captured = capsys.readouterr()
     _check(rc, captured, path, fragment, out)
     assert "layer.rail.table" in captured.err
+
+
+@pytest.mark.parametrize("h_min, h_max, key", [("1e-9", "5", "h_min"), ("0.0009", "5", "h_min"),
+                                               ("0.01", "2000", "h_max")])
+def test_absurd_mesh_sizes_are_refused_up_front(h_min, h_max, key, tmp_path, capsys):
+    """An element size that would ask Gmsh for billions of elements is an input error (exit 2), not a run that
+    ends in a numerical failure or out of memory."""
+    from meshes.__main__ import main
+
+    out = tmp_path / "out"
+    rc = main(["mesh", "60E1", "--y0", "0", "--h-min", h_min, "--h-max", h_max, "--out", str(out / "m.vtu")])
+    captured = capsys.readouterr()
+    err = captured.err.strip()
+    assert rc == 2 and err.startswith(f"error: {key}:") and "\n" not in err, err
+    assert not out.exists()

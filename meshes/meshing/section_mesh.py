@@ -27,6 +27,11 @@ DEFAULT_GRADING = 0.3
 DEFAULT_DEPTH_MM = {"rail": 60.0, "wheel": 40.0}
 #: The load point must lie at least this many h_min away from the far-field cut.
 MIN_DEPTH_IN_H_MIN = 4.0
+#: Smallest element size accepted (mm): 1 µm, far below any wheel/rail contact semi-axis; smaller values would ask
+#: Gmsh for billions of elements and are refused up front instead of running out of memory.
+MIN_H_MM = 1e-3
+#: Largest ratio h_max / h_min accepted (a size range beyond it is a typing error, not a graded mesh).
+MAX_SIZE_RATIO = 1e5
 #: Below this mean-ratio quality (0..1) a mesh is rejected as broken.
 MIN_ACCEPTED_QUALITY = 0.02
 
@@ -50,6 +55,9 @@ def check_mesh_inputs(profile, y0: float, h_min: float, h_max: float, depth_mm: 
     """Validate the common mesh arguments (InputError naming the argument); returns z0 = z(y0) in mm."""
     h_min, h_max = _positive(h_min, "h_min"), _positive(h_max, "h_max")
     require(h_min <= h_max, "h_min", f"must not exceed h_max ({h_min!r} > {h_max!r} mm)")
+    require(h_min >= MIN_H_MM, "h_min", f"must be at least {MIN_H_MM:g} mm (1 µm), got {h_min!r} mm")
+    require(h_max <= MAX_SIZE_RATIO * h_min, "h_max",
+            f"must not exceed {MAX_SIZE_RATIO:g} h_min ({h_max!r} mm against h_min = {h_min!r} mm)")
     require(order in (1, 2) and not isinstance(order, bool), "order", f"must be 1 or 2, got {order!r}")
     _positive(grading, "grading")
     depth_mm = _positive(depth_mm, "depth_mm")
