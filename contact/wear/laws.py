@@ -19,8 +19,10 @@ depends on the regime (Jendel's map, as reproduced e.g. by Braghin et al. 2006 a
 The map gives ranges; the defaults are the middle of each range (350e-4, 5.5e-4, 35e-4, 5.5e-4) and each value is
 a scene key. (The map was built for dry contact; Enblom & Berg scale it down for wet and lubricated contact.)
 H defaults to 2550 MPa (260 HB, the minimum hardness of rail grade R260, 1 HB = 9.807 MPa) for both
-bodies; set it per body. The assignment of the ranges to the velocity bands follows the map as reproduced in the
-secondary literature (Jendel's figure itself was not available to check; see docs/wear.md).
+bodies; set it per body. The thresholds (0.8 H, 0.2 and 0.7 m/s), the k ranges and their assignment to the
+velocity bands follow the map as reproduced in the secondary literature; neither Jendel's figure nor a secondary
+source reproducing it could be read to check them (searches listed in docs/wear.md). Every map carries a
+``source`` text that result.json records with the coefficients.
 
 USFD T-gamma law (Lewis & Dwyer-Joyce 2004; Braghin et al. 2006, Wear 261, 1253-1264)
 --------------------------------------------------------------------------------------
@@ -31,17 +33,19 @@ area per unit rolled distance T gamma / A (N/mm^2). Published regimes for R8T wh
     10.4 <= T gamma/A <= 77.2    K = 55.0                (severe)
     T gamma/A > 77.2             K = 61.9 T gamma/A - 4778.7   (catastrophic)
 
-(implemented exactly as published, including the drop of K at 77.2 where the catastrophic line starts near 0).
+(implemented as read from Braghin et al. 2006 when the law was added, including the drop of K at 77.2 where the
+catastrophic line starts near 0; the table could not be re-read in the later source check, docs/wear.md).
 The local T gamma / A of a cell is its frictional work per unit area (N/mm) divided by the cell length (mm). A
 material point spends dx/V in a cell, so its depth increment there is K dx / rho (dx in m, rho in ug/mm^3, which is
-numerically rho in kg/m^3). The coefficients for R260 rail steel could not be verified from a source available to
-this project; a material "custom" takes any three-regime table (thresholds and coefficients), and the shipped
-example applies the R8T regimes to the rail as well, stated in its scene file.
+numerically rho in kg/m^3). The coefficients for R260 (or UIC60 900A / R220) rail steel could not be found in a
+source readable to this project (searches listed in docs/wear.md); a scene table takes any three-regime table
+(thresholds and coefficients), and the default applies the R8T regimes to the rail as well, stated in the shipped
+scene file and in result.json (``inputs.usfd.rail.name`` and ``.source``).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -50,12 +54,20 @@ from wrlayer.errors import InputError, require
 
 LAWS = ("archard", "usfd")
 
+JENDEL_SOURCE = ("Jendel 2002, Wear 253, 89-99 (coefficient map, dry contact), as reproduced in secondary "
+                 "wheel-wear papers; thresholds, ranges and band assignment not checked against a readable source "
+                 "(docs/wear.md); defaults = middle of each range")
+R8T_SOURCE = ("R8T wheel steel regimes (twin-disc), Braghin et al. 2006, Wear 261, 1253-1264 / Lewis & Dwyer-Joyce "
+              "2004; for rail steel no published table could be read (docs/wear.md)")
+
 
 @dataclass(frozen=True)
 class ArchardMap:
     """Jendel's Archard coefficient map (dimensionless k) and the body's hardness H (MPa).
 
-    Velocity limits in m/s; ``seizure_pressure_ratio``: p / H above which k_seizure applies.
+    Velocity limits in m/s; ``seizure_pressure_ratio``: p / H above which k_seizure applies. ``source``: where the
+    map values come from; left empty it is filled in: :data:`JENDEL_SOURCE` when every map value (all but the
+    hardness) is the default, else ``"scene values"``.
     """
 
     hardness_MPa: float = 2550.0
@@ -66,8 +78,13 @@ class ArchardMap:
     v_low_m_s: float = 0.2
     v_high_m_s: float = 0.7
     seizure_pressure_ratio: float = 0.8
+    source: str = ""
 
     def __post_init__(self):
+        if not self.source:
+            default = all(getattr(self, f.name) == f.default for f in fields(self)
+                          if f.name not in ("hardness_MPa", "source"))
+            object.__setattr__(self, "source", JENDEL_SOURCE if default else "scene values")
         for key in ("hardness_MPa", "v_low_m_s", "v_high_m_s", "seizure_pressure_ratio"):
             v = getattr(self, key)
             require(bool(np.isfinite(v)) and v > 0, key, f"must be a positive number, got {v!r}")
@@ -91,6 +108,9 @@ class UsfdTable:
     K = mild_slope x                   for x < t1
     K = severe_rate                    for t1 <= x <= t2
     K = cat_slope x - cat_offset       for x > t2
+
+    ``source``: where the table comes from; left empty it is filled in: :data:`R8T_SOURCE` for the R8T table, else
+    ``"scene table"``.
     """
 
     name: str = "R8T"
@@ -100,8 +120,12 @@ class UsfdTable:
     severe_rate: float = 55.0
     cat_slope: float = 61.9
     cat_offset: float = 4778.7
+    source: str = ""
 
     def __post_init__(self):
+        if not self.source:
+            r8t = all(getattr(self, f.name) == f.default for f in fields(self) if f.name != "source")
+            object.__setattr__(self, "source", R8T_SOURCE if r8t else "scene table")
         require(0 < self.t1 < self.t2, f"usfd.{self.name}", f"needs 0 < t1 < t2, got {self.t1}, {self.t2}")
         for key in ("mild_slope", "severe_rate", "cat_slope"):
             require(getattr(self, key) >= 0, f"usfd.{self.name}.{key}", "must be >= 0")
@@ -176,4 +200,5 @@ def wear_of(t: TangentialResult, law: WearLaw) -> CellWear:
                     {b: d.sum(axis=1) for b, d in depth.items()})
 
 
-__all__ = ["LAWS", "USFD_MATERIALS", "ArchardMap", "CellWear", "UsfdTable", "WearLaw", "cell_work", "wear_of"]
+__all__ = ["JENDEL_SOURCE", "LAWS", "R8T_SOURCE", "USFD_MATERIALS", "ArchardMap", "CellWear", "UsfdTable", "WearLaw",
+           "cell_work", "wear_of"]

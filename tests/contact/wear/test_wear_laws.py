@@ -76,3 +76,24 @@ def test_archard_in_full_slip_is_proportional_to_frictional_work():
                                       "rail": ArchardMap()})
     depth = wear_of(t, law).strip_depth_mm["wheel"]
     assert np.allclose(depth, k / (mu * H) * t.WT_N_per_mm, rtol=0.02)
+
+
+def test_coefficient_sources_follow_the_values():
+    """The provenance text recorded in result.json: the default map/table name their (secondary) source, changed
+    map values or a scene table say so; the hardness alone does not change the map's source."""
+    assert "Jendel 2002" in ArchardMap().source and "not checked" in ArchardMap().source
+    assert ArchardMap(hardness_MPa=3000.0).source == ArchardMap().source
+    assert ArchardMap(k_mid_speed=30e-4).source == "scene values"
+    assert ArchardMap(v_high_m_s=1.0).source == "scene values"
+    assert "R8T" in UsfdTable().source
+    assert UsfdTable(name="custom rail").source == "scene table"
+    assert UsfdTable(t2=70.0).source == "scene table"
+
+
+def test_scene_records_the_rail_table_source(make_scene):
+    default = make_scene(wear={"law": "usfd"}).law.usfd
+    assert default["rail"].name == "R8T" and default["rail"].source == UsfdTable().source
+    table = {"t1": 5.0, "t2": 50.0, "mild_slope": 1.0, "severe_rate": 5.0, "cat_slope": 2.0, "cat_offset": 95.0}
+    custom = make_scene(wear={"law": "usfd", "usfd": {"rail": table}}).law.usfd
+    assert custom["rail"].source == "scene table" and custom["wheel"].source == UsfdTable().source
+    assert make_scene(wear={"archard": {"rail": {"k_seizure": 0.03}}}).law.archard["rail"].source == "scene values"
