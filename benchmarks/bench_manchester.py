@@ -166,9 +166,11 @@ def _choices_table(out: pathlib.Path, ref: dict) -> tuple[str, dict]:
     no_pitch = out / "a22_inputs_without_pitch_rate.csv"
     no_pitch.write_text("\n".join(",".join(r[i] for i in keep) for r in rows) + "\n", encoding="utf-8")
     for bal, point, pitch in variants:
-        sweep = {} if pitch == "per case" else {"csv": str(no_pitch)}
-        res, *_ = run_scene(out / f"{bal}_{point}_{pitch.replace(' ', '').replace('/', '')}", sweep=sweep,
+        sweep = {} if pitch == "per case" else {"csv": str(no_pitch.resolve())}  # a scene resolves paths
+        res, _, _, err = run_scene(out / f"{bal}_{point}_{pitch.replace(' ', '').replace('/', '')}", sweep=sweep,
                             balance=bal, contact_point=point)
+        if res is None:
+            raise RuntimeError(f"variant balance={bal}, contact_point={point}, pitch rate {pitch}: {err}")
         for case in (2, 14):
             w = res["cases"][case - 1]["wheels"]["right"]
             p = to_contact(_main(w["patches"]), "right")
