@@ -54,7 +54,8 @@ from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, RegionS
 from contact.normal.patch import Patch
 from wrlayer.errors import ConvergenceError, InputError, require
 
-__all__ = ["DEFAULT_CELLS", "CELLS_RANGE", "ExactOptions", "ExactField", "solve_exact", "fastsim_pressure"]
+__all__ = ["DEFAULT_CELLS", "CELLS_RANGE", "ExactOptions", "ExactField", "solve_exact", "fastsim_pressure",
+           "strip_centres"]
 
 #: Default cells along x over the KP patch length (``method.exact_cells``), from the time-error study
 #: (docs/exact-solver.md): about 0.5 % in p_max on the paper scene.
@@ -375,8 +376,8 @@ def fastsim_pressure(solution: NormalSolution, region: int, nx: int) -> np.ndarr
     """The exact pressure of patch ``region`` as FASTSIM cell pressures (n_strips, nx) (MPa): each line's
     refined contact extent [x_t, x_l] is cut into nx equal cells from the leading edge, the pressure is
     interpolated linearly between the cell centres of the exact grid (0 at the refined ends) and scaled so that
-    the strip keeps its exact force. (FASTSIM places the strip symmetrically about x = 0; in rolling mode the
-    shift of the strip's centre is not passed on.)"""
+    the strip keeps its exact force. Pass :func:`strip_centres` to FASTSIM as well: in rolling mode the lines'
+    extents are shifted towards the leading edge."""
     fld: ExactField = solution.field
     reg = solution.regions[region]
     rows = np.searchsorted(fld.lines, reg.strips)
@@ -393,3 +394,12 @@ def fastsim_pressure(solution: NormalSolution, region: int, nx: int) -> np.ndarr
         total = pc.sum() * (hi - lo) / nx
         out[k] = pc * (force / total) if total > 0 else 0.0
     return out
+
+
+def strip_centres(solution: NormalSolution, region: int) -> np.ndarray:
+    """x (mm) of the centre of each line's refined contact extent [x_t, x_l] in patch ``region`` (the frame of the
+    exact grid, x = 0 at the separation's reference point): 0 up to discretisation in indentation mode, shifted
+    towards the leading edge (+x) in rolling mode. FASTSIM's ``strip_centre_mm``."""
+    fld: ExactField = solution.field
+    rows = np.searchsorted(fld.lines, solution.regions[region].strips)
+    return 0.5 * (fld.x_extent_mm[rows, 0] + fld.x_extent_mm[rows, 1])

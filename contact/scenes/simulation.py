@@ -31,7 +31,7 @@ import numpy as np
 from contact.layer.characteristic import Characteristic
 from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
 from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
-from contact.normal.exact import fastsim_pressure
+from contact.normal.exact import fastsim_pressure, strip_centres
 from contact.normal.method import solve_normal_with
 from contact.normal.patch import Patch
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
@@ -142,12 +142,15 @@ def solve_patches(scene: Scene, solution: NormalSolution, number: int) -> tuple[
         y_ref.append(yr)
         local.append(lp)
         if ts is not None and ts.has_creepage:
-            shape = None if solution.field is None else fastsim_pressure(solution, len(local) - 1,
-                                                                          scene.method.fastsim_cells)
+            shape = centres = None
+            if solution.field is not None:  # the exact solver: its pressure and each line's extent
+                shape = fastsim_pressure(solution, len(local) - 1, scene.method.fastsim_cells)
+                centres = strip_centres(solution, len(local) - 1)
             tang.append(solve_tangential(lp, Creepage(ts.creepage_x, ts.creepage_y, ts.spin_per_mm),
                                          scene.material.G_MPa, scene.material.poisson, ts.friction,
                                          ts.speed_mm_s, nx=scene.method.fastsim_cells,
-                                         flexibility=ts.flexibility, pressure_cells_MPa=shape))
+                                         flexibility=ts.flexibility, pressure_cells_MPa=shape,
+                                         strip_centre_mm=centres))
         else:
             tang.append(None)
     return PassSnapshot(number, solution, tang, local, y_ref), time.perf_counter() - t0

@@ -220,8 +220,8 @@ def simplified_theory_fx_ratio(kappa: float) -> float:
 
 
 @numba.njit(cache=True)
-def _march(x_lead, y, pn, nx, L1, L2, rx, ry, spin, mu):  # pragma: no cover - compiled
-    """FASTSIM march on all strips; rx = vx/L1, ry = vy/L2, spin = phi/L3.
+def _march(x_lead, x_centre, y, pn, nx, L1, L2, rx, ry, spin, mu):  # pragma: no cover - compiled
+    """FASTSIM march on all strips; rx = vx/L1, ry = vy/L2, spin = phi/L3; strip j spans x_centre[j] +- x_lead[j].
 
     Returns, per cell (ny, nx): tractions tx, ty (MPa) at the cell centre; |slip displacement| (mm) and frictional
     work per unit area (N/mm) accumulated over the cell's length (each full step between two cell centres is
@@ -242,7 +242,7 @@ def _march(x_lead, y, pn, nx, L1, L2, rx, ry, spin, mu):  # pragma: no cover - c
         py = 0.0
         for k in range(nx):
             step = 0.5 * dx if k == 0 else dx
-            x_mid = x_lead[j] - 0.25 * dx if k == 0 else x_lead[j] - k * dx
+            x_mid = x_centre[j] + (x_lead[j] - 0.25 * dx if k == 0 else x_lead[j] - k * dx)
             hx = px - wx * step
             hy = py - (ry + spin * x_mid) * step
             t_prev = np.sqrt(px * px + py * py)
@@ -287,14 +287,18 @@ def _check_inputs(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx):
 
 def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: float, friction: float,
                      speed_mm_s: float = 1000.0, nx: int = 60, flexibility: str = "three",
-                     pressure_cells_MPa: np.ndarray | None = None) -> TangentialResult:
+                     pressure_cells_MPa: np.ndarray | None = None,
+                     strip_centre_mm: np.ndarray | None = None) -> TangentialResult:
     """FASTSIM on the patch's strips with ``nx`` cells per strip; see the module docstring for conventions.
 
     G_MPa: shear modulus (E / (2 (1 + nu)), both bodies of one steel); poisson: Poisson's ratio; friction: Coulomb
     coefficient mu (>= 0); speed_mm_s: rolling speed V (only scales slip velocities and P_T); flexibility: "three"
     (default), "single" or "blended", see :func:`flexibilities`; pressure_cells_MPa: optional (ny, nx) cell
     pressures of each strip from the leading edge (MPa) replacing the semi-elliptic cell means (the exact normal
-    solver's shape, :func:`contact.normal.exact.fastsim_pressure`).
+    solver's shape, :func:`contact.normal.exact.fastsim_pressure`); strip_centre_mm: optional (ny,) x of each
+    strip's centre (mm; default 0: strips symmetric about x = 0, as Kik–Piotrowski's are; the exact solver's rolling
+    mode shifts them towards the leading edge, :func:`contact.normal.exact.strip_centres`). The centre enters the
+    spin slip, Mz and the cell coordinates ``x_mm``.
     """
     _check_inputs(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx)
     require(flexibility in FLEXIBILITY_RULES, "flexibility", f"must be one of {FLEXIBILITY_RULES}, got {flexibility!r}")
@@ -304,7 +308,13 @@ def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: fl
     ny, h = patch.n_strips, patch.grid_mm
     xl, y = patch.x_lead_mm, patch.y_mm
     dx = 2.0 * xl / nx
-    x = xl[:, None] * (1.0 - (2.0 * np.arange(nx) + 1.0) / nx)[None, :]
+    if strip_centre_mm is None:
+        xc = np.zeros(ny)
+    else:
+        xc = np.asarray(strip_centre_mm, dtype=float)
+        require(xc.shape == (ny,) and bool(np.all(np.isfinite(xc))), "strip_centre_mm",
+                f"needs {ny} finite values (one x per strip, mm)")
+    x = xc[:, None] + xl[:, None] * (1.0 - (2.0 * np.arange(nx) + 1.0) / nx)[None, :]
     if pressure_cells_MPa is None:
         pn = patch.p_peak_MPa[:, None] * _semi_ellipse_cell_means(nx)[None, :]
     else:                                   # a given pressure shape per strip (the exact normal solver's)
@@ -316,7 +326,7 @@ def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: fl
         ty, du, work = tx.copy(), tx.copy(), tx.copy()
         slip = np.zeros((ny, nx), dtype=bool)
     else:
-        tx, ty, du, work, slip = _march(xl, y, pn, int(nx), L1, L2, creepage.vx / L1, creepage.vy / L2,
+        tx, ty, du, work, slip = _march(xl, xc, y, pn, int(nx), L1, L2, creepage.vx / L1, creepage.vy / L2,
                                         creepage.phi_per_mm / L3, float(friction))
     cell_area = (dx * h)[:, None]
     WT_field = np.cumsum(work, axis=1)

@@ -637,9 +637,10 @@ def _tangential(sol: NormalSolution, kin: PatchKinematics, inputs: WheelRailInpu
         shifted = p if eta_ref_mm == 0.0 else Patch(p.grid_mm, p.y_mm - eta_ref_mm, p.x_lead_mm, p.p_peak_MPa)
         kw = {}
         if getattr(sol, "field", None) is not None:   # the exact solver: FASTSIM on its pressure, line by line
-            from contact.normal.exact import fastsim_pressure
+            from contact.normal.exact import fastsim_pressure, strip_centres
 
             kw["pressure_cells_MPa"] = fastsim_pressure(sol, k, inputs.fastsim_cells)
+            kw["strip_centre_mm"] = strip_centres(sol, k)
         out.append(solve_tangential(shifted, cr, inputs.G_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
                                     nx=inputs.fastsim_cells, **kw))
     return out

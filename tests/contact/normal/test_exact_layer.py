@@ -121,6 +121,23 @@ def test_rolling_pressure_leans_to_the_leading_edge(rolling_and_indentation):
     assert roll.delta_mm != ind.delta_mm
 
 
+def test_rolling_mode_strip_centres_reach_fastsim(rolling_and_indentation):
+    """The most loaded line's extent shifts to the leading edge in rolling mode (its trailing part is lifted by the
+    residual dent), every line stays centred in indentation mode, and FASTSIM gets each strip's centre (its spin
+    slip and Mz use the true x, consistent with the pressure mapped onto the line's extent)."""
+    from contact.normal.exact import strip_centres
+    from contact.tangential.fastsim import Creepage, solve_tangential
+
+    _, roll, ind = rolling_and_indentation
+    c_roll, c_ind = strip_centres(roll, 0), strip_centres(ind, 0)
+    assert np.all(np.abs(c_ind) < 1e-9 + 0.5 * ind.field.dx_mm)
+    main = int(np.argmax(roll.patches[0].p_peak_MPa))
+    assert c_roll[main] > 0.1 * roll.field.dx_mm
+    patch = roll.patches[0]
+    t = solve_tangential(patch, Creepage(0.0, 0.0, 1e-3), 80769.0, NU, 0.3, nx=30, strip_centre_mm=c_roll)
+    np.testing.assert_allclose(t.x_mm.mean(axis=1), c_roll, atol=1e-12)
+
+
 def test_rolling_trailing_edge_residual_is_eq8_at_the_line_peak(rolling_and_indentation):
     _, roll, _ = rolling_and_indentation
     fld = roll.field

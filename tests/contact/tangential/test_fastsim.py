@@ -267,3 +267,29 @@ def test_empty_patch_is_rejected():
     patch = Patch(0.5, np.array([0.0]), np.array([2.0]), np.array([0.0]))  # no pressure: no normal force
     with pytest.raises(InputError, match="patch"):
         solve_tangential(patch, Creepage(vx=0.001), G_MPa, NU, MU)
+
+
+def test_shifted_strips_are_a_lateral_creepage_with_spin():
+    """Strips shifted by s along x (the exact solver's rolling mode) see the spin slip phi (x + s): the same
+    tractions as unshifted strips with vy' = vy + phi s L2/L3 (the march uses vy/L2 + phi x/L3), and Mz grows by
+    s Fy; without spin the shift changes nothing but the cell coordinates."""
+    a, b, n = PATCHES["a6_b4"]
+    patch = hertz_patch(a, b, n, ny=31)
+    s = 0.7
+    shift = np.full(patch.n_strips, s)
+    spin = Creepage(1e-3, 5e-4, 2e-4)
+    moved = solve_tangential(patch, spin, G_MPa, NU, MU, nx=40, strip_centre_mm=shift)
+    _, L2, L3 = moved.L_mm_per_MPa
+    same = solve_tangential(patch, Creepage(1e-3, 5e-4 + 2e-4 * s * L2 / L3, 2e-4), G_MPa, NU, MU, nx=40)
+    assert same.L_mm_per_MPa == moved.L_mm_per_MPa  # rule "three": flexibilities independent of the creepage
+    np.testing.assert_allclose(moved.ty_MPa, same.ty_MPa, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(moved.tx_MPa, same.tx_MPa, rtol=1e-12, atol=1e-12)
+    assert moved.Mz_Nmm != pytest.approx(solve_tangential(patch, spin, G_MPa, NU, MU, nx=40).Mz_Nmm, rel=1e-3)
+    np.testing.assert_allclose(moved.x_mm - s, solve_tangential(patch, spin, G_MPa, NU, MU, nx=40).x_mm)
+    no_spin = Creepage(1e-3, 5e-4, 0.0)
+    a0 = solve_tangential(patch, no_spin, G_MPa, NU, MU, nx=40, strip_centre_mm=shift)
+    b0 = solve_tangential(patch, no_spin, G_MPa, NU, MU, nx=40)
+    np.testing.assert_array_equal(a0.ty_MPa, b0.ty_MPa)
+    assert a0.Mz_Nmm == pytest.approx(b0.Mz_Nmm + s * b0.Fy_N, rel=1e-9)
+    with pytest.raises(InputError, match="strip_centre_mm"):
+        solve_tangential(patch, spin, G_MPa, NU, MU, nx=40, strip_centre_mm=np.zeros(3))
