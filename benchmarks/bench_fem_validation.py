@@ -176,7 +176,7 @@ def _plot(cases: dict, elastic: dict, hs, ref_fy: float, ref_depth: float, out: 
     ax[1].set_xlabel("p0 / Y [-]")
     ax[1].set_ylabel("plastic zone depth / a [-]")
     ax[1].set_title("plastic zone: top and bottom (dashed: first yield)")
-    ax[1].legend(fontsize=7, ncol=2)
+    ax[1].legend(fontsize=7, ncol=2, loc="center right")
     ax[2].set_xlabel("p0 / Y [-]")
     ax[2].set_ylabel("centre displacement x E / (Y a) [-]")
     ax[2].set_title("inelastic centre displacement and residual dent")
@@ -285,9 +285,9 @@ def _run(mode: str, out: pathlib.Path) -> dict:
                       f"{r['u_mm'] * 1000:.3f} | {r['u_pl_mm'] * 1000:.3f} | {dent} | {r['z_top']:.3f} | "
                       f"{r['z_bottom']:.3f} | {r['r_max']:.3f} | {r['volume']:.4f} |")
     if step_check:
-        md += ["", f"Load-step check (h = {hc} mm, steps {step_y / 2:g} Y against {step_y:g} Y): relative change of "
-               "the residual dent and u_pl at the unloading levels:", "",
-               "| material | p0/Y | dent change | u_pl change |", "|---|---|---|---|"]
+        md += ["", f"Load-step check (h = {hc} mm): (steps of {step_y:g} Y) / (steps of {step_y / 2:g} Y) - 1 for the "
+               "residual dent and u_pl at the unloading levels:", "",
+               "| material | p0/Y | dent | u_pl |", "|---|---|---|---|"]
         for name, rows in step_check.items():
             for r, r0 in zip(rows, cases[(name, hc)]):
                 if "dent_mm" in r:
