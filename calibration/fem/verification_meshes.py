@@ -5,12 +5,15 @@
 "surface" (z = 0), "fixed" (bottom), "symmetry" (x = 0, 3D), "sym_y" (y = 0), "side" (the other sides).
 ``quarter_annulus``: plane-strain thick cylinder a <= r <= b, boundaries "inner", "outer", "sym_y" (y = 0), "sym_z" (z = 0).
 ``hertz_block_gmsh``: the same block as an unstructured gmsh mesh graded away from the load centre.
+``hertz_axis_first_yield``: the closed-form reference for the first yield under a circular Hertz pressure.
 """
 
 from __future__ import annotations
 
 import numpy as np
 import skfem
+
+from wrlayer.errors import require
 
 
 def graded_axis(h: float, fine: float, length: float, growth: float = 1.3) -> np.ndarray:
@@ -128,3 +131,28 @@ def hertz_block_gmsh(h: float, fine: float, length: float, order: int = 2, dim: 
     m = skfem.MeshTri2.from_mesh(m) if order == 2 else m
     return m.with_boundaries({"surface": lambda x: x[1] > -tol, "fixed": lambda x: x[1] < -length + tol,
                               "sym_y": lambda x: x[0] < tol, "side": lambda x: x[0] > length - tol})
+
+
+def hertz_axis_first_yield(poisson: float, n: int = 20001) -> tuple[float, float]:
+    """First yield of a von Mises half-space under the circular Hertz pressure p0 sqrt(1 - (r/a)^2).
+
+    Returns (p0 / Y, z / a): the peak pressure at which the von Mises stress first reaches the yield stress Y, and
+    the depth of that point. Stresses on the axis r = 0 (Johnson, *Contact Mechanics*, 1985, eq. 3.45):
+    sigma_r = sigma_theta = p0 [-(1 + nu)(1 - zeta atan(1/zeta)) + 1/(2 (1 + zeta^2))], sigma_z = -p0 / (1 + zeta^2),
+    zeta = z/a, no shear, so von Mises = |sigma_z - sigma_r|; its maximum over the depth (a fine grid on
+    0 < zeta <= 3, refined by a parabola through the peak) is the maximum in the whole half-space (Johnson, ibid.).
+    """
+    require(isinstance(poisson, (int, float)) and -1.0 < poisson < 0.5, "poisson",
+            f"must be a number in (-1, 0.5), got {poisson!r}")
+    zeta = np.linspace(1e-6, 3.0, n)
+    s_r = -(1.0 + poisson) * (1.0 - zeta * np.arctan(1.0 / zeta)) + 0.5 / (1.0 + zeta ** 2)
+    s_z = -1.0 / (1.0 + zeta ** 2)
+    vm = np.abs(s_z - s_r)
+    k = int(np.argmax(vm))
+    k = min(max(k, 1), n - 2)
+    y0, y1, y2 = vm[k - 1:k + 2]
+    d = zeta[1] - zeta[0]
+    denom = y0 - 2.0 * y1 + y2
+    shift = 0.5 * (y0 - y2) / denom if denom != 0 else 0.0
+    peak = y1 - 0.25 * (y0 - y2) * shift
+    return float(1.0 / peak), float(zeta[k] + shift * d)
