@@ -19,6 +19,7 @@ from benchmarks.harness import median_time, peak_memory_mb
 from contact.normal.kik_piotrowski import NormalProblem, solve_normal
 from contact.scenes.paper_example import PAPER_EXAMPLE, paper_layers, paper_problem
 from contact.passes.passes import PassesOptions, run_passes
+from wrlayer.plotting import save_figure
 
 
 def _row(cells) -> str:
@@ -222,12 +223,7 @@ def _convergence(grids, h_ref, out: pathlib.Path, repeat: int) -> tuple[str, dic
         fig.suptitle("KP normal solve with the layer, paper scene: error and time vs grid")
         fig.tight_layout()
         path = out / "contact_grid_convergence.png"
-        from wrlayer.atomic_write import atomic_write_bytes
-        import io
-        buf = io.BytesIO()
-        fig.savefig(buf, format="png", dpi=110)
-        plt.close(fig)
-        atomic_write_bytes(path, buf.getvalue())
+        save_figure(fig, path)
         figs.append(path)
     except ImportError:
         pass

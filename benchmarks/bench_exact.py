@@ -28,6 +28,7 @@ from contact.normal.constrained_cg import constrained_cg
 from contact.normal.kik_piotrowski import NormalProblem, solve_normal
 from contact.scenes.paper_example import paper_characteristic
 from contact.tangential.fastsim import Creepage, solve_tangential
+from wrlayer.plotting import save_figure
 
 E, NU, N, R = 210000.0, 0.3, 1.0e5, 1600.0
 KEYS = (("p_max_MPa", "p_max"), ("area_mm2", "area"), ("delta_mm", "delta"), ("length_mm", "length"),
@@ -94,14 +95,12 @@ def _time_error(cells_list, repeat) -> tuple[str, dict]:
 
 def _time_error_figure(data: dict, out: pathlib.Path) -> list[pathlib.Path]:
     """error (p_max, area) against CPU time per case, one point per cell count."""
-    import io
 
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from wrlayer.atomic_write import atomic_write_bytes
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
     for case in ("no layer", "layer, indentation", "layer, rolling"):
@@ -121,10 +120,7 @@ def _time_error_figure(data: dict, out: pathlib.Path) -> list[pathlib.Path]:
     fig.suptitle("Exact solver on the paper scene: error against time (labels: exact_cells)")
     fig.tight_layout()
     path = out / "exact_time_error.png"
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110)
-    plt.close(fig)
-    atomic_write_bytes(path, buf.getvalue())
+    save_figure(fig, path)
     return [path]
 
 

@@ -25,7 +25,7 @@ from contact.tangential.fastsim import (
 )
 from contact.tangential.kalker_coefficients import creep_coefficients
 from contact.normal.patch import Patch
-from wrlayer.atomic_write import atomic_write_bytes
+from wrlayer.plotting import save_figure
 
 E_MPA, NU = 210000.0, 0.28
 G_MPA = E_MPA / (2 * (1 + NU))
@@ -66,7 +66,7 @@ def _timings(quick: bool) -> dict:
                                repeat=repeat)
         ell = equivalent_ellipse(patch, G_MPA, NU)
         pn = patch.p_peak_MPa[:, None] * np.ones((1, nx))
-        args = (patch.x_lead_mm, patch.y_mm, pn, nx, ell.L1_mm_per_MPa, ell.L2_mm_per_MPa,
+        args = (patch.x_lead_mm, np.zeros(patch.n_strips), patch.y_mm, pn, nx, ell.L1_mm_per_MPa, ell.L2_mm_per_MPa,
                 PAPER_CREEP.vx / ell.L1_mm_per_MPa, 0.0, PAPER_CREEP.phi_per_mm / ell.L3_mm_per_MPa, 0.3)
         kernel, _ = median_time(lambda a=args: _march(*a), repeat=repeat)
         rows.append({"ny": ny, "nx": nx, "solve_ms": total * 1e3, "kernel_ms": kernel * 1e3})
@@ -163,12 +163,8 @@ def _paper_table(mus=(0.3, 0.4), rules=("three", "single", "blended")) -> tuple[
 
 
 def _save(fig, png: pathlib.Path) -> None:
-    import io
 
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=120)
-    plt.close(fig)
-    atomic_write_bytes(png, buf.getvalue())
+    save_figure(fig, png)
 
 
 def _timing_figure(timing: dict, out: pathlib.Path) -> pathlib.Path:

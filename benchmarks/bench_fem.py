@@ -27,7 +27,7 @@ from calibration.hertz.load import HertzLoad
 from calibration.fem.linear_solvers import HAVE_PARDISO
 from calibration.fem.material import J2Material
 from calibration.fem.verification_meshes import hertz_block_gmsh
-from wrlayer.atomic_write import atomic_write_bytes
+from wrlayer.plotting import save_figure
 
 #: the fast direct solver where pypardiso is installed (x86_64), SuperLU otherwise (labels follow)
 DIRECT, DIRECT_NAME = ("pardiso", "PARDISO") if HAVE_PARDISO else ("scipy", "SuperLU")
@@ -171,11 +171,7 @@ def _plot(rows, ref_u, ref_dent, out: pathlib.Path) -> pathlib.Path:
     ax.legend()
     ax.grid(True, which="both", alpha=0.3)
     path = out / "fem_time_vs_error.png"
-    import io
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=120)
-    plt.close(fig)
-    atomic_write_bytes(path, buf.getvalue())
+    save_figure(fig, path)
     return path
 
 

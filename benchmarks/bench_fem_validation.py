@@ -18,7 +18,6 @@ those rows give our converged values and say "not found" in the published column
 
 from __future__ import annotations
 
-import io
 import json
 import pathlib
 import time
@@ -35,7 +34,7 @@ from calibration.fem.elastoplastic_solver import SolverOptions, solve_load_path
 from calibration.fem.material import J2Material, von_mises_MPa
 from calibration.fem.verification_meshes import hertz_axis_first_yield, hertz_block_gmsh
 from calibration.hertz.load import HertzLoad
-from wrlayer.atomic_write import atomic_write_bytes
+from wrlayer.plotting import save_figure
 
 Y_MPA = 500.0
 A_MM = 1.0
@@ -185,10 +184,7 @@ def _plot(cases: dict, elastic: dict, hs, ref_fy: float, ref_depth: float, out: 
         a.grid(alpha=0.3)
     fig.tight_layout()
     path = out / "fem_validation.png"
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110)
-    plt.close(fig)
-    atomic_write_bytes(path, buf.getvalue())
+    save_figure(fig, path)
     return path
 
 

@@ -23,6 +23,7 @@ from contact.wheel_rail.contact_search import search_contacts
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
 from contact.wheel_rail.solve import WheelRailInputs, rigid_roll, solve_wheel
 from meshes.profiles import S1002, Rail60E1, get_profile
+from wrlayer.plotting import save_figure
 
 E_MPA = 2.0 * 82000.0 * 1.28
 LATERAL = np.arange(21) * 0.5
@@ -130,8 +131,7 @@ def run(mode: str, out: pathlib.Path) -> dict:
         axes[0].legend(fontsize=7)
         fig.tight_layout()
         path = out / "geometry_profiles_vs_files.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
+        save_figure(fig, path)
         figures.append(str(path))
 
     lines = [

@@ -28,6 +28,7 @@ import numpy as np
 
 from contact.wheel_rail.scene import reference_dir, run_wheel_rail_scene
 from wrlayer.errors import InputError
+from wrlayer.plotting import save_figure
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SCENE = ROOT / "scenes" / "manchester_a22.toml"
@@ -135,8 +136,7 @@ def _plot(data_by_side: dict[str, list[dict]], names: list[str], path: pathlib.P
             ax.tick_params(labelsize=8)
     axes[0, 0].legend(fontsize=8)
     fig.suptitle("Manchester benchmark A-2.2 (10 kN, μ = 0.3): wrlayer vs CONTACT's reference output", fontsize=11)
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def _errors(data: list[dict], method: str, key: str, skip=()) -> float:

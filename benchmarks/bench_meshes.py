@@ -8,7 +8,6 @@ reference: outline area x length.
 
 from __future__ import annotations
 
-import io
 import pathlib
 from functools import partial
 
@@ -19,11 +18,11 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from benchmarks.harness import max_rss_mb, median_time, peak_memory_mb
-from wrlayer.atomic_write import atomic_write_bytes
 from meshes.meshing.local_mesh import local_mesh
 from meshes.meshing.mesh_quality import element_quality, mesh_measure
 from meshes.profiles import get_profile, outline_area
 from meshes.meshing.section_mesh import default_depth_mm, section_mesh
+from wrlayer.plotting import save_figure
 
 PROFILES = (("60E1", 0.0), ("S1002", 0.0))
 SETTINGS_2D = {"h_max": 5.0, "refine_radius_mm": 2.0}
@@ -104,9 +103,6 @@ def run(mode: str, out: pathlib.Path) -> dict:
     fig.tight_layout()
     out.mkdir(parents=True, exist_ok=True)
     fig_path = out / "meshes_sizes_times.png"
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=120)
-    plt.close(fig)
-    atomic_write_bytes(fig_path, buf.getvalue())
+    save_figure(fig, fig_path)
     return {"title": "Meshes: Gmsh section (2D) and local (3D) meshes", "markdown": markdown,
             "figures": [str(fig_path)], "data": {"rows": rows, "max_rss_MiB": max_rss_mb()}}

@@ -22,6 +22,7 @@ import numpy as np
 
 from contact.wear.loop import run_wear
 from contact.wear.scene import parse_wear_scene
+from wrlayer.plotting import save_figure
 
 SCENE = pathlib.Path(__file__).resolve().parents[1] / "scenes" / "wear" / "s1002_60e1.toml"
 # No published S1002/UIC60 wear result with its inputs stated could be read for this project, so there is no
@@ -172,8 +173,7 @@ def run(mode: str, out: pathlib.Path) -> dict:
     ax[1].grid(alpha=0.3)
     fig.tight_layout()
     fig_path = out / "wear_benchmark.png"
-    fig.savefig(fig_path, dpi=100)
-    plt.close(fig)
+    save_figure(fig, fig_path)
 
     md = ["Base: scenes/wear/s1002_60e1.toml, both wheels, in-process, wall times on a shared 2-core machine.", "",
           "| conditions | tasks | s per step |", "|---|---|---|"]

@@ -3,23 +3,12 @@ k_i and T_0i along the profile, and the profile with the calibrated positions ma
 
 from __future__ import annotations
 
-import io
 import math
 from pathlib import Path
 
 import numpy as np
 
-from wrlayer.atomic_write import atomic_write_bytes
-from wrlayer.plotting import DPI
-
-
-def _save(fig, path: Path) -> Path:
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=DPI)
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-    return atomic_write_bytes(path, buf.getvalue())
+from wrlayer.plotting import save_figure
 
 
 def plot_characteristics(table, path: Path) -> Path:
@@ -49,7 +38,7 @@ def plot_characteristics(table, path: Path) -> Path:
     axes.ravel()[0].legend(fontsize=7)
     fig.suptitle(f"{table.body} ({table.profile_name}): layer characteristics", fontsize=10)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_parameters(table, path: Path) -> Path:
@@ -77,7 +66,7 @@ def plot_parameters(table, path: Path) -> Path:
     a2.legend(fontsize=7)
     fig.suptitle(f"{table.body} ({table.profile_name}): Prandtl element parameters along the profile", fontsize=10)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_profile_positions(profile, table, path: Path, failed_y=()) -> Path:
@@ -101,7 +90,7 @@ def plot_profile_positions(profile, table, path: Path, failed_y=()) -> Path:
     ax.legend(fontsize=8)
     ax.set_title(f"{profile.name} ({profile.body}): calibrated positions", fontsize=10)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def write_body_plots(table, body_settings, out_dir: Path) -> list[Path]:

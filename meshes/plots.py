@@ -8,7 +8,6 @@ PNG files are written atomically.
 
 from __future__ import annotations
 
-import io
 import os
 from pathlib import Path
 
@@ -20,18 +19,10 @@ import numpy as np
 import skfem
 from matplotlib.collections import LineCollection
 
-from wrlayer.atomic_write import atomic_write_bytes
-from wrlayer.plotting import DPI
+from wrlayer.plotting import save_figure
 
 BOUNDARY_COLOURS = {"surface": "tab:red", "side": "tab:blue", "fixed": "tab:green", "symmetry": "tab:orange",
                     "end": "tab:gray"}
-
-
-def _save_figure(fig, path: str | os.PathLike) -> Path:
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=DPI)
-    plt.close(fig)
-    return atomic_write_bytes(path, buf.getvalue())
 
 
 def _draw_section(ax, mesh: skfem.Mesh) -> None:
@@ -63,7 +54,7 @@ def plot_section(mesh: skfem.Mesh, profile, y0: float, path: str | os.PathLike, 
     ax.set_title(title or f"{profile.name}: {mesh.nvertices} nodes, {mesh.nelements} elements")
     close.set_title(f"load point y0 = {y0:g} mm (+)")
     fig.tight_layout()
-    return _save_figure(fig, path)
+    return save_figure(fig, path)
 
 
 def _boundary_polydata(mesh: skfem.Mesh):
@@ -115,7 +106,7 @@ def plot_local(mesh: skfem.Mesh, profile, y0: float, path: str | os.PathLike, ti
     plotter.close()
     fig = plt.figure(figsize=(image.shape[1] / 150, image.shape[0] / 150))
     fig.figimage(image)
-    return _save_figure(fig, path)
+    return save_figure(fig, path)
 
 
 #: The meshes drawn by ``python -m meshes plots``: (profile, y0 mm, 2D h_min/h_max/refine radius mm,

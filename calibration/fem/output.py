@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import os
 import tempfile
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from dataclasses import field as dataclass_field
 from pathlib import Path
 
 import meshio
@@ -95,7 +96,7 @@ class FieldSeries:
     folder: Path
     material: object
     stem: str = "load_path"
-    steps: list = field(default_factory=list)
+    steps: list = dataclass_field(default_factory=list)
 
     def __call__(self, disc, state, prepared=None) -> Path:
         path = write_vtu(Path(self.folder) / f"{self.stem}_{len(self.steps):03d}.vtu", disc, state, self.material)

@@ -25,7 +25,7 @@ from matplotlib.patches import Rectangle
 from matplotlib.ticker import MaxNLocator
 
 from contact.tangential.fastsim import sample_on_grid
-from wrlayer.plotting import DPI
+from wrlayer.plotting import save_figure
 
 _SLIP = ListedColormap(["#ffffff", "#9a9a9a"])  # adhesion white, slip grey
 
@@ -106,8 +106,7 @@ def plot_patch(snapshot, path: Path, title: str) -> Path:
     if contour is not None:
         fig.colorbar(contour, ax=ax, label="pressure contour p [MPa]", shrink=0.7, pad=0.01, format="%.0f")
     ax.legend(loc="upper right", fontsize=8, frameon=False)
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    save_figure(fig, path)
     return path
 
 
@@ -148,8 +147,7 @@ def plot_separation(run, path: Path) -> Path:
     for a in axes:
         a.grid(alpha=0.3)
     fig.suptitle(f"{run.scene.title}: separation, residual displacements, peak pressure", fontsize=10)
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    save_figure(fig, path)
     return path
 
 
@@ -176,8 +174,7 @@ def plot_shakedown(run, path: Path) -> Path:
     axes[-1].xaxis.set_major_locator(MaxNLocator(integer=True))
     mode = "state kept (hardening)" if run.scene.passes.hardening else "sliders relaxed before each pass"
     fig.suptitle(f"{run.scene.title}\nshakedown history ({mode})", fontsize=10)
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    save_figure(fig, path)
     return path
 
 
@@ -219,8 +216,7 @@ def plot_exact_field(snapshot, path: Path, title: str) -> Path:
     ax.set_title(f"{title}\nexact solver: {it['grid_cells'][0]} x {it['grid_cells'][1]} cells of "
                  f"{it['cell_mm'][0]:.3f} x {it['cell_mm'][1]:.3f} mm, p$_{{max}}$ = {sol.p_max_MPa:.0f} MPa, "
                  f"area {sol.area_mm2:.1f} mm$^2$, delta = {sol.delta_mm:.5f} mm", fontsize=9)
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    save_figure(fig, path)
     return path
 
 

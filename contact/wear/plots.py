@@ -12,7 +12,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from contact.wear.loop import WearRun
-from wrlayer.plotting import DPI, MICRO_M
+from wrlayer.plotting import MICRO_M, save_figure
 
 
 def _keys(run: WearRun) -> list[tuple[str, str]]:
@@ -56,8 +56,7 @@ def plot_profiles(run: WearRun, path: Path) -> Path:
     axes[0][0].legend(fontsize=7)
     fig.suptitle("profile evolution: profiles (top) and total change from the initial profile (bottom)")
     fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    save_figure(fig, path)
     return path
 
 
@@ -80,8 +79,7 @@ def plot_depths(run: WearRun, path: Path) -> Path:
     axes[0][0].legend(fontsize=6)
     fig.suptitle("wear (solid) and inelastic (dashed) depth along the profile, per step")
     fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    save_figure(fig, path)
     return path
 
 
@@ -97,8 +95,7 @@ def plot_conicity(run: WearRun, path: Path) -> Path:
     ax2.set_ylabel("quasi-conicity dr/(2y)")
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    save_figure(fig, path)
     return path
 
 

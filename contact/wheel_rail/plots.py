@@ -14,7 +14,7 @@ import numpy as np
 
 from contact.wheel_rail.solve import WheelRailSolution, residual_on_profiles
 from contact.wheel_rail.track_geometry import wheel_locus, wheel_sample_y
-from wrlayer.plotting import DPI
+from wrlayer.plotting import save_figure
 
 SIDE_COLOURS = {"right": "tab:blue", "left": "tab:orange"}
 
@@ -76,8 +76,7 @@ def write_wheel_rail_plots(result: dict[str, Any], solutions: list[dict[str, Whe
                      "unloaded candidates)", fontsize=8)
         fig.tight_layout()
         path = out_dir / "profiles_in_contact.png"
-        fig.savefig(path, dpi=DPI)
-        plt.close(fig)
+        save_figure(fig, path)
         paths.append(path)
     if len(result["cases"]) > 1 and ok:
         paths.append(_sweep_plot(result, out_dir / "sweep.png"))
@@ -116,8 +115,7 @@ def _residual_plot(result: dict[str, Any], solutions: list, path: Path) -> Path 
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=6, ncol=2)
     fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    save_figure(fig, path)
     return path
 
 
@@ -174,8 +172,7 @@ def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
     note = "one marker per loaded patch; red dotted lines: failed cases" if failed else "one marker per loaded patch"
     fig.suptitle(f"{result['inputs'].get('title', '')}\n{note}", fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    save_figure(fig, path)
     return path
 
 
