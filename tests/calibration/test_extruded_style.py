@@ -9,7 +9,7 @@ import pytest
 
 from calibration.config import load_config, parse_config
 from calibration.hertz.geometry import given_geometry
-from calibration.indentation import MeshSettings, build_mesh
+from calibration.indentation import AUTO_EXTRUDED_ASPECT, MeshSettings, build_mesh, mesh_style
 from calibration.pipeline import run_calibration
 from contact.layer.layer_table import LayerTable
 from meshes.profiles import get_profile
@@ -20,7 +20,7 @@ COARSE = ROOT / "calibration" / "configs" / "test_coarse.toml"
 BODY = {"body": "rail", "profile": "60E1", "mate": "S1002", "positions_mm": [0.0]}
 
 
-@pytest.mark.parametrize("style", ["isotropic", "extruded"])
+@pytest.mark.parametrize("style", ["isotropic", "extruded", "auto"])
 def test_config_accepts_the_styles(style):
     assert parse_config({"mesh": {"style": style}, "bodies": [BODY]}).mesh.style == style
 
@@ -29,7 +29,22 @@ def test_config_accepts_the_styles(style):
 def test_config_rejects_other_styles(bad):
     with pytest.raises(InputError) as err:
         parse_config({"mesh": {"style": bad}, "bodies": [BODY]}, "my.toml")
-    assert "my.toml: mesh.style" in str(err.value) and "'isotropic', 'extruded'" in str(err.value)
+    assert "my.toml: mesh.style" in str(err.value) and "'isotropic', 'extruded', 'auto'" in str(err.value)
+
+
+@pytest.mark.parametrize("bad", [1.5, 0, "3", 101])
+def test_config_rejects_bad_x_elements(bad):
+    with pytest.raises(InputError) as err:
+        parse_config({"mesh": {"x_elements_per_semi_axis": bad}, "bodies": [BODY]}, "my.toml")
+    assert "my.toml: mesh.x_elements_per_semi_axis" in str(err.value)
+
+
+def test_auto_style_follows_the_aspect_ratio():
+    rail = get_profile("60E1")
+    auto = MeshSettings(style="auto")
+    assert mesh_style(given_geometry(rail, 0.0, 7.16, 5.39), auto) == "isotropic"
+    assert mesh_style(given_geometry(rail, 0.0, AUTO_EXTRUDED_ASPECT * 2.0, 2.0), auto) == "extruded"
+    assert mesh_style(given_geometry(rail, 0.0, 8.0, 2.0), MeshSettings(style="isotropic")) == "isotropic"
 
 
 def test_build_mesh_extruded_has_layers_of_a_over_n():
