@@ -335,7 +335,8 @@ def style_comparison(levels=(3, 4, 6), reference: dict | None = None) -> list[di
     """Extruded (mesh.style = "extruded") against isotropic meshes at STYLE_POSITIONS, run alternately (old/new)
     so that both see the same machine load; every case's errors against ``reference`` (default: the isotropic
     mesh with 8 elements per semi-axis at the conforming positions, 6 at the crown, the extruded one with 6 on
-    the elongated patches, where the isotropic 8 would take 200,000+ dofs). Takes about 20 minutes."""
+    the elongated patches, where the isotropic 6 would take an estimated 370,000 dofs). About 30 runs of 10-170 s
+    each (docs/calibration.md, "Anisotropic (extruded) mesh")."""
     ref_mesh = reference or {"rail 0": {"elements_per_semi_axis": 6, "style": "isotropic"},
                              "rail -35": {"elements_per_semi_axis": 8, "style": "isotropic"},
                              "wheel -37.5": {"elements_per_semi_axis": 8, "style": "isotropic"},
@@ -349,7 +350,9 @@ def style_comparison(levels=(3, 4, 6), reference: dict | None = None) -> list[di
             for style in ("isotropic", "extruded"):
                 if style == "isotropic" and e != 4 and body == "wheel" and y in (30.0, -45.0):
                     continue  # the isotropic meshes of the elongated patches: only the default (4) is affordable
-                cases.append(convergence_case(body, y, {"elements_per_semi_axis": e, "style": style}))
+                kw = {"elements_per_semi_axis": e, "style": style}
+                if kw != ref_mesh[f"{body} {y:g}"]:  # the reference is run once
+                    cases.append(convergence_case(body, y, kw))
         for c in cases + [ref]:
             c["errors"] = convergence_errors(c, ref)
             c["reference"] = ref_mesh[f"{body} {y:g}"]
