@@ -314,17 +314,53 @@ def end_to_end_crown(work: Path) -> list[dict]:
     return rows
 
 
-def mesh_convergence(levels=(3, 4, 6, 8)) -> list[dict]:
-    """The convergence study at CONVERGENCE_POSITIONS: each mesh against the finest (the last level)."""
+def mesh_convergence(levels=(3, 4, 6, 8), style: str = "isotropic") -> list[dict]:
+    """The convergence study at CONVERGENCE_POSITIONS: each mesh (``style``: mesh.style) against the finest (the
+    last level)."""
     out = []
     for body, y, _ in CONVERGENCE_POSITIONS:
-        cases = [convergence_case(body, y, {"elements_per_semi_axis": e}) for e in levels]
+        cases = [convergence_case(body, y, {"elements_per_semi_axis": e, "style": style}) for e in levels]
         for c in cases:
             c["errors"] = convergence_errors(c, cases[-1])
         out += cases
     return out
 
 
+#: Issue 12 items 3-4: the three convergence positions plus the two most elongated patches of the default run
+#: (wheel field side y = 30, a/b = 10.2; flange flank y = -45, a/b = 13.6).
+STYLE_POSITIONS = CONVERGENCE_POSITIONS + (("wheel", 30.0, "wheel field side"), ("wheel", -45.0, "flange flank"))
+
+
+def style_comparison(levels=(3, 4, 6), reference: dict | None = None) -> list[dict]:
+    """Extruded (mesh.style = "extruded") against isotropic meshes at STYLE_POSITIONS, run alternately (old/new)
+    so that both see the same machine load; every case's errors against ``reference`` (default: the isotropic
+    mesh with 8 elements per semi-axis at the conforming positions, 6 at the crown, the extruded one with 6 on
+    the elongated patches, where the isotropic 6 would take an estimated 370,000 dofs). About 30 runs of 10-170 s
+    each (docs/calibration.md, "Anisotropic (extruded) mesh")."""
+    ref_mesh = reference or {"rail 0": {"elements_per_semi_axis": 6, "style": "isotropic"},
+                             "rail -35": {"elements_per_semi_axis": 8, "style": "isotropic"},
+                             "wheel -37.5": {"elements_per_semi_axis": 8, "style": "isotropic"},
+                             "wheel 30": {"elements_per_semi_axis": 6, "style": "extruded"},
+                             "wheel -45": {"elements_per_semi_axis": 6, "style": "extruded"}}
+    out = []
+    for body, y, _ in STYLE_POSITIONS:
+        ref = convergence_case(body, y, ref_mesh[f"{body} {y:g}"])
+        cases = []
+        for e in levels:
+            for style in ("isotropic", "extruded"):
+                if style == "isotropic" and e != 4 and body == "wheel" and y in (30.0, -45.0):
+                    continue  # the isotropic meshes of the elongated patches: only the default (4) is affordable
+                kw = {"elements_per_semi_axis": e, "style": style}
+                if kw != ref_mesh[f"{body} {y:g}"]:  # the reference is run once
+                    cases.append(convergence_case(body, y, kw))
+        for c in cases + [ref]:
+            c["errors"] = convergence_errors(c, ref)
+            c["reference"] = ref_mesh[f"{body} {y:g}"]
+        out += cases + [ref]
+    return out
+
+
 if __name__ == "__main__":  # python -m benchmarks.bench_calibration BODY Y MESH_JSON [THREADS]: one case as JSON
+    # (MESH_JSON: MeshSettings fields, e.g. '{"elements_per_semi_axis": 4, "style": "extruded"}')
     print(json.dumps(convergence_case(sys.argv[1], float(sys.argv[2]), json.loads(sys.argv[3]),
                                       threads=int(sys.argv[4]) if len(sys.argv) > 4 else 1)))

@@ -7,7 +7,10 @@ Layout (every key optional except ``[[bodies]]`` with ``body``, ``profile`` and 
     [material]  E_MPa, poisson, yield_MPa, H_iso_MPa, H_kin_MPa            (J2 with linear hardening)
     [load]      reference_load_N, max_factor, n_levels, unload_factors, max_increment_factor
     [mesh]      elements_per_semi_axis, h_max_mm, order, depth_mm, rail_support_below_mm, length_factor, grading,
-                yield_search_radius_factor, reference_depth_factor, refine_depth_factor
+                yield_search_radius_factor, reference_depth_factor, refine_depth_factor,
+                style = "isotropic" | "extruded" | "auto" (3D: structured layers along x; auto: extruded for
+                a/b >= 3; see docs/calibration.md),
+                x_elements_per_semi_axis (extruded: layers of a / this; default elements_per_semi_axis)
     [fit]       n_segments (1..8), elastic_tolerance, elastic_fraction (former S_1 rule), max_relative_error
     [[bodies]]  body = "rail" | "wheel", profile = name or file (relative to the config), mate = name or file,
                 positions_mm = [...] or positions = {start_mm, stop_mm, step_mm}, semi_axes_mm = [a, b],
@@ -27,7 +30,7 @@ from typing import Any
 
 from calibration.fit.characteristic_fit import N_SEGMENTS_RANGE
 from calibration.hertz.geometry import DEFAULT_MAX_LATERAL_RADIUS_MM, DEFAULT_RAIL_CANT_RAD
-from calibration.indentation import LoadSettings, MeshSettings
+from calibration.indentation import MESH_STYLES, LoadSettings, MeshSettings
 from wrlayer import validate
 from wrlayer.errors import InputError
 
@@ -295,6 +298,11 @@ def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> 
         "max_increment_factor": lambda v, k: r.number(v, k, 0.0, 1.0)})
     if load.unload_factors[-1] > load.max_factor + 1e-12:
         r.fail("load.unload_factors", f"must not exceed load.max_factor = {load.max_factor:g}")
+    def style(v, k):
+        if v not in MESH_STYLES:
+            r.fail(k, f"must be one of {', '.join(repr(m) for m in MESH_STYLES)}, got {v!r}")
+        return v
+
     mesh = r.dataclass_from(MeshSettings, r.table(data, "mesh"), "mesh", {
         "elements_per_semi_axis": lambda v, k: r.number(v, k, 0.5, 100.0),
         "h_max_mm": lambda v, k: r.number(v, k, 0.0, 100.0),
@@ -305,7 +313,9 @@ def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> 
         "grading": lambda v, k: r.number(v, k, 0.0, 5.0),
         "yield_search_radius_factor": lambda v, k: r.number(v, k, 0.0, 100.0),
         "reference_depth_factor": lambda v, k: r.number(v, k, 0.0, 20.0, lo_open=False),
-        "refine_depth_factor": lambda v, k: r.number(v, k, 0.0, 10.0)})
+        "refine_depth_factor": lambda v, k: r.number(v, k, 0.0, 10.0),
+        "style": style,
+        "x_elements_per_semi_axis": lambda v, k: r.number(v, k, 2.0, 100.0, lo_open=False)})
     fit = r.dataclass_from(FitSettings, r.table(data, "fit"), "fit", {
         "n_segments": lambda v, k: int(r.number(v, k, N_SEGMENTS_RANGE[0], N_SEGMENTS_RANGE[1], lo_open=False,
                                                 integer=True)),

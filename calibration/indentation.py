@@ -46,7 +46,12 @@ class MeshSettings:
     3D: h_min fills the box of half-sizes (1.2 a, 1.2 b, refine_depth_factor * b) at the load point (the plastic
     zone). First yield is searched within yield_search_radius_factor * b of the load centre. reference_depth_factor > 0:
     the layer displacement is measured against the material point reference_depth_factor * max(a, b) (2D: * b)
-    below the load centre; 0 (default): against the clamped far field, as a half-space's."""
+    below the load centre; 0 (default): against the clamped far field, as a half-space's.
+    style (3D): "isotropic" (unstructured tetrahedra of size min(a, b) / elements_per_semi_axis filling the box),
+    "auto" (extruded when a/b >= AUTO_EXTRUDED_ASPECT, else isotropic) or "extruded" (the section meshed with min(a, b) / elements_per_semi_axis in the box's (y, z) extent and
+    extruded along x in structured layers of a / elements_per_semi_axis over 0 <= x <= 1.2 a, unstructured
+    beyond: its element count does not grow with a/b; meshes.meshing.extruded_mesh, docs/calibration.md);
+    x_elements_per_semi_axis (extruded only): layers a / x_elements_per_semi_axis instead (None: the same n)."""
 
     elements_per_semi_axis: float = 8.0
     h_max_mm: float = 6.0
@@ -58,6 +63,16 @@ class MeshSettings:
     yield_search_radius_factor: float = 3.0
     reference_depth_factor: float = 0.0
     refine_depth_factor: float = 1.0
+    style: str = "isotropic"
+    x_elements_per_semi_axis: float | None = None
+
+
+#: The 3D mesh styles of MeshSettings.style.
+MESH_STYLES = ("isotropic", "extruded", "auto")
+#: style "auto": the extruded mesh for patches with a/b at least this, the isotropic one below (docs/calibration.md,
+#: "Anisotropic (extruded) mesh": isotropic is cheaper and as accurate at a/b ~ 1.3, extruded is faster and closer
+#: to the finest runs at a/b >= 3.2).
+AUTO_EXTRUDED_ASPECT = 3.0
 
 
 @dataclass(frozen=True)
@@ -117,9 +132,25 @@ def build_mesh(profile, geometry: LocalGeometry, model: str, mesh: MeshSettings)
         return section_mesh(profile, geometry.y_mm, h_min, h_max, depth_mm=mesh.depth_mm, order=mesh.order,
                             refine_radius_mm=1.2 * geometry.b_mm, grading=mesh.grading)
     length = max(mesh.length_factor * geometry.a_mm, 4.0 * geometry.b_mm)
+    require(mesh.style in MESH_STYLES, "mesh.style", f"must be one of {MESH_STYLES}, got {mesh.style!r}")
+    if mesh_style(geometry, mesh) == "extruded":
+        from meshes.meshing.extruded_mesh import extruded_local_mesh
+
+        h_x = geometry.a_mm / (mesh.x_elements_per_semi_axis or mesh.elements_per_semi_axis)
+        return extruded_local_mesh(profile, geometry.y_mm, h_min, h_x, max(h_max, h_x), length_mm=length,
+                                   core_length_mm=1.2 * geometry.a_mm, depth_mm=mesh.depth_mm,
+                                   order=mesh.order, grading=mesh.grading,
+                                   refine_box_yz=(1.2 * geometry.b_mm, mesh.refine_depth_factor * geometry.b_mm))
     box = (1.2 * geometry.a_mm, 1.2 * geometry.b_mm, mesh.refine_depth_factor * geometry.b_mm)
     return local_mesh(profile, geometry.y_mm, h_min, h_max, length_mm=length, depth_mm=mesh.depth_mm,
                       order=mesh.order, refine_box=box, grading=mesh.grading)
+
+
+def mesh_style(geometry: LocalGeometry, mesh: MeshSettings) -> str:
+    """The 3D mesh style used at a position: mesh.style, "auto" resolved by the patch's a/b."""
+    if mesh.style != "auto":
+        return mesh.style
+    return "extruded" if geometry.a_mm >= AUTO_EXTRUDED_ASPECT * geometry.b_mm else "isotropic"
 
 
 #: Fewest elements across the contact's shorter semi-axis (h_min = min(a, b) / elements_per_semi_axis): below
