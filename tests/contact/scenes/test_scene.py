@@ -25,7 +25,7 @@ LAYER = {"u_mm": [0.0, 0.0202, 0.0301, 0.06], "p_MPa": [0.0, 1190.0, 1456.0, 180
 def scene_with(**sections):
     data = {k: dict(v) for k, v in MINIMAL.items()}
     data.update(sections)
-    return parse_scene(data, Path("/tmp/test_scene.toml"))
+    return parse_scene(data, Path("scenes") / "test_scene.toml")
 
 
 @pytest.mark.parametrize("path", KP_SCENES, ids=[p.stem for p in KP_SCENES])
