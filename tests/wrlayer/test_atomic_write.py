@@ -130,10 +130,9 @@ def _simulate(scene: Path, out: Path, *extra) -> subprocess.Popen:
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV, cwd=ROOT)
 
 
-def test_killed_wheel_rail_run_leaves_the_previous_output_and_its_staging_is_cleaned(tmp_path):
-    """kill -9 of a wheel–rail run while it computes: --out keeps the previous run's folder unchanged (never a
-    mix); the hidden staging folder it leaves is removed by the next run into the same --out."""
-    out = tmp_path / "out"
+def _previous_output_and_a_staging_run(tmp_path: Path, out: Path, sig: int):
+    """A finished run's files in ``out`` (name -> bytes), and a long wheel–rail run into ``out`` that has been sent
+    ``sig`` while it was writing its staging folder."""
     first = _simulate(SCENES / "hertz_check.toml", out)
     assert first.wait(timeout=120) == 0, first.stderr.read()
     before = {p.name: p.read_bytes() for p in out.iterdir()}
@@ -142,7 +141,15 @@ def test_killed_wheel_rail_run_leaves_the_previous_output_and_its_staging_is_cle
     while time.monotonic() < deadline and not list(tmp_path.glob(".out.staging-*")):
         time.sleep(0.05)
     time.sleep(0.3)
-    run.send_signal(signal.SIGKILL)
+    run.send_signal(sig)
+    return before, run
+
+
+def test_killed_wheel_rail_run_leaves_the_previous_output_and_its_staging_is_cleaned(tmp_path):
+    """kill -9 of a wheel–rail run while it computes: --out keeps the previous run's folder unchanged (never a
+    mix); the hidden staging folder it leaves is removed by the next run into the same --out."""
+    out = tmp_path / "out"
+    before, run = _previous_output_and_a_staging_run(tmp_path, out, signal.SIGKILL)
     run.wait(timeout=30)
     assert list(tmp_path.glob(".out.staging-*")), "the run was not killed while staging"
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
@@ -172,15 +179,7 @@ def test_sigterm_removes_the_staging_folder_at_once(tmp_path):
     """SIGTERM (the usual ``kill``) of a wheel–rail run while it stages: exit 143 with one line, the staging
     folder is removed by the run itself, the previous output is unchanged."""
     out = tmp_path / "out"
-    first = _simulate(SCENES / "hertz_check.toml", out)
-    assert first.wait(timeout=120) == 0
-    before = {p.name: p.read_bytes() for p in out.iterdir()}
-    run = _simulate(_long_sweep(tmp_path), out)
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline and not list(tmp_path.glob(".out.staging-*")):
-        time.sleep(0.05)
-    time.sleep(0.3)
-    run.send_signal(signal.SIGTERM)
+    before, run = _previous_output_and_a_staging_run(tmp_path, out, signal.SIGTERM)
     assert run.wait(timeout=60) == 143
     assert run.stderr.read().strip() == "error: terminated (SIGTERM); nothing written"
     assert not list(tmp_path.glob(".out.*"))

@@ -11,11 +11,8 @@ from contact.scenes.simulation import simulate
 from wrlayer.errors import InputError
 
 TABLE = Path(__file__).resolve().parents[3] / "scenes" / "tables" / "rail_60E1_default.json"
-
-
-def _scene(tmp_path, extra: str, name: str):
-    text = f"""title = "crown, rail table layer"
-[load]
+#: the crown scene both tests start from, up to the rail layer's keys
+CROWN = """[load]
 normal_force_N = 100000.0
 rolling_radius_mm = 460.0
 [material]
@@ -25,7 +22,11 @@ poisson = 0.3
 lateral_radius_mm = 300.0
 half_width_mm = 25.0
 [layer.rail]
-table = "{TABLE}"
+"""
+
+
+def _scene(tmp_path, extra: str, name: str):
+    text = 'title = "crown, rail table layer"\n' + CROWN + f"""table = "{TABLE}"
 position_mm = 0.0
 {extra}
 [passes]
@@ -58,18 +59,7 @@ def test_scaled_layer_follows_the_solved_patch(tmp_path):
 
 def test_scale_to_patch_needs_a_table(tmp_path):
     path = tmp_path / "bad.toml"
-    path.write_text("""title = "bad"
-[load]
-normal_force_N = 100000.0
-rolling_radius_mm = 460.0
-[material]
-E_MPa = 210000.0
-poisson = 0.3
-[separation]
-lateral_radius_mm = 300.0
-half_width_mm = 25.0
-[layer.rail]
-u_mm = [0.0, 0.01, 0.05]
+    path.write_text('title = "bad"\n' + CROWN + """u_mm = [0.0, 0.01, 0.05]
 p_MPa = [0.0, 800.0, 1500.0]
 scale_to_patch = true
 """)
