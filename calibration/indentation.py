@@ -48,8 +48,8 @@ class MeshSettings:
     the layer displacement is measured against the material point reference_depth_factor * max(a, b) (2D: * b)
     below the load centre; 0 (default): against the clamped far field, as a half-space's.
     style (3D): "isotropic" (unstructured tetrahedra of size min(a, b) / elements_per_semi_axis filling the box),
-    "auto" (extruded when a/b >= AUTO_EXTRUDED_ASPECT, else isotropic) or "extruded" (the section meshed with min(a, b) / elements_per_semi_axis in the box's (y, z) extent and
-    extruded along x in structured layers of a / elements_per_semi_axis over 0 <= x <= 1.2 a, unstructured
+    "auto" (extruded when a/b >= AUTO_EXTRUDED_ASPECT, else isotropic) or "extruded" (the section meshed with
+    min(a, b) / elements_per_semi_axis in the box's (y, z) extent and extruded along x in structured layers of a / elements_per_semi_axis over 0 <= x <= 1.2 a, unstructured
     beyond: its element count does not grow with a/b; meshes.meshing.extruded_mesh, docs/calibration.md);
     x_elements_per_semi_axis (extruded only): layers a / x_elements_per_semi_axis instead (None: the same n)."""
 
@@ -63,7 +63,7 @@ class MeshSettings:
     yield_search_radius_factor: float = 3.0
     reference_depth_factor: float = 0.0
     refine_depth_factor: float = 1.0
-    style: str = "isotropic"
+    style: str = "isotropic"  # the library default; calibration/configs/default.toml sets "auto"
     x_elements_per_semi_axis: float | None = None
 
 
