@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from contact.layer.characteristic import Characteristic
+from contact.layer.layer_table import PATCH_SCALING_ITERATIONS, PATCH_SCALING_TOLERANCE
 from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
 from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
 from contact.normal.exact import fastsim_pressure, strip_centres
@@ -37,7 +38,7 @@ from contact.normal.patch import Patch
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.scenes.result_io import UNITS, code_version
 from contact.scenes.scene import BODIES, BodyLayerSpec, Scene, scene_inputs
-from wrlayer.errors import InputError
+from wrlayer.errors import ConvergenceError, InputError
 
 
 @dataclass
@@ -216,15 +217,13 @@ _NORMAL_METHOD_TEXT = {
 }
 
 
-#: Fixed-point solves (at most) that scale table layers to the solved patch, and the relative change that ends it.
-PATCH_SCALING_ITERATIONS, PATCH_SCALING_TOLERANCE = 6, 1e-3
-
 
 def scale_layers_to_patch(scene: Scene, prob: NormalProblem, layers: LayerPair):
     """Issue 12: a table characteristic holds for the patch size it was calibrated on (its displacements scale
     with sqrt(a b)). Solve the first pass's normal problem, rebuild the layers scaled to the solved semi-axes
     (a, b) = (length/2, width/2), and repeat until the patch changes by less than PATCH_SCALING_TOLERANCE.
-    Returns (layers, (a, b), solves)."""
+    Returns (layers, (a, b), solves); ConvergenceError when the patch has not settled after
+    PATCH_SCALING_ITERATIONS solves."""
     patch = None
     for it in range(1, PATCH_SCALING_ITERATIONS + 1):
         sol = solve_normal_with(scene.method.normal_method(), prob, layers)
@@ -233,7 +232,8 @@ def scale_layers_to_patch(scene: Scene, prob: NormalProblem, layers: LayerPair):
         if patch is not None and max(abs(n / o - 1.0) for n, o in zip(new, patch)) < PATCH_SCALING_TOLERANCE:
             return layers, new, it
         patch = new
-    return layers, patch, PATCH_SCALING_ITERATIONS
+    raise ConvergenceError(f"{scene.path.name}: scale_to_patch: the patch size did not settle within "
+                           f"{PATCH_SCALING_ITERATIONS} solves (last a x b = {patch[0]:.4g} x {patch[1]:.4g} mm)")
 
 
 def normal_problem(scene: Scene) -> NormalProblem:

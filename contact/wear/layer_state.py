@@ -67,8 +67,11 @@ class HardenedTable:
     def body(self) -> str:
         return self.table.body
 
-    def characteristic_at(self, y_mm: float) -> Characteristic:
-        virgin = self.table.characteristic_at(y_mm)
+    def characteristic_at(self, y_mm: float, patch_mm: tuple[float, float] | None = None) -> Characteristic:
+        """The table's characteristic at y (scaled to ``patch_mm`` = (a, b) mm when given, ``scale_to_patch``),
+        hardened to the peak pressure its element has carried."""
+        virgin = (self.table.characteristic_at(y_mm) if patch_mm is None
+                  else self.table.characteristic_at(y_mm, patch_mm=patch_mm))
         p = float(np.interp(float(y_mm), self.y_mm, self.p_hist_MPa, left=0.0, right=0.0))
         return hardened(virgin, p)
 

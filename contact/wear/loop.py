@@ -162,7 +162,8 @@ def side_layers(scene: WearScene, state: dict | None, side: str, recalibrated: d
             table = HardenedTable(table, y, p)
         tables[body] = table
     names = {**layers.names, **{b: f"recalibrated {b} table" for (s, b) in recalibrated if s == side}}
-    return WheelRailLayers(rail=tables["rail"], wheel=tables["wheel"], names=names)
+    return WheelRailLayers(rail=tables["rail"], wheel=tables["wheel"], names=names,
+                           scale_to_patch=layers.scale_to_patch)
 
 
 def _recalibrate(scene: WearScene, profiles: dict, step: int, work_dir: Path | None, recalibrated: dict) -> None:

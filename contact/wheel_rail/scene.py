@@ -16,7 +16,9 @@ Run by ``python -m contact simulate SCENE --out DIR`` (and ``simulate-all``), wh
     [material]  E_MPa = 210000 or G_MPa, poisson = 0.28
     [tangential] friction = 0.3 (0: no tangential solution)
     [layers]    rail = "table.json", wheel = "table.json" (calibration tables, relative to the scene file), or
-                [layers.combined] u_mm, p_MPa (one characteristic for both bodies, the paper's eq. 13 layer)
+                [layers.combined] u_mm, p_MPa (one characteristic for both bodies, the paper's eq. 13 layer);
+                scale_to_patch = false (true: each patch's table characteristics scaled to its own solved
+                semi-axes, displacements x sqrt(ab)/sqrt(a_c b_c); docs/calibration.md)
     [passes]    max = 1, hardening = false, tolerance_mm = 1e-6
     [method]    alpha = 0.55, grid_mm = 0.1, fastsim_cells = 60, merge_mm, candidate_gap_mm, f_cap_mm,
                 normal = "kik_piotrowski" | "exact" (the normal solver), exact_cells (exact solver grid: cells
@@ -161,7 +163,7 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: Path) -> dict[str, 
         "load": ("vertical_load_N", "speed_mm_s"),
         "material": ("E_MPa", "G_MPa", "poisson"),
         "tangential": ("friction",),
-        "layers": ("rail", "wheel", "combined"),
+        "layers": ("rail", "wheel", "combined", "scale_to_patch"),
         "passes": ("max", "hardening", "tolerance_mm"),
         "method": ("alpha", "grid_mm", "fastsim_cells", "merge_mm", "candidate_gap_mm", "f_cap_mm", "normal",
                    "exact_cells", "layer_mode", "contact_point", "balance"),
@@ -260,9 +262,13 @@ def _parse_layers(keys: SceneKeys | None, base: Path) -> tuple[WheelRailLayers |
     if keys is None:
         return None, {}
     hashes: dict[str, str] = {}
+    scale = keys.boolean("scale_to_patch", False)
     if "combined" in keys.table:
         if "rail" in keys.table or "wheel" in keys.table:
             raise keys.error("combined", "give either per-body tables (rail, wheel) or combined, not both")
+        if scale:
+            raise keys.error("scale_to_patch", "only used with calibration tables (rail, wheel), not with "
+                                               "[layers.combined]")
         sub = keys.sub("combined")
         sub.check_known(("u_mm", "p_MPa"))
         return WheelRailLayers(combined=Characteristic(sub.array("u_mm"), sub.array("p_MPa"),
@@ -287,7 +293,13 @@ def _parse_layers(keys: SceneKeys | None, base: Path) -> tuple[WheelRailLayers |
         hashes[body] = hashlib.sha256(path.read_bytes()).hexdigest()
     if not tables:
         raise keys.error("rail", "[layers] needs rail and/or wheel tables, or [layers.combined]")
-    return WheelRailLayers(rail=tables.get("rail"), wheel=tables.get("wheel"), names=names), hashes
+    if scale:
+        for body, table in tables.items():
+            if any(table.calibrated_length_mm(y) is None for y in table.y_range_mm):
+                raise keys.error("scale_to_patch", f"the {body} table {names[body]} records no calibrated "
+                                                   "semi-axes (geometry a_mm, b_mm): it cannot be scaled")
+    return WheelRailLayers(rail=tables.get("rail"), wheel=tables.get("wheel"), names=names,
+                           scale_to_patch=scale), hashes
 
 
 def _normal_method(met: SceneKeys):
@@ -420,6 +432,8 @@ def patch_result(p: PatchSolution) -> dict[str, Any]:
         "force_on_wheel_track_N": p.force_track_N().tolist(),
         "normal_track": p.normal_track.tolist(), "lateral_track": p.lateral_track.tolist(),
         "elastic": bool(ns.elastic), "u0_mm": ns.u0_mm,
+        "layer_scaled_to_patch": None if p.layer_patch_mm is None else {
+            "a_mm": p.layer_patch_mm[0], "b_mm": p.layer_patch_mm[1], "balances": p.layer_scaling_solves},
     }
     y, f = p.problem.strip_y_mm, p.problem.separation_on_grid_mm
     near = f <= 2.0 * ns.delta0_mm  # the strips in contact and their neighbourhood

@@ -44,6 +44,11 @@ take its end value, and a strip IN CONTACT outside the range is an InputError. O
 patch's normal force of the first pass (:func:`contact.passes.passes.run_passes`). Each body's accumulated residual
 displacement u_p(eta) (along the patch normal, into the body) is mapped back onto the body's profile at the strip
 positions and the profile points are moved by -u_p along the profile's outward normal (:func:`deformed_profile`).
+With ``WheelRailLayers.scale_to_patch`` every patch's table characteristics are scaled to that patch's own solved
+semi-axes (a, b) = (length/2, width/2) (``LayerTable.characteristic_at(y, patch_mm)``: displacements x sqrt(ab) /
+sqrt(a_c b_c), issue 12 item 7): the balance is solved, the layers rebuilt at the patches' sizes, and this is
+repeated until no loaded patch's a or b changes by more than ``PATCH_SCALING_TOLERANCE`` (ConvergenceError after
+``PATCH_SCALING_ITERATIONS`` balances).
 """
 
 from __future__ import annotations
@@ -57,6 +62,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact.layer.characteristic import Characteristic
+from contact.layer.layer_table import PATCH_SCALING_ITERATIONS, PATCH_SCALING_TOLERANCE
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.normal.kik_piotrowski import NormalForceEvaluator, NormalProblem, NormalSolution, solve_normal
 from contact.normal.method import NormalMethod, solve_normal_with
@@ -92,7 +98,7 @@ LAYER_F_CAPS_MM = (0.3, 1.0, np.inf)
 class LayerLookup(Protocol):
     """A per-position layer table (e.g. :class:`contact.layer.layer_table.LayerTable`)."""
 
-    def characteristic_at(self, y_mm: float) -> Characteristic: ...
+    def characteristic_at(self, y_mm: float, patch_mm: tuple[float, float] | None = None) -> Characteristic: ...
 
     @property
     def y_range_mm(self) -> tuple[float, float]: ...
@@ -100,16 +106,20 @@ class LayerLookup(Protocol):
 
 @dataclass(frozen=True)
 class WheelRailLayers:
-    """Layer tables per body (``rail``, ``wheel``; either may be None) or one ``combined`` characteristic."""
+    """Layer tables per body (``rail``, ``wheel``; either may be None) or one ``combined`` characteristic.
+    ``scale_to_patch``: scale the tables' characteristics to each patch's solved semi-axes (module docstring)."""
 
     rail: Any = None
     wheel: Any = None
     combined: Characteristic | None = None
     names: dict = field(default_factory=dict)
+    scale_to_patch: bool = False
 
     def __post_init__(self):
         require(self.combined is None or (self.rail is None and self.wheel is None), "layers",
                 "give either per-body tables (rail, wheel) or one combined characteristic, not both")
+        require(not (self.scale_to_patch and self.combined is not None), "layers.scale_to_patch",
+                "only used with calibration tables (rail, wheel), not with a combined characteristic")
 
     @property
     def empty(self) -> bool:
@@ -197,6 +207,8 @@ class PatchSolution:
     clamped_strips: dict = field(default_factory=dict)
     reference: ReferencePoint | None = None
     pass_normals: list = field(default_factory=list, repr=False)  # normal solution of every pass (wear outputs)
+    layer_patch_mm: tuple[float, float] | None = None  # (a, b) the table layers were scaled to (scale_to_patch)
+    layer_scaling_solves: int = 0  # balances solved with scaled layers (scale_to_patch; 0: not scaled)
 
     @property
     def vertical_N(self) -> float:
@@ -255,7 +267,8 @@ def _problem(cand: ContactCandidate, sign: int, inputs: WheelRailInputs, force: 
                          grid_mm=inputs.grid_mm, interpolation="pchip")
 
 
-def _clamped_lookup(table: Any, coords: np.ndarray, body: str, name: str) -> tuple[list[Characteristic], np.ndarray]:
+def _clamped_lookup(table: Any, coords: np.ndarray, body: str, name: str,
+                    patch_mm: tuple[float, float] | None = None) -> tuple[list[Characteristic], np.ndarray]:
     lo, hi = (float(v) for v in table.y_range_mm)
     clamped = (coords < lo) | (coords > hi)
     cache: dict[float, Characteristic] = {}
@@ -264,7 +277,8 @@ def _clamped_lookup(table: Any, coords: np.ndarray, body: str, name: str) -> tup
         key = round(float(y), 9)
         if key not in cache:
             try:
-                cache[key] = table.characteristic_at(float(y))
+                cache[key] = (table.characteristic_at(float(y)) if patch_mm is None
+                              else table.characteristic_at(float(y), patch_mm=patch_mm))
             except InputError as err:
                 raise InputError(f"layers.{body} ({name})", str(err)) from None
         chars.append(cache[key])
@@ -272,8 +286,10 @@ def _clamped_lookup(table: Any, coords: np.ndarray, body: str, name: str) -> tup
 
 
 def _layer_pair(cand: ContactCandidate, sign: int, prob: NormalProblem, layers: WheelRailLayers,
-                f_cap_mm: float = LAYER_F_CAPS_MM[0]) -> tuple[LayerPair | None, dict, dict]:
-    """Per-strip layers of a patch; returns (pair, profile coordinate per body on the strips, clamped masks)."""
+                f_cap_mm: float = LAYER_F_CAPS_MM[0], patch_mm: tuple[float, float] | None = None
+                ) -> tuple[LayerPair | None, dict, dict]:
+    """Per-strip layers of a patch; returns (pair, profile coordinate per body on the strips, clamped masks).
+    ``patch_mm`` = (a, b): table characteristics scaled to that patch (``layers.scale_to_patch``)."""
     if layers is None or layers.empty:
         return None, {}, {}
     strips = prob.strip_y_mm
@@ -290,7 +306,7 @@ def _layer_pair(cand: ContactCandidate, sign: int, prob: NormalProblem, layers: 
         name = layers.names.get(body, body)
         lo, hi = (float(v) for v in table.y_range_mm)
         clamped[body] = (coords[body] < lo) | (coords[body] > hi)
-        chars, _ = _clamped_lookup(table, coords[body][near], body, name)
+        chars, _ = _clamped_lookup(table, coords[body][near], body, name, patch_mm)
         built[body] = PrandtlLayer.from_characteristics(chars, strips[near], name=f"{body} layer ({name})")
     return LayerPair(**built), coords, clamped
 
@@ -320,6 +336,7 @@ class _Candidate:
     evaluator: NormalForceEvaluator
     sign: int = 1
     delta_guess: float | None = None
+    layer_patch_mm: tuple[float, float] | None = None
 
 
 @dataclass(eq=False)
@@ -353,7 +370,9 @@ class _Balance:
     component of the total contact force (or, with ``balance = "normal"``, of the normal forces only) equals Q."""
 
     def __init__(self, found: SearchResult, rail: PlacedRail, wheel: Profile, inputs: WheelRailInputs,
-                 layers: WheelRailLayers, sign: int, case: str, f_cap_mm: float):
+                 layers: WheelRailLayers, sign: int, case: str, f_cap_mm: float,
+                 patch_mm: dict[int, tuple[float, float]] | None = None):
+        """``patch_mm``: candidate index -> (a, b) (mm) the candidate's table layers are scaled to."""
         self.found, self.wheel, self.inputs, self.sign, self.case = found, wheel, inputs, sign, case
         self.rail = rail
         self.pose_side = inputs.pose.for_side(inputs.side)
@@ -361,13 +380,15 @@ class _Balance:
         self.evaluations = 0
         Q = inputs.vertical_load_N
         self.ctx = []
-        for c in found.candidates:
+        patch_mm = patch_mm or {}
+        for k, c in enumerate(found.candidates):
             cg, sg = math.cos(c.contact_angle_rad), math.sin(c.contact_angle_rad)
             require(cg > 0.05, case, "a contact normal is (nearly) horizontal: the wheel cannot carry a vertical "
                     "load there")
             prob = _problem(c, sign, inputs, Q / cg)
-            pair, coords, clamped = _layer_pair(c, sign, prob, layers, f_cap_mm)
-            self.ctx.append(_Candidate(c, pair, coords, clamped, cg, sg, NormalForceEvaluator(prob, pair), sign))
+            pair, coords, clamped = _layer_pair(c, sign, prob, layers, f_cap_mm, patch_mm.get(k))
+            self.ctx.append(_Candidate(c, pair, coords, clamped, cg, sg, NormalForceEvaluator(prob, pair), sign,
+                                       layer_patch_mm=patch_mm.get(k)))
 
     # -- one candidate at a force
     def load(self, ctx: _Candidate, force: float) -> _Loaded:
@@ -587,6 +608,11 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
                  layers: WheelRailLayers, sign: int, case: str, f_cap_mm: float) -> WheelRailSolution:
     balance = _Balance(found, rail, wheel_profile, inputs, layers, sign, case, f_cap_mm)
     loaded, Delta, iterations = balance.solve()
+    scaling_solves = 0
+    if layers.scale_to_patch:
+        balance, loaded, Delta, iterations, scaling_solves = _scale_to_patches(
+            balance, loaded, Delta, iterations, lambda sizes: _Balance(found, rail, wheel_profile, inputs, layers,
+                                                                       sign, case, f_cap_mm, sizes), case)
     patches = []
     for lp in loaded:
         ctx = lp.ctx
@@ -606,7 +632,8 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
                               coords.get("rail"), coords.get("wheel"),
                               {} if not records else {k: np.asarray(v) for k, v in
                                                       records[-1].cumulative_residual_mm.items()}, clamped,
-                              reference=lp.ref)
+                              reference=lp.ref, layer_patch_mm=ctx.layer_patch_mm,
+                              layer_scaling_solves=scaling_solves)
         patch.pass_normals = list(holder) if pair is not None else [sol]
         if pair is not None:
             _check_coverage(patch, layers)
@@ -622,6 +649,31 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
     unloaded = [c for c in found.candidates if all(c is not p.candidate for p in patches)]
     return WheelRailSolution(inputs, found, rail, patches, float(Delta), rel, unloaded, wheel_profile,
                              balance_iterations=iterations)
+
+
+def _patch_sizes(balance: _Balance, loaded: list[_Loaded]) -> dict[int, tuple[float, float]]:
+    """Candidate index -> solved semi-axes (a, b) = (length/2, width/2) (mm) of every loaded candidate."""
+    index = {id(ctx): k for k, ctx in enumerate(balance.ctx)}
+    return {index[id(lp.ctx)]: (0.5 * lp.normal.length_mm, 0.5 * lp.normal.width_mm) for lp in loaded}
+
+
+def _scale_to_patches(balance: _Balance, loaded: list[_Loaded], Delta: float, iterations: int, rebuild, case: str):
+    """Fixed point of ``scale_to_patch`` (module docstring): rebuild the balance with each loaded candidate's table
+    layers scaled to its solved patch until no a or b changes by more than PATCH_SCALING_TOLERANCE. Returns
+    (balance, loaded, Delta, iterations summed over the balances, balances solved with scaled layers)."""
+    sizes = _patch_sizes(balance, loaded)
+    for solves in range(1, PATCH_SCALING_ITERATIONS + 1):
+        balance = rebuild(sizes)
+        loaded, Delta, its = balance.solve()
+        iterations += its
+        new = _patch_sizes(balance, loaded)
+        change = max((abs(n / o - 1.0) for k in new for n, o in zip(new[k], sizes.get(k, (math.inf, math.inf)))),
+                     default=0.0)
+        if change <= PATCH_SCALING_TOLERANCE and new.keys() == sizes.keys():
+            return balance, loaded, Delta, iterations, solves
+        sizes = new
+    raise ConvergenceError(f"{case}: layers.scale_to_patch: the patch sizes did not settle within "
+                           f"{PATCH_SCALING_ITERATIONS} balances (last change {change:.3g}, relative)")
 
 
 def _tangential(sol: NormalSolution, kin: PatchKinematics, inputs: WheelRailInputs,

@@ -1,6 +1,7 @@
 """The wear loop: linearity in distance, mass balance, inelastic saturation, mirror symmetry, read-back, stops."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -353,3 +354,21 @@ def test_exact_normal_method_runs_the_loop(make_scene):
         assert b["wear_max_mm"] > 0 and b["inelastic_max_mm"] > 0
         assert b["worn_area_mm2"] == pytest.approx(a["worn_area_mm2"], rel=0.3)
     assert ex.conditions[0]["patches"][0]["p_max_MPa"] != kp.conditions[0]["patches"][0]["p_max_MPa"]
+
+
+def test_wear_loop_keeps_scale_to_patch_and_hardened_tables_scale(make_scene):
+    from contact.layer.layer_table import LayerTable
+    from contact.wear.layer_state import HardenedTable, hardened
+    from contact.wear.loop import side_layers
+
+    scene = make_scene(layers={"scale_to_patch": True}, wear={"layer_state": "hardening"})
+    y = np.array([-10.0, 10.0])
+    layers = side_layers(scene, {("right", "rail"): (y, np.array([900.0, 900.0]))}, "right")
+    assert layers.scale_to_patch
+    assert isinstance(layers.rail, HardenedTable)
+    patch = (3.0, 2.0)
+    got = layers.rail.characteristic_at(0.0, patch_mm=patch)
+    want = hardened(LayerTable.read(Path(__file__).resolve().parents[3] / "scenes" / "tables" / "rail_60E1_default.json").characteristic_at(0.0, patch_mm=patch), 900.0)
+    np.testing.assert_allclose(got.u_mm, want.u_mm, rtol=1e-12)
+    np.testing.assert_allclose(got.p_MPa, want.p_MPa, rtol=1e-12)
+    assert not np.allclose(got.u_mm, layers.rail.characteristic_at(0.0).u_mm)
