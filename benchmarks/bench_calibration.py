@@ -190,13 +190,13 @@ def run(mode: str, out: Path) -> dict:
                       f"{c['seconds']:.1f} | {c['linear_solves']} | {100 * e['first_yield']:+.2f} % | "
                       f"{100 * e['peak_u_pl']:+.2f} % | "
                       f"{' / '.join(f'{100 * x:+.2f}' for x in e['residual_levels'])} % |")
-    e2e = end_to_end_crown(out / "end_to_end")
-    md += ["", "End to end at the 60E1 crown (100 kN, rail layer of scenes/tables/rail_60E1_default.json): contact "
+    e2e = end_to_end(out / "end_to_end")
+    md += ["", "End to end on the 60E1 (100 kN, rail layer of scenes/tables/rail_60E1_default.json): contact "
            "solver dent u_p(0) vs the FEM dent under the Hertz pressure of the solver's own patch and p_max:", "",
-           "| characteristic | patch a x b [mm] | p_max [MPa] | contact u_p(0) [µm] | FEM dent [µm] | deviation |",
-           "|---|---|---|---|---|---|"]
+           "| position | characteristic | patch a x b [mm] | p_max [MPa] | contact u_p(0) [µm] | FEM dent [µm] | "
+           "deviation |", "|---|---|---|---|---|---|---|"]
     for r in e2e:
-        md.append(f"| {r['case']} | {r['a_mm']:.2f} x {r['b_mm']:.2f} | {r['p_max_MPa']:.0f} | "
+        md.append(f"| {r['position']} | {r['case']} | {r['a_mm']:.2f} x {r['b_mm']:.2f} | {r['p_max_MPa']:.0f} | "
                   f"{1e3 * r['contact_up0_mm']:.2f} | {1e3 * r['fem_dent_mm']:.2f} | {100 * r['deviation']:+.1f} % |")
     times = make_times(not quick)
     md += ["", f"make calibrate: {json.dumps(times)}", "", f"machine: {json.dumps(machine_info())[:300]}"]
@@ -253,14 +253,22 @@ def convergence_errors(case: dict, ref: dict) -> dict:
             "residual_levels": res.tolist()}
 
 
-def _contact_first_pass(table_path: Path, scale: bool, work: Path, tag: str) -> dict:
-    """The crown scene of scenes/calibrated_layers.toml (100 kN, rolling radius 460 mm, lateral 300 mm) with the
-    rail table's layer at y = 0 as the only layer (``scale_to_patch`` = ``scale``), one pass: the first pass's
-    result (patch, p_max, u_p(0))."""
+#: Issue 12, item 7: positions of the end-to-end check: (label, rail position y (mm), combined lateral radius (mm),
+#: rolling radius (mm)) at 100 kN. The crown is the geometry of scenes/calibrated_layers.toml (rail crown R300 on a
+#: flat tread); y = -15 mm (the 60E1's R80 region) takes the curvatures the table records there:
+#: 1 / (k_y + k_y,mate) = 1 / (0.0125 - 0.008168) and 1 / (k_x + k_x,mate) = 1 / 0.0021684 per mm.
+END_TO_END_POSITIONS = (("crown y = 0", 0.0, 300.0, 460.0), ("y = -15 mm (R80)", -15.0, 230.8, 461.2))
+
+
+def _contact_first_pass(table_path: Path, scale: bool, work: Path, tag: str, y_mm: float = 0.0,
+                        lateral_radius_mm: float = 300.0, rolling_radius_mm: float = 460.0) -> dict:
+    """A one-pass scene at 100 kN with the rail table's layer at ``y_mm`` as the only layer (``scale_to_patch`` =
+    ``scale``) on the separation y^2 / (2 R_lateral) and the rolling radius given: the first pass's result (patch,
+    p_max, u_p(0)). The defaults are the crown scene of scenes/calibrated_layers.toml."""
     toml = "\n".join([
-        f'title = "end to end {tag}"', "[load]", "normal_force_N = 100000.0", "rolling_radius_mm = 460.0",
-        "[material]", "E_MPa = 210000.0", "poisson = 0.3", "[separation]", "lateral_radius_mm = 300.0",
-        "half_width_mm = 25.0", "[layer.rail]", f'table = "{table_path}"', "position_mm = 0.0",
+        f'title = "end to end {tag}"', "[load]", "normal_force_N = 100000.0", f"rolling_radius_mm = {rolling_radius_mm}",
+        "[material]", "E_MPa = 210000.0", "poisson = 0.3", "[separation]", f"lateral_radius_mm = {lateral_radius_mm}",
+        "half_width_mm = 25.0", "[layer.rail]", f'table = "{table_path}"', f"position_mm = {y_mm}",
         f"scale_to_patch = {'true' if scale else 'false'}", "[passes]", "max = 1", "[method]", "alpha = 0.55",
         "grid_mm = 0.1", ""])
     work.mkdir(parents=True, exist_ok=True)
@@ -270,9 +278,9 @@ def _contact_first_pass(table_path: Path, scale: bool, work: Path, tag: str) -> 
     return json.loads((work / tag / "result.json").read_text())["passes"][0]
 
 
-def _fem_dent_mm(a_mm: float, b_mm: float, p0_MPa: float) -> float:
-    """FEM residual dent (mm) of the 60E1 crown after the Hertz pressure p0 on the a x b patch (default 3D mesh
-    and material, support 35 mm below)."""
+def _fem_dent_mm(a_mm: float, b_mm: float, p0_MPa: float, y_mm: float = 0.0) -> float:
+    """FEM residual dent (mm) of the 60E1 at ``y_mm`` after the Hertz pressure p0 on the a x b patch (default 3D
+    mesh and material, support 35 mm below)."""
     from calibration.config import load_config, material_of
     from calibration.fem.assembly import discretise
     from calibration.fem.elastoplastic_solver import SolverOptions, solve_load_path
@@ -284,11 +292,11 @@ def _fem_dent_mm(a_mm: float, b_mm: float, p0_MPa: float) -> float:
 
     cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")
     rail = get_profile("60E1")
-    geo = given_geometry(rail, 0.0, a_mm, b_mm)
+    geo = given_geometry(rail, y_mm, a_mm, b_mm)
     mesh = build_mesh(rail, geo, "3d", cfg.mesh)
     disc = discretise(mesh, cfg.mesh.order)
     bc = add_support_boundary(mesh, cfg.mesh.rail_support_below_mm)
-    load = HertzLoad(0.0, b_mm, a_mm, z0_mm=geo.z_mm)
+    load = HertzLoad(geo.y_mm, b_mm, a_mm, z0_mm=geo.z_mm)
     opts = SolverOptions(dirichlet=bc, max_increment_MPa=150.0, rtol=1e-6, etol=1e-8, max_unload_increment_MPa=p0_MPa)
     with limited_threads(1):
         peak = solve_load_path(mesh, material_of(cfg.bodies[0]), load, [p0_MPa], disc=disc, options=opts)
@@ -297,20 +305,22 @@ def _fem_dent_mm(a_mm: float, b_mm: float, p0_MPa: float) -> float:
     return float(unl.history[-1].u_centre_mm)
 
 
-def end_to_end_crown(work: Path) -> list[dict]:
-    """Issue 12, item 7: the contact solver's residual dent u_p(0) at the crown (rail layer of the shipped 3D
-    table) against the FEM dent under the Hertz pressure of the contact solver's own patch (a = length/2,
-    b = width/2) and peak pressure; without scaling, and with the scene key ``scale_to_patch = true`` (the
+def end_to_end(work: Path, positions=END_TO_END_POSITIONS) -> list[dict]:
+    """Issue 12, item 7: the contact solver's residual dent u_p(0) (rail layer of the shipped 3D table) against the
+    FEM dent under the Hertz pressure of the contact solver's own patch (a = length/2, b = width/2) and peak
+    pressure, at each of ``positions``; without scaling, and with the scene key ``scale_to_patch = true`` (the
     characteristic scaled to the solver's own patch by a fixed point, contact.scenes.simulation)."""
     table_path = ROOT / "scenes" / "tables" / "rail_60E1_default.json"
-    first = _contact_first_pass(table_path, False, work, "unscaled")
-    scaled = _contact_first_pass(table_path, True, work, "scaled")
     rows = []
-    for name, p in (("calibrated patch, not scaled", first), ("scaled to its own patch", scaled)):
-        a, b = p["length_mm"] / 2, p["width_mm"] / 2
-        dent = _fem_dent_mm(a, b, p["p_max_MPa"])
-        rows.append({"case": name, "a_mm": a, "b_mm": b, "p_max_MPa": p["p_max_MPa"], "contact_up0_mm": p["up0_mm"],
-                     "fem_dent_mm": dent, "deviation": p["up0_mm"] / dent - 1.0})
+    for label, y, r_lat, r_roll in positions:
+        tag = "crown" if y == 0.0 else f"y{y:g}"
+        for name, scale in (("calibrated patch, not scaled", False), ("scaled to its own patch", True)):
+            p = _contact_first_pass(table_path, scale, work, f"{tag}_{'scaled' if scale else 'unscaled'}", y, r_lat,
+                                    r_roll)
+            a, b = p["length_mm"] / 2, p["width_mm"] / 2
+            dent = _fem_dent_mm(a, b, p["p_max_MPa"], y)
+            rows.append({"position": label, "y_mm": y, "case": name, "a_mm": a, "b_mm": b, "p_max_MPa": p["p_max_MPa"],
+                         "contact_up0_mm": p["up0_mm"], "fem_dent_mm": dent, "deviation": p["up0_mm"] / dent - 1.0})
     return rows
 
 
