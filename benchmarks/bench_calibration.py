@@ -190,6 +190,18 @@ def run(mode: str, out: Path) -> dict:
                       f"{c['seconds']:.1f} | {c['linear_solves']} | {100 * e['first_yield']:+.2f} % | "
                       f"{100 * e['peak_u_pl']:+.2f} % | "
                       f"{' / '.join(f'{100 * x:+.2f}' for x in e['residual_levels'])} % |")
+    same_p = mesh_convergence_same_pressure() if not quick else []
+    if same_p:
+        md += ["", "Default mesh against the finer references at the SAME ABSOLUTE pressures (the reference's load path "
+               "scaled by p_y(default) / p_y(reference): same unloading peaks and peak pressure; u_pl at the default's "
+               "levels above 1.2 p_y, reference interpolated log-log):", "",
+               "| position | dofs (default / ref) | first yield | peak u_pl | max u_pl at the levels | residual dents at "
+               "the same peaks |", "|---|---|---|---|---|---|"]
+        for r in same_p:
+            e = r["errors"]
+            md.append(f"| {r['position']} | {r['case']['n_dofs']} / {r['ref']['n_dofs']} | {100 * e['first_yield']:+.2f} % "
+                      f"| {100 * e['peak_u_pl']:+.2f} % | {100 * e['u_pl_levels_max']:.2f} % | "
+                      f"{' / '.join(f'{100 * x:+.2f}' for x in e['residual_levels'])} % |")
     e2e = end_to_end(out / "end_to_end")
     md += ["", "End to end on the 60E1 (100 kN, rail layer of scenes/tables/rail_60E1_default.json): contact "
            "solver dent u_p(0) vs the FEM dent under the Hertz pressure of the solver's own patch and p_max:", "",
@@ -202,7 +214,8 @@ def run(mode: str, out: Path) -> dict:
     md += ["", f"make calibrate: {json.dumps(times)}", "", f"machine: {json.dumps(machine_info())[:300]}"]
     return {"title": "Calibration: fit error vs N, 2D vs 3D, make calibrate times", "markdown": "\n".join(md),
             "figures": [str(f) for f in figures],
-            "data": {"fit_vs_n": rows, "models": comp, "times": times, "convergence": conv, "end_to_end": e2e}}
+            "data": {"fit_vs_n": rows, "models": comp, "times": times, "convergence": conv,
+                     "convergence_same_pressure": same_p, "end_to_end": e2e}}
 
 
 #: The three positions of the convergence study (issue 12): crown, gauge corner, wheel flange root.
@@ -251,6 +264,58 @@ def convergence_errors(case: dict, ref: dict) -> dict:
             "peak_u_pl": upl[-1] / upl_ref[-1] - 1.0,
             "u_pl_levels_max": float(np.max(np.abs(upl[above] / upl_ref[above] - 1.0))),
             "residual_levels": res.tolist()}
+
+
+def _loglog_interp(x, xp, fp):
+    """Interpolate a positive, steeply growing curve (u_pl against p0) linearly in log-log coordinates."""
+    xp, fp = np.asarray(xp, dtype=float), np.asarray(fp, dtype=float)
+    ok = (xp > 0) & (fp > 0)
+    return np.exp(np.interp(np.log(np.asarray(x, dtype=float)), np.log(xp[ok]), np.log(fp[ok])))
+
+
+def convergence_at_same_pressure(body: str, y_mm: float, mesh_kw: dict, ref_mesh_kw: dict) -> dict:
+    """Issue 12, item 3, compared at the same ABSOLUTE pressures (what the contact solver reads from a table: u(p)
+    in MPa): the case ``mesh_kw`` runs the default load path (levels and unloading peaks at multiples of its own
+    p_y); the reference ``ref_mesh_kw`` runs a load path scaled by r = p_y(case) / p_y(ref) (max_factor and
+    unload_factors x r), so that it unloads from the same absolute peaks and reaches the same peak pressure.
+    Returns both runs and the deviations: first yield, peak u_pl (same p0), residual dents (same peaks), the
+    largest deviation of u_pl at the case's load levels above 1.2 p_y (reference interpolated in log-log)."""
+    from calibration.config import load_config
+
+    load = load_config(ROOT / "calibration" / "configs" / "default.toml").load
+    case = convergence_case(body, y_mm, mesh_kw)
+    probe = convergence_case(body, y_mm, ref_mesh_kw, {"max_factor": 1.01, "n_levels": 1, "unload_factors": [1.01]})
+    r = case["first_yield_MPa"] / probe["first_yield_MPa"]
+    ref = convergence_case(body, y_mm, ref_mesh_kw, {"max_factor": load.max_factor * r,
+                                                     "unload_factors": [f * r for f in load.unload_factors]})
+    p_case = np.asarray(case["p_factor"]) * case["first_yield_MPa"]
+    p_ref = np.asarray(ref["p_factor"]) * ref["first_yield_MPa"]
+    above = np.asarray(case["p_factor"]) > 1.2
+    upl_case = np.asarray(case["u_pl_mm"])
+    upl_ref = _loglog_interp(p_case[above], p_ref, ref["u_pl_mm"])
+    peaks_case = np.asarray(case["peak_factor"]) * case["first_yield_MPa"]
+    peaks_ref = np.asarray(ref["peak_factor"]) * ref["first_yield_MPa"]
+    return {"case": case, "ref": ref, "ratio_p_y": r,
+            "peak_pressures_MPa": {"case": peaks_case.tolist(), "ref": peaks_ref.tolist()},
+            "errors": {"first_yield": r - 1.0,
+                       "peak_u_pl": float(upl_case[-1] / upl_ref[-1] - 1.0),
+                       "u_pl_levels_max": float(np.max(np.abs(upl_case[above] / upl_ref - 1.0))),
+                       "residual_levels": (np.asarray(case["residual_fem_mm"])
+                                           / np.asarray(ref["residual_fem_mm"]) - 1.0).tolist()}}
+
+
+#: The finer references of the convergence study (isotropic, elements per semi-axis): 6 at the crown, 8 at the
+#: conforming positions (docs/calibration.md, "Mesh convergence").
+CONVERGENCE_REFERENCES = {0.0: 6, -35.0: 8, -37.5: 8}
+
+
+def mesh_convergence_same_pressure(default_kw: dict | None = None) -> list[dict]:
+    """:func:`convergence_at_same_pressure` of the default mesh against the isotropic references at the three
+    CONVERGENCE_POSITIONS."""
+    default_kw = default_kw or {}
+    return [{"position": name, **convergence_at_same_pressure(
+        body, y, default_kw, {"elements_per_semi_axis": CONVERGENCE_REFERENCES[y], "style": "isotropic"})}
+            for body, y, name in CONVERGENCE_POSITIONS]
 
 
 #: Issue 12, item 7: positions of the end-to-end check: (label, rail position y (mm), combined lateral radius (mm),
