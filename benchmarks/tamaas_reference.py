@@ -145,8 +145,9 @@ def solve(settings: TamaasSettings, verbose: bool = False) -> dict:
     zone / a (cumulated plastic strain > 0, and z_top_thr / z_bottom_thr > threshold), n_plastic, reverse-yield check: max increase of cumulated plastic strain during the unloading,
     hardening check: largest |von Mises - (Y + H eps_p_cum)| / Y over the points yielding in the last step;
     equivalent-strain check: largest |eps_p_cum - |eps_p_zz|| on the axis / max eps_p_cum there),
-    ``grid`` and ``time_s``. Raises ImportError when Tamaas is not installed, RuntimeError when the plastic
-    zone reaches the bottom of the layer (Lz too small)."""
+    ``grid``, ``time_s`` and ``stopped`` (None, or why the path stopped early: the plastic zone reached the
+    bottom of the layer, Lz too small; the levels above are then missing). Raises ImportError when Tamaas is not
+    installed."""
     import tamaas as tm
     from tamaas.nonlinear_solvers import DFSANECXXSolver
 
@@ -208,6 +209,7 @@ def solve(settings: TamaasSettings, verbose: bool = False) -> dict:
     last_elastic = 0.0
     rows = []
     step_log = []
+    stopped = None
     for f in load_steps(s.levels_Y, s.step_Y, s.start_Y, s.probe_Y):
         t0 = time.perf_counter()
         cum_before = np.array(model["cumulated_plastic_strain"])
@@ -224,8 +226,9 @@ def solve(settings: TamaasSettings, verbose: bool = False) -> dict:
             else:
                 last_elastic = f
         if np.isfinite(bottom) and bottom >= z_a[-1] - 1.5 * dz_a:
-            raise RuntimeError(f"plastic zone reaches the bottom of the layer (z = {bottom:.3f} a) at p0 = {f} Y: "
-                               f"increase depth_a")
+            stopped = (f"plastic zone reaches the bottom of the layer (z = {bottom:.3f} a) at p0 = {f:g} Y: "
+                       "load path stopped there (increase depth_a)")
+            break
         step_log.append({"p0_over_Y": f, "time_s": time.perf_counter() - t0})
         if verbose:
             print(f"  tamaas p0 = {f:.3f} Y: zone {top:.3f}-{bottom:.3f} a, {count} points, "
@@ -259,4 +262,4 @@ def solve(settings: TamaasSettings, verbose: bool = False) -> dict:
     return {"settings": dataclasses.asdict(s), "tamaas_version": tamaas_version(),
             "grid": {"n_xy": n, "n_z": nz, "dx_mm": s.dx_a * a, "unknowns": int(nz * n * n * 6)},
             "elastic": elastic, "onset_Y": list(onset) if onset else None, "levels": rows,
-            "steps": step_log, "time_s": time.perf_counter() - t_start}
+            "steps": step_log, "stopped": stopped, "time_s": time.perf_counter() - t_start}
