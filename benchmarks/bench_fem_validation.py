@@ -251,7 +251,7 @@ def _plot(cases: dict, elastic: dict, hs, ref_fy: float, ref_depth: float, tam: 
     ax[1].set_xlabel("p0 / Y [-]")
     ax[1].set_ylabel("plastic zone depth / a [-]")
     ax[1].set_title("plastic zone: top and bottom (dashed: first yield)")
-    ax[1].legend(fontsize=6, ncol=2, loc="center right")
+    ax[1].legend(fontsize=6, ncol=2, loc="lower left")
     ax[2].set_xlabel("p0 / Y [-]")
     ax[2].set_ylabel("centre displacement x E / (Y a) [-]")
     ax[2].set_title("inelastic centre displacement and residual dent")
