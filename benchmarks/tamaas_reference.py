@@ -21,8 +21,9 @@ How the library is driven (Tamaas 2.9, read from its Python sources and docstrin
   into the body.
 * ``Residual`` solves eps - grad N[sigma_eig(eps)] - grad M[t] = 0 for the strain INCREMENT of the step, with the
   traction field holding the traction INCREMENT; ``EPSolver.updateState()`` commits the increment to the model
-  fields 'strain', 'plastic_strain', 'cumulated_plastic_strain', 'stress'. (So the traction field must hold the
-  increment, as Tamaas' own ``EPICSolver`` does; writing the full pressure at every step would apply it again.)
+  fields 'strain', 'plastic_strain', 'cumulated_plastic_strain', 'stress'. (Checked on L = 4 a, dx = a/8: the
+  steps 1.5, 1.6, ..., 2.0 Y with increments give a dent of 0.707 µm, one step 0 -> 2.0 Y 0.718 µm; writing the
+  full pressure at every step applies it again and gives 2.9 mm.)
 * The inelastic (residual) surface displacement is the Mindlin operator applied to the eigenstress C : eps_p of
   the committed total plastic strain; it equals the sum of the step increments the solver reports (checked).
   The elastic part is linear in p0 and is not needed: u_pl = u - c_el p0 is exactly this residual part.
