@@ -247,7 +247,8 @@ def _plot(cases: dict, elastic: dict, hs, ref_fy: float, ref_depth: float, tam: 
                    label=f"Tamaas {SHORT[name]}: dent")
     ax[1].axvline(ref_fy, color="k", lw=0.8, ls="--")
     ax[1].axhline(ref_depth, color="grey", lw=0.8, ls="--")
-    ax[1].invert_yaxis()
+    deepest = max((r["z_bottom"] for rows in cases.values() for r in rows if np.isfinite(r["z_bottom"])), default=1.0)
+    ax[1].set_ylim(deepest + 1.0, -0.05)  # room below the data for the legend
     ax[1].set_xlabel("p0 / Y [-]")
     ax[1].set_ylabel("plastic zone depth / a [-]")
     ax[1].set_title("plastic zone: top and bottom (dashed: first yield)")
