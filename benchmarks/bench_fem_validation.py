@@ -3,17 +3,20 @@
 Problem (units mm, N, MPa): quarter block 20 mm (unstructured gmsh P2 tetrahedra, element size h within 1.5 mm of
 the load centre), circular Hertz pressure p0 sqrt(1 - (r/a)^2) with a = 1 mm, far faces clamped, symmetry planes
 x = 0 and y = 0; steel E = 210 GPa, nu = 0.3, Y = 500 MPa, either elastic-perfectly plastic or with the
-calibration's linear hardening (H_iso = H_kin = 10 GPa, `calibration/configs/default.toml`). The pressure is
+calibration's linear hardening (H_iso = H_kin = 10 GPa, `calibration/configs/default.toml`), or isotropic
+hardening only (H_iso = 10 GPa, H_kin = 0, for the comparison with Tamaas). The pressure is
 prescribed (no indenter): p0 rises to the levels below in steps of at most 0.1 Y, and the body is
 unloaded to zero from some of them (one step, restarted from the loaded state).
 
-Independent reference: the closed-form Hertz stresses on the load axis (K. L. Johnson, Contact Mechanics,
+Independent references: (1) the closed-form Hertz stresses on the load axis (K. L. Johnson, Contact Mechanics,
 Cambridge University Press 1985, eq. 3.45, p. 62; evaluated by
-`calibration.fem.verification_meshes.hertz_axis_first_yield`) give the pressure and depth of first yield. A
-published table or figure of the ELASTIC-PLASTIC response under a prescribed Hertz pressure (residual dent,
-plastic-zone depth, load at which the plastic zone reaches the surface, against p0/Y) was searched for and not
-found in a form that could be read (see docs/calibration.md, "Validation against an independent reference");
-those rows give our converged values and say "not found" in the published column.
+`calibration.fem.verification_meshes.hertz_axis_first_yield`) give the pressure and depth of first yield; (2) the
+elastic-plastic response (residual dent, plastic-zone top and bottom) is compared with the same load path solved
+by Tamaas, the Fourier-accelerated volume-integral method of Frérot, Bonnet, Molinari & Anciaux (CMAME 351, 951,
+2019; `benchmarks/tamaas_reference.py`), for elastic-perfectly plastic and isotropic hardening (H_iso = 10 GPa,
+H_kin = 0; Tamaas has no kinematic hardening, so the calibration's mixed hardening keeps "—"). No published table
+or figure of this response could be read (docs/calibration.md, "Validation against an independent reference").
+If Tamaas is not installed, the report says so and gives the FEM values alone.
 """
 
 from __future__ import annotations
@@ -43,7 +46,15 @@ FINE_MM = 1.5
 MATERIALS = {
     "elastic-perfectly plastic": J2Material(210000.0, 0.3, Y_MPA),
     "linear hardening (H_iso = H_kin = 10 GPa)": J2Material(210000.0, 0.3, Y_MPA, 10000.0, 10000.0),
+    "isotropic hardening (H_iso = 10 GPa, H_kin = 0)": J2Material(210000.0, 0.3, Y_MPA, 10000.0, 0.0),
 }
+#: short names of the materials in the tables
+SHORT = {"elastic-perfectly plastic": "EPP", "linear hardening (H_iso = H_kin = 10 GPa)": "hardening",
+         "isotropic hardening (H_iso = 10 GPa, H_kin = 0)": "iso. hardening"}
+#: Tamaas hardening modulus (MPa) of the materials it can model (isotropic hardening only)
+TAMAAS_HARDENING = {"elastic-perfectly plastic": 0.0, "isotropic hardening (H_iso = 10 GPa, H_kin = 0)": 10000.0}
+#: p0 / Y compared with Tamaas (quick; full adds 3.4)
+TAMAAS_LEVELS = (2.0, 2.6, 3.0)
 DIRICHLET = {"fixed": [0, 1, 2], "side": [0, 1, 2], "symmetry": [0], "sym_y": [1]}
 LOAD = HertzLoad(0.0, A_MM, a_mm=A_MM)
 #: largest load step (x Y) on the way up
@@ -54,6 +65,8 @@ LEVELS_Y = (1.8, 2.0, 2.2, 2.4, 2.6, 2.8, 3.0)
 UNLOAD_Y = (2.0, 2.6, 3.0)
 #: depth (x a) whose crossing by the top of the plastic zone is reported (the zone rises towards the surface)
 TOP_DEPTH = 0.1
+#: second plastic-zone threshold (equivalent plastic strain), reported beside "> 0" for both FEM and Tamaas
+ZONE_THRESHOLD = 1e-5
 #: report rows: key -> (label, scale, format)
 ROW_KEYS = {"z_top": ("plastic zone top z / a", 1.0, "{:.3f}"),
             "z_bottom": ("plastic zone bottom z / a", 1.0, "{:.3f}"),
@@ -61,15 +74,15 @@ ROW_KEYS = {"z_top": ("plastic zone top z / a", 1.0, "{:.3f}"),
             "dent_mm": ("residual dent [µm]", 1000.0, "{:.3f}")}
 
 
-def plastic_zone(disc, state) -> dict:
-    """Extent of the yielded region (quadrature points with equivalent plastic strain > 0), lengths / a.
+def plastic_zone(disc, state, threshold: float = 0.0) -> dict:
+    """Extent of the yielded region (quadrature points with equivalent plastic strain > ``threshold``), lengths / a.
 
     z_top / z_bottom: smallest / largest depth of a yielded point; r_max: largest distance from the load axis;
     volume: yielded volume of the whole (4 x quarter) model / a^3. Resolution: the quadrature points, i.e. a
     fraction of the element size h (no point lies on the surface: the top cannot be closer than about 0.1 h).
     """
     x = disc.qp_coordinates()
-    yielded = state.eq_plastic_strain > 0
+    yielded = state.eq_plastic_strain > threshold
     if not yielded.any():
         return {"z_top": float("nan"), "z_bottom": float("nan"), "r_max": float("nan"), "volume": 0.0}
     depth = -x[2][yielded]
@@ -114,8 +127,9 @@ def load_path(disc, mesh, material: J2Material, levels_y, unload_y, step_y: floa
         res = solve_load_path(mesh, material, LOAD, [p0], options=opts, disc=disc, initial_state=state)
         state = res.state
         u = res.history[-1].u_centre_mm
+        zone_thr = plastic_zone(disc, state, ZONE_THRESHOLD)
         row = {"p0_over_Y": f, "u_mm": u, "u_pl_mm": u - c_el * p0, "newton": sum(i.newton_iters for i in res.history),
-               **plastic_zone(disc, state)}
+               **plastic_zone(disc, state), "z_top_thr": zone_thr["z_top"], "z_bottom_thr": zone_thr["z_bottom"]}
         if any(abs(f - g) < 1e-9 for g in unload_y):
             un = solve_load_path(mesh, material, LOAD, [0.0], options=opts, disc=disc, initial_state=state)
             row["dent_mm"] = un.history[-1].u_centre_mm
@@ -139,7 +153,58 @@ def _pct(a: float, b: float) -> float:
     return (a / b - 1.0) * 100.0
 
 
-def _plot(cases: dict, elastic: dict, hs, ref_fy: float, ref_depth: float, out: pathlib.Path) -> pathlib.Path:
+def _grid_label(g: dict) -> str:
+    return f"L = {g['period_a']:g} a, dx = a/{round(1 / g['dx_a'])}, Lz = {g['depth_a']:g} a"
+
+
+def tamaas_reference(quick: bool) -> dict:
+    """Solve the same load path with Tamaas (``benchmarks/tamaas_reference.py``) for the materials it can model
+    (EPP, isotropic hardening) on the grids of ``TAMAAS_GRIDS``. Returns {"available": False, "reason": ...} when
+    Tamaas cannot be imported; a run that raises is recorded with its error instead of stopping the benchmark."""
+    from benchmarks import tamaas_reference as tr
+
+    version = tr.tamaas_version()
+    if version is None:
+        return {"available": False, "reason": "the Python package `tamaas` is not importable here "
+                "(it is in the `bench` extra: `pip install -e '.[bench]'`)"}
+    grids = TAMAAS_GRIDS["quick" if quick else "full"]
+    levels = TAMAAS_LEVELS if quick else TAMAAS_LEVELS + (3.4,)
+    runs = {}
+    for name, hard in TAMAAS_HARDENING.items():
+        for i, g in enumerate(grids):
+            st = tr.TamaasSettings(**g, hardening_MPa=hard, levels_Y=levels, unload_Y=levels, step_Y=STEP_Y,
+                                   threshold=ZONE_THRESHOLD)
+            try:
+                runs[(name, i)] = tr.solve(st)
+            except Exception as exc:  # reported in the table, the FEM part still stands
+                runs[(name, i)] = {"error": f"{type(exc).__name__}: {exc}"}
+    return {"available": True, "version": version, "grids": grids, "runs": runs, "citation": tr.CITATION}
+
+
+#: Tamaas grids (lengths / a): the first is the reference of the tables, the others give its grid difference
+TAMAAS_GRIDS = {"quick": [{"period_a": 8.0, "dx_a": 1 / 8, "depth_a": 2.0}],
+                "full": [{"period_a": 8.0, "dx_a": 1 / 16, "depth_a": 2.5},
+                         {"period_a": 8.0, "dx_a": 1 / 8, "depth_a": 2.5},
+                         {"period_a": 16.0, "dx_a": 1 / 8, "depth_a": 2.5}]}
+#: compared quantities: key -> (label, FEM key, FEM scale to the Tamaas unit, format)
+COMPARE = {"u_pl_um": ("inelastic centre displacement under load u_pl [µm]", "u_pl_mm", 1000.0, "{:.3f}"),
+           "dent_um": ("residual dent after unloading [µm]", "dent_mm", 1000.0, "{:.3f}"),
+           "z_top": ("plastic zone top z / a (eps_p > 0)", "z_top", 1.0, "{:.3f}"),
+           "z_bottom": ("plastic zone bottom z / a (eps_p > 0)", "z_bottom", 1.0, "{:.3f}"),
+           "z_top_thr": (f"plastic zone top z / a (eps_p > {ZONE_THRESHOLD:g})", "z_top_thr", 1.0, "{:.3f}"),
+           "z_bottom_thr": (f"plastic zone bottom z / a (eps_p > {ZONE_THRESHOLD:g})", "z_bottom_thr", 1.0,
+                            "{:.3f}")}
+
+
+def _tamaas_row(tam: dict, name: str, grid: int, f: float) -> dict | None:
+    run = tam.get("runs", {}).get((name, grid)) if tam.get("available") else None
+    if not run or "error" in run:
+        return None
+    return next((r for r in run["levels"] if abs(r["p0_over_Y"] - f) < 1e-9), None)
+
+
+def _plot(cases: dict, elastic: dict, hs, ref_fy: float, ref_depth: float, tam: dict,
+          out: pathlib.Path) -> pathlib.Path:
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.6))
     zeta = np.linspace(1e-4, 3.0, 400)
     nu = 0.3
@@ -155,13 +220,13 @@ def _plot(cases: dict, elastic: dict, hs, ref_fy: float, ref_depth: float, out: 
     ax[0].set_ylabel("depth z / a [-]")
     ax[0].set_title(f"elastic: first yield p0 = {ref_fy:.3f} Y at z = {ref_depth:.3f} a")
     ax[0].legend(fontsize=8)
-    colours = {"elastic-perfectly plastic": "C0", "linear hardening (H_iso = H_kin = 10 GPa)": "C3"}
+    colours = dict(zip(MATERIALS, ("C0", "C3", "C2")))
     for (name, h), rows in cases.items():
         if h not in hs[-2:]:
             continue
         ls = "-" if h == hs[-1] else ":"
         p = [r["p0_over_Y"] for r in rows]
-        lab = f"{'EPP' if 'perfectly' in name else 'hardening'}, h = {h}"
+        lab = f"{SHORT[name]}, h = {h}"
         ax[1].plot(p, [r["z_top"] for r in rows], ls, color=colours[name], marker="v", ms=4, label=lab + ": top")
         ax[1].plot(p, [r["z_bottom"] for r in rows], ls, color=colours[name], marker="^", ms=4, label=lab + ": bottom")
         scale = MATERIALS[name].E_MPa / (Y_MPA * A_MM)
@@ -169,17 +234,29 @@ def _plot(cases: dict, elastic: dict, hs, ref_fy: float, ref_depth: float, out: 
                    label=lab + ": u_pl loaded")
         pd = [(r["p0_over_Y"], r["dent_mm"] * scale) for r in rows if "dent_mm" in r]
         ax[2].plot(*zip(*pd), "x", color=colours[name], ms=8, mew=2 if h == hs[-1] else 1, label=lab + ": dent")
+    for name in TAMAAS_HARDENING:
+        trows = [r for f in (*TAMAAS_LEVELS, 3.4) if (r := _tamaas_row(tam, name, 0, f)) is not None]
+        if not trows:
+            continue
+        p = [r["p0_over_Y"] for r in trows]
+        ax[1].plot(p, [r["z_top"] for r in trows], "D", mfc="none", color=colours[name], ms=8,
+                   label=f"Tamaas {SHORT[name]}: top, bottom")
+        ax[1].plot(p, [r["z_bottom"] for r in trows], "D", mfc="none", color=colours[name], ms=8)
+        scale = MATERIALS[name].E_MPa / (Y_MPA * A_MM * 1000.0)
+        ax[2].plot(p, [r["dent_um"] * scale for r in trows], "D", mfc="none", color=colours[name], ms=9,
+                   label=f"Tamaas {SHORT[name]}: dent")
     ax[1].axvline(ref_fy, color="k", lw=0.8, ls="--")
     ax[1].axhline(ref_depth, color="grey", lw=0.8, ls="--")
-    ax[1].invert_yaxis()
+    deepest = max((r["z_bottom"] for rows in cases.values() for r in rows if np.isfinite(r["z_bottom"])), default=1.0)
+    ax[1].set_ylim(deepest + 1.0, -0.05)  # room below the data for the legend
     ax[1].set_xlabel("p0 / Y [-]")
     ax[1].set_ylabel("plastic zone depth / a [-]")
     ax[1].set_title("plastic zone: top and bottom (dashed: first yield)")
-    ax[1].legend(fontsize=7, ncol=2, loc="center right")
+    ax[1].legend(fontsize=6, ncol=2, loc="lower left")
     ax[2].set_xlabel("p0 / Y [-]")
     ax[2].set_ylabel("centre displacement x E / (Y a) [-]")
     ax[2].set_title("inelastic centre displacement and residual dent")
-    ax[2].legend(fontsize=7)
+    ax[2].legend(fontsize=6)
     for a in ax:
         a.grid(alpha=0.3)
     fig.tight_layout()
@@ -195,6 +272,80 @@ def run(mode: str, out: pathlib.Path) -> dict:
 
     with threadpool_limits(limits=1):
         return _run(mode, out)
+
+
+def _tamaas_markdown(tam: dict, cases: dict, hs, ref_fy: float, ref_depth: float) -> list[str]:
+    """The Tamaas section of the report: verification of the reference and the comparison table."""
+    if not tam.get("available"):
+        return ["", f"**Independent reference (Tamaas): not run** — {tam.get('reason', 'unknown reason')}."]
+    hc, hf = hs[-2:]
+    grids = tam["grids"]
+    md = ["", f"**Independent reference: Tamaas {tam['version']}** ({tam['citation']}); the same prescribed "
+          "pressure, load steps and unloadings, solved by `benchmarks/tamaas_reference.py` on a periodic "
+          "half-space (period L, plastic layer 0 <= z <= Lz, grid spacing dx in x, y and z). Grids: "
+          + "; ".join(f"[{i}] {_grid_label(g)}" for i, g in enumerate(grids))
+          + ". Dent and u_pl are u_z(centre) - u_z(cell corner) (Tamaas) and against the clamped far faces (FEM).",
+          "", "Verification of the reference (elastic field of the grid, Tamaas' operators; onset on the load path):",
+          "", "| grid | first yield p0/Y (grid max) | vs Johnson 1.6128 | depth z/a (axis parabola) | "
+          "max axis |vm - Johnson| / p0 | last elastic / first plastic step p0/Y | time s |", "|---|---|---|---|---|---|---|"]
+    for i, g in enumerate(grids):
+        run = tam["runs"].get(("elastic-perfectly plastic", i), {})
+        if "error" in run:
+            md.append(f"| [{i}] | failed: {run['error']} | | | | | |")
+            continue
+        e = run["elastic"]
+        onset = run["onset_Y"] or ("—", "—")
+        md.append(f"| [{i}] | {e['first_yield_over_Y']:.4f} | {_pct(e['first_yield_over_Y'], ref_fy):+.2f} % | "
+                  f"{e['depth_over_a']:.3f} | {e['axis_vm_max_dev_per_p0']:.4f} | {onset[0]:g} / {onset[1]:g} | "
+                  f"{run['time_s']:.0f} |")
+    for (name, i), run in tam["runs"].items():
+        if run.get("stopped"):
+            md.append(f"\nTamaas {SHORT[name]}, grid [{i}]: {run['stopped']}.")
+    md += ["", f"Comparison (FEM: h = {hf} mm; deviation of the dent: FEM / Tamaas [0] - 1; of the plastic-zone "
+           f"depths: FEM - Tamaas [0] in units of a, resolution Tamaas dz = {grids[0]['dx_a']:g} a (grid layers), "
+           f"FEM about 0.1-0.2 h (quadrature points); FEM mesh diff. = (h = {hc}) / (h = {hf}) - 1 or the "
+           "difference; Tamaas grid diff. = grid [k] against grid [0], same form). Tamaas models isotropic "
+           "hardening only, so the calibration's mixed hardening (H_iso = H_kin) is compared through the "
+           "isotropic-only FEM material; under this monotonic loading and elastic unloading the two laws differ "
+           "by the path (the back stress), not by definition.", "",
+           "| material | p0/Y | quantity | Tamaas [0] | FEM | deviation | FEM mesh diff. |"
+           + "".join(f" Tamaas [{k}] diff. |" for k in range(1, len(grids))),
+           "|---|---|---|---|---|---|---|" + "---|" * (len(grids) - 1)]
+    upl_dent = []
+    for name in TAMAAS_HARDENING:
+        fem_f = {r["p0_over_Y"]: r for r in cases[(name, hf)]}
+        fem_c = {r["p0_over_Y"]: r for r in cases[(name, hc)]}
+        for f in (*TAMAAS_LEVELS, 3.4):
+            t0 = _tamaas_row(tam, name, 0, f)
+            if t0 is None or f not in fem_f:
+                continue
+            if "dent_um" in t0 and "dent_mm" in fem_f[f]:
+                upl_dent += [abs(t0["u_pl_um"] / t0["dent_um"] - 1), abs(fem_f[f]["u_pl_mm"] / fem_f[f]["dent_mm"] - 1)]
+            for key in ("dent_um", "z_top", "z_bottom"):
+                label, fkey, scale, fmt = COMPARE[key]
+                tv, fv = t0.get(key), fem_f[f].get(fkey)
+                if tv is None or fv is None:
+                    continue
+                fv *= scale
+                fcv = fem_c[f][fkey] * scale
+                relative = key == "dent_um"
+
+                def diff(x: float, ref: float) -> str:
+                    return f"{_pct(x, ref):+.1f} %" if relative else f"{x - ref:+.3f} a"
+
+                cells = [SHORT[name], f"{f:g}", label, fmt.format(tv), fmt.format(fv), diff(fv, tv), diff(fcv, fv)]
+                for k in range(1, len(grids)):
+                    tk = _tamaas_row(tam, name, k, f)
+                    cells.append("—" if tk is None else diff(tk[key], tv))
+                md.append("| " + " | ".join(cells) + " |")
+    if upl_dent:
+        rev = max((r.get("unload_reverse_yield", 0.0) for run in tam["runs"].values() if "levels" in run
+                   for r in run["levels"]), default=float("nan"))
+        md += ["", f"Unloading: the loaded inelastic displacement u_pl and the dent differ by at most "
+               f"{max(upl_dent) * 100:.2f} % in both models; largest growth of the Tamaas cumulated plastic strain "
+               f"during an unloading: {rev:.1e}. The zone extents with the threshold eps_p > {ZONE_THRESHOLD:g} "
+               "instead of > 0 are in the JSON data."]
+    return md
 
 
 def _run(mode: str, out: pathlib.Path) -> dict:
@@ -227,15 +378,19 @@ def _run(mode: str, out: pathlib.Path) -> dict:
         for name, mat in MATERIALS.items():
             step_check[name] = load_path(disc, mesh, mat, levels, unload, step_y / 2,
                                          elastic[hs[-2]]["compliance_mm_per_MPa"])
-    fig = _plot(cases, elastic, hs, ref_fy, ref_depth, out)
+    t_tam = time.perf_counter()
+    tam = tamaas_reference(quick)
+    t_tam = time.perf_counter() - t_tam
+    fig = _plot(cases, elastic, hs, ref_fy, ref_depth, tam, out)
 
     hc, hf = hs[-2:]
     md = [__doc__.split("\n\n", 1)[1].strip(), "",
           "Meshes: " + ", ".join(f"h = {h} mm ({meshes[h]['n_dofs']} dofs)" for h in hs)
           + f"; 'mesh diff.' is (h = {hc}) / (h = {hf}) - 1. Wall times: "
           + "; ".join(f"h = {h}: " + ", ".join(f"{k} {v:.0f}" for k, v in meshes[h].items() if k.endswith(" s")
-                                              or k == "setup_s") for h in hs) + " s.", "",
-          "| quantity | published | ours (finest mesh) | deviation | mesh diff. | source |", "|---|---|---|---|---|---|"]
+                                              or k == "setup_s") for h in hs) + f" s; Tamaas {t_tam:.0f} s.", "",
+          "| quantity | published / reference | ours (finest mesh) | deviation | mesh diff. | source |",
+          "|---|---|---|---|---|---|"]
     e_c, e_f = elastic[hc], elastic[hf]
     src = "Johnson (1985) eq. 3.45 (axis stresses), p. 62; evaluated here"
     md.append(f"| first yield p0 / Y (elastic solve) | {ref_fy:.4f} | {e_f['first_yield_over_Y']:.4f} | "
@@ -244,24 +399,39 @@ def _run(mode: str, out: pathlib.Path) -> dict:
     md.append(f"| depth of first yield z / a | {ref_depth:.3f} | {e_f['depth_over_a']:.3f} "
               f"(fit to the points near the axis) | {_pct(e_f['depth_over_a'], ref_depth):+.1f} % | "
               f"{_pct(e_c['depth_over_a'], e_f['depth_over_a']):+.1f} % | {src} |")
+    tam_src = (f"Tamaas {tam['version']} (Frérot et al. 2019), grid [0] {_grid_label(tam['grids'][0])}; run here"
+               if tam.get("available") else "")
     for name in MATERIALS:
         rc, rf = cases[(name, hc)], cases[(name, hf)]
-        short = "EPP" if "perfectly" in name else "hardening"
+        short = SHORT[name]
         tc, tf = top_reaches(rc, TOP_DEPTH), top_reaches(rf, TOP_DEPTH)
         md.append(f"| {short}: p0 / Y at which the plastic zone's top rises to z = {TOP_DEPTH:g} a | not found | "
                   f"{tf:.3f} | — | {_pct(tc, tf):+.1f} % | — |")
         for f, keys in ((2.0, ("z_top", "z_bottom", "volume", "dent_mm")), (2.4, ("z_top",)),
-                        (3.0, ("z_bottom", "volume", "dent_mm"))):
+                        (2.6, ("dent_mm",)), (3.0, ("z_bottom", "volume", "dent_mm"))):
             r_c = next(r for r in rc if abs(r["p0_over_Y"] - f) < 1e-9)
             r_f = next(r for r in rf if abs(r["p0_over_Y"] - f) < 1e-9)
+            t_row = _tamaas_row(tam, name, 0, f) if name in TAMAAS_HARDENING else None
             for key in keys:
                 label, scale, fmt = ROW_KEYS[key]
                 vf, vc = r_f[key], r_c[key]
-                md.append(f"| {short}, p0 = {f:g} Y: {label} | not found | {fmt.format(vf * scale)} | — | "
-                          f"{_pct(vc, vf):+.1f} % | — |")
+                tkey = {"dent_mm": "dent_um"}.get(key, key)
+                if t_row is not None and tkey in t_row:
+                    tv = t_row[tkey] / (1000.0 if key == "dent_mm" else 1.0)
+                    pub, dev, s_ = fmt.format(tv * scale), f"{_pct(vf, tv):+.1f} %", tam_src
+                elif name not in TAMAAS_HARDENING and tam.get("available"):
+                    pub, dev, s_ = "— (Tamaas: isotropic hardening only)", "—", "—"
+                elif tam.get("available"):
+                    pub, dev, s_ = "— (not computed with Tamaas)", "—", "—"
+                else:
+                    pub, dev, s_ = "not found", "—", "—"
+                md.append(f"| {short}, p0 = {f:g} Y: {label} | {pub} | {fmt.format(vf * scale)} | {dev} | "
+                          f"{_pct(vc, vf):+.1f} % | {s_} |")
+    md += _tamaas_markdown(tam, cases, hs, ref_fy, ref_depth)
     md += ["", "Mesh sequence (h in mm; the quantities of the table above):", "",
-           "| h | dofs | first yield p0/Y | EPP dent 2 Y µm | EPP dent 3 Y µm | EPP bottom 3 Y z/a | "
-           "hardening dent 2 Y µm | hardening dent 3 Y µm | hardening bottom 3 Y z/a |", "|---|---|---|---|---|---|---|---|---|"]
+           "| h | dofs | first yield p0/Y | " + " | ".join(f"{SHORT[n]} dent 2 Y µm | {SHORT[n]} dent 3 Y µm | "
+                                                        f"{SHORT[n]} bottom 3 Y z/a" for n in MATERIALS) + " |",
+           "|---|---|---|" + "---|---|---|" * len(MATERIALS)]
     for h in hs:
         cells = [f"{h:g}", str(meshes[h]["n_dofs"]), f"{elastic[h]['first_yield_over_Y']:.4f}"]
         for name in MATERIALS:
@@ -277,7 +447,7 @@ def _run(mode: str, out: pathlib.Path) -> dict:
     for name in MATERIALS:
         for r in cases[(name, hf)]:
             dent = f"{r['dent_mm'] * 1000:.3f}" if "dent_mm" in r else ""
-            md.append(f"| {'EPP' if 'perfectly' in name else 'hardening'} | {r['p0_over_Y']:g} | "
+            md.append(f"| {SHORT[name]} | {r['p0_over_Y']:g} | "
                       f"{r['u_mm'] * 1000:.3f} | {r['u_pl_mm'] * 1000:.3f} | {dent} | {r['z_top']:.3f} | "
                       f"{r['z_bottom']:.3f} | {r['r_max']:.3f} | {r['volume']:.4f} |")
     if step_check:
@@ -287,14 +457,17 @@ def _run(mode: str, out: pathlib.Path) -> dict:
         for name, rows in step_check.items():
             for r, r0 in zip(rows, cases[(name, hc)]):
                 if "dent_mm" in r:
-                    md.append(f"| {'EPP' if 'perfectly' in name else 'hardening'} | {r['p0_over_Y']:g} | "
+                    md.append(f"| {SHORT[name]} | {r['p0_over_Y']:g} | "
                               f"{_pct(r0['dent_mm'], r['dent_mm']):+.2f} % | {_pct(r0['u_pl_mm'], r['u_pl_mm']):+.2f} % |")
+    tam_data = {k: v for k, v in tam.items() if k != "runs"}
+    tam_data["runs"] = {f"{name} | grid {i}": v for (name, i), v in tam.get("runs", {}).items()}
+    tam_data["time_s"] = t_tam
     data = {"reference": {"first_yield_over_Y": ref_fy, "depth_over_a": ref_depth,
                           "source": "Johnson 1985 eq. 3.45 (axis stresses), evaluated numerically"},
             "meshes": {str(h): meshes[h] for h in hs}, "step_Y": step_y,
             "elastic": {str(h): {k: v for k, v in elastic[h].items() if not k.startswith("axis_")} for h in hs},
             "cases": {f"{name} | h={h}": rows for (name, h), rows in cases.items()},
-            "step_check": step_check, "machine": machine_info()}
+            "step_check": step_check, "tamaas": tam_data, "machine": machine_info()}
     json.dumps(data)  # must be serialisable
     return {"title": "FEM validation: elastic-plastic half-space under a Hertz pressure", "markdown": "\n".join(md),
             "figures": [fig], "data": data}
