@@ -51,7 +51,10 @@ class MeshSettings:
     "auto" (extruded when a/b >= AUTO_EXTRUDED_ASPECT, else isotropic) or "extruded" (the section meshed with
     min(a, b) / elements_per_semi_axis in the box's (y, z) extent and extruded along x in structured layers of a / elements_per_semi_axis over 0 <= x <= 1.2 a, unstructured
     beyond: its element count does not grow with a/b; meshes.meshing.extruded_mesh, docs/calibration.md);
-    x_elements_per_semi_axis (extruded only): layers a / x_elements_per_semi_axis instead (None: the same n)."""
+    x_elements_per_semi_axis (extruded only): layers a / x_elements_per_semi_axis instead (None: the same n);
+    "structured": a core |s| <= 1.2 b along the surface arc, refine_depth_factor * b deep along the normal,
+    0 <= x <= 1.2 a, meshed in cells of at most b / n, b / n and a / n (n = elements_per_semi_axis), the rest
+    unstructured (meshes.meshing.structured_core_mesh, docs/calibration.md "Mesh convergence")."""
 
     elements_per_semi_axis: float = 8.0
     h_max_mm: float = 6.0
@@ -68,7 +71,7 @@ class MeshSettings:
 
 
 #: The 3D mesh styles of MeshSettings.style.
-MESH_STYLES = ("isotropic", "extruded", "auto")
+MESH_STYLES = ("isotropic", "extruded", "structured", "auto")
 #: style "auto": the extruded mesh for patches with a/b at least this, the isotropic one below (docs/calibration.md,
 #: "Anisotropic (extruded) mesh": isotropic is cheaper and as accurate at a/b ~ 1.3, extruded is faster and closer
 #: to the finest runs at a/b >= 3.2).
@@ -133,6 +136,13 @@ def build_mesh(profile, geometry: LocalGeometry, model: str, mesh: MeshSettings)
                             refine_radius_mm=1.2 * geometry.b_mm, grading=mesh.grading)
     length = max(mesh.length_factor * geometry.a_mm, 4.0 * geometry.b_mm)
     require(mesh.style in MESH_STYLES, "mesh.style", f"must be one of {MESH_STYLES}, got {mesh.style!r}")
+    if mesh_style(geometry, mesh) == "structured":
+        from meshes.meshing.structured_core_mesh import core_for_contact, structured_core_local_mesh
+
+        core = core_for_contact(geometry.a_mm, geometry.b_mm, mesh.elements_per_semi_axis,
+                                depth_factor=mesh.refine_depth_factor)
+        return structured_core_local_mesh(profile, geometry.y_mm, core, h_max, length_mm=length,
+                                          depth_mm=mesh.depth_mm, order=mesh.order, grading=mesh.grading)
     if mesh_style(geometry, mesh) == "extruded":
         from meshes.meshing.extruded_mesh import extruded_local_mesh
 
