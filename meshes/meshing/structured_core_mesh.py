@@ -40,11 +40,18 @@ SPLINE_POINTS_PER_CELL = 8
 SNAP_MM = 1e-6
 
 
+def graded_nodes(length: float, cells: int, ratio: float) -> np.ndarray:
+    """Node offsets 0 .. length (mm) of ``cells`` cells, each ``ratio`` times the previous one."""
+    sizes = float(ratio) ** np.arange(cells)
+    return float(length) * np.r_[0.0, np.cumsum(sizes)] / np.sum(sizes)
+
+
 @dataclass(frozen=True)
 class StructuredCore:
     """The structured core (mm): half-width along the surface arc, depth along the inward normal, length along x;
     cell counts along s (total over the width, even: a node line through the load point), the depth and x;
-    depth_progression: ratio of successive depth cells (1: equal; > 1: finer at the surface)."""
+    s_progression, depth_progression, x_progression: ratio of successive cells away from the load point (s: from
+    s = 0 outwards, depth: from the surface, x: from the plane x = 0); 1 = equal cells."""
 
     half_width_mm: float
     depth_mm: float
@@ -52,7 +59,9 @@ class StructuredCore:
     cells_s: int
     cells_depth: int
     layers: int
+    s_progression: float = 1.0
     depth_progression: float = 1.0
+    x_progression: float = 1.0
 
     def __post_init__(self):
         for name in ("half_width_mm", "depth_mm", "length_mm"):
@@ -64,32 +73,41 @@ class StructuredCore:
             require(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and 1 <= v <= MAX_CELLS,
                     f"core.{name}", f"must be an integer in [1, {MAX_CELLS}], got {v!r}")
         require(self.cells_s % 2 == 0, "core.cells_s", f"must be even (a node line at s = 0), got {self.cells_s}")
-        p = self.depth_progression
-        require(isinstance(p, (int, float)) and math.isfinite(p) and 0.5 <= p <= 2.0, "core.depth_progression",
-                f"must lie in [0.5, 2], got {p!r}")
+        for name in ("s_progression", "depth_progression", "x_progression"):
+            p = getattr(self, name)
+            require(isinstance(p, (int, float)) and not isinstance(p, bool) and math.isfinite(p) and 0.5 <= p <= 2.0,
+                    f"core.{name}", f"must lie in [0.5, 2], got {p!r}")
+
+    def s_nodes(self) -> np.ndarray:
+        """Arc lengths (mm) of the node columns from the load point, -half_width_mm .. half_width_mm."""
+        half = graded_nodes(self.half_width_mm, self.cells_s // 2, self.s_progression)
+        return np.r_[-half[:0:-1], half]
+
+    def depth_nodes(self) -> np.ndarray:
+        """Depths (mm) of the node rows below the surface, 0 .. depth_mm."""
+        return graded_nodes(self.depth_mm, self.cells_depth, self.depth_progression)
+
+    def x_nodes(self) -> np.ndarray:
+        """x (mm) of the layer planes, 0 .. length_mm."""
+        return graded_nodes(self.length_mm, self.layers, self.x_progression)
 
     @property
     def h_mm(self) -> float:
-        """The core's cell size (mm) next to the rest of the section (the rest's smallest size)."""
-        return min(2.0 * self.half_width_mm / self.cells_s, self._last_depth_cell(), self.length_mm / self.layers)
-
-    def _last_depth_cell(self) -> float:
-        p, k = float(self.depth_progression), int(self.cells_depth)
-        total = k if p == 1.0 else (p ** k - 1.0) / (p - 1.0)
-        return self.depth_mm * (p ** (k - 1) if p > 1.0 else 1.0) / total
+        """The rest's smallest element size (mm): the smallest of the core's outermost cells."""
+        return float(min(np.diff(self.s_nodes())[-1], np.diff(self.depth_nodes())[-1], np.diff(self.x_nodes())[-1]))
 
 
 def core_for_contact(a_mm: float, b_mm: float, n: float, width_factor: float = 1.2, depth_factor: float = 1.0,
-                     length_factor: float = 1.2, depth_progression: float = 1.0) -> StructuredCore:
+                     length_factor: float = 1.2) -> StructuredCore:
     """The core for a Hertz patch of semi-axes a (along x) and b (along the surface, mm) with about n cells per
-    semi-axis: |s| <= width_factor b, depth depth_factor b, 0 <= x <= length_factor a; cells of at most b / n
-    along s and in depth, layers of at most a / n along x."""
+    semi-axis: |s| <= width_factor b, depth depth_factor b, 0 <= x <= length_factor a; equal cells of at most
+    b / n along s and in depth, layers of at most a / n along x."""
     n = float(n)
     require(math.isfinite(n) and n > 0, "n", f"must be a positive number, got {n!r}")
     half, depth, length = width_factor * b_mm, depth_factor * b_mm, length_factor * a_mm
     return StructuredCore(half, depth, length, cells_s=2 * max(1, math.ceil(half * n / b_mm - 1e-9)),
                           cells_depth=max(1, math.ceil(depth * n / b_mm - 1e-9)),
-                          layers=max(1, math.ceil(length * n / a_mm - 1e-9)), depth_progression=depth_progression)
+                          layers=max(1, math.ceil(length * n / a_mm - 1e-9)))
 
 
 def _trim(seg, start, end):
@@ -145,16 +163,16 @@ def split_outline(profile, outline, y0: float, half_width_mm: float):
             after.append(_trim(seg, p_out, pts[-1]))
         found = True
     require(found, "y0", f"{y0:g} mm: no surface segment of the outline contains the load point")
-    # a rail's surface runs from the field side around to the gauge side: segments after the window that come
-    # before the first surface segment in the list belong at the end of "after"; the loop is closed either way
     return before, y_in, y_out, after
 
 
-def _spline_points(profile, y_from: float, y_to: float, n_cells: int, offset_mm: float = 0.0) -> np.ndarray:
-    """Points (y, z) on the profile (offset_mm along the inward normal) at equal arc length from y_from to y_to."""
-    s = np.linspace(*profile.arc_length([y_from, y_to]), n_cells * SPLINE_POINTS_PER_CELL + 1)
+def _spline_points(profile, s_mm: np.ndarray, offset_mm: float = 0.0) -> np.ndarray:
+    """Points (y, z) on the profile (offset_mm along the inward normal) at the arc lengths s_mm and
+    SPLINE_POINTS_PER_CELL - 1 equally spaced ones inside each interval: row i * SPLINE_POINTS_PER_CELL is s_mm[i]."""
+    per = SPLINE_POINTS_PER_CELL
+    s = np.r_[np.concatenate([np.linspace(s_mm[i], s_mm[i + 1], per + 1)[:-1] for i in range(len(s_mm) - 1)]),
+              s_mm[-1]]
     y = profile.y_at_arc_length(s)
-    y[0], y[-1] = y_from, y_to
     pts = np.column_stack([y, profile.z(y)])
     if offset_mm:
         pts = pts - offset_mm * profile.normal(y)  # normal() points out of the material
@@ -206,8 +224,12 @@ def structured_core_local_mesh(profile, y0: float, core: StructuredCore, h_max: 
             f"{core.depth_mm:.3g} mm is more than half the {room:.3g} mm of material below the load point")
     outline = profile.section_outline(float(depth_mm))
     before, y_in, y_out, after = split_outline(profile, outline, float(y0), core.half_width_mm)
-    top = _spline_points(profile, y_in, y_out, core.cells_s)
-    bottom = _spline_points(profile, y_in, y_out, core.cells_s, offset_mm=core.depth_mm)
+    s_in, s_out = (float(v) for v in profile.arc_length([y_in, y_out]))
+    s_nodes = float(profile.arc_length(y0)) + np.sign(s_out - s_in) * core.s_nodes()
+    s_nodes[0], s_nodes[-1] = s_in, s_out
+    top = _spline_points(profile, s_nodes)
+    bottom = _spline_points(profile, s_nodes, offset_mm=core.depth_mm)
+    top[0], top[-1] = (y_in, profile.z(y_in)), (y_out, profile.z(y_out))
     # the offset curve must stay inside the section and must not fold (offset beyond the radius of curvature)
     kappa = np.abs(profile.curvature(top[:, 0]))
     require(np.all(core.depth_mm * kappa < 0.8), "core.depth_mm",
@@ -243,30 +265,38 @@ def structured_core_local_mesh(profile, y0: float, core: StructuredCore, h_max: 
         p_in, p_out, q_in, q_out = top_nodes[0], top_nodes[-1], bottom_nodes[0], bottom_nodes[-1]
         starts_b = [point(segment_points(s)[0]) for s in before]
         starts_a = [p_out] + [point(segment_points(s)[0]) for s in after[1:]]
-        side_in = geo.addLine(p_in, q_in)
-        side_out = geo.addLine(q_out, p_out)
+        depths = core.depth_nodes()
+
+        def side(k):  # the normal at the window's entry (k = 0) or exit (-1), split at the depth nodes
+            y = float(top[k][0])
+            pts = [top_nodes[k]] + [point(top[k] - d * profile.normal(y)) for d in depths[1:-1]]
+            pts.append(bottom_nodes[k])
+            return [geo.addLine(pts[j], pts[j + 1]) for j in range(len(pts) - 1)]
+
+        side_in = side(0)                                   # P_in -> Q_in
+        side_out = [-c for c in side(-1)[::-1]]             # Q_out -> P_out (signed tags)
         rest_curves = [curve(seg, starts_b[i], starts_b[i + 1] if i + 1 < len(before) else p_in)
                        for i, seg in enumerate(before)]
-        rest_curves += [side_in, *bottom_curves, side_out]
+        rest_curves += [*side_in, *bottom_curves, *side_out]
         rest_curves += [curve(seg, starts_a[i], starts_a[i + 1] if i + 1 < len(after) else starts_b[0])
                         for i, seg in enumerate(after)]
-        n_window = core.cells_s + 2
+        n_window = core.cells_s + 2 * core.cells_depth
         rest_names = [s.tag for s in before] + ["core"] * n_window + [s.tag for s in after]
         rest_radii = [min_radius(s) for s in before] + [math.inf] * n_window + [min_radius(s) for s in after]
         rest = geo.addPlaneSurface([geo.addCurveLoop(rest_curves)])
-        core_loop = geo.addCurveLoop([*top_curves, -side_out, *[-c for c in bottom_curves[::-1]], -side_in])
+        core_loop = geo.addCurveLoop([*top_curves, *[-c for c in side_out[::-1]], *[-c for c in bottom_curves[::-1]],
+                                      *[-c for c in side_in[::-1]]])
         core_surface = geo.addPlaneSurface([core_loop])
-        for c in top_curves + bottom_curves:
-            geo.mesh.setTransfiniteCurve(c, 2)
-        for c in (side_in, side_out):  # depth cells (progression from the surface P to the offset curve Q)
-            geo.mesh.setTransfiniteCurve(c, core.cells_depth + 1, "Progression", float(core.depth_progression))
+        for c in top_curves + bottom_curves + side_in + side_out:
+            geo.mesh.setTransfiniteCurve(abs(c), 2)
         geo.mesh.setTransfiniteSurface(core_surface, "Alternate", [p_in, p_out, q_out, q_in])
         # extrude: per input surface [far end, volume, one lateral surface per boundary curve in loop order]
         # the core in structured layers; the rest unstructured over the same length (Gmsh reuses the core's
         # lateral faces on the common boundary, so the two conform)
-        first = geo.extrude([(2, core_surface)], 0.0, 0.0, core.length_mm, numElements=[core.layers])
+        first = geo.extrude([(2, core_surface)], 0.0, 0.0, core.length_mm, numElements=[1] * core.layers,
+                            heights=(core.x_nodes()[1:] / core.length_mm).tolist())
         first += geo.extrude([(2, rest)], 0.0, 0.0, core.length_mm)
-        n_core = 2 + 2 * core.cells_s + 2
+        n_core = 2 + 2 * core.cells_s + 2 * core.cells_depth
         core_top, core_lat = first[0], [t for _, t in first[2:n_core]]
         rest_top, rest_lat = first[n_core], [t for _, t in first[n_core + 2:]]
         second = geo.extrude([core_top, rest_top], 0.0, 0.0, length - core.length_mm)

@@ -1,22 +1,14 @@
 """mesh.style = "structured" (a core structured along the surface, the normal and x; docs/calibration.md "Mesh
-convergence"): build_mesh with it, the resolution guard, and a coarse 3D calibration of one position with it."""
-
-import dataclasses
-from pathlib import Path
+convergence"): build_mesh with it, the resolution guard, and a coarse real 3D indentation with it."""
 
 import numpy as np
 import pytest
 
-from calibration.config import load_config
+from calibration.fem.material import J2Material
 from calibration.hertz.geometry import given_geometry
-from calibration.indentation import MeshSettings, build_mesh, check_resolution, mesh_style
-from calibration.pipeline import run_calibration
-from contact.layer.layer_table import LayerTable
+from calibration.indentation import LoadSettings, MeshSettings, build_mesh, check_resolution, indent, mesh_style
 from meshes.profiles import get_profile
 from wrlayer.errors import InputError
-
-ROOT = Path(__file__).resolve().parents[2]
-COARSE = ROOT / "calibration" / "configs" / "test_coarse.toml"
 
 
 def test_build_mesh_structured_core_cells():
@@ -42,13 +34,15 @@ def test_too_coarse_is_refused_for_the_structured_style_too():
         check_resolution(geo, "3d", MeshSettings(elements_per_semi_axis=1.5, style="structured"))
 
 
-def test_coarse_calibration_with_the_structured_style(tmp_path):
-    cfg = load_config(COARSE)
-    cfg = dataclasses.replace(cfg, mesh=dataclasses.replace(cfg.mesh, style="structured"))
-    summary = run_calibration(cfg, tmp_path, show_progress=False, log=lambda *a, **k: None)
-    assert summary["failed"] == [] and summary["positions_computed"] == 1
-    pos = LayerTable.read(tmp_path / "rail_layer_table.json").positions[0]
+def test_coarse_indentation_with_the_structured_style():
+    """A real 3D elastoplastic indentation of the crown on the coarse structured mesh (n = 2, P2): first yield near
+    the half-space value, a positive dent after unloading."""
+    rail = get_profile("60E1")
+    geo = given_geometry(rail, 0.0, 7.16, 5.39)
+    mat = J2Material(210000.0, 0.3, 500.0, 10000.0, 10000.0)
+    mesh = MeshSettings(elements_per_semi_axis=2, h_max_mm=12.0, style="structured")
+    load = LoadSettings(max_factor=1.6, n_levels=2, unload_factors=(1.6,), max_increment_factor=0.3)
+    res = indent(rail, geo, mat, "3d", mesh, load, linear_solver="scipy")
     # half-space first yield at p0 = 1.62 Y for a/b ~ 1.33 (as tests/calibration/test_pipeline.py), within 5 %
-    assert pos["first_yield_fem_MPa"] == pytest.approx(1.62 * cfg.bodies[0].material.yield_MPa, rel=0.05)
-    assert all(r > 0 for r in pos["residual_fem_mm"][1:])
-    assert pos["max_error_mm"] <= cfg.fit.max_relative_error * max(pos["fem_points"]["u_mm"])
+    assert res.first_yield_MPa == pytest.approx(1.62 * 500.0, rel=0.05)
+    assert res.residual_fem_mm[0] > 0 and res.u_pl_mm[-1] > 0

@@ -54,17 +54,17 @@ def test_conforming(case):
 
 
 def test_core_is_structured(case):
-    """The core's vertices: on the layer planes x = j L / layers, and in every plane at the nodes
-    P(s_i) - d_k n(s_i) (surface point and inward normal at s_i = s0 + (i - m/2) 2 w / m, d_k = k D / cells_depth)."""
+    """The core's vertices: on the layer planes x_j, and in every plane at the nodes P(s_i) - d_k n(s_i) (surface
+    point and inward normal at the arc length s_i from the load point, d_k the depth nodes)."""
     profile, y0, core, _, mesh = case
     s0 = float(profile.arc_length(y0))
-    s = s0 + np.linspace(-core.half_width_mm, core.half_width_mm, core.cells_s + 1)
+    s = s0 - core.s_nodes()  # the rails' and the wheel's s run in opposite senses to y: the set is symmetric
     y = profile.y_at_arc_length(s)
     surface = np.column_stack([y, profile.z(y)])
-    depths = np.linspace(0.0, core.depth_mm, core.cells_depth + 1)
+    depths = core.depth_nodes()
     nodes = (surface[:, None, :] - depths[None, :, None] * profile.normal(y)[:, None, :]).reshape(-1, 2)
     v = mesh.p[:, :mesh.nvertices]
-    for x in np.linspace(0.0, core.length_mm, core.layers + 1):
+    for x in core.x_nodes():
         plane = v[1:, np.abs(v[0] - x) < 1e-9].T
         gap = np.min(np.linalg.norm(plane[None, :, :] - nodes[:, None, :], axis=2), axis=1)
         assert gap.max() < 1e-6, f"core node missing in the plane x = {x:g} mm"
@@ -72,8 +72,8 @@ def test_core_is_structured(case):
     inner = (v[0] < core.length_mm - 1e-6)
     d, foot = profile.signed_distance(v[1:, inner].T)
     in_block = (-d < core.depth_mm - 1e-6) & (np.abs(profile.arc_length(foot) - s0) < core.half_width_mm - 1e-6)
-    layer = v[0, inner][in_block] / (core.length_mm / core.layers)
-    assert np.abs(layer - np.round(layer)).max() < 1e-9
+    gap = np.min(np.abs(v[0, inner][in_block][:, None] - core.x_nodes()[None, :]), axis=1)
+    assert gap.max() < 1e-9
 
 
 def test_quality_volume_and_surface(case):
@@ -97,6 +97,15 @@ def test_deterministic():
     args = (rail, 0.0, core_for_contact(7.16, 5.39, 2), 8.0, 36.0)
     a, b = structured_core_local_mesh(*args), structured_core_local_mesh(*args)
     assert np.array_equal(a.p, b.p) and np.array_equal(a.t, b.t)
+
+
+def test_graded_nodes():
+    core = StructuredCore(3.0, 2.0, 4.0, 6, 3, 2, s_progression=1.5, depth_progression=1.2, x_progression=2.0)
+    s = core.s_nodes()
+    assert s[0] == pytest.approx(-3.0) and s[-1] == pytest.approx(3.0) and s[3] == 0.0
+    assert np.diff(s)[3:] == pytest.approx(3.0 / (1 + 1.5 + 2.25) * np.array([1, 1.5, 2.25]))
+    assert np.diff(core.depth_nodes())[1] / np.diff(core.depth_nodes())[0] == pytest.approx(1.2)
+    assert core.x_nodes() == pytest.approx([0.0, 4.0 / 3.0, 4.0])
 
 
 @pytest.mark.parametrize("kw, name", [({"cells_s": 3}, "core.cells_s"), ({"cells_depth": 0}, "core.cells_depth"),
