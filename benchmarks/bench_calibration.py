@@ -395,3 +395,21 @@ def structured_comparison(levels=(3, 4, 6, 8), reference: dict | None = None) ->
             c["reference"] = ref_mesh[f"{body} {y:g}"]
         out += cases + [ref]
     return out
+
+
+def yield_zone_comparison(settings=({"elements_per_semi_axis": 4}, {"elements_per_semi_axis": 4,
+                                                                    "yield_zone_refinement": 2.0},
+                                    {"elements_per_semi_axis": 3, "yield_zone_refinement": 2.0}),
+                          reference: dict | None = None) -> list[dict]:
+    """Isotropic meshes with and without mesh.yield_zone_refinement at CONVERGENCE_POSITIONS, run alternately, each
+    against ``reference`` (default CONVERGENCE_REFERENCES; docs/calibration.md, "Mesh convergence")."""
+    ref_mesh = reference or CONVERGENCE_REFERENCES
+    out = []
+    for body, y, _ in CONVERGENCE_POSITIONS:
+        ref = convergence_case(body, y, ref_mesh[f"{body} {y:g}"])
+        cases = [convergence_case(body, y, {"style": "isotropic", **kw}) for kw in settings]
+        for c in cases + [ref]:
+            c["errors"] = convergence_errors(c, ref)
+            c["reference"] = ref_mesh[f"{body} {y:g}"]
+        out += cases + [ref]
+    return out
