@@ -367,7 +367,7 @@ if __name__ == "__main__":  # python -m benchmarks.bench_calibration BODY Y MESH
 
 
 #: The references of the convergence study (issue 12, item 3): the finest isotropic runs of docs/calibration.md.
-CONVERGENCE_REFERENCES = {"rail 0": {"elements_per_semi_axis": 6, "style": "isotropic"},
+REFERENCE_MESHES = {"rail 0": {"elements_per_semi_axis": 6, "style": "isotropic"},
                           "rail -35": {"elements_per_semi_axis": 8, "style": "isotropic"},
                           "wheel -37.5": {"elements_per_semi_axis": 8, "style": "isotropic"}}
 
@@ -375,10 +375,10 @@ CONVERGENCE_REFERENCES = {"rail 0": {"elements_per_semi_axis": 6, "style": "isot
 def structured_comparison(levels=(3, 4, 6, 8), reference: dict | None = None) -> list[dict]:
     """mesh.style = "structured" (meshes.meshing.structured_core_mesh) at CONVERGENCE_POSITIONS for each of
     ``levels``, and the isotropic default (4 per semi-axis) run alternately with the structured 4, so that both
-    see the same machine load. Every case's errors against ``reference`` (default CONVERGENCE_REFERENCES:
+    see the same machine load. Every case's errors against ``reference`` (default REFERENCE_MESHES:
     ``errors``) and against the finest structured run (``errors_own``). About 20 runs of 10-250 s each
     (docs/calibration.md, "Mesh convergence")."""
-    ref_mesh = reference or CONVERGENCE_REFERENCES
+    ref_mesh = reference or REFERENCE_MESHES
     out = []
     for body, y, _ in CONVERGENCE_POSITIONS:
         ref = convergence_case(body, y, ref_mesh[f"{body} {y:g}"])
@@ -402,8 +402,8 @@ def yield_zone_comparison(settings=({"elements_per_semi_axis": 4}, {"elements_pe
                                     {"elements_per_semi_axis": 3, "yield_zone_refinement": 2.0}),
                           reference: dict | None = None) -> list[dict]:
     """Isotropic meshes with and without mesh.yield_zone_refinement at CONVERGENCE_POSITIONS, run alternately, each
-    against ``reference`` (default CONVERGENCE_REFERENCES; docs/calibration.md, "Mesh convergence")."""
-    ref_mesh = reference or CONVERGENCE_REFERENCES
+    against ``reference`` (default REFERENCE_MESHES; docs/calibration.md, "Mesh convergence")."""
+    ref_mesh = reference or REFERENCE_MESHES
     out = []
     for body, y, _ in CONVERGENCE_POSITIONS:
         ref = convergence_case(body, y, ref_mesh[f"{body} {y:g}"])
