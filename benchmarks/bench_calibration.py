@@ -439,3 +439,52 @@ if __name__ == "__main__":  # python -m benchmarks.bench_calibration BODY Y MESH
     # (MESH_JSON: MeshSettings fields, e.g. '{"elements_per_semi_axis": 4, "style": "extruded"}')
     print(json.dumps(convergence_case(sys.argv[1], float(sys.argv[2]), json.loads(sys.argv[3]),
                                       threads=int(sys.argv[4]) if len(sys.argv) > 4 else 1)))
+
+
+#: The references of the convergence study (issue 12, item 3): the finest isotropic runs of docs/calibration.md.
+REFERENCE_MESHES = {"rail 0": {"elements_per_semi_axis": 6, "style": "isotropic"},
+                          "rail -35": {"elements_per_semi_axis": 8, "style": "isotropic"},
+                          "wheel -37.5": {"elements_per_semi_axis": 8, "style": "isotropic"}}
+
+
+def structured_comparison(levels=(3, 4, 6, 8), reference: dict | None = None) -> list[dict]:
+    """mesh.style = "structured" (meshes.meshing.structured_core_mesh) at CONVERGENCE_POSITIONS for each of
+    ``levels``, and the isotropic default (4 per semi-axis) run alternately with the structured 4, so that both
+    see the same machine load. Every case's errors against ``reference`` (default REFERENCE_MESHES:
+    ``errors``) and against the finest structured run (``errors_own``). About 20 runs of 10-250 s each
+    (docs/calibration.md, "Mesh convergence")."""
+    ref_mesh = reference or REFERENCE_MESHES
+    out = []
+    for body, y, _ in CONVERGENCE_POSITIONS:
+        ref = convergence_case(body, y, ref_mesh[f"{body} {y:g}"])
+        cases = []
+        for e in levels:
+            cases.append(convergence_case(body, y, {"elements_per_semi_axis": e, "style": "structured"}))
+            if e == 4:
+                cases.append(convergence_case(body, y, {"elements_per_semi_axis": 4, "style": "isotropic"}))
+        own = max((c for c in cases if c["mesh"]["style"] == "structured"),
+                  key=lambda c: c["mesh"]["elements_per_semi_axis"])
+        for c in cases + [ref]:
+            c["errors"] = convergence_errors(c, ref)
+            c["errors_own"] = convergence_errors(c, own)
+            c["reference"] = ref_mesh[f"{body} {y:g}"]
+        out += cases + [ref]
+    return out
+
+
+def yield_zone_comparison(settings=({"elements_per_semi_axis": 4}, {"elements_per_semi_axis": 4,
+                                                                    "yield_zone_refinement": 2.0},
+                                    {"elements_per_semi_axis": 3, "yield_zone_refinement": 2.0}),
+                          reference: dict | None = None) -> list[dict]:
+    """Isotropic meshes with and without mesh.yield_zone_refinement at CONVERGENCE_POSITIONS, run alternately, each
+    against ``reference`` (default REFERENCE_MESHES; docs/calibration.md, "Mesh convergence")."""
+    ref_mesh = reference or REFERENCE_MESHES
+    out = []
+    for body, y, _ in CONVERGENCE_POSITIONS:
+        ref = convergence_case(body, y, ref_mesh[f"{body} {y:g}"])
+        cases = [convergence_case(body, y, {"style": "isotropic", **kw}) for kw in settings]
+        for c in cases + [ref]:
+            c["errors"] = convergence_errors(c, ref)
+            c["reference"] = ref_mesh[f"{body} {y:g}"]
+        out += cases + [ref]
+    return out

@@ -8,9 +8,11 @@ Layout (every key optional except ``[[bodies]]`` with ``body``, ``profile`` and 
     [load]      reference_load_N, max_factor, n_levels, unload_factors, max_increment_factor
     [mesh]      elements_per_semi_axis, h_max_mm, order, depth_mm, rail_support_below_mm, length_factor, grading,
                 yield_search_radius_factor, reference_depth_factor, refine_depth_factor,
-                style = "isotropic" | "extruded" | "auto" (3D: structured layers along x; auto: extruded for
-                a/b >= 3; see docs/calibration.md),
-                x_elements_per_semi_axis (extruded: layers of a / this; default elements_per_semi_axis)
+                style = "isotropic" | "extruded" | "structured" | "auto" (3D: extruded: structured layers along
+                x; structured: a core structured along the surface, the normal and x; auto: extruded for a/b >= 3;
+                see docs/calibration.md),
+                x_elements_per_semi_axis (extruded: layers of a / this; default elements_per_semi_axis),
+                yield_zone_refinement (1..4; isotropic: h_min / this around the first-yield point; 1: off)
     [fit]       n_segments (1..8), elastic_tolerance, elastic_fraction (former S_1 rule), max_relative_error
     [[bodies]]  body = "rail" | "wheel", profile = name or file (relative to the config), mate = name or file,
                 positions_mm = [...] or positions = {start_mm, stop_mm, step_mm}, semi_axes_mm = [a, b],
@@ -315,7 +317,8 @@ def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> 
         "reference_depth_factor": lambda v, k: r.number(v, k, 0.0, 20.0, lo_open=False),
         "refine_depth_factor": lambda v, k: r.number(v, k, 0.0, 10.0),
         "style": style,
-        "x_elements_per_semi_axis": lambda v, k: r.number(v, k, 2.0, 100.0, lo_open=False)})
+        "x_elements_per_semi_axis": lambda v, k: r.number(v, k, 2.0, 100.0, lo_open=False),
+        "yield_zone_refinement": lambda v, k: r.number(v, k, 1.0, 4.0, lo_open=False)})
     fit = r.dataclass_from(FitSettings, r.table(data, "fit"), "fit", {
         "n_segments": lambda v, k: int(r.number(v, k, N_SEGMENTS_RANGE[0], N_SEGMENTS_RANGE[1], lo_open=False,
                                                 integer=True)),

@@ -51,7 +51,13 @@ class MeshSettings:
     "auto" (extruded when a/b >= AUTO_EXTRUDED_ASPECT, else isotropic) or "extruded" (the section meshed with
     min(a, b) / elements_per_semi_axis in the box's (y, z) extent and extruded along x in structured layers of a / elements_per_semi_axis over 0 <= x <= 1.2 a, unstructured
     beyond: its element count does not grow with a/b; meshes.meshing.extruded_mesh, docs/calibration.md);
-    x_elements_per_semi_axis (extruded only): layers a / x_elements_per_semi_axis instead (None: the same n)."""
+    x_elements_per_semi_axis (extruded only): layers a / x_elements_per_semi_axis instead (None: the same n);
+    "structured": a core |s| <= 1.2 b along the surface arc, refine_depth_factor * b deep along the normal,
+    0 <= x <= 1.2 a, meshed in cells of at most b / n, b / n and a / n (n = elements_per_semi_axis), the rest
+    unstructured (meshes.meshing.structured_core_mesh, docs/calibration.md "Mesh convergence").
+    yield_zone_refinement f > 1 (isotropic meshes, also under "auto"): h_min / f in the zone YIELD_ZONE around the
+    point of first yield (YIELD_ZONE_DEPTH_FACTOR * b below the load centre along the normal), which decides p_y
+    and through it every quantity compared at multiples of p_y; 1: off."""
 
     elements_per_semi_axis: float = 8.0
     h_max_mm: float = 6.0
@@ -65,10 +71,16 @@ class MeshSettings:
     refine_depth_factor: float = 1.0
     style: str = "isotropic"  # the library default; calibration/configs/default.toml sets "auto"
     x_elements_per_semi_axis: float | None = None
+    yield_zone_refinement: float = 1.0
 
 
+#: MeshSettings.yield_zone_refinement: centre of the finer zone, this many b below the load centre along the inward
+#: normal (the von Mises maximum of the Hertz pressure lies 0.47-0.55 b deep for a/b = 1-2), and its half-sizes
+#: (x, y, z) as multiples of (a, b, b): it covers 0.15-0.95 b in depth (docs/calibration.md, "Mesh convergence").
+YIELD_ZONE_DEPTH_FACTOR = 0.55
+YIELD_ZONE = (0.45, 0.45, 0.4)
 #: The 3D mesh styles of MeshSettings.style.
-MESH_STYLES = ("isotropic", "extruded", "auto")
+MESH_STYLES = ("isotropic", "extruded", "structured", "auto")
 #: style "auto": the extruded mesh for patches with a/b at least this, the isotropic one below (docs/calibration.md,
 #: "Anisotropic (extruded) mesh": isotropic is cheaper and as accurate at a/b ~ 1.3, extruded is faster and closer
 #: to the finest runs at a/b >= 3.2).
@@ -133,6 +145,13 @@ def build_mesh(profile, geometry: LocalGeometry, model: str, mesh: MeshSettings)
                             refine_radius_mm=1.2 * geometry.b_mm, grading=mesh.grading)
     length = max(mesh.length_factor * geometry.a_mm, 4.0 * geometry.b_mm)
     require(mesh.style in MESH_STYLES, "mesh.style", f"must be one of {MESH_STYLES}, got {mesh.style!r}")
+    if mesh_style(geometry, mesh) == "structured":
+        from meshes.meshing.structured_core_mesh import core_for_contact, structured_core_local_mesh
+
+        core = core_for_contact(geometry.a_mm, geometry.b_mm, mesh.elements_per_semi_axis,
+                                depth_factor=mesh.refine_depth_factor)
+        return structured_core_local_mesh(profile, geometry.y_mm, core, h_max, length_mm=length,
+                                          depth_mm=mesh.depth_mm, order=mesh.order, grading=mesh.grading)
     if mesh_style(geometry, mesh) == "extruded":
         from meshes.meshing.extruded_mesh import extruded_local_mesh
 
@@ -142,8 +161,18 @@ def build_mesh(profile, geometry: LocalGeometry, model: str, mesh: MeshSettings)
                                    order=mesh.order, grading=mesh.grading,
                                    refine_box_yz=(1.2 * geometry.b_mm, mesh.refine_depth_factor * geometry.b_mm))
     box = (1.2 * geometry.a_mm, 1.2 * geometry.b_mm, mesh.refine_depth_factor * geometry.b_mm)
+    inner = None
+    if mesh.yield_zone_refinement > 1.0:
+        from meshes.meshing.mesh_size import GradedSize
+
+        z0 = float(profile.z(geometry.y_mm))
+        centre = np.array([geometry.y_mm, z0]) - YIELD_ZONE_DEPTH_FACTOR * geometry.b_mm * np.asarray(
+            profile.normal(geometry.y_mm), dtype=float)
+        half = (YIELD_ZONE[0] * geometry.a_mm, YIELD_ZONE[1] * geometry.b_mm, YIELD_ZONE[2] * geometry.b_mm)
+        inner = GradedSize(h_min / mesh.yield_zone_refinement, h_max, mesh.grading,
+                           (0.0, float(centre[0]), float(centre[1])), half_box=half)
     return local_mesh(profile, geometry.y_mm, h_min, h_max, length_mm=length, depth_mm=mesh.depth_mm,
-                      order=mesh.order, refine_box=box, grading=mesh.grading)
+                      order=mesh.order, refine_box=box, grading=mesh.grading, inner_zone=inner)
 
 
 def mesh_style(geometry: LocalGeometry, mesh: MeshSettings) -> str:

@@ -31,14 +31,16 @@ DEFAULT_LENGTH_MM = 30.0
 def local_mesh(profile, y0: float, h_min: float, h_max: float, length_mm: float = DEFAULT_LENGTH_MM,
                depth_mm: float | None = None, order: int = 1,
                refine_box: tuple[float, float, float] = (0.0, 0.0, 0.0),
-               grading: float = DEFAULT_GRADING, optimize_netgen: bool = True) -> skfem.Mesh:
+               grading: float = DEFAULT_GRADING, optimize_netgen: bool = True,
+               inner_zone: GradedSize | None = None) -> skfem.Mesh:
     """Tetrahedral mesh (mm) of the section extruded over 0 <= x <= length_mm, refined at (0, y0, z(y0)).
 
     depth_mm: section depth as in :func:`meshes.meshing.section_mesh.section_mesh` (default by body).
     refine_box: half-sizes (bx, by, bz) in mm of the box around the load point meshed with h_min (e.g. the
     contact semi-axes and the depth of interest). optimize_netgen: also run Gmsh's Netgen optimiser (about 3x
     the meshing time; raises the worst mean-ratio quality, e.g. 60E1 at h_min 0.5 mm from 0.22 to 0.30).
-    Returns ``MeshTet1`` (order 1) or ``MeshTet2`` (order 2).
+    inner_zone: an optional finer size field inside the refinement box (e.g. at the first-yield point, mm); the
+    smaller of the two sizes applies. Returns ``MeshTet1`` (order 1) or ``MeshTet2`` (order 2).
     """
     depth_mm = default_depth_mm(profile) if depth_mm is None else depth_mm
     z0 = check_mesh_inputs(profile, y0, h_min, h_max, depth_mm, order, grading)
@@ -57,7 +59,8 @@ def local_mesh(profile, y0: float, h_min: float, h_max: float, length_mm: float 
         # extrude returns: the far end surface, the volume, then one lateral surface per outline curve
         end, lateral = extruded[0][1], [tag for _, tag in extruded[2:]]
         size.apply(GMSH_AXES_3D, [(r, "SurfacesList", [s]) for r, s in zip(section.curve_radii, lateral)]
-                   + [(r, "CurvesList", [c]) for r, c in zip(section.curve_radii, section.curves)])
+                   + [(r, "CurvesList", [c]) for r, c in zip(section.curve_radii, section.curves)],
+                   extra=() if inner_zone is None else (inner_zone,))
         gmsh.option.setNumber("Mesh.Algorithm", 6)
         gmsh.option.setNumber("Mesh.Algorithm3D", 1)  # Delaunay
         gmsh.option.setNumber("Mesh.Optimize", 1)

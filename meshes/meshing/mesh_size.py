@@ -63,15 +63,20 @@ class GradedSize:
         """Size limit (mm) on a boundary entity of the given smallest radius of curvature (mm)."""
         return min(self.h_max, max(self.h_min, 2.0 * np.pi * radius / ELEMENTS_PER_2PI))
 
-    def apply(self, axes: dict[str, str], curved: list[tuple[float, str, list[int]]] = ()) -> None:
+    def apply(self, axes: dict[str, str], curved: list[tuple[float, str, list[int]]] = (),
+              extra: tuple[GradedSize, ...] = ()) -> None:
         """Make this the background size field of the current Gmsh model (sizes from points/boundary off).
 
         ``curved``: (smallest radius in mm, "CurvesList" or "SurfacesList", entity tags) of curved boundary
-        entities, whose size is further limited by :meth:`curvature_size`.
+        entities, whose size is further limited by :meth:`curvature_size`. ``extra``: further size fields (e.g. a
+        finer zone inside this one's); the smallest size applies.
         """
         mesh_field = gmsh.model.mesh.field
         fields = [mesh_field.add("MathEval")]
         mesh_field.setString(fields[0], "F", self.gmsh_expression(axes))
+        for zone in extra:
+            fields.append(mesh_field.add("MathEval"))
+            mesh_field.setString(fields[-1], "F", zone.gmsh_expression(axes))
         for radius, kind, tags in curved:
             if self.curvature_size(radius) < self.h_max:
                 fields.append(mesh_field.add("Constant"))
@@ -83,5 +88,6 @@ class GradedSize:
         mesh_field.setAsBackgroundMesh(fields[-1])
         for key, value in {"Mesh.MeshSizeExtendFromBoundary": 0, "Mesh.MeshSizeFromPoints": 0,
                            "Mesh.MeshSizeFromCurvature": 0,
-                           "Mesh.MeshSizeMin": self.h_min, "Mesh.MeshSizeMax": self.h_max}.items():
+                           "Mesh.MeshSizeMin": min([self.h_min] + [z.h_min for z in extra]),
+                           "Mesh.MeshSizeMax": self.h_max}.items():
             gmsh.option.setNumber(key, value)

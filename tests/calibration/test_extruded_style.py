@@ -20,16 +20,16 @@ COARSE = ROOT / "calibration" / "configs" / "test_coarse.toml"
 BODY = {"body": "rail", "profile": "60E1", "mate": "S1002", "positions_mm": [0.0]}
 
 
-@pytest.mark.parametrize("style", ["isotropic", "extruded", "auto"])
+@pytest.mark.parametrize("style", ["isotropic", "extruded", "structured", "auto"])
 def test_config_accepts_the_styles(style):
     assert parse_config({"mesh": {"style": style}, "bodies": [BODY]}).mesh.style == style
 
 
-@pytest.mark.parametrize("bad", ["Extruded", "structured", "", 1, True, ["extruded"]])
+@pytest.mark.parametrize("bad", ["Extruded", "Structured", "", 1, True, ["extruded"]])
 def test_config_rejects_other_styles(bad):
     with pytest.raises(InputError) as err:
         parse_config({"mesh": {"style": bad}, "bodies": [BODY]}, "my.toml")
-    assert "my.toml: mesh.style" in str(err.value) and "'isotropic', 'extruded', 'auto'" in str(err.value)
+    assert "my.toml: mesh.style" in str(err.value) and "'isotropic', 'extruded', 'structured', 'auto'" in str(err.value)
 
 
 @pytest.mark.parametrize("bad", [1.5, 0, "3", 101])
