@@ -71,7 +71,7 @@ concave = st.lists(st.tuples(st.floats(1e-3, 1.0), st.floats(0.05, 0.95)), min_s
 
 
 def _build(segs):
-    s, u, p, slope = [0.0], [0.0], [0.0], 1e5
+    u, p, slope = [0.0], [0.0], 1e5
     for du, ratio in segs:
         u.append(u[-1] + du * 0.01)
         p.append(p[-1] + slope * du * 0.01)
