@@ -189,11 +189,14 @@ class Factoriser:
             raise ConvergenceError("linear solve produced non-finite values (singular tangent?)")
         return x
 
-    def solve_refined(self, b: np.ndarray, matvec, rtol: float = 1e-12, max_iter: int = 10) -> np.ndarray:
+    def solve_refined(self, b: np.ndarray, matvec, rtol: float = 1e-12, max_iter: int = 10,
+                      info: dict | None = None) -> np.ndarray:
         """Solve A x = b with the factorisation of A (matvec: x -> A x), refined in double precision until
         |b - A x| <= rtol |b| (single precision: usually two refinement steps, i.e. three solves; double: the
-        plain solve, unchanged)."""
+        plain solve, unchanged). info: receives "rz0" = b . (first solve of b)."""
         x = self.solve(b)
+        if info is not None:
+            info["rz0"] = float(b @ x)
         if not self.single:
             return x
         bnorm = np.linalg.norm(b)
@@ -209,19 +212,24 @@ class Factoriser:
 
 
 def preconditioned_cg(matvec, b: np.ndarray, precondition, rtol: float = 1e-10,
-                      max_iter: int = 200) -> tuple[np.ndarray, int]:
+                      max_iter: int = 200, info: dict | None = None) -> tuple[np.ndarray, int]:
     """Conjugate gradients for the SPD operator ``matvec`` with preconditioner ``precondition`` (a solve).
 
-    Returns (x, iterations); raises ConvergenceError when ``max_iter`` is reached.
+    Returns (x, iterations); raises ConvergenceError when ``max_iter`` is reached. info: receives "rz0" =
+    b . precondition(b), the preconditioner's energy norm of b (the first step computes it anyway).
     """
     x = np.zeros_like(b)
     r = b.copy()
     bnorm = np.linalg.norm(b)
     if bnorm == 0.0:
+        if info is not None:
+            info["rz0"] = 0.0
         return x, 0
     z = precondition(r)
     p = z.copy()
     rz = r @ z
+    if info is not None:
+        info["rz0"] = float(rz)
     for it in range(1, max_iter + 1):
         Ap = matvec(p)
         pAp = p @ Ap
