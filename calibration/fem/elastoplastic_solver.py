@@ -14,7 +14,9 @@ the residual history. Convergence requires BOTH ``|r_k| <= rtol * max(|f_ext|, |
 norm of the residual ``r_k . P^-1 r_k <= etol * r_0 . P^-1 r_0`` (P: the stiffness factorisation at hand,
 elastic or a recent tangent; one extra back-substitution per iteration).
 
-Stiffness: K_e is assembled and factorised once; the tangent is ``K_e + sum_plastic_elements (K_ep - K_e)``.
+Stiffness: K_e is assembled and factorised once (PARDISO: in single precision by default, refined in double
+where a solve is used directly); the tangent is ``K_e + sum_plastic_elements (K_ep - K_e)``, applied matrix-free in
+CG (assembled only to be factorised).
 Strategies (``options.strategy``): 'newton' (factorise the consistent tangent each iteration), 'pcg'
 (conjugate gradients on the consistent tangent preconditioned by the last factorisation: the elastic one
 at first, refreshed with the current tangent when CG needs many iterations; default, see benchmarks/bench_fem.py), 'modified' (elastic stiffness only).
