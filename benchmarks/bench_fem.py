@@ -49,24 +49,64 @@ def _mesh(h: float, order: int = 2):
 
 
 def indentation(h: float, strategy: str = "pcg", backend: str = "auto", order: int = 2, mesh=None,
-                increments: int = 8, material: J2Material = MAT) -> dict:
+                increments: int = 8, material: J2Material = MAT, **options) -> dict:
     """One load/unload run (``increments`` equal load steps up to the peak); returns times, dofs and the two
-    displacements (mm)."""
+    displacements (mm). ``options``: further SolverOptions fields (e.g. factor_precision="double")."""
     t0 = time.perf_counter()
     mesh = _mesh(h, order) if mesh is None else mesh
     t_mesh = time.perf_counter() - t0
     opts = SolverOptions(dirichlet=DIRICHLET, strategy=strategy, linear_solver=backend,
-                         max_increment_MPa=P_PEAK / increments)
+                         max_increment_MPa=P_PEAK / increments, **options)
     t1 = time.perf_counter()
-    res = solve_load_path(mesh, material, LOAD, LEVELS, options=opts)
+    disc = discretise(mesh)
+    res = solve_load_path(mesh, material, LOAD, LEVELS, options=opts, disc=disc)
     t_solve = time.perf_counter() - t1
     peak = max(res.history, key=lambda i: i.p0_MPa)
+    fac = [v.factor for v in disc.problem_cache.values() if hasattr(v, "factor")]
     return {"h_mm": h, "order": order, "strategy": strategy, "backend": backend, "n_dofs": int(res.n_dofs),
+            "options": options, "linear_solves": sum(f.n_solves for f in fac),
+            "factorisations": sum(f.n_factorisations for f in fac),
             "n_elements": int(mesh.t.shape[1]), "mesh_s": t_mesh, "solve_s": t_solve,
             "u_peak_mm": peak.u_centre_mm, "dent_mm": res.history[-1].u_centre_mm,
             "first_yield_over_Y": res.first_yield_p0_MPa / material.yield_MPa,
             "newton_iters": sum(i.newton_iters for i in res.history),
             "cg_iters": sum(i.cg_iters for i in res.history), "n_yielded": res.history[-1].n_yielded}
+
+
+def factor_precision(h: float, repeat: int = 10) -> list[dict]:
+    """PARDISO factorisation and triangular-solve times of the elastic stiffness of the level-h block, double
+    against single precision (medians of ``repeat`` solves, one BLAS thread as in the calibration workers), and
+    the relative residual of one solve and of the refined solve."""
+    from calibration.fem.elastoplastic_solver import _Problem
+    from calibration.fem.linear_solvers import Factoriser
+
+    mesh = _mesh(h)
+    disc = discretise(mesh)
+    prob = _Problem(disc, MAT, dirichlet_dofs(disc, DIRICHLET), SolverOptions(dirichlet=DIRICHLET))
+    b = np.random.default_rng(0).standard_normal(disc.n_dofs)
+    b[prob.fixed] = 0.0
+    rows = []
+    for precision in ("double", "single"):
+        f = Factoriser(disc.csr_indptr, disc.csr_indices, disc.n_dofs, DIRECT, precision)
+        t0 = time.perf_counter()
+        f.factorise(prob.Ke_bc_data)  # analysis + numerical factorisation
+        t_first = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        f.factorise(prob.Ke_bc_data)  # numerical factorisation only (as a tangent refresh)
+        t_num = time.perf_counter() - t0
+        times = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            x = f.solve(b)
+            times.append(time.perf_counter() - t0)
+        res1 = float(np.linalg.norm(prob.Ke.dot(x) - b) / np.linalg.norm(b))
+        xr = f.solve_refined(b, prob.Ke.dot, rtol=1e-12)
+        rows.append({"precision": precision, "n_dofs": int(disc.n_dofs), "first_factorisation_s": t_first,
+                     "refactorisation_s": t_num, "solve_ms": 1e3 * float(np.median(times)), "relres_one_solve": res1,
+                     "relres_refined": float(np.linalg.norm(prob.Ke.dot(xr) - b) / np.linalg.norm(b)),
+                     "solves_refined": f.n_solves - repeat})
+        f.release()
+    return rows
 
 
 def elastic_half_space(h: float, block_mm: float) -> dict:
@@ -197,13 +237,18 @@ def run(mode: str, out: pathlib.Path) -> dict:
     # solver variants on one level (interleaved medians)
     h_cmp = hs[1]
     mesh_cmp = _mesh(h_cmp)
-    variants = {f"pcg + {DIRECT_NAME}": ("pcg", DIRECT), f"newton + {DIRECT_NAME}": ("newton", DIRECT),
-                f"modified + {DIRECT_NAME}": ("modified", DIRECT), "pcg + SuperLU": ("pcg", "scipy")}
+    variants = {f"pcg + {DIRECT_NAME}": ("pcg", DIRECT, {}), f"newton + {DIRECT_NAME}": ("newton", DIRECT, {}),
+                f"modified + {DIRECT_NAME}": ("modified", DIRECT, {}), "pcg + SuperLU": ("pcg", "scipy", {})}
+    if HAVE_PARDISO:  # the fast paths switched off one at a time (docs/calibration.md, "Speed")
+        variants["pcg + PARDISO, double-precision factor"] = ("pcg", DIRECT, {"factor_precision": "double"})
+        variants["pcg + PARDISO, fixed CG tolerance"] = ("pcg", DIRECT, {"cg_forcing": "fixed"})
+        variants["pcg + PARDISO, no elastic predictor"] = ("pcg", DIRECT, {"elastic_predictor": False})
     if quick:  # modified Newton: ~2000 iterations, 25x the time of the others (measured); full mode only
         variants.pop("pcg + SuperLU", None)
         variants.pop(f"modified + {DIRECT_NAME}")
-    var_times, var_res = _interleaved_runs({k: (lambda s=s, b=b: indentation(h_cmp, s, b, mesh=mesh_cmp))
-                                            for k, (s, b) in variants.items()}, repeat=1 if quick else 3)
+    var_times, var_res = _interleaved_runs({k: (lambda s=s, b=b, o=o: indentation(h_cmp, s, b, mesh=mesh_cmp, **o))
+                                            for k, (s, b, o) in variants.items()}, repeat=1 if quick else 3)
+    precision = factor_precision(hs[-1]) if HAVE_PARDISO else []
 
     # load-increment (time-discretisation) error on the coarsest level: backward-Euler return mapping
     n_incr = (8, 16, 32) if quick else (8, 16, 32, 64)
@@ -239,11 +284,22 @@ def run(mode: str, out: pathlib.Path) -> dict:
         md.append(f"| {e['block_mm']:g} | {e['n_dofs']} | {e['time_s']:.1f} | {e['w0_mm'] * 1000:.4f} | "
                   f"{e['w0_exact_mm'] * 1000:.4f} | {e['err_pct']:+.2f} | {e['first_yield_over_Y']:.4f} |")
     md += ["", f"Linear-solver strategies on h = {h_cmp} mm ({var_res[next(iter(var_res))]['n_dofs']} dofs), "
-           "interleaved medians (s):", "", "| variant | solve s | Newton its | CG its | u_peak µm | dent µm |",
-           "|---|---|---|---|---|---|"]
+           "interleaved medians (s):", "",
+           "| variant | solve s | Newton its | CG its | triangular solves | factorisations | u_peak µm | dent µm |",
+           "|---|---|---|---|---|---|---|---|"]
     for k, r in var_res.items():
-        md.append(f"| {k} | {var_times[k]:.2f} | {r['newton_iters']} | {r['cg_iters']} | "
-                  f"{r['u_peak_mm'] * 1000:.5f} | {r['dent_mm'] * 1000:.5f} |")
+        md.append(f"| {k} | {var_times[k]:.2f} | {r['newton_iters']} | {r['cg_iters']} | {r['linear_solves']} | "
+                  f"{r['factorisations']} | {r['u_peak_mm'] * 1000:.5f} | {r['dent_mm'] * 1000:.5f} |")
+    if precision:
+        md += ["", f"PARDISO factorisation precision on h = {hs[-1]} mm ({precision[0]['n_dofs']} dofs, elastic "
+               "stiffness, one thread): the single-precision factorisation preconditions CG (and is refined in "
+               "double precision where a direct solve is needed).", "",
+               "| precision | first factorisation s | refactorisation s | solve ms | rel. residual, one solve | "
+               "refined | solves to refine |", "|---|---|---|---|---|---|---|"]
+        for r in precision:
+            md.append(f"| {r['precision']} | {r['first_factorisation_s']:.2f} | {r['refactorisation_s']:.2f} | "
+                      f"{r['solve_ms']:.1f} | {r['relres_one_solve']:.1e} | {r['relres_refined']:.1e} | "
+                      f"{r['solves_refined']} |")
     md += ["", f"Load-increment error (h = {hs[0]} mm, newton; the table above uses 8 increments to the peak). "
            f"Reference: Richardson extrapolation of {'/'.join(map(str, n_incr[-3:]))} increments "
            f"(observed order {p_inc_u:.2f}): u_peak "
@@ -267,6 +323,7 @@ def run(mode: str, out: pathlib.Path) -> dict:
            "than P2 for this problem; the comparison is of the solvers, not of the elements.)"]
     data = {"levels": rows, "richardson": {"u_peak_mm": ref_u, "order_u": p_u, "dent_mm": ref_d, "order_dent": p_d},
             "elastic_half_space": elastic, "variants": {k: dict(var_res[k], median_s=var_times[k]) for k in var_res},
+            "factor_precision": precision,
             "increments": {"n": list(n_incr), "runs": incr, "reference_u_peak_mm": ref_inc_u,
                            "reference_dent_mm": ref_inc_d, "order": p_inc_u},
             "felupe": {"h_mm": h_fe, "ours": ours1, "felupe": theirs, "median_s": fe_times, "ratio": ratio},

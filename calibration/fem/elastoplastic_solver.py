@@ -14,7 +14,9 @@ the residual history. Convergence requires BOTH ``|r_k| <= rtol * max(|f_ext|, |
 norm of the residual ``r_k . P^-1 r_k <= etol * r_0 . P^-1 r_0`` (P: the stiffness factorisation at hand,
 elastic or a recent tangent; one extra back-substitution per iteration).
 
-Stiffness: K_e is assembled and factorised once; the tangent is ``K_e + sum_plastic_elements (K_ep - K_e)``.
+Stiffness: K_e is assembled and factorised once (PARDISO: in single precision by default, refined in double
+where a solve is used directly); the tangent is ``K_e + sum_plastic_elements (K_ep - K_e)``, applied matrix-free in
+CG (assembled only to be factorised).
 Strategies (``options.strategy``): 'newton' (factorise the consistent tangent each iteration), 'pcg'
 (conjugate gradients on the consistent tangent preconditioned by the last factorisation: the elastic one
 at first, refreshed with the current tangent when CG needs many iterations; default, see benchmarks/bench_fem.py), 'modified' (elastic stiffness only).
@@ -34,7 +36,7 @@ import numpy as np
 import skfem
 
 from calibration.fem.assembly import Discretisation, discretise
-from calibration.fem.linear_solvers import Factoriser, preconditioned_cg, resolve_backend
+from calibration.fem.linear_solvers import PRECISIONS, Factoriser, preconditioned_cg, resolve_backend
 from calibration.fem.material import J2Material, von_mises_MPa
 from calibration.fem.return_mapping import radial_return
 from wrlayer.atomic_write import atomic_write_bytes
@@ -55,7 +57,17 @@ class SolverOptions:
     increment from the linear extrapolation of the previous one (same direction); output_label: heads the titles
     of the PNG pictures (e.g. body and position); max_unload_increment_MPa:
     largest step towards a LOWER level (None: max_increment_MPa; unloading is nearly elastic, so one step usually
-    converges, and a failed step is cut as any other)."""
+    converges, and a failed step is cut as any other); factor_precision: 'single' (default) or 'double'
+    factorisations with PARDISO (single: 0.6x the solve and factorisation time at 62k dofs; the factorisation only
+    preconditions CG or is refined in double precision, so the converged states agree to the Newton tolerance,
+    docs/calibration.md "Speed"; SuperLU is always double); cg_forcing: 'fixed' (every CG to cg_rtol) or
+    'adaptive' (Eisenstat-Walker: the CG tolerance of Newton iteration k is gamma (|r_k| / |r_k-1|)^2, at most
+    cg_rtol_max and at least cg_rtol, and the first iteration's cg_rtol_max: the early corrections of an increment
+    are limited by the change of the plastic zone, not by the linear solve); elastic_predictor: start an
+    increment from a virgin state, and every unloading increment, from the elastic solution (the state plus
+    (p_new - p_old) times the unit-load elastic displacement): elastic loading converges without an iteration,
+    and so does an elastic unloading (the return mapping of the residual check verifies that no point re-yields;
+    if some do, Newton continues from there)."""
 
     rtol: float = 1e-8
     etol: float = 1e-10
@@ -72,6 +84,10 @@ class SolverOptions:
     output_label: str = ""
     max_unload_increment_MPa: float | None = None
     verbose: bool = False
+    factor_precision: str = "single"
+    cg_forcing: str = "adaptive"
+    cg_rtol_max: float = 0.1
+    elastic_predictor: bool = True
 
     def validate(self) -> None:
         require(0 < self.rtol < 1, "rtol", f"must be in (0, 1), got {self.rtol}")
@@ -83,6 +99,12 @@ class SolverOptions:
                 f"must be in (0, 1], got {self.min_increment_fraction}")
         require(self.strategy in STRATEGIES, "strategy", f"must be one of {STRATEGIES}, got {self.strategy!r}")
         resolve_backend(self.linear_solver)
+        require(self.cg_forcing in ("fixed", "adaptive"), "cg_forcing",
+                f"must be 'fixed' or 'adaptive', got {self.cg_forcing!r}")
+        require(0 < self.cg_rtol <= self.cg_rtol_max < 1, "cg_rtol",
+                f"need 0 < cg_rtol <= cg_rtol_max < 1, got {self.cg_rtol}, {self.cg_rtol_max}")
+        require(self.factor_precision in PRECISIONS, "factor_precision",
+                f"must be one of {PRECISIONS}, got {self.factor_precision!r}")
 
 
 @dataclass
@@ -209,16 +231,19 @@ class _Problem:
         self.diag_mask = (rows == disc.csr_indices) & self.fixed[rows]
         C = material.elastic_matrix()
         self.C_qp = np.broadcast_to(C, (disc.n_elements, disc.n_qp, 6, 6))
+        self.C = C
         self.Ke_data = disc.csr_data(disc.element_matrices(self.C_qp))
-        self.factor = Factoriser(disc.csr_indptr, disc.csr_indices, n, opts.linear_solver)
-        self.factor.factorise(self._bc(self.Ke_data.copy()))
+        self.Ke_bc_data = self._bc(self.Ke_data.copy())  # with the Dirichlet rows/cols replaced
+        self.Ke = disc.csr_matrix(self.Ke_bc_data.copy())
+        self.factor = Factoriser(disc.csr_indptr, disc.csr_indices, n, opts.linear_solver, opts.factor_precision)
+        self.factor.factorise(self.Ke_bc_data)
         self.factor_is_elastic = True
 
     def reset_to_elastic(self) -> None:
         """Refactorise the elastic stiffness if the kept factorisation is a tangent (after a failed increment the
         tangent of a diverged iterate may be near-singular, so it must not precondition the cut step)."""
         if not self.factor_is_elastic:
-            self.factor.factorise(self._bc(self.Ke_data.copy()))
+            self.factor.factorise(self.Ke_bc_data)
             self.factor_is_elastic = True
 
     def _bc(self, data: np.ndarray) -> np.ndarray:
@@ -229,38 +254,69 @@ class _Problem:
     def tangent_data(self, tangent: np.ndarray, plastic_elems: np.ndarray) -> np.ndarray:
         """CSR data of K_e + sum over plastic elements of (K_ep - K_e), Dirichlet rows/cols replaced."""
         data = self.Ke_data.copy()
-        if plastic_elems.size:
-            dK = (self.disc.element_matrices(tangent, plastic_elems)
-                  - self.disc.element_matrices(self.C_qp, plastic_elems))
+        if plastic_elems.size:  # K_ep - K_e = B^T (C_ep - C) B: one product over the plastic elements only
+            dK = self.disc.element_matrices(tangent[plastic_elems] - self.C, plastic_elems, selected=True)
             data += self.disc.csr_data(dK, plastic_elems)
         return self._bc(data)
 
-    def solve_correction(self, r: np.ndarray, tangent: np.ndarray, plastic_elems: np.ndarray) -> tuple[np.ndarray, int]:
-        """Newton correction for residual r (free dofs) with the chosen strategy; returns (du, cg iterations)."""
+    def tangent_matvec(self, tangent: np.ndarray, plastic_elems: np.ndarray):
+        """x -> K_t x without assembling K_t: the elastic K_e x plus, over the plastic elements only, the element
+        products (K_ep - K_e) x_e (Dirichlet rows/cols replaced as in :meth:`tangent_data`). Measured: the
+        assembly of K_t's CSR data (copy, scatter, boundary conditions of all 5e6 entries at 62k dofs) cost more
+        than all the matvecs of the CG that used it."""
+        if plastic_elems.size == 0:
+            return self.Ke.dot
+        dK = self.disc.element_matrices(tangent[plastic_elems] - self.C, plastic_elems, selected=True)
+        edofs = self.disc.element_dofs[plastic_elems]
+        flat = edofs.ravel()
+        fixed, n = self.fixed, self.disc.n_dofs
+
+        def matvec(x: np.ndarray) -> np.ndarray:
+            xf = np.where(fixed, 0.0, x)
+            ye = np.matmul(dK, xf[edofs][:, :, None])[:, :, 0]
+            y = self.Ke.dot(x) + np.bincount(flat, weights=ye.ravel(), minlength=n)
+            y[fixed] = x[fixed]
+            return y
+
+        return matvec
+
+    def solve_correction(self, r: np.ndarray, tangent: np.ndarray, plastic_elems: np.ndarray,
+                         cg_rtol: float | None = None) -> tuple[np.ndarray, int, float | None]:
+        """Newton correction for residual r (free dofs) with the chosen strategy; returns (du, cg iterations,
+        r . P^-1 r with the factorisation P at hand on entry, or None when not computed: the 'newton' strategy).
+        cg_rtol: the CG tolerance of this correction (default options.cg_rtol)."""
+        cg_rtol = self.opts.cg_rtol if cg_rtol is None else cg_rtol
         strategy = self.opts.strategy
-        if strategy == "modified" or (plastic_elems.size == 0 and self.factor_is_elastic):
-            return self.factor.solve(r), 0
-        data = self.tangent_data(tangent, plastic_elems)
+        if strategy == "modified":
+            du = self.factor.solve(r)
+            return du, 0, float(r @ du)
+        info: dict = {}
+        if plastic_elems.size == 0 and self.factor_is_elastic:  # exact up to the Newton tolerance
+            return self.factor.solve_refined(r, self.Ke.dot, rtol=1e-2 * self.opts.rtol, info=info), 0, info["rz0"]
         if strategy == "newton":
+            data = self.tangent_data(tangent, plastic_elems)
             self.factor.factorise(data)
             self.factor_is_elastic = plastic_elems.size == 0
-            return self.factor.solve(r), 0
-        K = self.disc.csr_matrix(data)
-        du, iters = preconditioned_cg(K.dot, r, self.factor.solve, rtol=self.opts.cg_rtol, max_iter=500)
+            return self.factor.solve_refined(r, self.disc.csr_matrix(data).dot, rtol=cg_rtol), 0, None
+        du, iters = preconditioned_cg(self.tangent_matvec(tangent, plastic_elems), r, self.factor.solve,
+                                      rtol=cg_rtol, max_iter=500, info=info)
         if iters > self.opts.cg_refresh_iters:
-            self.factor.factorise(data)
+            self.factor.factorise(self.tangent_data(tangent, plastic_elems))
             self.factor_is_elastic = plastic_elems.size == 0
-        return du, iters
+        return du, iters, info["rz0"]
 
 
 def _newton_increment(prob: _Problem, state: SolverState, force: np.ndarray, p_old: float, p_new: float,
-                      max_iter: int, p_scale: float = 0.0, u_start: np.ndarray | None = None):
+                      max_iter: int, p_scale: float = 0.0, u_start: np.ndarray | None = None,
+                      elastic_start: bool = False):
     """Newton iteration from the converged ``state`` at p_old to p_new. Returns (new state, info) or raises
     ConvergenceError with the residual history.
 
     Converged when |r_k| <= rtol * max(|f_ext|, |f_int|) and r_k . P^-1 r_k <= etol * r_0 . P^-1 r_0 (energy
     norm of the residual; P the current factorisation: elastic or a recent tangent). ``u_start``: the first
-    iterate (a predictor; default the converged displacement).
+    iterate (a predictor; default the converged displacement); elastic_start: u_start is the state plus the
+    elastic solution of the load change (then accepted without iteration when no point yields and the force
+    residual passes).
     """
     disc, mat, opts = prob.disc, prob.material, prob.opts
     free = ~prob.fixed
@@ -283,13 +339,22 @@ def _newton_increment(prob: _Problem, state: SolverState, force: np.ndarray, p_o
         if not math.isfinite(rnorm):
             break
         residuals.append(rnorm)
-        if it == 0 and rnorm <= 1e-3 * opts.rtol:  # nothing to do (e.g. the same level again)
+        # nothing to do (the same level again, or an exact elastic predictor; 1e-13: round-off, which a tighter
+        # rtol could not pass through the energy norm)
+        # an elastic predictor that no point contradicts (the return mapping just run found no plastic point) is
+        # exact: the residual is what the converged start state left (<= rtol), no iteration is needed
+        elastic_exact = elastic_start and it == 0 and rnorm <= opts.rtol and not res.plastic.any()
+        if elastic_exact or (it == 0 and rnorm <= max(1e-3 * opts.rtol, 1e-13)):
             energies.append(0.0)
             return _converged(u, res, p_new, it, residuals, energies, cg_total)
         # energy norm of the residual (current factorisation): one back-substitution, so it is evaluated only
         # on the first iteration (the reference) and once the force residual has passed (measured: this
-        # halves the triangular solves of a 3D indentation, benchmarks/bench_fem.py)
-        if it == 0 or rnorm <= opts.rtol:
+        # halves the triangular solves of a 3D indentation, benchmarks/bench_fem.py). The reference r_0 . P^-1 r_0
+        # is the first preconditioner application of the first correction (no solve of its own), except with
+        # the 'newton' strategy, which refactorises first.
+        if it == 0 and opts.strategy != "newton":
+            energies.append(1.0)  # e0 is set from the first correction below
+        elif it == 0 or rnorm <= opts.rtol:
             energy = abs(float(r @ prob.factor.solve(r)))
             e0 = energy if e0 is None else e0
             energies.append(energy / max(e0, 1e-300))
@@ -297,19 +362,27 @@ def _newton_increment(prob: _Problem, state: SolverState, force: np.ndarray, p_o
             energies.append(float("nan"))
         if opts.verbose:
             print(f"    p0={p_new:.6g} it={it} |r|/ref={rnorm:.3e} energy={energies[-1]:.3e}")
-        if rnorm <= opts.rtol and energies[-1] <= opts.etol:
+        # an increment that started below the force tolerance (an exact elastic predictor) has a round-off energy
+        # reference: after one correction the force criterion alone decides
+        if rnorm <= opts.rtol and (energies[-1] <= opts.etol or (it >= 1 and residuals[0] <= opts.rtol)):
             return _converged(u, res, p_new, it, residuals, energies, cg_total)
         if it == max_iter or rnorm > 1e6 or (it >= 4 and rnorm > 10 * residuals[0]):
             break
         plastic_elems = np.nonzero(res.plastic.any(axis=1))[0]
+        cg_rtol = opts.cg_rtol
+        if opts.cg_forcing == "adaptive":  # Eisenstat-Walker (choice 2, gamma = 0.9)
+            eta = opts.cg_rtol_max if it == 0 else 0.9 * (rnorm / residuals[-2]) ** 2
+            cg_rtol = min(opts.cg_rtol_max, max(opts.cg_rtol, eta))
         try:
-            du, ncg = prob.solve_correction(r, res.tangent_MPa, plastic_elems)
+            du, ncg, rz0 = prob.solve_correction(r, res.tangent_MPa, plastic_elems, cg_rtol)
         except ConvergenceError as err:
             residuals.append(float("nan"))
             if opts.verbose:
                 print(f"    linear solve failed: {err}")
             break
         cg_total += ncg
+        if e0 is None:
+            e0 = abs(rz0)
         du[prob.fixed] = 0.0
         u = u + du
     hist = ", ".join(f"{x:.3e}" for x in residuals)
@@ -323,18 +396,18 @@ def _converged(u, res, p_new, it, residuals, energies, cg_total):
                      cg_iters=cg_total)
 
 
-def _first_yield(prob: _Problem, force: np.ndarray) -> float:
-    """p0 (MPa) at which the max quadrature-point von Mises stress of the elastic solution reaches yield."""
+def _first_yield(prob: _Problem, force: np.ndarray) -> tuple[float, np.ndarray]:
+    """(p0 (MPa) at which the max quadrature-point von Mises stress of the elastic solution reaches yield, the
+    elastic displacement under p0 = 1 MPa (mm), the elastic predictor)."""
     r = force.copy()
     r[prob.fixed] = 0.0
     if prob.factor_is_elastic:
-        u1 = prob.factor.solve(r)
+        u1 = prob.factor.solve_refined(r, prob.Ke.dot, rtol=1e-12)
     else:  # the kept factorisation is a tangent: solve K_e u = r by CG preconditioned with it
-        K_e = prob.disc.csr_matrix(prob._bc(prob.Ke_data.copy()))
-        u1, _ = preconditioned_cg(K_e.dot, r, prob.factor.solve, rtol=1e-12, max_iter=500)
+        u1, _ = preconditioned_cg(prob.Ke.dot, r, prob.factor.solve, rtol=1e-12, max_iter=500)
     vm = von_mises_MPa(prob.disc.strain(u1) @ prob.material.elastic_matrix())
     peak = float(vm.max())
-    return prob.material.yield_MPa / peak if peak > 0 else float("inf")
+    return (prob.material.yield_MPa / peak if peak > 0 else float("inf")), u1
 
 
 def _probe_values(probes: dict | None, u: np.ndarray) -> dict[str, float]:
@@ -375,7 +448,7 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
         prepared = load.prepare(disc.basis)
     key = (material, None if opts.dirichlet is None else tuple(sorted((k, tuple(v)) for k, v in
                                                                       opts.dirichlet.items())),
-           resolve_backend(opts.linear_solver), opts.strategy == "modified")
+           resolve_backend(opts.linear_solver), opts.strategy == "modified", opts.factor_precision)
     prob = disc.problem_cache.get(key)
     if prob is None:  # assemble + factorise K_e once per discretisation, material and constraints
         disc.problem_cache.clear()
@@ -394,7 +467,7 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
     fy_key = ("first_yield", load_key, key)
     if fy_key not in disc.problem_cache:  # an elastic solve (a CG when the kept factorisation is a tangent)
         disc.problem_cache[fy_key] = _first_yield(prob, prepared.force_per_MPa)
-    first_yield = disc.problem_cache[fy_key]
+    first_yield, u_unit = disc.problem_cache[fy_key]
     history: list[Increment] = []
     files: list[Path] = []
     yielded_before = bool(np.any(state.eq_plastic_strain > 0))
@@ -417,14 +490,17 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
                 step = remaining
             # the last sub-step lands exactly on the target (no round-off residue of summed steps)
             p_new = target if abs(remaining - step) <= 1e-9 * max(abs(step_req), abs(target)) else state.p0_MPa + step
-            u_start = None
+            u_start, elastic_start = None, False
             if opts.predictor and last is not None and (p_new - state.p0_MPa) * last[0] > 0:
                 # linear extrapolation of the last converged increment in the same direction
                 u_start = state.u_mm + ((p_new - state.p0_MPa) / last[0]) * last[1]
+            elif opts.elastic_predictor and (p_new < state.p0_MPa or not yielded_before):
+                # elastic unloading / elastic loading of a virgin body: exact unless some point (re-)yields
+                u_start, elastic_start = state.u_mm + (p_new - state.p0_MPa) * u_unit, True
             try:
                 state_new, info = _newton_increment(prob, state, prepared.force_per_MPa, state.p0_MPa, p_new,
                                                     max_iter, p_scale=max(abs(start), abs(target)),
-                                                    u_start=u_start)
+                                                    u_start=u_start, elastic_start=elastic_start)
             except ConvergenceError as err:
                 last = None  # the cut step restarts from the converged state
                 if abs(step) / 2 < floor * (1 - 1e-12) or step == 0.0:

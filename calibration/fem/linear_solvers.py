@@ -9,12 +9,21 @@ symmetric indefinite, so that a singular-ish tangent near the limit load is repo
 from __future__ import annotations
 
 import ctypes
+import glob
+import os
+import sys
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from wrlayer.errors import ConvergenceError, InputError
+
+if "PYPARDISO_MKL_RT" not in os.environ:  # the MKL runtime next to this interpreter, the shortest path first as
+    # pypardiso would pick it, but without its recursive search of the environment on every solver (0.3-1 s each)
+    _candidates = sorted(glob.glob(os.path.join(sys.prefix, "lib", "*mkl_rt*")), key=len)
+    if _candidates:
+        os.environ["PYPARDISO_MKL_RT"] = _candidates[0]
 
 try:  # MKL PARDISO (x86_64 only)
     import pypardiso
@@ -37,22 +46,48 @@ def resolve_backend(backend: str) -> str:
     return backend
 
 
-class _PardisoSymmetric:
-    """PARDISO handle for one symmetric sparsity pattern; ``factorise(data)`` then ``solve(b)``."""
+PRECISIONS = ("double", "single")
 
-    def __init__(self, indptr: np.ndarray, indices: np.ndarray, n: int):
+
+def _new_pardiso_solver():
+    """A pypardiso solver object. pypardiso looks for the MKL runtime on every construction (a recursive glob of
+    the environment when ``find_library`` fails: 0.3-1 s, measured); the path it found is kept in
+    ``PYPARDISO_MKL_RT``, pypardiso's own setting, so that the next positions of a worker skip the search."""
+    solver = pypardiso.PyPardisoSolver(mtype=-2)
+    if "PYPARDISO_MKL_RT" not in os.environ and getattr(solver.libmkl, "_name", None):
+        os.environ["PYPARDISO_MKL_RT"] = solver.libmkl._name
+    return solver
+
+
+class _PardisoSymmetric:
+    """PARDISO handle for one symmetric sparsity pattern; ``factorise(data)`` then ``solve(b)``.
+
+    single=True: factorisation and triangular solves in single precision (MKL iparm(28) = 1; matrix, right-hand
+    side and solution are passed as float32 and converted here). The solve then has a relative error of about
+    1e-6 to 1e-5 (measured on the 62k-dof wheel mesh: 5e-6): use it as a preconditioner or refine it
+    (:meth:`Factoriser.solve_refined`). It halves the factor's memory traffic: triangular solves 38 ms against
+    64 ms, factorisations 2.2 s against 3.2 s on the 62k-dof wheel mesh at y = 30 mm, one core; no faster solves
+    below ~30k dofs (docs/calibration.md, "Speed"; benchmarks/bench_fem.py measures both on its block).
+    """
+
+    def __init__(self, indptr: np.ndarray, indices: np.ndarray, n: int, single: bool = False):
         rows = np.repeat(np.arange(n), np.diff(indptr))
         self.upper = indices >= rows
         counts = np.bincount(rows[self.upper], minlength=n)
         self.ia = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32) + 1
         self.ja = indices[self.upper].astype(np.int32) + 1
         self.n = n
-        self.solver = pypardiso.PyPardisoSolver(mtype=-2)
+        self.single = bool(single)
+        self.dtype = np.float32 if self.single else np.float64
+        self.solver = _new_pardiso_solver()
         self.solver.set_iparm(1, 1)     # user-supplied iparm
         self.solver.set_iparm(2, 2)     # nested dissection (METIS) ordering
         self.solver.set_iparm(10, 8)    # pivot perturbation 1e-8
         self.solver.set_iparm(11, 0)    # no scaling (symmetric)
         self.solver.set_iparm(13, 0)    # no weighted matching (symmetric)
+        if self.single:
+            self.solver.set_iparm(8, 0)   # no iterative refinement inside PARDISO (the caller refines)
+            self.solver.set_iparm(28, 1)  # single precision
         self.analysed = False
         self.a = None
 
@@ -60,32 +95,39 @@ class _PardisoSymmetric:
         s = self.solver
         x = np.zeros_like(b)
         err = ctypes.c_int32(0)
-        i32p, f64p = ctypes.POINTER(ctypes.c_int32), ctypes.POINTER(ctypes.c_double)
+        i32p = ctypes.POINTER(ctypes.c_int32)
+        fp = ctypes.POINTER(ctypes.c_float if self.single else ctypes.c_double)
         s._mkl_pardiso(s.pt.ctypes.data_as(ctypes.POINTER(s._pt_type[0])), ctypes.byref(ctypes.c_int32(1)),
                        ctypes.byref(ctypes.c_int32(1)), ctypes.byref(ctypes.c_int32(-2)),
                        ctypes.byref(ctypes.c_int32(phase)), ctypes.byref(ctypes.c_int32(self.n)),
-                       self.a.ctypes.data_as(f64p), self.ia.ctypes.data_as(i32p), self.ja.ctypes.data_as(i32p),
+                       self.a.ctypes.data_as(fp), self.ia.ctypes.data_as(i32p), self.ja.ctypes.data_as(i32p),
                        s.perm.ctypes.data_as(i32p), ctypes.byref(ctypes.c_int32(1)),
                        s.iparm.ctypes.data_as(i32p), ctypes.byref(ctypes.c_int32(0)),
-                       b.ctypes.data_as(f64p), x.ctypes.data_as(f64p), ctypes.byref(err))
+                       b.ctypes.data_as(fp), x.ctypes.data_as(fp), ctypes.byref(err))
         if err.value != 0:
             raise ConvergenceError(f"PARDISO phase {phase} failed with error {err.value}")
         return x
 
     def factorise(self, data: np.ndarray) -> None:
-        self.a = np.ascontiguousarray(data[self.upper], dtype=np.float64)
-        dummy = np.zeros(self.n)
+        self.a = np.ascontiguousarray(data[self.upper], dtype=self.dtype)
+        dummy = np.zeros(self.n, dtype=self.dtype)
         if not self.analysed:
             self._call(11, dummy)
             self.analysed = True
         self._call(22, dummy)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
+        if self.single:  # scale into float32's range (the residuals of a converged state can be tiny)
+            scale = float(np.max(np.abs(b)))
+            if scale == 0.0 or not np.isfinite(scale):
+                return np.zeros(self.n) if scale == 0.0 else np.full(self.n, np.nan)
+            x = self._call(33, np.ascontiguousarray(b / scale, dtype=np.float32))
+            return x.astype(np.float64) * scale
         return self._call(33, np.ascontiguousarray(b, dtype=np.float64))
 
     def release(self) -> None:
         if self.analysed:
-            self._call(-1, np.zeros(self.n))
+            self._call(-1, np.zeros(self.n, dtype=self.dtype))
             self.analysed = False
 
     def __del__(self):  # free MKL memory
@@ -121,12 +163,19 @@ class Factoriser:
     """Factorise matrices sharing one symmetric CSR pattern (indptr, indices) and solve with them.
 
     backend: 'auto' | 'pardiso' | 'scipy'. ``factorise(data)`` replaces the factorisation; ``solve(b)``.
+    precision: 'double' or 'single' (PARDISO only; SuperLU is always double): a single-precision solve is
+    accurate to about 1e-5 relative, enough for a CG preconditioner; :meth:`solve_refined` adds iterative
+    refinement in double precision for the direct uses.
     """
 
-    def __init__(self, indptr: np.ndarray, indices: np.ndarray, n: int, backend: str = "auto"):
+    def __init__(self, indptr: np.ndarray, indices: np.ndarray, n: int, backend: str = "auto",
+                 precision: str = "double"):
+        if precision not in PRECISIONS:
+            raise InputError("factor_precision", f"must be one of {PRECISIONS}, got {precision!r}")
         self.backend = resolve_backend(backend)
-        cls = _PardisoSymmetric if self.backend == "pardiso" else _ScipyLU
-        self._impl = cls(indptr, indices, n)
+        self.single = self.backend == "pardiso" and precision == "single"
+        self._impl = (_PardisoSymmetric(indptr, indices, n, single=self.single) if self.backend == "pardiso"
+                      else _ScipyLU(indptr, indices, n))
         self.n_factorisations = 0
         self.n_solves = 0
 
@@ -141,24 +190,47 @@ class Factoriser:
             raise ConvergenceError("linear solve produced non-finite values (singular tangent?)")
         return x
 
+    def solve_refined(self, b: np.ndarray, matvec, rtol: float = 1e-12, max_iter: int = 10,
+                      info: dict | None = None) -> np.ndarray:
+        """Solve A x = b with the factorisation of A (matvec: x -> A x), refined in double precision until
+        |b - A x| <= rtol |b| (single precision: usually two refinement steps, i.e. three solves; double: the
+        plain solve, unchanged). info: receives "rz0" = b . (first solve of b)."""
+        x = self.solve(b)
+        if info is not None:
+            info["rz0"] = float(b @ x)
+        if not self.single:
+            return x
+        bnorm = np.linalg.norm(b)
+        for _ in range(max_iter):
+            r = b - matvec(x)
+            if np.linalg.norm(r) <= rtol * bnorm:
+                break
+            x = x + self.solve(r)
+        return x
+
     def release(self) -> None:
         self._impl.release()
 
 
 def preconditioned_cg(matvec, b: np.ndarray, precondition, rtol: float = 1e-10,
-                      max_iter: int = 200) -> tuple[np.ndarray, int]:
+                      max_iter: int = 200, info: dict | None = None) -> tuple[np.ndarray, int]:
     """Conjugate gradients for the SPD operator ``matvec`` with preconditioner ``precondition`` (a solve).
 
-    Returns (x, iterations); raises ConvergenceError when ``max_iter`` is reached.
+    Returns (x, iterations); raises ConvergenceError when ``max_iter`` is reached. info: receives "rz0" =
+    b . precondition(b), the preconditioner's energy norm of b (the first step computes it anyway).
     """
     x = np.zeros_like(b)
     r = b.copy()
     bnorm = np.linalg.norm(b)
     if bnorm == 0.0:
+        if info is not None:
+            info["rz0"] = 0.0
         return x, 0
     z = precondition(r)
     p = z.copy()
     rz = r @ z
+    if info is not None:
+        info["rz0"] = float(rz)
     for it in range(1, max_iter + 1):
         Ap = matvec(p)
         pAp = p @ Ap
