@@ -26,7 +26,7 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-from wrlayer.errors import InputError
+from wrlayer.errors import InputError, check_terminated
 
 #: Files by which an earlier output folder of the tool is recognised (such a folder may be replaced as a whole).
 OUTPUT_FILES = ("result.json",)
@@ -125,6 +125,7 @@ def atomic_output_dir(path: str | os.PathLike) -> Iterator[Path]:
     tmp = _staging_dir(path)
     try:
         yield tmp
+        check_terminated()  # a SIGTERM swallowed by a C callback: nothing is committed
         path.mkdir(parents=True, exist_ok=True)
         for item in sorted(tmp.rglob("*")):
             if item.is_file():
@@ -251,6 +252,7 @@ def replace_output_dir(path: str | os.PathLike, what: str | None = None,
         tmp = _staging_dir(path)
         try:
             yield tmp
+            check_terminated()  # a SIGTERM swallowed by a C callback: the earlier output stays
             if path.is_dir():
                 _carry_over(path, tmp, owned)
             if path.exists() and _exchange(tmp, path):

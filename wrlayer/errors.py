@@ -57,9 +57,15 @@ def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
 
     @functools.wraps(main)
     def wrapped(*args, **kwargs) -> int:
+        global _terminated
         previous = _catch_sigterm()
+        if previous is not _raise_terminated:  # the outermost command: a fresh flag, a quiet unraisable hook
+            _terminated = False
+        hook = sys.unraisablehook
+        sys.unraisablehook = _unraisable
         try:
             rc = main(*args, **kwargs)
+            check_terminated()
         except Terminated:
             print("error: terminated (SIGTERM); nothing written", file=sys.stderr)
             return 143
@@ -78,6 +84,7 @@ def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
                   "or cases)", file=sys.stderr)
             return ConvergenceError.exit_code
         finally:
+            sys.unraisablehook = hook
             if previous is not None:
                 signal.signal(signal.SIGTERM, previous)
         return 0 if rc is None else int(rc)
@@ -90,8 +97,30 @@ class Terminated(BaseException):
     processes ended (``finally``/``except BaseException`` blocks run) before the process exits with 143."""
 
 
+#: Set by the SIGTERM handler and kept: an exception raised inside a C callback (e.g. numba's compiler calling back
+#: through ctypes) is printed and dropped by Python, so the signal would be lost; :func:`check_terminated` at the
+#: points where output is committed, and the command wrapper at its end, raise it again.
+_terminated = False
+
+
 def _raise_terminated(signum, frame):
+    global _terminated
+    _terminated = True
     raise Terminated()
+
+
+def _unraisable(info) -> None:
+    """sys.unraisablehook while a command runs: a Terminated dropped inside a C callback is not printed (the flag
+    keeps it, :func:`check_terminated` raises it again); anything else goes to the default hook."""
+    if info.exc_type is not None and issubclass(info.exc_type, Terminated):
+        return
+    sys.__unraisablehook__(info)
+
+
+def check_terminated() -> None:
+    """Raise :class:`Terminated` if SIGTERM arrived during this command (even if its first raise was swallowed)."""
+    if _terminated:
+        raise Terminated()
 
 
 def _catch_sigterm():

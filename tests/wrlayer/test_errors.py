@@ -47,3 +47,32 @@ def test_guard_maps_errors_to_exit_codes(capsys):
                      lines[3], "error: interrupted"] and lines[3].startswith("error: out of memory")
     with pytest.raises(ZeroDivisionError):  # a programming error keeps its traceback
         raiser(ZeroDivisionError())
+
+
+def test_sigterm_swallowed_inside_a_c_callback_still_ends_the_run_without_output(tmp_path, capsys):
+    """A SIGTERM whose Terminated is raised inside a C callback (numba's compiler calls back through ctypes) is
+    dropped by Python; the run must still end with 143 and commit nothing (found in CI: the run went on)."""
+    import ctypes
+    import os
+    import signal
+
+    from wrlayer.atomic_write import atomic_output_dir
+
+    out = tmp_path / "out"
+
+    @ctypes.CFUNCTYPE(None)
+    def callback():
+        os.kill(os.getpid(), signal.SIGTERM)  # the handler runs here, inside the callback: its exception is dropped
+        sum(range(1000))
+
+    @cli_guard
+    def main():
+        callback()
+        with atomic_output_dir(out) as tmp:
+            (tmp / "result.json").write_text("{}")
+        return 0
+
+    assert main() == 143
+    err = capsys.readouterr().err
+    assert err.strip() == "error: terminated (SIGTERM); nothing written", err
+    assert not out.exists() or not any(out.iterdir())
