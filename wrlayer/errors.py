@@ -64,8 +64,13 @@ def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
         hook = sys.unraisablehook
         sys.unraisablehook = _unraisable
         try:
-            rc = main(*args, **kwargs)
-            check_terminated()
+            try:
+                rc = main(*args, **kwargs)
+                check_terminated()
+            except BaseException:
+                if _terminated:  # whatever a library made of the interrupted call (e.g. numba wraps it), SIGTERM
+                    raise Terminated() from None  # came first: the run ends as terminated
+                raise
         except Terminated:
             print("error: terminated (SIGTERM); nothing written", file=sys.stderr)
             return 143

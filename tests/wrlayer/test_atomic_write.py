@@ -180,7 +180,8 @@ def test_sigterm_removes_the_staging_folder_at_once(tmp_path):
     folder is removed by the run itself, the previous output is unchanged."""
     out = tmp_path / "out"
     before, run = _previous_output_and_a_staging_run(tmp_path, out, signal.SIGTERM)
-    assert run.wait(timeout=60) == 143
+    rc = run.wait(timeout=60)
+    assert rc == 143, run.stderr.read()[-3000:]
     assert run.stderr.read().strip() == "error: terminated (SIGTERM); nothing written"
     assert not list(tmp_path.glob(".out.*"))
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before

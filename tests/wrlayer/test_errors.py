@@ -76,3 +76,25 @@ def test_sigterm_swallowed_inside_a_c_callback_still_ends_the_run_without_output
     err = capsys.readouterr().err
     assert err.strip() == "error: terminated (SIGTERM); nothing written", err
     assert not out.exists() or not any(out.iterdir())
+
+
+def test_an_error_caused_by_an_interrupted_library_call_after_sigterm_is_a_termination(capsys):
+    """SIGTERM first, then a library turns the interrupted call into its own error (numba wraps exceptions raised
+    while it compiles): the run ends as terminated (143), not with a traceback."""
+    import os
+    import signal
+
+    import wrlayer.errors as errors
+
+    @cli_guard
+    def main():
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)  # the handler raises right after this call, inside the try
+            for _ in range(1000):
+                pass
+        except errors.Terminated:
+            raise RuntimeError("a library's error made of the interruption") from None
+        return 0
+
+    assert main() == 143
+    assert capsys.readouterr().err.strip() == "error: terminated (SIGTERM); nothing written"
