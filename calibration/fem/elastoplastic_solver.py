@@ -234,7 +234,7 @@ class _Problem:
         self.C = C
         self.Ke_data = disc.csr_data(disc.element_matrices(self.C_qp))
         self.Ke_bc_data = self._bc(self.Ke_data.copy())  # with the Dirichlet rows/cols replaced
-        self.Ke = disc.csr_matrix(self.Ke_bc_data.copy())
+        self.Ke = disc.csr_matrix(self.Ke_bc_data)  # shares the array (never written after this): one copy less
         self.factor = Factoriser(disc.csr_indptr, disc.csr_indices, n, opts.linear_solver, opts.factor_precision)
         self.factor.factorise(self.Ke_bc_data)
         self.factor_is_elastic = True
