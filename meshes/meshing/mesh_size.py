@@ -77,17 +77,26 @@ class GradedSize:
         for zone in extra:
             fields.append(mesh_field.add("MathEval"))
             mesh_field.setString(fields[-1], "F", zone.gmsh_expression(axes))
-        for radius, kind, tags in curved:
-            if self.curvature_size(radius) < self.h_max:
-                fields.append(mesh_field.add("Constant"))
-                mesh_field.setNumber(fields[-1], "VIn", self.curvature_size(radius))
-                mesh_field.setNumbers(fields[-1], kind, tags)
-        if len(fields) > 1:
-            fields.append(mesh_field.add("Min"))
-            mesh_field.setNumbers(fields[-1], "FieldsList", fields[:-1])
-        mesh_field.setAsBackgroundMesh(fields[-1])
-        for key, value in {"Mesh.MeshSizeExtendFromBoundary": 0, "Mesh.MeshSizeFromPoints": 0,
-                           "Mesh.MeshSizeFromCurvature": 0,
-                           "Mesh.MeshSizeMin": min([self.h_min] + [z.h_min for z in extra]),
-                           "Mesh.MeshSizeMax": self.h_max}.items():
-            gmsh.option.setNumber(key, value)
+        set_background_size(fields, [(self.curvature_size(radius), kind, tags) for radius, kind, tags in curved],
+                            min([self.h_min] + [z.h_min for z in extra]), self.h_max)
+
+
+def set_background_size(fields: list[int], curved: list[tuple[float, str, list[int]]], h_min: float,
+                        h_max: float) -> None:
+    """Make min(``fields``, the curvature limits) the background size of the current Gmsh model, with sizes from
+    points, boundaries and curvature off. ``curved``: (size limit in mm, "CurvesList" or "SurfacesList", entity
+    tags); limits not below h_max are skipped. Mesh.MeshSizeMin/Max = h_min/h_max (mm)."""
+    mesh_field = gmsh.model.mesh.field
+    fields = list(fields)
+    for size, kind, tags in curved:
+        if size < h_max:
+            fields.append(mesh_field.add("Constant"))
+            mesh_field.setNumber(fields[-1], "VIn", size)
+            mesh_field.setNumbers(fields[-1], kind, tags)
+    if len(fields) > 1:
+        fields.append(mesh_field.add("Min"))
+        mesh_field.setNumbers(fields[-1], "FieldsList", fields[:-1])
+    mesh_field.setAsBackgroundMesh(fields[-1])
+    for key, value in {"Mesh.MeshSizeExtendFromBoundary": 0, "Mesh.MeshSizeFromPoints": 0,
+                       "Mesh.MeshSizeFromCurvature": 0, "Mesh.MeshSizeMin": h_min, "Mesh.MeshSizeMax": h_max}.items():
+        gmsh.option.setNumber(key, value)
