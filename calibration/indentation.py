@@ -322,14 +322,14 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
 
         series = FieldSeries(Path(out_dir) / "load_path", material)
         series(disc, SolverState.virgin(disc))  # step 0: the unloaded body
-    start = 0.0
+    start, branch = 0.0, None
     for end in stage_ends:
         stage = [p for p in levels if start < p <= end + 1e-9 * end]
         write = out_dir is not None and top is not None and abs(end - top) <= 1e-9 * top
         res = solve_load_path(mesh, material, load, stage, options=opts, initial_state=state, disc=disc,
                               vtk_at=[len(stage) - 1] if write else (), out_dir=out_dir / "peak" if write else None,
-                              probes=probes, on_level=series)
-        state = res.state
+                              probes=probes, on_level=series, branch_points=branch)
+        state, branch = res.state, res.branch_points  # the next stage extrapolates this loading branch
         history += res.history
         files += [str(f) for f in res.files]
         newton += sum(h.newton_iters for h in res.history)

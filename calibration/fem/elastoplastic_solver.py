@@ -67,7 +67,10 @@ class SolverOptions:
     increment from a virgin state, and every unloading increment, from the elastic solution (the state plus
     (p_new - p_old) times the unit-load elastic displacement): elastic loading converges without an iteration,
     and so does an elastic unloading (the return mapping of the residual check verifies that no point re-yields;
-    if some do, Newton continues from there)."""
+    if some do, Newton continues from there); predictor_order: 2 (default) extrapolates the last three converged
+    points of the loading branch quadratically in p0, 1 the last two linearly (measured on the default 3D
+    calibration: 7-13 % fewer triangular solves than linear, with the branch carried across load stages,
+    docs/calibration.md "Speed")."""
 
     rtol: float = 1e-8
     etol: float = 1e-10
@@ -88,6 +91,7 @@ class SolverOptions:
     cg_forcing: str = "adaptive"
     cg_rtol_max: float = 0.1
     elastic_predictor: bool = True
+    predictor_order: int = 2
 
     def validate(self) -> None:
         require(0 < self.rtol < 1, "rtol", f"must be in (0, 1), got {self.rtol}")
@@ -103,6 +107,8 @@ class SolverOptions:
                 f"must be 'fixed' or 'adaptive', got {self.cg_forcing!r}")
         require(0 < self.cg_rtol <= self.cg_rtol_max < 1, "cg_rtol",
                 f"need 0 < cg_rtol <= cg_rtol_max < 1, got {self.cg_rtol}, {self.cg_rtol_max}")
+        require(self.predictor_order in (1, 2), "predictor_order",
+                f"must be 1 (linear) or 2 (quadratic), got {self.predictor_order!r}")
         require(self.factor_precision in PRECISIONS, "factor_precision",
                 f"must be one of {PRECISIONS}, got {self.factor_precision!r}")
 
@@ -178,7 +184,8 @@ class Increment:
 
 @dataclass
 class FemResult:
-    """Result of :func:`solve_load_path`; see the module docstring."""
+    """Result of :func:`solve_load_path`; see the module docstring. ``branch_points``: the last (up to three)
+    converged (p0 in MPa, u in mm) points of the final monotone branch (restart with ``branch_points=``)."""
 
     history: list[Increment]
     first_yield_p0_MPa: float
@@ -186,6 +193,7 @@ class FemResult:
     centre_mm: np.ndarray | None
     n_dofs: int
     files: list[Path] = field(default_factory=list)
+    branch_points: list[tuple[float, np.ndarray]] = field(default_factory=list)
 
 
 def dirichlet_dofs(disc: Discretisation, dirichlet: dict[str, Sequence[int]] | None) -> np.ndarray:
@@ -421,7 +429,7 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
                     options: SolverOptions | None = None, vtk_at: Iterable[int] | str = (),
                     out_dir: str | Path | None = None, initial_state: SolverState | None = None,
                     disc: Discretisation | None = None, probes: dict | None = None,
-                    on_level=None) -> FemResult:
+                    on_level=None, branch_points: list[tuple[float, np.ndarray]] | None = None) -> FemResult:
     """Follow the load path p0_levels_MPa (MPa; may go up and down) and return a :class:`FemResult`.
 
     mesh: skfem MeshTri1/2 (plane strain, coordinates (y, z)) or MeshTet1/2 (3D, (x, y, z)) with named
@@ -431,7 +439,10 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
     across calls: it also caches the elastic stiffness and its factorisation for the same material/constraints);
     probes: {name: linear functional (sparse 1 x n_dofs or a callable u -> float)} recorded in each increment's
     ``probes_mm``; on_level: called as ``on_level(disc, state, prepared)`` after each level of the path has
-    converged (e.g. to write a field time series, :func:`calibration.fem.output.FieldSeries`).
+    converged (e.g. to write a field time series, :func:`calibration.fem.output.FieldSeries`); branch_points:
+    the converged (p0, u) points of the monotone branch that led to ``initial_state`` (its last point; a previous
+    result's ``branch_points``), so that the predictor extrapolates across calls (ignored when the last point is
+    not at the start level).
     """
     opts = options or SolverOptions()
     opts.validate()
@@ -472,7 +483,10 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
     files: list[Path] = []
     yielded_before = bool(np.any(state.eq_plastic_strain > 0))
     max_iter = opts.max_newton * (10 if opts.strategy == "modified" else 1)
-    last = None  # (dp, du) of the last converged increment, for the predictor
+    # converged (p0, u) points of the monotone branch leading to ``state`` (last = state), for the predictor
+    branch = list(branch_points or [])
+    if not branch or branch[-1][0] != state.p0_MPa:
+        branch = [(state.p0_MPa, state.u_mm)]
     for k, target in enumerate(levels):
         start = state.p0_MPa
         n_sub = 1
@@ -491,9 +505,10 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
             # the last sub-step lands exactly on the target (no round-off residue of summed steps)
             p_new = target if abs(remaining - step) <= 1e-9 * max(abs(step_req), abs(target)) else state.p0_MPa + step
             u_start, elastic_start = None, False
-            if opts.predictor and last is not None and (p_new - state.p0_MPa) * last[0] > 0:
-                # linear extrapolation of the last converged increment in the same direction
-                u_start = state.u_mm + ((p_new - state.p0_MPa) / last[0]) * last[1]
+            if opts.predictor and len(branch) >= 2 and (p_new - state.p0_MPa) * (branch[-1][0] - branch[-2][0]) > 0:
+                # extrapolation of the converged branch in the same direction (quadratic through its last three
+                # points when it has them, else linear)
+                u_start = _extrapolate(branch[-3:] if opts.predictor_order == 2 else branch[-2:], p_new)
             elif opts.elastic_predictor and (p_new < state.p0_MPa or not yielded_before):
                 # elastic unloading / elastic loading of a virgin body: exact unless some point (re-)yields
                 u_start, elastic_start = state.u_mm + (p_new - state.p0_MPa) * u_unit, True
@@ -502,7 +517,7 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
                                                     max_iter, p_scale=max(abs(start), abs(target)),
                                                     u_start=u_start, elastic_start=elastic_start)
             except ConvergenceError as err:
-                last = None  # the cut step restarts from the converged state
+                branch = [(state.p0_MPa, state.u_mm)]  # the cut step restarts from the converged state
                 if abs(step) / 2 < floor * (1 - 1e-12) or step == 0.0:
                     raise ConvergenceError(f"load step cut below the floor at p0 = {state.p0_MPa:.6g} MPa "
                                            f"towards {target:.6g} MPa: {err}") from None
@@ -511,7 +526,9 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
                 if opts.verbose:
                     print(f"  cutting the step to {step:.6g} MPa")
                 continue
-            last = (p_new - state.p0_MPa, state_new.u_mm - state.u_mm)
+            if (p_new - state.p0_MPa) * (branch[-1][0] - branch[-2][0] if len(branch) >= 2 else 1.0) < 0:
+                branch = [branch[-1]]  # the direction of loading changed: a new branch
+            branch = (branch + [(p_new, state_new.u_mm)])[-3:]
             state = state_new
             step = step_req if abs(2 * step) >= abs(step_req) else 2 * step  # grow back after a cut
             n_yielded = int(np.count_nonzero(state.eq_plastic_strain > 0))
@@ -530,4 +547,17 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
             from calibration.fem.output import write_increment_output
             files += write_increment_output(disc, state, material, prepared, Path(out_dir), k,
                                             label=opts.output_label)
-    return FemResult(history, first_yield, state, prepared.centre_mm, disc.n_dofs, files)
+    return FemResult(history, first_yield, state, prepared.centre_mm, disc.n_dofs, files, branch)
+
+
+def _extrapolate(points: list[tuple[float, np.ndarray]], p: float) -> np.ndarray:
+    """Lagrange extrapolation of converged (p0, u) points (2 or 3, distinct p0) to p0 = p."""
+    ps = [q for q, _ in points]
+    out = np.zeros_like(points[-1][1])
+    for i, (pi, ui) in enumerate(points):
+        w = 1.0
+        for j, pj in enumerate(ps):
+            if j != i:
+                w *= (p - pj) / (pi - pj)
+        out += w * ui
+    return out

@@ -1,6 +1,7 @@
 """The FEM engine's fast paths give the results of the plain ones: the blocked CSR pattern, single-precision
 factorisations (refined / as CG preconditioner), the matrix-free tangent, adaptive CG tolerances and the elastic
-predictor (elastic unloading without Newton iterations; Newton takes over when a point re-yields)."""
+predictor (elastic unloading without Newton iterations; Newton takes over when a point re-yields) and the
+extrapolating predictor (quadratic in p0, carried across calls)."""
 
 import numpy as np
 import pytest
@@ -8,7 +9,8 @@ import skfem
 from fem_cases import DIRICHLET_2D
 
 from calibration.fem.assembly import _csr_pattern, _csr_pattern_blocked, discretise, field_element
-from calibration.fem.elastoplastic_solver import SolverOptions, _Problem, dirichlet_dofs, solve_load_path
+from calibration.fem.elastoplastic_solver import (SolverOptions, _extrapolate, _Problem, dirichlet_dofs,
+                                                  solve_load_path)
 from calibration.fem.linear_solvers import HAVE_PARDISO, Factoriser, preconditioned_cg
 from calibration.fem.material import J2Material
 from calibration.hertz.load import HertzLoad
@@ -138,3 +140,40 @@ def test_bad_fast_path_options_are_named(block_2d_coarse, disc_2d):
         with pytest.raises(InputError, match=name):
             solve_load_path(block_2d_coarse, STEEL, LOAD, [1.0], disc=disc_2d,
                             options=SolverOptions(dirichlet=DIRICHLET_2D, **kw))
+
+
+def test_extrapolation_is_exact_for_quadratic_and_linear_branches():
+    u = lambda p: np.array([1.0 + 2.0 * p + 0.5 * p * p, -p * p])  # noqa: E731
+    pts = [(p, u(p)) for p in (1.0, 1.5, 2.5)]
+    np.testing.assert_allclose(_extrapolate(pts, 3.2), u(3.2), rtol=1e-13)
+    lin = [(p, np.array([3.0 - 2.0 * p])) for p in (2.0, 1.0)]  # a downward branch
+    np.testing.assert_allclose(_extrapolate(lin, 0.25), [2.5], rtol=1e-13)
+
+
+def test_quadratic_predictor_carried_across_calls_saves_iterations_and_keeps_the_path(block_2d_coarse, disc_2d,
+                                                                                       first_yield):
+    """A load path split into stages (as the calibration's: load, unload, reload from the peak state) converges
+    to the same states with fewer Newton iterations when the loading branch is handed on."""
+    p_y, kw = first_yield, dict(max_increment_MPa=0.25 * first_yield, rtol=1e-8, etol=1e-10)
+    first = _path(block_2d_coarse, disc_2d, [1.5 * p_y, 1.75 * p_y], **kw)
+    assert len(first.branch_points) == 3 and first.branch_points[-1][0] == 1.75 * p_y
+    levels = [2.0 * p_y, 2.25 * p_y]
+
+    def stage(branch, order):  # a fresh discretisation each: the same (elastic) preconditioner on entry
+        return solve_load_path(block_2d_coarse, STEEL, LOAD, levels, disc=discretise(block_2d_coarse),
+                               options=SolverOptions(**{**TIGHT, **kw}, predictor_order=order),
+                               initial_state=first.state, branch_points=branch)
+
+    runs = {"plain": stage(None, 1), "linear": stage(first.branch_points, 1),
+            "quadratic": stage(first.branch_points, 2),
+            # a branch that does not end at the start level is ignored (the start state alone, as "plain")
+            "stale": stage(first.branch_points[:-1], 1)}
+    iters = {k: sum(h.newton_iters for h in r.history) for k, r in runs.items()}
+    assert iters["quadratic"] < iters["plain"] and iters["linear"] < iters["plain"]
+    scale = np.abs(runs["plain"].state.u_mm).max()
+    assert iters["stale"] == iters["plain"]
+    np.testing.assert_allclose(runs["stale"].state.u_mm, runs["plain"].state.u_mm, rtol=0, atol=1e-12 * scale)
+    for name in ("linear", "quadratic"):
+        assert np.abs(runs[name].state.u_mm - runs["plain"].state.u_mm).max() <= 1e-7 * scale
+    with pytest.raises(Exception, match="predictor_order"):
+        SolverOptions(predictor_order=3).validate()
