@@ -46,9 +46,6 @@ BODIES = ("rail", "wheel")
 #: Relative tolerance between stored (k_i, T_0i) and those re-derived from the stored characteristic.
 PARAMETER_RTOL = 1e-6
 MAX_SEGMENTS = 8
-#: Fixed-point solves (at most) that scale table layers to the solved patch (``characteristic_at(y, patch_mm)``),
-#: and the relative change of the semi-axes that ends them (scenes and wheel-rail scenes alike).
-PATCH_SCALING_ITERATIONS, PATCH_SCALING_TOLERANCE = 6, 1e-3
 
 
 @dataclass

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from contact.layer.characteristic import Characteristic
-from contact.layer.layer_table import PATCH_SCALING_ITERATIONS, PATCH_SCALING_TOLERANCE
+from contact.layer.patch_scaling import settle_patch_sizes
 from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
 from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
 from contact.normal.exact import fastsim_pressure, strip_centres
@@ -38,7 +38,7 @@ from contact.normal.patch import Patch
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.scenes.result_io import UNITS, code_version
 from contact.scenes.scene import BODIES, BodyLayerSpec, Scene, scene_inputs
-from wrlayer.errors import ConvergenceError, InputError
+from wrlayer.errors import InputError
 
 
 @dataclass
@@ -221,19 +221,21 @@ _NORMAL_METHOD_TEXT = {
 def scale_layers_to_patch(scene: Scene, prob: NormalProblem, layers: LayerPair):
     """Issue 12: a table characteristic holds for the patch size it was calibrated on (its displacements scale
     with sqrt(a b)). Solve the first pass's normal problem, rebuild the layers scaled to the solved semi-axes
-    (a, b) = (length/2, width/2), and repeat until the patch changes by less than PATCH_SCALING_TOLERANCE.
-    Returns (layers, (a, b), solves); ConvergenceError when the patch has not settled after
-    PATCH_SCALING_ITERATIONS solves."""
-    patch = None
-    for it in range(1, PATCH_SCALING_ITERATIONS + 1):
-        sol = solve_normal_with(scene.method.normal_method(), prob, layers)
-        new = (0.5 * sol.length_mm, 0.5 * sol.width_mm)
-        layers = build_layers(scene, prob.strip_y_mm, new)
-        if patch is not None and max(abs(n / o - 1.0) for n, o in zip(new, patch)) < PATCH_SCALING_TOLERANCE:
-            return layers, new, it
-        patch = new
-    raise ConvergenceError(f"{scene.path.name}: scale_to_patch: the patch size did not settle within "
-                           f"{PATCH_SCALING_ITERATIONS} solves (last a x b = {patch[0]:.4g} x {patch[1]:.4g} mm)")
+    (a, b) = (length/2, width/2) and solve again until the patch settles
+    (:func:`contact.layer.patch_scaling.settle_patch_sizes`). Returns (the layers at the settled (a, b), (a, b),
+    normal solves including the first, unscaled one); ConvergenceError when the patch does not settle."""
+    method = scene.method.normal_method()
+
+    def sizes_of(sol) -> dict:
+        return {0: (0.5 * sol.length_mm, 0.5 * sol.width_mm)}
+
+    def solve_at(sizes: dict):
+        scaled = build_layers(scene, prob.strip_y_mm, sizes[0])
+        return scaled, sizes_of(solve_normal_with(method, prob, scaled))
+
+    first = sizes_of(solve_normal_with(method, prob, layers))
+    layers, sizes, solves = settle_patch_sizes(solve_at, first, f"{scene.path.name}: scale_to_patch")
+    return layers, sizes[0], solves + 1
 
 
 def normal_problem(scene: Scene) -> NormalProblem:

@@ -48,7 +48,8 @@ With ``WheelRailLayers.scale_to_patch`` every patch's table characteristics are 
 semi-axes (a, b) = (length/2, width/2) (``LayerTable.characteristic_at(y, patch_mm)``: displacements x sqrt(ab) /
 sqrt(a_c b_c), issue 12 item 7): the balance is solved, the layers rebuilt at the patches' sizes, and this is
 repeated until no loaded patch's a or b changes by more than ``PATCH_SCALING_TOLERANCE`` (ConvergenceError after
-``PATCH_SCALING_ITERATIONS`` balances).
+``PATCH_SCALING_ITERATIONS`` balances; :func:`contact.layer.patch_scaling.settle_patch_sizes`, shared with the
+scenes).
 """
 
 from __future__ import annotations
@@ -62,7 +63,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact.layer.characteristic import Characteristic
-from contact.layer.layer_table import PATCH_SCALING_ITERATIONS, PATCH_SCALING_TOLERANCE
+from contact.layer.patch_scaling import settle_patch_sizes
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.normal.kik_piotrowski import NormalForceEvaluator, NormalProblem, NormalSolution, solve_normal
 from contact.normal.method import NormalMethod, solve_normal_with
@@ -609,10 +610,18 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
     balance = _Balance(found, rail, wheel_profile, inputs, layers, sign, case, f_cap_mm)
     loaded, Delta, iterations = balance.solve()
     scaling_solves = 0
-    if layers.scale_to_patch:
-        balance, loaded, Delta, iterations, scaling_solves = _scale_to_patches(
-            balance, loaded, Delta, iterations, lambda sizes: _Balance(found, rail, wheel_profile, inputs, layers,
-                                                                       sign, case, f_cap_mm, sizes), case)
+    if layers.scale_to_patch:  # the fixed point over each loaded candidate's patch size (module docstring)
+        counts = [iterations]
+
+        def solve_at(sizes: dict):
+            scaled = _Balance(found, rail, wheel_profile, inputs, layers, sign, case, f_cap_mm, sizes)
+            solved = scaled.solve()
+            counts.append(solved[2])
+            return (scaled, *solved), _patch_sizes(scaled, solved[0])
+
+        (balance, loaded, Delta, _), _, scaling_solves = settle_patch_sizes(
+            solve_at, _patch_sizes(balance, loaded), f"{case}: layers.scale_to_patch")
+        iterations = sum(counts)
     patches = []
     for lp in loaded:
         ctx = lp.ctx
@@ -655,25 +664,6 @@ def _patch_sizes(balance: _Balance, loaded: list[_Loaded]) -> dict[int, tuple[fl
     """Candidate index -> solved semi-axes (a, b) = (length/2, width/2) (mm) of every loaded candidate."""
     index = {id(ctx): k for k, ctx in enumerate(balance.ctx)}
     return {index[id(lp.ctx)]: (0.5 * lp.normal.length_mm, 0.5 * lp.normal.width_mm) for lp in loaded}
-
-
-def _scale_to_patches(balance: _Balance, loaded: list[_Loaded], Delta: float, iterations: int, rebuild, case: str):
-    """Fixed point of ``scale_to_patch`` (module docstring): rebuild the balance with each loaded candidate's table
-    layers scaled to its solved patch until no a or b changes by more than PATCH_SCALING_TOLERANCE. Returns
-    (balance, loaded, Delta, iterations summed over the balances, balances solved with scaled layers)."""
-    sizes = _patch_sizes(balance, loaded)
-    for solves in range(1, PATCH_SCALING_ITERATIONS + 1):
-        balance = rebuild(sizes)
-        loaded, Delta, its = balance.solve()
-        iterations += its
-        new = _patch_sizes(balance, loaded)
-        change = max((abs(n / o - 1.0) for k in new for n, o in zip(new[k], sizes.get(k, (math.inf, math.inf)))),
-                     default=0.0)
-        if change <= PATCH_SCALING_TOLERANCE and new.keys() == sizes.keys():
-            return balance, loaded, Delta, iterations, solves
-        sizes = new
-    raise ConvergenceError(f"{case}: layers.scale_to_patch: the patch sizes did not settle within "
-                           f"{PATCH_SCALING_ITERATIONS} balances (last change {change:.3g}, relative)")
 
 
 def _tangential(sol: NormalSolution, kin: PatchKinematics, inputs: WheelRailInputs,

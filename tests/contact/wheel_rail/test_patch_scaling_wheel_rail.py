@@ -6,7 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from contact.layer.layer_table import PATCH_SCALING_TOLERANCE, LayerTable
+from contact.layer.layer_table import LayerTable
+from contact.layer.patch_scaling import PATCH_SCALING_TOLERANCE
 from contact.wheel_rail.scene import parse_wheel_rail_scene, run_wheel_rail_scene
 from contact.wheel_rail.solve import BALANCE_RTOL, WheelRailInputs, WheelRailLayers, solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
