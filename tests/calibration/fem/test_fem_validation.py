@@ -68,3 +68,30 @@ def test_onset_of_plasticity_matches_hertz_first_yield(coarse):
     # the first plastic points sit below the centre around the published depth (0.48 a), within one element
     h = 0.5 / A_MM
     assert np.all(np.abs(depth - depth_ref) < h) and np.all(r < h)
+
+
+def test_mixed_hardening_equals_isotropic_hardening_of_the_summed_modulus_under_the_hertz_path(coarse):
+    """The reason the benchmark may compare the calibration's mixed law (H_iso = H_kin = 10 GPa) with Tamaas'
+    isotropic hardening of 20 GPa (Tamaas has no kinematic hardening): on a proportional stress path both laws
+    give the uniaxial slope H_iso + H_kin, and the Hertz loading stays close to proportional. Measured on the
+    benchmark's finer meshes: 0.2 % in u_pl at 3 Y; here (h = 0.5 mm, 2.8 Y) it must stay within 1 %, while the
+    isotropic half (10 GPa) differs by several times that."""
+    from calibration.fem.material import J2Material
+
+    mesh, disc = coarse
+    load = HertzLoad(0.0, A_MM, a_mm=A_MM)
+    opts = SolverOptions(dirichlet=DIRICHLET_3D, max_increment_MPa=0.2 * STEEL.yield_MPa)
+    p0 = 2.8 * STEEL.yield_MPa
+    c_el = solve_load_path(mesh, STEEL, load, [1.0], options=opts, disc=disc).history[-1].u_centre_mm
+
+    def inelastic(h_iso, h_kin):
+        mat = J2Material(STEEL.E_MPa, STEEL.poisson, STEEL.yield_MPa, h_iso, h_kin)
+        res = solve_load_path(mesh, mat, load, [p0, 0.0], options=opts, disc=disc)
+        loaded, dent = (h.u_centre_mm for h in res.history if h.requested)
+        return loaded - c_el * p0, dent
+
+    mixed, iso_sum, iso_half = inelastic(1e4, 1e4), inelastic(2e4, 0.0), inelastic(1e4, 0.0)
+    for k in range(2):  # u_pl under load, residual dent
+        assert mixed[k] > 0
+        assert mixed[k] == pytest.approx(iso_sum[k], rel=0.01)
+        assert abs(iso_half[k] / mixed[k] - 1) > 5 * abs(iso_sum[k] / mixed[k] - 1) + 0.02
