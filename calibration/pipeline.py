@@ -498,8 +498,9 @@ def _run_calibration(cfg, out_dir: Path, scheduler, plots, show_progress, log, f
                 continue
             log(f"calibration: cache entry {f.name} of {t.label} is invalid ({why}); recomputing it")
         todo.append(t)
-    # longest first (the 3D mesh grows with the patch's elongation a/b: 553 s at a/b = 13.6 against 30-80 s for
-    # round patches in the default run), so that no worker is left alone with a long position at the end
+    # longest first (the 3D cost grows with the patch's elongation a/b: 20-22.5 s at a/b = 5.8-13.6 against 7-10 s
+    # for round patches in the default run, docs/calibration.md), so that no worker is left alone with a long
+    # position at the end
     todo.sort(key=lambda t: -max(t.geometry["a_mm"], t.geometry["b_mm"]) / min(t.geometry["a_mm"], t.geometry["b_mm"]))
     n_cached = len(tasks) - len(todo)
     guard(calibration_cost(cfg, todo, scheduler), force)
