@@ -54,7 +54,7 @@ class SolverOptions:
     mesh's own); dirichlet: {boundary name: components (0=x/y.., 1, 2)} replacing the default
     {"fixed": all, "symmetry": [0]}; cg_rtol: inner CG tolerance relative to the residual; cg_refresh_iters: refactorise the CG
     preconditioner with the current tangent when CG needed more iterations than this; predictor: start each
-    increment from the linear extrapolation of the previous one (same direction); output_label: heads the titles
+    increment from the extrapolation of the converged loading branch in the same direction (``predictor_order``); output_label: heads the titles
     of the PNG pictures (e.g. body and position); max_unload_increment_MPa:
     largest step towards a LOWER level (None: max_increment_MPa; unloading is nearly elastic, so one step usually
     converges, and a failed step is cut as any other); factor_precision: 'single' (default) or 'double'
