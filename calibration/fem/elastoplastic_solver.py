@@ -505,7 +505,7 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
             # the last sub-step lands exactly on the target (no round-off residue of summed steps)
             p_new = target if abs(remaining - step) <= 1e-9 * max(abs(step_req), abs(target)) else state.p0_MPa + step
             u_start, elastic_start = None, False
-            if opts.predictor and len(branch) >= 2 and (p_new - state.p0_MPa) * (branch[-1][0] - branch[-2][0]) > 0:
+            if opts.predictor and (p_new - state.p0_MPa) * _direction(branch) > 0:
                 # extrapolation of the converged branch in the same direction (quadratic through its last three
                 # points when it has them, else linear)
                 u_start = _extrapolate(branch[-3:] if opts.predictor_order == 2 else branch[-2:], p_new)
@@ -526,7 +526,7 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
                 if opts.verbose:
                     print(f"  cutting the step to {step:.6g} MPa")
                 continue
-            if (p_new - state.p0_MPa) * (branch[-1][0] - branch[-2][0] if len(branch) >= 2 else 1.0) < 0:
+            if (p_new - state.p0_MPa) * _direction(branch) < 0:
                 branch = [branch[-1]]  # the direction of loading changed: a new branch
             branch = (branch + [(p_new, state_new.u_mm)])[-3:]
             state = state_new
@@ -548,6 +548,11 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
             files += write_increment_output(disc, state, material, prepared, Path(out_dir), k,
                                             label=opts.output_label)
     return FemResult(history, first_yield, state, prepared.centre_mm, disc.n_dofs, files, branch)
+
+
+def _direction(branch: list[tuple[float, np.ndarray]]) -> float:
+    """p0 change of the branch's last step (0 for a single point: no direction yet)."""
+    return branch[-1][0] - branch[-2][0] if len(branch) >= 2 else 0.0
 
 
 def _extrapolate(points: list[tuple[float, np.ndarray]], p: float) -> np.ndarray:
