@@ -104,7 +104,8 @@ class IndentationResult:
     """Raw FEM characteristic of one position (mm, MPa, s). ``p_MPa``/``u_fem_mm``/``u_pl_mm``: all converged
     loading increments (u_pl = u_FEM - c_el p); ``unload_peaks_MPa``/``residual_fem_mm``: FEM dents after full
     unloading; ``first_yield_MPa``: p_y near the contact; ``first_yield_anywhere_MPa``: the whole model's (may be a
-    structural stress concentration); compliances in mm/MPa; ``files``: VTK/PNG outputs."""
+    structural stress concentration); compliances in mm/MPa; ``files``: VTK/PNG outputs; ``seconds``: wall time of
+    the FEM (mesh, solves; without the field output), ``output_seconds``: wall time of writing ``files``."""
 
     model: str
     p_MPa: list[float]
@@ -128,6 +129,7 @@ class IndentationResult:
     u_pl_depth_mm: dict[str, list[float]] = field(default_factory=dict)
     linear_solves: int = 0
     factorisations: int = 0
+    output_seconds: float = 0.0
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -314,14 +316,17 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
     peaks = sorted(f * p_y for f in load_settings.unload_factors)
     top = max(peaks) if peaks else None
     state, history, newton = None, [], 0
+    output_s = 0.0  # field output (VTU series, PNGs), kept out of the FEM time
     residuals, files = [], []
     stage_ends = sorted(set(peaks + [levels[-1]]))
     series = None
     if out_dir is not None:  # every converged level of the path as a ParaView time series
         from calibration.fem.output import FieldSeries
 
+        t_out = time.perf_counter()
         series = FieldSeries(Path(out_dir) / "load_path", material)
         series(disc, SolverState.virgin(disc))  # step 0: the unloaded body
+        output_s += time.perf_counter() - t_out
     start, branch = 0.0, None
     for end in stage_ends:
         stage = [p for p in levels if start < p <= end + 1e-9 * end]
@@ -330,6 +335,7 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
                               vtk_at=[len(stage) - 1] if write else (), out_dir=out_dir / "peak" if write else None,
                               probes=probes, on_level=series, branch_points=branch)
         state, branch = res.state, res.branch_points  # the next stage extrapolates this loading branch
+        output_s += res.output_seconds
         history += res.history
         files += [str(f) for f in res.files]
         newton += sum(h.newton_iters for h in res.history)
@@ -340,12 +346,15 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
             h = unl.history[-1]
             residuals.append(h.u_centre_mm - h.probes_mm["ref"])
             newton += sum(h.newton_iters for h in unl.history)
+            output_s += unl.output_seconds
             files += [str(f) for f in unl.files]
         if progress:
             progress(1)
         start = end
     if series is not None:
+        t_out = time.perf_counter()
         files += [str(p) for _, p in series.steps] + [str(series.write_pvd())]
+        output_s += time.perf_counter() - t_out
     p = np.array([0.0] + [h.p0_MPa for h in history])
     u_abs = np.array([0.0] + [h.u_centre_mm for h in history])
     u_pl_depth = {}
@@ -362,8 +371,9 @@ def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = 
                              float(elastic.first_yield_p0_MPa), float(c_el["ref"]), float(c_hs),
                              [float(x) for x in peaks], [float(x) for x in residuals],
                              (np.array(residuals) - u_pl_at_peaks).tolist(), int(disc.n_dofs),
-                             int(mesh.t.shape[1]), int(newton), time.perf_counter() - t0, files,
+                             int(mesh.t.shape[1]), int(newton), time.perf_counter() - t0 - output_s, files,
                              reference_depth_mm=float(factors["ref"] * length) if factors["ref"] > 0 else None,
                              u_centre_abs_mm=u_abs.tolist(), fem_absolute_compliance_mm_per_MPa=float(c_el_abs),
                              u_pl_depth_mm={k: v.tolist() for k, v in u_pl_depth.items()},
+                             output_seconds=float(output_s),
                              **_solver_counts(disc))

@@ -312,7 +312,8 @@ def fit_position(ind: dict, geometry: dict, cfg: CalibrationConfig, what: str) -
             "geometry": geometry,
             "fem": {k: ind[k] for k in ("model", "p_MPa", "u_fem_mm", "u_pl_mm", "fem_elastic_compliance_mm_per_MPa",
                                         "halfspace_compliance_mm_per_MPa", "reverse_plasticity_mm", "n_dofs",
-                                        "n_elements", "newton_iterations", "seconds", "first_yield_anywhere_MPa")},
+                                        "n_elements", "newton_iterations", "seconds", "output_seconds",
+                                        "first_yield_anywhere_MPa")},
             "fem_points": {"p_MPa": p.tolist(), "u_mm": u.tolist()}}
 
 
@@ -514,6 +515,11 @@ def _run_calibration(cfg, out_dir: Path, scheduler, plots, show_progress, log, f
         else:
             failed.append({"body": t.body, "y_mm": t.y_mm, "error": res["error"]})
     summary = {"bodies": {}, "positions_computed": len(todo), "positions_cached": n_cached}
+    fem_s = [results[t.key]["seconds"] for t in todo if t.key in results]
+    if fem_s:  # wall time inside the workers, FEM apart from the field output (VTU, PNG)
+        summary["fem_seconds"] = {"per_position_min": min(fem_s), "per_position_max": max(fem_s),
+                                  "total": sum(fem_s), "output_total": sum(results[t.key].get("output_seconds", 0.0)
+                                                                         for t in todo if t.key in results)}
     worst = 0.0
     written = []
     fit_code = code_hash(_FIT_SOURCES)
@@ -574,7 +580,10 @@ def _run_calibration(cfg, out_dir: Path, scheduler, plots, show_progress, log, f
         print(f"error: {f['error']}", file=sys.stderr)
     n_ok = sum(v["calibrated"] for v in summary["bodies"].values())
     log(f"calibration: {n_ok} position(s) calibrated ({len(todo)} computed, {n_cached} cached), "
-        f"{len(failed)} failed, {summary['seconds']:.1f} s, worst fit error {100 * worst:.2f} % of max u; "
+        f"{len(failed)} failed, {summary['seconds']:.1f} s"
+        + ("" if not fem_s else f" (FEM {min(fem_s):.1f}-{max(fem_s):.1f} s per position, field output "
+                                f"{summary['fem_seconds']['output_total']:.0f} s in all)")
+        + f", worst fit error {100 * worst:.2f} % of max u; "
         + f"tables in {out_dir}" + ("" if not failed else " (failed positions are listed in them and are not "
                                      "interpolated across; a rerun computes only the failed ones)"))
     return summary

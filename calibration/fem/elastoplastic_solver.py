@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import io
 import math
+import time
 from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -185,7 +186,8 @@ class Increment:
 @dataclass
 class FemResult:
     """Result of :func:`solve_load_path`; see the module docstring. ``branch_points``: the last (up to three)
-    converged (p0 in MPa, u in mm) points of the final monotone branch (restart with ``branch_points=``)."""
+    converged (p0 in MPa, u in mm) points of the final monotone branch (restart with ``branch_points=``);
+    ``output_seconds``: wall time (s) of the field output (``on_level`` and the VTK/PNG files of ``vtk_at``)."""
 
     history: list[Increment]
     first_yield_p0_MPa: float
@@ -194,6 +196,7 @@ class FemResult:
     n_dofs: int
     files: list[Path] = field(default_factory=list)
     branch_points: list[tuple[float, np.ndarray]] = field(default_factory=list)
+    output_seconds: float = 0.0
 
 
 def dirichlet_dofs(disc: Discretisation, dirichlet: dict[str, Sequence[int]] | None) -> np.ndarray:
@@ -481,6 +484,7 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
     first_yield, u_unit = disc.problem_cache[fy_key]
     history: list[Increment] = []
     files: list[Path] = []
+    output_seconds = 0.0
     yielded_before = bool(np.any(state.eq_plastic_strain > 0))
     max_iter = opts.max_newton * (10 if opts.strategy == "modified" else 1)
     # converged (p0, u) points of the monotone branch leading to ``state`` (last = state), for the predictor
@@ -541,13 +545,16 @@ def solve_load_path(mesh: skfem.Mesh, material: J2Material, load, p0_levels_MPa:
                 print(f"  p0 = {p_new:.6g} MPa: {info['iters']} iterations, {info['n_plastic']} plastic points")
             if p_new == target:
                 break
-        if on_level is not None:
-            on_level(disc, state, prepared)
-        if k in vtk_idx:
-            from calibration.fem.output import write_increment_output
-            files += write_increment_output(disc, state, material, prepared, Path(out_dir), k,
-                                            label=opts.output_label)
-    return FemResult(history, first_yield, state, prepared.centre_mm, disc.n_dofs, files, branch)
+        if on_level is not None or k in vtk_idx:
+            t_out = time.perf_counter()
+            if on_level is not None:
+                on_level(disc, state, prepared)
+            if k in vtk_idx:
+                from calibration.fem.output import write_increment_output
+                files += write_increment_output(disc, state, material, prepared, Path(out_dir), k,
+                                                label=opts.output_label)
+            output_seconds += time.perf_counter() - t_out
+    return FemResult(history, first_yield, state, prepared.centre_mm, disc.n_dofs, files, branch, output_seconds)
 
 
 def _direction(branch: list[tuple[float, np.ndarray]]) -> float:

@@ -32,6 +32,10 @@ def coarse_run(tmp_path_factory):
 def test_coarse_rail_position_writes_a_valid_table(coarse_run):
     cfg, out, summary = coarse_run
     assert summary["failed"] == [] and summary["positions_computed"] == 1
+    # FEM time of the computed position, apart from the field output (none here: plots off)
+    times = summary["fem_seconds"]
+    assert 0 < times["per_position_min"] == times["per_position_max"] == times["total"]
+    assert times["output_total"] == 0
     table = LayerTable.read(out / "rail_layer_table.json")
     assert table.body == "rail" and table.profile_name == "60E1" and table.y_range_mm == (0.0, 0.0)
     pos = table.positions[0]
@@ -71,6 +75,7 @@ def test_second_run_uses_the_cache_and_fit_changes_need_no_fem(coarse_run, tmp_p
     two_workers = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, workers=2))
     again = run_calibration(two_workers, work, show_progress=False, log=_quiet)
     assert again["positions_computed"] == 0 and again["positions_cached"] == 1
+    assert "fem_seconds" not in again  # nothing computed
     assert (work / "rail_layer_table.json").read_text() == before  # nothing changed: nothing rewritten
     cfg2 = dataclasses.replace(cfg, fit=dataclasses.replace(cfg.fit, n_segments=2, max_relative_error=1.0))
     refit = run_calibration(cfg2, work, show_progress=False, log=_quiet)
@@ -150,6 +155,9 @@ def test_2d_plane_strain_option_end_to_end(coarse_run, tmp_path):
     pos = LayerTable.read(tmp_path / "rail_layer_table.json").positions[0]
     assert pos["fem"]["model"] == "2d"
     _check_load_path_series(tmp_path / "fields" / "rail_y+000.000mm" / "load_path", pos, cfg)
+    # the time of writing the fields is reported apart from the FEM time (none without plots)
+    assert pos["fem"]["output_seconds"] > 0 and pos["fem"]["seconds"] > 0
+    assert LayerTable.read(coarse_run[1] / "rail_layer_table.json").positions[0]["fem"]["output_seconds"] == 0
     assert pos["p2_MPa"] == pytest.approx(pos["first_yield_fem_MPa"], rel=0.03)
     # plane-strain line contact, von Mises, nu = 0.3: half-space first yield at 1.79 Y (coarse section: 15 %)
     assert pos["first_yield_fem_MPa"] == pytest.approx(1.79 * 500.0, rel=0.15)

@@ -112,6 +112,7 @@ def test_vtk_and_png_output(tmp_path, path_newton, block_2d_coarse, disc_2d):
     vtu = [f for f in res.files if f.suffix == ".vtu"]
     pngs = [f for f in res.files if f.suffix == ".png"]
     assert len(vtu) == 1 and len(pngs) == 2 and all(p.stat().st_size > 1000 for p in pngs)
+    assert res.output_seconds > 0  # reported apart (FemResult.output_seconds)
     m = meshio.read(vtu[0])
     for key in ("stress_MPa", "von_mises_MPa", "eq_plastic_strain", "plastic"):
         assert key in m.cell_data
