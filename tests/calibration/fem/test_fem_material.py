@@ -74,22 +74,57 @@ def test_return_lands_on_the_hardened_yield_surface_and_plane_strain_out_of_plan
     np.testing.assert_allclose(res.plastic_strain[:, :3].sum(axis=1), eps_p[:, :3].sum(axis=1), atol=1e-15)
 
 
+def _uniaxial_stress_path(material, axial_strains):
+    """Axial stress (MPa) at each axial strain of a uniaxial stress path (sigma_22 = sigma_33 = 0 solved for the
+    lateral strain by Newton on the consistent tangent), and the last return-mapping result."""
+    eps_p, alpha, kappa = np.zeros(6), np.zeros(6), np.zeros(())
+    lateral, stress = 0.0, []
+    for e11 in axial_strains:
+        for _ in range(30):
+            eps = np.array([e11, lateral, lateral, 0, 0, 0])
+            r = radial_return(material, eps, eps_p, alpha, kappa)
+            D = r.tangent_MPa
+            lateral -= r.stress_MPa[1] / (D[1, 1] + D[1, 2])
+        eps_p, alpha, kappa = r.plastic_strain, r.back_stress_MPa, r.eq_plastic_strain
+        stress.append(float(r.stress_MPa[0]))
+    return np.array(stress), r
+
+
 def test_uniaxial_stress_with_combined_hardening_follows_the_analytic_curve():
     """Uniaxial stress path: sigma = Y + E_t (eps - Y/E) with E_t = E H / (E + H), H = H_iso + H_kin."""
     E, Y, H = MAT.E_MPa, MAT.yield_MPa, MAT.H_iso_MPa + MAT.H_kin_MPa
-    eps_p, alpha, kappa = np.zeros(6), np.zeros(6), np.zeros(())
-    lateral = 0.0
-    for e11 in np.linspace(0.0, 0.01, 41)[1:]:
-        for _ in range(30):  # solve sigma_22 = sigma_33 = 0 for the lateral strain (Newton on the tangent)
-            eps = np.array([e11, lateral, lateral, 0, 0, 0])
-            r = radial_return(MAT, eps, eps_p, alpha, kappa)
-            s22 = r.stress_MPa[1]
-            D = r.tangent_MPa
-            lateral -= s22 / (D[1, 1] + D[1, 2])
-        eps_p, alpha, kappa = r.plastic_strain, r.back_stress_MPa, r.eq_plastic_strain
+    stress, r = _uniaxial_stress_path(MAT, np.linspace(0.0, 0.01, 41)[1:])
     Et = E * H / (E + H)
-    assert r.stress_MPa[0] == pytest.approx(Y + Et * (0.01 - Y / E), rel=1e-6)
+    assert stress[-1] == pytest.approx(Y + Et * (0.01 - Y / E), rel=1e-6)
     assert von_mises_MPa(r.stress_MPa) == pytest.approx(r.stress_MPa[0], rel=1e-9)
+
+
+@pytest.mark.parametrize("H_iso, H_kin", [(8000.0, 12000.0), (10000.0, 10000.0), (0.0, 20000.0), (20000.0, 0.0)])
+def test_reverse_plasticity_follows_the_closed_form_bauschinger_loop(H_iso, H_kin):
+    """Tension to eps_max, then compression to -eps_max (uniaxial stress), against the closed form of linear mixed
+    hardening: back stress X = H_kin eps_p, radius R = Y + H_iso eps_p_eq. Unloading is elastic down to the reverse
+    yield stress X - R = (H_kin - H_iso) eps_p,max - Y (the Bauschinger effect: -Y for H_iso = H_kin, +20 GPa x
+    eps_p,max - Y for pure kinematic, -(Y + 20 GPa eps_p,max) for pure isotropic hardening), then plastic along
+    sigma = (H eps - Y - 2 H_iso eps_p,max) E / (E + H). This is the reverse plasticity the calibration's unloading
+    can trigger (``reverse_plasticity_mm`` in the tables)."""
+    mat = J2Material(210000.0, 0.3, 500.0, H_iso_MPa=H_iso, H_kin_MPa=H_kin)
+    E, Y, H, eps_max = mat.E_MPa, mat.yield_MPa, H_iso + H_kin, 0.01
+    strains = np.concatenate([np.linspace(0.0, eps_max, 21)[1:], np.linspace(eps_max, -eps_max, 161)[1:]])
+    stress, _ = _uniaxial_stress_path(mat, strains)
+    s_max = Y + E * H / (E + H) * (eps_max - Y / E)
+    ep_max = eps_max - s_max / E
+    s_rev = (H_kin - H_iso) * ep_max - Y
+    closed = np.where(strains >= eps_max - 1e-15, s_max, 0.0)
+    back = np.arange(strains.size) >= 20
+    elastic = s_max + E * (strains - eps_max)
+    plastic = (H * strains - Y - 2 * H_iso * ep_max) * E / (E + H)
+    closed[back] = np.maximum(elastic, plastic)[back]
+    assert stress[19] == pytest.approx(s_max, rel=1e-9)
+    assert np.max(np.abs(stress[back] - closed[back])) < 1e-6 * s_max
+    # the reverse yield point: the last elastic unloading stress and the first plastic one bracket X - R
+    first_plastic = np.argmax(back & (elastic < plastic - 1e-9))
+    assert stress[first_plastic - 1] >= s_rev - 1e-9 * s_max
+    assert plastic[first_plastic] < s_rev + 1e-6 * s_max < elastic[first_plastic - 1] + 1e-6 * s_max
 
 
 def test_quadrature_rules_have_positive_weights_and_integrate_degree_two():
