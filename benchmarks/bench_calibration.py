@@ -202,6 +202,11 @@ def run(mode: str, out: Path) -> dict:
             md.append(f"| {r['position']} | {r['case']['n_dofs']} / {r['ref']['n_dofs']} | {100 * e['first_yield']:+.2f} % "
                       f"| {100 * e['peak_u_pl']:+.2f} % | {100 * e['u_pl_levels_max']:.2f} % | "
                       f"{' / '.join(f'{100 * x:+.2f}' for x in e['residual_levels'])} % |")
+    every = convergence_every_position() if not quick else []
+    if every:
+        md += ["", "Default mesh at every position of the default configuration against a finer mesh of the same "
+               "style (isotropic 8 per semi-axis without the finer zone, extruded 6; at multiples of each mesh's "
+               "own p_y; one BLAS thread):", ""] + every_position_markdown(every)
     e2e = end_to_end(out / "end_to_end")
     md += ["", "End to end on the 60E1 (100 kN, rail layer of scenes/tables/rail_60E1_default.json): contact "
            "solver dent u_p(0) vs the FEM dent under the Hertz pressure of the solver's own patch and p_max:", "",
@@ -215,7 +220,8 @@ def run(mode: str, out: Path) -> dict:
     return {"title": "Calibration: fit error vs N, 2D vs 3D, make calibrate times", "markdown": "\n".join(md),
             "figures": [str(f) for f in figures],
             "data": {"fit_vs_n": rows, "models": comp, "times": times, "convergence": conv,
-                     "convergence_same_pressure": same_p, "end_to_end": e2e}}
+                     "convergence_same_pressure": same_p, "convergence_every_position": every,
+                     "end_to_end": e2e}}
 
 
 #: The three positions of the convergence study (issue 12): crown, gauge corner, wheel flange root.
@@ -387,6 +393,50 @@ def end_to_end(work: Path, positions=END_TO_END_POSITIONS) -> list[dict]:
             rows.append({"position": label, "y_mm": y, "case": name, "a_mm": a, "b_mm": b, "p_max_MPa": p["p_max_MPa"],
                          "contact_up0_mm": p["up0_mm"], "fem_dent_mm": dent, "deviation": p["up0_mm"] / dent - 1.0})
     return rows
+
+
+#: References of :func:`convergence_every_position` by the default's mesh style at the position: the isotropic
+#: mesh with 8 elements per semi-axis (no finer zone), the extruded one with 6.
+EVERY_POSITION_REFERENCES = {"isotropic": {"elements_per_semi_axis": 8, "style": "isotropic",
+                                           "yield_zone_refinement": 1.0},
+                             "extruded": {"elements_per_semi_axis": 6, "style": "extruded"}}
+
+
+def convergence_every_position(default_kw: dict | None = None) -> list[dict]:
+    """The default mesh (with ``default_kw``) against EVERY_POSITION_REFERENCES at every position of the default
+    configuration (24 positions; about 25 min on one core): each row a :func:`convergence_case` with its
+    ``errors`` (:func:`convergence_errors`) and the reference's dofs and seconds."""
+    from calibration.config import load_config
+    from calibration.indentation import mesh_style
+    from calibration.pipeline import position_geometry
+    from meshes.profiles import get_profile
+
+    cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")
+    rows = []
+    for b in cfg.bodies:
+        profile, mate = get_profile(b.profile), get_profile(b.mate)
+        for y in b.positions_mm:
+            geo, _ = position_geometry(b, profile, mate, y, cfg.reference_load_N)
+            style = mesh_style(geo, dataclasses.replace(cfg.mesh, **(default_kw or {})))
+            ref = convergence_case(b.body, y, EVERY_POSITION_REFERENCES[style])
+            case = convergence_case(b.body, y, default_kw or {})
+            rows.append(dict(case, style=style, errors=convergence_errors(case, ref), reference=ref["mesh"],
+                             reference_dofs=ref["n_dofs"], reference_seconds=ref["seconds"]))
+    return rows
+
+
+def every_position_markdown(rows: list[dict]) -> list[str]:
+    """Table of :func:`convergence_every_position`."""
+    md = ["| position | a/b | style | dofs (default / ref) | s (default / ref) | first yield | peak u_pl | max u_pl at "
+          "the levels | residual dents |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        e = r["errors"]
+        md.append(f"| {r['body']} y = {r['y_mm']:g}{' (conforming)' if r['warning'] else ''} | "
+                  f"{r['a_mm'] / r['b_mm']:.1f} | {r['style']} | {r['n_dofs']} / {r['reference_dofs']} | "
+                  f"{r['seconds']:.1f} / {r['reference_seconds']:.0f} | {100 * e['first_yield']:+.2f} % | "
+                  f"{100 * e['peak_u_pl']:+.2f} % | {100 * e['u_pl_levels_max']:.2f} % | "
+                  f"{' / '.join(f'{100 * x:+.2f}' for x in e['residual_levels'])} % |")
+    return md
 
 
 def mesh_convergence(levels=(3, 4, 6, 8), style: str = "isotropic") -> list[dict]:
