@@ -9,7 +9,7 @@ Layout (every key optional except ``[[bodies]]`` with ``body``, ``profile`` and 
     [mesh]      elements_per_semi_axis, h_max_mm, order, depth_mm, rail_support_below_mm, length_factor, grading,
                 yield_search_radius_factor, reference_depth_factor, refine_depth_factor,
                 style = "isotropic" | "extruded" | "structured" | "auto" (3D: extruded: structured layers along
-                x; structured: a core structured along the surface, the normal and x; auto: extruded for a/b >= 3;
+                x; structured: a core structured along the surface, the normal and x; auto: extruded for a/b >= 4;
                 see docs/calibration.md),
                 x_elements_per_semi_axis (extruded: layers of a / this; default elements_per_semi_axis),
                 yield_zone_refinement (1..4; isotropic: h_min / this around the first-yield point; 1: off)

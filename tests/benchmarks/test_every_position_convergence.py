@@ -21,12 +21,13 @@ def test_every_position_uses_the_reference_of_its_mesh_style(monkeypatch):
     rows = bc.convergence_every_position()
     assert len(rows) == 24 and len(calls) == 48
     styles = {(r["body"], r["y_mm"]): r["style"] for r in rows}
-    # the elongated patches of the default run are extruded (a/b >= 3), the round ones isotropic
-    assert styles[("wheel", 30.0)] == styles[("wheel", -45.0)] == styles[("rail", 15.0)] == "extruded"
-    assert styles[("rail", 0.0)] == styles[("wheel", -37.5)] == "isotropic"
+    # the elongated patches of the default run are extruded (a/b >= 4: 5.8-13.6), the others isotropic (a/b <= 3.7)
+    assert styles[("wheel", 30.0)] == styles[("wheel", -45.0)] == styles[("wheel", -30.0)] == "extruded"
+    assert styles[("rail", 0.0)] == styles[("wheel", -37.5)] == styles[("rail", 15.0)] == "isotropic"
+    assert sum(s == "extruded" for s in styles.values()) == 3
     for r in rows:
         assert r["reference"] == bc.EVERY_POSITION_REFERENCES[r["style"]]
         assert abs(r["errors"]["first_yield"] - 0.02) < 1e-12
         assert all(abs(x - 0.02) < 1e-12 for x in r["errors"]["residual_levels"])
     md = bc.every_position_markdown(rows)
-    assert len(md) == 2 + 24 and "| rail y = 15 | 1.4 | extruded | 10 / 100 |" in md[2 + 12]
+    assert len(md) == 2 + 24 and "| rail y = 15 | 1.4 | isotropic | 10 / 100 |" in md[2 + 12]
