@@ -126,6 +126,8 @@ def make_times(full: bool) -> dict:
         t0 = time.perf_counter()
         subprocess.run(cmd, check=False, capture_output=True)
         info["cold_s"] = time.perf_counter() - t0
+        if summary.is_file():  # per-position FEM time in the workers, apart from the field output
+            info["cold_fem_seconds"] = json.loads(summary.read_text()).get("fem_seconds")
         t0 = time.perf_counter()
         subprocess.run(cmd, check=False, capture_output=True)
         info["warm_s"] = time.perf_counter() - t0
@@ -133,6 +135,7 @@ def make_times(full: bool) -> dict:
         s = json.loads(summary.read_text())
         info["last_run_s"] = s["seconds"]
         info["last_run_computed"] = s["positions_computed"]
+        info["last_run_fem_seconds"] = s.get("fem_seconds")  # absent when nothing was computed
     return info
 
 
