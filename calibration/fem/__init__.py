@@ -1,7 +1,7 @@
 """The FEM engine: small-strain J2 elastoplasticity on scikit-fem (units mm, N, MPa).
 
 - :mod:`~calibration.fem.material`, :mod:`~calibration.fem.return_mapping`: von Mises material, radial return.
-- :mod:`~calibration.fem.assembly`: B-matrices and einsum assembly on scikit-fem bases.
+- :mod:`~calibration.fem.assembly`: B-matrices and batched-matmul assembly on scikit-fem bases.
 - :mod:`~calibration.fem.elastoplastic_solver`: the incremental Newton driver and load paths.
 - :mod:`~calibration.fem.linear_solvers`: sparse factorisations (PARDISO, SuperLU, CHOLMOD where present).
 - :mod:`~calibration.fem.output`: VTK files and renders of the fields.

@@ -1,8 +1,10 @@
-"""Small-strain displacement FE discretisation on scikit-fem: B-matrices at quadrature points, einsum assembly.
+"""Small-strain displacement FE discretisation on scikit-fem: B-matrices at quadrature points, batched assembly.
 
 scikit-fem provides the mesh, the (isoparametric) basis, gradients and ``dx`` (quadrature weight x |J|);
-element matrices ``K_e = sum_q B_q^T D_q B_q dx_q`` are formed here with numpy einsum from the precomputed
-B-matrices (measured faster than ``BilinearForm`` with quadrature-point tangents, see benchmarks/bench_fem.py)
+element matrices ``K_e = sum_q B_q^T D_q B_q dx_q``, strains and internal forces are formed here with numpy's
+batched matmul (the quadrature points and strain components stacked into one axis) from the precomputed B-matrices
+(measured faster than ``BilinearForm`` with quadrature-point tangents, see benchmarks/bench_fem.py, and 1.1-7x
+faster than the same products as numpy einsum)
 and scattered into a CSR matrix whose pattern and scatter map are computed once.
 
 2D meshes (MeshTri1/2, coordinates (y, z)) are plane strain: in-plane axes map to tensor indices 0, 1, the
@@ -93,13 +95,18 @@ class Discretisation:
 
     def strain(self, u: np.ndarray) -> np.ndarray:
         """Mandel strains (n_elem, n_qp, 6) of the nodal displacement vector ``u`` (mm)."""
-        eps = np.zeros(self.B.shape[:2] + (6,))
-        eps[..., self.components] = np.einsum("eqci,ei->eqc", self.B, u[self.element_dofs], optimize=True)
+        n_el, n_qp, n_c, n_i = self.B.shape
+        eps = np.zeros((n_el, n_qp, 6))
+        # batched matmul over elements (B is C-contiguous: the reshape is a view); 1.1-1.8x numpy's einsum here
+        eps[..., self.components] = np.matmul(self.B.reshape(n_el, n_qp * n_c, n_i),
+                                              u[self.element_dofs][:, :, None]).reshape(n_el, n_qp, n_c)
         return eps
 
     def internal_force(self, stress: np.ndarray) -> np.ndarray:
         """Nodal internal forces f = sum B^T sigma dx (N) of Mandel stresses (n_elem, n_qp, 6) in MPa."""
-        fe = np.einsum("eqci,eqc,eq->ei", self.B, stress[..., self.components], self.dx, optimize=True)
+        n_el, n_qp, n_c, n_i = self.B.shape
+        weighted = (stress[..., self.components] * self.dx[:, :, None]).reshape(n_el, 1, n_qp * n_c)
+        fe = np.matmul(weighted, self.B.reshape(n_el, n_qp * n_c, n_i))  # 3-7x numpy's einsum here
         return np.bincount(self.element_dofs.ravel(), weights=fe.ravel(), minlength=self.n_dofs)
 
     def element_matrices(self, tangent: np.ndarray, elements: np.ndarray | None = None,
@@ -112,8 +119,9 @@ class Discretisation:
         else:
             D = (tangent if selected else tangent[elements])[..., c[:, None], c[None, :]]
             B, dx = self.B[elements], self.dx[elements]
-        DB = np.einsum("eqcd,eqdj,eq->eqcj", D, B, dx, optimize=True)
-        return np.einsum("eqci,eqcj->eij", B, DB, optimize=True)
+        n_el, n_qp, n_c, n_i = B.shape
+        DB = np.matmul(D * dx[:, :, None, None], B).reshape(n_el, n_qp * n_c, n_i)  # 1.7x numpy's einsum here
+        return np.matmul(B.reshape(n_el, n_qp * n_c, n_i).transpose(0, 2, 1), DB)
 
     def csr_data(self, element_matrices: np.ndarray, elements: np.ndarray | None = None) -> np.ndarray:
         """Scatter element matrices into the data array of the global CSR pattern (summing overlaps)."""
