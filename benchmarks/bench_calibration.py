@@ -207,8 +207,8 @@ def run(mode: str, out: Path) -> dict:
                       f"{' / '.join(f'{100 * x:+.2f}' for x in e['residual_levels'])} % |")
     every = convergence_every_position() if not quick else []
     if every:
-        md += ["", "Default mesh at every position of the default configuration against a finer mesh of the same "
-               "style (isotropic 8 per semi-axis without the finer zone, extruded 6; at multiples of each mesh's "
+        md += ["", "Default mesh at every position of the default configuration against a finer mesh (isotropic 8 "
+               "per semi-axis without the finer zone below a/b = 4, extruded 6 above; at multiples of each mesh's "
                "own p_y; one BLAS thread):", ""] + every_position_markdown(every)
     e2e = end_to_end(out / "end_to_end")
     md += ["", "End to end on the 60E1 (100 kN, rail layer of scenes/tables/rail_60E1_default.json): contact "
@@ -398,8 +398,9 @@ def end_to_end(work: Path, positions=END_TO_END_POSITIONS) -> list[dict]:
     return rows
 
 
-#: References of :func:`convergence_every_position` by the default's mesh style at the position: the isotropic
-#: mesh with 8 elements per semi-axis (no finer zone), the extruded one with 6.
+#: References of :func:`convergence_every_position`: the isotropic mesh with 8 elements per semi-axis (no finer
+#: zone) where a/b < AUTO_EXTRUDED_ASPECT, the extruded one with 6 on the more elongated patches (an isotropic 8
+#: there would need 200,000-370,000 dofs).
 EVERY_POSITION_REFERENCES = {"isotropic": {"elements_per_semi_axis": 8, "style": "isotropic",
                                            "yield_zone_refinement": 1.0},
                              "extruded": {"elements_per_semi_axis": 6, "style": "extruded"}}
@@ -407,10 +408,11 @@ EVERY_POSITION_REFERENCES = {"isotropic": {"elements_per_semi_axis": 8, "style":
 
 def convergence_every_position(default_kw: dict | None = None) -> list[dict]:
     """The default mesh (with ``default_kw``) against EVERY_POSITION_REFERENCES at every position of the default
-    configuration (24 positions; about 25 min on one core): each row a :func:`convergence_case` with its
-    ``errors`` (:func:`convergence_errors`) and the reference's dofs and seconds."""
+    configuration (24 positions, 48 FEM runs; about 30 min on one core): each row a :func:`convergence_case` with
+    its ``style`` (the default's), ``errors`` (:func:`convergence_errors`) and the reference's mesh, dofs and
+    seconds."""
     from calibration.config import load_config
-    from calibration.indentation import mesh_style
+    from calibration.indentation import AUTO_EXTRUDED_ASPECT, mesh_style
     from calibration.pipeline import position_geometry
     from meshes.profiles import get_profile
 
@@ -421,7 +423,8 @@ def convergence_every_position(default_kw: dict | None = None) -> list[dict]:
         for y in b.positions_mm:
             geo, _ = position_geometry(b, profile, mate, y, cfg.reference_load_N)
             style = mesh_style(geo, dataclasses.replace(cfg.mesh, **(default_kw or {})))
-            ref = convergence_case(b.body, y, EVERY_POSITION_REFERENCES[style])
+            elongated = geo.a_mm >= AUTO_EXTRUDED_ASPECT * geo.b_mm
+            ref = convergence_case(b.body, y, EVERY_POSITION_REFERENCES["extruded" if elongated else "isotropic"])
             case = convergence_case(b.body, y, default_kw or {})
             rows.append(dict(case, style=style, errors=convergence_errors(case, ref), reference=ref["mesh"],
                              reference_dofs=ref["n_dofs"], reference_seconds=ref["seconds"]))
@@ -430,13 +433,14 @@ def convergence_every_position(default_kw: dict | None = None) -> list[dict]:
 
 def every_position_markdown(rows: list[dict]) -> list[str]:
     """Table of :func:`convergence_every_position`."""
-    md = ["| position | a/b | style | dofs (default / ref) | s (default / ref) | first yield | peak u_pl | max u_pl at "
-          "the levels | residual dents |", "|---|---|---|---|---|---|---|---|---|"]
+    md = ["| position | a/b | style | dofs (default / ref) | s (default / ref) | reference | first yield | peak u_pl | "
+          "max u_pl at the levels | residual dents |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         e = r["errors"]
         md.append(f"| {r['body']} y = {r['y_mm']:g}{' (conforming)' if r['warning'] else ''} | "
                   f"{r['a_mm'] / r['b_mm']:.1f} | {r['style']} | {r['n_dofs']} / {r['reference_dofs']} | "
-                  f"{r['seconds']:.1f} / {r['reference_seconds']:.0f} | {100 * e['first_yield']:+.2f} % | "
+                  f"{r['seconds']:.1f} / {r['reference_seconds']:.0f} | {r['reference']['style']} "
+                  f"{r['reference']['elements_per_semi_axis']:g} | {100 * e['first_yield']:+.2f} % | "
                   f"{100 * e['peak_u_pl']:+.2f} % | {100 * e['u_pl_levels_max']:.2f} % | "
                   f"{' / '.join(f'{100 * x:+.2f}' for x in e['residual_levels'])} % |")
     return md

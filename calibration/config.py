@@ -8,11 +8,12 @@ Layout (every key optional except ``[[bodies]]`` with ``body``, ``profile`` and 
     [load]      reference_load_N, max_factor, n_levels, unload_factors, max_increment_factor
     [mesh]      elements_per_semi_axis, h_max_mm, order, depth_mm, rail_support_below_mm, length_factor, grading,
                 yield_search_radius_factor, reference_depth_factor, refine_depth_factor,
-                style = "isotropic" | "extruded" | "structured" | "auto" (3D: extruded: structured layers along
-                x; structured: a core structured along the surface, the normal and x; auto: extruded for a/b >= 4;
-                see docs/calibration.md),
+                style = "isotropic" | "stretched" | "extruded" | "structured" | "auto" (3D: stretched: the
+                isotropic mesh of a patch of a/b = 1.4 stretched along x to the patch's own a/b; extruded:
+                structured layers along x; structured: a core structured along the surface, the normal and x;
+                auto: extruded for a/b >= 4; see docs/calibration.md),
                 x_elements_per_semi_axis (extruded: layers of a / this; default elements_per_semi_axis),
-                yield_zone_refinement (1..4; isotropic: h_min / this around the first-yield point; 1: off)
+                yield_zone_refinement (1..4; isotropic, stretched: h_min / this around the first-yield point; 1: off)
     [fit]       n_segments (1..8), elastic_tolerance, elastic_fraction (former S_1 rule), max_relative_error
     [[bodies]]  body = "rail" | "wheel", profile = name or file (relative to the config), mate = name or file,
                 positions_mm = [...] or positions = {start_mm, stop_mm, step_mm}, semi_axes_mm = [a, b],

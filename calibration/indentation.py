@@ -48,6 +48,9 @@ class MeshSettings:
     the layer displacement is measured against the material point reference_depth_factor * max(a, b) (2D: * b)
     below the load centre; 0 (default): against the clamped far field, as a half-space's.
     style (3D): "isotropic" (unstructured tetrahedra of size min(a, b) / elements_per_semi_axis filling the box),
+    "stretched" (the isotropic mesh of the patch with x divided by s = max(1, (a/b) / STRETCH_ASPECT), stretched
+    back by s: elements s times longer along x, as many as for a round patch; identical to "isotropic" where
+    a/b <= STRETCH_ASPECT; docs/calibration.md "Stretched mesh"),
     "auto" (extruded when a/b >= AUTO_EXTRUDED_ASPECT, else isotropic) or "extruded" (the section meshed with
     min(a, b) / elements_per_semi_axis in the box's (y, z) extent and extruded along x in structured layers of a / elements_per_semi_axis over 0 <= x <= 1.2 a, unstructured
     beyond: its element count does not grow with a/b; meshes.meshing.extruded_mesh, docs/calibration.md);
@@ -55,7 +58,7 @@ class MeshSettings:
     "structured": a core |s| <= 1.2 b along the surface arc, refine_depth_factor * b deep along the normal,
     0 <= x <= 1.2 a, meshed in cells of at most b / n, b / n and a / n (n = elements_per_semi_axis), the rest
     unstructured (meshes.meshing.structured_core_mesh, docs/calibration.md "Mesh convergence").
-    yield_zone_refinement f > 1 (isotropic meshes, also under "auto"): h_min / f in the zone YIELD_ZONE around the
+    yield_zone_refinement f > 1 (isotropic and stretched meshes, also under "auto"): h_min / f in the zone YIELD_ZONE around the
     point of first yield (YIELD_ZONE_DEPTH_FACTOR * b below the load centre along the normal), which decides p_y
     and through it every quantity compared at multiples of p_y; 1: off."""
 
@@ -80,12 +83,16 @@ class MeshSettings:
 YIELD_ZONE_DEPTH_FACTOR = 0.55
 YIELD_ZONE = (0.45, 0.45, 0.4)
 #: The 3D mesh styles of MeshSettings.style.
-MESH_STYLES = ("isotropic", "extruded", "structured", "auto")
+MESH_STYLES = ("isotropic", "stretched", "extruded", "structured", "auto")
 #: style "auto": the extruded mesh for patches with a/b at least this, the isotropic one below (docs/calibration.md,
 #: "Anisotropic (extruded) mesh" and "Every position": with the finer zone around the first-yield point the
 #: isotropic mesh is within 0.9 % of finer meshes at a/b = 3.2-3.7, where the extruded one is 0.6-3.0 % off, at
 #: 1.3-1.8x its time; at a/b >= 5.8 the isotropic mesh costs 2-3x more than the extruded one).
 AUTO_EXTRUDED_ASPECT = 4.0
+#: style "stretched": patches with a/b above this are meshed as the isotropic mesh of a patch of this aspect (x
+#: divided by a/b / STRETCH_ASPECT) and stretched back along x (docs/calibration.md, "Stretched mesh"); the round
+#: patches of the default run (a/b <= 1.35) are meshed exactly as by "isotropic".
+STRETCH_ASPECT = 1.4
 
 
 @dataclass(frozen=True)
@@ -174,8 +181,17 @@ def build_mesh(profile, geometry: LocalGeometry, model: str, mesh: MeshSettings)
         half = (YIELD_ZONE[0] * geometry.a_mm, YIELD_ZONE[1] * geometry.b_mm, YIELD_ZONE[2] * geometry.b_mm)
         inner = GradedSize(h_min / mesh.yield_zone_refinement, h_max, mesh.grading,
                            (0.0, float(centre[0]), float(centre[1])), half_box=half)
+    sx = x_stretch(geometry, mesh)
     return local_mesh(profile, geometry.y_mm, h_min, h_max, length_mm=length, depth_mm=mesh.depth_mm,
-                      order=mesh.order, refine_box=box, grading=mesh.grading, inner_zone=inner)
+                      order=mesh.order, refine_box=box, grading=mesh.grading, inner_zone=inner, x_stretch=sx)
+
+
+def x_stretch(geometry: LocalGeometry, mesh: MeshSettings) -> float:
+    """The factor by which style "stretched" elongates the isotropic mesh along x: (a/b) / STRETCH_ASPECT when
+    that exceeds 1, else 1 (and 1 for every other style)."""
+    if mesh_style(geometry, mesh) != "stretched":
+        return 1.0
+    return max(1.0, geometry.a_mm / geometry.b_mm / STRETCH_ASPECT)
 
 
 def mesh_style(geometry: LocalGeometry, mesh: MeshSettings) -> str:

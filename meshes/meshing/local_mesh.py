@@ -8,6 +8,7 @@ section, extruded), "symmetry" (x = 0) and "end" (x = length_mm). Element size: 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import skfem
@@ -32,7 +33,7 @@ def local_mesh(profile, y0: float, h_min: float, h_max: float, length_mm: float 
                depth_mm: float | None = None, order: int = 1,
                refine_box: tuple[float, float, float] = (0.0, 0.0, 0.0),
                grading: float = DEFAULT_GRADING, optimize_netgen: bool = True,
-               inner_zone: GradedSize | None = None) -> skfem.Mesh:
+               inner_zone: GradedSize | None = None, x_stretch: float = 1.0) -> skfem.Mesh:
     """Tetrahedral mesh (mm) of the section extruded over 0 <= x <= length_mm, refined at (0, y0, z(y0)).
 
     depth_mm: section depth as in :func:`meshes.meshing.section_mesh.section_mesh` (default by body).
@@ -50,11 +51,18 @@ def local_mesh(profile, y0: float, h_min: float, h_max: float, length_mm: float 
     box = tuple(float(b) for b in refine_box)
     require(len(box) == 3 and all(math.isfinite(b) and b >= 0 for b in box), "refine_box",
             f"must be three half-sizes >= 0 mm (bx, by, bz), got {refine_box!r}")
-    size = GradedSize(float(h_min), float(h_max), float(grading), (0.0, float(y0), z0), half_box=box)
+    sx = float(x_stretch)
+    require(math.isfinite(sx) and 1.0 <= sx <= 20.0, "x_stretch", f"must lie in [1, 20], got {x_stretch!r}")
+    # meshed in x / sx and stretched back: sizes along x become sx times those across (an affine anisotropic mesh)
+    size = GradedSize(float(h_min), float(h_max), float(grading), (0.0, float(y0), z0),
+                      half_box=(box[0] / sx, box[1], box[2]))
+    if inner_zone is not None and sx != 1.0:
+        inner_zone = dataclasses.replace(inner_zone, centre=(inner_zone.centre[0] / sx, *inner_zone.centre[1:]),
+                                         half_box=(inner_zone.half_box[0] / sx, *inner_zone.half_box[1:]))
     outline = profile.section_outline(float(depth_mm))
     with gmsh_session("local") as gmsh:
         section = add_section(outline)
-        extruded = gmsh.model.geo.extrude([(2, section.surface)], 0.0, 0.0, length)
+        extruded = gmsh.model.geo.extrude([(2, section.surface)], 0.0, 0.0, length / sx)
         gmsh.model.geo.synchronize()
         # extrude returns: the far end surface, the volume, then one lateral surface per outline curve
         end, lateral = extruded[0][1], [tag for _, tag in extruded[2:]]
@@ -70,4 +78,6 @@ def local_mesh(profile, y0: float, h_min: float, h_max: float, length_mm: float 
                   for n in ("surface", "side", "fixed")}
         groups.update(symmetry=[section.surface], end=[end])
         mesh = gmsh_to_skfem(3, groups, axes=[2, 0, 1])
+    if sx != 1.0:
+        mesh = mesh.scaled([sx, 1.0, 1.0])
     return check_quality(mesh)

@@ -1,11 +1,12 @@
 """The every-position mesh convergence of the calibration benchmark (full mode): each position of the default
-configuration is compared with the reference of its own mesh style. The FEM cases are replaced by a stub here
-(the real run takes about 25 minutes); what is tested is the choice of reference and the reported errors."""
+configuration is compared with a finer mesh (isotropic 8 per semi-axis, extruded 6 on the most elongated patches).
+The FEM cases are replaced by a stub here (the real run takes about 30 minutes); what is tested is the choice of
+reference and the reported errors."""
 
 import benchmarks.bench_calibration as bc
 
 
-def test_every_position_uses_the_reference_of_its_mesh_style(monkeypatch):
+def test_every_position_uses_a_finer_reference_by_aspect_ratio(monkeypatch):
     calls = []
 
     def fake_case(body, y_mm, mesh_kw, **kw):
@@ -20,14 +21,16 @@ def test_every_position_uses_the_reference_of_its_mesh_style(monkeypatch):
     monkeypatch.setattr(bc, "convergence_case", fake_case)
     rows = bc.convergence_every_position()
     assert len(rows) == 24 and len(calls) == 48
-    styles = {(r["body"], r["y_mm"]): r["style"] for r in rows}
-    # the elongated patches of the default run are extruded (a/b >= 4: 5.8-13.6), the others isotropic (a/b <= 3.7)
-    assert styles[("wheel", 30.0)] == styles[("wheel", -45.0)] == styles[("wheel", -30.0)] == "extruded"
-    assert styles[("rail", 0.0)] == styles[("wheel", -37.5)] == styles[("rail", 15.0)] == "isotropic"
-    assert sum(s == "extruded" for s in styles.values()) == 3
+    refs = {(r["body"], r["y_mm"]): r["reference"] for r in rows}
+    # the default mesh is the stretched one everywhere; the most elongated patches (a/b >= 4: 5.8-13.6) are
+    # compared with the extruded 6, the others with the isotropic 8
+    assert {r["style"] for r in rows} == {"stretched"}
+    for key in (("wheel", 30.0), ("wheel", -45.0), ("wheel", -30.0)):
+        assert refs[key] == bc.EVERY_POSITION_REFERENCES["extruded"]
+    assert sum(ref == bc.EVERY_POSITION_REFERENCES["extruded"] for ref in refs.values()) == 3
+    assert refs[("rail", 15.0)] == refs[("rail", 0.0)] == bc.EVERY_POSITION_REFERENCES["isotropic"]
     for r in rows:
-        assert r["reference"] == bc.EVERY_POSITION_REFERENCES[r["style"]]
         assert abs(r["errors"]["first_yield"] - 0.02) < 1e-12
         assert all(abs(x - 0.02) < 1e-12 for x in r["errors"]["residual_levels"])
     md = bc.every_position_markdown(rows)
-    assert len(md) == 2 + 24 and "| rail y = 15 | 1.4 | isotropic | 10 / 100 |" in md[2 + 12]
+    assert len(md) == 2 + 24 and "| rail y = 15 | 1.4 | stretched | 10 / 100 | 1.0 / 1 | isotropic 8 |" in md[2 + 12]

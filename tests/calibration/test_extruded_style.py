@@ -29,7 +29,7 @@ def test_config_accepts_the_styles(style):
 def test_config_rejects_other_styles(bad):
     with pytest.raises(InputError) as err:
         parse_config({"mesh": {"style": bad}, "bodies": [BODY]}, "my.toml")
-    assert "my.toml: mesh.style" in str(err.value) and "'isotropic', 'extruded', 'structured', 'auto'" in str(err.value)
+    assert "my.toml: mesh.style" in str(err.value) and "'isotropic', 'stretched', 'extruded', 'structured', 'auto'" in str(err.value)
 
 
 @pytest.mark.parametrize("bad", [1.5, 0, "3", 101])

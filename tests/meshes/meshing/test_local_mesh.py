@@ -77,9 +77,35 @@ def test_quadratic_and_deterministic():
     assert surface_deviation_mm(a, profile) < 1e-3
 
 
+def test_stretched_mesh_is_the_same_body_with_elements_longer_along_x():
+    """x_stretch s: meshed in x / s and stretched back: the same prism (volume, end at x = length, exact
+    surface), the refinement box elongated along x with s times fewer elements along it."""
+    profile = get_profile("60E1")
+    box = (6.0, 1.5, 1.0)
+    plain, stretched = (local_mesh(profile, 0.0, 0.5, 8.0, length_mm=LENGTH, refine_box=box, x_stretch=s,
+                                   optimize_netgen=False) for s in (1.0, 4.0))
+    area = outline_area(profile.section_outline(default_depth_mm(profile)))
+    assert mesh_measure(stretched) == pytest.approx(area * LENGTH, rel=5e-3)
+    assert stretched.p[0].min() == pytest.approx(0.0, abs=1e-12)
+    assert stretched.p[0].max() == pytest.approx(LENGTH, rel=1e-12)
+    np.testing.assert_allclose(stretched.p[0, np.unique(stretched.facets[:, stretched.boundaries["end"]])], LENGTH)
+    assert surface_deviation_mm(stretched, profile) < 1e-3
+    assert stretched.t.shape[1] < 0.5 * plain.t.shape[1]
+
+    def extent_at_load(mesh, axis):  # mean extent along an axis of the elements within 1 mm of (1, 0, z(0))
+        near = np.array([[1.0], [0.0], [float(profile.z(0.0))]])
+        at = np.linalg.norm(mesh.p[:, mesh.t].mean(axis=1) - near, axis=0) < 1.0
+        c = mesh.p[axis, mesh.t[:, at]]
+        return float(np.mean(c.max(axis=0) - c.min(axis=0)))
+
+    assert extent_at_load(stretched, 0) > 2.5 * extent_at_load(plain, 0)
+    assert extent_at_load(stretched, 1) == pytest.approx(extent_at_load(plain, 1), rel=0.3)
+
+
 @pytest.mark.parametrize("kwargs, what", [
     ({"length_mm": 0.5}, "length_mm"), ({"refine_box": (1.0, -1.0, 1.0)}, "refine_box"),
     ({"refine_box": (1.0, 1.0)}, "refine_box"), ({"h_min": 5.0, "h_max": 1.0}, "h_min"), ({"order": 0}, "order"),
+    ({"x_stretch": 0.5}, "x_stretch"), ({"x_stretch": float("nan")}, "x_stretch"),
 ])
 def test_bad_inputs_raise_input_error(kwargs, what):
     args = {"profile": get_profile("60E1"), "y0": 0.0, "h_min": 1.0, "h_max": 8.0} | kwargs
