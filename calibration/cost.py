@@ -5,8 +5,9 @@ project's 2-core machine with the shipped configurations (plots on) and scaled b
 density relative to them (FEM work grows with the number of elements, ~ elements_per_semi_axis^2 in 2D and ^3 in
 3D): ``default.toml`` (3D, 4 elements per semi-axis with the yield-zone refinement 2, 8 levels + 3 unloadings):
 24 positions took 361 s of FEM (2026-11-24, 2 workers; 10.6-14.8 s for round patches, up to 34 s for a/b = 13.6),
-i.e. 15.0 s per position (kept: a later run on a quieter machine, with the isotropic mesh up to a/b = 4, took 264 s
-of FEM and 44 s of field output, 12.9 s per position); ``default_2d.toml`` (2D, 6 per semi-axis, 10 levels + 3
+i.e. 15.0 s per position (kept as the conservative figure: later runs on a quieter machine took 264 s of FEM and 44 s
+of field output with the isotropic mesh up to a/b = 4, 12.9 s per position, and 226 s + 48 s with the stretched
+mesh, 11.4 s per position); ``default_2d.toml`` (2D, 6 per semi-axis, 10 levels + 3
 unloadings): 24 positions in about 1 min on 2 workers, about 5 s per position. An estimate, for the guard against
 runs far beyond the intended size (it is not a timing promise: the elongated positions cost twice the mean).
 """
