@@ -58,9 +58,9 @@ class MeshSettings:
     "structured": a core |s| <= 1.2 b along the surface arc, refine_depth_factor * b deep along the normal,
     0 <= x <= 1.2 a, meshed in cells of at most b / n, b / n and a / n (n = elements_per_semi_axis), the rest
     unstructured (meshes.meshing.structured_core_mesh, docs/calibration.md "Mesh convergence").
-    yield_zone_refinement f > 1 (isotropic and stretched meshes, also under "auto"): h_min / f in the zone YIELD_ZONE around the
-    point of first yield (YIELD_ZONE_DEPTH_FACTOR * b below the load centre along the normal), which decides p_y
-    and through it every quantity compared at multiples of p_y; 1: off."""
+    yield_zone_refinement f > 1 (isotropic and stretched meshes, also under "auto"): h_min / f in the zone
+    YIELD_ZONE around the point of first yield (YIELD_ZONE_DEPTH_FACTOR * b below the load centre along the
+    normal), which decides p_y and through it every quantity compared at multiples of p_y; 1: off."""
 
     elements_per_semi_axis: float = 8.0
     h_max_mm: float = 6.0

@@ -41,7 +41,10 @@ def local_mesh(profile, y0: float, h_min: float, h_max: float, length_mm: float 
     contact semi-axes and the depth of interest). optimize_netgen: also run Gmsh's Netgen optimiser (about 3x
     the meshing time; raises the worst mean-ratio quality, e.g. 60E1 at h_min 0.5 mm from 0.22 to 0.30).
     inner_zone: an optional finer size field inside the refinement box (e.g. at the first-yield point, mm); the
-    smaller of the two sizes applies. Returns ``MeshTet1`` (order 1) or ``MeshTet2`` (order 2).
+    smaller of the two sizes applies. x_stretch s in [1, 20]: the body is meshed over 0 <= x <= length_mm / s (the
+    refinement box and the inner zone divided by s along x) and the mesh stretched back by s along x: the same body,
+    elements s times longer along x than across (an affine anisotropic mesh for loads elongated along x). Returns
+    ``MeshTet1`` (order 1) or ``MeshTet2`` (order 2).
     """
     depth_mm = default_depth_mm(profile) if depth_mm is None else depth_mm
     z0 = check_mesh_inputs(profile, y0, h_min, h_max, depth_mm, order, grading)
