@@ -51,8 +51,8 @@ def test_round_patch_mesh_is_the_isotropic_one():
 
 
 def _elastic(style: str, a: float, b: float):
-    """(dofs, first-yield p0 / Y, centre displacement per MPa of p0 in mm) of the 60E1 crown under the elliptic Hertz
-    pressure of semi-axes a (x) and b (y), 3 elements per semi-axis, P2."""
+    """(dofs, first-yield p0 / Y, centre displacement per MPa of p0 in mm, load resultant / analytic) of the 60E1
+    crown under the elliptic Hertz pressure of semi-axes a (x) and b (y), 3 elements per semi-axis, P2."""
     rail = get_profile("60E1")
     geo = given_geometry(rail, 0.0, a, b)
     mesh = build_mesh(rail, geo, "3d", MeshSettings(elements_per_semi_axis=3, h_max_mm=10.0, style=style))
@@ -60,15 +60,19 @@ def _elastic(style: str, a: float, b: float):
     load = HertzLoad(geo.y_mm, b, a, z0_mm=geo.z_mm)
     res = solve_load_path(mesh, STEEL, load, [1.0], disc=disc,
                           options=SolverOptions(dirichlet=add_support_boundary(mesh, 35.0)))
-    return disc.n_dofs, local_first_yield_MPa(disc, res, STEEL, 3 * b) / STEEL.yield_MPa, res.history[-1].u_centre_mm
+    force = load.prepare(disc.basis).force_per_MPa  # nodal forces of the half model, dofs blocked (x, y, z)
+    resultant = np.linalg.norm([force[c::3].sum() for c in range(3)]) / (load.total_force_per_MPa() / 2)
+    return (disc.n_dofs, local_first_yield_MPa(disc, res, STEEL, 3 * b) / STEEL.yield_MPa,
+            res.history[-1].u_centre_mm, resultant)
 
 
 def test_elongated_patch_stretched_agrees_with_isotropic_at_fewer_dofs():
     """a/b = 3: the stretched mesh has about 0.64x the isotropic one's dofs (2.1x the aspect it is meshed at), and
     its first yield and elastic centre displacement agree with the isotropic mesh's (measured 0.6 % and 0.3 %)."""
-    n_iso, fy_iso, u_iso = _elastic("isotropic", 6.0, 2.0)
-    n_st, fy_st, u_st = _elastic("stretched", 6.0, 2.0)
+    n_iso, fy_iso, u_iso, _ = _elastic("isotropic", 6.0, 2.0)
+    n_st, fy_st, u_st, resultant = _elastic("stretched", 6.0, 2.0)
     assert n_st < 0.75 * n_iso
+    assert resultant == pytest.approx(1.0, abs=1e-3)  # the load is integrated exactly on the stretched facets
     assert fy_st == pytest.approx(fy_iso, rel=0.015)
     assert u_st == pytest.approx(u_iso, rel=0.01)
     # an elongated ellipse yields later than the a/b = 1.33 one (1.62 Y) and earlier than a line load (1.79 Y)
