@@ -121,14 +121,45 @@ def _scale_length(h: float) -> float:
     return float(max(m * k for m in (1.0, 2.0, 5.0) if m * k <= target))
 
 
+@dataclass(frozen=True)
+class ViewFrame:
+    """Where the 3D picture looks from (mm): camera position, focal point, view-up (the surface's outward normal,
+    so the loaded surface is at the top of every picture, rail or wheel), the "symmetry plane" label (inside the
+    body) and the scale bar's two ends (on the surface, across the rolling direction)."""
+
+    camera: np.ndarray
+    focal: np.ndarray
+    up: np.ndarray
+    label: np.ndarray
+    bar: tuple[np.ndarray, np.ndarray]
+
+
+def view_frame(centre_mm, normal_out, half_width_mm: float, bar_mm: float) -> ViewFrame:
+    """The :class:`ViewFrame` of a 3D load point ``centre_mm`` with outward unit normal ``normal_out`` (x, y, z): seen
+    from the -x side (the symmetry plane x = 0), from outside the body, 2 h along the lateral direction t = e_x x n
+    and 1.6 h along n (h = half_width_mm). For n = +z (the rail crown) t = -y."""
+    c = np.asarray(centre_mm, dtype=float)
+    n = np.asarray(normal_out, dtype=float)
+    n = n / np.linalg.norm(n)
+    t = np.cross([1.0, 0.0, 0.0], n)
+    t = t / np.linalg.norm(t)
+    h = float(half_width_mm)
+    ex = np.array([1.0, 0.0, 0.0])
+    start = c + 0.9 * h * t + 0.05 * h * n
+    return ViewFrame(camera=c - 3.0 * h * ex + 2.0 * h * t + 1.6 * h * n, focal=c - 0.3 * h * n, up=n,
+                     label=c - 0.6 * h * t - 0.8 * h * n, bar=(start, start - bar_mm * t))
+
+
 def render_png(path: str | os.PathLike, disc, state, material, field: str, centre_mm, half_width_mm: float,
-               title: str = "") -> Path:
+               title: str = "", normal_out=None) -> Path:
     """Off-screen pyvista render of a cell field in a box of half width ``half_width_mm`` around the centre.
 
     3D: the half model is cut smoothly by the box (clipped cells, not whole jagged elements) and seen obliquely
-    from the -x side, so that the symmetry plane x = 0 (a section through the plastic zone, outlined and labelled)
-    and the loaded surface are visible; a scale bar gives the length in mm and the colour bar sits below the
-    model. 2D: the zoomed section (camera along x) with the same scale bar and colour bar.
+    from the -x side and from outside the loaded surface (``normal_out``, the outward normal at the centre; default
+    +z), which is at the top of the picture for the rail and the wheel alike, so that the symmetry plane x = 0 (a
+    section through the plastic zone, outlined and labelled) and the loaded surface are visible
+    (:func:`view_frame`); a scale bar gives the length in mm and the colour bar sits below the model. 2D: the
+    zoomed section (camera along x) with the same scale bar and colour bar.
     """
     from wrlayer.offscreen import offscreen_pyvista
 
@@ -156,28 +187,26 @@ def render_png(path: str | os.PathLike, disc, state, material, field: str, centr
                                       "fmt": "%.3g"})
     plotter.add_text(title or label, font_size=11, position="upper_edge")
     L = _scale_length(h)
-    top = c[2] + 0.05 * h
     if disc.plane_strain:
         p0 = np.array([0.0, c[1] - 0.9 * h, c[2] - 0.9 * h])
+        p1 = p0 + np.array([0.0, L, 0.0])
     else:
-        p0 = np.array([c[0], c[1] - 0.9 * h, top])
+        frame = view_frame(c, (0.0, 0.0, 1.0) if normal_out is None else normal_out, h, L)
+        p0, p1 = frame.bar
         # the symmetry plane x = 0 through the load centre: outline of its part in the box, labelled
         sym = part.slice(normal="x", origin=(c[0] + 1e-6 * h, c[1], c[2]))
         if sym.n_points:
             plotter.add_mesh(sym.extract_feature_edges(boundary_edges=True, feature_edges=False,
                                                        manifold_edges=False), color="white", line_width=3)
-            plotter.add_point_labels([np.array([c[0], c[1] + 0.6 * h, c[2] - 0.8 * h])],
-                                     ["symmetry plane x = 0"], font_size=12, text_color="black",
+            plotter.add_point_labels([frame.label], ["symmetry plane x = 0"], font_size=12, text_color="black",
                                      shape_opacity=0.6, always_visible=True)
-    p1 = p0 + np.array([0.0, L, 0.0])
     plotter.add_mesh(pv.Line(p0, p1), color="red", line_width=5)
     plotter.add_point_labels([0.5 * (p0 + p1)], [f"{L:g} mm"], font_size=14, text_color="black",
                              shape_opacity=0.6, always_visible=True)
     if disc.plane_strain:
         plotter.view_yz()
     else:
-        plotter.camera_position = [(c[0] - 3 * h, c[1] - 2.0 * h, c[2] + 1.6 * h), tuple(c - [0, 0, 0.3 * h]),
-                                   (0, 0, 1)]
+        plotter.camera_position = [tuple(frame.camera), tuple(frame.focal), tuple(frame.up)]
     plotter.show_axes()
     out = _write_via_temp(Path(path), lambda p: plotter.screenshot(p))
     plotter.close()
@@ -207,5 +236,5 @@ def write_increment_output(disc, state, material, prepared, out_dir: Path, index
     for field, tag in (("von_mises_MPa", "von_mises"), ("eq_plastic_strain", "eq_plastic_strain")):
         title = f"{label + ': ' if label else ''}{names[field]} at p0 = {state.p0_MPa:.0f} MPa"
         files.append(render_png(out_dir / f"{stem}_{tag}.png", disc, state, material, field, prepared.centre_mm,
-                                hw, title))
+                                hw, title, normal_out=prepared.normal_out))
     return files
