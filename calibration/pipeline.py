@@ -499,9 +499,9 @@ def _run_calibration(cfg, out_dir: Path, scheduler, plots, show_progress, log, f
                 continue
             log(f"calibration: cache entry {f.name} of {t.label} is invalid ({why}); recomputing it")
         todo.append(t)
-    # longest first (the 3D cost grows with the patch's elongation a/b: 20-22.5 s at a/b = 5.8-13.6 against 7-10 s
-    # for round patches in the default run, docs/calibration.md), so that no worker is left alone with a long
-    # position at the end
+    # longest first: the most elongated patches take the most Newton iterations and solves (with the stretched mesh
+    # of the default run 8-9.6 s at a/b = 5.8-13.6 against 6.4-7.6 s for round patches, docs/calibration.md), so
+    # that no worker is left alone with a long position at the end
     todo.sort(key=lambda t: -max(t.geometry["a_mm"], t.geometry["b_mm"]) / min(t.geometry["a_mm"], t.geometry["b_mm"]))
     n_cached = len(tasks) - len(todo)
     guard(calibration_cost(cfg, todo, scheduler), force)
@@ -515,11 +515,11 @@ def _run_calibration(cfg, out_dir: Path, scheduler, plots, show_progress, log, f
         else:
             failed.append({"body": t.body, "y_mm": t.y_mm, "error": res["error"]})
     summary = {"bodies": {}, "positions_computed": len(todo), "positions_cached": n_cached}
-    fem_s = [results[t.key]["seconds"] for t in todo if t.key in results]
+    computed = [results[t.key] for t in todo if t.key in results]
+    fem_s = [r["seconds"] for r in computed]
     if fem_s:  # wall time inside the workers, FEM apart from the field output (VTU, PNG)
-        summary["fem_seconds"] = {"per_position_min": min(fem_s), "per_position_max": max(fem_s),
-                                  "total": sum(fem_s), "output_total": sum(results[t.key].get("output_seconds", 0.0)
-                                                                         for t in todo if t.key in results)}
+        summary["fem_seconds"] = {"per_position_min": min(fem_s), "per_position_max": max(fem_s), "total": sum(fem_s),
+                                  "output_total": sum(r.get("output_seconds", 0.0) for r in computed)}
     worst = 0.0
     written = []
     fit_code = code_hash(_FIT_SOURCES)

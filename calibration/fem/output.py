@@ -141,10 +141,10 @@ def view_frame(centre_mm, normal_out, half_width_mm: float, bar_mm: float) -> Vi
     c = np.asarray(centre_mm, dtype=float)
     n = np.asarray(normal_out, dtype=float)
     n = n / np.linalg.norm(n)
-    t = np.cross([1.0, 0.0, 0.0], n)
+    ex = np.array([1.0, 0.0, 0.0])
+    t = np.cross(ex, n)
     t = t / np.linalg.norm(t)
     h = float(half_width_mm)
-    ex = np.array([1.0, 0.0, 0.0])
     start = c + 0.9 * h * t + 0.05 * h * n
     return ViewFrame(camera=c - 3.0 * h * ex + 2.0 * h * t + 1.6 * h * n, focal=c - 0.3 * h * n, up=n,
                      label=c - 0.6 * h * t - 0.8 * h * n, bar=(start, start - bar_mm * t))

@@ -61,7 +61,7 @@ class GradedSize:
 
     def curvature_size(self, radius: float) -> float:
         """Size limit (mm) on a boundary entity of the given smallest radius of curvature (mm)."""
-        return min(self.h_max, max(self.h_min, 2.0 * np.pi * radius / ELEMENTS_PER_2PI))
+        return curvature_size(radius, self.h_min, self.h_max)
 
     def apply(self, axes: dict[str, str], curved: list[tuple[float, str, list[int]]] = (),
               extra: tuple[GradedSize, ...] = ()) -> None:
@@ -79,6 +79,12 @@ class GradedSize:
             mesh_field.setString(fields[-1], "F", zone.gmsh_expression(axes))
         set_background_size(fields, [(self.curvature_size(radius), kind, tags) for radius, kind, tags in curved],
                             min([self.h_min] + [z.h_min for z in extra]), self.h_max)
+
+
+def curvature_size(radius: float, h_min: float, h_max: float) -> float:
+    """Size limit (mm) on a boundary entity of smallest radius of curvature ``radius`` (mm): 2 pi R /
+    ELEMENTS_PER_2PI, kept within [h_min, h_max]."""
+    return min(h_max, max(h_min, 2.0 * np.pi * radius / ELEMENTS_PER_2PI))
 
 
 def set_background_size(fields: list[int], curved: list[tuple[float, str, list[int]]], h_min: float,

@@ -28,7 +28,7 @@ from wrlayer.errors import require
 from meshes.meshing.gmsh_outline import check_outline, min_radius, segment_points
 from meshes.meshing.gmsh_session import generate, gmsh_session
 from meshes.meshing.gmsh_to_skfem import gmsh_to_skfem
-from meshes.meshing.mesh_size import ELEMENTS_PER_2PI, set_background_size
+from meshes.meshing.mesh_size import curvature_size, set_background_size
 from meshes.meshing.section_mesh import DEFAULT_GRADING, check_mesh_inputs, check_quality, default_depth_mm
 from meshes.profiles.base import Arc, Line, PointCurve
 
@@ -189,8 +189,8 @@ def _size_fields(gmsh, h: float, h_max: float, grading: float, core_entities: tu
     field.setNumber(dist, "Sampling", 60)
     graded = field.add("MathEval")
     field.setString(graded, "F", f"Min({float(h_max)!r}, {float(h)!r} + {float(grading)!r} * F{dist})")
-    set_background_size([graded], [(min(h_max, max(h, 2.0 * np.pi * radius / ELEMENTS_PER_2PI)), "SurfacesList",
-                                    tags) for radius, tags in curved], h, h_max)
+    set_background_size([graded], [(curvature_size(radius, h, h_max), "SurfacesList", tags) for radius, tags in curved],
+                        h, h_max)
 
 
 def structured_core_local_mesh(profile, y0: float, core: StructuredCore, h_max: float, length_mm: float,
