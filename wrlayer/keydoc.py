@@ -154,9 +154,14 @@ def _cell(text: str) -> str:
     return text.replace("|", "\\|").replace("\n", " ")
 
 
+def _default_cell(default: str) -> str:
+    """A default as code, except the words ``required`` and ``unset``."""
+    return default if default in ("required", "unset") else f"`{_cell(default)}`"
+
+
 def key_table(cls: type, prefix: str = "") -> str:
     """The markdown table of ``cls``'s keys (header, separator and one row per key, each line ending in a newline)."""
-    body = "".join(f"| `{_cell(key)}` | `{_cell(kind)}` | {_cell(default)} | {_cell(text)} |\n"
+    body = "".join(f"| `{_cell(key)}` | `{_cell(kind)}` | {_default_cell(default)} | {_cell(text)} |\n"
                    for key, kind, default, text in key_rows(cls, prefix))
     return HEADER + body
 

@@ -92,9 +92,10 @@ def test_rows_give_key_type_default_and_description_with_nested_dataclasses_expa
 def test_table_escapes_pipes_and_has_a_header():
     table = keydoc.key_table(Inner)
     assert table.splitlines()[:2] == ["| key | type | default | description |", "|---|---|---|---|"]
-    assert "| `depth_mm` | `float` | 1.5 | Depth below the surface (mm). |" in table
+    assert "| `depth_mm` | `float` | `1.5` | Depth below the surface (mm). |" in table
+    assert "| `label` | `str` | `\"a\"` |  |" in table
     outer = keydoc.key_table(Outer)
-    assert "`int \\| None`" in outer and "Load steps \\| as multiples" in outer
+    assert "| `cells` | `int \\| None` | unset |" in outer and "| required |" in outer and "Load steps \\| as multiples" in outer
     assert all(line.count("|") - line.count("\\|") == 5 for line in outer.splitlines())
 
 
