@@ -2,16 +2,68 @@ r"""Contact mechanics of wheel and rail with a Prandtl-body surface layer (units
 
 Subpackages, one concept each; dependencies point one way (left may import right, never the reverse):
 
-    wheel_rail -> scenes -> passes -> normal -> layer
-                        \-> tangential -> normal
+    wear -> wheel_rail -> scenes -> passes -> normal -> layer
+                                \-> tangential -> normal
 
 - :mod:`contact.layer`: the Prandtl element, characteristics and calibration parameter tables.
-- :mod:`contact.normal`: normal solvers (Kik-Piotrowski; Boussinesq integrals; the Patch).
+- :mod:`contact.normal`: normal solvers (Kik-Piotrowski; the exact half-space solver; Boussinesq integrals; the Patch).
 - :mod:`contact.tangential`: FASTSIM and Kalker's coefficients.
 - :mod:`contact.passes`: repeated passes, residual displacement, shakedown.
 - :mod:`contact.scenes`: scene files, the simulation run, results, tables and pictures.
 - :mod:`contact.wheel_rail`: track geometry, contact search, kinematics, the wheel solve and its scenes.
+- :mod:`contact.wear`: profiles evolving by wear and the layer's inelastic displacement.
 
-``contact`` never imports ``calibration`` or ``meshes`` internals: it reads the parameter-table format and uses the
-public profile API :mod:`meshes.profiles`.
+Public API (imported on first use: ``import contact`` loads no solver; the full table is docs/api.md):
+
+- Scenes: ``load_scene(path) -> Scene``, ``simulate(scene) -> SimulationRun`` (``.result``: the result.json
+  dictionary), ``run_scene_file(path, out_dir, plots=False)``: any scene file (single contact, wheel-rail case or
+  sweep) run into ``out_dir`` (result.json, cases.csv, pictures), returns the result dictionary.
+- Normal contact: ``NormalProblem`` (separation mm, force N, radius mm, ``E_MPa``, ``poisson``),
+  ``solve_normal(prob, layer)`` (Kik-Piotrowski), ``solve_normal_with(prob, layer, method=...)`` ("exact" or a
+  ``NormalMethod``) -> ``NormalSolution``; ``paper_problem()`` / ``paper_layers(prob)``: the paper's example.
+- Layer: ``Characteristic`` (p(u), MPa over mm), ``PrandtlLayer`` (elements along y), ``LayerPair`` (wheel, rail,
+  combined), ``LayerTable`` (a calibration table file).
+- Passes: ``run_passes(prob, layer, PassesOptions(...), method=...)`` -> ``PassRecord`` per pass.
+- Wheel on rail: ``solve_wheel(rail_profile, wheel_profile, WheelRailInputs(...))`` -> ``WheelRailSolution``;
+  ``TrackLayout``, ``WheelsetPose``.
+- Wear: ``run_wear_file(scene_path, out_dir)`` -> the wear run (profiles per step, steps.csv, result.json).
+
+Depends on: wrlayer, meshes.
+The contact package reads the layer-table format and uses the public profile API :mod:`meshes.profiles`; the wear
+loop's recalibration runs ``python -m calibration`` as a separate process instead of importing it.
 """
+
+from wrlayer import lazy_exports
+
+#: Public name -> the module that defines it.
+API = {
+    "load_scene": "contact.scenes.scene",
+    "Scene": "contact.scenes.scene",
+    "simulate": "contact.scenes.simulation",
+    "SimulationRun": "contact.scenes.simulation",
+    "run_scene_file": "contact.__main__",
+    "paper_problem": "contact.scenes.paper_example",
+    "paper_layers": "contact.scenes.paper_example",
+    "paper_characteristic": "contact.scenes.paper_example",
+    "NormalProblem": "contact.normal.problem",
+    "NormalSolution": "contact.normal.solution",
+    "solve_normal": "contact.normal.kik_piotrowski",
+    "solve_normal_with": "contact.normal.method",
+    "NormalMethod": "contact.normal.method",
+    "Characteristic": "contact.layer.characteristic",
+    "PrandtlLayer": "contact.layer.prandtl_layer",
+    "LayerPair": "contact.layer.prandtl_layer",
+    "LayerTable": "contact.layer.layer_table",
+    "run_passes": "contact.passes.passes",
+    "PassesOptions": "contact.passes.passes",
+    "PassRecord": "contact.passes.passes",
+    "solve_wheel": "contact.wheel_rail.solve",
+    "WheelRailInputs": "contact.wheel_rail.solve",
+    "WheelRailLayers": "contact.wheel_rail.solve",
+    "WheelRailSolution": "contact.wheel_rail.solve",
+    "TrackLayout": "contact.wheel_rail.track_geometry",
+    "WheelsetPose": "contact.wheel_rail.track_geometry",
+    "run_wear_file": "contact.wear.cli",
+}
+__all__ = sorted(API)
+__getattr__, __dir__ = lazy_exports(__name__, API)

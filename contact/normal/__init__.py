@@ -1,12 +1,18 @@
 """Normal contact solvers (units mm, N, MPa).
 
-- :mod:`~contact.normal.kik_piotrowski`: the paper's fast method (virtual penetration, eqs. 7-15) with the Prandtl layer.
-- :mod:`~contact.normal.boussinesq`: Boussinesq integrals of the elliptic-paraboloid pressure used by it.
+- :mod:`~contact.normal.problem`: the normal problem (separation, force, radius, E_MPa, poisson) on its strip grid.
+- :mod:`~contact.normal.solution`: what every solver returns (:class:`NormalSolution`, one RegionSolution per region).
+- :mod:`~contact.normal.kik_piotrowski`: the paper's fast method (virtual penetration, eqs. 7-15) with the Prandtl
+  layer, built on :mod:`~contact.normal.regions` (N at one approach, interacting contact regions),
+  :mod:`~contact.normal.layer_at_strip` (the layers' loading curve at a reference strip, exact in p_0),
+  :mod:`~contact.normal.delta_search` (the approach for the target force) and
+  :mod:`~contact.normal.boussinesq` (Boussinesq integrals of the elliptic-paraboloid pressure).
 - :mod:`~contact.normal.patch`: the discretised contact patch (strips in y, cells in x) every solver hands on.
 - :mod:`~contact.normal.exact`: the exact half-space solver with the layer cell by cell (``method.normal = "exact"``),
   built on :mod:`~contact.normal.halfspace` (Love coefficients, FFT), :mod:`~contact.normal.constrained_cg`
   (Polonsky–Keer) and :mod:`~contact.normal.exact_layer` (indentation / rolling layer); docs/exact-solver.md.
-- :mod:`~contact.normal.method`: the choice between the two (``solve_normal_with``).
+- :mod:`~contact.normal.method`: the choice between the two (``solve_normal_with(prob, layer, method=...)``).
 
-Depends on: contact.layer. Never imports contact.wheel_rail, contact.scenes or contact.tangential.
+Depends on: contact.layer, wrlayer.
+Never imports contact.wheel_rail, contact.scenes or contact.tangential.
 """

@@ -50,8 +50,11 @@ from contact.normal.boussinesq import rectangle_kernel_integral
 from contact.normal.constrained_cg import constrained_cg
 from contact.normal.exact_layer import LAYER_MODES, CellLayer
 from contact.normal.halfspace import HalfSpace, compliance_factor
-from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, RegionSolution, layer_points, solve_normal
+from contact.normal.kik_piotrowski import solve_normal
+from contact.normal.layer_at_strip import layer_points
 from contact.normal.patch import Patch
+from contact.normal.problem import NormalProblem
+from contact.normal.solution import NormalSolution, RegionSolution
 from wrlayer.errors import ConvergenceError, InputError, require
 
 __all__ = ["DEFAULT_CELLS", "CELLS_RANGE", "ExactOptions", "ExactField", "solve_exact", "fastsim_pressure",

@@ -26,7 +26,7 @@ import numba
 import numpy as np
 
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer, _move_elements
-from contact.normal.kik_piotrowski import layer_points
+from contact.normal.layer_at_strip import layer_points
 from wrlayer.errors import InputError
 
 __all__ = ["LAYER_MODES", "CellLayer"]

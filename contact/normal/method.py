@@ -4,17 +4,20 @@
     "exact"           the FFT boundary-element half-space solver with the same layer, cell by cell,
                       :func:`contact.normal.exact.solve_exact` (options ``method.exact_cells``, ``method.layer_mode``)
 
-:func:`solve_normal_with` has the signature of ``solve_normal`` plus the method, and returns a
-:class:`~contact.normal.kik_piotrowski.NormalSolution` either way, so passes, FASTSIM, pictures, tables and
-wheel-rail scenes work with both.
+:func:`solve_normal_with` takes the arguments of ``solve_normal`` (problem, then layer) plus the method as a
+keyword, and returns a :class:`~contact.normal.solution.NormalSolution` either way, so passes, FASTSIM, pictures,
+tables and wheel-rail scenes work with both.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 from contact.layer.prandtl_layer import LayerPair
-from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, solve_normal
+from contact.normal.kik_piotrowski import check_arguments, solve_normal
+from contact.normal.problem import NormalProblem
+from contact.normal.solution import NormalSolution
 from wrlayer.errors import InputError
 
 NORMAL_METHODS = ("kik_piotrowski", "exact")
@@ -22,9 +25,18 @@ NORMAL_METHODS = ("kik_piotrowski", "exact")
 
 @dataclass(frozen=True)
 class NormalMethod:
-    """``method.normal`` and its options. ``exact_cells``: cells along x over the patch length of the exact
-    solver's grid (None: :data:`contact.normal.exact.DEFAULT_CELLS`); ``layer_mode``: "indentation" or "rolling"
-    (exact solver only; see :mod:`contact.normal.exact_layer`)."""
+    """``method.normal`` of a scene and its options.
+
+    Attributes
+    ----------
+    name : str
+        The normal solver: "kik_piotrowski" (the paper's fast method, eqs. 9-15) or "exact" (FFT half-space).
+    exact_cells : int or None
+        Cells along x over the patch length of the exact solver's grid (1); None:
+        :data:`contact.normal.exact.DEFAULT_CELLS`.
+    layer_mode : str
+        How the exact solver loads the layer: "indentation" or "rolling" (see :mod:`contact.normal.exact_layer`).
+    """
 
     name: str = "kik_piotrowski"
     exact_cells: int | None = None
@@ -37,17 +49,70 @@ class NormalMethod:
 
     def exact_options(self, **overrides):
         """The :class:`contact.normal.exact.ExactOptions` of this choice (InputError naming the key if invalid)."""
+        # exact.py is imported here: the Kik-Piotrowski path (the default) does not need it
         from contact.normal.exact import DEFAULT_CELLS, ExactOptions
 
         cells = DEFAULT_CELLS if self.exact_cells is None else self.exact_cells
         return ExactOptions(cells=cells, layer_mode=self.layer_mode, **overrides)
 
 
-def solve_normal_with(method: NormalMethod, prob: NormalProblem, layer: LayerPair | None = None,
-                      **kwargs) -> NormalSolution:
-    """Solve the normal problem with the chosen method (keyword arguments as :func:`solve_normal`)."""
+def _method_of(method: NormalMethod | str | None) -> NormalMethod:
+    """``method`` as a NormalMethod (a name is accepted for the default options); TypeError for anything else."""
+    if method is None:
+        return NormalMethod()
+    if isinstance(method, str):
+        return NormalMethod(method)
+    if not isinstance(method, NormalMethod):
+        raise TypeError(f"solve_normal_with: method must be a NormalMethod or one of {NORMAL_METHODS}, "
+                        f"got {type(method).__name__}")
+    return method
+
+
+def solve_normal_with(prob: NormalProblem, layer: LayerPair | None = None, *legacy,
+                      method: NormalMethod | str | None = None, **kwargs) -> NormalSolution:
+    """Solve the normal problem with the chosen solver.
+
+    Parameters
+    ----------
+    prob : NormalProblem
+        Separation (mm), normal force (N), rolling radius (mm), ``E_MPa`` and ``poisson``.
+    layer : LayerPair, optional
+        The bodies' Prandtl layers on the problem's strip grid (not modified); None: no layer.
+    method : NormalMethod or str, optional
+        "kik_piotrowski" (default) or "exact", or a :class:`NormalMethod` with the exact solver's options.
+    **kwargs
+        Passed on to :func:`~contact.normal.kik_piotrowski.solve_normal` (``delta_guess_mm``, ``rtol_N``,
+        ``loglog_slope_guess``) or :func:`~contact.normal.exact.solve_exact`.
+
+    Returns
+    -------
+    NormalSolution
+        Patches, approach (mm), peak pressure (MPa), size (mm, mm^2) and layer displacement (mm).
+
+    Raises
+    ------
+    TypeError
+        When ``prob``, ``layer`` or ``method`` has the wrong type.
+
+    Notes
+    -----
+    The earlier order ``solve_normal_with(method, prob, layer)`` still works (a NormalMethod as first argument)
+    and emits a DeprecationWarning.
+    """
+    if isinstance(prob, NormalMethod):
+        warnings.warn("solve_normal_with(method, prob, layer) is deprecated: use "
+                      "solve_normal_with(prob, layer, method=method)", DeprecationWarning, stacklevel=2)
+        if method is not None or len(legacy) > 1:
+            raise TypeError("solve_normal_with: method given twice (first argument and method=)")
+        method, prob, layer = prob, layer, (legacy[0] if legacy else kwargs.pop("layer", None))
+    elif legacy:
+        raise TypeError(f"solve_normal_with takes (prob, layer) and keyword arguments; got {len(legacy)} more "
+                        "positional argument(s) (pass the method as method=...)")
+    method = _method_of(method)
+    check_arguments(prob, layer, "solve_normal_with")
     if method.name == "kik_piotrowski":
         return solve_normal(prob, layer, **kwargs)
+    # exact.py is imported here: the Kik-Piotrowski path (the default) does not need it
     from contact.normal.exact import solve_exact
 
     return solve_exact(prob, layer, method.exact_options(), **kwargs)

@@ -2,5 +2,6 @@
 
 - :mod:`~contact.passes.passes`: the pass loop on a normal solver, with relaxed or kept slider state.
 
-Depends on: contact.normal, contact.layer. Never imports contact.wheel_rail or contact.scenes.
+Depends on: contact.normal, contact.layer, wrlayer.
+Never imports contact.wheel_rail or contact.scenes.
 """

@@ -24,8 +24,10 @@ from typing import Callable
 
 import numpy as np
 
-from contact.normal.kik_piotrowski import NormalProblem, NormalSolution, layer_points
+from contact.normal.layer_at_strip import layer_points
 from contact.normal.method import NormalMethod, solve_normal_with
+from contact.normal.problem import NormalProblem
+from contact.normal.solution import NormalSolution
 from contact.layer.prandtl_layer import LayerPair
 from wrlayer.errors import require
 
@@ -114,7 +116,7 @@ def run_passes(prob: NormalProblem, layer_pair: LayerPair | None, options: Passe
     slope = None
     for k in range(1, int(options.max_passes) + 1):
         current = prob if k == 1 else prob.with_offset(offset)
-        sol = solve_normal_with(method, current, layers, delta_guess_mm=_next_delta_guess(deltas),
+        sol = solve_normal_with(current, layers, method=method, delta_guess_mm=_next_delta_guess(deltas),
                                 loglog_slope_guess=slope)
         deltas.append(sol.delta_mm)
         slope = sol.iterations["loglog_slope"]

@@ -24,7 +24,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from wrlayer.errors import InputError
-from meshes.profiles.base import Arc, ArcPiece, Line, Profile, Segment, reversed_segment
+from meshes.profiles.base import Profile
+from meshes.profiles.pieces import ArcPiece
+from meshes.profiles.segments import Arc, Line, Segment, reversed_segment
 
 
 @dataclass(frozen=True)

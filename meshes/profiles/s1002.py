@@ -15,7 +15,8 @@ from __future__ import annotations
 import dataclasses
 
 from wrlayer.errors import InputError
-from meshes.profiles.base import ArcPiece, Profile, line_piece, poly_piece
+from meshes.profiles.base import Profile
+from meshes.profiles.pieces import ArcPiece, line_piece, poly_piece
 
 # EN 13715 S1002 coefficients (profiles.md).
 AA, BA = 1.364323640, 0.066666667

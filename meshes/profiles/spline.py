@@ -7,7 +7,9 @@ import numpy as np
 from scipy.interpolate import make_interp_spline
 
 from wrlayer.errors import InputError
-from meshes.profiles.base import Profile, Segment, SmoothPiece
+from meshes.profiles.base import Profile
+from meshes.profiles.pieces import SmoothPiece
+from meshes.profiles.segments import Segment
 
 
 class SplineProfile(Profile):

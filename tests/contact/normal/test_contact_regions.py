@@ -8,7 +8,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-import contact.normal.kik_piotrowski as kp
+import contact.normal.regions as kp
 from contact.normal.boussinesq import boussinesq_integral
 from contact.normal.kik_piotrowski import NormalForceEvaluator, NormalProblem, solve_normal
 from contact.scenes.paper_example import paper_layers, paper_problem

@@ -104,8 +104,8 @@ def test_two_equal_valleys_share_the_load_on_one_grid():
 
 def test_method_dispatch_and_kp_default():
     prob, _ = _parabolic(1.0e4, 300.0, 80.0, 0.1)
-    kp = solve_normal_with(NormalMethod(), prob)
-    ex = solve_normal_with(NormalMethod("exact", exact_cells=32), prob)
+    kp = solve_normal_with(prob, method=NormalMethod())
+    ex = solve_normal_with(prob, method=NormalMethod("exact", exact_cells=32))
     assert kp.method == "kik_piotrowski" and ex.method == "exact"
     assert ex.iterations["grid_cells"][1] >= 32
     assert ex.p_peak_MPa.shape == kp.p_peak_MPa.shape == prob.strip_y_mm.shape

@@ -185,7 +185,7 @@ def test_bad_input_is_named(kw, what):
 
 
 def test_no_bracket_raises_convergence_error_naming_delta(monkeypatch):
-    import contact.normal.kik_piotrowski as kp
+    import contact.normal.delta_search as kp
     from wrlayer.errors import ConvergenceError
     monkeypatch.setattr(kp, "_MAX_BRACKET_STEPS", 2)
     with pytest.raises(ConvergenceError, match="normal approach delta"):
