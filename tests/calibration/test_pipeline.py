@@ -10,7 +10,8 @@ import pytest
 
 import calibration.pipeline as pipeline
 from calibration.config import load_config
-from calibration.pipeline import run_calibration
+from calibration.pipeline import CalibrationResult, calibrate, run_calibration
+from calibration.tasks import PositionOutcome
 from contact.layer.layer_table import LayerTable
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -25,7 +26,11 @@ def _quiet(*args, **kw):
 def coarse_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("calib")
     cfg = load_config(COARSE)
-    summary = run_calibration(cfg, out, show_progress=False, log=_quiet)
+    result = calibrate(cfg, out, show_progress=False, log=_quiet)
+    assert isinstance(result, CalibrationResult) and result.ok
+    assert result.tables == {"rail": out / "rail_layer_table.json"}
+    summary = result.to_dict()
+    assert json.loads((out / "summary.json").read_text()) == json.loads(json.dumps(summary))
     return cfg, out, summary
 
 
@@ -91,10 +96,10 @@ def test_new_position_is_computed_alone_and_a_failure_keeps_the_others(coarse_ru
     cfg2 = dataclasses.replace(cfg, bodies=(body,))
     real = pipeline.run_position
 
-    def failing_at_5(task, progress_queue=None):
+    def failing_at_5(task):
         if task.y_mm == 5.0:
-            return {"ok": False, "error": f"{task.label}: ConvergenceError: Newton did not converge (test)"}
-        return real(task, progress_queue)
+            return PositionOutcome(task.key, None, f"{task.label}: ConvergenceError: Newton did not converge (test)")
+        return real(task)
 
     monkeypatch.setattr(pipeline, "run_position", failing_at_5)
     summary = run_calibration(cfg2, work, show_progress=False, log=_quiet)
