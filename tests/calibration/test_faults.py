@@ -127,6 +127,7 @@ def _alive(pid: int) -> bool:
 
 
 @pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="needs Linux /proc")
+@pytest.mark.slow
 def test_killed_run_leaves_no_workers_and_frees_the_pipes(tmp_path):
     """kill -9 of a run with 2 workers while they compute: the workers (and the resource tracker) end, the
     caller's pipes reach end-of-file at once (nothing keeps them open), the next run into the folder works."""
