@@ -26,12 +26,15 @@ from calibration.position_fit import fit_position
 from calibration.results import IndentationResult, PositionFit
 from calibration.settings import CalibrationConfig
 from calibration.tables import FIT_SOURCES, BodySummary, write_body_table
-from calibration.tasks import PositionNote, PositionTask, code_hash, inputs_hash, make_tasks, run_position
+# make_tasks, position_geometry and limited_threads are also re-exported (__all__) for the benchmarks and input
+# tests that import them from this module
+from calibration.tasks import (PositionNote, PositionTask, code_hash, inputs_hash, make_tasks, position_geometry,
+                               run_position)
 from wrlayer.atomic_write import atomic_write_text, output_lock
 from wrlayer.cost import guard
 from wrlayer.errors import InputError, WrLayerError
 from wrlayer.progress import ProgressBar
-from wrlayer.runner import Runner
+from wrlayer.runner import Runner, limited_threads
 
 
 @dataclass(frozen=True)
@@ -248,4 +251,5 @@ def _report(result: CalibrationResult, out_dir: Path, log) -> None:
                                     "interpolated across; a rerun computes only the failed ones)"))
 
 
-__all__ = ["CalibrationResult", "FemSeconds", "calibrate", "run_calibration"]
+__all__ = ["CalibrationResult", "FemSeconds", "calibrate", "limited_threads", "make_tasks", "position_geometry",
+           "run_calibration"]
