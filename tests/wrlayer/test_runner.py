@@ -106,3 +106,41 @@ def test_workers_die_with_their_parent():
     finally:
         if parent.poll() is None:
             parent.kill()
+
+
+TERMINATED = textwrap.dedent("""
+    import time
+    from wrlayer.errors import Terminated
+    from wrlayer.runner import Runner
+    try:
+        with Runner(2) as runner:
+            results = runner.imap(time.sleep, [60.0, 60.0])
+            print("running", flush=True)
+            list(results)
+    except Terminated:
+        print("terminated", runner._pool is None, flush=True)
+""")
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_sigterm_ends_the_workers_and_unwinds_the_caller():
+    """SIGTERM to a library caller (no handler of its own): the runner's handler raises Terminated, the workers
+    are ended and the caller's except/finally blocks run."""
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    parent = subprocess.Popen([sys.executable, "-c", TERMINATED], stdout=subprocess.PIPE, text=True, env=env,
+                              cwd=ROOT)
+    try:
+        assert parent.stdout.readline().strip() == "running"
+        time.sleep(3.0)  # the workers are spawned and sleeping
+        kids = [int(k) for t in os.listdir(f"/proc/{parent.pid}/task")
+                for k in open(f"/proc/{parent.pid}/task/{t}/children").read().split()]
+        parent.terminate()
+        out, _ = parent.communicate(timeout=30)
+        assert out.strip() == "terminated True"
+        deadline = time.monotonic() + 10
+        while any(_alive(k) for k in kids) and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert kids and not any(_alive(k) for k in kids)
+    finally:
+        if parent.poll() is None:
+            parent.kill()
