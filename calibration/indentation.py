@@ -35,7 +35,9 @@ from calibration.fem.material import J2Material, von_mises_MPa
 from calibration.fem.solver_state import Increment
 from calibration.hertz.geometry import LocalGeometry, halfspace_centre_compliance_mm_per_MPa
 from calibration.hertz.load import HertzLoad, probe_operator
-from calibration.position_mesh import add_support_boundary, build_mesh, check_resolution
+# the mesh names are also re-exported (__all__) for the benchmarks that import them from this module
+from calibration.position_mesh import (AUTO_EXTRUDED_ASPECT, add_support_boundary, build_mesh, check_resolution,
+                                       mesh_style)
 from calibration.results import IndentationResult
 from calibration.settings import LoadSettings, MeshSettings
 from wrlayer.errors import require
@@ -287,6 +289,7 @@ def _result(pm: PositionModel, el: ElasticResponse, material: J2Material, geomet
                              output_seconds=float(output_seconds), **solver_counts(pm.disc))
 
 
-__all__ = ["ElasticResponse", "IndentationResult", "LoadSettings", "LoadStageRecord", "MeshSettings",
+__all__ = ["AUTO_EXTRUDED_ASPECT", "ElasticResponse", "IndentationResult", "LoadSettings", "LoadStageRecord",
+           "MeshSettings", "add_support_boundary", "build_mesh", "mesh_style",
            "PositionModel", "elastic_response", "indent", "load_levels", "load_stages", "local_first_yield_MPa",
            "point_probe", "position_model", "solver_counts"]
