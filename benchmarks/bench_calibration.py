@@ -239,7 +239,8 @@ def convergence_case(body: str, y_mm: float, mesh_kw: dict, load_kw: dict | None
     threads)."""
     from calibration.config import load_config, material_of
     from calibration.indentation import indent
-    from calibration.pipeline import limited_threads, position_geometry
+    from calibration.tasks import position_geometry
+    from wrlayer.runner import limited_threads
     from meshes.profiles import get_profile
 
     cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")
@@ -361,7 +362,7 @@ def _fem_dent_mm(a_mm: float, b_mm: float, p0_MPa: float, y_mm: float = 0.0) -> 
     from calibration.hertz.geometry import given_geometry
     from calibration.hertz.load import HertzLoad
     from calibration.indentation import add_support_boundary, build_mesh
-    from calibration.pipeline import limited_threads
+    from wrlayer.runner import limited_threads
     from meshes.profiles import get_profile
 
     cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")

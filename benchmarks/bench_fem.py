@@ -77,12 +77,12 @@ def factor_precision(h: float, repeat: int = 10) -> list[dict]:
     """PARDISO factorisation and triangular-solve times of the elastic stiffness of the level-h block, double
     against single precision (medians of ``repeat`` solves, one BLAS thread as in the calibration workers), and
     the relative residual of one solve and of the refined solve."""
-    from calibration.fem.elastoplastic_solver import _Problem
+    from calibration.fem.newton import TangentProblem
     from calibration.fem.linear_solvers import Factoriser
 
     mesh = _mesh(h)
     disc = discretise(mesh)
-    prob = _Problem(disc, MAT, dirichlet_dofs(disc, DIRICHLET), SolverOptions(dirichlet=DIRICHLET))
+    prob = TangentProblem(disc, MAT, dirichlet_dofs(disc, DIRICHLET), SolverOptions(dirichlet=DIRICHLET))
     b = np.random.default_rng(0).standard_normal(disc.n_dofs)
     b[prob.fixed] = 0.0
     rows = []

@@ -40,16 +40,16 @@ def _parser() -> argparse.ArgumentParser:
 @cli_guard
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    from calibration.config import load_config
-    from calibration.pipeline import run_calibration
+    from calibration.config import load_config  # the FEM stack only once the arguments are valid
+    from calibration.pipeline import calibrate
 
     cfg = load_config(args.config)
     if args.workers is not None:
         require(1 <= args.workers <= 64, "--workers", f"must be in 1..64, got {args.workers}")
         cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, workers=args.workers))
-    summary = run_calibration(cfg, args.out, scheduler=args.scheduler, plots=args.plots,
-                              show_progress=not args.quiet, force=args.force)
-    return 4 if summary["failed"] else 0
+    result = calibrate(cfg, args.out, scheduler=args.scheduler, plots=args.plots, show_progress=not args.quiet,
+                       force=args.force)
+    return 0 if result.ok else 4
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from calibration.config import profile_of
 from wrlayer.plotting import save_figure
 
 
@@ -95,11 +96,9 @@ def plot_profile_positions(profile, table, path: Path, failed_y=()) -> Path:
 
 def write_body_plots(table, body_settings, out_dir: Path) -> list[Path]:
     """All pictures of one body's table into ``out_dir``."""
-    from meshes.profiles import get_profile
-
     out_dir = Path(out_dir)
     b = table.body
     return [plot_characteristics(table, out_dir / f"{b}_characteristics.png"),
             plot_parameters(table, out_dir / f"{b}_parameters.png"),
-            plot_profile_positions(get_profile(body_settings.profile), table, out_dir / f"{b}_positions.png",
+            plot_profile_positions(profile_of(body_settings.profile), table, out_dir / f"{b}_positions.png",
                                    [f["y_mm"] for f in table.failed])]

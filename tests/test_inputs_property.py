@@ -138,8 +138,8 @@ def test_random_config_documents_keep_the_contract(doc, tmp_path_factory):
         # a configuration accepted here can be meshed: h_max >= h_min, positions on the profile, sane numbers
         assert len(tasks) + len(failed) == sum(len(b.positions_mm) for b in cfg.bodies)
         for t in tasks:
-            h_min = t.geometry["b_mm"] / cfg.mesh.elements_per_semi_axis
-            assert cfg.mesh.h_max_mm >= h_min and np.isfinite(t.geometry["a_mm"])
+            h_min = t.geometry.b_mm / cfg.mesh.elements_per_semi_axis
+            assert cfg.mesh.h_max_mm >= h_min and np.isfinite(t.geometry.a_mm)
         assert cfg.load.unload_factors[-1] <= cfg.load.max_factor
         assert all(math.isfinite(v) for v in (cfg.bodies[0].material.E_MPa, cfg.reference_load_N))
     assert time.perf_counter() - t0 < TIME_BOUND_S

@@ -32,3 +32,33 @@ def progress(iterable: Iterable[T], desc: str, total: int | None = None, unit: s
     from tqdm import tqdm
 
     return tqdm(iterable, desc=desc, total=total, unit=unit, file=sys.stderr, dynamic_ncols=True, **kwargs)
+
+
+class ProgressBar:
+    """A counter bar on stderr (tqdm) drawn when :func:`progress_enabled`, else a silent counter; use
+    :meth:`update` from callbacks (e.g. a runner's ``on_progress``) and as a context manager."""
+
+    def __init__(self, total: int, desc: str, unit: str = "it", quiet: bool = False, position: int = 0):
+        self.total, self.n = int(total), 0
+        self._bar = None
+        if progress_enabled(quiet):
+            from tqdm import tqdm  # only when a bar is drawn
+
+            self._bar = tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, dynamic_ncols=True,
+                             position=position)
+
+    def update(self, n: int = 1) -> None:
+        self.n += n
+        if self._bar is not None:
+            self._bar.update(n)
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
+
+    def __enter__(self) -> ProgressBar:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import platform
 import subprocess
 from importlib import metadata
 from pathlib import Path
@@ -35,3 +36,18 @@ def code_version() -> str:
 def version_text(prog: str) -> str:
     """One line for ``--version``: program, package version and code revision."""
     return f"{prog} {package_version()} ({code_version()})"
+
+
+#: Packages whose versions every calibration table records.
+RECORDED_PACKAGES = ("numpy", "scipy", "scikit-fem", "gmsh", "wrlayer")
+
+
+def software_versions(packages: tuple[str, ...] = RECORDED_PACKAGES) -> dict[str, str]:
+    """{"python": version, package: installed version or "not installed"} for the result files."""
+    out = {"python": platform.python_version()}
+    for pkg in packages:
+        try:
+            out[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            out[pkg] = "not installed"
+    return out

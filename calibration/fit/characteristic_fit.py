@@ -70,15 +70,8 @@ POLISH_RESTARTS = 20
 RANDOM_STARTS = 12
 
 
-def fit_characteristic(p_MPa, u_mm, n_segments: int, s1_N_per_mm3: float | None = None,
-                       p2_MPa: float | None = None, what: str = "characteristic",
-                       max_relative_error: float = 0.05, n_starts: int = 6) -> CharacteristicFit:
-    """Fit N segments to the points (p_MPa, u_mm) (u at pressure p on monotonic loading).
-
-    s1_N_per_mm3: fix the first slope S_1; p2_MPa: pin the first break point (elastic limit; needs N >= 2).
-    InputError naming ``what`` if the points are unusable (non-finite, not increasing) or if no concave
-    characteristic with positive decreasing slopes fits them within ``max_relative_error`` of max(u).
-    """
+def _checked_points(p_MPa, u_mm, n_segments, what: str, max_relative_error: float) -> tuple[np.ndarray, np.ndarray]:
+    """The points sorted by p as float arrays; InputError naming ``what`` when they cannot be fitted."""
     require(isinstance(n_segments, (int, np.integer)) and not isinstance(n_segments, bool)
             and N_SEGMENTS_RANGE[0] <= n_segments <= N_SEGMENTS_RANGE[1], what,
             f"number of segments must be an integer in {list(N_SEGMENTS_RANGE)}, got {n_segments!r}")
@@ -89,28 +82,23 @@ def fit_characteristic(p_MPa, u_mm, n_segments: int, s1_N_per_mm3: float | None 
     order = np.argsort(p)
     p, u = p[order], u[order]
     require(bool(p[0] >= 0 and p[-1] > 0), what, "pressures must be >= 0 with a positive maximum")
-    p_max, u_max = float(p[-1]), float(np.max(np.abs(u)))
+    u_max = float(np.max(np.abs(u)))
     require(u_max > 0, what, "all displacements are zero")
     drop = np.maximum.accumulate(u) - u  # decrease below an earlier point (noise up to max_relative_error)
     if np.any(drop > max_relative_error * u_max):
         j = int(np.argmax(drop > max_relative_error * u_max)) - 1
         raise InputError(what, f"displacement decreases from p = {p[j]:.6g} to {p[j + 1]:.6g} MPa: cannot be "
                                "fitted with positive slopes")
-    c0_fixed = None
-    if s1_N_per_mm3 is not None:
-        require(np.isfinite(s1_N_per_mm3) and s1_N_per_mm3 > 0, what, f"S_1 must be positive, got {s1_N_per_mm3!r}")
-        c0_fixed = 1.0 / float(s1_N_per_mm3)
-    pinned = []
-    if p2_MPa is not None:
-        require(n_segments >= 2, what, "pinning p_2 needs at least 2 segments")
-        require(np.isfinite(p2_MPa) and 0 < p2_MPa < p_max, what,
-                f"p_2 = {p2_MPa!r} MPa must lie inside (0, {p_max:.6g}) MPa, the range of the points")
-        pinned = [float(p2_MPa)]
-    d_min = _D_MIN_REL * u_max / p_max
-    n_free = n_segments - 1 - len(pinned)
+    return p, u
+
+
+def _best_breakpoints(p: np.ndarray, u: np.ndarray, pinned: list[float], n_free: int, c0_fixed: float | None,
+                      d_min: float, n_starts: int) -> np.ndarray:
+    """The break points (MPa; the pinned ones first) minimising the squared fit error: bounded Nelder-Mead from
+    systematic and seeded random starts, the best one polished by restarts."""
+    p_max = float(p[-1])
     lo = pinned[0] if pinned else 0.0
     span = p_max - lo
-
     gap_min = 1e-3 / (n_free + 1)
 
     def breakpoints(z):
@@ -127,40 +115,63 @@ def fit_characteristic(p_MPa, u_mm, n_segments: int, s1_N_per_mm3: float | None 
     def cost(z):
         return float(np.sum(_solve_linear(p, u, breakpoints(z), c0_fixed, d_min)[2] ** 2))
 
-    if n_free > 0:
-        inner = p[(p > lo) & (p < p_max)]
-        starts = [lo + span * np.arange(1, n_free + 1) / (n_free + 1)]
-        if inner.size >= n_free:
-            starts.append(np.quantile(inner, np.arange(1, n_free + 1) / (n_free + 1)))
-        u_lo = np.interp(lo, p, u)
-        targets = u_lo + (u[-1] - u_lo) * np.arange(1, n_free + 1) / (n_free + 1)  # equal steps of u
-        starts.append(np.interp(targets, u, p))
-        for f in np.linspace(0.2, 0.8, max(0, n_starts - len(starts))):
-            starts.append(lo + span * (1.0 - (1.0 - f) ** np.arange(1, n_free + 1)))
-        # and RANDOM_STARTS sorted uniform draws (fixed seed: the same inputs give the same fit)
-        rng = np.random.default_rng(20261124)
-        starts += [lo + span * np.sort(rng.uniform(0.02, 0.98, n_free)) for _ in range(RANDOM_STARTS)]
-        best = None
-        scale = float(np.sum(u ** 2))
-        options = dict(xatol=1e-9, fatol=1e-24 * scale, maxiter=300 * n_free, maxfev=400 * n_free,
-                       adaptive=n_free > 2)
-        for q0 in starts:
-            res = minimize(cost, to_z(np.asarray(q0, dtype=float)), method="Nelder-Mead", options=options)
-            if best is None or res.fun < best.fun:
-                best = res
-        # polish the best start: Nelder-Mead restarted from its own result (a fresh simplex) until the cost stops
-        # falling; without it the result hung on which start ran out of evaluations first, and FEM inputs that
-        # differ in the 9th digit gave fits 2 % apart (measured on the wheel table, issue 12)
-        for _ in range(POLISH_RESTARTS):
-            res = minimize(cost, best.x, method="Nelder-Mead", options=options)
-            improved = res.fun < best.fun * (1.0 - 1e-9)
-            if res.fun < best.fun:
-                best = res
-            if not improved:
-                break
-        q = breakpoints(best.x)
-    else:
-        q = np.array(pinned)
+    inner = p[(p > lo) & (p < p_max)]
+    starts = [lo + span * np.arange(1, n_free + 1) / (n_free + 1)]
+    if inner.size >= n_free:
+        starts.append(np.quantile(inner, np.arange(1, n_free + 1) / (n_free + 1)))
+    u_lo = np.interp(lo, p, u)
+    targets = u_lo + (u[-1] - u_lo) * np.arange(1, n_free + 1) / (n_free + 1)  # equal steps of u
+    starts.append(np.interp(targets, u, p))
+    for f in np.linspace(0.2, 0.8, max(0, n_starts - len(starts))):
+        starts.append(lo + span * (1.0 - (1.0 - f) ** np.arange(1, n_free + 1)))
+    # and RANDOM_STARTS sorted uniform draws (fixed seed: the same inputs give the same fit)
+    rng = np.random.default_rng(20261124)
+    starts += [lo + span * np.sort(rng.uniform(0.02, 0.98, n_free)) for _ in range(RANDOM_STARTS)]
+    best = None
+    scale = float(np.sum(u ** 2))
+    options = dict(xatol=1e-9, fatol=1e-24 * scale, maxiter=300 * n_free, maxfev=400 * n_free,
+                   adaptive=n_free > 2)
+    for q0 in starts:
+        res = minimize(cost, to_z(np.asarray(q0, dtype=float)), method="Nelder-Mead", options=options)
+        if best is None or res.fun < best.fun:
+            best = res
+    # polish the best start: Nelder-Mead restarted from its own result (a fresh simplex) until the cost stops
+    # falling; without it the result hung on which start ran out of evaluations first, and FEM inputs that
+    # differ in the 9th digit gave fits 2 % apart (measured on the wheel table)
+    for _ in range(POLISH_RESTARTS):
+        res = minimize(cost, best.x, method="Nelder-Mead", options=options)
+        improved = res.fun < best.fun * (1.0 - 1e-9)
+        if res.fun < best.fun:
+            best = res
+        if not improved:
+            break
+    return breakpoints(best.x)
+
+
+def fit_characteristic(p_MPa, u_mm, n_segments: int, s1_N_per_mm3: float | None = None,
+                       p2_MPa: float | None = None, what: str = "characteristic",
+                       max_relative_error: float = 0.05, n_starts: int = 6) -> CharacteristicFit:
+    """Fit N segments to the points (p_MPa, u_mm) (u at pressure p on monotonic loading).
+
+    s1_N_per_mm3: fix the first slope S_1; p2_MPa: pin the first break point (elastic limit; needs N >= 2).
+    InputError naming ``what`` if the points are unusable (non-finite, not increasing) or if no concave
+    characteristic with positive decreasing slopes fits them within ``max_relative_error`` of max(u).
+    """
+    p, u = _checked_points(p_MPa, u_mm, n_segments, what, max_relative_error)
+    p_max, u_max = float(p[-1]), float(np.max(np.abs(u)))
+    c0_fixed = None
+    if s1_N_per_mm3 is not None:
+        require(np.isfinite(s1_N_per_mm3) and s1_N_per_mm3 > 0, what, f"S_1 must be positive, got {s1_N_per_mm3!r}")
+        c0_fixed = 1.0 / float(s1_N_per_mm3)
+    pinned = []
+    if p2_MPa is not None:
+        require(n_segments >= 2, what, "pinning p_2 needs at least 2 segments")
+        require(np.isfinite(p2_MPa) and 0 < p2_MPa < p_max, what,
+                f"p_2 = {p2_MPa!r} MPa must lie inside (0, {p_max:.6g}) MPa, the range of the points")
+        pinned = [float(p2_MPa)]
+    d_min = _D_MIN_REL * u_max / p_max
+    n_free = n_segments - 1 - len(pinned)
+    q = _best_breakpoints(p, u, pinned, n_free, c0_fixed, d_min, n_starts) if n_free > 0 else np.array(pinned)
     c0, d, r = _solve_linear(p, u, q, c0_fixed, d_min)
     # drop break points that coincide or fall outside the data (degenerate segments)
     p_pts = np.concatenate([[0.0], q, [p_max]])

@@ -27,13 +27,15 @@ position's geometry records it (``source``). Users who know the contact patch gi
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
+from typing import Any
 
 import numpy as np
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
-from wrlayer.errors import require
+from wrlayer import validate
+from wrlayer.errors import InputError, require
 
 #: Rail inclination 1:40 (rad), the standard for new UIC60 track.
 DEFAULT_RAIL_CANT_RAD = math.atan(1.0 / 40.0)
@@ -164,6 +166,24 @@ class LocalGeometry:
 
     def to_dict(self) -> dict:
         return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: Any, what: str = "geometry") -> LocalGeometry:
+        """Validate and build (InputError naming the field): numbers finite, optional ones may be None."""
+        validate.table(data, what)
+        names = [f.name for f in fields(cls)]
+        validate.check_known(data, names, what)
+        for name in names:
+            key = validate.join(what, name)
+            if name not in data:
+                raise InputError(key, "missing")
+            value = data[name]
+            if name in ("mate", "source"):
+                if value is not None or name == "source":
+                    validate.text(value, key)
+            elif value is not None or name in ("y_mm", "z_mm", "a_mm", "b_mm"):
+                validate.number(value, key)
+        return cls(**data)
 
 
 def local_geometry(profile, y_mm: float, mate, reference_load_N: float, E_MPa: float, poisson: float,

@@ -130,7 +130,7 @@ def _surface_point(mesh: skfem.Mesh, facets: np.ndarray, lateral: np.ndarray, z0
     return cands[best]
 
 
-def _probe(basis: skfem.CellBasis, point: np.ndarray, element: int):
+def probe_operator(basis: skfem.CellBasis, point: np.ndarray, element: int):
     """Sparse operator (dim, n_dofs) evaluating the displacement at ``point`` inside/on ``element``.
 
     The reference coordinates come from the element's vertices (exact for straight-sided elements; for curved
@@ -209,7 +209,7 @@ class HertzLoad:
     def centre_only(self, basis: skfem.CellBasis) -> PreparedLoad:
         """The load centre and its displacement probe without the (costlier) nodal forces (force = None)."""
         _, centre, n_out, facet = self._centre(basis)
-        return PreparedLoad(None, centre, n_out, _probe(basis, centre, int(basis.mesh.f2t[0, facet])))
+        return PreparedLoad(None, centre, n_out, probe_operator(basis, centre, int(basis.mesh.f2t[0, facet])))
 
     def prepare(self, basis: skfem.CellBasis) -> PreparedLoad:
         """Nodal forces per MPa of p0, centre point, outward normal and centre probe on ``basis``."""
@@ -241,7 +241,7 @@ class HertzLoad:
             return np.sqrt(np.clip(q, 0.0, None))
 
         force = _nodal_forces(basis, near, pressure, n_sub, self.degree)
-        return PreparedLoad(force, centre, n_out, _probe(basis, centre, int(mesh.f2t[0, facet])))
+        return PreparedLoad(force, centre, n_out, probe_operator(basis, centre, int(mesh.f2t[0, facet])))
 
 
 @dataclass
@@ -263,4 +263,4 @@ class UniformPressure:
         fmid = basis.mesh.p[:, basis.mesh.facets[:, facets]].mean(axis=1).T
         k = int(np.argmin(np.linalg.norm(fmid - point, axis=1)))
         n_out = _outward_normals(basis.mesh, facets[k:k + 1])[0]
-        return PreparedLoad(force, point, n_out, _probe(basis, point, int(basis.mesh.f2t[0, facets[k]])))
+        return PreparedLoad(force, point, n_out, probe_operator(basis, point, int(basis.mesh.f2t[0, facets[k]])))

@@ -193,6 +193,137 @@ def _size_fields(gmsh, h: float, h_max: float, grading: float, core_entities: tu
                         h, h_max)
 
 
+@dataclass(frozen=True)
+class _Window:
+    """The core's window in the section outline: the outline before and after it, and the spline points of its
+    top (on the surface) and bottom (core.depth_mm along the inward normal) curves, (y, z) in mm."""
+
+    before: list
+    after: list
+    top: np.ndarray
+    bottom: np.ndarray
+
+
+def _window(profile, y0: float, core: StructuredCore, depth_mm: float) -> _Window:
+    """The section outline split around the core (InputError when the offset curve would fold)."""
+    outline = profile.section_outline(float(depth_mm))
+    before, y_in, y_out, after = split_outline(profile, outline, float(y0), core.half_width_mm)
+    s_in, s_out = (float(v) for v in profile.arc_length([y_in, y_out]))
+    s_nodes = float(profile.arc_length(y0)) + np.sign(s_out - s_in) * core.s_nodes()
+    s_nodes[0], s_nodes[-1] = s_in, s_out
+    top = _spline_points(profile, s_nodes)
+    bottom = _spline_points(profile, s_nodes, offset_mm=core.depth_mm)
+    top[0], top[-1] = (y_in, profile.z(y_in)), (y_out, profile.z(y_out))
+    # the offset curve must stay inside the section and must not fold (offset beyond the radius of curvature)
+    kappa = np.abs(profile.curvature(top[:, 0]))
+    require(np.all(core.depth_mm * kappa < 0.8), "core.depth_mm",
+            f"{core.depth_mm:.3g} mm is close to the surface's radius of curvature {1 / np.max(kappa):.3g} mm")
+    return _Window(before, after, top, bottom)
+
+
+def _point(geo, p) -> int:
+    return geo.addPoint(float(p[0]), float(p[1]), 0.0)
+
+
+def _curve(geo, seg, start: int, end: int) -> int:
+    if isinstance(seg, Arc):
+        return geo.addCircleArc(start, _point(geo, seg.centre), end)
+    if isinstance(seg, PointCurve):
+        return geo.addSpline([start, *[_point(geo, q) for q in segment_points(seg)[1:-1]], end])
+    return geo.addLine(start, end)
+
+
+@dataclass(frozen=True)
+class _Section:
+    """The section's two plane surfaces (Gmsh tags): the structured core and the rest, with the boundary names and
+    smallest radii (mm) of the rest's curves in loop order."""
+
+    core_surface: int
+    rest: int
+    rest_names: list[str]
+    rest_radii: list[float]
+
+
+def _section(geo, profile, y0: float, core: StructuredCore, win: _Window) -> _Section:
+    """The core (transfinite) and the rest of the section as plane surfaces in Gmsh's built-in kernel."""
+    before, after, top, bottom = win.before, win.after, win.top, win.bottom
+    # the rest's loop: before ... -> P_in, down the entry normal to Q_in, along the offset curve to Q_out, up
+    # the exit normal to P_out -> after ...; the outline is closed, so after[-1] ends where before[0] starts
+    require(before and after, "y0", f"{y0:g} mm: the core must not contain the outline's first point")
+    require(np.allclose(segment_points(after[0])[0], top[-1], atol=1e-6)
+            and np.allclose(segment_points(before[-1])[-1], top[0], atol=1e-6), "outline",
+            "the outline around the core does not meet its entry and exit points")
+    # one spline per structured cell along s: the nodes sit exactly at s_i on the surface and at the same s_i
+    # on the offset curve, so that every column of the core lies on the normal at s_i
+    per = SPLINE_POINTS_PER_CELL
+    top_nodes = [_point(geo, top[i * per]) for i in range(core.cells_s + 1)]
+    bottom_nodes = [_point(geo, bottom[i * per]) for i in range(core.cells_s + 1)]
+    top_curves = [geo.addSpline([top_nodes[i], *[_point(geo, q) for q in top[i * per + 1:(i + 1) * per]],
+                                 top_nodes[i + 1]]) for i in range(core.cells_s)]
+    bottom_curves = [geo.addSpline([bottom_nodes[i], *[_point(geo, q) for q in bottom[i * per + 1:(i + 1) * per]],
+                                    bottom_nodes[i + 1]]) for i in range(core.cells_s)]
+    p_in, p_out, q_in, q_out = top_nodes[0], top_nodes[-1], bottom_nodes[0], bottom_nodes[-1]
+    starts_b = [_point(geo, segment_points(s)[0]) for s in before]
+    starts_a = [p_out] + [_point(geo, segment_points(s)[0]) for s in after[1:]]
+    depths = core.depth_nodes()
+
+    def side(k):  # the normal at the window's entry (k = 0) or exit (-1), split at the depth nodes
+        y = float(top[k][0])
+        pts = [top_nodes[k]] + [_point(geo, top[k] - d * profile.normal(y)) for d in depths[1:-1]]
+        pts.append(bottom_nodes[k])
+        return [geo.addLine(pts[j], pts[j + 1]) for j in range(len(pts) - 1)]
+
+    side_in = side(0)                                   # P_in -> Q_in
+    side_out = [-c for c in side(-1)[::-1]]             # Q_out -> P_out (signed tags)
+    rest_curves = [_curve(geo, seg, starts_b[i], starts_b[i + 1] if i + 1 < len(before) else p_in)
+                   for i, seg in enumerate(before)]
+    rest_curves += [*side_in, *bottom_curves, *side_out]
+    rest_curves += [_curve(geo, seg, starts_a[i], starts_a[i + 1] if i + 1 < len(after) else starts_b[0])
+                    for i, seg in enumerate(after)]
+    n_window = core.cells_s + 2 * core.cells_depth
+    rest_names = [s.tag for s in before] + ["core"] * n_window + [s.tag for s in after]
+    rest_radii = [min_radius(s) for s in before] + [math.inf] * n_window + [min_radius(s) for s in after]
+    rest = geo.addPlaneSurface([geo.addCurveLoop(rest_curves)])
+    core_loop = geo.addCurveLoop([*top_curves, *[-c for c in side_out[::-1]], *[-c for c in bottom_curves[::-1]],
+                                  *[-c for c in side_in[::-1]]])
+    core_surface = geo.addPlaneSurface([core_loop])
+    for c in top_curves + bottom_curves + side_in + side_out:
+        geo.mesh.setTransfiniteCurve(abs(c), 2)
+    geo.mesh.setTransfiniteSurface(core_surface, "Alternate", [p_in, p_out, q_out, q_in])
+    return _Section(core_surface, rest, rest_names, rest_radii)
+
+
+def _extrude(gmsh, core: StructuredCore, sec: _Section, length: float):
+    """The section extruded over 0 <= x <= length (the core in structured layers up to core.length_mm); returns
+    the physical groups {name: surface tags}, the curved surfaces [(radius in mm, tags)] and the faces the size
+    grows away from (the core block's inner lateral faces and its end face)."""
+    geo = gmsh.model.geo
+    # extrude: per input surface [far end, volume, one lateral surface per boundary curve in loop order]
+    # the core in structured layers; the rest unstructured over the same length (Gmsh reuses the core's
+    # lateral faces on the common boundary, so the two conform)
+    first = geo.extrude([(2, sec.core_surface)], 0.0, 0.0, core.length_mm, numElements=[1] * core.layers,
+                        heights=(core.x_nodes()[1:] / core.length_mm).tolist())
+    first += geo.extrude([(2, sec.rest)], 0.0, 0.0, core.length_mm)
+    n_core = 2 + 2 * core.cells_s + 2 * core.cells_depth
+    core_top, core_lat = first[0], [t for _, t in first[2:n_core]]
+    rest_top, rest_lat = first[n_core], [t for _, t in first[n_core + 2:]]
+    second = geo.extrude([core_top, rest_top], 0.0, 0.0, length - core.length_mm)
+    core_top2, core_lat2 = second[0], [t for _, t in second[2:n_core]]
+    rest_top2, rest_lat2 = second[n_core], [t for _, t in second[n_core + 2:]]
+    geo.synchronize()
+    m = core.cells_s
+    groups = {"surface": core_lat[:m] + core_lat2[:m], "side": [], "fixed": []}
+    curved = []
+    for lat in (rest_lat, rest_lat2):
+        for tag, name, radius in zip(lat, sec.rest_names, sec.rest_radii):
+            if name in groups:
+                groups[name].append(tag)
+                if math.isfinite(radius):
+                    curved.append((radius, [tag]))
+    groups.update(symmetry=[sec.core_surface, sec.rest], end=[core_top2[1], rest_top2[1]])
+    return groups, curved, core_lat[m:] + [core_top[1]]
+
+
 def structured_core_local_mesh(profile, y0: float, core: StructuredCore, h_max: float, length_mm: float,
                                depth_mm: float | None = None, order: int = 1,
                                grading: float = DEFAULT_GRADING) -> skfem.Mesh:
@@ -210,99 +341,11 @@ def structured_core_local_mesh(profile, y0: float, core: StructuredCore, h_max: 
     room = depth_mm + z0 if profile.body == "rail" else depth_mm - z0
     require(core.depth_mm <= 0.5 * room, "core.depth_mm",
             f"{core.depth_mm:.3g} mm is more than half the {room:.3g} mm of material below the load point")
-    outline = profile.section_outline(float(depth_mm))
-    before, y_in, y_out, after = split_outline(profile, outline, float(y0), core.half_width_mm)
-    s_in, s_out = (float(v) for v in profile.arc_length([y_in, y_out]))
-    s_nodes = float(profile.arc_length(y0)) + np.sign(s_out - s_in) * core.s_nodes()
-    s_nodes[0], s_nodes[-1] = s_in, s_out
-    top = _spline_points(profile, s_nodes)
-    bottom = _spline_points(profile, s_nodes, offset_mm=core.depth_mm)
-    top[0], top[-1] = (y_in, profile.z(y_in)), (y_out, profile.z(y_out))
-    # the offset curve must stay inside the section and must not fold (offset beyond the radius of curvature)
-    kappa = np.abs(profile.curvature(top[:, 0]))
-    require(np.all(core.depth_mm * kappa < 0.8), "core.depth_mm",
-            f"{core.depth_mm:.3g} mm is close to the surface's radius of curvature {1 / np.max(kappa):.3g} mm")
+    win = _window(profile, y0, core, depth_mm)
     with gmsh_session("structured") as gmsh:
-        geo = gmsh.model.geo
-
-        def point(p):
-            return geo.addPoint(float(p[0]), float(p[1]), 0.0)
-
-        def curve(seg, start, end):
-            if isinstance(seg, Arc):
-                return geo.addCircleArc(start, point(seg.centre), end)
-            if isinstance(seg, PointCurve):
-                return geo.addSpline([start, *[point(q) for q in segment_points(seg)[1:-1]], end])
-            return geo.addLine(start, end)
-
-        # the rest's loop: before ... -> P_in, down the entry normal to Q_in, along the offset curve to Q_out, up
-        # the exit normal to P_out -> after ...; the outline is closed, so after[-1] ends where before[0] starts
-        require(before and after, "y0", f"{y0:g} mm: the core must not contain the outline's first point")
-        require(np.allclose(segment_points(after[0])[0], top[-1], atol=1e-6)
-                and np.allclose(segment_points(before[-1])[-1], top[0], atol=1e-6), "outline",
-                "the outline around the core does not meet its entry and exit points")
-        # one spline per structured cell along s: the nodes sit exactly at s_i on the surface and at the same s_i
-        # on the offset curve, so that every column of the core lies on the normal at s_i
-        per = SPLINE_POINTS_PER_CELL
-        top_nodes = [point(top[i * per]) for i in range(core.cells_s + 1)]
-        bottom_nodes = [point(bottom[i * per]) for i in range(core.cells_s + 1)]
-        top_curves = [geo.addSpline([top_nodes[i], *[point(q) for q in top[i * per + 1:(i + 1) * per]],
-                                     top_nodes[i + 1]]) for i in range(core.cells_s)]
-        bottom_curves = [geo.addSpline([bottom_nodes[i], *[point(q) for q in bottom[i * per + 1:(i + 1) * per]],
-                                        bottom_nodes[i + 1]]) for i in range(core.cells_s)]
-        p_in, p_out, q_in, q_out = top_nodes[0], top_nodes[-1], bottom_nodes[0], bottom_nodes[-1]
-        starts_b = [point(segment_points(s)[0]) for s in before]
-        starts_a = [p_out] + [point(segment_points(s)[0]) for s in after[1:]]
-        depths = core.depth_nodes()
-
-        def side(k):  # the normal at the window's entry (k = 0) or exit (-1), split at the depth nodes
-            y = float(top[k][0])
-            pts = [top_nodes[k]] + [point(top[k] - d * profile.normal(y)) for d in depths[1:-1]]
-            pts.append(bottom_nodes[k])
-            return [geo.addLine(pts[j], pts[j + 1]) for j in range(len(pts) - 1)]
-
-        side_in = side(0)                                   # P_in -> Q_in
-        side_out = [-c for c in side(-1)[::-1]]             # Q_out -> P_out (signed tags)
-        rest_curves = [curve(seg, starts_b[i], starts_b[i + 1] if i + 1 < len(before) else p_in)
-                       for i, seg in enumerate(before)]
-        rest_curves += [*side_in, *bottom_curves, *side_out]
-        rest_curves += [curve(seg, starts_a[i], starts_a[i + 1] if i + 1 < len(after) else starts_b[0])
-                        for i, seg in enumerate(after)]
-        n_window = core.cells_s + 2 * core.cells_depth
-        rest_names = [s.tag for s in before] + ["core"] * n_window + [s.tag for s in after]
-        rest_radii = [min_radius(s) for s in before] + [math.inf] * n_window + [min_radius(s) for s in after]
-        rest = geo.addPlaneSurface([geo.addCurveLoop(rest_curves)])
-        core_loop = geo.addCurveLoop([*top_curves, *[-c for c in side_out[::-1]], *[-c for c in bottom_curves[::-1]],
-                                      *[-c for c in side_in[::-1]]])
-        core_surface = geo.addPlaneSurface([core_loop])
-        for c in top_curves + bottom_curves + side_in + side_out:
-            geo.mesh.setTransfiniteCurve(abs(c), 2)
-        geo.mesh.setTransfiniteSurface(core_surface, "Alternate", [p_in, p_out, q_out, q_in])
-        # extrude: per input surface [far end, volume, one lateral surface per boundary curve in loop order]
-        # the core in structured layers; the rest unstructured over the same length (Gmsh reuses the core's
-        # lateral faces on the common boundary, so the two conform)
-        first = geo.extrude([(2, core_surface)], 0.0, 0.0, core.length_mm, numElements=[1] * core.layers,
-                            heights=(core.x_nodes()[1:] / core.length_mm).tolist())
-        first += geo.extrude([(2, rest)], 0.0, 0.0, core.length_mm)
-        n_core = 2 + 2 * core.cells_s + 2 * core.cells_depth
-        core_top, core_lat = first[0], [t for _, t in first[2:n_core]]
-        rest_top, rest_lat = first[n_core], [t for _, t in first[n_core + 2:]]
-        second = geo.extrude([core_top, rest_top], 0.0, 0.0, length - core.length_mm)
-        core_top2, core_lat2 = second[0], [t for _, t in second[2:n_core]]
-        rest_top2, rest_lat2 = second[n_core], [t for _, t in second[n_core + 2:]]
-        geo.synchronize()
-        m = core.cells_s
-        groups = {"surface": core_lat[:m] + core_lat2[:m], "side": [], "fixed": []}
-        curved = []
-        for lat in (rest_lat, rest_lat2):
-            for tag, name, radius in zip(lat, rest_names, rest_radii):
-                if name in groups:
-                    groups[name].append(tag)
-                    if math.isfinite(radius):
-                        curved.append((radius, [tag]))
-        groups.update(symmetry=[core_surface, rest], end=[core_top2[1], rest_top2[1]])
-        # distance from the core block: its inner lateral faces (entry, offset, exit) and its end face
-        _size_fields(gmsh, h, h_max, grading, ("SurfacesList", core_lat[m:] + [core_top[1]]), curved)
+        sec = _section(gmsh.model.geo, profile, y0, core, win)
+        groups, curved, grow_from = _extrude(gmsh, core, sec, length)
+        _size_fields(gmsh, h, h_max, grading, ("SurfacesList", grow_from), curved)
         gmsh.option.setNumber("Mesh.Algorithm", 6)
         gmsh.option.setNumber("Mesh.Algorithm3D", 1)
         gmsh.option.setNumber("Mesh.Optimize", 1)
@@ -310,4 +353,3 @@ def structured_core_local_mesh(profile, y0: float, core: StructuredCore, h_max: 
         generate(3, order)
         mesh = gmsh_to_skfem(3, groups, axes=[2, 0, 1])
     return check_quality(mesh)
-

@@ -9,8 +9,11 @@ import pytest
 
 from calibration.config import FitSettings, load_config
 from calibration.hertz.geometry import HERTZ_B_OVER_R_LIMIT, LocalGeometry, conformity
-from calibration.indentation import MIN_ELEMENTS_PER_SEMI_AXIS, MeshSettings, check_resolution
-from calibration.pipeline import first_slope_N_per_mm3, make_tasks
+from calibration.position_fit import first_slope_N_per_mm3
+from calibration.position_mesh import MIN_ELEMENTS_PER_SEMI_AXIS, check_resolution
+from calibration.results import IndentationResult
+from calibration.settings import MeshSettings
+from calibration.tasks import make_tasks
 from wrlayer.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -22,12 +25,12 @@ def test_gauge_corner_and_flange_root_are_conforming_and_recalibrated(tmp_path):
     wheel = dataclasses.replace(cfg.bodies[1], positions_mm=(-37.5, 0.0))
     tasks, failed, warnings = make_tasks(dataclasses.replace(cfg, bodies=(rail, wheel)), tmp_path, plots=False)
     assert failed == [] and len(tasks) == 4
-    flagged = {(w["body"], w["y_mm"]) for w in warnings}
+    flagged = {(w.body, w.y_mm) for w in warnings}
     assert flagged == {("rail", -35.0), ("wheel", -37.5)}  # the crown and the taping line are not
     for w in warnings:
-        assert "conforming contact" in w["warning"] and "calibrated at" in w["warning"]
+        assert "conforming contact" in w.message and "calibrated at" in w.message
     for t in tasks:
-        geo = LocalGeometry(**t.geometry)
+        geo = t.geometry
         ratio = conformity(geo)
         if (t.body, t.y_mm) in flagged:
             assert ratio == pytest.approx(HERTZ_B_OVER_R_LIMIT, rel=1e-6)
@@ -43,13 +46,21 @@ def test_mesh_too_coarse_for_the_contact_names_the_setting():
         check_resolution(geo, "3d", MeshSettings(elements_per_semi_axis=1.5))
 
 
+def _indentation(**kw) -> IndentationResult:
+    base = dict(model="3d", p_MPa=[0.0, 1.0], u_fem_mm=[0.0, 1.0], u_pl_mm=[0.0, 0.0], first_yield_MPa=1.0,
+                first_yield_anywhere_MPa=1.0, fem_elastic_compliance_mm_per_MPa=1.0,
+                halfspace_compliance_mm_per_MPa=1.0, unload_peaks_MPa=[], residual_fem_mm=[],
+                reverse_plasticity_mm=[], n_dofs=1, n_elements=1, newton_iterations=0, seconds=0.0)
+    return IndentationResult(**dict(base, **kw))
+
+
 def test_first_slope_rule():
-    ind = {"p_MPa": [0.0, 800.0, 2000.0], "u_pl_mm": [0.0, 0.0, 0.09], "halfspace_compliance_mm_per_MPa": 4e-5}
+    ind = _indentation(p_MPa=[0.0, 800.0, 2000.0], u_pl_mm=[0.0, 0.0, 0.09], halfspace_compliance_mm_per_MPa=4e-5)
     s1 = first_slope_N_per_mm3(ind, FitSettings())
     assert 2000.0 / s1 == pytest.approx(0.01 * 0.09)      # elastic part at p_max = 1 % of the inelastic one
     assert first_slope_N_per_mm3(ind, FitSettings(elastic_fraction=0.02)) == pytest.approx(1 / (0.02 * 4e-5))
     with pytest.raises(InputError, match="elastic_tolerance"):
-        first_slope_N_per_mm3({**ind, "u_pl_mm": [0.0, 0.0, 0.0]}, FitSettings())
+        first_slope_N_per_mm3(dataclasses.replace(ind, u_pl_mm=[0.0, 0.0, 0.0]), FitSettings())
     assert np.isfinite(s1)
 
 

@@ -1,5 +1,5 @@
 """Faults of a calibration run: a killed run leaves no worker behind (nor the caller's pipes held open), a
-cache entry that is valid JSON but wrong is recomputed, two runs into one --out cannot mix, a warm rerun notices
+cache entry that is valid JSON but wrong (or a folder) is recomputed, two runs into one --out cannot mix, a warm rerun notices
 a CSV that does not belong to its JSON table. Each with a real run (coarse settings, seconds)."""
 
 import json
@@ -16,7 +16,10 @@ import pytest
 
 from calibration.__main__ import main
 from calibration.config import load_config
+import calibration.pipeline as pipeline
+from calibration.cache import load_indentation
 from calibration.pipeline import run_calibration
+from calibration.tasks import PositionOutcome
 from contact.layer.layer_table import LayerTable
 from wrlayer.atomic_write import output_lock
 
@@ -42,18 +45,26 @@ def _copy(warm: Path, tmp_path: Path) -> Path:
     return out
 
 
-@pytest.mark.parametrize("content", ["{}", "[]", '{"p_MPa": "many"}', "null"])
-def test_wrong_fem_cache_entry_is_recomputed(warm, tmp_path, content):
+@pytest.mark.parametrize("kind", ["{}", "folder"])
+def test_wrong_fem_cache_entry_is_recomputed(warm, tmp_path, monkeypatch, kind):
+    """An unusable FEM entry (the schema's cases: tests/calibration/test_cache.py) is recomputed and rewritten.
+    The FEM here returns the warm run's result: what is tested is the pipeline's handling, not the FEM."""
     out = _copy(warm, tmp_path)
     (entry,) = [p for p in (out / "cache").glob("*.json") if not p.name.startswith("fit-")]
-    entry.write_text(content)
+    good = load_indentation(entry)[0]
+    entry.unlink()
+    if kind == "folder":
+        (entry / "inside").mkdir(parents=True)
+    else:
+        entry.write_text(kind)
     for fit in (out / "cache").glob("fit-*.json"):
         fit.unlink()
+    monkeypatch.setattr(pipeline, "run_position", lambda task: PositionOutcome(task.key, good))
     logged = []
     summary = run_calibration(load_config(COARSE), out, show_progress=False, log=logged.append)
     assert summary["failed"] == [] and summary["positions_computed"] == 1 and summary["positions_cached"] == 0
     assert any("invalid" in line and entry.name in line for line in logged), logged
-    assert json.loads(entry.read_text())["p_MPa"]  # rewritten with a valid entry
+    assert load_indentation(entry)[0] == good  # rewritten with a valid entry
     LayerTable.read(out / "rail_layer_table.json")
 
 
@@ -116,6 +127,7 @@ def _alive(pid: int) -> bool:
 
 
 @pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="needs Linux /proc")
+@pytest.mark.slow
 def test_killed_run_leaves_no_workers_and_frees_the_pipes(tmp_path):
     """kill -9 of a run with 2 workers while they compute: the workers (and the resource tracker) end, the
     caller's pipes reach end-of-file at once (nothing keeps them open), the next run into the folder works."""

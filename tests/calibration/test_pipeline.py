@@ -10,7 +10,8 @@ import pytest
 
 import calibration.pipeline as pipeline
 from calibration.config import load_config
-from calibration.pipeline import run_calibration
+from calibration.pipeline import CalibrationResult, calibrate, run_calibration
+from calibration.tasks import PositionOutcome
 from contact.layer.layer_table import LayerTable
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -25,7 +26,11 @@ def _quiet(*args, **kw):
 def coarse_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("calib")
     cfg = load_config(COARSE)
-    summary = run_calibration(cfg, out, show_progress=False, log=_quiet)
+    result = calibrate(cfg, out, show_progress=False, log=_quiet)
+    assert isinstance(result, CalibrationResult) and result.ok
+    assert result.tables == {"rail": out / "rail_layer_table.json"}
+    summary = result.to_dict()
+    assert json.loads((out / "summary.json").read_text()) == json.loads(json.dumps(summary))
     return cfg, out, summary
 
 
@@ -91,10 +96,10 @@ def test_new_position_is_computed_alone_and_a_failure_keeps_the_others(coarse_ru
     cfg2 = dataclasses.replace(cfg, bodies=(body,))
     real = pipeline.run_position
 
-    def failing_at_5(task, progress_queue=None):
+    def failing_at_5(task):
         if task.y_mm == 5.0:
-            return {"ok": False, "error": f"{task.label}: ConvergenceError: Newton did not converge (test)"}
-        return real(task, progress_queue)
+            return PositionOutcome(task.key, None, f"{task.label}: ConvergenceError: Newton did not converge (test)")
+        return real(task)
 
     monkeypatch.setattr(pipeline, "run_position", failing_at_5)
     summary = run_calibration(cfg2, work, show_progress=False, log=_quiet)
@@ -123,6 +128,7 @@ def test_new_position_is_computed_alone_and_a_failure_keeps_the_others(coarse_ru
     assert table.characteristic_at(7.5).n_segments >= 2
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_runs_3d_positions_across_workers(coarse_run, tmp_path):
     """Two 3D positions on a local Dask cluster of two worker processes (the cluster path of a calibration): the
     position also computed locally gives the same table entry."""
@@ -197,3 +203,31 @@ def test_output_files_get_the_users_normal_permissions(coarse_run):
     assert files
     for f in files:
         assert f.stat().st_mode & 0o777 == 0o666 & ~mask, f
+
+
+def test_api_calibrates_in_memory_profiles(coarse_run, tmp_path, monkeypatch):
+    """calibration.calibrate on a configuration built in Python: the template's profiles replaced by Profile
+    objects (as the wear recalibration does with worn profiles). The FEM is the coarse run's result (what is
+    tested is the API and the table of an in-memory profile, not the FEM)."""
+    import calibration
+    from calibration.cache import load_indentation
+    from meshes.profiles import get_profile
+
+    cfg, out, _ = coarse_run
+    (entry,) = [p for p in (out / "cache").glob("*.json") if not p.name.startswith("fit-")]
+    fem = load_indentation(entry)[0]
+    monkeypatch.setattr(pipeline, "run_position", lambda task: PositionOutcome(task.key, fem))
+    template = calibration.parse_config({"run": {"model": "3d", "workers": 1, "plots": False},
+                                         "bodies": [{"body": "rail", "profile": "60E1", "mate": "S1002",
+                                                     "positions_mm": [0.0]}]}, "template")
+    body = dataclasses.replace(template.bodies[0], profile=get_profile("60E1"), mate=get_profile("S1002"))
+    worn = dataclasses.replace(cfg, bodies=(body,))
+    result = calibration.calibrate(worn, tmp_path, show_progress=False, log=_quiet)
+    assert result.ok and result.positions_computed == 1
+    table = LayerTable.read(result.tables["rail"])
+    assert table.header["profile"] == "60E1" and table.header["profile_source"] == "60E1 (in memory)"
+    assert table.header["mate"] == "S1002 (in memory)"
+    reference = LayerTable.read(out / "rail_layer_table.json")
+    assert table.positions[0]["characteristic"] == reference.positions[0]["characteristic"]
+    again = calibration.calibrate(worn, tmp_path, show_progress=False, log=_quiet)  # same objects: cached
+    assert again.positions_computed == 0 and again.positions_cached == 1

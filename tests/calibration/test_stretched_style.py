@@ -11,15 +11,9 @@ from calibration.fem.elastoplastic_solver import SolverOptions, solve_load_path
 from calibration.fem.material import J2Material
 from calibration.hertz.geometry import given_geometry
 from calibration.hertz.load import HertzLoad
-from calibration.indentation import (
-    STRETCH_ASPECT,
-    MeshSettings,
-    add_support_boundary,
-    build_mesh,
-    local_first_yield_MPa,
-    mesh_style,
-    x_stretch,
-)
+from calibration.indentation import local_first_yield_MPa
+from calibration.position_mesh import STRETCH_ASPECT, add_support_boundary, build_mesh, mesh_style, x_stretch
+from calibration.settings import MeshSettings
 from meshes.profiles import get_profile
 
 BODY = {"body": "rail", "profile": "60E1", "mate": "S1002", "positions_mm": [0.0]}

@@ -8,7 +8,9 @@ import pytest
 from calibration.config import parse_config
 from calibration.fem.material import J2Material
 from calibration.hertz.geometry import given_geometry
-from calibration.indentation import LoadSettings, MeshSettings, build_mesh, check_resolution, indent, mesh_style
+from calibration.indentation import indent
+from calibration.position_mesh import build_mesh, check_resolution, mesh_style
+from calibration.settings import LoadSettings, MeshSettings
 from meshes.meshing.mesh_quality import edge_lengths_at
 from meshes.profiles import get_profile
 from wrlayer.errors import InputError

@@ -9,10 +9,10 @@ import skfem
 from fem_cases import DIRICHLET_2D
 
 from calibration.fem.assembly import _csr_pattern, _csr_pattern_blocked, discretise, field_element
-from calibration.fem.elastoplastic_solver import (SolverOptions, _extrapolate, _Problem, dirichlet_dofs,
-                                                  solve_load_path)
+from calibration.fem.elastoplastic_solver import SolverOptions, extrapolate, solve_load_path
 from calibration.fem.linear_solvers import HAVE_PARDISO, Factoriser, preconditioned_cg
 from calibration.fem.material import J2Material
+from calibration.fem.newton import TangentProblem, dirichlet_dofs
 from calibration.hertz.load import HertzLoad
 from calibration.fem.return_mapping import radial_return
 
@@ -50,7 +50,7 @@ def test_blocked_csr_pattern_equals_the_generic_one(kind, order):
 
 @needs_pardiso
 def test_single_precision_factorisation_refines_to_double_accuracy(disc_2d):
-    prob = _Problem(disc_2d, STEEL, dirichlet_dofs(disc_2d, DIRICHLET_2D), SolverOptions(dirichlet=DIRICHLET_2D))
+    prob = TangentProblem(disc_2d, STEEL, dirichlet_dofs(disc_2d, DIRICHLET_2D), SolverOptions(dirichlet=DIRICHLET_2D))
     b = np.random.default_rng(1).standard_normal(disc_2d.n_dofs)
     b[prob.fixed] = 0.0
     single = Factoriser(disc_2d.csr_indptr, disc_2d.csr_indices, disc_2d.n_dofs, "pardiso", "single")
@@ -74,7 +74,7 @@ def tiny_rhs_is_solved(factor, prob, b):
 def test_matrix_free_tangent_equals_the_assembled_one(block_2d_coarse, disc_2d, first_yield):
     res = solve_load_path(block_2d_coarse, STEEL, LOAD, [2 * first_yield], disc=disc_2d,
                           options=SolverOptions(dirichlet=DIRICHLET_2D, max_increment_MPa=0.5 * first_yield))
-    prob = _Problem(disc_2d, STEEL, dirichlet_dofs(disc_2d, DIRICHLET_2D), SolverOptions(dirichlet=DIRICHLET_2D))
+    prob = TangentProblem(disc_2d, STEEL, dirichlet_dofs(disc_2d, DIRICHLET_2D), SolverOptions(dirichlet=DIRICHLET_2D))
     st = res.state
     # strain a little beyond the converged state: plastic points with the consistent tangent
     u = 1.05 * st.u_mm
@@ -145,9 +145,9 @@ def test_bad_fast_path_options_are_named(block_2d_coarse, disc_2d):
 def test_extrapolation_is_exact_for_quadratic_and_linear_branches():
     u = lambda p: np.array([1.0 + 2.0 * p + 0.5 * p * p, -p * p])  # noqa: E731
     pts = [(p, u(p)) for p in (1.0, 1.5, 2.5)]
-    np.testing.assert_allclose(_extrapolate(pts, 3.2), u(3.2), rtol=1e-13)
+    np.testing.assert_allclose(extrapolate(pts, 3.2), u(3.2), rtol=1e-13)
     lin = [(p, np.array([3.0 - 2.0 * p])) for p in (2.0, 1.0)]  # a downward branch
-    np.testing.assert_allclose(_extrapolate(lin, 0.25), [2.5], rtol=1e-13)
+    np.testing.assert_allclose(extrapolate(lin, 0.25), [2.5], rtol=1e-13)
 
 
 def test_quadratic_predictor_carried_across_calls_saves_iterations_and_keeps_the_path(block_2d_coarse, disc_2d,

@@ -70,6 +70,7 @@ def test_onset_of_plasticity_matches_hertz_first_yield(coarse):
     assert np.all(np.abs(depth - depth_ref) < h) and np.all(r < h)
 
 
+@pytest.mark.slow
 def test_mixed_hardening_equals_isotropic_hardening_of_the_summed_modulus_under_the_hertz_path(coarse):
     """The reason the benchmark may compare the calibration's mixed law (H_iso = H_kin = 10 GPa) with Tamaas'
     isotropic hardening of 20 GPa (Tamaas has no kinematic hardening): on a proportional stress path both laws

@@ -1,0 +1,258 @@
+"""The calibration configuration model: frozen dataclasses whose fields are the TOML keys (units mm, N, MPa).
+
+Each dataclass holds the defaults of its table (the one place they are written); :mod:`calibration.config`
+reads a TOML file into them, validating every key. The layout of a file::
+
+    [run] [material] [load] [mesh] [fit]   (every key optional)
+    [[bodies]]                             (at least one; body, profile and positions required)
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from calibration.hertz.geometry import DEFAULT_MAX_LATERAL_RADIUS_MM, DEFAULT_RAIL_CANT_RAD
+
+#: The models of RunSettings.model.
+MODELS = ("2d", "3d")
+#: The linear solvers of RunSettings.linear_solver.
+LINEAR_SOLVERS = ("auto", "pardiso", "scipy")
+#: The 3D mesh styles of MeshSettings.style.
+MESH_STYLES = ("isotropic", "stretched", "extruded", "structured", "auto")
+#: Default wheel load for the Hertz semi-axes (N): the paper's example, 100 kN.
+REFERENCE_LOAD_N = 100000.0
+
+
+@dataclass(frozen=True)
+class RunSettings:
+    """How the calibration runs (TOML table ``[run]``).
+
+    Attributes
+    ----------
+    model : str
+        FEM model: "3d" (local half model under the elliptic Hertz pressure) or "2d" (plane-strain section).
+    workers : int
+        Local worker processes (1..64); the machine's cores are shared among them as BLAS threads.
+    scheduler : str
+        Dask scheduler address, e.g. "tcp://host:8786" ("" : local processes).
+    plots : bool
+        Write the tables' pictures (PNG) and each position's VTK/PNG fields.
+    linear_solver : str
+        "auto" (PARDISO when installed, else SuperLU), "pardiso" or "scipy" (SuperLU, faster for 2D sections).
+    """
+
+    model: str = "2d"
+    workers: int = 2
+    scheduler: str = ""
+    plots: bool = True
+    linear_solver: str = "scipy"
+
+
+@dataclass(frozen=True)
+class MaterialSettings:
+    """J2 material with linear isotropic and kinematic hardening (TOML table ``[material]``, and
+    ``[bodies.material]`` overriding it per body). Defaults: rail/wheel steel, initial yield in the R260 0.2 %
+    proof stress range, hardening moduli a stated assumption.
+
+    Attributes
+    ----------
+    E_MPa : float
+        Young's modulus (MPa, > 0).
+    poisson : float
+        Poisson's ratio (-, in (-1, 0.4999]).
+    yield_MPa : float
+        Initial yield stress (MPa, > 0).
+    H_iso_MPa : float
+        Linear isotropic hardening modulus (MPa, >= 0).
+    H_kin_MPa : float
+        Linear kinematic hardening modulus (MPa, >= 0).
+    """
+
+    E_MPa: float = 210000.0
+    poisson: float = 0.3
+    yield_MPa: float = 500.0
+    H_iso_MPa: float = 10000.0
+    H_kin_MPa: float = 10000.0
+
+
+@dataclass(frozen=True)
+class LoadSettings:
+    """The load path of one position (TOML table ``[load]``): p0 up to max_factor * p_y in n_levels equal steps
+    above p_y (plus 0.5 p_y and p_y), unloading runs from the peaks unload_factors * p_y; p_y is the FEM
+    first-yield pressure. ``[load]`` also holds ``reference_load_N`` (:class:`CalibrationConfig`).
+
+    Attributes
+    ----------
+    max_factor : float
+        Peak Hertz pressure p0 as a multiple of the FEM first-yield pressure p_y (-, in (1, 10]).
+    n_levels : int
+        Load levels above first yield (1..200).
+    unload_factors : tuple of float
+        Peaks, as multiples of p_y (each > 1 and <= max_factor), from which the FEM unloads to zero (-).
+    max_increment_factor : float
+        Largest solver load step as a multiple of p_y (-, in (0, 1]).
+    """
+
+    max_factor: float = 2.5
+    n_levels: int = 12
+    unload_factors: tuple[float, ...] = (1.5, 2.0, 2.5)
+    max_increment_factor: float = 0.125
+
+
+@dataclass(frozen=True)
+class MeshSettings:
+    """The FEM mesh of one position (TOML table ``[mesh]``); docs/calibration.md, "Mesh convergence". The mesh
+    size is h_min = min(a, b) / elements_per_semi_axis at the load point (2D: b / it), growing to h_max_mm.
+
+    Attributes
+    ----------
+    elements_per_semi_axis : float
+        Elements across the contact's shorter semi-axis at the load point (-, in (0.5, 100], at least 2 used).
+    h_max_mm : float
+        Largest element size far from the contact (mm, in (0, 100]).
+    order : int
+        Element order, 1 (linear) or 2 (quadratic).
+    depth_mm : float or None
+        Depth of the section below the surface (mm; None: the mesh module's default per body).
+    rail_support_below_mm : float or None
+        The rail head is also held on its side/underside boundary below z = -this (mm), so that the section does
+        not bend over the thin web (a plane-strain artefact); None: clamped cut only.
+    length_factor : float
+        3D half-model length as a multiple of a (-, > 1; at least 4 b).
+    grading : float
+        Growth rate of the element size away from the contact (-, in (0, 5]).
+    yield_search_radius_factor : float
+        First yield is searched within this many b of the load centre (-, > 0).
+    reference_depth_factor : float
+        > 0: the layer displacement is measured against the material point this many max(a, b) (2D: b) below
+        the load centre; 0: against the clamped far field, as a half-space's (-).
+    refine_depth_factor : float
+        3D: h_min fills the box of half-sizes (1.2 a, 1.2 b, this * b) at the load point, the plastic zone (-).
+    style : str
+        3D mesh style: "isotropic", "stretched" (the isotropic mesh of a patch of a/b = 1.4 stretched along x to
+        the patch's a/b), "extruded" (structured layers along x), "structured" (a structured core along the
+        surface, the normal and x) or "auto" (extruded for a/b >= 4, else isotropic).
+    x_elements_per_semi_axis : float or None
+        Extruded style: layers of a / this along x (-, >= 2; None: elements_per_semi_axis).
+    yield_zone_refinement : float
+        Isotropic and stretched styles: h_min / this around the point of first yield (-, 1..4; 1: off).
+    """
+
+    elements_per_semi_axis: float = 8.0
+    h_max_mm: float = 6.0
+    order: int = 2
+    depth_mm: float | None = None
+    rail_support_below_mm: float | None = 35.0
+    length_factor: float = 5.0
+    grading: float = 0.3
+    yield_search_radius_factor: float = 3.0
+    reference_depth_factor: float = 0.0
+    refine_depth_factor: float = 1.0
+    style: str = "isotropic"  # the library default; calibration/configs/default.toml sets "auto"
+    x_elements_per_semi_axis: float | None = None
+    yield_zone_refinement: float = 1.0
+
+
+@dataclass(frozen=True)
+class FitSettings:
+    """The Prandtl element fit of each position (TOML table ``[fit]``; paper eqs. 4-8, docs/calibration.md).
+
+    Attributes
+    ----------
+    n_segments : int
+        Segments N of the fitted characteristic (2..8; p_2 is pinned to the FEM first yield).
+    elastic_tolerance : float
+        t in S_1 = p_max / (t u_pl(p_max)): the layer's elastic displacement at the largest calibrated pressure
+        is t times its inelastic one (-, in (0, 1]; the layer has no elasticity of its own, the half-space
+        carries it).
+    elastic_fraction : float or None
+        f of the former rule S_1 = 1 / (f c_hs), c_hs the half-space centre compliance (-, in (0, 1]); used only
+        when given.
+    max_relative_error : float
+        Largest accepted fit error relative to max u (-, in (0, 10]).
+    """
+
+    n_segments: int = 5
+    elastic_tolerance: float = 0.01
+    elastic_fraction: float | None = None
+    max_relative_error: float = 0.1
+
+
+@dataclass(frozen=True)
+class BodySettings:
+    """One calibrated body (TOML array of tables ``[[bodies]]``).
+
+    Attributes
+    ----------
+    body : str
+        "rail" or "wheel".
+    profile : str or Profile
+        Profile name (e.g. "60E1") or file path (relative to the configuration file when read from one); in
+        Python also a :class:`meshes.profiles.Profile` object (e.g. a worn profile).
+    mate : str or Profile or None
+        The mating profile for the Hertz semi-axes (name, file or Profile object); None only with semi_axes_mm.
+    positions_mm : tuple of float
+        Lateral positions y of the calibration (mm, sorted, unique; TOML: ``positions_mm = [...]`` or
+        ``positions = {start_mm, stop_mm, step_mm}``).
+    semi_axes_mm : tuple of float or None
+        Given Hertz semi-axes [a, b] (mm; rolling, lateral) instead of the mate's.
+    rail_cant_rad : float
+        Rail cant for the mating position (rad, in [-0.2, 0.2]).
+    max_lateral_radius_mm : float
+        Largest lateral radius of the curvature sum (mm, > 0): a flatter contact is taken as this curved.
+    wheel_radius_mm : float or None
+        Wheel rolling radius (mm, > 0; None: the profile's default).
+    material : MaterialSettings
+        The body's material (``[bodies.material]`` overrides ``[material]``).
+    """
+
+    body: str
+    profile: Any
+    mate: Any
+    positions_mm: tuple[float, ...]
+    semi_axes_mm: tuple[float, float] | None = None
+    rail_cant_rad: float = DEFAULT_RAIL_CANT_RAD
+    max_lateral_radius_mm: float = DEFAULT_MAX_LATERAL_RADIUS_MM
+    wheel_radius_mm: float | None = None
+    material: MaterialSettings = MaterialSettings()
+
+
+@dataclass(frozen=True)
+class CalibrationConfig:
+    """A whole calibration: the bodies and positions and the settings shared by them.
+
+    Attributes
+    ----------
+    source : str
+        Where the configuration came from (the file name in error messages; "config" when built in Python).
+    run : RunSettings
+        TOML table ``[run]``.
+    load : LoadSettings
+        TOML table ``[load]`` (without reference_load_N).
+    reference_load_N : float
+        Wheel load for the Hertz semi-axes (N, > 0; TOML key ``load.reference_load_N``).
+    mesh : MeshSettings
+        TOML table ``[mesh]``.
+    fit : FitSettings
+        TOML table ``[fit]``.
+    bodies : tuple of BodySettings
+        TOML ``[[bodies]]``, each body at most once.
+    """
+
+    source: str
+    run: RunSettings
+    load: LoadSettings
+    reference_load_N: float
+    mesh: MeshSettings
+    fit: FitSettings
+    bodies: tuple[BodySettings, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        d.pop("source")
+        return d
+
+
+__all__ = ["BodySettings", "CalibrationConfig", "FitSettings", "LINEAR_SOLVERS", "LoadSettings", "MESH_STYLES",
+           "MODELS", "MaterialSettings", "MeshSettings", "REFERENCE_LOAD_N", "RunSettings"]

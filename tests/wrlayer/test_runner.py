@@ -1,0 +1,146 @@
+"""The shared parallel runner (wrlayer.runner): in-process and on two local processes, progress from inside the
+tasks, BLAS limits in the workers, an error raised to the caller, workers that die with their parent."""
+
+import math
+import os
+import subprocess
+import sys
+import textwrap
+import time
+
+import pytest
+
+from wrlayer.runner import THREAD_VARIABLES, Runner, blas_threads_per_worker, report_progress
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def steps(n: int) -> int:
+    """A task reporting ``n`` progress steps; returns n squared."""
+    for _ in range(n):
+        report_progress(1)
+    return n * n
+
+
+def fail_on_three(n: int) -> int:
+    if n == 3:
+        raise ValueError("three")
+    return n
+
+
+def test_in_process_results_and_progress():
+    seen = []
+    with Runner(1) as runner:
+        assert runner.mode == "in-process" and runner.streams_progress
+        out = list(runner.imap(steps, [1, 2, 3], on_progress=seen.append))
+        assert runner.map(math.sqrt, [4.0, 9.0]) == [2.0, 3.0]
+    assert out == [(0, 1), (1, 4), (2, 9)]
+    assert sum(seen) == 6
+
+
+def test_two_local_processes():
+    seen = []
+    with Runner(2) as runner:
+        assert runner.mode == "processes"
+        out = dict(runner.imap(steps, [1, 2, 3, 4], on_progress=seen.append))
+        pids = set(runner.map(worker_pid, [0, 1, 2, 3]))
+    assert out == {0: 1, 1: 4, 2: 9, 3: 16}
+    assert sum(seen) == 10  # every step reported by the workers reached the caller
+    assert os.getpid() not in pids
+
+
+def worker_pid(_task) -> int:
+    return os.getpid()
+
+
+def test_blas_threads_set_in_workers():
+    n = blas_threads_per_worker(2)
+    with Runner(2) as runner:
+        values = runner.map(os.getenv, list(THREAD_VARIABLES))
+    assert values == [str(n)] * len(THREAD_VARIABLES)
+    assert all(os.environ.get(v) != "sentinel" for v in THREAD_VARIABLES)  # the parent's environment restored
+
+
+def test_task_error_reaches_the_caller():
+    with pytest.raises(ValueError, match="three"):
+        with Runner(2) as runner:
+            runner.map(fail_on_three, [1, 2, 3, 4])
+    with pytest.raises(ValueError, match="three"):
+        with Runner(1) as runner:
+            runner.map(fail_on_three, [3])
+
+
+PARENT = textwrap.dedent("""
+    import threading, time
+    from wrlayer.runner import Runner
+    with Runner(2) as runner:
+        results = runner.imap(time.sleep, [60.0, 60.0])
+        threading.Thread(target=next, args=(results, None), daemon=True).start()  # submits, then waits
+        time.sleep(3.0)
+        print(" ".join(str(p) for p in runner._pool._processes), flush=True)
+        time.sleep(120)
+""")
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split()[2] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_workers_die_with_their_parent():
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    parent = subprocess.Popen([sys.executable, "-c", PARENT], stdout=subprocess.PIPE, text=True, env=env, cwd=ROOT)
+    try:
+        pids = [int(p) for p in parent.stdout.readline().split()]
+        assert len(pids) == 2 and all(_alive(p) for p in pids)
+        parent.kill()  # SIGKILL: no cleanup in the parent at all
+        parent.wait(10)
+        deadline = time.monotonic() + 10
+        while any(_alive(p) for p in pids) and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert not any(_alive(p) for p in pids)
+    finally:
+        if parent.poll() is None:
+            parent.kill()
+
+
+TERMINATED = textwrap.dedent("""
+    import time
+    from wrlayer.errors import Terminated
+    from wrlayer.runner import Runner
+    try:
+        with Runner(2) as runner:
+            results = runner.imap(time.sleep, [60.0, 60.0])
+            print("running", flush=True)
+            list(results)
+    except Terminated:
+        print("terminated", runner._pool is None, flush=True)
+""")
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_sigterm_ends_the_workers_and_unwinds_the_caller():
+    """SIGTERM to a library caller (no handler of its own): the runner's handler raises Terminated, the workers
+    are ended and the caller's except/finally blocks run."""
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    parent = subprocess.Popen([sys.executable, "-c", TERMINATED], stdout=subprocess.PIPE, text=True, env=env,
+                              cwd=ROOT)
+    try:
+        assert parent.stdout.readline().strip() == "running"
+        time.sleep(3.0)  # the workers are spawned and sleeping
+        kids = [int(k) for t in os.listdir(f"/proc/{parent.pid}/task")
+                for k in open(f"/proc/{parent.pid}/task/{t}/children").read().split()]
+        parent.terminate()
+        out, _ = parent.communicate(timeout=30)
+        assert out.strip() == "terminated True"
+        deadline = time.monotonic() + 10
+        while any(_alive(k) for k in kids) and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert kids and not any(_alive(k) for k in kids)
+    finally:
+        if parent.poll() is None:
+            parent.kill()
