@@ -30,10 +30,9 @@ ALLOWED = {
     # calibration -> contact: the layer-table format and the characteristic live in contact.layer; moving them
     # below calibration (or into meshes/wrlayer) removes these three.
     ("calibration.cache", "contact.layer.layer_table"): "table format below calibration",
-    ("calibration.pipeline", "contact.layer.layer_table"): "table format below calibration",
+    ("calibration.tables", "contact.layer.layer_table"): "table format below calibration",
     ("calibration.fit.characteristic_fit", "contact.layer.characteristic"): "characteristic below calibration",
     # private names imported across modules: make them public in the defining module
-    ("calibration.indentation", "calibration.hertz.load:_probe"): "calibration.hertz.load: _probe -> probe",
     ("contact.normal.exact_layer", "contact.layer.prandtl_layer:_move_elements"):
         "contact.layer.prandtl_layer: _move_elements -> move_elements",
     ("contact.tangential.frictional_outputs", "contact.wheel_rail.solve:_tangential"):
