@@ -103,7 +103,7 @@ class ExactOptions:
                     f"must be a positive number, got {self.approach_mm!r}")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ExactField:
     """The exact solution on its grid: x_mm (nx,) cell centres, y_mm (ny,) lines (= strips ``lines`` of the
     problem's strip grid), p_MPa (ny, nx), u_layer_mm (ny, nx) layer displacement under load, separation_mm
@@ -119,6 +119,10 @@ class ExactField:
     dx_mm: float
     dy_mm: float
     x_extent_mm: np.ndarray = None
+
+    def __repr__(self) -> str:
+        return (f"ExactField({self.y_mm.size} lines x {self.x_mm.size} cells, dx={self.dx_mm:.4g} mm, "
+                f"dy={self.dy_mm:.4g} mm, p_max={float(np.max(self.p_MPa)):.6g} MPa)")
 
 
 @dataclass

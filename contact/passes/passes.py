@@ -36,7 +36,17 @@ __all__ = ["PassesOptions", "PassRecord", "run_passes"]
 
 @dataclass(frozen=True)
 class PassesOptions:
-    """max_passes >= 1; tolerance_mm: shakedown when a pass adds at most this residual anywhere (mm)."""
+    """How the passes run (scene keys ``passes.max``, ``passes.tolerance_mm``, ``passes.hardening``).
+
+    Attributes
+    ----------
+    max_passes : int
+        Largest number of passes (>= 1).
+    tolerance_mm : float
+        Shakedown when a pass adds at most this residual displacement anywhere (mm).
+    hardening : bool
+        Keep the sliders' state between passes (strain hardening); False: relax them (the paper's mode).
+    """
 
     max_passes: int = 50
     tolerance_mm: float = 1e-6
@@ -48,15 +58,50 @@ class PassesOptions:
                 f"must be >= 0, got {self.tolerance_mm!r}")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PassRecord:
-    """One pass (1-based ``index``). Lengths mm, pressures MPa, forces N.
+    """One pass of :func:`run_passes` (its scalar numbers go to the result's ``passes`` entries).
 
-    u0_mm: layer displacement (all layers) at the reference point under load; up0_mm: residual displacement added
-    at the reference point in this pass; max_residual_mm: largest residual added in this pass (any strip);
-    cumulative_residual_mm: per body ("wheel", "rail", "combined"), the dents so far on the strip grid
-    ``strip_y_mm``; dissipated_energy_N_per_mm: per body, the largest accumulated friction work of an element.
-    shakedown: this pass added no residual beyond the tolerance.
+    Attributes
+    ----------
+    index : int
+        Pass number, 1-based.
+    delta_mm : float
+        Approach delta (mm), eq. 13.
+    delta0_mm : float
+        Virtual penetration alpha delta (mm), eq. 9.
+    p_max_MPa : float
+        Largest pressure of the pass (MPa).
+    length_mm : float
+        Patch length in the rolling direction (mm).
+    width_mm : float
+        Lateral extent of the patches (mm).
+    area_mm2 : float
+        Contact area (mm^2).
+    normal_force_N : float
+        Normal force of the solution (N).
+    residual_N : float
+        Force residual N - N_target (N).
+    u0_mm : float
+        Layer displacement (all layers) at the reference point under load (mm).
+    up0_mm : float
+        Residual displacement added at the reference point in this pass (mm), eq. 8.
+    max_residual_mm : float
+        Largest residual displacement added in this pass on any strip (mm).
+    elastic : bool
+        True when no layer element yields in this pass.
+    shakedown : bool
+        This pass added no residual displacement beyond the tolerance.
+    strip_y_mm : numpy.ndarray
+        The strip grid (mm).
+    p_peak_MPa : numpy.ndarray
+        Peak pressure p(0, y) per strip (MPa).
+    cumulative_residual_mm : dict
+        Per body ("wheel", "rail", "combined"): the dents so far on the strip grid (mm).
+    dissipated_energy_N_per_mm : dict
+        Per body: the largest accumulated friction work of an element (N/mm).
+    iterations : dict
+        Iteration counts of the pass's normal solve.
     """
 
     index: int
@@ -78,6 +123,11 @@ class PassRecord:
     cumulative_residual_mm: dict = field(default_factory=dict)
     dissipated_energy_N_per_mm: dict = field(default_factory=dict)
     iterations: dict = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        return (f"PassRecord(pass {self.index}: delta={self.delta_mm:.6g} mm, p_max={self.p_max_MPa:.6g} MPa, "
+                f"u0={self.u0_mm:.4g} mm, up0={self.up0_mm:.4g} mm, max residual={self.max_residual_mm:.4g} mm"
+                f"{', shakedown' if self.shakedown else ''})")
 
     def summary(self) -> dict:
         """The scalar numbers (JSON-serialisable)."""
