@@ -9,7 +9,8 @@ patch). Then read them as tables: with pandas when it is installed (``pandas.jso
 
 Expected result: pass 1 of the paper's example p_max = 1517 MPa, delta = 0.127109 mm (the README's worked example);
 the sweep: 21 cases (43 patches), the largest p_max 2008 MPa on the right wheel (flange contact, 46 degrees, at
-10 mm lateral), 682 MPa on the left wheel, and the vertical force of each wheel 10 kN. ``main(out_dir)`` returns the first pass's p_max (MPa) read from result.json.
+10 mm lateral), 682 MPa on the left wheel, and the vertical force of each wheel 10 kN. ``main(out_dir)`` returns
+the first pass's p_max (MPa) read from result.json.
 
 Run: ``python examples/ex06_results_pandas.py [OUT_DIR]`` (default: a temporary folder).
 """

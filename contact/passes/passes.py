@@ -1,10 +1,10 @@
 """Repeated passes at the same normal force: residual dents, shakedown and strain hardening (paper section 5).
 
-Each pass: solve the normal problem (Kik–Piotrowski with the layer, :func:`contact.normal.kik_piotrowski.solve_normal`,
-or the exact solver, ``method``),
-load every strip's element(s) of each body to the strip's peak pressure p(0, y) (the largest along the strip),
-unload them (exact element behaviour), and add each body's residual displacement increment u_p(y) of this pass to
-the separation of the next pass (a dent on either body increases f). Stop when a pass adds no residual displacement
+Each pass: solve the normal problem (Kik–Piotrowski with the layer,
+:func:`contact.normal.kik_piotrowski.solve_normal`, or the exact solver, ``method``), load every strip's element(s)
+of each body to the strip's peak pressure p(0, y) (the largest along the strip), unload them (exact element
+behaviour), and add each body's residual displacement increment u_p(y) of this pass to the separation of the next
+pass (a dent on either body increases f). Stop when a pass adds no residual displacement
 beyond ``tolerance_mm`` (computational shakedown) or after ``max_passes``. Without hardening the peak pressure at
 shakedown sits at the elastic limit p_2 of the reference element (within the tolerance). With hardening, "no added
 residual" can also be alternating plasticity: when p/2 lies beyond the characteristic's last break point the
