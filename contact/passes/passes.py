@@ -144,17 +144,33 @@ def _next_delta_guess(deltas: list[float]) -> float | None:
     return 2.0 * deltas[-1] - deltas[-2]
 
 
-def run_passes(prob: NormalProblem, layer_pair: LayerPair | None, options: PassesOptions = PassesOptions(),
+def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOptions = PassesOptions(),
                on_pass: Callable[[PassRecord, NormalSolution], None] | None = None,
-               method: NormalMethod = NormalMethod()) -> tuple[list[PassRecord], np.ndarray]:
-    """Passes until shakedown or ``options.max_passes``. The caller's layers are not modified (copied).
+               method: NormalMethod | str = NormalMethod()) -> tuple[list[PassRecord], np.ndarray]:
+    """Passes at the same normal force until shakedown or ``options.max_passes`` (paper section 5).
 
-    Returns (records, final_f): final_f is the separation on the strip grid ``prob.strip_y_mm`` (mm) after the
-    last pass's dents, i.e. the separation the next pass would see (not shifted to a zero minimum).
-    ``on_pass(record, solution)`` is called after each pass (e.g. for the tangential solve). ``method``: the
-    normal solver (``method.normal``; the exact solver's p_peak is the largest pressure on each line y).
+    Parameters
+    ----------
+    prob : NormalProblem
+        The first pass's problem (separation mm, force N, radius mm, ``E_MPa``, ``poisson``).
+    layer : LayerPair or None
+        The layers on the problem's strip grid; not modified (copied). None: one elastic pass.
+    options : PassesOptions
+        Largest number of passes, shakedown tolerance (mm), hardening.
+    on_pass : callable, optional
+        ``on_pass(record, solution)`` after each pass (e.g. for the tangential solve).
+    method : NormalMethod or str
+        The normal solver (``method.normal``; the exact solver's p_peak is the largest pressure on each line y).
+
+    Returns
+    -------
+    records : list of PassRecord
+        One per pass.
+    final_f : numpy.ndarray
+        The separation on the strip grid ``prob.strip_y_mm`` (mm) after the last pass's dents, i.e. the one the
+        next pass would see (not shifted to a zero minimum).
     """
-    layers = None if layer_pair is None else layer_pair.copy()
+    layers = None if layer is None else layer.copy()
     y, h = prob.strip_y_mm, prob.grid_mm
     base_offset = np.zeros_like(y) if prob.f_offset_mm is None else np.asarray(prob.f_offset_mm, dtype=float)
     offset = base_offset.copy()
