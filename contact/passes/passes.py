@@ -190,14 +190,14 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
         added = np.zeros_like(y)
         u0 = up0 = 0.0
         energy = {}
-        for name, layer in bodies.items():
+        for name, body_layer in bodies.items():
             ix = points[name]
             on = ix >= 0
-            p_points = np.zeros(layer.n_points)
+            p_points = np.zeros(body_layer.n_points)
             p_points[ix[on]] = sol.p_peak_MPa[on]
-            before = layer.u_mm.copy()
-            loaded = layer.load_to(p_points)
-            residual = layer.unload()
+            before = body_layer.u_mm.copy()
+            loaded = body_layer.load_to(p_points)
+            residual = body_layer.unload()
             inc = np.zeros_like(y)
             inc[on] = (residual - before)[ix[on]]
             cumulative[name] = cumulative[name] + inc
@@ -205,7 +205,7 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
             if ix[ref] >= 0:
                 u0 += loaded[ix[ref]] - before[ix[ref]]
                 up0 += inc[ref]
-            energy[name] = float(layer.dissipated_energy_N_per_mm.max(initial=0.0))
+            energy[name] = float(body_layer.dissipated_energy_N_per_mm.max(initial=0.0))
         max_added = float(np.max(np.abs(added))) if added.size else 0.0
         shakedown = max_added <= options.tolerance_mm
         rec = PassRecord(
