@@ -10,7 +10,8 @@
 - :mod:`~contact.normal.patch`: the discretised contact patch (strips in y, cells in x) every solver hands on.
 - :mod:`~contact.normal.exact`: the exact half-space solver with the layer cell by cell (``method.normal = "exact"``),
   built on :mod:`~contact.normal.halfspace` (Love coefficients, FFT), :mod:`~contact.normal.constrained_cg`
-  (Polonsky–Keer) and :mod:`~contact.normal.exact_layer` (indentation / rolling layer); docs/exact-solver.md.
+  (Polonsky–Keer) and :mod:`~contact.normal.exact_layer` (indentation / rolling layer); its pressure field and
+  what FASTSIM takes from it: :mod:`~contact.normal.exact_field`; docs/exact-solver.md.
 - :mod:`~contact.normal.method`: the choice between the two (``solve_normal_with(prob, layer, method=...)``).
 
 Depends on: contact.layer, wrlayer.

@@ -55,12 +55,7 @@ def constrained_cg(displacement, f: np.ndarray, c: np.ndarray | float, b: np.nda
     """
     if (force_N is None) == (approach_mm is None):
         raise ValueError("give exactly one of force_N and approach_mm")
-    p = np.array(p_start, dtype=float)
-    p[p < 0] = 0.0
-    if not np.any(p > 0):                                   # start from the lowest cells
-        p[f <= f.min() + 1e-12 * max(1.0, abs(f.min()))] = 1.0
-    if force_N is not None:
-        p *= force_N / (cell_area * p.sum())
+    p = _start(p_start, f, cell_area, force_N)
     t = np.zeros_like(p)
     g_old = 1.0
     conj = False
@@ -120,9 +115,25 @@ def constrained_cg(displacement, f: np.ndarray, c: np.ndarray | float, b: np.nda
     else:
         raise ConvergenceError(f"exact normal solver: constrained CG did not converge in {max_iter} iterations "
                                f"(relative pressure change {change:.3g}, tolerance {tol:g})")
+    return _result(p, f + displacement(p) + c * p + b, approach_mm, it, change)
+
+
+def _start(p_start: np.ndarray, f: np.ndarray, cell_area: float, force_N: float | None) -> np.ndarray:
+    """The starting pressure (MPa): ``p_start`` clipped at 0, else 1 on the lowest cells of f; scaled to the force."""
+    p = np.array(p_start, dtype=float)
+    p[p < 0] = 0.0
+    if not np.any(p > 0):                                   # start from the lowest cells
+        p[f <= f.min() + 1e-12 * max(1.0, abs(f.min()))] = 1.0
+    if force_N is not None:
+        p *= force_N / (cell_area * p.sum())
+    return p
+
+
+def _result(p: np.ndarray, gap: np.ndarray, approach_mm: float | None, iterations: int, change: float) -> CGResult:
+    """The converged result: the approach (the mean gap on the contact set when the force was prescribed) and the
+    largest violation of the contact conditions (mm); ``gap``: f + u_E + u_L before subtracting the approach."""
     s = p > 0
-    gap = f + displacement(p) + c * p + b
-    delta = float(gap[s].mean()) if force_N is not None else float(approach_mm)
+    delta = float(gap[s].mean()) if approach_mm is None else float(approach_mm)
     gap = gap - delta
     err = max(float(np.abs(gap[s]).max(initial=0.0)), float(-gap[~s].min(initial=0.0)))
-    return CGResult(p, delta, it, change, err)
+    return CGResult(p, delta, iterations, change, err)

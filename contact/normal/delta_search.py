@@ -29,9 +29,9 @@ def find_delta(ev: ForceAtApproach, target: float, delta_guess: float, rtol: flo
     the last secant slope d log N / d log delta, or ``slope_guess`` when none was computed).
 
     In log-log coordinates N(delta) is nearly a straight line (Hertz: N ~ delta^1.5), so: secant steps in
-    log-log (first step with exponent ``slope_guess``, step factor limited to [1/4, 4]) until the root is bracketed, then
-    Illinois regula falsi in log-log on the bracket (guaranteed, superlinear). Stops at |N - target| <= rtol
-    target or when the bracket is below 1e-14 delta; ConvergenceError after too many steps.
+    log-log (first step with exponent ``slope_guess``, step factor limited to [1/4, 4]) until the root is
+    bracketed, then Illinois regula falsi in log-log on the bracket (guaranteed, superlinear). Stops at
+    |N - target| <= rtol target or when the bracket is below 1e-14 delta; ConvergenceError after too many steps.
     """
     lt = np.log(target)
     pts: list[tuple[float, float]] = []             # (log delta, log N - log target)

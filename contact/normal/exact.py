@@ -48,6 +48,7 @@ import numpy as np
 from contact.layer.prandtl_layer import LayerPair
 from contact.normal.boussinesq import rectangle_kernel_integral
 from contact.normal.constrained_cg import constrained_cg
+from contact.normal.exact_field import ExactField, fastsim_pressure, strip_centres
 from contact.normal.exact_layer import LAYER_MODES, CellLayer
 from contact.normal.halfspace import HalfSpace, compliance_factor
 from contact.normal.kik_piotrowski import solve_normal
@@ -57,6 +58,7 @@ from contact.normal.problem import NormalProblem
 from contact.normal.solution import NormalSolution, RegionSolution
 from wrlayer.errors import ConvergenceError, InputError, require
 
+# ExactField, fastsim_pressure and strip_centres are re-exported: callers take the solver's outputs from here
 __all__ = ["DEFAULT_CELLS", "CELLS_RANGE", "ExactOptions", "ExactField", "solve_exact", "fastsim_pressure",
            "strip_centres"]
 
@@ -101,24 +103,6 @@ class ExactOptions:
         if self.approach_mm is not None:
             require(bool(np.isfinite(self.approach_mm) and self.approach_mm > 0), "approach_mm",
                     f"must be a positive number, got {self.approach_mm!r}")
-
-
-@dataclass(frozen=True)
-class ExactField:
-    """The exact solution on its grid: x_mm (nx,) cell centres, y_mm (ny,) lines (= strips ``lines`` of the
-    problem's strip grid), p_MPa (ny, nx), u_layer_mm (ny, nx) layer displacement under load, separation_mm
-    (ny, nx) f(x, y), dx_mm, dy_mm; x_extent_mm (ny, 2): refined trailing and leading contact ends of each line
-    (NaN where unloaded)."""
-
-    x_mm: np.ndarray
-    y_mm: np.ndarray
-    lines: np.ndarray
-    p_MPa: np.ndarray
-    u_layer_mm: np.ndarray
-    separation_mm: np.ndarray
-    dx_mm: float
-    dy_mm: float
-    x_extent_mm: np.ndarray = None
 
 
 @dataclass
@@ -373,36 +357,3 @@ def _solution(prob, layer, kp, grid, res, f, u_l, stats, opts_force) -> NormalSo
         u0_mm=float(main.u_layer_mm), strip_y_mm=y, p_peak_MPa=p_peak, iterations=iterations,
         residual_N=float(n_total - target) if opts_force else 0.0, elastic=elastic, normal_force_N=n_total,
         method="exact", field=fieldv)
-
-
-def fastsim_pressure(solution: NormalSolution, region: int, nx: int) -> np.ndarray:
-    """The exact pressure of patch ``region`` as FASTSIM cell pressures (n_strips, nx) (MPa): each line's
-    refined contact extent [x_t, x_l] is cut into nx equal cells from the leading edge, the pressure is
-    interpolated linearly between the cell centres of the exact grid (0 at the refined ends) and scaled so that
-    the strip keeps its exact force. Pass :func:`strip_centres` to FASTSIM as well: in rolling mode the lines'
-    extents are shifted towards the leading edge."""
-    fld: ExactField = solution.field
-    reg = solution.regions[region]
-    rows = np.searchsorted(fld.lines, reg.strips)
-    out = np.empty((rows.size, nx))
-    frac = (np.arange(nx) + 0.5) / nx
-    for k, r in enumerate(rows):
-        lo, hi = fld.x_extent_mm[r]
-        on = np.flatnonzero(fld.p_MPa[r] > 0)
-        xs = np.concatenate([[lo], fld.x_mm[on], [hi]])
-        ps = np.concatenate([[0.0], fld.p_MPa[r, on], [0.0]])
-        order = np.argsort(xs, kind="stable")
-        pc = np.interp(hi - frac * (hi - lo), xs[order], ps[order])
-        force = fld.p_MPa[r].sum() * fld.dx_mm
-        total = pc.sum() * (hi - lo) / nx
-        out[k] = pc * (force / total) if total > 0 else 0.0
-    return out
-
-
-def strip_centres(solution: NormalSolution, region: int) -> np.ndarray:
-    """x (mm) of the centre of each line's refined contact extent [x_t, x_l] in patch ``region`` (the frame of the
-    exact grid, x = 0 at the separation's reference point): 0 up to discretisation in indentation mode, shifted
-    towards the leading edge (+x) in rolling mode. FASTSIM's ``strip_centre_mm``."""
-    fld: ExactField = solution.field
-    rows = np.searchsorted(fld.lines, solution.regions[region].strips)
-    return 0.5 * (fld.x_extent_mm[rows, 0] + fld.x_extent_mm[rows, 1])

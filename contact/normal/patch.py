@@ -15,7 +15,7 @@ import numpy as np
 from wrlayer.errors import InputError
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Patch:
     """One connected contact region of strips (units mm, MPa).
 
@@ -45,6 +45,11 @@ class Patch:
             raise InputError("patch", "strips need x_lead_mm > 0 and p_peak_MPa >= 0")
         if y.size > 1 and np.any(np.diff(y) <= 0):
             raise InputError("patch.y_mm", "strip centres must increase")
+
+    def __repr__(self) -> str:
+        return (f"Patch({self.n_strips} strips y=[{self.y_mm[0]:.4g}, {self.y_mm[-1]:.4g}] mm, "
+                f"h={self.grid_mm:g} mm, length={self.length_mm():.4g} mm, "
+                f"p_peak max={float(self.p_peak_MPa.max()):.6g} MPa)")
 
     @property
     def n_strips(self) -> int:

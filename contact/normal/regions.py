@@ -195,7 +195,8 @@ class NormalForceEvaluator:
         raise ConvergenceError(f"contact regions at delta = {delta:g} mm: the elastic interaction between regions "
                                f"did not converge in {_MAX_INTERACTION_ITERATIONS} iterations (lift-off cycling)")
 
-    def _local_penetrations(self, delta: float, cand: list[int], w: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, int]]:
+    def _local_penetrations(self, delta: float, cand: list[int], w: np.ndarray
+                            ) -> list[tuple[np.ndarray, np.ndarray, int]]:
         """(strips, g on them, reference strip) of each region, ordered by y. Candidate m (ascending f) that is
         not inside an earlier region and has a local approach a = delta - f_m - w_m > 0 gets the run of strips
         around m with g = alpha a - (f - f_m) > 0; where that run would reach an earlier region, it ends at the

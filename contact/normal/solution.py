@@ -102,7 +102,7 @@ class NormalSolution:
     method : str
         The normal solver that produced it: "kik_piotrowski" or "exact".
     field : ExactField or None
-        The exact solver's pressure grid (:class:`contact.normal.exact.ExactField`), None for Kik-Piotrowski.
+        The exact solver's pressure grid (:class:`contact.normal.exact_field.ExactField`), None for Kik-Piotrowski.
     """
 
     patches: list[Patch]

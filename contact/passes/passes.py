@@ -1,10 +1,10 @@
 """Repeated passes at the same normal force: residual dents, shakedown and strain hardening (paper section 5).
 
-Each pass: solve the normal problem (Kik–Piotrowski with the layer, :func:`contact.normal.kik_piotrowski.solve_normal`,
-or the exact solver, ``method``),
-load every strip's element(s) of each body to the strip's peak pressure p(0, y) (the largest along the strip),
-unload them (exact element behaviour), and add each body's residual displacement increment u_p(y) of this pass to
-the separation of the next pass (a dent on either body increases f). Stop when a pass adds no residual displacement
+Each pass: solve the normal problem (Kik–Piotrowski with the layer,
+:func:`contact.normal.kik_piotrowski.solve_normal`, or the exact solver, ``method``), load every strip's element(s)
+of each body to the strip's peak pressure p(0, y) (the largest along the strip), unload them (exact element
+behaviour), and add each body's residual displacement increment u_p(y) of this pass to the separation of the next
+pass (a dent on either body increases f). Stop when a pass adds no residual displacement
 beyond ``tolerance_mm`` (computational shakedown) or after ``max_passes``. Without hardening the peak pressure at
 shakedown sits at the elastic limit p_2 of the reference element (within the tolerance). With hardening, "no added
 residual" can also be alternating plasticity: when p/2 lies beyond the characteristic's last break point the
@@ -36,7 +36,17 @@ __all__ = ["PassesOptions", "PassRecord", "run_passes"]
 
 @dataclass(frozen=True)
 class PassesOptions:
-    """max_passes >= 1; tolerance_mm: shakedown when a pass adds at most this residual anywhere (mm)."""
+    """How the passes run (scene keys ``passes.max``, ``passes.tolerance_mm``, ``passes.hardening``).
+
+    Attributes
+    ----------
+    max_passes : int
+        Largest number of passes (>= 1).
+    tolerance_mm : float
+        Shakedown when a pass adds at most this residual displacement anywhere (mm).
+    hardening : bool
+        Keep the sliders' state between passes (strain hardening); False: relax them (the paper's mode).
+    """
 
     max_passes: int = 50
     tolerance_mm: float = 1e-6
@@ -48,15 +58,50 @@ class PassesOptions:
                 f"must be >= 0, got {self.tolerance_mm!r}")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PassRecord:
-    """One pass (1-based ``index``). Lengths mm, pressures MPa, forces N.
+    """One pass of :func:`run_passes` (its scalar numbers go to the result's ``passes`` entries).
 
-    u0_mm: layer displacement (all layers) at the reference point under load; up0_mm: residual displacement added
-    at the reference point in this pass; max_residual_mm: largest residual added in this pass (any strip);
-    cumulative_residual_mm: per body ("wheel", "rail", "combined"), the dents so far on the strip grid
-    ``strip_y_mm``; dissipated_energy_N_per_mm: per body, the largest accumulated friction work of an element.
-    shakedown: this pass added no residual beyond the tolerance.
+    Attributes
+    ----------
+    index : int
+        Pass number, 1-based.
+    delta_mm : float
+        Approach delta (mm), eq. 13.
+    delta0_mm : float
+        Virtual penetration alpha delta (mm), eq. 9.
+    p_max_MPa : float
+        Largest pressure of the pass (MPa).
+    length_mm : float
+        Patch length in the rolling direction (mm).
+    width_mm : float
+        Lateral extent of the patches (mm).
+    area_mm2 : float
+        Contact area (mm^2).
+    normal_force_N : float
+        Normal force of the solution (N).
+    residual_N : float
+        Force residual N - N_target (N).
+    u0_mm : float
+        Layer displacement (all layers) at the reference point under load (mm).
+    up0_mm : float
+        Residual displacement added at the reference point in this pass (mm), eq. 8.
+    max_residual_mm : float
+        Largest residual displacement added in this pass on any strip (mm).
+    elastic : bool
+        True when no layer element yields in this pass.
+    shakedown : bool
+        This pass added no residual displacement beyond the tolerance.
+    strip_y_mm : numpy.ndarray
+        The strip grid (mm).
+    p_peak_MPa : numpy.ndarray
+        Peak pressure p(0, y) per strip (MPa).
+    cumulative_residual_mm : dict
+        Per body ("wheel", "rail", "combined"): the dents so far on the strip grid (mm).
+    dissipated_energy_N_per_mm : dict
+        Per body: the largest accumulated friction work of an element (N/mm).
+    iterations : dict
+        Iteration counts of the pass's normal solve.
     """
 
     index: int
@@ -79,6 +124,11 @@ class PassRecord:
     dissipated_energy_N_per_mm: dict = field(default_factory=dict)
     iterations: dict = field(default_factory=dict)
 
+    def __repr__(self) -> str:
+        return (f"PassRecord(pass {self.index}: delta={self.delta_mm:.6g} mm, p_max={self.p_max_MPa:.6g} MPa, "
+                f"u0={self.u0_mm:.4g} mm, up0={self.up0_mm:.4g} mm, max residual={self.max_residual_mm:.4g} mm"
+                f"{', shakedown' if self.shakedown else ''})")
+
     def summary(self) -> dict:
         """The scalar numbers (JSON-serialisable)."""
         keys = ("index", "delta_mm", "delta0_mm", "p_max_MPa", "length_mm", "width_mm", "area_mm2",
@@ -94,17 +144,33 @@ def _next_delta_guess(deltas: list[float]) -> float | None:
     return 2.0 * deltas[-1] - deltas[-2]
 
 
-def run_passes(prob: NormalProblem, layer_pair: LayerPair | None, options: PassesOptions = PassesOptions(),
+def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOptions = PassesOptions(),
                on_pass: Callable[[PassRecord, NormalSolution], None] | None = None,
-               method: NormalMethod = NormalMethod()) -> tuple[list[PassRecord], np.ndarray]:
-    """Passes until shakedown or ``options.max_passes``. The caller's layers are not modified (copied).
+               method: NormalMethod | str = NormalMethod()) -> tuple[list[PassRecord], np.ndarray]:
+    """Passes at the same normal force until shakedown or ``options.max_passes`` (paper section 5).
 
-    Returns (records, final_f): final_f is the separation on the strip grid ``prob.strip_y_mm`` (mm) after the
-    last pass's dents, i.e. the separation the next pass would see (not shifted to a zero minimum).
-    ``on_pass(record, solution)`` is called after each pass (e.g. for the tangential solve). ``method``: the
-    normal solver (``method.normal``; the exact solver's p_peak is the largest pressure on each line y).
+    Parameters
+    ----------
+    prob : NormalProblem
+        The first pass's problem (separation mm, force N, radius mm, ``E_MPa``, ``poisson``).
+    layer : LayerPair or None
+        The layers on the problem's strip grid; not modified (copied). None: one elastic pass.
+    options : PassesOptions
+        Largest number of passes, shakedown tolerance (mm), hardening.
+    on_pass : callable, optional
+        ``on_pass(record, solution)`` after each pass (e.g. for the tangential solve).
+    method : NormalMethod or str
+        The normal solver (``method.normal``; the exact solver's p_peak is the largest pressure on each line y).
+
+    Returns
+    -------
+    records : list of PassRecord
+        One per pass.
+    final_f : numpy.ndarray
+        The separation on the strip grid ``prob.strip_y_mm`` (mm) after the last pass's dents, i.e. the one the
+        next pass would see (not shifted to a zero minimum).
     """
-    layers = None if layer_pair is None else layer_pair.copy()
+    layers = None if layer is None else layer.copy()
     y, h = prob.strip_y_mm, prob.grid_mm
     base_offset = np.zeros_like(y) if prob.f_offset_mm is None else np.asarray(prob.f_offset_mm, dtype=float)
     offset = base_offset.copy()
@@ -124,14 +190,14 @@ def run_passes(prob: NormalProblem, layer_pair: LayerPair | None, options: Passe
         added = np.zeros_like(y)
         u0 = up0 = 0.0
         energy = {}
-        for name, layer in bodies.items():
+        for name, body_layer in bodies.items():
             ix = points[name]
             on = ix >= 0
-            p_points = np.zeros(layer.n_points)
+            p_points = np.zeros(body_layer.n_points)
             p_points[ix[on]] = sol.p_peak_MPa[on]
-            before = layer.u_mm.copy()
-            loaded = layer.load_to(p_points)
-            residual = layer.unload()
+            before = body_layer.u_mm.copy()
+            loaded = body_layer.load_to(p_points)
+            residual = body_layer.unload()
             inc = np.zeros_like(y)
             inc[on] = (residual - before)[ix[on]]
             cumulative[name] = cumulative[name] + inc
@@ -139,7 +205,7 @@ def run_passes(prob: NormalProblem, layer_pair: LayerPair | None, options: Passe
             if ix[ref] >= 0:
                 u0 += loaded[ix[ref]] - before[ix[ref]]
                 up0 += inc[ref]
-            energy[name] = float(layer.dissipated_energy_N_per_mm.max(initial=0.0))
+            energy[name] = float(body_layer.dissipated_energy_N_per_mm.max(initial=0.0))
         max_added = float(np.max(np.abs(added))) if added.size else 0.0
         shakedown = max_added <= options.tolerance_mm
         rec = PassRecord(
