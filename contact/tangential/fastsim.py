@@ -93,12 +93,6 @@ class Creepage:
                         self.phi_per_mm)
 
 
-def moment_about(Mz_Nmm: float, Fx_N: float, Fy_N: float, x_mm: float = 0.0, y_mm: float = 0.0) -> float:
-    """Mz (N mm) about the origin of the frame in which the point (x_mm, y_mm) lies, from the moment Mz_Nmm about
-    that point and the forces Fx_N, Fy_N applied there: Mz + x Fy - y Fx. Sum patches' moments only after this."""
-    return float(Mz_Nmm + x_mm * Fy_N - y_mm * Fx_N)
-
-
 @dataclass(frozen=True)
 class EquivalentEllipse:
     """Equivalent ellipse of a patch (Kik–Piotrowski: same area and length/width ratio) and its flexibilities.
@@ -385,7 +379,8 @@ def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: fl
     strip's centre (mm; default 0: strips symmetric about x = 0, as Kik–Piotrowski's are; the exact solver's rolling
     mode shifts them towards the leading edge, :func:`contact.normal.exact.strip_centres`). The centre enters the
     spin slip, Mz and the cell coordinates ``x_mm``. The spin acts about the patch frame's origin (y = 0, x = 0):
-    creepages given about another point are moved with :meth:`Creepage.about`.
+    creepages given about another point are moved with :meth:`Creepage.about`
+    (:func:`contact.tangential.spin_centre.solve_about_centroid` takes the spin about the patch's centroid).
     """
     require(flexibility in FLEXIBILITY_RULES, "flexibility", f"must be one of {FLEXIBILITY_RULES}, got {flexibility!r}")
     cells = strip_cells(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx, pressure_cells_MPa,
@@ -444,6 +439,6 @@ def sample_on_grid(patch: Patch, result: TangentialResult) -> GridSample:
                       WT_field_N_per_mm=lerp(result.WT_field_N_per_mm))
 
 
-__all__ = ["FLEXIBILITY_RULES", "Creepage", "StripCells", "moment_about", "strip_cells", "EquivalentEllipse", "GridSample", "TangentialResult",
+__all__ = ["FLEXIBILITY_RULES", "Creepage", "StripCells", "strip_cells", "EquivalentEllipse", "GridSample", "TangentialResult",
            "equivalent_ellipse", "flexibilities", "sample_on_grid", "simplified_theory_fx_ratio",
            "solve_tangential"]

@@ -1,17 +1,17 @@
 """One call for the tangential problem on a pressure grid: FASTSIM, FaStrip or Kalker's exact theory.
 
 Units: mm, N, MPa, s. The input is a :class:`PressureGrid` (the exact normal solver's cells, or a Kik–Piotrowski
-patch rasterised onto such cells); :func:`solve_on_grid` returns a
-:class:`contact.tangential.fastsim.TangentialResult` for every method, so the frictional outputs, pictures and
-result keys work unchanged:
+patch rasterised onto such cells); :func:`solve_on_grid` returns one
+:class:`contact.tangential.fastsim.TangentialResult` per contact region for every method, so the frictional
+outputs, pictures and result keys work unchanged:
 
 - "fastsim": Kalker's simplified theory (:mod:`contact.tangential.fastsim`) on one strip per loaded line, each
   strip from its line's first to its last loaded cell, carrying that line's cell pressures;
 - "fastrip": the FaStrip strip theory (:mod:`contact.tangential.fastrip`) on the same strips;
 - "exact": Kalker's full theory on the grid itself (:mod:`contact.tangential.exact_rolling`).
 
-Rows of the result are the grid's loaded lines (from the first to the last); columns run from the leading edge
-(+x) to the trailing edge, as FASTSIM's. Creepages act about the grid frame's origin (x = 0, y = 0); creepages
+Rows of a region's result are its lines; columns run from the leading edge (+x) to the trailing edge, as
+FASTSIM's. Creepages act about the grid frame's origin (x = 0, y = 0); creepages
 given about another point are moved there with :meth:`contact.tangential.fastsim.Creepage.about`.
 """
 
@@ -24,13 +24,8 @@ import numpy as np
 from contact.normal.patch import Patch
 from contact.tangential.exact_rolling import RollingOptions, solve_rolling
 from contact.tangential.fastrip import solve_fastrip
-from contact.tangential.fastsim import (
-    Creepage,
-    StripCells,
-    TangentialResult,
-    equivalent_ellipse,
-    solve_tangential,
-)
+from contact.tangential.fastsim import Creepage, StripCells, TangentialResult, equivalent_ellipse
+from contact.tangential.spin_centre import solve_about_centroid
 from wrlayer.errors import require
 
 __all__ = ["TANGENTIAL_METHODS", "PressureGrid", "solve_on_grid"]
@@ -110,25 +105,22 @@ class PressureGrid:
         p = patch.p_peak_MPa[:, None] * a * (prim(u_hi) - prim(u_lo)) / dx
         return cls(x, patch.y_mm, p)
 
-    def loaded_lines(self) -> np.ndarray:
-        """Indices of the lines from the first to the last loaded one."""
+    def regions(self) -> list[np.ndarray]:
+        """Line indices of each contact region: the runs of consecutive loaded lines, in increasing y."""
         on = np.flatnonzero(self.p_MPa.max(axis=1) > 0)
-        return np.arange(on[0], on[-1] + 1)
+        return np.split(on, np.flatnonzero(np.diff(on) > 1) + 1)
 
-    def strips(self, nx: int) -> tuple[Patch, np.ndarray, np.ndarray]:
-        """(Patch, cell pressures (ny, nx) from the leading edge, strip centres (ny,)) of the loaded lines for the
-        strip methods: a strip spans its line's loaded cells (first to last, whole cells), its nx cell pressures
-        interpolated linearly in the line's pressure (0 at the strip's ends) and scaled to the line's force."""
-        rows = self.loaded_lines()
+    def strips(self, rows: np.ndarray, nx: int) -> tuple[Patch, np.ndarray, np.ndarray]:
+        """(Patch, cell pressures (ny, nx) from the leading edge, strip centres (ny,)) of the loaded lines ``rows``
+        for the strip methods: a strip spans its line's loaded cells (first to last, whole cells), its nx cell
+        pressures interpolated linearly in the line's pressure (0 at the strip's ends) and scaled to the line's
+        force."""
         dx = self.dx_mm
         xl, xc, pk, pn = [], [], [], []
         frac = (np.arange(nx) + 0.5) / nx
         for r in rows:
             line = self.p_MPa[r]
             on = np.flatnonzero(line > 0)
-            if on.size == 0:                   # an unloaded line between two loaded ones: a tiny empty strip
-                xl.append(0.5 * dx), xc.append(0.0), pk.append(0.0), pn.append(np.zeros(nx))
-                continue
             lo, hi = self.x_mm[on[0]] - 0.5 * dx, self.x_mm[on[-1]] + 0.5 * dx
             xs = np.concatenate([[lo], self.x_mm[on[0]:on[-1] + 1], [hi]])
             ps = np.concatenate([[0.0], line[on[0]:on[-1] + 1], [0.0]])
@@ -142,43 +134,55 @@ class PressureGrid:
 
 
 def _exact(grid: PressureGrid, creepage: Creepage, G_MPa, poisson, friction, speed_mm_s, options
-           ) -> TangentialResult:
-    """Kalker's full theory on the grid, packed as a TangentialResult (rows: loaded lines; columns from the
-    leading edge)."""
-    rows = grid.loaded_lines()
-    y, x, p = grid.y_mm[rows], grid.x_mm, grid.p_MPa[rows]
+           ) -> list[TangentialResult]:
+    """Kalker's full theory on all regions of the grid at once (their elastic interaction included), one
+    TangentialResult per region (rows: its lines; columns from the leading edge)."""
+    regions = grid.regions()
+    lines = np.arange(regions[0][0], regions[-1][-1] + 1)
+    y, x, p = grid.y_mm[lines], grid.x_mm, grid.p_MPa[lines]
     X, Y = np.meshgrid(x, y)
     sol = solve_rolling(x, y, p, creepage.vx - creepage.phi_per_mm * Y, creepage.vy + creepage.phi_per_mm * X,
                         friction, G_MPa, poisson, options)
-    flip = np.s_[:, ::-1]                        # columns from the leading edge
-    dx = grid.dx_mm
-    slip_speed = np.hypot(sol.sx, sol.sy)[flip]
-    work = np.hypot(sol.tx_MPa, sol.ty_MPa)[flip] * slip_speed * dx      # N/mm per cell and pass
-    patch, _, _ = grid.strips(2)
-    cells = StripCells(np.ascontiguousarray(X[flip]), np.full(y.size, dx), np.zeros(y.size), p[flip], creepage,
-                       float(friction), float(speed_mm_s))
-    ell = equivalent_ellipse(patch, G_MPa, poisson)
-    out = cells.result(patch, sol.tx_MPa[flip], sol.ty_MPa[flip], sol.slip[flip], slip_speed * speed_mm_s, work,
-                       ell, "exact", (np.nan, np.nan, np.nan), sol.iterations, sol.residual)
-    # the grid's cells, not the strips' extents, carry the pressure: areas from the cells
-    loaded = float(np.count_nonzero(p > 0) * dx * grid.dy_mm)
-    slip_area = out.slip_area_mm2
-    return replace(out, normal_force_N=float(p.sum() * dx * grid.dy_mm), adhesion_area_mm2=loaded - slip_area)
+    dx, dy = grid.dx_mm, grid.dy_mm
+    out = []
+    for rows in regions:
+        k = np.s_[rows - lines[0], ::-1]             # the region's lines, columns from the leading edge
+        slip_speed = np.hypot(sol.sx, sol.sy)[k]
+        t_x, t_y, pr = sol.tx_MPa[k], sol.ty_MPa[k], p[k]
+        work = np.hypot(t_x, t_y) * slip_speed * dx       # N/mm per cell and pass
+        patch, _, _ = grid.strips(rows, 2)
+        cells = StripCells(np.ascontiguousarray(X[k]), np.full(rows.size, dx), np.zeros(rows.size), pr, creepage,
+                           float(friction), float(speed_mm_s))
+        res = cells.result(patch, t_x, t_y, sol.slip[k], slip_speed * speed_mm_s, work,
+                           equivalent_ellipse(patch, G_MPa, poisson), "exact", (np.nan, np.nan, np.nan),
+                           sol.iterations, sol.residual)
+        # the grid's cells, not the strips' extents, carry the pressure: force and areas from the cells
+        loaded = float(np.count_nonzero(pr > 0) * dx * dy)
+        out.append(replace(res, normal_force_N=float(pr.sum() * dx * dy),
+                           adhesion_area_mm2=loaded - res.slip_area_mm2))
+    return out
 
 
 def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa: float, poisson: float,
                   method: str = "exact", speed_mm_s: float = 1000.0, nx: int = 60,
-                  options: RollingOptions = RollingOptions()) -> TangentialResult:
-    """The tangential solution of ``method`` ("fastsim", "fastrip" or "exact") on the grid's pressure.
+                  options: RollingOptions = RollingOptions()) -> list[TangentialResult]:
+    """The tangential solution of ``method`` ("fastsim", "fastrip" or "exact") on the grid's pressure: one
+    TangentialResult per contact region (:meth:`PressureGrid.regions`), Mz of each about the grid's origin (so
+    they add up).
 
     creepage: about the grid frame's origin; friction: Coulomb mu; G_MPa, poisson: the common material (shear
     modulus E / (2 (1 + nu)) in MPa); speed_mm_s: rolling speed V; nx: cells per strip of the strip methods;
-    options: the exact solver's. ConvergenceError when the exact solver or a FaStrip strip does not converge.
+    options: the exact solver's. FASTSIM takes the spin about each region's force centroid
+    (:func:`contact.tangential.spin_centre.solve_about_centroid`). ConvergenceError when the exact solver or a
+    FaStrip strip does not converge.
     """
     require(method in TANGENTIAL_METHODS, "method.tangential", f"must be one of {TANGENTIAL_METHODS}, got {method!r}")
     if method == "exact":
         return _exact(grid, creepage, G_MPa, poisson, friction, speed_mm_s, options)
-    patch, pn, xc = grid.strips(nx)
-    solver = solve_tangential if method == "fastsim" else solve_fastrip
-    return solver(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx=nx, pressure_cells_MPa=pn,
-                  strip_centre_mm=xc)
+    solver = solve_about_centroid if method == "fastsim" else solve_fastrip
+    out = []
+    for rows in grid.regions():
+        patch, pn, xc = grid.strips(rows, nx)
+        out.append(solver(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx=nx, pressure_cells_MPa=pn,
+                          strip_centre_mm=xc))
+    return out
