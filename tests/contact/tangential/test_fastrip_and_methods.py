@@ -1,0 +1,121 @@
+"""FaStrip (linear theory, Carter's strips, full sliding), the spin centre (creepages about a point, FASTSIM about
+the force centroid) and the three methods side by side on one grid (units mm, N, MPa)."""
+
+import numpy as np
+import pytest
+
+from contact.normal.patch import Patch
+from contact.tangential.fastrip import solve_fastrip
+from contact.tangential.fastsim import Creepage, solve_tangential
+from contact.tangential.kalker_coefficients import creep_coefficients
+from contact.tangential.method import PressureGrid, solve_on_grid
+from contact.tangential.spin_centre import force_centroid_mm, moment_about, solve_about_centroid
+from tests.contact.tangential.ellipse_grid import hertz_grid
+from wrlayer.errors import InputError
+
+E_MPa, NU, MU = 210000.0, 0.28, 0.3
+G_MPa = E_MPa / (2 * (1 + NU))
+
+
+def hertz_patch(a, b, normal_N, ny, y0=0.0):
+    p0 = 3 * normal_N / (2 * np.pi * a * b)
+    h = 2 * b / ny
+    y = -b + (np.arange(ny) + 0.5) * h
+    r = np.sqrt(1 - (y / b) ** 2)
+    return Patch(h, y + y0, a * r, p0 * r)
+
+
+@pytest.mark.parametrize("a, b", [(6.0, 4.0), (13.68, 1.925), (2.0, 8.0)])
+def test_fastrip_linear_theory(a, b):
+    """Small creepages: Kalker's C11, C22 within 0.5 % and C23 within 2 % (the calibration, discretised)."""
+    patch = hertz_patch(a, b, 1e5, 81)
+    k = creep_coefficients(a / b, NU)
+    fx = solve_fastrip(patch, Creepage(1e-5, 0, 0), G_MPa, NU, MU).Fx_N
+    fy = solve_fastrip(patch, Creepage(0, 1e-5, 0), G_MPa, NU, MU).Fy_N
+    fs = solve_fastrip(patch, Creepage(0, 0, 1e-6), G_MPa, NU, MU).Fy_N
+    assert -fx / (G_MPa * a * b * 1e-5) == pytest.approx(k.C11, rel=5e-3)
+    assert -fy / (G_MPa * a * b * 1e-5) == pytest.approx(k.C22, rel=5e-3)
+    assert -fs / (G_MPa * (a * b) ** 1.5 * 1e-6) == pytest.approx(k.C23, rel=2e-2)
+
+
+def test_fastrip_strips_follow_carter():
+    """Pure longitudinal creepage: each strip is Carter's, F_strip / (mu P_strip) = 1 - (1 - eps)^2 with
+    eps = vx / (c_x mu p_peak) (c_x = pi^2 / (2 G C11), the strip's log-kernel compliance)."""
+    a, b = 6.0, 4.0
+    patch = hertz_patch(a, b, 1e5, 41)
+    vx = 0.001
+    res = solve_fastrip(patch, Creepage(vx, 0, 0), G_MPa, NU, MU, nx=200)
+    cx = np.pi ** 2 / (2 * G_MPa * creep_coefficients(a / b, NU).C11)
+    eps = np.minimum(vx / (cx * MU * patch.p_peak_MPa), 1.0)
+    strip_force = res.tx_MPa.sum(axis=1) * res.dx_mm
+    carter = -MU * 0.5 * np.pi * patch.p_peak_MPa * patch.x_lead_mm * (1 - (1 - eps) ** 2)
+    np.testing.assert_allclose(strip_force, carter, rtol=0.01)
+
+
+def test_fastrip_full_sliding_and_zero():
+    patch = hertz_patch(6.0, 4.0, 1e5, 41)
+    res = solve_fastrip(patch, Creepage(0.2, 0.0, 0.0), G_MPa, NU, MU)
+    assert -res.Fx_N == pytest.approx(MU * patch.normal_force_N(), rel=1e-3)
+    zero = solve_fastrip(patch, Creepage(0, 0, 0), G_MPa, NU, MU)
+    assert zero.Fx_N == 0 and zero.Fy_N == 0 and zero.PT_max_W_per_mm2 == 0
+
+
+def test_creepage_about_a_point_and_moments():
+    c = Creepage(0.002, 0.001, 0.0012).about(x_mm=1.0, y_mm=-5.0)
+    assert (c.vx, c.vy, c.phi_per_mm) == pytest.approx((0.002 + 0.006, 0.001 + 0.0012, 0.0012))
+    assert moment_about(10.0, Fx_N=2.0, Fy_N=3.0, x_mm=1.0, y_mm=-5.0) == pytest.approx(10 + 3 + 10)
+
+
+def test_fastsim_about_centroid_does_not_depend_on_the_frame():
+    """The same patch placed at y0 in a frame whose creepages are about its origin: the forces are those of the
+    patch at the origin with the creepages moved to y0; Mz moves by -y0 Fx."""
+    cr = Creepage(0.002, 0.0, 0.0012)
+    home = solve_about_centroid(hertz_patch(6.0, 4.0, 1e5, 41), cr, G_MPa, NU, MU)
+    for y0 in (-5.0, 2.5):
+        away = solve_about_centroid(hertz_patch(6.0, 4.0, 1e5, 41, y0), cr, G_MPa, NU, MU)
+        ref = solve_tangential(hertz_patch(6.0, 4.0, 1e5, 41), cr.about(0.0, y0), G_MPa, NU, MU)
+        assert force_centroid_mm(hertz_patch(6.0, 4.0, 1e5, 41, y0)) == pytest.approx(y0)
+        assert (away.Fx_N, away.Fy_N) == pytest.approx((ref.Fx_N, ref.Fy_N), rel=1e-9)
+        assert away.Mz_Nmm == pytest.approx(ref.Mz_Nmm - y0 * ref.Fx_N, rel=1e-9)
+    assert home.Fx_N == solve_tangential(hertz_patch(6.0, 4.0, 1e5, 41), cr, G_MPa, NU, MU).Fx_N
+
+
+def test_three_methods_side_by_side():
+    """On a Hertzian grid with spin: FaStrip's Fx (the spin's longitudinal part) is closer to the exact theory than
+    FASTSIM's; Fy of both within 5 %."""
+    grid = hertz_grid(6.0, 4.0, 24)
+    cr = Creepage(0.002, 0.0, 0.0012)
+    res = {m: solve_on_grid(grid, cr, MU, G_MPa, NU, m)[0] for m in ("fastsim", "fastrip", "exact")}
+    ex = res["exact"]
+    assert abs(res["fastrip"].Fx_N - ex.Fx_N) < min(0.02 * abs(ex.Fx_N), abs(res["fastsim"].Fx_N - ex.Fx_N))
+    for m in ("fastsim", "fastrip"):
+        assert res[m].Fy_N == pytest.approx(ex.Fy_N, rel=0.05)
+    assert ex.method == "exact" and ex.iterations > 0 and ex.residual < 1e-6
+    assert {r.method for r in res.values()} == {"fastsim", "fastrip", "exact"}
+    for r in res.values():            # one loaded region, forces within the Coulomb bound
+        assert np.hypot(r.Fx_N, r.Fy_N) <= MU * r.normal_force_N * (1 + 1e-9)
+
+
+def test_two_regions_on_one_grid():
+    """Two separate patches: one result per region; the exact solve includes their interaction; Mz about the grid
+    origin adds up."""
+    g = hertz_grid(3.0, 2.0, 16)
+    p = np.zeros((2 * g.y_mm.size + 4, g.x_mm.size))
+    p[: g.y_mm.size], p[-g.y_mm.size:] = g.p_MPa, g.p_MPa
+    y = (np.arange(p.shape[0]) - 0.5 * (p.shape[0] - 1)) * g.dy_mm
+    grid = PressureGrid(g.x_mm, y, p)
+    assert len(grid.regions()) == 2
+    for method in ("fastsim", "fastrip", "exact"):
+        lo, hi = solve_on_grid(grid, Creepage(0.001, 0, 0.0001), MU, G_MPa, NU, method)
+        assert lo.Fx_N < hi.Fx_N < 0        # the spin adds longitudinal creepage at y < 0
+
+
+def test_method_name_is_checked():
+    with pytest.raises(InputError):
+        solve_on_grid(hertz_grid(3.0, 2.0, 8), Creepage(0.001, 0, 0), MU, G_MPa, NU, "contact")
+
+
+def test_grid_from_patch_keeps_the_force():
+    patch = hertz_patch(6.0, 4.0, 1e5, 41)
+    grid = PressureGrid.from_patch(patch, 48)
+    assert grid.p_MPa.sum() * grid.dx_mm * grid.dy_mm == pytest.approx(patch.normal_force_N(), rel=1e-12)
