@@ -25,13 +25,21 @@ coefficients. With the Prandtl surface layer of this project the layer is normal
 half-space in the normal direction); the tangential problem sees the same elastic half-space, so this solver applies
 unchanged to the pressure of a layered exact normal solution.
 
-Solver: nonlinear block Gauss–Seidel over the cells (Kalker's and CONTACT's "SteadyGS" idea): lines one after the
-other, each line marched from the leading edge to the trailing edge (the direction of the material flow, in which
-the slip of a cell depends mostly on the cells ahead of it). Every cell solves its own 2 x 2 Coulomb problem
-exactly given the other tractions (:func:`_local`), and its traction change updates the displacement of the cells
-within a window around it (``window``); after each sweep the displacement is recomputed exactly by FFT, so the
-far field lags by at most one sweep. Stop when the largest traction change of a sweep is below
-``tol`` times min(mu max(p), max |t|); ConvergenceError after ``max_sweeps``.
+Solver: nonlinear Gauss–Seidel over the cells (the idea of Kalker's and CONTACT's steady-state solvers, written
+here from the equations): lines one after the other, each line marched from the leading edge to the trailing edge
+(the direction of the material flow). Each cell is solved in the summed form of its line's slip equations,
+
+    u_I = u_pad + sum_{K >= I} (s_K - w_K) dx      (K from I up to the leading edge; u_pad: the free cell ahead)
+
+with the slips s_K of the cells ahead of it from the current sweep: its own traction enters with the coefficient
+A(0) / dx of the (symmetric, positive definite) half-space operator, and its 2 x 2 Coulomb problem is solved
+exactly (:func:`_local`). (The plain difference form, own coefficient (A(0) - A(1)) / dx, diverges: marching
+inverts the difference and amplifies the influence of the cells behind by the line's cell count.) The lines are
+taken in blocks: a traction change updates the displacement of its block cell by cell, and the displacement is
+recomputed exactly by FFT before each block, so a sweep is an exact Gauss–Seidel sweep whatever the block size
+(updating only a window around each cell and the rest once per sweep diverged in tests). Stop when the largest
+traction change of a sweep is below ``tol`` times min(mu max(p), max |t|); ConvergenceError after ``max_sweeps``.
+Cost: about 30-60 sweeps, each O(N_contact x block x nx) plus (lines / block) FFT pairs.
 """
 
 from __future__ import annotations
@@ -55,12 +63,13 @@ class RollingOptions:
     tol: stop when the largest traction change of a sweep is below tol times the traction scale
     min(mu max(p), max |t|) (-); max_sweeps: limit;
     block_lines: lines per block (the displacement is updated cell by cell within a block and by FFT between
-    blocks; the iterates do not depend on it, only the time does).
+    blocks; the iterates do not depend on it, only the time does); None: max(8, ny / 8), which balanced the two
+    costs on grids of 33-117 cells by 121 lines.
     """
 
     tol: float = 1e-6
     max_sweeps: int = 500
-    block_lines: int = 8
+    block_lines: int | None = None
 
 
 @dataclass(frozen=True)
@@ -106,9 +115,10 @@ def _local(ssx, ssy, bx, by, bound):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
-def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, j0, j1, slip):  # pragma: no cover - compiled
+def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, j0, j1, c0, c1, slip):  # pragma: no cover - compiled
     """A Gauss–Seidel sweep over the lines j0 <= j < j1 (a block); ux, uy (ny, nx + 1): exact displacement at the
-    start of the block, the leading pad column included, updated within the block; returns max |dt|.
+    start of the block, the leading pad column included, updated within the block in the columns c0 <= i < c1
+    (the loaded columns and the one ahead of them) and the pad; returns max |dt|.
 
     Each cell solves the summed slip equation u_I = u_pad + sum_{K >= I} (s_K - w_K) dx for its own traction
     (coefficient A(0): the symmetric half-space operator's diagonal), with the slips s_K of the cells ahead of it
@@ -146,11 +156,16 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, j0, j1, slip):  # pragma
             ty[j, i] = nyv
             for jj in range(j0, j1):
                 oy = jj - j + cy
-                for ii in range(nx + 1):
+                for ii in range(c0, c1):
                     ox = ii - i + cx
                     axy = near[1, oy, ox]
                     ux[jj, ii] += near[0, oy, ox] * dtx + axy * dty
                     uy[jj, ii] += axy * dtx + near[2, oy, ox] * dty
+                if c1 <= nx:             # the pad, where each line's summation starts
+                    ox = nx - i + cx
+                    axy = near[1, oy, ox]
+                    ux[jj, nx] += near[0, oy, ox] * dtx + axy * dty
+                    uy[jj, nx] += axy * dtx + near[2, oy, ox] * dty
     return biggest
 
 
@@ -178,14 +193,16 @@ def solve_rolling(x_mm: np.ndarray, y_mm: np.ndarray, p_MPa: np.ndarray, wx: np.
     if scale <= 0.0:
         return RollingField(tx, ty, wxc.copy() * (p_MPa > 0), wyc.copy() * (p_MPa > 0), p_MPa > 0, 0, 0.0, 0)
     loaded = np.flatnonzero(bound.max(axis=1) > 0)
-    blocks = [(int(j), int(min(j + options.block_lines, loaded[-1] + 1)))
-              for j in range(int(loaded[0]), int(loaded[-1]) + 1, options.block_lines)]
+    cols = np.flatnonzero(bound.max(axis=0) > 0)
+    c0, c1 = int(cols[0]), int(min(cols[-1] + 2, nx + 1))
+    step = options.block_lines or max(8, int(math.ceil(ny / 8)))
+    blocks = [(int(j), int(min(j + step, loaded[-1] + 1))) for j in range(int(loaded[0]), int(loaded[-1]) + 1, step)]
     for sweep in range(1, options.max_sweeps + 1):
         change = 0.0
         for j0, j1 in blocks:      # exact displacement before each block: the sweep is a full Gauss-Seidel sweep
             ux, uy = hs.displacement(np.hstack([tx, zero]), np.hstack([ty, zero]))
             change = max(change, _sweep(tx, ty, np.ascontiguousarray(ux), np.ascontiguousarray(uy), wxc, wyc,
-                                        bound, near, 1.0 / dx, j0, j1, slip))
+                                        bound, near, 1.0 / dx, j0, j1, c0, c1, slip))
         change /= min(scale, max(float(np.abs(tx).max()), float(np.abs(ty).max()), 1e-300))
         if change < options.tol:
             break
