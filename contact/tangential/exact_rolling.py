@@ -33,7 +33,7 @@ here from the equations): lines one after the other, each line marched from the 
 
 with the slips s_K of the cells ahead of it from the current sweep: its own traction enters with the coefficient
 A(0) / dx of the (symmetric, positive definite) half-space operator, and its 2 x 2 Coulomb problem is solved
-exactly (:func:`_local`). (The plain difference form, own coefficient (A(0) - A(1)) / dx, diverges: marching
+exactly (:func:`coulomb_cell`). (The plain difference form, own coefficient (A(0) - A(1)) / dx, diverges: marching
 inverts the difference and amplifies the influence of the cells behind by the line's cell count.) The lines are
 taken in blocks: a traction change updates the displacement of its block cell by cell, and the displacement is
 recomputed exactly by FFT before each block, so a sweep is an exact Gauss–Seidel sweep whatever the block size
@@ -53,7 +53,7 @@ import numpy as np
 from contact.tangential.exact_influence import TractionHalfSpace
 from wrlayer.errors import ConvergenceError
 
-__all__ = ["RollingOptions", "RollingField", "solve_rolling"]
+__all__ = ["RollingOptions", "RollingField", "coulomb_cell", "solve_rolling"]
 
 
 @dataclass(frozen=True)
@@ -92,7 +92,7 @@ class RollingField:
 
 
 @numba.njit(cache=True)
-def _local(ssx, ssy, bx, by, bound):  # pragma: no cover - compiled
+def coulomb_cell(ssx, ssy, bx, by, bound):  # pragma: no cover - compiled
     """The traction (tx, ty) of one cell and its slip flag, given s* (the cell's slip without its own traction):
     s = s* + diag(bx, by) t. Adhesion when t = -s*/b fits the bound; otherwise t = -bound s/|s| with
     s_k = s*_k sigma/(sigma + bound b_k), sigma = |s| the root of sum s*_k^2/(sigma + bound b_k)^2 = 1 (decreasing
@@ -141,7 +141,7 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, j0, j1, c0, c1, slip):  
                 continue
             ssx = wx[j, i] + (ux[j, i] - acc_x) * inv_dx - bx * tx[j, i]
             ssy = wy[j, i] + (uy[j, i] - acc_y) * inv_dx - by * ty[j, i]
-            nxv, nyv, sl = _local(ssx, ssy, bx, by, g)
+            nxv, nyv, sl = coulomb_cell(ssx, ssy, bx, by, g)
             slip[j, i] = sl
             sx = ssx + bx * nxv if sl else 0.0
             sy = ssy + by * nyv if sl else 0.0

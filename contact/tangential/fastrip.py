@@ -42,6 +42,7 @@ import numba
 import numpy as np
 
 from contact.normal.patch import Patch
+from contact.tangential.exact_rolling import coulomb_cell
 from contact.tangential.fastsim import (
     W_PER_NMM_S,
     Creepage,
@@ -93,26 +94,6 @@ def _log_table(nx: int) -> np.ndarray:
 
 
 @numba.njit(cache=True)
-def _local(ssx, ssy, bx, by, bound):  # pragma: no cover - compiled
-    """One cell's Coulomb problem s = s* + diag(bx, by) t (see contact.tangential.exact_rolling)."""
-    ax = -ssx / bx
-    ay = -ssy / by
-    if ax * ax + ay * ay <= bound * bound:
-        return ax, ay, False
-    sig = max(math.sqrt(ssx * ssx + ssy * ssy) - bound * max(bx, by), 0.0)
-    for _ in range(60):
-        dxx = sig + bound * bx
-        dyy = sig + bound * by
-        h = ssx * ssx / (dxx * dxx) + ssy * ssy / (dyy * dyy) - 1.0
-        dh = -2.0 * (ssx * ssx / (dxx * dxx * dxx) + ssy * ssy / (dyy * dyy * dyy))
-        step = -h / dh
-        sig += step
-        if abs(step) <= 1e-14 * (sig + bound * bx):
-            break
-    return -bound * ssx / (sig + bound * bx), -bound * ssy / (sig + bound * by), True
-
-
-@numba.njit(cache=True)
 def _strips(dx, wx, wy, bound, kappa, cx, cy, tol, max_sweeps):  # pragma: no cover - compiled
     """Every strip's 2-D rolling problem; cells k = 0 (leading) .. nx-1, the free pad ahead of cell 0.
 
@@ -150,7 +131,7 @@ def _strips(dx, wx, wy, bound, kappa, cx, cy, tol, max_sweeps):  # pragma: no co
                     continue
                 ssx = wx[j, k] + (ux[k + 1] - acc_x) / h - bx * tx[j, k]
                 ssy = wy[j, k] + (uy[k + 1] - acc_y) / h - by * ty[j, k]
-                nvx, nvy, sl = _local(ssx, ssy, bx, by, g)
+                nvx, nvy, sl = coulomb_cell(ssx, ssy, bx, by, g)
                 slip[j, k] = sl
                 sx[j, k] = ssx + bx * nvx if sl else 0.0
                 sy[j, k] = ssy + by * nvy if sl else 0.0
