@@ -116,7 +116,7 @@ class PressureGrid:
         pressures interpolated linearly in the line's pressure (0 at the strip's ends) and scaled to the line's
         force."""
         dx = self.dx_mm
-        xl, xc, pk, pn = [], [], [], []
+        ends, pn = [], []
         frac = (np.arange(nx) + 0.5) / nx
         for r in rows:
             line = self.p_MPa[r]
@@ -126,11 +126,12 @@ class PressureGrid:
             ps = np.concatenate([[0.0], line[on[0]:on[-1] + 1], [0.0]])
             cells = np.interp(hi - frac * (hi - lo), xs, ps)
             force = line.sum() * dx
-            cells *= force / (cells.sum() * (hi - lo) / nx)
-            half = 0.5 * (hi - lo)
-            xl.append(half), xc.append(0.5 * (hi + lo)), pk.append(force / (0.5 * np.pi * half)), pn.append(cells)
-        patch = Patch(self.dy_mm, self.y_mm[rows], np.array(xl), np.array(pk))
-        return patch, np.array(pn), np.array(xc)
+            pn.append(cells * force / (cells.sum() * (hi - lo) / nx))
+            ends.append((lo, hi, force))
+        lo, hi, force = np.array(ends).T
+        half = 0.5 * (hi - lo)                   # p_peak: the semi-ellipse of the line's force (eq. 12)
+        patch = Patch(self.dy_mm, self.y_mm[rows], half, force / (0.5 * np.pi * half))
+        return patch, np.array(pn), 0.5 * (hi + lo)
 
 
 def _exact(grid: PressureGrid, creepage: Creepage, G_MPa, poisson, friction, speed_mm_s, options
