@@ -439,6 +439,7 @@ def sample_on_grid(patch: Patch, result: TangentialResult) -> GridSample:
                       WT_field_N_per_mm=lerp(result.WT_field_N_per_mm))
 
 
-__all__ = ["FLEXIBILITY_RULES", "Creepage", "StripCells", "strip_cells", "EquivalentEllipse", "GridSample", "TangentialResult",
+__all__ = ["FLEXIBILITY_RULES", "Creepage", "StripCells", "strip_cells", "EquivalentEllipse", "GridSample",
+           "TangentialResult",
            "equivalent_ellipse", "flexibilities", "sample_on_grid", "simplified_theory_fx_ratio",
            "solve_tangential"]

@@ -88,7 +88,7 @@ def test_three_methods_side_by_side():
     assert abs(res["fastrip"].Fx_N - ex.Fx_N) < min(0.03 * abs(ex.Fx_N), abs(res["fastsim"].Fx_N - ex.Fx_N))
     assert res["fastsim"].Fy_N == pytest.approx(ex.Fy_N, rel=0.03)
     assert res["fastrip"].Fy_N == pytest.approx(ex.Fy_N, rel=0.08)
-    assert ex.method == "exact" and ex.iterations > 0 and ex.residual < 1e-6
+    assert ex.method == "exact" and ex.iterations > 0 and ex.residual < 1e-5
     assert {r.method for r in res.values()} == {"fastsim", "fastrip", "exact"}
     for r in res.values():            # one loaded region, forces within the Coulomb bound
         assert np.hypot(r.Fx_N, r.Fy_N) <= MU * r.normal_force_N * (1 + 1e-9)
