@@ -21,6 +21,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from contact.normal.exact import fastsim_pressure, strip_centres
+from contact.normal.kik_piotrowski import NormalSolution
 from contact.normal.patch import Patch
 from contact.tangential.exact_rolling import RollingOptions, solve_rolling
 from contact.tangential.fastrip import solve_fastrip
@@ -28,7 +30,7 @@ from contact.tangential.fastsim import Creepage, StripCells, TangentialResult, e
 from contact.tangential.spin_centre import solve_about_centroid
 from wrlayer.errors import require
 
-__all__ = ["TANGENTIAL_METHODS", "PressureGrid", "solve_on_grid"]
+__all__ = ["TANGENTIAL_METHODS", "PressureGrid", "solve_on_grid", "solve_for_normal_solution"]
 
 #: Values of ``method.tangential``.
 TANGENTIAL_METHODS = ("fastsim", "fastrip", "exact")
@@ -186,4 +188,41 @@ def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa
         patch, pn, xc = grid.strips(rows, nx)
         out.append(solver(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx=nx, pressure_cells_MPa=pn,
                           strip_centre_mm=xc))
+    return out
+
+
+def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, friction: float, G_MPa: float,
+                              poisson: float, method: str = "fastsim", speed_mm_s: float = 1000.0, nx: int = 60,
+                              flexibility: str = "three", options: RollingOptions = RollingOptions()
+                              ) -> list[TangentialResult]:
+    """The tangential solution of every patch of a normal solution (Kik–Piotrowski or exact), in its order.
+
+    Frame: the solution's (strip y about the scene origin, x = 0 at the separation's reference point); creepage
+    about that origin; each result's Mz about it (so the patches' moments add up) and its strip y in it.
+    "fastsim": FASTSIM with the spin about each patch's force centroid
+    (:func:`contact.tangential.spin_centre.solve_about_centroid`) on the patch's strips, with the exact pressure
+    along each line for an exact solution (:func:`contact.normal.exact.fastsim_pressure`, ``strip_centres``);
+    "fastrip": FaStrip on the same strips; "exact": Kalker's full theory on the exact solver's grid (all patches
+    at once), or, for a Kik–Piotrowski solution, on each patch rasterised with ``nx`` cells along x
+    (:meth:`PressureGrid.from_patch`; the patches then do not interact tangentially).
+    """
+    require(method in TANGENTIAL_METHODS, "method.tangential", f"must be one of {TANGENTIAL_METHODS}, got {method!r}")
+    exact_field = getattr(solution, "field", None) is not None
+    if method == "exact":
+        if exact_field:
+            return solve_on_grid(PressureGrid.from_exact(solution), creepage, friction, G_MPa, poisson, "exact",
+                                 speed_mm_s, nx, options)
+        return [solve_on_grid(PressureGrid.from_patch(p, nx), creepage, friction, G_MPa, poisson, "exact",
+                              speed_mm_s, nx, options)[0] for p in solution.patches]
+    out = []
+    for k, patch in enumerate(solution.patches):
+        kw = {}
+        if exact_field:
+            kw = {"pressure_cells_MPa": fastsim_pressure(solution, k, nx),
+                  "strip_centre_mm": strip_centres(solution, k)}
+        if method == "fastsim":
+            out.append(solve_about_centroid(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx,
+                                            flexibility=flexibility, **kw))
+        else:
+            out.append(solve_fastrip(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx, **kw))
     return out

@@ -11,7 +11,7 @@ from contact.scenes.simulation import simulate
 from contact.tangential.fastrip import solve_fastrip
 from contact.tangential.fastsim import Creepage, solve_tangential
 from contact.tangential.kalker_coefficients import creep_coefficients
-from contact.tangential.method import PressureGrid, solve_on_grid
+from contact.tangential.method import TANGENTIAL_METHODS, PressureGrid, solve_for_normal_solution, solve_on_grid
 from contact.tangential.spin_centre import force_centroid_mm, moment_about, solve_about_centroid
 from tests.contact.tangential.ellipse_grid import hertz_grid
 from wrlayer.errors import InputError
@@ -136,7 +136,13 @@ def test_spin_centre_defects_and_fix():
     fx, fy = sum(r.Fx_N for r in exact), sum(r.Fy_N for r in exact)
     assert sum(t.Fx_N for t in snap.tangential) == pytest.approx(4 * fx, rel=0.1)
     fixed = [solve_about_centroid(Patch(lp.grid_mm, lp.y_mm + yr, lp.x_lead_mm, lp.p_peak_MPa), cr, G_MPa, NU, MU,
-                                  pressure_cells_MPa=fastsim_pressure(sol, i, 60), strip_centre_mm=strip_centres(sol, i))
+                                  pressure_cells_MPa=fastsim_pressure(sol, i, 60),
+                                  strip_centre_mm=strip_centres(sol, i))
              for i, (lp, yr) in enumerate(zip(snap.local_patches, snap.y_ref_mm))]
     assert sum(t.Fx_N for t in fixed) == pytest.approx(fx, rel=0.05)
     assert sum(t.Fy_N for t in fixed) == pytest.approx(fy, rel=0.05)
+    for method in TANGENTIAL_METHODS:      # the one call for a normal solution: every method near the exact theory
+        res = solve_for_normal_solution(sol, cr, MU, G_MPa, NU, method)
+        assert len(res) == len(sol.patches) == 2
+        assert sum(r.Fx_N for r in res) == pytest.approx(fx, rel=0.05)
+        assert sum(r.Fy_N for r in res) == pytest.approx(fy, rel=0.07)
