@@ -82,6 +82,16 @@ class Creepage:
     def is_zero(self) -> bool:
         return self.vx == 0.0 and self.vy == 0.0 and self.phi_per_mm == 0.0
 
+    def about(self, x_mm: float = 0.0, y_mm: float = 0.0) -> "Creepage":
+        """The same rigid motion described about the point (x_mm, y_mm) of this creepage's frame (mm).
+
+        The rigid slip / V is w(x, y) = (vx - phi y, vy + phi x) about the origin, so about the point P it is
+        (vx - phi y_P, vy + phi x_P) plus the spin phi about P: a patch whose frame has its origin at P (e.g. a
+        patch's reference strip y_P off the scene's origin) must be given these creepages.
+        """
+        return Creepage(float(self.vx - self.phi_per_mm * y_mm), float(self.vy + self.phi_per_mm * x_mm),
+                        self.phi_per_mm)
+
 
 @dataclass(frozen=True)
 class EquivalentEllipse:
@@ -107,7 +117,8 @@ class TangentialResult:
     slip_velocity_mm_s: |slip velocity|; PT_W_per_mm2: frictional power density; WT_N_per_mm: frictional work per
     unit area over one pass, per strip (ny,); WT_field_N_per_mm: the same accumulated from the leading edge up to
     each cell (its last column equals WT_N_per_mm). Areas in mm^2. flexibility, L_mm_per_MPa: the rule and the
-    flexibilities (L1, L2, L3) actually used (mm/MPa).
+    flexibilities (L1, L2, L3) actually used (mm/MPa). method: "fastsim", "fastrip" or "exact" (the solver of the
+    result); iterations, residual: the exact solver's sweeps and last relative traction change (0 for a march).
     """
 
     Fx_N: float
@@ -134,6 +145,14 @@ class TangentialResult:
     ellipse: EquivalentEllipse
     flexibility: str
     L_mm_per_MPa: tuple[float, float, float]
+    method: str = "fastsim"
+    iterations: int = 0
+    residual: float = 0.0
+
+    @property
+    def adhesion(self) -> np.ndarray:
+        """Cells in adhesion (loaded and not slipping), (ny, nx) bool."""
+        return (self.pn_MPa > 0) & ~self.slip
 
     @property
     def traction_MPa(self) -> np.ndarray:
@@ -285,28 +304,50 @@ def _check_inputs(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx):
     require(isinstance(nx, (int, np.integer)) and nx >= 2, "nx", f"cells per strip must be an integer >= 2, got {nx!r}")
 
 
-def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: float, friction: float,
-                     speed_mm_s: float = 1000.0, nx: int = 60, flexibility: str = "three",
-                     pressure_cells_MPa: np.ndarray | None = None,
-                     strip_centre_mm: np.ndarray | None = None) -> TangentialResult:
-    """FASTSIM on the patch's strips with ``nx`` cells per strip; see the module docstring for conventions.
+@dataclass(frozen=True)
+class StripCells:
+    """The cells of a strip patch shared by the strip methods (FASTSIM, FaStrip): nx cells per strip from the
+    leading edge. x_mm (ny, nx) cell centres, dx_mm (ny,) cell lengths, centre_mm (ny,) strip centres (mm),
+    pn_MPa (ny, nx) cell pressures (MPa); creepage, friction, speed_mm_s (mm/s): the inputs; flexibility:
+    FASTSIM's flexibility rule."""
 
-    G_MPa: shear modulus (E / (2 (1 + nu)), both bodies of one steel); poisson: Poisson's ratio; friction: Coulomb
-    coefficient mu (>= 0); speed_mm_s: rolling speed V (only scales slip velocities and P_T); flexibility: "three"
-    (default), "single" or "blended", see :func:`flexibilities`; pressure_cells_MPa: optional (ny, nx) cell
-    pressures of each strip from the leading edge (MPa) replacing the semi-elliptic cell means (the exact normal
-    solver's shape, :func:`contact.normal.exact.fastsim_pressure`); strip_centre_mm: optional (ny,) x of each
-    strip's centre (mm; default 0: strips symmetric about x = 0, as Kik–Piotrowski's are; the exact solver's rolling
-    mode shifts them towards the leading edge, :func:`contact.normal.exact.strip_centres`). The centre enters the
-    spin slip, Mz and the cell coordinates ``x_mm``.
-    """
+    x_mm: np.ndarray
+    dx_mm: np.ndarray
+    centre_mm: np.ndarray
+    pn_MPa: np.ndarray
+    creepage: Creepage
+    friction: float
+    speed_mm_s: float
+    flexibility: str = "three"
+
+    def result(self, patch: Patch, tx, ty, slip, slip_velocity_mm_s, work, ell: EquivalentEllipse, method: str,
+               flex: tuple[float, float, float], iterations: int = 0, residual: float = 0.0) -> TangentialResult:
+        """The TangentialResult of per-cell tractions (MPa), slip flags, |slip velocity| (mm/s) and frictional work
+        per unit area (N/mm) of each cell over one pass."""
+        cell_area = (self.dx_mm * patch.grid_mm)[:, None]
+        WT_field = np.cumsum(work, axis=1)
+        PT = W_PER_NMM_S * self.speed_mm_s * work / self.dx_mm[:, None]
+        slip_area = float(np.sum(slip * cell_area))
+        x, y = self.x_mm, patch.y_mm
+        return TangentialResult(
+            Fx_N=float(np.sum(tx * cell_area)), Fy_N=float(np.sum(ty * cell_area)),
+            Mz_Nmm=float(np.sum((x * ty - y[:, None] * tx) * cell_area)),
+            normal_force_N=patch.normal_force_N(), friction=float(self.friction), speed_mm_s=float(self.speed_mm_s),
+            y_mm=y, dx_mm=self.dx_mm, x_mm=x, pn_MPa=self.pn_MPa, tx_MPa=tx, ty_MPa=ty, slip=slip,
+            slip_velocity_mm_s=slip_velocity_mm_s, PT_W_per_mm2=PT, WT_field_N_per_mm=WT_field,
+            WT_N_per_mm=WT_field[:, -1].copy(), PT_max_W_per_mm2=float(PT.max()),
+            WT_max_N_per_mm=float(WT_field.max()), adhesion_area_mm2=patch.area_mm2() - slip_area,
+            slip_area_mm2=slip_area, ellipse=ell, flexibility=self.flexibility if method == "fastsim" else method,
+            L_mm_per_MPa=flex, method=method, iterations=int(iterations), residual=float(residual))
+
+
+def strip_cells(patch: Patch, creepage: Creepage, G_MPa: float, poisson: float, friction: float,
+                speed_mm_s: float, nx: int, pressure_cells_MPa: np.ndarray | None = None,
+                strip_centre_mm: np.ndarray | None = None, flexibility: str = "three") -> StripCells:
+    """Validated inputs of a strip method and its cells (see :func:`solve_tangential` for the arguments)."""
     _check_inputs(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx)
-    require(flexibility in FLEXIBILITY_RULES, "flexibility", f"must be one of {FLEXIBILITY_RULES}, got {flexibility!r}")
-    ell = equivalent_ellipse(patch, G_MPa, poisson)
-    normal_N = patch.normal_force_N()
-    L1, L2, L3 = flexibilities(ell, creepage, flexibility, G_MPa, friction * normal_N)
-    ny, h = patch.n_strips, patch.grid_mm
-    xl, y = patch.x_lead_mm, patch.y_mm
+    ny = patch.n_strips
+    xl = patch.x_lead_mm
     dx = 2.0 * xl / nx
     if strip_centre_mm is None:
         xc = np.zeros(ny)
@@ -321,26 +362,40 @@ def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: fl
         pn = np.asarray(pressure_cells_MPa, dtype=float)
         require(pn.shape == (ny, nx) and bool(np.all(np.isfinite(pn)) and np.all(pn >= 0)), "pressure_cells_MPa",
                 f"needs ({ny}, {nx}) finite values >= 0 (strips x cells from the leading edge)")
+    return StripCells(x, dx, xc, pn, creepage, float(friction), float(speed_mm_s), flexibility)
+
+
+def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: float, friction: float,
+                     speed_mm_s: float = 1000.0, nx: int = 60, flexibility: str = "three",
+                     pressure_cells_MPa: np.ndarray | None = None,
+                     strip_centre_mm: np.ndarray | None = None) -> TangentialResult:
+    """FASTSIM on the patch's strips with ``nx`` cells per strip; see the module docstring for conventions.
+
+    G_MPa: shear modulus (E / (2 (1 + nu)), both bodies of one steel); poisson: Poisson's ratio; friction: Coulomb
+    coefficient mu (>= 0); speed_mm_s: rolling speed V (only scales slip velocities and P_T); flexibility: "three"
+    (default), "single" or "blended", see :func:`flexibilities`; pressure_cells_MPa: optional (ny, nx) cell
+    pressures of each strip from the leading edge (MPa) replacing the semi-elliptic cell means (the exact normal
+    solver's shape, :func:`contact.normal.exact.fastsim_pressure`); strip_centre_mm: optional (ny,) x of each
+    strip's centre (mm; default 0: strips symmetric about x = 0, as Kik–Piotrowski's are; the exact solver's rolling
+    mode shifts them towards the leading edge, :func:`contact.normal.exact.strip_centres`). The centre enters the
+    spin slip, Mz and the cell coordinates ``x_mm``. The spin acts about the patch frame's origin (y = 0, x = 0):
+    creepages given about another point are moved with :meth:`Creepage.about`
+    (:func:`contact.tangential.spin_centre.solve_about_centroid` takes the spin about the patch's centroid).
+    """
+    require(flexibility in FLEXIBILITY_RULES, "flexibility", f"must be one of {FLEXIBILITY_RULES}, got {flexibility!r}")
+    cells = strip_cells(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx, pressure_cells_MPa,
+                        strip_centre_mm, flexibility)
+    ell = equivalent_ellipse(patch, G_MPa, poisson)
+    L1, L2, L3 = flexibilities(ell, creepage, flexibility, G_MPa, friction * patch.normal_force_N())
+    ny, xl, xc, pn, dx = patch.n_strips, patch.x_lead_mm, cells.centre_mm, cells.pn_MPa, cells.dx_mm
     if creepage.is_zero():
         tx = np.zeros((ny, nx))
         ty, du, work = tx.copy(), tx.copy(), tx.copy()
         slip = np.zeros((ny, nx), dtype=bool)
     else:
-        tx, ty, du, work, slip = _march(xl, xc, y, pn, int(nx), L1, L2, creepage.vx / L1, creepage.vy / L2,
-                                        creepage.phi_per_mm / L3, float(friction))
-    cell_area = (dx * h)[:, None]
-    WT_field = np.cumsum(work, axis=1)
-    PT = W_PER_NMM_S * speed_mm_s * work / dx[:, None]
-    slip_area = float(np.sum(slip * cell_area))
-    return TangentialResult(
-        Fx_N=float(np.sum(tx * cell_area)), Fy_N=float(np.sum(ty * cell_area)),
-        Mz_Nmm=float(np.sum((x * ty - y[:, None] * tx) * cell_area)),
-        normal_force_N=normal_N, friction=float(friction), speed_mm_s=float(speed_mm_s),
-        y_mm=y, dx_mm=dx, x_mm=x, pn_MPa=pn, tx_MPa=tx, ty_MPa=ty, slip=slip,
-        slip_velocity_mm_s=du * (speed_mm_s / dx[:, None]), PT_W_per_mm2=PT, WT_field_N_per_mm=WT_field,
-        WT_N_per_mm=WT_field[:, -1].copy(), PT_max_W_per_mm2=float(PT.max()), WT_max_N_per_mm=float(WT_field.max()),
-        adhesion_area_mm2=patch.area_mm2() - slip_area, slip_area_mm2=slip_area, ellipse=ell,
-        flexibility=flexibility, L_mm_per_MPa=(L1, L2, L3))
+        tx, ty, du, work, slip = _march(xl, xc, patch.y_mm, pn, int(nx), L1, L2, creepage.vx / L1,
+                                        creepage.vy / L2, creepage.phi_per_mm / L3, float(friction))
+    return cells.result(patch, tx, ty, slip, du * (speed_mm_s / dx[:, None]), work, ell, "fastsim", (L1, L2, L3))
 
 
 @dataclass(frozen=True)
@@ -384,6 +439,7 @@ def sample_on_grid(patch: Patch, result: TangentialResult) -> GridSample:
                       WT_field_N_per_mm=lerp(result.WT_field_N_per_mm))
 
 
-__all__ = ["FLEXIBILITY_RULES", "Creepage", "EquivalentEllipse", "GridSample", "TangentialResult",
+__all__ = ["FLEXIBILITY_RULES", "Creepage", "StripCells", "strip_cells", "EquivalentEllipse", "GridSample",
+           "TangentialResult",
            "equivalent_ellipse", "flexibilities", "sample_on_grid", "simplified_theory_fx_ratio",
            "solve_tangential"]

@@ -1,0 +1,109 @@
+"""Cerruti influence coefficients of uniform tangential traction on rectangular cells, FFT-convolved.
+
+Units: mm, MPa (N/mm^2). Two quasi-identical bodies (same G and nu): the tangential surface displacement
+difference u = u_1 - u_2 caused by the traction t acting on body 1 (and -t on body 2) is twice one body's
+(Johnson 1985, *Contact Mechanics*, eqs. 2.19 at z = 0 (Cerruti); Kalker 1990, *Three-dimensional elastic bodies
+in rolling contact*, section 1.5):
+
+    u_x = 1/(pi G) II [ ((1 - nu)/r + nu x^2/r^3) t_x + nu x y/r^3 t_y ] ds dt
+    u_y = 1/(pi G) II [ nu x y/r^3 t_x + ((1 - nu)/r + nu y^2/r^3) t_y ] ds dt
+
+with (x, y) the offset of the field point from the loaded point and r = |(x, y)|. Since (1 - nu)/r + nu x^2/r^3
+= 1/r - nu y^2/r^3, the integrals over a cell need three corner antiderivatives F (dF/dx dy = kernel):
+
+    1/r      -> x asinh(y/|x|) + y asinh(x/|y|)        (Love 1929; contact.normal.boussinesq)
+    y^2/r^3  -> x asinh(y/|x|)
+    x y/r^3  -> -r
+
+so every coefficient is exact (no quadrature, no epsilon at the singularity). The normal-tangential coupling
+(Cerruti's u_z ~ (1 - 2 nu) x / r^2) vanishes for quasi-identical bodies: the difference of the two bodies'
+normal displacements cancels. For dissimilar materials 1/G becomes (1/G_1 + 1/G_2)/2 with the nu terms weighted
+per body, and Kalker's difference parameter K = ((1 - 2 nu_1)/G_1 - (1 - 2 nu_2)/G_2)/4 couples the normal and
+tangential problems (an outer Panagiotopoulos iteration would then alternate normal and tangential solves).
+
+The coefficients depend only on the cell offsets, so u = A * t is a 2-D linear convolution evaluated exactly by a
+zero-padded real FFT; the kernels' transforms are cached per grid (ny, nx, dy, dx, nu).
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import scipy.fft as sfft
+
+from contact.normal.boussinesq import rectangle_kernel_integral
+
+__all__ = ["TractionHalfSpace", "cerruti_coefficients"]
+
+
+def _asinh_term(a, b):
+    """a asinh(b/|a|), 0 at a = 0 (its limit)."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    safe = np.where(a != 0.0, np.abs(a), 1.0)
+    return np.where(a != 0.0, a * np.arcsinh(b / safe), 0.0)
+
+
+def _corners(fun, x1, x2, y1, y2):
+    return fun(x2, y2) - fun(x1, y2) - fun(x2, y1) + fun(x1, y1)
+
+
+def cerruti_coefficients(di, dj, dx: float, dy: float, poisson: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A_xx, A_xy, A_yy) * pi G: displacement difference at a cell centre (mm, times pi G in MPa) under a unit
+    traction (1 MPa) on a cell (dx by dy, mm) whose centre lies at offset (-di dx, -dj dy) from the field point,
+    i.e. field minus source = (di dx, dj dy). Divide by pi G to get mm/MPa."""
+    xc = np.asarray(di, dtype=float) * dx
+    yc = np.asarray(dj, dtype=float) * dy
+    x1, x2, y1, y2 = xc - 0.5 * dx, xc + 0.5 * dx, yc - 0.5 * dy, yc + 0.5 * dy
+    i_r = rectangle_kernel_integral(x1, x2, y1, y2)
+    i_yy = _corners(lambda x, y: _asinh_term(x, y), x1, x2, y1, y2)       # II y^2/r^3
+    i_xx = _corners(lambda x, y: _asinh_term(y, x), x1, x2, y1, y2)       # II x^2/r^3
+    i_xy = _corners(lambda x, y: -np.hypot(x, y), x1, x2, y1, y2)         # II x y/r^3
+    return i_r - poisson * i_yy, poisson * i_xy, i_r - poisson * i_xx
+
+
+@functools.lru_cache(maxsize=16)
+def _spectra(ny: int, nx: int, dy: float, dx: float, poisson: float):
+    """rfft2 of the three wrapped kernels (scaled by pi G) on the padded shape, and the kernels themselves on the
+    offsets -(n-1)..(n-1) (read-only; the local solver uses the near field)."""
+    shape = (sfft.next_fast_len(2 * ny - 1, real=True), sfft.next_fast_len(2 * nx - 1, real=True))
+    oy = np.arange(shape[0])
+    ox = np.arange(shape[1])
+    oy = np.where(oy < ny, oy, oy - shape[0])
+    ox = np.where(ox < nx, ox, ox - shape[1])
+    kernels = cerruti_coefficients(ox[None, :], oy[:, None], dx, dy, poisson)
+    spec = tuple(sfft.rfft2(k) for k in kernels)
+    jj = np.arange(-(ny - 1), ny)
+    ii = np.arange(-(nx - 1), nx)
+    dense = np.stack(cerruti_coefficients(ii[None, :], jj[:, None], dx, dy, poisson))
+    for a in (*spec, dense):
+        a.setflags(write=False)
+    return spec, shape, dense
+
+
+class TractionHalfSpace:
+    """u = A * t on a grid of ny lines by nx cells (cell dx by dy, mm) for quasi-identical bodies.
+
+    :meth:`displacement` maps tractions (tx, ty), each (ny, nx) in MPa, to the displacement difference (ux, uy) at
+    the cell centres (mm). ``near``: (3, 2 ny - 1, 2 nx - 1) coefficients A_xx, A_xy, A_yy (mm/MPa) for the
+    offsets (field - source) = (dj, di) stored at index (dj + ny - 1, di + nx - 1).
+    """
+
+    def __init__(self, ny: int, nx: int, dy: float, dx: float, G_MPa: float, poisson: float):
+        self.ny, self.nx, self.dy, self.dx = int(ny), int(nx), float(dy), float(dx)
+        spec, self.shape, dense = _spectra(self.ny, self.nx, self.dy, self.dx, float(poisson))
+        scale = 1.0 / (np.pi * G_MPa)
+        self._spec = tuple(s * scale for s in spec)
+        self.near = dense * scale
+        self.evaluations = 0
+
+    def displacement(self, tx: np.ndarray, ty: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(ux, uy) (mm) of the cell tractions (tx, ty) (MPa)."""
+        self.evaluations += 1
+        fx = sfft.rfft2(tx, s=self.shape)
+        fy = sfft.rfft2(ty, s=self.shape)
+        sxx, sxy, syy = self._spec
+        ux = sfft.irfft2(sxx * fx + sxy * fy, s=self.shape)[: self.ny, : self.nx]
+        uy = sfft.irfft2(sxy * fx + syy * fy, s=self.shape)[: self.ny, : self.nx]
+        return ux, uy

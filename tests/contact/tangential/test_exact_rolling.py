@@ -1,0 +1,124 @@
+"""Kalker's exact steady rolling on a grid: Cerruti coefficients, Kalker's linear theory, full sliding, Carter's
+2-D solution on a long strip, grid convergence and errors (units mm, N, MPa)."""
+
+import numpy as np
+import pytest
+from scipy.integrate import dblquad
+
+from contact.tangential.exact_influence import cerruti_coefficients
+from contact.tangential.exact_rolling import RollingOptions, solve_rolling
+from contact.tangential.fastsim import Creepage
+from contact.tangential.kalker_coefficients import creep_coefficients
+from contact.tangential.method import PressureGrid, solve_on_grid
+from tests.contact.tangential.ellipse_grid import effective_axes, hertz_grid
+from wrlayer.errors import ConvergenceError, InputError
+
+NU, G_MPa, MU = 0.25, 80000.0, 0.3
+
+
+def test_cerruti_coefficients_match_quadrature():
+    """The closed forms equal a numerical integral of Johnson's point-force kernels over an off-centre cell."""
+    nu, dx, dy, di, dj = 0.3, 0.4, 0.25, 2, -1
+    xs, ys = di * dx, dj * dy                # field minus source centre
+
+    def integral(kernel):
+        return dblquad(lambda t, s: kernel(xs - s, ys - t), -dx / 2, dx / 2, -dy / 2, dy / 2, epsabs=1e-12)[0]
+
+    r = lambda x, y: np.hypot(x, y)          # noqa: E731
+    want = (integral(lambda x, y: (1 - nu) / r(x, y) + nu * x * x / r(x, y) ** 3),
+            integral(lambda x, y: nu * x * y / r(x, y) ** 3),
+            integral(lambda x, y: (1 - nu) / r(x, y) + nu * y * y / r(x, y) ** 3))
+    got = cerruti_coefficients(di, dj, dx, dy, nu)
+    np.testing.assert_allclose(np.array(got, float), want, rtol=1e-8)
+
+
+def test_cerruti_symmetries():
+    """A_xx and A_yy swap with x <-> y on square cells; A_xy is odd in each offset and zero on a cell's own line."""
+    di, dj = np.meshgrid(np.arange(-3, 4), np.arange(-3, 4))
+    axx, axy, ayy = cerruti_coefficients(di, dj, 0.2, 0.2, 0.28)
+    np.testing.assert_allclose(axx, ayy.T, rtol=1e-12)
+    np.testing.assert_allclose(axy, -axy[:, ::-1], atol=1e-14)
+    np.testing.assert_allclose(axy[3], 0.0, atol=1e-14)
+    assert axx[3, 3] > axx[3, 4] > 0 and ayy[3, 3] > ayy[4, 3] > 0
+
+
+def _coefficients(a, b, nx, ny):
+    """Kalker's C11, C22, C23 from the exact solver at small creepage in full adhesion (mu large), normalised by
+    the ellipse of the loaded cells' area."""
+    grid = hertz_grid(a, b, nx, ny=ny)
+    ae, be = effective_axes(grid, a, b)
+    out = []
+    for creep, comp, scale in (((1e-4, 0, 0), "Fx_N", 1e-4 * ae * be), ((0, 1e-4, 0), "Fy_N", 1e-4 * ae * be),
+                               ((0, 0, 1e-5), "Fy_N", 1e-5 * (ae * be) ** 1.5)):
+        res = solve_on_grid(grid, Creepage(*creep), 1e3, G_MPa, NU, "exact")[0]
+        out.append(-getattr(res, comp) / (G_MPa * scale))
+    return np.array(out)
+
+
+# (a/b, cells along x, lines along y of the coarse grid; the fine grid has twice as many): square cells, a = 3 mm.
+# rtol: the extrapolated coefficients agree with Table E3 within 0.4 % for a/b = 1 and 0.2; for a/b = 5 they lie
+# 1.0-1.3 % above it (C11, C22, C23), on every pair of grids tried (60x12/120x24, 50x10/100x20).
+LINEAR_CASES = [(1.0, 24, 24, 0.01), (0.2, 12, 60, 0.01), (5.0, 60, 12, 0.015)]
+
+
+@pytest.mark.parametrize("ab, nx, ny, rtol", LINEAR_CASES)
+def test_linear_theory_matches_kalkers_table(ab, nx, ny, rtol):
+    """C11, C22, C23 of Kalker's Table E3 (nu = 0.25: a column of the table, no interpolation) from two grids,
+    extrapolated to zero cell size (first order: the upwind slip and the sampled ellipse edge)."""
+    coarse = _coefficients(3.0, 3.0 / ab, nx, ny)
+    fine = _coefficients(3.0, 3.0 / ab, 2 * nx, 2 * ny)
+    k = creep_coefficients(ab, NU)
+    np.testing.assert_allclose(2 * fine - coarse, [k.C11, k.C22, k.C23], rtol=rtol)
+    np.testing.assert_allclose(fine, [k.C11, k.C22, k.C23], rtol=0.025)
+
+
+def test_full_sliding_gives_mu_N():
+    """At a creepage far beyond saturation every loaded cell slips and |F| = mu N, opposite to the creepage."""
+    grid = hertz_grid(4.0, 3.0, 24)
+    normal = grid.p_MPa.sum() * grid.dx_mm * grid.dy_mm
+    res = solve_on_grid(grid, Creepage(0.3, 0.4, 0.0), MU, G_MPa, NU, "exact")[0]
+    assert np.hypot(res.Fx_N, res.Fy_N) == pytest.approx(MU * normal, rel=2e-3)
+    assert res.Fx_N / res.Fy_N == pytest.approx(0.75, rel=2e-3)
+    assert res.Fx_N < 0 and res.adhesion_area_mm2 < 0.02 * res.slip_area_mm2
+
+
+def test_carter_on_a_long_strip():
+    """A patch long in y (2-D Hertz pressure on |y| < 12 a): on the middle line the force per unit length follows
+    Carter's F / (mu P) = 1 - (1 - eps)^2, eps = vx E* / (2 mu p0), E* = E / (2 (1 - nu^2)) (both bodies)."""
+    a, p0, eps = 1.0, 1000.0, 0.5
+    nx, dy = 40, 0.25
+    dx = 2 * a / nx
+    x = (np.arange(-nx // 2 - 2, nx // 2 + 2) + 0.5) * dx
+    y = (np.arange(-48, 48) + 0.5) * dy
+    p = np.broadcast_to(p0 * np.sqrt(np.clip(1 - (x / a) ** 2, 0, None)), (y.size, x.size))
+    e_star = 2 * G_MPa * (1 + NU) / (2 * (1 - NU ** 2))
+    vx = eps * 2 * MU * p0 / e_star
+    res = solve_on_grid(PressureGrid(x, y, p), Creepage(vx, 0, 0), MU, G_MPa, NU, "exact")[0]
+    mid = y.size // 2
+    ratio = res.tx_MPa[mid].sum() / (MU * p[mid].sum())
+    assert -ratio == pytest.approx(1 - (1 - eps) ** 2, abs=0.01)
+
+
+def test_grid_convergence():
+    """The longitudinal force at a creepage with partial slip converges as the cells shrink."""
+    forces = [solve_on_grid(hertz_grid(4.0, 3.0, n), Creepage(0.001, 0, 0.0005), MU, G_MPa, NU, "exact")[0].Fx_N
+              for n in (12, 24, 48)]
+    assert abs(forces[2] - forces[1]) < 0.6 * abs(forces[1] - forces[0])
+    assert abs(forces[2] - forces[1]) < 0.01 * abs(forces[2])
+
+
+def test_zero_creepage_and_no_convergence():
+    grid = hertz_grid(4.0, 3.0, 12)
+    res = solve_on_grid(grid, Creepage(0, 0, 0), MU, G_MPa, NU, "exact")[0]
+    assert res.Fx_N == 0 and res.Fy_N == 0 and not res.slip.any()
+    X, Y = np.meshgrid(grid.x_mm, grid.y_mm)
+    with pytest.raises(ConvergenceError):
+        solve_rolling(grid.x_mm, grid.y_mm, grid.p_MPa, 0.001 + 0 * X, 0 * Y, MU, G_MPa, NU,
+                      RollingOptions(max_sweeps=2))
+
+
+def test_pressure_grid_rejects_bad_input():
+    with pytest.raises(InputError):
+        PressureGrid(np.array([0.0, 1.0, 3.0]), np.array([0.0]), np.ones((1, 3)))
+    with pytest.raises(InputError):
+        PressureGrid(np.array([0.0, 1.0]), np.array([0.0]), -np.ones((1, 2)))
