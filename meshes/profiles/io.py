@@ -31,7 +31,10 @@ import numpy as np
 from wrlayer import validate
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import InputError
+from wrlayer.input_files import MAX_DATA_BYTES
+from wrlayer.input_files import read_text as read_text_file
 from meshes.profiles.base import Profile
+from meshes.profiles.plausibility import check_profile_points
 from meshes.profiles.spline import SplineProfile
 
 _LENGTH_UNITS_MM = {"mm": 1.0, "m": 1000.0}
@@ -42,12 +45,7 @@ _LENGTH_UNITS_MM = {"mm": 1.0, "m": 1000.0}
 # --------------------------------------------------------------------------------------------
 def _read_lines(path) -> tuple[Path, list[str]]:
     path = Path(path)
-    try:
-        return path, path.read_text(encoding="utf-8", errors="replace").splitlines()
-    except FileNotFoundError:
-        raise InputError(str(path), "file not found") from None
-    except OSError as err:
-        raise InputError(str(path), f"cannot read ({err.strerror})") from None
+    return path, read_text_file(path, MAX_DATA_BYTES).splitlines()
 
 
 def _floats(fields: list[str], path: Path, lineno: int) -> list[float]:
@@ -60,8 +58,9 @@ def _floats(fields: list[str], path: Path, lineno: int) -> list[float]:
     return vals
 
 
-def _to_profile(y, z, path: Path, body: str, name: str | None) -> SplineProfile:
-    """Spline profile from points in the project frame, reversing a strictly decreasing order."""
+def _to_profile(y, z, path: Path, body: str, name: str | None, accept_unusual: bool = False) -> SplineProfile:
+    """Spline profile from points in the project frame, reversing a strictly decreasing order; checked for
+    plausibility (:mod:`meshes.profiles.plausibility`) unless ``accept_unusual``."""
     y, z = np.asarray(y, float), np.asarray(z, float)
     big = ~(np.abs(y) <= MAX_COORD_MM) | ~(np.abs(z) <= MAX_COORD_MM)
     if np.any(big):
@@ -79,6 +78,8 @@ def _to_profile(y, z, path: Path, body: str, name: str | None) -> SplineProfile:
         i = int(np.argmax(bad))
         raise InputError(str(path), f"y is not strictly monotone after mirroring/inversion "
                                     f"(points {i + 1} and {i + 2}: y = {y[i]:.6g}, {y[i + 1]:.6g} mm)")
+    if not accept_unusual:
+        check_profile_points(y, z, body, str(path))
     return SplineProfile(y, z, name=name or path.stem, body=body, what=str(path))
 
 
@@ -178,8 +179,10 @@ def _setting(settings: dict, key: str, default: float, path: Path) -> float:
     return val
 
 
-def read_simpack(path, name: str | None = None) -> SplineProfile:
-    """Read a SIMPACK ``.prr``/``.prw`` profile into the project frame (mm, z up); see module doc."""
+def read_simpack(path, name: str | None = None, accept_unusual: bool = False) -> SplineProfile:
+    """Read a SIMPACK ``.prr``/``.prw`` profile into the project frame (mm, z up); see module doc.
+
+    ``accept_unusual``: skip the plausibility checks (units, orientation, steps; a profile unusual on purpose)."""
     settings, pts = parse_simpack(path)
     path = Path(path)
 
@@ -208,7 +211,7 @@ def read_simpack(path, name: str | None = None) -> SplineProfile:
     len_f = num("units.len.f", 1000.0)
     to_mm = 1000.0 / len_f
     kind = int(num("header.type", 0.0))
-    return _to_profile(y * to_mm, -z * to_mm, path, ("rail", "wheel")[kind], name)
+    return _to_profile(y * to_mm, -z * to_mm, path, ("rail", "wheel")[kind], name, accept_unusual)
 
 
 def write_simpack(path, profile_or_points, body: str | None = None, comment: str = "", ds: float = 0.2) -> Path:
@@ -254,7 +257,7 @@ def write_simpack(path, profile_or_points, body: str | None = None, comment: str
 # Plain text / CSV
 # --------------------------------------------------------------------------------------------
 def read_text(path, units: str = "mm", z_down: bool = False, body: str = "rail",
-              name: str | None = None) -> SplineProfile:
+              name: str | None = None, accept_unusual: bool = False) -> SplineProfile:
     """Read two columns (y, z) separated by whitespace, commas or semicolons.
 
     ``units``: "mm" or "m" (the file's length unit); ``z_down``: the file's z points downwards;
@@ -282,7 +285,7 @@ def read_text(path, units: str = "mm", z_down: bool = False, body: str = "rail",
     if not pts:
         raise InputError(str(path), "no profile points found")
     arr = np.array(pts) * _LENGTH_UNITS_MM[units]
-    return _to_profile(arr[:, 0], -arr[:, 1] if z_down else arr[:, 1], path, body, name)
+    return _to_profile(arr[:, 0], -arr[:, 1] if z_down else arr[:, 1], path, body, name, accept_unusual)
 
 
 def write_text(path, profile_or_points, units: str = "mm", z_down: bool = False, ds: float = 0.2,
@@ -305,7 +308,7 @@ def read_profile(path, **kw) -> SplineProfile:
     """Read a profile file by suffix: .prr/.prw (SIMPACK) or .txt/.csv (two columns, see read_text)."""
     suffix = Path(path).suffix.lower()
     if suffix in (".prr", ".prw"):
-        unknown = set(kw) - {"name"}
+        unknown = set(kw) - {"name", "accept_unusual"}
         if unknown:
             raise InputError(str(path), f"options {sorted(unknown)} do not apply to SIMPACK files")
         return read_simpack(path, **kw)

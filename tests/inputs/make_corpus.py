@@ -415,7 +415,7 @@ def main() -> None:
     for name, text, fragment in PROFILE_BAD + CSV_BAD:
         (folder / name).write_text(text, encoding="utf-8")
         expected[name] = fragment
-    for name, fragment in (("binary_garbage.prr", "no point block"), ("binary_garbage.csv", "expected 2 columns")):
+    for name, fragment in (("binary_garbage.prr", "not UTF-8 text"), ("binary_garbage.csv", "not UTF-8 text")):
         (folder / name).write_bytes(GARBAGE)
         expected[name] = fragment
     write_expected(folder, expected)

@@ -48,7 +48,7 @@ def test_simpack_round_trip(tmp_path, head_points):
     assert prof.body == "rail" and prof.name == "rail"
     assert np.allclose(prof.points, head_points, atol=1e-10)
     # a SplineProfile writes its own points: a second round trip is exact
-    again = read_profile(write_simpack(tmp_path / "again.prw", prof, body="wheel"))
+    again = read_profile(write_simpack(tmp_path / "again.prw", prof, body="wheel"), accept_unusual=True)  # a rail head as a wheel
     assert again.body == "wheel"
     assert np.allclose(again.points, prof.points, atol=1e-10)
 
@@ -122,7 +122,7 @@ def test_simpack_bad_input(tmp_path, head_points, mutate, message):
 
 
 def test_missing_file(tmp_path):
-    with pytest.raises(InputError, match="file not found"):
+    with pytest.raises(InputError, match="no such file"):
         get_profile(str(tmp_path / "nope.prw"))
 
 
@@ -141,7 +141,7 @@ def test_text_round_trip(tmp_path, suffix, units, z_down):
 def test_text_header_comments_and_decreasing_order(tmp_path):
     path = tmp_path / "p.csv"
     path.write_text("# measured\ny;z\n3;0.9\n2;0.4\n1;0.1   # inline comment\n0;0\n")
-    prof = read_text(path)
+    prof = read_text(path, accept_unusual=True)  # four points: the format, not a real rail head
     assert np.allclose(prof.points, [[0, 0], [1, 0.1], [2, 0.4], [3, 0.9]])
 
 
