@@ -54,7 +54,8 @@ from contact.wear.profile_grid import ArcGrid
 from contact.wear.runner import TaskRunner, map_tasks
 from contact.wear.scene import WearScene
 from contact.wheel_rail.contact_search import raw_min_gap
-from contact.wheel_rail.solve import WheelRailLayers, rigid_roll
+from contact.wheel_rail.deformed import rigid_roll
+from contact.wheel_rail.inputs import WheelRailLayers
 from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
 from wrlayer.errors import ConvergenceError, InputError, WrLayerError
 

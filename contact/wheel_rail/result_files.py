@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from contact.wheel_rail.solve import PatchSolution, WheelRailSolution
+from contact.wheel_rail.solution import PatchSolution, WheelRailSolution
 from contact.wheel_rail.reference_point import weighted_centre_eta
 from contact.wheel_rail.scene import WheelRailScene
 

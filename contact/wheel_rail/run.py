@@ -22,7 +22,9 @@ from contact.scenes.result_io import UNITS, code_version
 from contact.tangential.frictional_outputs import write_wheel_rail
 from contact.wheel_rail.result_files import CONVENTIONS, cases_csv, inputs_echo, wheel_result
 from contact.wheel_rail.scene import SWEEP_KEYS, CaseSpec, WheelRailScene
-from contact.wheel_rail.solve import WheelRailSolution, deformed_profile, residual_on_profiles, rigid_roll, solve_wheel
+from contact.wheel_rail.deformed import deformed_profile, residual_on_profiles, rigid_roll
+from contact.wheel_rail.solution import WheelRailSolution
+from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import PlacedRail, WheelsetPose, place_rail
 from wrlayer.errors import ConvergenceError, InputError
 from wrlayer.progress import progress
