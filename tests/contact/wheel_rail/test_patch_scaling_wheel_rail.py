@@ -19,7 +19,7 @@ TABLES = Path(__file__).resolve().parents[3] / "scenes" / "tables"
 
 
 def _run(data, scene_path, out_dir, plots=False):
-    return run_wheel_rail_scene(parse_wheel_rail_scene(data, scene_path), out_dir, plots)
+    return run_wheel_rail_scene(parse_wheel_rail_scene(data, scene_path), out_dir, plots).to_dict()
 
 
 class _Recording:
