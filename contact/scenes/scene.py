@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from contact.layer.characteristic import Characteristic
+from contact.layer.layer_table import read_body_table
 from wrlayer.elastic import shear_modulus_MPa
 from wrlayer.errors import InputError
 from wrlayer.validate import (
@@ -390,21 +391,8 @@ def _characteristic(keys: SceneKeys) -> Characteristic:
 def _parse_body(keys: SceneKeys, body: str, base: Path, hashes: list[str]) -> BodyLayerSpec:
     if "table" in keys.table:
         keys.check_known(("table", "position_mm", "scale_to_patch"))
-        rel = keys.text("table")
-        table_path = (base / rel).resolve()
-        if not table_path.is_file():
-            raise keys.error("table", f"no such calibration table {rel!r} (looked at {table_path})")
+        table_path, table = read_body_table(keys.text("table"), base, body, keys.what("table"))
         position = keys.number("position_mm")
-        try:
-            from contact.layer.layer_table import LayerTable
-        except ImportError:
-            raise keys.error("table", "calibration tables are not available (contact.layer.layer_table missing)") from None
-        try:
-            table = LayerTable.read(table_path)
-        except InputError as err:
-            raise keys.error("table", str(err)) from None
-        if getattr(table, "body", body) not in (body, None):
-            raise keys.error("table", f"is a {table.body} table, expected a {body} table")
         hashes.append(hashlib.sha256(table_path.read_bytes()).hexdigest())
         spec = BodyLayerSpec(body, table_path=table_path, position_mm=position, table=table,
                              scale_to_patch=keys.boolean("scale_to_patch", False))

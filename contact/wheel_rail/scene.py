@@ -16,12 +16,13 @@ from pathlib import Path
 from typing import Any
 
 from contact.layer.characteristic import Characteristic
+from contact.layer.layer_table import read_body_table
 from contact.normal.method import NormalMethod
 from contact.passes.passes import PassesOptions
 from contact.scenes.result_io import Record
 from contact.wheel_rail.contact_search import SearchSettings
 from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
-from contact.wheel_rail.scene_files import file_sha256, read_layer_table, read_profile
+from contact.wheel_rail.scene_files import file_sha256, read_profile
 from contact.wheel_rail.sweep_spec import CaseSpec, SweepSpec
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose
 from meshes.profiles import Profile
@@ -225,7 +226,7 @@ def read_layers(combined: CombinedLayerSpec | None, tables: dict[str, str], scal
         return LayersSpec(combined=combined, solver=WheelRailLayers(combined=char))
     read, paths = {}, {}
     for body, rel in tables.items():
-        paths[body], read[body] = read_layer_table(rel, base, body, f"{what}.{body}")
+        paths[body], read[body] = read_body_table(rel, base, body, f"{what}.{body}")
     if scale_to_patch:
         for body, table in read.items():
             if any(table.calibrated_length_mm(y) is None for y in table.y_range_mm):
