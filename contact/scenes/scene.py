@@ -194,6 +194,10 @@ class Scene:
     data: dict[str, Any] = field(default_factory=dict)
     content_hash: str = ""
 
+    def __repr__(self) -> str:
+        return (f"Scene({self.path.name}: N={self.load.normal_force_N:g} N, {self.separation.kind} separation, "
+                f"layer {'none' if self.layer is None else 'yes'}, passes.max={self.passes.max})")
+
     @property
     def name(self) -> str:
         return self.path.stem

@@ -375,6 +375,10 @@ class WheelRailScene:
     rail_profile: Profile | None = field(default=None, compare=False, repr=False)
     wheel_profile: Profile | None = field(default=None, compare=False, repr=False)
 
+    def __repr__(self) -> str:
+        return (f"WheelRailScene({self.path.name}: {self.profiles.rail}/{self.profiles.wheel}, sides {self.sides}, "
+                f"{len(self.cases)} cases, layers {'none' if self.layers is None else 'yes'})")
+
     @property
     def layout(self) -> TrackLayout:
         """Track and wheelset dimensions (mm, rad)."""
