@@ -1,6 +1,6 @@
 """The TOML "wear" scene (units mm, N, MPa, s, rad; distance in km). Run by ``python -m contact wear SCENE --out DIR``.
 
-Everything of a wheel_rail scene (:mod:`contact.wheel_rail.scene`: [profiles], [track], [wheel], [wheelset], [load],
+Everything of a wheel_rail scene (:mod:`contact.wheel_rail.parse`: [profiles], [track], [wheel], [wheelset], [load],
 [material], [tangential], [layers], [passes], [method]) except [sweep] and [output], plus::
 
     type = "wear"                                          (required)
