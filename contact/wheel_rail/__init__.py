@@ -13,7 +13,8 @@ One module per step of a wheel–rail case:
 - :mod:`~contact.wheel_rail.solve`: solve one wheel: search, balance, passes, coverage; merge and layer retries.
 - :mod:`~contact.wheel_rail.solution`: the solution of one wheel (patches, forces).
 - :mod:`~contact.wheel_rail.deformed`: residual displacements on the profiles; the rigid wheelset's roll.
-- :mod:`~contact.wheel_rail.scene`: the typed wheel–rail scene (one dataclass per TOML section).
+- :mod:`~contact.wheel_rail.scene`: the typed wheel–rail scene (one dataclass per TOML section;
+  :mod:`~contact.wheel_rail.layers_spec`: its [layers]).
 - :mod:`~contact.wheel_rail.parse`: scene TOML -> the typed scene; :mod:`~contact.wheel_rail.sweep`: its cases
   (:mod:`~contact.wheel_rail.sweep_spec`: the case records); :mod:`~contact.wheel_rail.scene_files`: the profile
   and CSV files a scene names.
