@@ -10,8 +10,7 @@ passes × strips × (STRIP_S + cells × CELL_S)), strips = WHEEL_RAIL_WINDOW_MM 
 
 from __future__ import annotations
 
-from typing import Any
-
+from contact.normal.exact import DEFAULT_CELLS
 from wrlayer.cost import CostEstimate
 
 #: Normal solve (+ layer) per strip and pass (s): 7.5-17 us measured on the paper scenes; rounded up.
@@ -25,8 +24,6 @@ LAYER_CASE_WHEEL_S = 0.15
 #: Exact (FFT half-space) normal solver per strip of the table and x cell, per pass (s): 27 ms CPU for the paper
 #: scene with the layer (160 strips, 48 cells; docs/exact-solver.md) -> 3.5 us; rounded up.
 EXACT_CELL_S = 5e-6
-#: method.exact_cells when not given (contact.normal.exact.DEFAULT_CELLS).
-EXACT_DEFAULT_CELLS = 48
 #: Lateral extent of a wheel–rail contact candidate's strip grid assumed by the estimate (mm).
 WHEEL_RAIL_WINDOW_MM = 40.0
 
@@ -43,33 +40,32 @@ def scene_cost(scene) -> CostEstimate:
         factors["cells"] = cells
     per_strip = STRIP_S + cells * CELL_S
     if getattr(scene.method, "normal", "kik_piotrowski") == "exact":
-        exact_cells = scene.method.exact_cells or EXACT_DEFAULT_CELLS
+        exact_cells = scene.method.exact_cells or DEFAULT_CELLS
         factors["exact cells"] = exact_cells
         per_strip += exact_cells * EXACT_CELL_S
     seconds = passes * strips * per_strip
     return CostEstimate(scene.path.name, factors, seconds)
 
 
-def wheel_rail_cost(parsed: dict[str, Any], what: str) -> CostEstimate:
-    """Estimate of a parsed wheel–rail scene (the dict of :func:`contact.wheel_rail.scene.parse_wheel_rail_scene`)."""
-    inputs = parsed["inputs"]
-    cases = len(parsed["cases"])
-    wheels = len(parsed["sides"])
-    passes = inputs["passes"].max_passes
-    strips = WHEEL_RAIL_WINDOW_MM / inputs["grid_mm"]
-    cells = inputs["fastsim_cells"] if inputs["friction"] > 0 else 0
-    per = CASE_WHEEL_S + (LAYER_CASE_WHEEL_S if parsed["layers"] is not None else 0.0)
+def wheel_rail_cost(scene) -> CostEstimate:
+    """Estimate of a parsed wheel–rail scene (:class:`contact.wheel_rail.scene.WheelRailScene`)."""
+    method = scene.method
+    cases = len(scene.sweep.cases)
+    wheels = len(scene.sides)
+    passes = scene.passes.max
+    strips = WHEEL_RAIL_WINDOW_MM / method.grid_mm
+    cells = method.fastsim_cells if scene.tangential.friction > 0 else 0
+    per = CASE_WHEEL_S + (LAYER_CASE_WHEEL_S if scene.layers is not None else 0.0)
     per_strip = STRIP_S + cells * CELL_S
     factors: dict[str, float] = {"cases": cases, "wheels": wheels, "passes": passes, "strips": round(strips)}
     if cells:
         factors["cells"] = cells
-    method = inputs.get("normal_method")
-    if method is not None and getattr(method, "name", "") == "exact":
-        exact_cells = method.exact_cells or EXACT_DEFAULT_CELLS
+    if method.normal == "exact":
+        exact_cells = method.exact_cells or DEFAULT_CELLS
         factors["exact cells"] = exact_cells
         per_strip += exact_cells * EXACT_CELL_S
     seconds = cases * wheels * (per + passes * strips * per_strip)
-    return CostEstimate(what, factors, seconds)
+    return CostEstimate(scene.path.name, factors, seconds)
 
 
 __all__ = ["scene_cost", "wheel_rail_cost"]

@@ -35,6 +35,7 @@ A condition without contact, a solver failure or a profile that folds stops the 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import sys
 import time
@@ -53,7 +54,8 @@ from contact.wear.profile_grid import ArcGrid
 from contact.wear.runner import TaskRunner, map_tasks
 from contact.wear.scene import WearScene
 from contact.wheel_rail.contact_search import raw_min_gap
-from contact.wheel_rail.solve import WheelRailInputs, WheelRailLayers, rigid_roll
+from contact.wheel_rail.deformed import rigid_roll
+from contact.wheel_rail.inputs import WheelRailLayers
 from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
 from wrlayer.errors import ConvergenceError, InputError, WrLayerError
 
@@ -116,7 +118,7 @@ class WearStopped(WrLayerError):
 
 def passes_per_km(scene: WearScene) -> dict:
     """Passes per km of wheel running distance: {"wheel": 1e6/(2 pi r0), "rail": that * rail_passes_per_wheel_pass}."""
-    r0 = scene.parsed["layout"].nominal_radius_mm
+    r0 = scene.parsed.layout.nominal_radius_mm
     n = 1e6 / (2.0 * math.pi * r0)
     return {"wheel": n, "rail": n * scene.settings.rail_passes_per_wheel_pass}
 
@@ -124,7 +126,7 @@ def passes_per_km(scene: WearScene) -> dict:
 def _roll(scene: WearScene, profiles: dict, pose: WheelsetPose) -> float:
     """Roll of the rigid wheelset at which both wheels touch (both sides' own profiles when both are simulated)."""
     parsed = scene.parsed
-    layout, settings = parsed["layout"], parsed["inputs"]["search"]
+    layout, settings = parsed.layout, parsed.method.search
     if len(profiles) == 1:
         (_side, pr), = profiles.items()
         return rigid_roll(place_rail(pr["rail"], layout), pr["wheel"], layout, pose, settings)
@@ -147,7 +149,7 @@ def side_layers(scene: WearScene, state: dict | None, side: str, recalibrated: d
     """The layers of one side: the scene's (or the tables recalibrated on the worn profiles,
     ``recalibrated[(side, body)]``), with every table position hardened to its largest peak pressure so far
     (``state[(side, body)] = (y, p_hist)``) in the hardening mode."""
-    layers = scene.parsed["layers"]
+    layers = scene.parsed.solver_layers
     if not scene.settings.inelastic or layers is None:
         return None
     if layers.combined is not None:
@@ -200,24 +202,24 @@ def build_tasks(scene: WearScene, profiles: dict, step: int, step_km: float, sta
     """The (condition, side) tasks of a step on the current profiles (``state``: the layer state, see
     :func:`side_layers`)."""
     parsed = scene.parsed
-    cap = parsed["inputs"]["passes"].max_passes
+    cap = parsed.passes.max
     n_km = passes_per_km(scene)["wheel"]
     tasks = []
     for k, c in enumerate(scene.collective.conditions):
         pose = WheelsetPose(c.lateral_mm, c.yaw_rad, 0.0)
-        if parsed["roll_auto"]:
+        if parsed.roll_auto:
             try:
                 pose = WheelsetPose(c.lateral_mm, c.yaw_rad, _roll(scene, profiles, pose))
             except (InputError, ConvergenceError) as err:
                 raise InputError(f"step {step}, condition {k} ({c.describe()})", f"no rigid contact: {err}") from None
         n_pass = int(max(1, min(cap, math.ceil(c.weight * step_km * n_km))))
-        opts = parsed["inputs"]["passes"]
+        opts = parsed.passes
         for side in profiles:
-            pitch = parsed["inputs"]["pitch_rate_rad_s"] if c.pitch_rate_rad_s is None else c.pitch_rate_rad_s
-            inputs = WheelRailInputs(**{**parsed["inputs"], "side": side, "pose": pose, "pitch_rate_rad_s": pitch,
-                                        "vertical_load_N": c.vertical_load_N, "speed_mm_s": c.speed_mm_s,
-                                        "normal": scene.normal,
-                                        "passes": PassesOptions(n_pass, opts.tolerance_mm, opts.hardening)})
+            pitch = parsed.wheelset.pitch_rate_rad_s if c.pitch_rate_rad_s is None else c.pitch_rate_rad_s
+            inputs = dataclasses.replace(parsed.inputs(side, pose), pitch_rate_rad_s=pitch,
+                                         vertical_load_N=c.vertical_load_N, speed_mm_s=c.speed_mm_s,
+                                         normal_method=scene.normal,
+                                         passes=PassesOptions(n_pass, opts.tolerance_mm, opts.hardening))
             tasks.append(ConditionTask(k, side, c, profiles[side]["rail"], profiles[side]["wheel"], inputs,
                                        side_layers(scene, state, side, recalibrated), scene.law, scene.normal,
                                        step))
@@ -265,10 +267,10 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
 
     show_progress = progress_enabled(not show_progress)
     parsed, settings, col = scene.parsed, scene.settings, scene.collective
-    layout = parsed["layout"]
-    profiles = {side: {"rail": parsed["rail"], "wheel": parsed["wheel"]} for side in parsed["sides"]}
+    layout = parsed.layout
+    profiles = {side: {"rail": parsed.rail_profile, "wheel": parsed.wheel_profile} for side in parsed.sides}
     run = WearRun(scene, {s: dict(p) for s, p in profiles.items()},
-                  radius_difference(profiles, layout, settings.conicity_amplitude_mm, parsed["inputs"]["search"]), [])
+                  radius_difference(profiles, layout, settings.conicity_amplitude_mm, parsed.method.search), [])
     done_km, step = 0.0, 0
     state = {}  # (side, body) -> (profile coordinates y, largest peak pressure so far p_hist) for the layer state
     for s, p in profiles.items():
@@ -316,14 +318,14 @@ def run_wear(scene: WearScene, on_step: Callable[[StepRecord, WearRun], None] | 
             for (s, b), g in grids.items():
                 wear = smooth_rate[s, b] * length
                 total = wear + smooth_inel[s, b]
-                name = f"{parsed[b].name} {s} after step {step}"
+                name = f"{run.initial_profiles[s][b].name} {s} after step {step}"
                 new_profiles[s][b] = g.updated(total, name, f"step {step}: {s} {b} profile")
                 bodies[s, b] = BodyStep(g, wear, smooth_inel[s, b], rate[s, b] * length,
                                         _stats(g, wear, smooth_inel[s, b], length, b, layout.nominal_radius_mm,
                                                scene.law.density_kg_m3))
             t_update = time.perf_counter() - t1
             conic = radius_difference(new_profiles, layout, settings.conicity_amplitude_mm,
-                                      parsed["inputs"]["search"])
+                                      parsed.method.search)
             rec = StepRecord(step, done_km, length, bodies, conic,
                              [{"condition": r.index, "side": r.side, "passes": r.passes, "shakedown": r.shakedown,
                                "seconds": r.seconds, "merge_mm": r.merge_mm, "patches": r.summary} for r in results],

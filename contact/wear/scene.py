@@ -1,6 +1,6 @@
 """The TOML "wear" scene (units mm, N, MPa, s, rad; distance in km). Run by ``python -m contact wear SCENE --out DIR``.
 
-Everything of a wheel_rail scene (:mod:`contact.wheel_rail.scene`: [profiles], [track], [wheel], [wheelset], [load],
+Everything of a wheel_rail scene (:mod:`contact.wheel_rail.parse`: [profiles], [track], [wheel], [wheelset], [load],
 [material], [tangential], [layers], [passes], [method]) except [sweep] and [output], plus::
 
     type = "wear"                                          (required)
@@ -45,7 +45,9 @@ from contact.normal.method import NormalMethod
 from contact.scenes.scene import SceneKeys
 from contact.wear.collective import Condition, LoadCollective
 from contact.wear.laws import USFD_MATERIALS, ArchardMap, UsfdTable, WearLaw
-from contact.wheel_rail.scene import _values, parse_wheel_rail_scene
+from contact.wheel_rail.parse import parse_wheel_rail_scene
+from contact.wheel_rail.scene import WheelRailScene
+from contact.wheel_rail.sweep import sweep_values
 from wrlayer.errors import InputError
 
 WHEEL_RAIL_SECTIONS = ("title", "description", "profiles", "track", "wheel", "wheelset", "load", "material",
@@ -79,12 +81,12 @@ class WearSettings:
 
 @dataclass(frozen=True)
 class WearScene:
-    """A parsed wear scene: the wheel-rail part (``parsed``, as :func:`parse_wheel_rail_scene` returns it), the
-    normal method, the law, the collective and the settings."""
+    """A parsed wear scene: the wheel-rail part (``parsed``, :func:`parse_wheel_rail_scene`), the normal method,
+    the law, the collective and the settings."""
 
     path: Path
     data: dict
-    parsed: dict
+    parsed: WheelRailScene
     normal: NormalMethod
     law: WearLaw
     collective: LoadCollective
@@ -139,7 +141,7 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     settings = _recalibration(wear, scene_path.parent, settings, parsed)
     if settings.layer_state not in ("hardening", "virgin"):
         raise wear.error("layer_state", f"must be 'hardening' or 'virgin', got {settings.layer_state!r}")
-    if settings.inelastic and parsed["layers"] is None:
+    if settings.inelastic and parsed.layers is None:
         raise wear.error("inelastic", "true needs [layers] (the Prandtl layer gives the inelastic displacement); "
                          "set inelastic = false for abrasive wear alone")
     distance = wear.number("distance_km")
@@ -159,7 +161,7 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     return WearScene(scene_path, data, parsed, normal, law, collective, settings)
 
 
-def _recalibration(wear: SceneKeys, base: Path, settings: WearSettings, parsed: dict) -> WearSettings:
+def _recalibration(wear: SceneKeys, base: Path, settings: WearSettings, parsed: WheelRailScene) -> WearSettings:
     """[wear.recalibrate]: the calibration template (must use a placeholder) and the interval in steps."""
     import dataclasses
 
@@ -177,7 +179,7 @@ def _recalibration(wear: SceneKeys, base: Path, settings: WearSettings, parsed: 
     if not template_bodies(text):
         raise sub.error("config", f"{rel} uses neither placeholder {' nor '.join(PLACEHOLDERS.values())} "
                         "(where the worn profile files go)")
-    layers = parsed["layers"]
+    layers = parsed.solver_layers
     if layers is None or layers.combined is not None:
         raise sub.error("config", "recalibration needs per-body [layers] tables (rail and/or wheel)")
     return dataclasses.replace(settings, recalibrate_config=str(path), recalibrate_template=text,
@@ -224,9 +226,8 @@ def _law(wear: SceneKeys) -> WearLaw:
     return WearLaw(name, archard, usfd, wear.number("density_kg_m3", 7850.0, gt=0.0))
 
 
-def _conditions(col: SceneKeys, parsed: dict) -> list[Condition]:
-    load = parsed["inputs"]
-    Q0, V0 = load["vertical_load_N"], load["speed_mm_s"]
+def _conditions(col: SceneKeys, parsed: WheelRailScene) -> list[Condition]:
+    Q0, V0 = parsed.load.vertical_load_N, parsed.load.speed_mm_s
     if "condition" in col.table:
         col.check_known(("condition",))
         rows = col.table["condition"]
@@ -245,7 +246,7 @@ def _conditions(col: SceneKeys, parsed: dict) -> list[Condition]:
     col.check_known(("lateral_mm", "yaw_rad", "weights"))
     if "lateral_mm" not in col.table:
         raise col.error("lateral_mm", "give [[collective.condition]] tables or a sweep (lateral_mm, weights)")
-    lat = _values(col, "lateral_mm") if isinstance(col.table["lateral_mm"], dict) else col.array("lateral_mm", 1)
+    lat = sweep_values(col, "lateral_mm") if isinstance(col.table["lateral_mm"], dict) else col.array("lateral_mm", 1)
     yaw_value = col.table.get("yaw_rad", 0.0)
     yaw = np.full(lat.size, col.number("yaw_rad", 0.0)) if not isinstance(yaw_value, list) \
         else col.array("yaw_rad", 1)

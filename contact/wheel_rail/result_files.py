@@ -1,0 +1,107 @@
+"""The files of a wheel_rail result: the input echo and conventions of result.json, and ``cases.csv`` (one row per
+loaded patch: pose, location, angle, N, Fx, Fy, p_max, area, creepages, Y/Q, balance residual, run time;
+:data:`CSV_COLUMNS`) (units mm, N, MPa, s, rad; conventions: :data:`CONVENTIONS`, docs/wheel-rail.md).
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import io
+from typing import Any
+
+from contact.wheel_rail.results import SweepResult
+from contact.wheel_rail.scene import WheelRailScene
+
+#: Columns of cases.csv (one row per loaded patch; a failed case gets one row with its error).
+CSV_COLUMNS = ("case", "lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s", "vertical_load_N", "speed_mm_s",
+               "side", "patch", "contact_point", "y_rail_mm", "y_wheel_mm", "Y_track_mm", "Z_track_mm",
+               "y_rail_first_contact_mm", "y_rail_weighted_centre_mm",
+               "contact_angle_deg", "normal_force_N", "load_share", "Fx_N", "Fy_N", "Mz_Nmm", "p_max_MPa",
+               "area_mm2", "creepage_x", "creepage_y", "spin_per_mm", "delta_mm", "approach_mm", "Y_over_Q",
+               "vertical_force_N", "vertical_balance_rel", "time_s", "error")
+
+
+def cases_csv(result: SweepResult) -> str:
+    """The per-case table of a wheel_rail result as CSV text (columns :data:`CSV_COLUMNS`; units in the names)."""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(CSV_COLUMNS)
+    for case in result.cases:
+        e = case.to_dict()
+        head = {k: e.get(k) for k in CSV_COLUMNS[:7]}
+        if case.error is not None:
+            w.writerow([head.get(k, "") if k in head else (case.error if k == "error" else "") for k in CSV_COLUMNS])
+            continue
+        for side, wr in case.wheels.items():
+            for j, patch in enumerate(wr.patches):
+                pr = patch.to_dict()
+                row = {**head, **{k: pr.get(k) for k in CSV_COLUMNS if k in pr}, "side": side, "patch": j,
+                       "y_rail_first_contact_mm": patch.first_contact.y_rail_mm,
+                       "y_rail_weighted_centre_mm": patch.weighted_centre.y_rail_mm,
+                       "approach_mm": wr.approach_mm, "Y_over_Q": wr.Y_over_Q,
+                       "vertical_force_N": wr.vertical_force_N, "vertical_balance_rel": wr.vertical_balance_rel,
+                       "time_s": case.time_s, "error": ""}
+                w.writerow(["" if row.get(k) is None else (f"{row[k]:.10g}" if isinstance(row[k], float) else row[k])
+                            for k in CSV_COLUMNS])
+    return buf.getvalue()
+
+
+CONVENTIONS = {
+    "y_rail_mm": "rail profile coordinate of the contact point: from the head centre line, + towards the field side "
+                 "(gauge side negative); same for both rails",
+    "y_wheel_mm": "wheel profile coordinate (S1002: S, 0 at the taping line, + towards the field side, flange "
+                  "negative); same for both wheels",
+    "Y_track_mm": "lateral track coordinate of the wheel contact point (from the track centre, + towards the right "
+                  "rail)",
+    "contact_point": "y_rail_mm, y_wheel_mm, Y_track_mm, Z_track_mm, X_lead_mm of a patch are its reference point "
+                     "(method.contact_point: first_contact = rigid first contact, weighted_centre = centre of the "
+                     "interpenetration region weighted by the depth), in the contact plane; creepages, spin, FASTSIM "
+                     "and Mz refer to it; first_contact and weighted_centre are both reported; see docs/wheel-rail.md",
+    "vertical_force_N": "Z component of the total contact force on the wheel (normal + tangential); the balance "
+                        "(method.balance = total) makes it equal the vertical load",
+    "load_share": "a patch's share of the wheel's vertical force",
+    "contact_angle_rad": "angle of the contact normal at the reference point (weighted centre: the weighted mean "
+                         "angle; first_contact.contact_angle_rad: the candidate's) from the vertical, positive when "
+                         "it tilts towards the track centre (flange contact ~ +1.2 rad), same sign for both wheels",
+    "rolling_radius_kp_mm": "Kik-Piotrowski radius in the rolling direction: 1/(k_c cos^2 b + k_m sin^2 b); without "
+                            "yaw r / cos(wheel contact angle)",
+    "strips": "per strip of a patch (track orientation, eta = 0 at the contact point): separation f in the contact "
+              "plane (shifted to min 0), peak pressure p(0, eta), and the strip's profile coordinates on rail and wheel",
+    "lateral_mm/yaw_rad/roll_rad": "wheelset displacement towards the right rail; yaw counter-clockwise seen from "
+                                   "above; roll lifting the right wheel",
+}
+
+
+def inputs_echo(scene: WheelRailScene) -> dict[str, Any]:
+    """The resolved inputs of the scene as written in result.json ("inputs")."""
+    lay = scene.layout
+    inp = scene.inputs()
+    layers = scene.layers
+    path = scene.path
+    return {
+        "scene_file": str(path.resolve()),
+        "content_sha256": hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None,
+        "title": scene.data.get("title", ""), "description": scene.data.get("description", ""),
+        "rail_profile": scene.rail_profile.name, "wheel_profile": scene.wheel_profile.name,
+        "track": {"gauge_mm": lay.gauge_mm, "gauge_depth_mm": lay.gauge_depth_mm,
+                  "inclination_rad": lay.inclination_rad, "back_to_back_mm": lay.back_to_back_mm,
+                  "flange_back_y_mm": lay.flange_back_y_mm, "nominal_radius_mm": lay.nominal_radius_mm},
+        "sides": scene.sides, "roll": "auto" if scene.roll_auto else "given",
+        "vertical_load_N": inp.vertical_load_N, "speed_mm_s": inp.speed_mm_s,
+        "pitch_rate_rad_s": inp.omega_rad_s,
+        "friction": inp.friction, "E_MPa": inp.E_MPa, "poisson": inp.poisson, "G_MPa": inp.G_MPa,
+        "method": {"alpha": inp.alpha, "grid_mm": inp.grid_mm, "fastsim_cells": inp.fastsim_cells,
+                   "normal": inp.normal_method.name, "exact_cells": inp.normal_method.exact_cells,
+                   "layer_mode": inp.normal_method.layer_mode, "contact_point": inp.contact_point,
+                   "balance": inp.balance, **vars(inp.search)},
+        "sweep_csv": None if scene.sweep.csv is None else scene.sweep.csv.to_dict(),
+        "passes": vars(inp.passes),
+        "layers": None if layers is None else (
+            {"combined": layers.solver.combined.to_dict()} if layers.combined is not None else
+            {**layers.solver.names, "sha256": layers.sha256}),
+        "scene_toml": scene.data,
+    }
+
+
+__all__ = ["CONVENTIONS", "CSV_COLUMNS", "cases_csv", "inputs_echo"]

@@ -1,0 +1,55 @@
+"""The files a wheel–rail scene names: profiles and sweep CSVs, found relative to the scene file or in the shared
+reference folder (``reference:`` names); calibration tables: :func:`contact.layer.layer_table.read_body_table`.
+
+Every reader raises :class:`wrlayer.errors.InputError` naming ``what`` (``<file>: <section>.<key>``).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+
+from meshes.profiles import Profile, get_profile
+from wrlayer.errors import InputError
+
+#: Profile file suffixes a scene may name (anything else is a standard profile name).
+PROFILE_SUFFIXES = (".prr", ".prw", ".txt", ".csv")
+
+
+def reference_dir() -> Path:
+    """The shared reference folder: ``$WRLAYER_REFERENCE`` or ``<repo>/../shared/reference``."""
+    env = os.environ.get("WRLAYER_REFERENCE")
+    return Path(env) if env else Path(__file__).resolve().parents[2].parent / "shared" / "reference"
+
+
+def resolve_path(name: str, base: Path) -> Path:
+    """A file named in a scene: ``reference:REL`` is REL inside :func:`reference_dir`, anything else is relative to
+    the scene file's folder ``base``."""
+    if name.startswith("reference:"):
+        return reference_dir() / name[len("reference:"):]
+    return base / name
+
+
+def file_sha256(path: Path) -> str:
+    """sha256 of a file's bytes (hex)."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def read_profile(name: str, base: Path, body: str, what: str) -> Profile:
+    """The ``body`` ("rail" or "wheel") profile a scene names: a standard name or a profile file."""
+    candidate = resolve_path(name, base)
+    target = str(candidate) if candidate.suffix.lower() in PROFILE_SUFFIXES else name
+    if target != name and not candidate.is_file():
+        raise InputError(what, f"no such profile file {name!r} (looked at {candidate})")
+    try:
+        prof = get_profile(target, body=body) if Path(target).suffix.lower() in (".txt", ".csv") \
+            else get_profile(target)
+    except InputError as err:
+        raise InputError(what, str(err)) from None
+    if prof.body != body:
+        raise InputError(what, f"{prof.name} is a {prof.body} profile, expected a {body} profile")
+    return prof
+
+
+__all__ = ["PROFILE_SUFFIXES", "file_sha256", "read_profile", "reference_dir", "resolve_path"]
