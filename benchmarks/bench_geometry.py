@@ -21,7 +21,9 @@ import numpy as np
 from benchmarks.harness import machine_info, median_time, peak_memory_mb
 from contact.wheel_rail.contact_search import search_contacts
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
-from contact.wheel_rail.solve import WheelRailInputs, rigid_roll, solve_wheel
+from contact.wheel_rail.deformed import rigid_roll
+from contact.wheel_rail.inputs import WheelRailInputs
+from contact.wheel_rail.solve import solve_wheel
 from meshes.profiles import S1002, Rail60E1, get_profile
 from wrlayer.plotting import save_figure
 

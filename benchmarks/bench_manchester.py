@@ -26,7 +26,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from contact.wheel_rail.scene import reference_dir, run_wheel_rail_scene
+from contact.wheel_rail.parse import parse_wheel_rail_scene
+from contact.wheel_rail.run import run_wheel_rail_scene
+from contact.wheel_rail.scene_files import reference_dir
 from wrlayer.errors import InputError
 from wrlayer.plotting import save_figure
 
@@ -69,7 +71,8 @@ def run_scene(out: pathlib.Path, sweep: dict | None = None, **method) -> tuple[d
     """(result or None, wall time s, CPU time s, error text) of the shipped scene with ``method`` keys changed."""
     t0, c0 = time.perf_counter(), time.process_time()
     try:
-        res = run_wheel_rail_scene(_scene_data(sweep, **method), SCENE, out, plots=False)
+        res = run_wheel_rail_scene(parse_wheel_rail_scene(_scene_data(sweep, **method), SCENE), out,
+                                   plots=False).to_dict()
     except InputError as err:
         return None, time.perf_counter() - t0, time.process_time() - c0, str(err)
     return res, time.perf_counter() - t0, time.process_time() - c0, ""

@@ -15,8 +15,8 @@ Subpackages, one concept each; dependencies point one way (left may import right
 
 Public API (imported on first use: ``import contact`` loads no solver; the full table is docs/api.md):
 
-- Scenes: ``load_scene(path) -> Scene``, ``simulate(scene) -> SimulationRun`` (``.result``: the result.json
-  dictionary), ``run_scene_file(path, out_dir, plots=False)``: any scene file (single contact, wheel-rail case or
+- Scenes: ``load_scene(path) -> Scene``, ``simulate(scene) -> SimulationRun`` (``.result``: a frozen
+  ``SceneResult``; ``.result.to_dict()`` is the result.json data), ``run_scene_file(path, out_dir, plots=False)``: any scene file (single contact, wheel-rail case or
   sweep) run into ``out_dir`` (result.json, cases.csv, pictures), returns the result dictionary.
 - Normal contact: ``NormalProblem`` (separation mm, force N, radius mm, ``E_MPa``, ``poisson``),
   ``solve_normal(prob, layer)`` (Kik-Piotrowski), ``solve_normal_with(prob, layer, method=...)`` ("exact" or a
@@ -25,7 +25,8 @@ Public API (imported on first use: ``import contact`` loads no solver; the full 
   combined), ``LayerTable`` (a calibration table file).
 - Passes: ``run_passes(prob, layer, PassesOptions(...), method=...)`` -> ``PassRecord`` per pass.
 - Wheel on rail: ``solve_wheel(rail_profile, wheel_profile, WheelRailInputs(...))`` -> ``WheelRailSolution``;
-  ``TrackLayout``, ``WheelsetPose``.
+  ``TrackLayout``, ``WheelsetPose``; a wheel-rail scene file: ``load_wheel_rail_scene(path) -> WheelRailScene``,
+  ``run_wheel_rail_scene(scene, out_dir, plots) -> SweepResult``.
 - Wear: ``run_wear_file(scene_path, out_dir)`` -> the wear run (profiles per step, steps.csv, result.json).
 
 Depends on: wrlayer, meshes.
@@ -58,9 +59,13 @@ API = {
     "PassesOptions": "contact.passes.passes",
     "PassRecord": "contact.passes.passes",
     "solve_wheel": "contact.wheel_rail.solve",
-    "WheelRailInputs": "contact.wheel_rail.solve",
-    "WheelRailLayers": "contact.wheel_rail.solve",
-    "WheelRailSolution": "contact.wheel_rail.solve",
+    "WheelRailInputs": "contact.wheel_rail.inputs",
+    "WheelRailLayers": "contact.wheel_rail.inputs",
+    "WheelRailSolution": "contact.wheel_rail.solution",
+    "load_wheel_rail_scene": "contact.wheel_rail.parse",
+    "WheelRailScene": "contact.wheel_rail.scene",
+    "run_wheel_rail_scene": "contact.wheel_rail.run",
+    "SweepResult": "contact.wheel_rail.results",
     "TrackLayout": "contact.wheel_rail.track_geometry",
     "WheelsetPose": "contact.wheel_rail.track_geometry",
     "run_wear_file": "contact.wear.cli",

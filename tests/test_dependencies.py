@@ -35,12 +35,6 @@ ALLOWED = {
     # private names imported across modules: make them public in the defining module
     ("contact.normal.exact_layer", "contact.layer.prandtl_layer:_move_elements"):
         "contact.layer.prandtl_layer: _move_elements -> move_elements",
-    ("contact.tangential.frictional_outputs", "contact.wheel_rail.solve:_tangential"):
-        "contact.wheel_rail.solve: _tangential -> public (or the frictional outputs of wheel-rail moved there)",
-    ("contact.wear.scene", "contact.wheel_rail.scene:_values"): "contact.wheel_rail.scene: _values -> values",
-    # contact.tangential -> contact.wheel_rail: tangential sits below wheel_rail (its line: contact.normal)
-    ("contact.tangential.frictional_outputs", "contact.wheel_rail.solve"):
-        "write_wheel_rail moved into contact.wheel_rail",
 }
 
 

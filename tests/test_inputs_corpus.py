@@ -49,13 +49,13 @@ def test_base_documents_are_valid(tmp_path):
     from calibration.pipeline import make_tasks
     from contact.layer.layer_table import LayerTable
     from contact.scenes.scene import load_scene
-    from contact.wheel_rail.scene import parse_wheel_rail_scene
+    from contact.wheel_rail.parse import parse_wheel_rail_scene
 
     make_corpus.write_toml(tmp_path / "scene.toml", make_corpus.SCENE, "base")
     assert load_scene(tmp_path / "scene.toml").passes.max == 3
     make_corpus.write_toml(tmp_path / "wr.toml", make_corpus.WHEEL_RAIL, "base")
     data = tomllib.loads((tmp_path / "wr.toml").read_text())
-    assert len(parse_wheel_rail_scene(data, tmp_path / "wr.toml")["cases"]) == 2
+    assert len(parse_wheel_rail_scene(data, tmp_path / "wr.toml").cases) == 2
     make_corpus.write_toml(tmp_path / "cfg.toml", make_corpus.CONFIG, "base", [make_corpus.BODY])
     tasks, failed, _ = make_tasks(load_config(tmp_path / "cfg.toml"), tmp_path / "out", plots=False)
     assert len(tasks) == 1 and not failed

@@ -111,7 +111,7 @@ def test_random_scene_documents_keep_the_contract(doc):
     try:
         scene = parse_scene(doc, Path("generated.toml"))
         guard(scene_cost(scene), limit_s=TEST_COST_LIMIT_S)
-        result = simulate(scene).result
+        result = simulate(scene).result.to_dict()
     except WrLayerError as err:
         msg = str(err)
         assert msg and "\n" not in msg and len(msg) < 400, msg
@@ -164,13 +164,15 @@ WHEEL_RAIL_KEYS = [(s, k) for s, t in _wheel_rail_base().items() if isinstance(t
 @given(doc=documents(_wheel_rail_base(), WHEEL_RAIL_KEYS))
 def test_random_wheel_rail_documents_keep_the_contract(doc, tmp_path_factory):
     from contact.scenes.cost import wheel_rail_cost
-    from contact.wheel_rail.scene import parse_wheel_rail_scene, run_wheel_rail_scene
+    from contact.wheel_rail.parse import parse_wheel_rail_scene
+    from contact.wheel_rail.run import run_wheel_rail_scene
 
     t0 = time.perf_counter()
     path = Path("generated.toml")
     try:
-        guard(wheel_rail_cost(parse_wheel_rail_scene(doc, path), path.name), limit_s=TEST_COST_LIMIT_S)
-        result = run_wheel_rail_scene(doc, path, tmp_path_factory.mktemp("wr"), False)
+        scene = parse_wheel_rail_scene(doc, path)
+        guard(wheel_rail_cost(scene), limit_s=TEST_COST_LIMIT_S)
+        result = run_wheel_rail_scene(scene, tmp_path_factory.mktemp("wr"), False).to_dict()
     except WrLayerError as err:
         msg = str(err)
         assert msg and "\n" not in msg and len(msg) < 400, msg

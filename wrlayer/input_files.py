@@ -168,7 +168,7 @@ def parse_toml(text: str, what: str, max_depth: int = MAX_TOML_DEPTH) -> dict[st
     """Parse TOML text whose nesting is at most ``max_depth`` (InputError otherwise or when invalid)."""
     depth = toml_depth(text)
     if depth > max_depth:
-        raise InputError(what, f"keys or arrays nested {depth} levels deep, more than the {max_depth} accepted")
+        raise InputError(what, f"keys or arrays nested too deeply ({depth} levels, at most {max_depth})")
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:

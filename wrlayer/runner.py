@@ -27,7 +27,6 @@ import concurrent.futures as cf
 import contextlib
 import multiprocessing as mp
 import os
-import queue as queue_mod
 import signal
 import threading
 import time
@@ -167,7 +166,9 @@ class Runner:
             self._client = self._connect()
         elif self.workers > 1:
             ctx = mp.get_context("spawn")
-            self._queue = ctx.Queue()  # handed to the workers at start: no Manager process that could outlive a run
+            # handed to the workers at start (no Manager process that could outlive a run); a SimpleQueue writes each
+            # count to the pipe before put() returns, so a task's counts are readable before its result arrives
+            self._queue = ctx.SimpleQueue()
             self._pool = cf.ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx,
                                                 initializer=worker_lifeline, initargs=(os.getpid(), self._queue))
         if threading.current_thread() is threading.main_thread() and \
@@ -194,7 +195,6 @@ class Runner:
                     self.terminate()
             if self._queue is not None:
                 self._queue.close()
-                self._queue.join_thread()
             if self._client is not None:
                 self._client.close()
         finally:
@@ -262,8 +262,10 @@ class Runner:
     def _drain(self, on_progress) -> None:
         while True:
             try:
-                n = self._queue.get_nowait()
-            except (queue_mod.Empty, EOFError, OSError, ValueError):
+                if self._queue.empty():
+                    return
+                n = self._queue.get()
+            except (EOFError, OSError, ValueError):
                 return
             if on_progress is not None:
                 on_progress(n)

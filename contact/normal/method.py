@@ -11,7 +11,6 @@ tables and wheel-rail scenes work with both.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 from contact.layer.prandtl_layer import LayerPair
@@ -68,7 +67,7 @@ def _method_of(method: NormalMethod | str | None) -> NormalMethod:
     return method
 
 
-def solve_normal_with(prob: NormalProblem, layer: LayerPair | None = None, *legacy,
+def solve_normal_with(prob: NormalProblem, layer: LayerPair | None = None, *extra,
                       method: NormalMethod | str | None = None, **kwargs) -> NormalSolution:
     """Solve the normal problem with the chosen solver.
 
@@ -94,19 +93,12 @@ def solve_normal_with(prob: NormalProblem, layer: LayerPair | None = None, *lega
     TypeError
         When ``prob``, ``layer`` or ``method`` has the wrong type.
 
-    Notes
-    -----
-    The earlier order ``solve_normal_with(method, prob, layer)`` still works (a NormalMethod as first argument)
-    and emits a DeprecationWarning.
     """
     if isinstance(prob, NormalMethod):
-        warnings.warn("solve_normal_with(method, prob, layer) is deprecated: use "
-                      "solve_normal_with(prob, layer, method=method)", DeprecationWarning, stacklevel=2)
-        if method is not None or len(legacy) > 1:
-            raise TypeError("solve_normal_with: method given twice (first argument and method=)")
-        method, prob, layer = prob, layer, (legacy[0] if legacy else kwargs.pop("layer", None))
-    elif legacy:
-        raise TypeError(f"solve_normal_with takes (prob, layer) and keyword arguments; got {len(legacy)} more "
+        raise TypeError("solve_normal_with(prob, layer, method=...): the problem comes first and the method last, "
+                        "as a keyword")
+    if extra:
+        raise TypeError(f"solve_normal_with takes (prob, layer) and keyword arguments; got {len(extra)} more "
                         "positional argument(s) (pass the method as method=...)")
     method = _method_of(method)
     check_arguments(prob, layer, "solve_normal_with")

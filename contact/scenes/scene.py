@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -50,6 +49,7 @@ from contact.scenes.scene_spec import (
     SeparationSpec,
     TangentialSpec,
 )
+from wrlayer.input_files import read_toml
 from wrlayer.errors import InputError
 from wrlayer.validate import (
     MAX_E_MPA,
@@ -74,21 +74,10 @@ REFERENCE_KEYS = ("source", "length_mm", "width_mm", "area_mm2", "delta_mm", "Fx
 
 # ---------------------------------------------------------------------------------------------------- reading
 def read_scene_data(path: str | Path) -> tuple[Path, dict[str, Any]]:
-    """Read a TOML scene file (InputError when missing, unreadable or not valid TOML)."""
+    """Read a TOML scene file safely (:func:`wrlayer.input_files.read_toml`: a regular file of bounded size,
+    UTF-8, nesting bounded); InputError when missing, unreadable or not valid TOML."""
     path = Path(path)
-    if not path.is_file():
-        raise InputError(str(path), "no such scene file")
-    try:
-        text = path.read_bytes().decode("utf-8")
-    except (OSError, UnicodeDecodeError) as err:
-        raise InputError(str(path), f"cannot read the file ({err})") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(path.name, f"not valid TOML ({err})") from None
-    except RecursionError:
-        raise InputError(path.name, "arrays or tables nested too deeply to read") from None
-    return path, data
+    return path, read_toml(path, what=str(path))
 
 
 def load_scene(path: str | Path) -> Scene:

@@ -83,9 +83,9 @@ def scale_layers_to_patch(scene: Scene, prob: NormalProblem, layers: LayerPair):
 
     def solve_at(sizes: dict):
         scaled = build_layers(scene, prob.strip_y_mm, sizes[0])
-        return scaled, sizes_of(solve_normal_with(method, prob, scaled))
+        return scaled, sizes_of(solve_normal_with(prob, scaled, method=method))
 
-    first = sizes_of(solve_normal_with(method, prob, layers))
+    first = sizes_of(solve_normal_with(prob, layers, method=method))
     layers, sizes, solves = settle_patch_sizes(solve_at, first, f"{scene.path.name}: scale_to_patch")
     return layers, sizes[0], solves + 1
 

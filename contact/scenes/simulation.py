@@ -187,7 +187,7 @@ def _layered_passes(scene: Scene, prob: NormalProblem, layers) -> tuple[list[tup
 def _elastic_pass(scene: Scene, prob: NormalProblem) -> tuple[PassSnapshot, PassResult]:
     """The one pass of a scene without a layer."""
     t0 = time.perf_counter()
-    sol = solve_normal_with(scene.method.normal_method(), prob)
+    sol = solve_normal_with(prob, method=scene.method.normal_method())
     t_normal = time.perf_counter() - t0
     snap, t_tang = solve_patches(scene, sol, 1)
     return snap, pass_result(snap, None, {"normal_s": t_normal, "tangential_s": t_tang})

@@ -190,7 +190,7 @@ class VerticalBalance:
         self.evaluations += 1
         inp = self.inputs
         prob = normal_problem(ctx.cand, self.sign, inp, force)
-        sol = solve_normal_with(inp.normal_method, prob, ctx.pair, delta_guess_mm=ctx.delta_guess)
+        sol = solve_normal_with(prob, ctx.pair, method=inp.normal_method, delta_guess_mm=ctx.delta_guess)
         ctx.delta_guess = sol.delta_mm
         ref = reference_point(inp.contact_point, ctx.cand, sol.delta_mm, self.wheel, inp.layout, self.pose_side,
                               self.rail)
@@ -211,7 +211,7 @@ class VerticalBalance:
 
         def miss(log_n: float) -> float:  # another normal method: invert its force -> approach relation from KP's
             prob = normal_problem(ctx.cand, self.sign, self.inputs, math.exp(log_n))
-            return solve_normal_with(self.inputs.normal_method, prob, ctx.pair).delta_mm - delta
+            return solve_normal_with(prob, ctx.pair, method=self.inputs.normal_method).delta_mm - delta
 
         x = secant(miss, math.log(n_kp), math.log(n_kp) + 0.05, 1e-12, 40, "approach of a patch")
         return math.exp(x)

@@ -59,6 +59,7 @@ from contact.wheel_rail.sweep import KEYS as SWEEP_SECTION_KEYS
 from contact.wheel_rail.sweep import parse_sweep
 from contact.wheel_rail.sweep_spec import CaseSpec
 from contact.wheel_rail.track_geometry import TrackLayout
+from wrlayer.input_files import read_toml
 from wrlayer.elastic import youngs_modulus_MPa
 from wrlayer.errors import InputError
 from wrlayer.validate import (
@@ -93,6 +94,12 @@ SECTION_KEYS = {
     "output": ("deformed_profiles",),
 }
 SIDES = ("right", "left", "both")
+
+
+def load_wheel_rail_scene(path: str | Path) -> WheelRailScene:
+    """Read and validate a wheel–rail scene file (TOML; units mm, N, MPa, s, rad)."""
+    path = Path(path)
+    return parse_wheel_rail_scene(read_toml(path, what=str(path)), path)
 
 
 def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path) -> WheelRailScene:

@@ -390,7 +390,7 @@ GARBAGE = bytes((i * 151 + 7) % 256 for i in range(600))
 def main() -> None:
     expected = write_group(HERE / "bad_scenes_generated", SCENE, SCENE_BAD)
     (HERE / "bad_scenes_generated" / "binary_garbage.toml").write_bytes(GARBAGE)
-    expected["binary_garbage.toml"] = "cannot read the file"
+    expected["binary_garbage.toml"] = "not UTF-8 text"
     write_expected(HERE / "bad_scenes_generated", expected)
     expected = write_group(HERE / "bad_wheel_rail_scenes", WHEEL_RAIL, WHEEL_RAIL_BAD)
     write_expected(HERE / "bad_wheel_rail_scenes", expected)

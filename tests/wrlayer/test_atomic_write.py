@@ -190,7 +190,7 @@ def test_sigterm_removes_the_staging_folder_at_once(tmp_path):
 def test_long_sweep_has_201_cases(tmp_path):
     import tomllib
 
-    from contact.wheel_rail.scene import parse_wheel_rail_scene
+    from contact.wheel_rail.parse import parse_wheel_rail_scene
 
     path = _long_sweep(tmp_path)
-    assert len(parse_wheel_rail_scene(tomllib.loads(path.read_text()), path)["cases"]) == 201
+    assert len(parse_wheel_rail_scene(tomllib.loads(path.read_text()), path).cases) == 201

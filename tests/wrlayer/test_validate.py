@@ -125,11 +125,9 @@ def test_exact_solver_scenes_cost_more():
     import dataclasses
     from pathlib import Path
 
-    from contact.normal.exact import DEFAULT_CELLS
-    from contact.scenes.cost import EXACT_DEFAULT_CELLS, scene_cost
+    from contact.scenes.cost import scene_cost
     from contact.scenes.scene import load_scene
 
-    assert EXACT_DEFAULT_CELLS == DEFAULT_CELLS
     scene = load_scene(Path(__file__).resolve().parents[2] / "scenes" / "paper_with_layer.toml")
     exact = dataclasses.replace(scene, method=dataclasses.replace(scene.method, normal="exact", exact_cells=1024))
     assert scene_cost(exact).seconds > 10 * scene_cost(scene).seconds

@@ -177,8 +177,9 @@ def test_every_shipped_scene_runs_with_the_exact_solver(path):
     scene = dataclasses.replace(scene, method=method, passes=dataclasses.replace(scene.passes,
                                                                                  max=min(scene.passes.max, 3)))
     run = simulate(scene)
-    last = run.result["passes"][-1]
-    assert "exact half-space" in run.result["method"]["normal"]
+    result = run.result.to_dict()
+    last = result["passes"][-1]
+    assert "exact half-space" in result["method"]["normal"]
     assert last["iterations"]["cg_iterations"] > 0
     assert np.isfinite(last["p_max_MPa"]) and last["p_max_MPa"] > 0
     assert last["normal_force_N"] == pytest.approx(scene.load.normal_force_N, rel=1e-9)

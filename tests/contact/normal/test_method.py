@@ -1,6 +1,5 @@
 """solve_normal_with: problem, then layer, then the method as keyword; clear errors for wrong types."""
 
-import warnings
 
 import pytest
 
@@ -23,14 +22,9 @@ def test_method_by_name_object_or_default_gives_the_same_solution(prob):
         assert sol.delta_mm == ref.delta_mm and sol.p_max_MPa == ref.p_max_MPa
 
 
-def test_earlier_argument_order_still_works_with_a_deprecation_warning(prob):
-    layer = paper_layers(prob)
-    with pytest.warns(DeprecationWarning, match="method=method"):
-        old = solve_normal_with(NormalMethod(), prob, layer)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        new = solve_normal_with(prob, layer, method=NormalMethod())
-    assert old.delta_mm == new.delta_mm
+def test_method_first_is_a_type_error_naming_the_order(prob):
+    with pytest.raises(TypeError, match="the problem comes first and the method last"):
+        solve_normal_with(NormalMethod(), prob, paper_layers(prob))
 
 
 @pytest.mark.parametrize("call, message", [

@@ -53,4 +53,4 @@ def test_bad_scene_through_the_real_command_line(tmp_path):
 def test_missing_scene_file(tmp_path, capsys):
     rc = main(["simulate", str(tmp_path / "nothing.toml"), "--out", str(tmp_path / "out")])
     err = capsys.readouterr().err
-    assert rc == 2 and "nothing.toml" in err and "no such scene file" in err
+    assert rc == 2 and "nothing.toml" in err and "no such file" in err

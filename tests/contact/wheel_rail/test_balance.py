@@ -107,7 +107,7 @@ def _exact_available() -> bool:
     y = np.linspace(-5.0, 5.0, 101)
     prob = NormalProblem(y, y ** 2 / 60.0, 5000.0, 460.0, 210000.0, 0.28, grid_mm=0.2)
     try:
-        solve_normal_with(NormalMethod("exact"), prob)
+        solve_normal_with(prob, method=NormalMethod("exact"))
     except InputError as err:
         if "not available" in str(err):
             return False
