@@ -11,7 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from contact.wear.loop import WearRun
+from contact.wear.records import WearRun
 from wrlayer.plotting import MICRO_M, save_figure
 
 

@@ -25,7 +25,7 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.scene`: [profiles], [
                                                            k_mid_speed, k_high_speed, v_low_m_s, v_high_m_s)
     [wear.recalibrate] config = "template.toml", every_steps = 1   recalibrate the layer tables on the worn profiles
                                                            (contact.wear.recalibrate; placeholders @wheel_profile@,
-                                                           @rail_profile@ in the calibration template)
+                                                           @rail_profile@ as [[bodies]] profile or mate)
     [wear.usfd]  wheel = "R8T", rail = "R8T"              a published material, or a table {t1, t2, mild_slope,
                                                            severe_rate, cat_slope, cat_offset}
     [collective] either [[collective.condition]] tables (lateral_mm, yaw_rad = 0, vertical_load_N and speed_mm_s
@@ -35,7 +35,7 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.scene`: [profiles], [
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -45,6 +45,7 @@ from contact.normal.method import NormalMethod
 from contact.scenes.scene import SceneKeys
 from contact.wear.collective import Condition, LoadCollective
 from contact.wear.laws import USFD_MATERIALS, ArchardMap, UsfdTable, WearLaw
+from contact.wear.recalibrate import Recalibration, read_template
 from contact.wheel_rail.scene import _values, parse_wheel_rail_scene
 from wrlayer.errors import InputError
 
@@ -61,7 +62,34 @@ USFD_KEYS = ("t1", "t2", "mild_slope", "severe_rate", "cat_slope", "cat_offset")
 
 @dataclass(frozen=True)
 class WearSettings:
-    """The [wear] numbers (mm, km)."""
+    """The ``[wear]`` numbers of the step loop (mm, km).
+
+    Attributes
+    ----------
+    max_depth_per_step_mm : float
+        Step control: a step is shortened so that its largest smoothed wear depth stays below this (mm).
+    smoothing_mm : float
+        Standard deviation of the Gaussian filter applied to each step's depth distributions (mm of arc length;
+        0 = none).
+    grid_mm : float
+        Arc-length spacing of the profile update grid (mm).
+    rail_passes_per_wheel_pass : float
+        Passes a rail section sees per wheel revolution (-).
+    inelastic : bool
+        Add the layer's residual displacement to the profile change (needs ``[layers]``).
+    layer_state : str
+        ``"hardening"``: each profile position keeps its largest peak pressure between steps; ``"virgin"``: the
+        layer starts virgin every step.
+    workers : int
+        Local processes solving a step's conditions (1 = in-process).
+    scheduler : str
+        Address of a Dask scheduler solving the conditions (and recalibrations); empty = local.
+    conicity_amplitude_mm : float
+        Lateral wheelset displacement at which the rolling-radius difference is evaluated (mm).
+    recalibrate : Recalibration or None
+        ``[wear.recalibrate]``: the calibration template run on the worn profiles (None = the scene's tables
+        throughout).
+    """
 
     max_depth_per_step_mm: float = 0.1
     smoothing_mm: float = 1.0
@@ -72,15 +100,39 @@ class WearSettings:
     workers: int = 1
     scheduler: str = ""
     conicity_amplitude_mm: float = 3.0
-    recalibrate_config: str = ""
-    recalibrate_template: str = ""
-    recalibrate_every: int = 0
+    recalibrate: Recalibration | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The settings as result.json records them (the recalibration as its file, text and interval)."""
+        out = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "recalibrate"}
+        recal = self.recalibrate
+        out.update(recalibrate_config=recal.config if recal else "", recalibrate_template=recal.template if recal
+                   else "", recalibrate_every=recal.every_steps if recal else 0)
+        return out
 
 
 @dataclass(frozen=True)
 class WearScene:
-    """A parsed wear scene: the wheel-rail part (``parsed``, as :func:`parse_wheel_rail_scene` returns it), the
-    normal method, the law, the collective and the settings."""
+    """A parsed wear scene (units mm, N, MPa, s, rad; distance in km).
+
+    Attributes
+    ----------
+    path : Path
+        The scene file.
+    data : dict
+        The scene's TOML tables as read (recorded in result.json).
+    parsed : dict
+        The wheel–rail part (profiles, track, wheel, load, material, tangential, layers, passes, method) as
+        :func:`contact.wheel_rail.scene.parse_wheel_rail_scene` returns it.
+    normal : NormalMethod
+        ``[method] normal``, ``exact_cells``, ``layer_mode``: the normal contact method of every condition.
+    law : WearLaw
+        ``[wear] law`` with its coefficients (``[wear.archard]``, ``[wear.usfd]``, ``density_kg_m3``).
+    collective : LoadCollective
+        ``[collective]`` with ``[wear] distance_km`` and ``steps``.
+    settings : WearSettings
+        The other ``[wear]`` keys.
+    """
 
     path: Path
     data: dict
@@ -135,8 +187,8 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
         layer_state=wear.text("layer_state", "hardening"),
         workers=wear.integer("workers", 1, ge=1),
         scheduler=wear.text("scheduler", ""),
-        conicity_amplitude_mm=wear.number("conicity_amplitude_mm", 3.0, gt=0.0))
-    settings = _recalibration(wear, scene_path.parent, settings, parsed)
+        conicity_amplitude_mm=wear.number("conicity_amplitude_mm", 3.0, gt=0.0),
+        recalibrate=_recalibration(wear, scene_path.parent, parsed))
     if settings.layer_state not in ("hardening", "virgin"):
         raise wear.error("layer_state", f"must be 'hardening' or 'virgin', got {settings.layer_state!r}")
     if settings.inelastic and parsed["layers"] is None:
@@ -159,29 +211,22 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     return WearScene(scene_path, data, parsed, normal, law, collective, settings)
 
 
-def _recalibration(wear: SceneKeys, base: Path, settings: WearSettings, parsed: dict) -> WearSettings:
-    """[wear.recalibrate]: the calibration template (must use a placeholder) and the interval in steps."""
-    import dataclasses
-
-    from contact.wear.recalibrate import PLACEHOLDERS, template_bodies
-
+def _recalibration(wear: SceneKeys, base: Path, parsed: dict) -> Recalibration | None:
+    """[wear.recalibrate]: the calibration template (read and validated here) and the interval in steps."""
     sub = wear.sub("recalibrate") if "recalibrate" in wear.table else None
     if sub is None:
-        return settings
+        return None
     sub.check_known(("config", "every_steps"))
     rel = sub.text("config")
     path = (base / rel).resolve()
     if not path.is_file():
         raise sub.error("config", f"no such calibration template {rel!r} (looked at {path})")
-    text = path.read_text(encoding="utf-8")
-    if not template_bodies(text):
-        raise sub.error("config", f"{rel} uses neither placeholder {' nor '.join(PLACEHOLDERS.values())} "
-                        "(where the worn profile files go)")
+    every = sub.integer("every_steps", 1, ge=1)
     layers = parsed["layers"]
+    text, cfg = read_template(path, sub.what("config"), {"wheel": parsed["wheel"], "rail": parsed["rail"]})
     if layers is None or layers.combined is not None:
         raise sub.error("config", "recalibration needs per-body [layers] tables (rail and/or wheel)")
-    return dataclasses.replace(settings, recalibrate_config=str(path), recalibrate_template=text,
-                               recalibrate_every=sub.integer("every_steps", 1, ge=1))
+    return Recalibration(str(path), every, text, cfg)
 
 
 def _law(wear: SceneKeys) -> WearLaw:

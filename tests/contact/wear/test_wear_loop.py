@@ -9,7 +9,10 @@ import pytest
 from contact.__main__ import main
 from contact.wear import condition as condition_mod
 from contact.wear.condition import BODIES
-from contact.wear.loop import WearStopped, build_tasks, map_tasks, passes_per_km, run_wear
+from contact.wear.loop import run_wear
+from contact.wear.planning import build_tasks, passes_per_km
+from contact.wear.records import WearStopped
+from contact.wear.runner import map_tasks
 from contact.wear.profile_grid import ArcGrid
 from contact.wheel_rail.contact_search import SearchSettings, search_contacts
 from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
@@ -24,8 +27,8 @@ def test_wear_proportional_to_distance(make_scene):
     ten = run_wear(make_scene(layers=None, wear={"distance_km": 0.02, "steps": 10, "inelastic": False}),
                    show_progress=False)
     assert len(ten.steps) == 10
-    a1 = one.steps[0].bodies["right", "wheel"].stats["worn_area_mm2"]
-    a10 = sum(s.bodies["right", "wheel"].stats["worn_area_mm2"] for s in ten.steps)
+    a1 = one.steps[0].bodies["right", "wheel"].stats.worn_area_mm2
+    a10 = sum(s.bodies["right", "wheel"].stats.worn_area_mm2 for s in ten.steps)
     assert a1 > 0
     assert a10 == pytest.approx(a1, rel=1e-4)
     d1 = one.steps[0].bodies["right", "wheel"].wear_mm
@@ -60,7 +63,7 @@ def test_inelastic_saturates_and_is_zero_without_layer(make_scene):
             "passes": {"max": 40}, "wear": {"distance_km": 300.0, "steps": 3}}
 
     def increments(run):
-        return [max(s.bodies["right", b].stats["inelastic_max_mm"] for b in BODIES) for s in run.steps]
+        return [max(s.bodies["right", b].stats.inelastic_max_mm for b in BODIES) for s in run.steps]
 
     run = run_wear(make_scene(**data), show_progress=False)
     inc = increments(run)
@@ -68,14 +71,14 @@ def test_inelastic_saturates_and_is_zero_without_layer(make_scene):
     assert p_hist.max() > 1000.0 and np.all(p_hist >= 0) and y.size == p_hist.size
     assert inc[0] > 1e-3
     assert inc[1] < 1e-15 and inc[2] < 1e-15  # round-off
-    assert all(s.bodies["right", b].stats["wear_max_mm"] == 0 for s in run.steps for b in BODIES)
+    assert all(s.bodies["right", b].stats.wear_max_mm == 0 for s in run.steps for b in BODIES)
     virgin = increments(run_wear(make_scene(**{**data, "wear": {**data["wear"], "layer_state": "virgin"}}),
                                  show_progress=False))
     assert virgin[0] == pytest.approx(inc[0], rel=1e-12)
     assert 0 < virgin[1] < 0.1 * virgin[0] and virgin[2] < 0.1 * virgin[0]
     off = run_wear(make_scene(layers=None, **{**data, "wear": {**data["wear"], "inelastic": False}}),
                    show_progress=False)
-    assert all(s.bodies["right", b].stats["inelastic_max_mm"] == 0 for s in off.steps for b in BODIES)
+    assert all(s.bodies["right", b].stats.inelastic_max_mm == 0 for s in off.steps for b in BODIES)
 
 
 def test_hardened_characteristic_residual_is_the_increment():
@@ -228,7 +231,7 @@ def test_shipped_example_parses_and_runs_a_short_distance(tmp_path):
     data["collective"] = {"lateral_mm": [-1.5, 1.5], "yaw_rad": [0.0, 0.0], "weights": "uniform"}
     data["method"].update(grid_mm=0.2, fastsim_cells=16)
     run = run_wear(parse_wear_scene(data, path), show_progress=False)
-    assert run.steps[0].bodies["right", "wheel"].stats["wear_max_mm"] > 0
+    assert run.steps[0].bodies["right", "wheel"].stats.wear_max_mm > 0
 
 
 def test_local_processes_give_the_same_result(make_scene):
@@ -322,7 +325,7 @@ def test_area_between_profiles_equals_worn_area(make_scene):
         lo, hi = max(old.y_min, new.y_min) + 1.0, min(old.y_max, new.y_max) - 1.0
         y = np.linspace(lo, hi, 200001)
         area = sign * np.trapezoid(old.z(y) - new.z(y), y)
-        worn = step.bodies["right", body].stats["worn_area_mm2"]
+        worn = step.bodies["right", body].stats.worn_area_mm2
         assert worn > 0.1
         assert area == pytest.approx(worn, rel=5e-3)
 
@@ -338,8 +341,8 @@ def test_condition_pitch_rate_adds_longitudinal_creepage(tmp_path, wear_dict):
         data = wear_dict(layers=None, wear={"distance_km": 10.0, "steps": 1, "inelastic": False})
         data["collective"] = {"condition": [c]}
         runs.append(run_wear(parse_wear_scene(data, tmp_path / "w.toml"), show_progress=False))
-    kx = [r.steps[0].conditions[0]["patches"][0]["creepage_x"] for r in runs]
-    area = [r.steps[0].bodies["right", "wheel"].stats["worn_area_mm2"] for r in runs]
+    kx = [r.steps[0].conditions[0].patches[0]["creepage_x"] for r in runs]
+    area = [r.steps[0].bodies["right", "wheel"].stats.worn_area_mm2 for r in runs]
     assert abs(kx[1] - kx[0]) > 2e-3
     assert area[1] > 2.0 * area[0]
 
@@ -351,19 +354,19 @@ def test_exact_normal_method_runs_the_loop(make_scene):
     ex = run_wear(make_scene(method={"normal": "exact", "exact_cells": 24}, **kw), show_progress=False).steps[0]
     for body in BODIES:
         a, b = kp.bodies["right", body].stats, ex.bodies["right", body].stats
-        assert b["wear_max_mm"] > 0 and b["inelastic_max_mm"] > 0
-        assert b["worn_area_mm2"] == pytest.approx(a["worn_area_mm2"], rel=0.3)
-    assert ex.conditions[0]["patches"][0]["p_max_MPa"] != kp.conditions[0]["patches"][0]["p_max_MPa"]
+        assert b.wear_max_mm > 0 and b.inelastic_max_mm > 0
+        assert b.worn_area_mm2 == pytest.approx(a.worn_area_mm2, rel=0.3)
+    assert ex.conditions[0].patches[0]["p_max_MPa"] != kp.conditions[0].patches[0]["p_max_MPa"]
 
 
 def test_wear_loop_keeps_scale_to_patch_and_hardened_tables_scale(make_scene):
     from contact.layer.layer_table import LayerTable
     from contact.wear.layer_state import HardenedTable, hardened
-    from contact.wear.loop import side_layers
+    from contact.wear.layer_state import side_layers
 
     scene = make_scene(layers={"scale_to_patch": True}, wear={"layer_state": "hardening"})
     y = np.array([-10.0, 10.0])
-    layers = side_layers(scene, {("right", "rail"): (y, np.array([900.0, 900.0]))}, "right")
+    layers = side_layers(scene.parsed["layers"], {("right", "rail"): (y, np.array([900.0, 900.0]))}, "right")
     assert layers.scale_to_patch
     assert isinstance(layers.rail, HardenedTable)
     patch = (3.0, 2.0)
