@@ -28,7 +28,7 @@ from pathlib import Path
 
 from calibration.config import BodySettings, CalibrationConfig, parse_config
 from calibration.cost import calibration_cost
-from calibration.pipeline import run_calibration
+from calibration.pipeline import make_tasks, run_calibration
 from contact.layer.layer_table import LayerTable
 from meshes.profiles import Profile
 from meshes.profiles.io import write_simpack
@@ -76,8 +76,9 @@ class Recalibration:
 
 def read_template(path: Path, what: str, profiles: dict[str, Profile]) -> tuple[str, CalibrationConfig]:
     """Read and validate a calibration template (InputError ``what: ...``); returns its text and the config with
-    the placeholders kept in its ``profile``/``mate`` entries. The entries are validated (positions on the profile,
-    mate of the other body, cost) with ``profiles[body]`` (the scene's initial profiles) in their place."""
+    the placeholders kept in its ``profile``/``mate`` entries. Everything the calibration checks before its FEM
+    (keys, profiles and positions, each position's contact geometry, mesh settings, the cost guard) is checked here
+    with ``profiles[body]`` (the scene's initial profiles) in place of the placeholders."""
     try:
         text = path.read_text(encoding="utf-8")
         data = tomllib.loads(text)
@@ -96,9 +97,12 @@ def read_template(path: Path, what: str, profiles: dict[str, Profile]) -> tuple[
                 if body is not None:
                     row[key] = str(files[body])
         cfg = parse_config(data, f"{what} ({path.name})", path.parent)
+        tasks, failed, _warnings = make_tasks(cfg, Path(tmp), plots=False)  # each position's contact geometry
+    if failed:
+        raise InputError(f"{what} ({path.name})", f"{failed[0]['body']} position y = {failed[0]['y_mm']:g} mm on "
+                         f"the initial profiles: {failed[0]['error']}")
+    guard(calibration_cost(cfg, tasks))  # a recalibration refused by its cost would stop the loop late
     cfg = dataclasses.replace(cfg, bodies=tuple(_restore(b, rows[i], files) for i, b in enumerate(cfg.bodies)))
-    positions = [y for b in cfg.bodies for y in b.positions_mm]
-    guard(calibration_cost(cfg, positions))  # a recalibration refused by its cost would stop the loop late
     return text, cfg
 
 

@@ -243,49 +243,6 @@ def test_local_processes_give_the_same_result(make_scene):
     assert a.max() > 0 and np.array_equal(a, b)
 
 
-def test_recalibration_on_worn_profiles(make_scene, tmp_path):
-    """[wear.recalibrate]: after step 1 the wheel table is recomputed (coarse FEM, separate process) on the worn
-    wheel and used in step 2; a template without placeholder is refused."""
-    template = tmp_path / "recal.toml"
-    template.write_text("""
-[run]
-model = "2d"
-workers = 1
-plots = false
-[load]
-max_factor = 2.0
-n_levels = 3
-unload_factors = [2.0]
-max_increment_factor = 0.5
-[mesh]
-elements_per_semi_axis = 3
-h_max_mm = 10.0
-order = 1
-[fit]
-n_segments = 3
-max_relative_error = 0.3
-[[bodies]]
-body = "wheel"
-profile = "@wheel_profile@"
-mate = "@rail_profile@"
-wheel_radius_mm = 460.0
-positions_mm = [-25.0, -12.0, 0.0, 12.0, 25.0]
-""")
-    scene = make_scene(wear={"distance_km": 100.0, "steps": 2, "recalibrate": {"config": str(template)}},
-                       passes={"max": 3})
-    run = run_wear(scene, show_progress=False, work_dir=tmp_path / "work")
-    assert len(run.steps) == 2
-    assert any("recalibrated" in n for n in run.steps[0].notes)
-    table = tmp_path / "work" / "calibration" / "step_001_right" / "tables" / "wheel_layer_table.json"
-    assert table.is_file()
-    worn = read_profile(tmp_path / "work" / "calibration" / "step_001_right" / "wheel.prw")
-    assert np.allclose(worn.points, run.steps[0].profiles["right"]["wheel"].points, atol=1e-9)
-    bad = tmp_path / "bad.toml"
-    bad.write_text('[[bodies]]\nbody = "wheel"\nprofile = "S1002"\n')
-    with pytest.raises(InputError, match="wear.recalibrate.config: .*placeholder"):
-        make_scene(wear={"recalibrate": {"config": str(bad)}})
-
-
 def test_folding_worn_profile_stops_naming_the_step(make_scene):
     """An absurd step (no step control, no smoothing) folds the profile: a clear stop at step 1."""
     scene = make_scene(layers=None, wear={"distance_km": 200000.0, "steps": 1, "max_depth_per_step_mm": 1000.0,
