@@ -50,18 +50,19 @@ class Recalibration:
     ----------
     config : str
         The calibration template file (resolved path; given relative to the scene file's folder).
+    template : str
+        The template's text as read (recorded in result.json; not a scene key).
+    calibration : CalibrationConfig
+        The validated template; its ``profile``/``mate`` entries hold the placeholders where the worn profiles go
+        (not a scene key).
     every_steps : int
         Recalibrate after every this many wear steps (>= 1; not after the last step).
-    template : str
-        The template's text as read (recorded in result.json).
-    calibration : CalibrationConfig
-        The validated template; its ``profile``/``mate`` entries hold the placeholders where the worn profiles go.
     """
 
     config: str
-    every_steps: int
     template: str
     calibration: CalibrationConfig
+    every_steps: int = 1
 
     @property
     def bodies(self) -> tuple[str, ...]:

@@ -226,7 +226,7 @@ def _recalibration(wear: SceneKeys, base: Path, parsed: dict) -> Recalibration |
     text, cfg = read_template(path, sub.what("config"), {"wheel": parsed["wheel"], "rail": parsed["rail"]})
     if layers is None or layers.combined is not None:
         raise sub.error("config", "recalibration needs per-body [layers] tables (rail and/or wheel)")
-    return Recalibration(str(path), every, text, cfg)
+    return Recalibration(str(path), text, cfg, every)
 
 
 def _law(wear: SceneKeys) -> WearLaw:
