@@ -47,17 +47,14 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"--out {out_dir}", "exists and is not a folder")
     if kind == "wheel_rail":
-        try:
-            from contact.wheel_rail.scene import run_wheel_rail_scene
-        except ImportError:
-            raise InputError(f"{scene_path.name}: type", "scene type 'wheel_rail' not available "
-                             "(contact.wheel_rail.scene missing)") from None
         from contact.scenes.cost import wheel_rail_cost
-        from contact.wheel_rail.scene import parse_wheel_rail_scene
+        from contact.wheel_rail.parse import parse_wheel_rail_scene
+        from contact.wheel_rail.run import run_wheel_rail_scene
 
-        guard(wheel_rail_cost(parse_wheel_rail_scene(data, scene_path), scene_path.name), force)
+        scene = parse_wheel_rail_scene(data, scene_path)
+        guard(wheel_rail_cost(scene), force)
         with replace_output_dir(out_dir) as tmp:
-            result = run_wheel_rail_scene(data, scene_path, tmp, plots)
+            result = run_wheel_rail_scene(scene, tmp, plots)
             (tmp / "result.json").write_text(result_text(result), encoding="utf-8")
         return result
 

@@ -33,6 +33,28 @@ MAX_LIST = 100_000
 #: Longest text shown from a bad value in a message.
 SHOW_CHARS = 60
 
+# Plausible ranges of the contact scene quantities (Kik–Piotrowski and wheel–rail scenes): outside them the solvers
+# underflow or ask for absurd grids.
+#: Young's modulus (MPa): from soft polymers to beyond tungsten carbide (a 1e-33 MPa modulus asks for a 1e15-cell
+#: patch).
+MIN_E_MPA, MAX_E_MPA = 1.0, 1e7
+#: Rolling radius 1 mm .. 1 km (mm).
+MIN_RADIUS_MM, MAX_RADIUS_MM = 1.0, 1e6
+#: Lateral radius of a parabolic separation (mm).
+MIN_LATERAL_RADIUS_MM = 1e-2
+#: Normal force or vertical load (N): 1 mN.
+MIN_FORCE_N = 1e-3
+#: Kik–Piotrowski's alpha (-).
+MIN_ALPHA = 1e-2
+#: Strip grid spacing (mm): 1 um.
+MIN_GRID_MM = 1e-3
+#: Largest number of lateral strips (separation table width / grid_mm) a scene may ask for.
+MAX_STRIPS = 20000
+#: Largest number of FASTSIM cells per strip (method.fastsim_cells): beyond it the cell arrays alone take GBs.
+MAX_FASTSIM_CELLS = 10000
+#: Largest passes.max: every pass keeps its record (strip arrays); the paper's shakedown takes 20-50 passes.
+MAX_PASSES = 100000
+
 
 def kind(value: Any) -> str:
     """The TOML/JSON name of a value's type (for messages)."""
@@ -230,5 +252,7 @@ class Keys:
         return type(self)(self.file, f"{self.prefix}.{key}" if self.prefix else key, self.table[key])
 
 
-__all__ = ["MAX_ABS", "MAX_LIST", "Keys", "boolean", "check_known", "integer", "is_number", "join", "kind",
-           "number", "number_list", "rewrap", "show", "table", "text"]
+__all__ = ["MAX_ABS", "MAX_E_MPA", "MAX_FASTSIM_CELLS", "MAX_LIST", "MAX_PASSES", "MAX_RADIUS_MM", "MAX_STRIPS",
+           "MIN_ALPHA", "MIN_E_MPA", "MIN_FORCE_N", "MIN_GRID_MM", "MIN_LATERAL_RADIUS_MM", "MIN_RADIUS_MM", "Keys",
+           "boolean", "check_known", "integer", "is_number", "join", "kind", "number", "number_list", "rewrap", "show",
+           "table", "text"]

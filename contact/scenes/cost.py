@@ -10,8 +10,6 @@ passes × strips × (STRIP_S + cells × CELL_S)), strips = WHEEL_RAIL_WINDOW_MM 
 
 from __future__ import annotations
 
-from typing import Any
-
 from wrlayer.cost import CostEstimate
 
 #: Normal solve (+ layer) per strip and pass (s): 7.5-17 us measured on the paper scenes; rounded up.
@@ -50,26 +48,25 @@ def scene_cost(scene) -> CostEstimate:
     return CostEstimate(scene.path.name, factors, seconds)
 
 
-def wheel_rail_cost(parsed: dict[str, Any], what: str) -> CostEstimate:
-    """Estimate of a parsed wheel–rail scene (the dict of :func:`contact.wheel_rail.scene.parse_wheel_rail_scene`)."""
-    inputs = parsed["inputs"]
-    cases = len(parsed["cases"])
-    wheels = len(parsed["sides"])
-    passes = inputs["passes"].max_passes
-    strips = WHEEL_RAIL_WINDOW_MM / inputs["grid_mm"]
-    cells = inputs["fastsim_cells"] if inputs["friction"] > 0 else 0
-    per = CASE_WHEEL_S + (LAYER_CASE_WHEEL_S if parsed["layers"] is not None else 0.0)
+def wheel_rail_cost(scene) -> CostEstimate:
+    """Estimate of a parsed wheel–rail scene (:class:`contact.wheel_rail.scene.WheelRailScene`)."""
+    method = scene.method
+    cases = len(scene.sweep.cases)
+    wheels = len(scene.sides)
+    passes = scene.passes.max
+    strips = WHEEL_RAIL_WINDOW_MM / method.grid_mm
+    cells = method.fastsim_cells if scene.tangential.friction > 0 else 0
+    per = CASE_WHEEL_S + (LAYER_CASE_WHEEL_S if scene.layers is not None else 0.0)
     per_strip = STRIP_S + cells * CELL_S
     factors: dict[str, float] = {"cases": cases, "wheels": wheels, "passes": passes, "strips": round(strips)}
     if cells:
         factors["cells"] = cells
-    method = inputs.get("normal_method")
-    if method is not None and getattr(method, "name", "") == "exact":
+    if method.normal == "exact":
         exact_cells = method.exact_cells or EXACT_DEFAULT_CELLS
         factors["exact cells"] = exact_cells
         per_strip += exact_cells * EXACT_CELL_S
     seconds = cases * wheels * (per + passes * strips * per_strip)
-    return CostEstimate(what, factors, seconds)
+    return CostEstimate(scene.path.name, factors, seconds)
 
 
 __all__ = ["scene_cost", "wheel_rail_cost"]

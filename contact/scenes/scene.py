@@ -39,26 +39,23 @@ import numpy as np
 
 from contact.layer.characteristic import Characteristic
 from wrlayer.errors import InputError
-from wrlayer.validate import Keys
+from wrlayer.validate import (
+    MAX_E_MPA,
+    MAX_FASTSIM_CELLS,
+    MAX_PASSES,
+    MAX_RADIUS_MM,
+    MAX_STRIPS,
+    MIN_ALPHA,
+    MIN_E_MPA,
+    MIN_FORCE_N,
+    MIN_GRID_MM,
+    MIN_LATERAL_RADIUS_MM,
+    MIN_RADIUS_MM,
+    Keys,
+)
 
 SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
 BODIES = ("wheel", "rail")
-#: Largest number of lateral strips (separation table width / grid_mm) a scene may ask for.
-MAX_STRIPS = 20000
-#: Largest number of FASTSIM cells per strip (method.fastsim_cells): beyond it the cell arrays alone take GBs.
-MAX_FASTSIM_CELLS = 10000
-#: Plausible Young's modulus range (MPa): from soft polymers to beyond tungsten carbide; outside it the contact
-#: patch or approach is absurd (a 1e-33 MPa modulus asks for a 1e15-cell patch).
-MIN_E_MPA, MAX_E_MPA = 1.0, 1e7
-#: Plausible ranges of the other scene quantities (the solvers underflow or ask for absurd grids outside them):
-#: rolling radius 1 mm .. 1 km, lateral radius >= 0.01 mm, normal force >= 1 mN, alpha >= 0.01, grid >= 1 um.
-MIN_RADIUS_MM, MAX_RADIUS_MM = 1.0, 1e6
-MIN_LATERAL_RADIUS_MM = 1e-2
-MIN_FORCE_N = 1e-3
-MIN_ALPHA = 1e-2
-MIN_GRID_MM = 1e-3
-#: Largest passes.max: every pass keeps its record (strip arrays); the paper's shakedown takes 20-50 passes.
-MAX_PASSES = 100000
 #: Keys allowed in [reference]: published values of the last pass (Table 1 rows), units in the names.
 REFERENCE_KEYS = ("source", "length_mm", "width_mm", "area_mm2", "delta_mm", "Fx_N", "Fy_N", "p_max_MPa",
                   "WT_max", "PT_max_W_per_mm2", "passes", "u0_mm", "up0_mm")

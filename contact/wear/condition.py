@@ -17,10 +17,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from contact.normal.method import NormalMethod
 from contact.wear.collective import Condition
 from contact.wear.laws import WearLaw, wear_of
-from contact.wheel_rail.solve import WheelRailInputs, WheelRailLayers, solve_wheel
+from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
+from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import place_rail
 from meshes.profiles import Profile
 from wrlayer.errors import ConvergenceError, InputError
@@ -44,7 +44,6 @@ class ConditionTask:
     inputs: WheelRailInputs
     layers: WheelRailLayers | None
     law: WearLaw
-    normal: NormalMethod
     step: int
 
 

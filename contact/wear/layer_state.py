@@ -30,7 +30,7 @@ import numpy as np
 from contact.layer.characteristic import Characteristic
 from contact.wear.condition import BODIES, ConditionResult
 from contact.wear.profile_grid import ArcGrid
-from contact.wheel_rail.solve import WheelRailLayers
+from contact.wheel_rail.inputs import WheelRailLayers
 from meshes.profiles import Profile
 
 #: (profile coordinates y (mm), largest peak pressure p_hist (MPa)) per (side, body).

@@ -60,11 +60,10 @@ class StepBars:
 def start_run(scene: WearScene) -> WearRun:
     """A run before its first step: the scene's profiles on every simulated side and their rolling-radius
     difference."""
-    parsed = scene.parsed
-    profiles = {side: {"rail": parsed["rail"], "wheel": parsed["wheel"]} for side in parsed["sides"]}
-    return WearRun(scene, profiles, radius_difference(profiles, parsed["layout"],
+    profiles = scene.initial_profiles
+    return WearRun(scene, profiles, radius_difference(profiles, scene.wheel_rail.layout,
                                                       scene.settings.conicity_amplitude_mm,
-                                                      parsed["inputs"]["search"]))
+                                                      scene.wheel_rail.method.search))
 
 
 def recalibrated(scene: WearScene, state: WearState, record: StepRecord, work_dir: Path | None

@@ -15,6 +15,7 @@ saturates within a few passes) and is only reported (:func:`controlled_length`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 from scipy.optimize import brentq
@@ -25,7 +26,7 @@ from contact.wear.condition import ConditionTask
 from contact.wear.layer_state import History, side_layers
 from contact.wear.scene import WearScene
 from contact.wheel_rail.contact_search import raw_min_gap
-from contact.wheel_rail.solve import WheelRailInputs, rigid_roll
+from contact.wheel_rail.solve import rigid_roll
 from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
 from meshes.profiles import Profile
 from wrlayer.errors import ConvergenceError, InputError
@@ -38,7 +39,7 @@ DISTANCE_RTOL = 1e-12
 
 def passes_per_km(scene: WearScene) -> dict[str, float]:
     """Passes per km of wheel running distance: {"wheel": 1e6/(2 pi r0), "rail": that * rail_passes_per_wheel_pass}."""
-    r0 = scene.parsed["layout"].nominal_radius_mm
+    r0 = scene.wheel_rail.wheel.nominal_radius_mm
     n = 1e6 / (2.0 * math.pi * r0)
     return {"wheel": n, "rail": n * scene.settings.rail_passes_per_wheel_pass}
 
@@ -77,7 +78,7 @@ def wheelset_roll(scene: WearScene, profiles: dict[str, dict[str, Profile]], pos
     """Roll (rad) of the rigid wheelset at which both wheels touch their rails. One simulated side stands for
     both (:func:`contact.wheel_rail.solve.rigid_roll`); with both sides simulated each side has its own worn
     profiles, and the roll balances the two sides' minimum gaps."""
-    layout, settings = scene.parsed["layout"], scene.parsed["inputs"]["search"]
+    layout, settings = scene.wheel_rail.layout, scene.wheel_rail.method.search
     if len(profiles) == 1:
         (pr,) = profiles.values()
         return rigid_roll(place_rail(pr["rail"], layout), pr["wheel"], layout, pose, settings)
@@ -100,28 +101,27 @@ def build_tasks(scene: WearScene, profiles: dict[str, dict[str, Profile]], step:
     """The (condition, side) tasks of a step of nominal length ``step_km`` on the current profiles. ``history``:
     the layer state (used in the hardening mode); ``tables[(side, body)]``: tables recalibrated on the worn
     profiles."""
-    parsed, settings = scene.parsed, scene.settings
-    opts = parsed["inputs"]["passes"]
+    wheel_rail, settings = scene.wheel_rail, scene.settings
+    opts = wheel_rail.passes
     n_km = passes_per_km(scene)["wheel"]
-    layers = parsed["layers"] if settings.inelastic else None
+    layers = wheel_rail.solver_layers if settings.inelastic else None
     hardening = history if settings.layer_state == "hardening" else None
     tasks = []
     for k, c in enumerate(scene.collective.conditions):
         pose = WheelsetPose(c.lateral_mm, c.yaw_rad, 0.0)
-        if parsed["roll_auto"]:
+        if wheel_rail.roll_auto:
             try:
                 pose = WheelsetPose(c.lateral_mm, c.yaw_rad, wheelset_roll(scene, profiles, pose))
             except (InputError, ConvergenceError) as err:
                 raise InputError(f"step {step}, condition {k} ({c.describe()})", f"no rigid contact: {err}") from None
-        n_pass = int(max(1, min(opts.max_passes, math.ceil(c.weight * step_km * n_km))))
-        pitch = parsed["inputs"]["pitch_rate_rad_s"] if c.pitch_rate_rad_s is None else c.pitch_rate_rad_s
+        n_pass = int(max(1, min(opts.max, math.ceil(c.weight * step_km * n_km))))
+        pitch = wheel_rail.wheelset.pitch_rate_rad_s if c.pitch_rate_rad_s is None else c.pitch_rate_rad_s
         for side in profiles:
-            inputs = WheelRailInputs(**{**parsed["inputs"], "side": side, "pose": pose, "pitch_rate_rad_s": pitch,
-                                        "vertical_load_N": c.vertical_load_N, "speed_mm_s": c.speed_mm_s,
-                                        "normal": scene.normal,
-                                        "passes": PassesOptions(n_pass, opts.tolerance_mm, opts.hardening)})
+            inputs = dataclasses.replace(wheel_rail.inputs(side, pose), pitch_rate_rad_s=pitch,
+                                         vertical_load_N=c.vertical_load_N, speed_mm_s=c.speed_mm_s,
+                                         passes=PassesOptions(n_pass, opts.tolerance_mm, opts.hardening))
             tasks.append(ConditionTask(k, side, c, profiles[side]["rail"], profiles[side]["wheel"], inputs,
-                                       side_layers(layers, hardening, side, tables), scene.law, scene.normal, step))
+                                       side_layers(layers, hardening, side, tables), scene.law, step))
     return tasks
 
 

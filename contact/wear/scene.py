@@ -1,6 +1,6 @@
 """The TOML "wear" scene (units mm, N, MPa, s, rad; distance in km). Run by ``python -m contact wear SCENE --out DIR``.
 
-Everything of a wheel_rail scene (:mod:`contact.wheel_rail.scene`: [profiles], [track], [wheel], [wheelset], [load],
+Everything of a wheel_rail scene (:mod:`contact.wheel_rail.parse`: [profiles], [track], [wheel], [wheelset], [load],
 [material], [tangential], [layers], [passes], [method]) except [sweep] and [output], plus::
 
     type = "wear"                                          (required)
@@ -46,7 +46,10 @@ from contact.scenes.scene import SceneKeys
 from contact.wear.collective import Condition, LoadCollective
 from contact.wear.laws import USFD_MATERIALS, ArchardMap, UsfdTable, WearLaw
 from contact.wear.recalibrate import Recalibration, read_template
-from contact.wheel_rail.scene import _values, parse_wheel_rail_scene
+from contact.wheel_rail.parse import parse_wheel_rail_scene
+from contact.wheel_rail.scene import WheelRailScene
+from contact.wheel_rail.sweep import sweep_values
+from meshes.profiles import Profile
 from wrlayer.errors import InputError
 
 WHEEL_RAIL_SECTIONS = ("title", "description", "profiles", "track", "wheel", "wheelset", "load", "material",
@@ -121,11 +124,10 @@ class WearScene:
         The scene file.
     data : dict
         The scene's TOML tables as read (recorded in result.json).
-    parsed : dict
-        The wheel–rail part (profiles, track, wheel, load, material, tangential, layers, passes, method) as
-        :func:`contact.wheel_rail.scene.parse_wheel_rail_scene` returns it.
-    normal : NormalMethod
-        ``[method] normal``, ``exact_cells``, ``layer_mode``: the normal contact method of every condition.
+    wheel_rail : WheelRailScene
+        The wheel–rail part (profiles, track, wheel, wheelset, load, material, tangential, layers, passes, method;
+        :mod:`contact.wheel_rail.parse`), including ``[method] normal``, ``exact_cells``, ``layer_mode``: the
+        normal contact method of every condition.
     law : WearLaw
         ``[wear] law`` with its coefficients (``[wear.archard]``, ``[wear.usfd]``, ``density_kg_m3``).
     collective : LoadCollective
@@ -136,11 +138,21 @@ class WearScene:
 
     path: Path
     data: dict
-    parsed: dict
-    normal: NormalMethod
+    wheel_rail: WheelRailScene
     law: WearLaw
     collective: LoadCollective
     settings: WearSettings
+
+    @property
+    def normal(self) -> NormalMethod:
+        """The normal contact method of every condition (``[method] normal``)."""
+        return self.wheel_rail.method.normal_method
+
+    @property
+    def initial_profiles(self) -> dict[str, dict[str, Profile]]:
+        """``profiles[side][body]``: the scene's profiles on every simulated side."""
+        wr = self.wheel_rail
+        return {side: {"rail": wr.rail_profile, "wheel": wr.wheel_profile} for side in wr.sides}
 
 
 def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
@@ -151,33 +163,32 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     top.check_known(("type",) + WHEEL_RAIL_SECTIONS + ("wear", "collective"))
     if data.get("type") != "wear":
         raise top.error("type", f"must be \"wear\" for python -m contact wear, got {data.get('type')!r}")
-    wr = {k: v for k, v in data.items() if k in WHEEL_RAIL_SECTIONS}
-    wr["type"] = "wheel_rail"
-    method = dict(wr.get("method", {})) if isinstance(wr.get("method"), dict) else wr.get("method", {})
-    normal_kw = {}
-    if isinstance(method, dict):
-        mk = SceneKeys(file, "method", method)
-        if "normal" in method:
-            normal_kw["name"] = mk.text("normal")
-        if "exact_cells" in method:
-            normal_kw["exact_cells"] = mk.integer("exact_cells", 48, ge=1)
-        if "layer_mode" in method:
-            normal_kw["layer_mode"] = mk.text("layer_mode")
-        for key in ("normal", "exact_cells", "layer_mode"):
-            method.pop(key, None)
-        wr["method"] = method
-    try:
-        normal = NormalMethod(**normal_kw)
-    except InputError as err:
-        key = err.what if err.what.startswith("method.") else "method.normal"
-        raise InputError(f"{file}: {key}", err.problem) from None
-    wr["output"] = {"deformed_profiles": False}
-    parsed = parse_wheel_rail_scene(wr, scene_path)
+    wheel_rail = parse_wheel_rail_scene({"type": "wheel_rail", **{k: v for k, v in data.items()
+                                                                   if k in WHEEL_RAIL_SECTIONS}}, scene_path)
     wear = top.sub("wear")
     if wear is None:
         raise top.error("wear", "a wear scene needs a [wear] table (law, distance_km, steps)")
     wear.check_known(WEAR_KEYS)
     law = _law(wear)
+    settings = _settings(wear, scene_path.parent, wheel_rail)
+    distance = wear.number("distance_km")
+    if not distance > 0:
+        raise wear.error("distance_km", f"must be a positive distance, got {distance:g}")
+    steps = wear.integer("steps", 1, ge=1) if "steps" in wear.table else None
+    if steps is None:
+        raise wear.error("steps", "required (number of profile-update steps)")
+    col = top.sub("collective")
+    if col is None:
+        raise top.error("collective", "a wear scene needs a [collective] (running conditions with weights)")
+    conds = _conditions(col, wheel_rail)
+    try:
+        collective = LoadCollective(tuple(conds), distance, steps, where=f"{file}: collective")
+    except InputError as err:
+        raise InputError(err.what if err.what.startswith(file) else f"{file}: {err.what}", err.problem) from None
+    return WearScene(scene_path, data, wheel_rail, law, collective, settings)
+
+
+def _settings(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> WearSettings:
     settings = WearSettings(
         max_depth_per_step_mm=wear.number("max_depth_per_step_mm", 0.1, gt=0.0),
         smoothing_mm=wear.number("smoothing_mm", 1.0, ge=0.0),
@@ -188,30 +199,16 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
         workers=wear.integer("workers", 1, ge=1),
         scheduler=wear.text("scheduler", ""),
         conicity_amplitude_mm=wear.number("conicity_amplitude_mm", 3.0, gt=0.0),
-        recalibrate=_recalibration(wear, scene_path.parent, parsed))
+        recalibrate=_recalibration(wear, base, wheel_rail))
     if settings.layer_state not in ("hardening", "virgin"):
         raise wear.error("layer_state", f"must be 'hardening' or 'virgin', got {settings.layer_state!r}")
-    if settings.inelastic and parsed["layers"] is None:
+    if settings.inelastic and wheel_rail.layers is None:
         raise wear.error("inelastic", "true needs [layers] (the Prandtl layer gives the inelastic displacement); "
                          "set inelastic = false for abrasive wear alone")
-    distance = wear.number("distance_km")
-    if not distance > 0:
-        raise wear.error("distance_km", f"must be a positive distance, got {distance:g}")
-    steps = wear.integer("steps", 1, ge=1) if "steps" in wear.table else None
-    if steps is None:
-        raise wear.error("steps", "required (number of profile-update steps)")
-    col = top.sub("collective")
-    if col is None:
-        raise top.error("collective", "a wear scene needs a [collective] (running conditions with weights)")
-    conds = _conditions(col, parsed)
-    try:
-        collective = LoadCollective(tuple(conds), distance, steps, where=f"{file}: collective")
-    except InputError as err:
-        raise InputError(err.what if err.what.startswith(file) else f"{file}: {err.what}", err.problem) from None
-    return WearScene(scene_path, data, parsed, normal, law, collective, settings)
+    return settings
 
 
-def _recalibration(wear: SceneKeys, base: Path, parsed: dict) -> Recalibration | None:
+def _recalibration(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> Recalibration | None:
     """[wear.recalibrate]: the calibration template (read and validated here) and the interval in steps."""
     sub = wear.sub("recalibrate") if "recalibrate" in wear.table else None
     if sub is None:
@@ -222,8 +219,9 @@ def _recalibration(wear: SceneKeys, base: Path, parsed: dict) -> Recalibration |
     if not path.is_file():
         raise sub.error("config", f"no such calibration template {rel!r} (looked at {path})")
     every = sub.integer("every_steps", 1, ge=1)
-    layers = parsed["layers"]
-    text, cfg = read_template(path, sub.what("config"), {"wheel": parsed["wheel"], "rail": parsed["rail"]})
+    layers = wheel_rail.solver_layers
+    text, cfg = read_template(path, sub.what("config"), {"wheel": wheel_rail.wheel_profile,
+                                                         "rail": wheel_rail.rail_profile})
     if layers is None or layers.combined is not None:
         raise sub.error("config", "recalibration needs per-body [layers] tables (rail and/or wheel)")
     return Recalibration(str(path), text, cfg, every)
@@ -269,9 +267,8 @@ def _law(wear: SceneKeys) -> WearLaw:
     return WearLaw(name, archard, usfd, wear.number("density_kg_m3", 7850.0, gt=0.0))
 
 
-def _conditions(col: SceneKeys, parsed: dict) -> list[Condition]:
-    load = parsed["inputs"]
-    Q0, V0 = load["vertical_load_N"], load["speed_mm_s"]
+def _conditions(col: SceneKeys, wheel_rail: WheelRailScene) -> list[Condition]:
+    Q0, V0 = wheel_rail.load.vertical_load_N, wheel_rail.load.speed_mm_s
     if "condition" in col.table:
         col.check_known(("condition",))
         rows = col.table["condition"]
@@ -290,7 +287,7 @@ def _conditions(col: SceneKeys, parsed: dict) -> list[Condition]:
     col.check_known(("lateral_mm", "yaw_rad", "weights"))
     if "lateral_mm" not in col.table:
         raise col.error("lateral_mm", "give [[collective.condition]] tables or a sweep (lateral_mm, weights)")
-    lat = _values(col, "lateral_mm") if isinstance(col.table["lateral_mm"], dict) else col.array("lateral_mm", 1)
+    lat = sweep_values(col, "lateral_mm") if isinstance(col.table["lateral_mm"], dict) else col.array("lateral_mm", 1)
     yaw_value = col.table.get("yaw_rad", 0.0)
     yaw = np.full(lat.size, col.number("yaw_rad", 0.0)) if not isinstance(yaw_value, list) \
         else col.array("yaw_rad", 1)

@@ -74,17 +74,17 @@ def wear_step(scene: WearScene, state: WearState, solve: Callable[[list], list[C
     length, notes = controlled_length(nominal_km, max(float(np.max(v)) for v in smooth_rate.values()),
                                       max(float(np.max(v)) for v in smooth_inel.values()),
                                       settings.max_depth_per_step_mm)
-    r0 = scene.parsed["layout"].nominal_radius_mm
+    r0, initial = scene.wheel_rail.wheel.nominal_radius_mm, scene.initial_profiles
     bodies, profiles = {}, {s: {} for s in state.profiles}
     for (s, b), g in grids.items():
         wear = smooth_rate[s, b] * length
-        name = f"{scene.parsed[b].name} {s} after step {step}"
+        name = f"{initial[s][b].name} {s} after step {step}"
         profiles[s][b] = g.updated(wear + smooth_inel[s, b], name, f"step {step}: {s} {b} profile")
         bodies[s, b] = BodyStep(g, wear, smooth_inel[s, b], rate[s, b] * length,
                                 body_stats(g, wear, smooth_inel[s, b], length, b, r0, scene.law.density_kg_m3))
     t_update = time.perf_counter() - t1
-    conicity = radius_difference(profiles, scene.parsed["layout"], settings.conicity_amplitude_mm,
-                                 scene.parsed["inputs"]["search"])
+    conicity = radius_difference(profiles, scene.wheel_rail.layout, settings.conicity_amplitude_mm,
+                                 scene.wheel_rail.method.search)
     keep_state = settings.inelastic and settings.layer_state == "hardening"
     record = StepRecord(step, state.done_km, length, bodies, conicity, tuple(summary_of(r) for r in results),
                         {"solve_s": t_solve, "update_s": t_update, "conditions_s": sum(r.seconds for r in results)},

@@ -57,7 +57,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 from scipy.optimize import brentq
@@ -70,6 +70,7 @@ from contact.normal.method import NormalMethod, solve_normal_with
 from contact.normal.patch import Patch
 from contact.passes.passes import PassesOptions, PassRecord, run_passes
 from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
+from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
 from contact.wheel_rail.contact_search import ContactCandidate, SearchResult, SearchSettings, search_contacts
 from contact.wheel_rail.kinematics import PatchKinematics, contact_frame, creepages
 from contact.wheel_rail.reference_point import ReferencePoint, check_contact_point, reference_point
@@ -87,99 +88,12 @@ from wrlayer.errors import ConvergenceError, InputError, require
 BALANCE_RTOL = 1e-6
 #: The balance iteration stops at |sum F_Z - Q| <= BALANCE_ITER_RTOL Q.
 BALANCE_ITER_RTOL = 1e-10
-BALANCES = ("total", "normal")
 #: Barrier heights (mm) up to which neighbouring candidates are merged when their patches grow into each other.
 MERGE_RETRY_MM = (0.02, 0.05, 0.1, 0.2, 0.5)
 #: Layers are built only on strips whose separation is below the first of these caps (mm) (the virtual penetration
 #: alpha delta stays far below 0.3 mm at wheel loads); if a strip in contact has no element, the case is solved again
 #: with the next cap.
 LAYER_F_CAPS_MM = (0.3, 1.0, np.inf)
-
-
-class LayerLookup(Protocol):
-    """A per-position layer table (e.g. :class:`contact.layer.layer_table.LayerTable`)."""
-
-    def characteristic_at(self, y_mm: float, patch_mm: tuple[float, float] | None = None) -> Characteristic: ...
-
-    @property
-    def y_range_mm(self) -> tuple[float, float]: ...
-
-
-@dataclass(frozen=True)
-class WheelRailLayers:
-    """Layer tables per body (``rail``, ``wheel``; either may be None) or one ``combined`` characteristic.
-    ``scale_to_patch``: scale the tables' characteristics to each patch's solved semi-axes (module docstring)."""
-
-    rail: Any = None
-    wheel: Any = None
-    combined: Characteristic | None = None
-    names: dict = field(default_factory=dict)
-    scale_to_patch: bool = False
-
-    def __post_init__(self):
-        require(self.combined is None or (self.rail is None and self.wheel is None), "layers",
-                "give either per-body tables (rail, wheel) or one combined characteristic, not both")
-        require(not (self.scale_to_patch and self.combined is not None), "layers.scale_to_patch",
-                "only used with calibration tables (rail, wheel), not with a combined characteristic")
-
-    @property
-    def empty(self) -> bool:
-        return self.rail is None and self.wheel is None and self.combined is None
-
-
-@dataclass(frozen=True)
-class WheelRailInputs:
-    """Everything but the profiles for one wheel on its rail (units mm, N, MPa, s, rad).
-
-    pitch_rate_rad_s None means pure rolling at the nominal radius: V / r0. normal_method: ``method.normal``;
-    contact_point: "first_contact" | "weighted_centre" (:mod:`contact.wheel_rail.reference_point`); balance:
-    "total" (the vertical component of the whole contact force, tangential forces included, equals the load) or
-    "normal" (normal forces only; the earlier model, kept for comparison).
-    """
-
-    layout: TrackLayout = field(default_factory=TrackLayout)
-    pose: WheelsetPose = field(default_factory=WheelsetPose)
-    side: str = "right"
-    vertical_load_N: float = 10000.0
-    speed_mm_s: float = 2000.0
-    pitch_rate_rad_s: float | None = None
-    friction: float = 0.3
-    E_MPa: float = 210000.0
-    poisson: float = 0.28
-    alpha: float = 0.55
-    grid_mm: float = 0.1
-    fastsim_cells: int = 60
-    passes: PassesOptions = field(default_factory=lambda: PassesOptions(max_passes=1))
-    search: SearchSettings = field(default_factory=SearchSettings)
-    normal_method: NormalMethod = field(default_factory=NormalMethod)
-    contact_point: str = "first_contact"
-    balance: str = "total"
-    normal: NormalMethod | None = None   # alias of normal_method (the wear loop's name)
-
-    def __post_init__(self):
-        # ``normal`` sets the method when normal_method is left at its default (so that dataclasses.replace of
-        # normal_method is not undone by the copied alias); afterwards both name the same method
-        if self.normal is not None and self.normal_method == NormalMethod():
-            object.__setattr__(self, "normal_method", self.normal)
-        object.__setattr__(self, "normal", self.normal_method)
-        side_sign(self.side)
-        check_contact_point(self.contact_point)
-        require(self.balance in BALANCES, "method.balance", f"must be one of {', '.join(BALANCES)}, got "
-                f"{self.balance!r}")
-        for key in ("vertical_load_N", "speed_mm_s", "E_MPa", "grid_mm"):
-            v = getattr(self, key)
-            require(bool(np.isfinite(v)) and v > 0, key, f"must be a positive number, got {v!r}")
-        require(bool(np.isfinite(self.friction)) and self.friction >= 0, "friction", f"must be >= 0, got {self.friction!r}")
-        require(0.0 <= self.poisson < 0.5, "poisson", f"must lie in [0, 0.5), got {self.poisson!r}")
-
-    @property
-    def G_MPa(self) -> float:
-        return self.E_MPa / (2.0 * (1.0 + self.poisson))
-
-    @property
-    def omega_rad_s(self) -> float:
-        return self.speed_mm_s / self.layout.nominal_radius_mm if self.pitch_rate_rad_s is None \
-            else float(self.pitch_rate_rad_s)
 
 
 @dataclass(eq=False)

@@ -165,7 +165,7 @@ def test_the_calibration_gets_the_worn_profiles(make_scene, tmp_path, monkeypatc
 def test_recalibrate_side_returns_the_written_tables(make_scene, tmp_path, monkeypatch):
     monkeypatch.setattr(recal_mod, "run_calibration", _fake_calibration([], tables=("wheel", "rail")))
     scene = _recal_scene(make_scene, _template(tmp_path))
-    profiles = {"wheel": scene.parsed["wheel"], "rail": scene.parsed["rail"]}
+    profiles = {"wheel": scene.wheel_rail.wheel_profile, "rail": scene.wheel_rail.rail_profile}
     tables = recalibrate_side(scene.settings.recalibrate, profiles, tmp_path / "side")
     assert sorted(tables) == ["rail", "wheel"] and tables["rail"].body == "rail"
     monkeypatch.setattr(recal_mod, "run_calibration", _fake_calibration([], tables=()))
@@ -181,7 +181,7 @@ def test_a_failed_calibration_stops_the_loop_naming_the_step(make_scene, tmp_pat
 
     monkeypatch.setattr(recal_mod, "run_calibration", failing)
     scene = _recal_scene(make_scene, _template(tmp_path))
-    profiles = {"wheel": scene.parsed["wheel"], "rail": scene.parsed["rail"]}
+    profiles = {"wheel": scene.wheel_rail.wheel_profile, "rail": scene.wheel_rail.rail_profile}
     with pytest.raises(kind, match=rf"^here: calibration of the worn profiles failed: {error}$"):
         recalibrate_side(scene.settings.recalibrate, profiles, tmp_path / "side", what="here")
     with pytest.raises(WearStopped, match=r"stopped at step 1 .*step 1: wear.recalibrate \(right side\): "
@@ -209,7 +209,7 @@ def test_coarse_3d_template_on_one_rail_position(make_scene, tmp_path):
     text = text.replace('profile = "60E1"', 'profile = "@rail_profile@"')
     text = text.replace('mate = "S1002"', 'mate = "@wheel_profile@"\nwheel_radius_mm = 460.0')
     scene = _recal_scene(make_scene, _template(tmp_path, text))
-    profiles = {"wheel": scene.parsed["wheel"], "rail": scene.parsed["rail"]}
+    profiles = {"wheel": scene.wheel_rail.wheel_profile, "rail": scene.wheel_rail.rail_profile}
     tables = recalibrate_side(scene.settings.recalibrate, profiles, tmp_path / "side")
     assert list(tables) == ["rail"] and tables["rail"].y_range_mm == (0.0, 0.0)
     assert tables["rail"].characteristic_at(0.0).elastic_limit_MPa > 0

@@ -48,7 +48,7 @@ def test_real_conditions_in_process(make_scene):
     """Two real conditions on one side: a wear depth per strip for both bodies, strips on the profiles."""
     scene = make_scene(layers=None, wear={"inelastic": False},
                        collective={"lateral_mm": [1.0, 3.0], "weights": "uniform"})
-    profiles = {"right": {"rail": scene.parsed["rail"], "wheel": scene.parsed["wheel"]}}
+    profiles = {"right": {"rail": scene.wheel_rail.rail_profile, "wheel": scene.wheel_rail.wheel_profile}}
     results = map_tasks(build_tasks(scene, profiles, 1, 10.0))
     assert [r.index for r in results] == [0, 1]
     for r in results:

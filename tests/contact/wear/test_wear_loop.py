@@ -40,11 +40,11 @@ def test_mass_balance(make_scene):
     """Worn area on the profile grid = sum over strips of depth per pass x strip width x passes (1e-6)."""
     scene = make_scene(collective={"lateral_mm": [1.0, 3.0], "yaw_rad": [0.0, 0.002], "weights": [0.4, 0.6]})
     km = 50.0
-    results = map_tasks(build_tasks(scene, {"right": {"rail": scene.parsed["rail"], "wheel": scene.parsed["wheel"]}},
+    results = map_tasks(build_tasks(scene, {"right": {"rail": scene.wheel_rail.rail_profile, "wheel": scene.wheel_rail.wheel_profile}},
                                     1, km))
     per_km = passes_per_km(scene)
     for body in BODIES:
-        prof = scene.parsed[body]
+        prof = scene.initial_profiles["right"][body]
         g = ArcGrid.of(prof, 0.2)
         direct = sum(scene.collective.conditions[r.index].weight * per_km[body] * km * np.sum(r.wear_mm[body])
                      * r.strip_mm for r in results)
@@ -118,7 +118,7 @@ def test_written_profiles_give_the_same_separation(make_scene, tmp_path):
     worn = run.steps[0].profiles["right"]
     from meshes.profiles.io import write_text
 
-    layout = scene.parsed["layout"]
+    layout = scene.wheel_rail.layout
     pose = WheelsetPose(2.0, 0.0, 0.0)
     placed = place_rail(worn["rail"], layout)
     a = search_contacts(placed, worn["wheel"], layout, pose, SearchSettings())
@@ -323,7 +323,7 @@ def test_wear_loop_keeps_scale_to_patch_and_hardened_tables_scale(make_scene):
 
     scene = make_scene(layers={"scale_to_patch": True}, wear={"layer_state": "hardening"})
     y = np.array([-10.0, 10.0])
-    layers = side_layers(scene.parsed["layers"], {("right", "rail"): (y, np.array([900.0, 900.0]))}, "right")
+    layers = side_layers(scene.wheel_rail.solver_layers, {("right", "rail"): (y, np.array([900.0, 900.0]))}, "right")
     assert layers.scale_to_patch
     assert isinstance(layers.rail, HardenedTable)
     patch = (3.0, 2.0)

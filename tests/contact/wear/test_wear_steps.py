@@ -64,8 +64,8 @@ def test_body_stats_by_hand(body, around_mm, key):
 def test_wheelset_roll_is_the_rigid_roll(make_scene):
     """One side: rigid_roll itself; two sides with the same profiles: the same root."""
     scene = make_scene(wheel={"side": "both"}, wheelset={"roll_rad": "auto"})
-    layout, search = scene.parsed["layout"], scene.parsed["inputs"]["search"]
-    pr = {"rail": scene.parsed["rail"], "wheel": scene.parsed["wheel"]}
+    layout, search = scene.wheel_rail.layout, scene.wheel_rail.method.search
+    pr = {"rail": scene.wheel_rail.rail_profile, "wheel": scene.wheel_rail.wheel_profile}
     pose = WheelsetPose(4.0, 0.001, 0.0)
     expected = rigid_roll(place_rail(pr["rail"], layout), pr["wheel"], layout, pose, search)
     assert expected != 0.0

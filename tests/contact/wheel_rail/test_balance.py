@@ -166,7 +166,7 @@ def test_close_patches_merged_and_solved_on_one_exact_grid(rail60, s1002, placed
 def test_layered_wheel_with_either_normal_method(rail60, s1002, placed, method):
     from contact.layer.characteristic import Characteristic
     from contact.normal.method import NormalMethod
-    from contact.wheel_rail.solve import WheelRailLayers
+    from contact.wheel_rail.inputs import WheelRailLayers
 
     layers = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.05]), np.array([0, 300.0, 900.0])))
     sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(2.0), normal_method=NormalMethod(method)),
@@ -176,17 +176,11 @@ def test_layered_wheel_with_either_normal_method(rail60, s1002, placed, method):
     assert abs(sol.vertical_force_N - Q) / Q < 1e-6
 
 
-def test_normal_is_an_alias_of_normal_method_and_every_pass_is_kept(rail60, s1002, placed):
+def test_every_pass_is_kept(rail60, s1002, placed):
     from contact.layer.characteristic import Characteristic
-    from contact.normal.method import NormalMethod
     from contact.passes.passes import PassesOptions
-    from contact.wheel_rail.solve import WheelRailLayers
+    from contact.wheel_rail.inputs import WheelRailLayers
 
-    assert WheelRailInputs(normal=NormalMethod("exact")).normal_method.name == "exact"
-    assert WheelRailInputs(normal_method=NormalMethod("exact")).normal.name == "exact"
-    import dataclasses
-
-    assert dataclasses.replace(WheelRailInputs(), normal_method=NormalMethod("exact")).normal.name == "exact"
     layers = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.05]), np.array([0, 300.0, 900.0])))
     sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(2.0), passes=PassesOptions(max_passes=3)),
                       layers, placed_rail=placed)

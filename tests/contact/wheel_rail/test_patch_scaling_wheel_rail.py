@@ -8,12 +8,17 @@ import pytest
 
 from contact.layer.layer_table import LayerTable
 from contact.layer.patch_scaling import PATCH_SCALING_TOLERANCE
-from contact.wheel_rail.scene import parse_wheel_rail_scene, run_wheel_rail_scene
+from contact.wheel_rail.parse import parse_wheel_rail_scene
+from contact.wheel_rail.run import run_wheel_rail_scene
 from contact.wheel_rail.solve import BALANCE_RTOL, WheelRailInputs, WheelRailLayers, solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
 from wrlayer.errors import InputError
 
 TABLES = Path(__file__).resolve().parents[3] / "scenes" / "tables"
+
+
+def _run(data, scene_path, out_dir, plots=False):
+    return run_wheel_rail_scene(parse_wheel_rail_scene(data, scene_path), out_dir, plots)
 
 
 class _Recording:
@@ -80,7 +85,7 @@ def test_scene_records_the_scaled_patch(tmp_path):
             "layers": {"rail": str(TABLES / "rail_60E1_default.json"), "wheel": str(TABLES / "wheel_S1002_default.json"),
                        "scale_to_patch": True},
             "output": {"deformed_profiles": False}}
-    result = run_wheel_rail_scene(data, tmp_path / "s.toml", tmp_path / "out", plots=False)
+    result = _run(data, tmp_path / "s.toml", tmp_path / "out", plots=False)
     patch = result["cases"][0]["wheels"]["right"]["patches"][0]
     scaled = patch["layer_scaled_to_patch"]
     assert scaled["a_mm"] == pytest.approx(0.5 * patch["length_mm"], rel=2 * PATCH_SCALING_TOLERANCE)

@@ -8,10 +8,15 @@ import numpy as np
 import pytest
 
 from contact.__main__ import main
-from contact.wheel_rail.scene import parse_wheel_rail_scene, run_wheel_rail_scene
+from contact.wheel_rail.parse import parse_wheel_rail_scene
+from contact.wheel_rail.run import run_wheel_rail_scene
 from wrlayer.errors import InputError
 
 SCENES = Path(__file__).resolve().parents[3] / "scenes"
+
+
+def _run(data, scene_path, out_dir, plots=False):
+    return run_wheel_rail_scene(parse_wheel_rail_scene(data, scene_path), out_dir, plots)
 
 
 def _scene(**sections):
@@ -23,7 +28,7 @@ def _scene(**sections):
 def test_every_pose_and_kinematic_input_can_vary_per_case(tmp_path):
     sweep = {"lateral_mm": [0.0, 2.0], "yaw_rad": [0.0, 0.004], "roll_rad": [0.0, 1e-4],
              "pitch_rate_rad_s": [4.30, 4.40], "vertical_load_N": [8000.0, 12000.0], "speed_mm_s": [1900.0, 2100.0]}
-    result = run_wheel_rail_scene(_scene(sweep=sweep), tmp_path / "s.toml", tmp_path, plots=False)
+    result = _run(_scene(sweep=sweep), tmp_path / "s.toml", tmp_path, plots=False)
     for k, case in enumerate(result["cases"]):
         for key, values in sweep.items():
             assert case[key] == pytest.approx(values[k])
@@ -40,10 +45,10 @@ def test_sweep_csv_with_contact_signs(tmp_path):
     (tmp_path / "cases.csv").write_text("# a comment\ncase,lateral_mm,yaw_rad,roll_rad,pitch_rate_rad_s,extra\n"
                                         "1,0.0,0.0,0.0,-4.35,7\n2,1.0,0.0024,-5.0e-05,-4.3466,7\n", encoding="utf-8")
     parsed = parse_wheel_rail_scene(_scene(sweep={"csv": "cases.csv", "convention": "contact"}), tmp_path / "s.toml")
-    cases = parsed["cases"]
-    assert [c["lateral_mm"] for c in cases] == [0.0, 1.0]
-    assert cases[1]["roll_rad"] == pytest.approx(5.0e-05) and cases[1]["pitch_rate_rad_s"] == pytest.approx(4.3466)
-    assert parsed["sweep_csv"]["ignored_columns"] == ["case", "extra"]
+    cases = parsed.cases
+    assert [c.lateral_mm for c in cases] == [0.0, 1.0]
+    assert cases[1].roll_rad == pytest.approx(5.0e-05) and cases[1].pitch_rate_rad_s == pytest.approx(4.3466)
+    assert parsed.sweep.csv.ignored_columns == ("case", "extra")
 
 
 @pytest.mark.parametrize("text, sweep, match", [
@@ -101,7 +106,7 @@ def test_shipped_manchester_a22_scene(tmp_path, reference_dir, monkeypatch):
 
 def test_no_progress_bar_in_logs_and_failed_cases_in_the_csv(tmp_path, capsys):
     data = _scene(sweep={"lateral_mm": [0.0, 25.0]})
-    result = run_wheel_rail_scene(data, tmp_path / "s.toml", tmp_path, plots=False)
+    result = _run(data, tmp_path / "s.toml", tmp_path, plots=False)
     err = capsys.readouterr().err
     assert "\x1b" not in err and "case/s" not in err            # stderr is not a terminal here: no bar
     rows = list(csv.DictReader((tmp_path / "cases.csv").open()))
@@ -124,7 +129,7 @@ def test_exact_solver_keys_are_validated(tmp_path):
 
 
 def test_cases_csv_gives_both_reference_points(tmp_path):
-    result = run_wheel_rail_scene(_scene(method={"contact_point": "weighted_centre"}), tmp_path / "s.toml", tmp_path,
+    result = _run(_scene(method={"contact_point": "weighted_centre"}), tmp_path / "s.toml", tmp_path,
                                   plots=False)
     row = next(csv.DictReader((tmp_path / "cases.csv").open()))
     p = result["cases"][0]["wheels"]["right"]["patches"][0]

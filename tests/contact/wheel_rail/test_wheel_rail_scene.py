@@ -6,8 +6,13 @@ from pathlib import Path
 import pytest
 
 from contact.__main__ import main
-from contact.wheel_rail.scene import parse_wheel_rail_scene, run_wheel_rail_scene
+from contact.wheel_rail.parse import parse_wheel_rail_scene
+from contact.wheel_rail.run import run_wheel_rail_scene
 from wrlayer.errors import InputError
+
+
+def _run(data, scene_path, out_dir, plots=False):
+    return run_wheel_rail_scene(parse_wheel_rail_scene(data, scene_path), out_dir, plots)
 
 
 def _scene(**sections):
@@ -35,7 +40,7 @@ def test_validation_names_the_key(tmp_path, data, match):
 def test_sweep_with_bad_case_computes_the_others(tmp_path):
     data = _scene(sweep={"lateral_mm": [0.0, 25.0, 3.0]}, wheel={"side": "both"},
                   wheelset={"roll_rad": 0.0})
-    result = run_wheel_rail_scene(data, tmp_path / "s.toml", tmp_path, plots=False)
+    result = _run(data, tmp_path / "s.toml", tmp_path, plots=False)
     cases = result["cases"]
     assert result["n_failed"] == 1
     assert "flange through the rail" in cases[1]["error"] and "lateral 25 mm" in cases[1]["error"]

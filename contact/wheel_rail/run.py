@@ -1,0 +1,125 @@
+"""Run a wheel_rail scene: every case on every simulated wheel, result.json data, cases.csv, the wear-ready
+frictional CSVs, deformed profiles and pictures (units mm, N, MPa, s, rad).
+
+Run by ``python -m contact simulate SCENE --out DIR`` (and ``simulate-all``) with the scene parsed once
+(:func:`contact.wheel_rail.parse.parse_wheel_rail_scene`). A progress bar over the cases goes to stderr when it is a
+terminal (:mod:`wrlayer.progress`; ``WRLAYER_PROGRESS=0/1`` overrides). Conventions: docs/wheel-rail.md.
+
+A case that fails (bad geometry: profiles that do not meet, the flange through the rail; or a solver failure) is
+recorded with its error message in ``cases[k].error`` and the other cases are still computed; the scene itself
+fails only when every case fails.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from contact.scenes.result_io import UNITS, code_version
+from contact.tangential.frictional_outputs import write_wheel_rail
+from contact.wheel_rail.result_files import CONVENTIONS, cases_csv, inputs_echo, wheel_result
+from contact.wheel_rail.scene import SWEEP_KEYS, CaseSpec, WheelRailScene
+from contact.wheel_rail.solve import WheelRailSolution, deformed_profile, residual_on_profiles, rigid_roll, solve_wheel
+from contact.wheel_rail.track_geometry import PlacedRail, WheelsetPose, place_rail
+from wrlayer.errors import ConvergenceError, InputError
+from wrlayer.progress import progress
+
+
+def solve_case(scene: WheelRailScene, case: CaseSpec, placed_rail: PlacedRail | None = None
+               ) -> tuple[dict, dict[str, WheelRailSolution]]:
+    """One case of the scene: (result entry, {side: WheelRailSolution}); raises InputError/ConvergenceError."""
+    layout, rail, wheel = scene.layout, scene.rail_profile, scene.wheel_profile
+    placed_rail = placed_rail or place_rail(rail, layout)
+    pose = WheelsetPose(case.lateral_mm, case.yaw_rad, 0.0 if scene.roll_auto else case.roll_rad)
+    if scene.roll_auto:
+        roll = rigid_roll(placed_rail, wheel, layout, pose, scene.method.search)
+        pose = WheelsetPose(pose.lateral_mm, pose.yaw_rad, roll)
+    sols = {}
+    for side in scene.sides:
+        inputs = scene.inputs(side, pose, case)
+        sols[side] = solve_wheel(rail, wheel, inputs, scene.solver_layers, placed_rail,
+                                 case=f"case lateral {pose.lateral_mm:g} mm, yaw {pose.yaw_rad:g} rad, {side} wheel")
+    any_inputs = next(iter(sols.values())).inputs
+    entry = {"lateral_mm": pose.lateral_mm, "yaw_rad": pose.yaw_rad, "roll_rad": pose.roll_rad,
+             "pitch_rate_rad_s": any_inputs.omega_rad_s, "vertical_load_N": any_inputs.vertical_load_N,
+             "speed_mm_s": any_inputs.speed_mm_s,
+             "wheels": {side: wheel_result(s) for side, s in sols.items()}}
+    if len(sols) == 2:  # rolling radius difference of the main (largest normal force) patches, left - right
+        r = {side: max(s.patches, key=lambda p: p.normal_force_N).candidate.wheel_radius_mm for side, s in sols.items()}
+        entry["rolling_radius_difference_mm"] = r["left"] - r["right"]
+    return entry, sols
+
+
+def write_deformed_profiles(scene: WheelRailScene, sols: dict[str, WheelRailSolution], out_dir: Path,
+                            stem: str) -> list[dict[str, Any]]:
+    """Deformed rail and wheel profiles of one case (every side), written as SIMPACK and CSV and read back."""
+    from meshes.profiles.io import write_profile_files
+
+    written = []
+    profiles = {"rail": scene.rail_profile, "wheel": scene.wheel_profile}
+    for side, sol in sols.items():
+        for body, (ys, up) in residual_on_profiles(sol.patches).items():
+            if not np.any(up > 1e-9):
+                continue
+            prof = profiles[body]
+            pts = deformed_profile(prof, ys, up)
+            paths, err = write_profile_files(out_dir / "deformed_profiles" / f"{stem}_{side}_{body}", pts, body,
+                                             f"{prof.name} with residual displacements ({stem}, {side})")
+            for path in paths:
+                written.append({"file": str(path.relative_to(out_dir)), "body": body, "side": side,
+                                "max_residual_mm": float(up.max()), "read_back_max_error_mm": err})
+    return written
+
+
+def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool) -> dict[str, Any]:
+    """Run a wheel_rail scene; pictures, deformed profiles and CSV files go into ``out_dir``."""
+    t0 = time.perf_counter()
+    out_dir = Path(out_dir)
+    placed = place_rail(scene.rail_profile, scene.layout)
+    entries, all_sols = [], []
+    cases = scene.cases
+    for k, case in enumerate(progress(cases, desc=scene.path.stem, total=len(cases), unit="case", leave=False)):
+        t_case = time.perf_counter()
+        try:
+            entry, sols = solve_case(scene, case, placed)
+            if scene.layers is not None and scene.output.deformed_profiles:
+                entry["deformed_profiles"] = write_deformed_profiles(scene, sols, out_dir, f"case{k:03d}")
+        except (InputError, ConvergenceError) as err:
+            entry, sols = {**{key: getattr(case, key) for key in SWEEP_KEYS}, "error": str(err)}, None
+        entry["case"] = k
+        entry["time_s"] = time.perf_counter() - t_case
+        entries.append(entry)
+        all_sols.append(sols)
+    if all(s is None for s in all_sols):
+        raise InputError(scene.path.name, f"every case failed; first: {entries[0]['error']}")
+    result = {
+        "type": "wheel_rail",
+        "inputs": inputs_echo(scene),
+        "code_version": code_version(),
+        "units": {**UNITS, "angles": "rad (contact_angle_deg in degrees)",
+                  "Fx_N, Fy_N": "N (creep forces of the rail on the wheel, contact frame x = rolling direction, "
+                                "y = contact-plane lateral axis with positive track-Y component)"},
+        "conventions": CONVENTIONS,
+        "rail_placement": {"dy_mm": placed.dy_mm, "dz_mm": placed.dz_mm, "angle_rad": placed.angle_rad,
+                           "gauge_point_Y_mm": placed.gauge_point[0], "gauge_point_Z_mm": placed.gauge_point[1],
+                           "top_y_rail_mm": placed.top_q_mm},
+        "cases": entries,
+        "n_failed": sum(1 for e in entries if "error" in e),
+        "timings_s": {"total": time.perf_counter() - t0},
+    }
+    result["frictional_outputs"] = write_wheel_rail(all_sols, out_dir)   # wear-ready CSVs beside result.json
+    text = cases_csv(result)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "cases.csv").write_text(text, encoding="utf-8")
+    result["cases_csv"] = "cases.csv"
+    if plots:
+        from contact.wheel_rail.plots import write_wheel_rail_plots  # matplotlib only when pictures are asked for
+
+        result["pictures"] = [p.name for p in write_wheel_rail_plots(result, all_sols, out_dir)]
+    return result
+
+
+__all__ = ["run_wheel_rail_scene", "solve_case", "write_deformed_profiles"]
