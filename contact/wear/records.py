@@ -11,6 +11,7 @@ import numpy as np
 
 from contact.wear.layer_state import History
 from contact.wear.profile_grid import ArcGrid
+from contact.wear.scene import WearScene
 from contact.wear.statistics import BodyStats
 from meshes.profiles import Profile
 from wrlayer.errors import WrLayerError
@@ -131,7 +132,7 @@ class WearRun:
     """The loop's result, filled step by step: initial profiles and conicity, the completed steps, and the stop
     reason if any (mutable: :func:`contact.wear.loop.wear_steps` appends each step as it completes)."""
 
-    scene: object
+    scene: WearScene
     initial_profiles: Profiles
     initial_conicity: dict[str, float]
     steps: list[StepRecord] = field(default_factory=list)

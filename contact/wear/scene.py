@@ -29,8 +29,9 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.parse`: [profiles], [
     [wear.usfd]  wheel = "R8T", rail = "R8T"              a published material, or a table {t1, t2, mild_slope,
                                                            severe_rate, cat_slope, cat_offset}
     [collective] either [[collective.condition]] tables (lateral_mm, yaw_rad = 0, vertical_load_N and speed_mm_s
-                 defaulting to [load], weight, label, pitch_rate_rad_s (traction/braking; default the scene's)) or a sweep: lateral_mm (list or {start, stop, step}), yaw_rad (one
-                 number or a list of the same length), weights (a list of the same length, or "uniform").
+                 defaulting to [load], weight, label, pitch_rate_rad_s (traction/braking; default the scene's)) or a
+                 sweep: lateral_mm (list or {start, stop, step}), yaw_rad (one number or a list of the same length),
+                 weights (a list of the same length, or "uniform").
 """
 
 from __future__ import annotations

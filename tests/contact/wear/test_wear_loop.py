@@ -1,23 +1,29 @@
 """The wear loop: linearity in distance, mass balance, inelastic saturation, mirror symmetry, read-back, stops."""
 
 import json
+import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from contact.__main__ import main
+from contact.layer.layer_table import LayerTable
 from contact.wear import condition as condition_mod
 from contact.wear.condition import BODIES
+from contact.wear.layer_state import HardenedTable, hardened, side_layers
 from contact.wear.loop import run_wear
 from contact.wear.planning import build_tasks, passes_per_km
+from contact.wear.profile_grid import ArcGrid
 from contact.wear.records import WearStopped
 from contact.wear.runner import map_tasks
-from contact.wear.profile_grid import ArcGrid
+from contact.wear.scene import parse_wear_scene
 from contact.wheel_rail.contact_search import SearchSettings, search_contacts
 from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
-from meshes.profiles.io import read_profile, write_simpack
+from meshes.profiles.io import read_profile, write_simpack, write_text
 from wrlayer.errors import InputError
+
+TABLES = Path(__file__).resolve().parents[3] / "scenes" / "tables"
 
 
 def test_wear_proportional_to_distance(make_scene):
@@ -40,8 +46,7 @@ def test_mass_balance(make_scene):
     """Worn area on the profile grid = sum over strips of depth per pass x strip width x passes (1e-6)."""
     scene = make_scene(collective={"lateral_mm": [1.0, 3.0], "yaw_rad": [0.0, 0.002], "weights": [0.4, 0.6]})
     km = 50.0
-    results = map_tasks(build_tasks(scene, {"right": {"rail": scene.wheel_rail.rail_profile, "wheel": scene.wheel_rail.wheel_profile}},
-                                    1, km))
+    results = map_tasks(build_tasks(scene, scene.initial_profiles, 1, km))
     per_km = passes_per_km(scene)
     for body in BODIES:
         prof = scene.initial_profiles["right"][body]
@@ -83,12 +88,7 @@ def test_inelastic_saturates_and_is_zero_without_layer(make_scene):
 
 def test_hardened_characteristic_residual_is_the_increment():
     """An element hardened to p_hist: no residual up to p_hist, u_p(p) - u_p(p_hist) beyond (eq. 8)."""
-    from pathlib import Path
-
-    from contact.layer.layer_table import LayerTable
-    from contact.wear.layer_state import hardened
-
-    table = LayerTable.read(Path(__file__).resolve().parents[3] / "scenes" / "tables" / "rail_60E1_default.json")
+    table = LayerTable.read(TABLES / "rail_60E1_default.json")
     c = table.characteristic_at(1.0)
     assert hardened(c, 0.9 * c.elastic_limit_MPa) is c
     for ph in (1.3 * c.elastic_limit_MPa, 1.2 * c.p_MPa[-1]):
@@ -116,8 +116,6 @@ def test_written_profiles_give_the_same_separation(make_scene, tmp_path):
     scene = make_scene(wear={"distance_km": 300.0, "steps": 1, "inelastic": False}, layers=None)
     run = run_wear(scene, show_progress=False)
     worn = run.steps[0].profiles["right"]
-    from meshes.profiles.io import write_text
-
     layout = scene.wheel_rail.layout
     pose = WheelsetPose(2.0, 0.0, 0.0)
     placed = place_rail(worn["rail"], layout)
@@ -150,8 +148,6 @@ def test_written_profiles_give_the_same_separation(make_scene, tmp_path):
     ({"collective": {"lateral_mm": [0.0], "weights": [1.0], "speed": 3}}, r"w.toml: collective.speed: unknown key"),
 ])
 def test_bad_input_names_the_key(tmp_path, wear_dict, over, match):
-    from contact.wear.scene import parse_wear_scene
-
     with pytest.raises(InputError, match=match):
         parse_wear_scene(wear_dict(**over), tmp_path / "w.toml")
 
@@ -220,12 +216,7 @@ def _val(v):
 
 def test_shipped_example_parses_and_runs_a_short_distance(tmp_path):
     """The `make wear` scene, cut to 20 km in one step and two conditions (seconds)."""
-    import tomllib
-    from pathlib import Path
-
-    from contact.wear.scene import parse_wear_scene
-
-    path = Path(__file__).resolve().parents[3] / "scenes" / "wear" / "s1002_60e1.toml"
+    path = TABLES.parent / "wear" / "s1002_60e1.toml"
     data = tomllib.loads(path.read_text())
     data["wear"].update(distance_km=20.0, steps=1)
     data["collective"] = {"lateral_mm": [-1.5, 1.5], "yaw_rad": [0.0, 0.0], "weights": "uniform"}
@@ -289,8 +280,6 @@ def test_area_between_profiles_equals_worn_area(make_scene):
 
 def test_condition_pitch_rate_adds_longitudinal_creepage(tmp_path, wear_dict):
     """A braking condition (wheel turning slower than V/r0) wears more than free rolling at the same position."""
-    from contact.wear.scene import parse_wear_scene
-
     free = {"lateral_mm": 0.0, "weight": 1.0}
     braking = {**free, "pitch_rate_rad_s": 2000.0 / 460.0 * (1.0 - 0.003)}
     runs = []
@@ -317,10 +306,6 @@ def test_exact_normal_method_runs_the_loop(make_scene):
 
 
 def test_wear_loop_keeps_scale_to_patch_and_hardened_tables_scale(make_scene):
-    from contact.layer.layer_table import LayerTable
-    from contact.wear.layer_state import HardenedTable, hardened
-    from contact.wear.layer_state import side_layers
-
     scene = make_scene(layers={"scale_to_patch": True}, wear={"layer_state": "hardening"})
     y = np.array([-10.0, 10.0])
     layers = side_layers(scene.wheel_rail.solver_layers, {("right", "rail"): (y, np.array([900.0, 900.0]))}, "right")
@@ -328,7 +313,8 @@ def test_wear_loop_keeps_scale_to_patch_and_hardened_tables_scale(make_scene):
     assert isinstance(layers.rail, HardenedTable)
     patch = (3.0, 2.0)
     got = layers.rail.characteristic_at(0.0, patch_mm=patch)
-    want = hardened(LayerTable.read(Path(__file__).resolve().parents[3] / "scenes" / "tables" / "rail_60E1_default.json").characteristic_at(0.0, patch_mm=patch), 900.0)
+    table = LayerTable.read(TABLES / "rail_60E1_default.json")
+    want = hardened(table.characteristic_at(0.0, patch_mm=patch), 900.0)
     np.testing.assert_allclose(got.u_mm, want.u_mm, rtol=1e-12)
     np.testing.assert_allclose(got.p_MPa, want.p_MPa, rtol=1e-12)
     assert not np.allclose(got.u_mm, layers.rail.characteristic_at(0.0).u_mm)
