@@ -76,8 +76,8 @@ def test_wheelset_roll_is_the_rigid_roll(make_scene):
 def test_raised_history_keeps_the_largest_pressure_and_leaves_its_input():
     profiles = {"right": {"rail": Rail60E1(), "wheel": S1002()}}
     before = virgin_history(profiles, 0.5)
-    res = ConditionResult(0, "right", 0.1)
-    res.peaks = {"rail": [(np.array([2.0, -2.0, 0.0]), np.array([100.0, 300.0, 500.0]))]}
+    res = ConditionResult(0, "right", 0.1,
+                          peaks={"rail": [(np.array([2.0, -2.0, 0.0]), np.array([100.0, 300.0, 500.0]))]})
     after = raised_history(before, [res])
     y, p = after["right", "rail"]
     inside = (y >= -2.0) & (y <= 2.0)
