@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from contact.__main__ import main
 from contact.wear import condition as condition_mod
 from contact.wear import recalibrate as recal_mod
 from contact.wear.loop import run_wear
@@ -100,6 +101,17 @@ def test_bad_template_is_refused_when_the_scene_is_parsed(make_scene, tmp_path, 
         text = text.replace(old, new)
     with pytest.raises(InputError, match=match):
         _recal_scene(make_scene, _template(tmp_path, text))
+
+
+def test_cli_refuses_a_bad_template_before_writing(tmp_path, wear_dict, write_scene, capsys):
+    """``python -m contact wear``: one line naming the template's key, exit code 2, no output folder."""
+    template = _template(tmp_path, TEMPLATE_2D.replace("workers = 1", "workers = 0"))
+    scene_file = write_scene(wear_dict(wear={"distance_km": 100.0, "steps": 2,
+                                             "recalibrate": {"config": str(template)}}))
+    assert main(["wear", str(scene_file), "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["error: w.toml: wear.recalibrate.config (recal.toml): run.workers: must be >= 1, got 0"]
+    assert not (tmp_path / "out").exists()
 
 
 def test_recalibration_needs_a_template_and_per_body_tables(make_scene, tmp_path):

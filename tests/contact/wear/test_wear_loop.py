@@ -159,11 +159,10 @@ def test_condition_without_contact_stops_naming_the_step(make_scene):
         run_wear(scene, show_progress=False)
 
 
-def test_stop_keeps_completed_steps(tmp_path, wear_dict, monkeypatch, capsys):
+def test_stop_keeps_completed_steps(tmp_path, wear_dict, write_scene, monkeypatch, capsys):
     """A failure in step 2: exit code 1, one line naming the step, step 1's profiles and table kept."""
     data = wear_dict(layers=None, wear={"distance_km": 20.0, "steps": 2, "inelastic": False})
-    scene_file = tmp_path / "w.toml"
-    scene_file.write_text(_toml(data))
+    scene_file = write_scene(data)
     real = condition_mod.solve_condition
 
     def failing(task):
@@ -183,35 +182,6 @@ def test_stop_keeps_completed_steps(tmp_path, wear_dict, monkeypatch, capsys):
     assert res["status"].startswith("stopped: step 2")
     assert len(res["steps"]) == 1
     assert len((out / "steps.csv").read_text().strip().splitlines()) == 1 + 2
-
-
-def _toml(data, prefix=""):
-    """Tiny TOML writer for the test scenes (tables, numbers, strings, lists of numbers)."""
-    lines, tables = [], []
-    for k, v in data.items():
-        if isinstance(v, dict):
-            tables.append((k, v))
-        else:
-            lines.append(f"{k} = {_val(v)}")
-    out = "\n".join(lines) + "\n"
-    for k, v in tables:
-        name = f"{prefix}{k}"
-        scal = {kk: vv for kk, vv in v.items() if not isinstance(vv, dict)}
-        out += f"\n[{name}]\n" + "".join(f"{kk} = {_val(vv)}\n" for kk, vv in scal.items())
-        sub = {kk: vv for kk, vv in v.items() if isinstance(vv, dict)}
-        if sub:
-            out += _toml(sub, prefix=f"{name}.")
-    return out
-
-
-def _val(v):
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, str):
-        return json.dumps(v)
-    if isinstance(v, list):
-        return "[" + ", ".join(_val(x) for x in v) + "]"
-    return repr(float(v)) if isinstance(v, float) else str(v)
 
 
 def test_shipped_example_parses_and_runs_a_short_distance(tmp_path):
@@ -242,10 +212,9 @@ def test_folding_worn_profile_stops_naming_the_step(make_scene):
         run_wear(scene, show_progress=False)
 
 
-def test_cli_writes_profiles_table_pictures(tmp_path, wear_dict):
+def test_cli_writes_profiles_table_pictures(tmp_path, wear_dict, write_scene):
     data = wear_dict(layers=None, wear={"distance_km": 40.0, "steps": 2, "inelastic": False})
-    scene_file = tmp_path / "w.toml"
-    scene_file.write_text(_toml(data))
+    scene_file = write_scene(data)
     out = tmp_path / "out"
     assert main(["wear", str(scene_file), "--out", str(out), "--quiet"]) == 0
     res = json.loads((out / "result.json").read_text())
