@@ -55,8 +55,8 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
         guard(wheel_rail_cost(scene), force)
         with replace_output_dir(out_dir) as tmp:
             result = run_wheel_rail_scene(scene, tmp, plots)
-            (tmp / "result.json").write_text(result_text(result), encoding="utf-8")
-        return result
+            (tmp / "result.json").write_text(result.to_json(), encoding="utf-8")
+        return result.to_dict()
 
     from contact.scenes.scene import parse_scene
 

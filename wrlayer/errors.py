@@ -49,6 +49,37 @@ class ConvergenceError(WrLayerError, ArithmeticError):
     exit_code = 3
 
 
+class PatchTruncated(InputError):
+    """A contact patch reaches the end of its separation table or function (``what``: ``separation.y_mm``): the
+    table is too narrow, or (wheel on rail) the patch grows into the neighbouring contact candidate, which the
+    wheel–rail solver answers by merging the candidates. Exit code 2 like every InputError."""
+
+
+class LayerNotCovered(InputError):
+    """A strip in contact has no layer element, or lies outside the range of a calibration table: the layer does not
+    cover the contact location. ``what`` names the layer. Exit code 2 like every InputError."""
+
+
+class LayerElementMissing(LayerNotCovered):
+    """A loaded strip has no element of a layer that was built on fewer strips than the patch reached (``what``
+    names the layer); the wheel–rail solver answers it by building the layer on more strips."""
+
+
+def typed_input_error(err: InputError) -> InputError:
+    """``err`` as :class:`PatchTruncated` or :class:`LayerElementMissing` when it is one of those raised as a plain
+    InputError by the normal solvers of contact.normal (a separation problem found while solving is named
+    ``separation.y_mm``; a layer without an element on a loaded strip "... does not cover the contact patch");
+    any other error unchanged. Callers that react to these two (the wheel–rail merge and layer retries, the scene
+    messages) pass the solvers' errors through it; once contact.normal raises the subclasses it is the identity."""
+    if type(err) is not InputError:
+        return err
+    if err.what == "separation.y_mm":
+        return PatchTruncated(err.what, err.problem)
+    if "does not cover the contact patch" in err.problem:
+        return LayerElementMissing(err.what, err.problem)
+    return err
+
+
 def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
     """Wrap a command-line ``main``: project errors become ``error: ...`` on stderr and an exit code.
 

@@ -10,7 +10,10 @@ from __future__ import annotations
 
 from typing import Protocol
 
+import numpy as np
+
 from contact.layer.characteristic import Characteristic
+from wrlayer.errors import InputError, LayerNotCovered
 
 
 class LayerLookup(Protocol):
@@ -22,4 +25,41 @@ class LayerLookup(Protocol):
     def y_range_mm(self) -> tuple[float, float]: ...
 
 
-__all__ = ["LayerLookup"]
+def clamped_characteristics(table: LayerLookup, y_mm: np.ndarray, what: str,
+                            patch_mm: tuple[float, float] | None = None) -> tuple[list[Characteristic], np.ndarray]:
+    """The table's characteristic at every profile coordinate ``y_mm`` (mm), clamped to the table's range (each
+    distinct y read once); returns (characteristics, mask of the clamped coordinates). ``patch_mm`` = (a, b) (mm):
+    characteristics scaled to that patch (``LayerTable.characteristic_at``). An InputError of the table is
+    re-attributed to ``what``."""
+    y_mm = np.asarray(y_mm, dtype=float)
+    lo, hi = (float(v) for v in table.y_range_mm)
+    clamped = (y_mm < lo) | (y_mm > hi)
+    cache: dict[float, Characteristic] = {}
+    chars = []
+    for y in np.clip(y_mm, lo, hi):
+        key = round(float(y), 9)
+        if key not in cache:
+            try:
+                cache[key] = (table.characteristic_at(float(y)) if patch_mm is None
+                              else table.characteristic_at(float(y), patch_mm=patch_mm))
+            except InputError as err:
+                raise InputError(what, str(err)) from None
+        chars.append(cache[key])
+    return chars, clamped
+
+
+def check_coverage(table: LayerLookup, y_contact_mm: np.ndarray, what: str, body: str, name: str,
+                   tolerance_mm: float = 0.0) -> None:
+    """:class:`LayerNotCovered` (naming ``what``) when a strip in contact, at the profile coordinates
+    ``y_contact_mm`` (mm) on ``body``, lies outside the range of the table ``name`` by more than ``tolerance_mm``."""
+    y = np.asarray(y_contact_mm, dtype=float)
+    if y.size == 0:
+        return
+    lo, hi = (float(v) for v in table.y_range_mm)
+    first, last = float(y.min()), float(y.max())
+    if first < lo - tolerance_mm or last > hi + tolerance_mm:
+        raise LayerNotCovered(what, f"does not cover the contact location: the patch spans y = {first:.4g}.."
+                              f"{last:.4g} mm on the {body}, the table {name} covers {lo:.4g}..{hi:.4g} mm")
+
+
+__all__ = ["LayerLookup", "check_coverage", "clamped_characteristics"]

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from contact.layer.characteristic import Characteristic
+from wrlayer.elastic import shear_modulus_MPa
 from wrlayer.errors import InputError
 from wrlayer.validate import (
     MAX_E_MPA,
@@ -76,7 +77,7 @@ class MaterialSpec:
     @property
     def G_MPa(self) -> float:
         """Shear modulus E / (2 (1 + nu)) (MPa)."""
-        return self.E_MPa / (2.0 * (1.0 + self.poisson))
+        return shear_modulus_MPa(self.E_MPa, self.poisson)
 
 
 @dataclass(frozen=True)

@@ -28,17 +28,17 @@ from typing import Any
 
 import numpy as np
 
-from contact.layer.characteristic import Characteristic
 from contact.layer.patch_scaling import settle_patch_sizes
-from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
+from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
+from contact.layer.strip_lookup import check_coverage, clamped_characteristics
 from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
-from contact.normal.exact import fastsim_pressure, strip_centres
 from contact.normal.method import solve_normal_with
 from contact.normal.patch import Patch
-from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.scenes.result_io import UNITS, code_version
-from contact.scenes.scene import BODIES, BodyLayerSpec, Scene, scene_inputs
-from wrlayer.errors import InputError
+from contact.scenes.scene import BODIES, Scene, scene_inputs
+from contact.tangential.fastsim import Creepage, TangentialResult
+from contact.tangential.on_patch import FastsimSettings, local_patch, solve_region
+from wrlayer.errors import InputError, PatchTruncated, typed_input_error
 
 
 @dataclass
@@ -78,22 +78,12 @@ class SimulationRun:
 
 
 # ---------------------------------------------------------------------------------------------------- layers
-def _clamped(spec: BodyLayerSpec, what: str, patch_mm: tuple[float, float] | None = None):
-    """y -> characteristic of a table layer at position + y, clamped to the table's range (coverage is checked
-    after the solve, on the strips actually in contact); scaled to ``patch_mm`` when the spec asks for it."""
-    lo, hi = (float(v) for v in spec.table.y_range_mm)
-
-    def at(y: float) -> Characteristic:
-        offset = min(max(spec.position_mm + y, lo), hi) - spec.position_mm
-        return spec.characteristic_at(offset, what, patch_mm)
-
-    return at
-
-
 def build_layers(scene: Scene, strip_y_mm: np.ndarray, patch_mm: tuple[float, float] | None = None
                  ) -> LayerPair | None:
-    """The scene's layers on the strip grid (PrandtlLayer per body, or one combined layer); table layers with
-    ``scale_to_patch`` scaled to ``patch_mm`` = (a, b) (mm)."""
+    """The scene's layers on the strip grid (PrandtlLayer per body, or one combined layer). A table layer is read
+    at ``position_mm + y`` for every strip y, clamped to the table's range (coverage is checked after each pass, on
+    the strips in contact: :func:`check_table_coverage`); with ``scale_to_patch`` scaled to ``patch_mm`` = (a, b)
+    (mm)."""
     spec = scene.layer
     if spec is None:
         return None
@@ -108,52 +98,37 @@ def build_layers(scene: Scene, strip_y_mm: np.ndarray, patch_mm: tuple[float, fl
         if b.characteristic is not None:
             layers[body] = PrandtlLayer.uniform(b.characteristic, strip_y_mm, name=what)
         else:
-            layers[body] = PrandtlLayer.along(_clamped(b, what, patch_mm), strip_y_mm, name=what)
+            chars, _ = clamped_characteristics(b.table, b.position_mm + strip_y_mm, f"{what}.table",
+                                               patch_mm if b.scale_to_patch else None)
+            layers[body] = PrandtlLayer.from_characteristics(chars, strip_y_mm, name=what)
     return LayerPair(**layers)
 
 
 def check_table_coverage(scene: Scene, solution: NormalSolution) -> None:
-    """InputError when a strip in contact lies outside a body's calibration table."""
+    """LayerNotCovered when a strip in contact lies outside a body's calibration table."""
     if scene.layer is None:
         return
     in_contact = solution.strip_y_mm[solution.p_peak_MPa > 0]
     for body in BODIES:
         b = getattr(scene.layer, body)
-        if b is None or b.table is None or in_contact.size == 0:
-            continue
-        lo, hi = (float(v) for v in b.table.y_range_mm)
-        first, last = b.position_mm + in_contact.min(), b.position_mm + in_contact.max()
-        if first < lo - 1e-9 or last > hi + 1e-9:
-            raise InputError(f"{scene.path.name}: layer.{body}.table",
-                             f"does not cover the contact location: the patch spans y = {first:.4g}..{last:.4g} mm "
-                             f"on the {body}, the table {b.table_path.name} covers {lo:.4g}..{hi:.4g} mm")
+        if b is not None and b.table is not None:
+            check_coverage(b.table, b.position_mm + in_contact, f"{scene.path.name}: layer.{body}.table", body,
+                           b.table_path.name, tolerance_mm=1e-9)
 
 
 # ---------------------------------------------------------------------------------------------------- tangential
 def solve_patches(scene: Scene, solution: NormalSolution, number: int) -> tuple[PassSnapshot, float]:
-    """FASTSIM on every patch of the solution (if the scene has creepages); returns the snapshot and its time (s)."""
+    """FASTSIM on every patch of the solution (if the scene has creepages), each in its own frame (origin at the
+    patch's reference strip); returns the snapshot and its time (s)."""
     t0 = time.perf_counter()
-    tang: list[TangentialResult | None] = []
-    local: list[Patch] = []
-    y_ref: list[float] = []
     ts = scene.tangential
-    for region, patch in zip(solution.regions, solution.patches):
-        yr = float(solution.strip_y_mm[region.reference])
-        lp = Patch(patch.grid_mm, patch.y_mm - yr, patch.x_lead_mm, patch.p_peak_MPa)
-        y_ref.append(yr)
-        local.append(lp)
-        if ts is not None and ts.has_creepage:
-            shape = centres = None
-            if solution.field is not None:  # the exact solver: its pressure and each line's extent
-                shape = fastsim_pressure(solution, len(local) - 1, scene.method.fastsim_cells)
-                centres = strip_centres(solution, len(local) - 1)
-            tang.append(solve_tangential(lp, Creepage(ts.creepage_x, ts.creepage_y, ts.spin_per_mm),
-                                         scene.material.G_MPa, scene.material.poisson, ts.friction,
-                                         ts.speed_mm_s, nx=scene.method.fastsim_cells,
-                                         flexibility=ts.flexibility, pressure_cells_MPa=shape,
-                                         strip_centre_mm=centres))
-        else:
-            tang.append(None)
+    solve = ts is not None and ts.has_creepage
+    settings = None if not solve else FastsimSettings(scene.material.E_MPa, scene.material.poisson, ts.friction,
+                                                      ts.speed_mm_s, scene.method.fastsim_cells, ts.flexibility)
+    y_ref = [float(solution.strip_y_mm[region.reference]) for region in solution.regions]
+    local = [local_patch(patch, yr) for patch, yr in zip(solution.patches, y_ref)]
+    tang = [solve_region(solution, k, lp, Creepage(ts.creepage_x, ts.creepage_y, ts.spin_per_mm), settings)
+            if solve else None for k, lp in enumerate(local)]
     return PassSnapshot(number, solution, tang, local, y_ref), time.perf_counter() - t0
 
 
@@ -251,8 +226,8 @@ def simulate(scene: Scene) -> SimulationRun:
     try:
         return _simulate(scene)
     except InputError as err:
-        if err.what == "separation.y_mm":  # name the scene file
-            raise InputError(f"{scene.path.name}: separation.y_mm", err.problem) from None
+        if isinstance(typed_input_error(err), PatchTruncated):  # name the scene file
+            raise PatchTruncated(f"{scene.path.name}: {err.what}", err.problem) from None
         raise
 
 

@@ -119,20 +119,11 @@ def write_scene_run(run, out_dir: Path) -> list[str]:
     return write_tables(out_dir, frictional_tables(items))
 
 
-def _pass_tangential(sol, p, normal) -> list:
-    """FASTSIM on every region of a later pass's normal solution, exactly as the wheel–rail solver does for the
-    first pass (its creepages, reference point and, with the exact solver, pressures)."""
-    from contact.wheel_rail.solve import _tangential
-
-    eta_ref = p.strip_sign * p.reference.eta_mm if getattr(p, "reference", None) is not None else 0.0
-    return _tangential(normal, p.kinematics, sol.inputs, eta_ref)
-
-
 def write_wheel_rail(sols: list, out_dir: Path) -> list[str]:
     """Wheel–rail scene: ``sols[case] = {side: WheelRailSolution}`` (None for a failed case); the FASTSIM solution of
     each patch region in every pass (pass 1: the solver's own; later passes: FASTSIM on that pass's normal
-    solution with the same creepages), strips in the patch's strip coordinate with their rail and wheel profile
-    coordinates."""
+    solution with the same creepages, :meth:`contact.wheel_rail.solution.WheelRailSolution.pass_tangential`), strips
+    in the patch's strip coordinate with their rail and wheel profile coordinates."""
     items = []
     for k, case in enumerate(sols):
         if not case:
@@ -142,7 +133,7 @@ def write_wheel_rail(sols: list, out_dir: Path) -> list[str]:
                 grid = p.problem.strip_y_mm
                 normals = getattr(p, "pass_normals", None) or [p.normal]
                 for npass, normal in enumerate(normals, start=1):
-                    tang = p.tangential if npass == 1 else _pass_tangential(sol, p, normal)
+                    tang = p.tangential if npass == 1 else sol.pass_tangential(p, normal)
                     for ir, (patch, t) in enumerate(zip(normal.patches, tang)):
                         extra = {"y_rail_mm": np.interp(patch.y_mm, grid, p.rail_y_of_strip),
                                  "y_wheel_mm": np.interp(patch.y_mm, grid, p.wheel_y_of_strip)}

@@ -22,7 +22,8 @@ import numpy as np
 from contact.wear.collective import Condition
 from contact.wear.laws import WearLaw, wear_of
 from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
-from contact.wheel_rail.solve import WheelRailSolution, solve_wheel
+from contact.wheel_rail.solution import WheelRailSolution
+from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import place_rail
 from meshes.profiles import Profile
 from wrlayer.errors import ConvergenceError, InputError

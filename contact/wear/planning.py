@@ -18,15 +18,12 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from scipy.optimize import brentq
-
 from contact.passes.passes import PassesOptions
 from contact.wear.collective import LoadCollective
 from contact.wear.condition import ConditionTask
 from contact.wear.layer_state import History, side_layers
 from contact.wear.scene import WearScene
-from contact.wheel_rail.contact_search import raw_min_gap
-from contact.wheel_rail.solve import rigid_roll
+from contact.wheel_rail.deformed import rigid_roll
 from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
 from meshes.profiles import Profile
 from wrlayer.errors import ConvergenceError, InputError
@@ -75,25 +72,15 @@ def controlled_length(nominal_km: float, max_wear_rate_mm_km: float, max_inelast
 
 
 def wheelset_roll(scene: WearScene, profiles: dict[str, dict[str, Profile]], pose: WheelsetPose) -> float:
-    """Roll (rad) of the rigid wheelset at which both wheels touch their rails. One simulated side stands for
-    both (:func:`contact.wheel_rail.solve.rigid_roll`); with both sides simulated each side has its own worn
-    profiles, and the roll balances the two sides' minimum gaps."""
-    layout, settings = scene.wheel_rail.layout, scene.wheel_rail.method.search
-    if len(profiles) == 1:
-        (pr,) = profiles.values()
-        return rigid_roll(place_rail(pr["rail"], layout), pr["wheel"], layout, pose, settings)
-    placed = {s: place_rail(p["rail"], layout) for s, p in profiles.items()}
-
-    def difference(roll: float) -> float:
-        p = WheelsetPose(pose.lateral_mm, pose.yaw_rad, roll)
-        return (raw_min_gap(placed["right"], profiles["right"]["wheel"], layout, p.for_side("right"), settings)
-                - raw_min_gap(placed["left"], profiles["left"]["wheel"], layout, p.for_side("left"), settings))
-
-    try:
-        return float(brentq(difference, -0.05, 0.05, xtol=1e-12, rtol=1e-12, maxiter=100))
-    except ValueError:
-        raise ConvergenceError(f"rigid wheelset roll at lateral {pose.lateral_mm:g} mm: both wheels cannot touch") \
-            from None
+    """Roll (rad) of the rigid wheelset at which both wheels touch their rails
+    (:func:`contact.wheel_rail.deformed.rigid_roll`). One simulated side stands for both; with both sides
+    simulated each side has its own worn profiles."""
+    layout = scene.wheel_rail.layout
+    right = profiles.get("right") or profiles["left"]
+    left = profiles.get("left") or right
+    placed_right = place_rail(right["rail"], layout)
+    other = None if left is right else (place_rail(left["rail"], layout), left["wheel"])
+    return rigid_roll(placed_right, right["wheel"], layout, pose, scene.wheel_rail.method.search, left=other)
 
 
 def build_tasks(scene: WearScene, profiles: dict[str, dict[str, Profile]], step: int, step_km: float,

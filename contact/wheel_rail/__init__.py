@@ -1,13 +1,26 @@
 """Wheel on rail: track and wheelset geometry, contact search, kinematics, the loaded wheel solve and its scenes.
 
+One module per step of a wheel–rail case:
+
 - :mod:`~contact.wheel_rail.track_geometry`: rail placement (gauge, inclination), wheelset pose, wheel locus.
-- :mod:`~contact.wheel_rail.contact_search`: contact candidates (tread, flange) from the profiles.
+- :mod:`~contact.wheel_rail.contact_search`: locate: contact candidates (tread, flange) from the profiles.
 - :mod:`~contact.wheel_rail.kinematics`: contact frames and creepages of a wheelset.
 - :mod:`~contact.wheel_rail.reference_point`: the contact reference point (first contact or weighted centre).
-- :mod:`~contact.wheel_rail.solve`: the vertical load balance over the patches of one wheel, normal + tangential.
-- :mod:`~contact.wheel_rail.scene`: wheel-rail scene files, sweeps and their results.
+- :mod:`~contact.wheel_rail.inputs`: the solver inputs of one wheel (``WheelRailInputs``, ``WheelRailLayers``).
+- :mod:`~contact.wheel_rail.balance`: total force: the vertical load balance over the candidates of one wheel
+  (normal + tangential per patch, layers looked up per strip).
+- :mod:`~contact.wheel_rail.root_finder`: the secant iteration of the balance.
+- :mod:`~contact.wheel_rail.solve`: solve one wheel: search, balance, passes, coverage; merge and layer retries.
+- :mod:`~contact.wheel_rail.solution`: the solution of one wheel (patches, forces).
+- :mod:`~contact.wheel_rail.deformed`: residual displacements on the profiles; the rigid wheelset's roll.
+- :mod:`~contact.wheel_rail.scene`: the typed wheel–rail scene (one dataclass per TOML section).
+- :mod:`~contact.wheel_rail.parse`: scene TOML -> the typed scene; :mod:`~contact.wheel_rail.sweep`: its cases;
+  :mod:`~contact.wheel_rail.scene_files`: the profile, table and CSV files a scene names.
+- :mod:`~contact.wheel_rail.run`: output: a scene run (every case, every wheel); :mod:`~contact.wheel_rail.results`:
+  the result records; :mod:`~contact.wheel_rail.result_files`: result.json data and cases.csv.
 - :mod:`~contact.wheel_rail.plots`: pictures of wheel-rail results.
 
-Depends on: contact.normal, contact.tangential, contact.layer, contact.passes, contact.scenes (scene keys, result
-writing) and meshes.profiles (the public profile API). Nothing else in contact imports it (but ``contact.__main__``).
+Depends on: contact.normal, contact.tangential, contact.layer, contact.passes, contact.scenes (result writing) and
+meshes.profiles (the public profile API). Nothing else in contact imports it (but ``contact.__main__`` and
+contact.wear).
 """

@@ -31,7 +31,7 @@ class WheelRailLayers:
     """Layer tables per body (``rail``, ``wheel``; either may be None) or one ``combined`` characteristic (the
     paper's eq. 13 layer of both bodies). ``names``: body -> table name for messages and the result;
     ``scale_to_patch``: scale the tables' characteristics to each patch's solved semi-axes
-    (:mod:`contact.wheel_rail.patch_solve`)."""
+    (:mod:`contact.wheel_rail.solve`)."""
 
     rail: LayerLookup | None = None
     wheel: LayerLookup | None = None

@@ -12,7 +12,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from contact.wheel_rail.solve import WheelRailSolution, residual_on_profiles
+from contact.wheel_rail.deformed import residual_on_profiles
+from contact.wheel_rail.solution import WheelRailSolution
 from contact.wheel_rail.track_geometry import wheel_locus, wheel_sample_y
 from wrlayer.plotting import save_figure
 

@@ -1,5 +1,6 @@
-"""The result of a wheel_rail scene as plain data: per patch, per wheel, the input echo, ``cases.csv`` (units mm, N,
-MPa, s, rad; conventions: :data:`CONVENTIONS`, docs/wheel-rail.md).
+"""The files of a wheel_rail result: the input echo and conventions of result.json, and ``cases.csv`` (one row per
+loaded patch: pose, location, angle, N, Fx, Fy, p_max, area, creepages, Y/Q, balance residual, run time;
+:data:`CSV_COLUMNS`) (units mm, N, MPa, s, rad; conventions: :data:`CONVENTIONS`, docs/wheel-rail.md).
 """
 
 from __future__ import annotations
@@ -7,84 +8,12 @@ from __future__ import annotations
 import csv
 import hashlib
 import io
-import math
 from typing import Any
 
-import numpy as np
-
-from contact.wheel_rail.solve import PatchSolution, WheelRailSolution
-from contact.wheel_rail.reference_point import weighted_centre_eta
+from contact.wheel_rail.results import SweepResult
 from contact.wheel_rail.scene import WheelRailScene
 
-def patch_result(p: PatchSolution) -> dict[str, Any]:
-    """JSON-serialisable numbers of one loaded patch (track-frame forces; see contact.wheel_rail.contact_search for the
-    location conventions)."""
-    c, ns = p.candidate, p.normal
-    t = p.tangential
-    ref = p.reference
-    sign = p.strip_sign
-    out = {
-        "contact_point": ref.kind, "eta_ref_mm": ref.eta_mm,
-        "y_rail_mm": ref.y_rail_mm, "y_wheel_mm": ref.y_wheel_mm,
-        "Y_track_mm": float(p.point_track[1]), "Z_track_mm": float(p.point_track[2]),
-        "X_lead_mm": float(p.point_track[0]),
-        "first_contact": {"y_rail_mm": c.y_rail_mm, "y_wheel_mm": c.y_wheel_mm, "Y_track_mm": sign * c.Y_mm,
-                          "Z_track_mm": c.Z_mm, "X_lead_mm": c.X_mm, "contact_angle_rad": c.contact_angle_rad},
-        "weighted_centre": _weighted_centre_result(p),
-        "contact_angle_rad": ref.angle_rad, "contact_angle_deg": math.degrees(ref.angle_rad),
-        "wheel_contact_angle_rad": c.wheel_contact_angle_rad, "wheel_radius_mm": c.wheel_radius_mm,
-        "rolling_radius_kp_mm": c.rolling_radius_kp_mm, "normal_gap_mm": c.normal_gap_mm,
-        "normal_force_N": p.normal_force_N, "delta_mm": ns.delta_mm, "delta0_mm": ns.delta0_mm,
-        "area_mm2": ns.area_mm2, "p_max_MPa": ns.p_max_MPa, "length_mm": ns.length_mm, "width_mm": ns.width_mm,
-        "n_regions": len(ns.patches),
-        "regions": [{"eta_min_mm": float(pt.y_mm[0]), "eta_max_mm": float(pt.y_mm[-1]), "p0_MPa": r.p0_MPa,
-                     "normal_force_N": r.normal_force_N} for pt, r in zip(ns.patches, ns.regions)],
-        "creepage_x": p.kinematics.vx, "creepage_y": p.kinematics.vy, "spin_per_mm": p.kinematics.phi_per_mm,
-        "Fx_N": p.Fx_N, "Fy_N": p.Fy_N, "Mz_Nmm": p.Mz_Nmm,
-        "WT_max": max((r.WT_max_N_per_mm for r in t), default=None),
-        "PT_max_W_per_mm2": max((r.PT_max_W_per_mm2 for r in t), default=None),
-        "force_on_wheel_track_N": p.force_track_N().tolist(),
-        "normal_track": p.normal_track.tolist(), "lateral_track": p.lateral_track.tolist(),
-        "elastic": bool(ns.elastic), "u0_mm": ns.u0_mm,
-        "layer_scaled_to_patch": None if p.layer_patch_mm is None else {
-            "a_mm": p.layer_patch_mm[0], "b_mm": p.layer_patch_mm[1], "balances": p.layer_scaling_solves},
-    }
-    y, f = p.problem.strip_y_mm, p.problem.separation_on_grid_mm
-    near = f <= 2.0 * ns.delta0_mm  # the strips in contact and their neighbourhood
-    out["strips"] = {"eta_mm": y[near].tolist(), "f_mm": f[near].tolist(), "p_peak_MPa": ns.p_peak_MPa[near].tolist(),
-                     "y_rail_mm": p.rail_y_of_strip[near].tolist(), "y_wheel_mm": p.wheel_y_of_strip[near].tolist()}
-    if p.passes:
-        out["passes"] = [{**r.summary(), "max_cumulative_residual_mm":
-                          {b: float(np.max(v, initial=0.0)) for b, v in r.cumulative_residual_mm.items()}}
-                         for r in p.passes]
-    return out
-
-
-def _weighted_centre_result(p: PatchSolution) -> dict[str, float]:
-    c = p.candidate
-    eta = weighted_centre_eta(c, p.normal.delta_mm)
-    return {"eta_mm": eta, "y_rail_mm": float(c.rail_coordinate(eta)), "y_wheel_mm": float(c.wheel_coordinate(eta)),
-            "Y_track_mm": p.strip_sign * float(c.Y_mm + eta * c.lateral[1]), "Z_track_mm": float(c.Z_mm + eta
-                                                                                                  * c.lateral[2])}
-
-
-def wheel_result(sol: WheelRailSolution) -> dict[str, Any]:
-    Q = sol.inputs.vertical_load_N
-    force = sum((p.force_track_N() for p in sol.patches), np.zeros(3))
-    return {
-        "side": sol.inputs.side, "wheel_height_mm": sol.search.wheel_height_mm, "approach_mm": sol.approach_mm,
-        "vertical_balance_rel": sol.vertical_balance_rel, "balance": sol.inputs.balance,
-        "balance_iterations": sol.balance_iterations, "vertical_force_N": float(force[2]),
-        "merge_mm": sol.merge_mm,
-        "normal_vertical_N": float(sum(p.normal_force_N * p.normal_track[2] for p in sol.patches)),
-        "force_on_wheel_track_N": force.tolist(), "Y_over_Q": float(force[1] / Q), "n_patches": len(sol.patches),
-        "patches": [{**patch_result(p), "load_share": p.vertical_N / float(force[2])} for p in sol.patches],
-        "unloaded_candidates": [{"y_rail_mm": c.y_rail_mm, "y_wheel_mm": c.y_wheel_mm, "normal_gap_mm": c.normal_gap_mm,
-                                 "contact_angle_rad": c.contact_angle_rad} for c in sol.unloaded],
-        "flange_tip": {"y_wheel_mm": sol.search.flange_tip[0], "Y_side_mm": sol.search.flange_tip[1]},
-    }
-
-
+#: Columns of cases.csv (one row per loaded patch; a failed case gets one row with its error).
 CSV_COLUMNS = ("case", "lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s", "vertical_load_N", "speed_mm_s",
                "side", "patch", "contact_point", "y_rail_mm", "y_wheel_mm", "Y_track_mm", "Z_track_mm",
                "y_rail_first_contact_mm", "y_rail_weighted_centre_mm",
@@ -93,25 +22,26 @@ CSV_COLUMNS = ("case", "lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s", 
                "vertical_force_N", "vertical_balance_rel", "time_s", "error")
 
 
-def cases_csv(result: dict[str, Any]) -> str:
+def cases_csv(result: SweepResult) -> str:
     """The per-case table of a wheel_rail result as CSV text (columns :data:`CSV_COLUMNS`; units in the names)."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(CSV_COLUMNS)
-    for e in result["cases"]:
+    for case in result.cases:
+        e = case.to_dict()
         head = {k: e.get(k) for k in CSV_COLUMNS[:7]}
-        head["case"] = e["case"]
-        if "error" in e:
-            w.writerow([head.get(k, "") if k in head else (e["error"] if k == "error" else "") for k in CSV_COLUMNS])
+        if case.error is not None:
+            w.writerow([head.get(k, "") if k in head else (case.error if k == "error" else "") for k in CSV_COLUMNS])
             continue
-        for side, wr in e["wheels"].items():
-            for j, pr in enumerate(wr["patches"]):
+        for side, wr in case.wheels.items():
+            for j, patch in enumerate(wr.patches):
+                pr = patch.to_dict()
                 row = {**head, **{k: pr.get(k) for k in CSV_COLUMNS if k in pr}, "side": side, "patch": j,
-                       "y_rail_first_contact_mm": pr["first_contact"]["y_rail_mm"],
-                       "y_rail_weighted_centre_mm": pr["weighted_centre"]["y_rail_mm"],
-                       "approach_mm": wr["approach_mm"], "Y_over_Q": wr["Y_over_Q"],
-                       "vertical_force_N": wr["vertical_force_N"], "vertical_balance_rel": wr["vertical_balance_rel"],
-                       "time_s": e.get("time_s"), "error": ""}
+                       "y_rail_first_contact_mm": patch.first_contact.y_rail_mm,
+                       "y_rail_weighted_centre_mm": patch.weighted_centre.y_rail_mm,
+                       "approach_mm": wr.approach_mm, "Y_over_Q": wr.Y_over_Q,
+                       "vertical_force_N": wr.vertical_force_N, "vertical_balance_rel": wr.vertical_balance_rel,
+                       "time_s": case.time_s, "error": ""}
                 w.writerow(["" if row.get(k) is None else (f"{row[k]:.10g}" if isinstance(row[k], float) else row[k])
                             for k in CSV_COLUMNS])
     return buf.getvalue()
@@ -175,4 +105,4 @@ def inputs_echo(scene: WheelRailScene) -> dict[str, Any]:
     }
 
 
-__all__ = ["CONVENTIONS", "CSV_COLUMNS", "cases_csv", "inputs_echo", "patch_result", "wheel_result"]
+__all__ = ["CONVENTIONS", "CSV_COLUMNS", "cases_csv", "inputs_echo"]

@@ -12,25 +12,29 @@ fails only when every case fails.
 
 from __future__ import annotations
 
+import dataclasses
 import time
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from contact.scenes.result_io import UNITS, code_version
 from contact.tangential.frictional_outputs import write_wheel_rail
-from contact.wheel_rail.result_files import CONVENTIONS, cases_csv, inputs_echo, wheel_result
+from contact.wheel_rail.result_files import CONVENTIONS, cases_csv, inputs_echo
+from contact.wheel_rail.results import CaseResult, DeformedProfileFile, RailPlacement, SweepResult, WheelResult
 from contact.wheel_rail.scene import SWEEP_KEYS, CaseSpec, WheelRailScene
-from contact.wheel_rail.solve import WheelRailSolution, deformed_profile, residual_on_profiles, rigid_roll, solve_wheel
+from contact.wheel_rail.deformed import deformed_profile, residual_on_profiles, rigid_roll
+from contact.wheel_rail.solution import WheelRailSolution
+from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import PlacedRail, WheelsetPose, place_rail
 from wrlayer.errors import ConvergenceError, InputError
 from wrlayer.progress import progress
 
 
 def solve_case(scene: WheelRailScene, case: CaseSpec, placed_rail: PlacedRail | None = None
-               ) -> tuple[dict, dict[str, WheelRailSolution]]:
-    """One case of the scene: (result entry, {side: WheelRailSolution}); raises InputError/ConvergenceError."""
+               ) -> tuple[CaseResult, dict[str, WheelRailSolution]]:
+    """One case of the scene: (its record, {side: WheelRailSolution}); raises InputError/ConvergenceError."""
     layout, rail, wheel = scene.layout, scene.rail_profile, scene.wheel_profile
     placed_rail = placed_rail or place_rail(rail, layout)
     pose = WheelsetPose(case.lateral_mm, case.yaw_rad, 0.0 if scene.roll_auto else case.roll_rad)
@@ -39,22 +43,21 @@ def solve_case(scene: WheelRailScene, case: CaseSpec, placed_rail: PlacedRail | 
         pose = WheelsetPose(pose.lateral_mm, pose.yaw_rad, roll)
     sols = {}
     for side in scene.sides:
-        inputs = scene.inputs(side, pose, case)
-        sols[side] = solve_wheel(rail, wheel, inputs, scene.solver_layers, placed_rail,
+        sols[side] = solve_wheel(rail, wheel, scene.inputs(side, pose, case), scene.solver_layers, placed_rail,
                                  case=f"case lateral {pose.lateral_mm:g} mm, yaw {pose.yaw_rad:g} rad, {side} wheel")
     any_inputs = next(iter(sols.values())).inputs
-    entry = {"lateral_mm": pose.lateral_mm, "yaw_rad": pose.yaw_rad, "roll_rad": pose.roll_rad,
-             "pitch_rate_rad_s": any_inputs.omega_rad_s, "vertical_load_N": any_inputs.vertical_load_N,
-             "speed_mm_s": any_inputs.speed_mm_s,
-             "wheels": {side: wheel_result(s) for side, s in sols.items()}}
+    difference = None
     if len(sols) == 2:  # rolling radius difference of the main (largest normal force) patches, left - right
         r = {side: max(s.patches, key=lambda p: p.normal_force_N).candidate.wheel_radius_mm for side, s in sols.items()}
-        entry["rolling_radius_difference_mm"] = r["left"] - r["right"]
-    return entry, sols
+        difference = r["left"] - r["right"]
+    record = CaseResult(pose.lateral_mm, pose.yaw_rad, pose.roll_rad, any_inputs.omega_rad_s,
+                        any_inputs.vertical_load_N, any_inputs.speed_mm_s,
+                        {side: WheelResult.of(s) for side, s in sols.items()}, difference)
+    return record, sols
 
 
 def write_deformed_profiles(scene: WheelRailScene, sols: dict[str, WheelRailSolution], out_dir: Path,
-                            stem: str) -> list[dict[str, Any]]:
+                            stem: str) -> tuple[DeformedProfileFile, ...]:
     """Deformed rail and wheel profiles of one case (every side), written as SIMPACK and CSV and read back."""
     from meshes.profiles.io import write_profile_files
 
@@ -69,57 +72,55 @@ def write_deformed_profiles(scene: WheelRailScene, sols: dict[str, WheelRailSolu
             paths, err = write_profile_files(out_dir / "deformed_profiles" / f"{stem}_{side}_{body}", pts, body,
                                              f"{prof.name} with residual displacements ({stem}, {side})")
             for path in paths:
-                written.append({"file": str(path.relative_to(out_dir)), "body": body, "side": side,
-                                "max_residual_mm": float(up.max()), "read_back_max_error_mm": err})
-    return written
+                written.append(DeformedProfileFile(str(path.relative_to(out_dir)), body, side, float(up.max()), err))
+    return tuple(written)
 
 
-def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool) -> dict[str, Any]:
-    """Run a wheel_rail scene; pictures, deformed profiles and CSV files go into ``out_dir``."""
-    t0 = time.perf_counter()
-    out_dir = Path(out_dir)
-    placed = place_rail(scene.rail_profile, scene.layout)
-    entries, all_sols = [], []
+def solve_cases(scene: WheelRailScene, placed: PlacedRail, out_dir: Path
+                ) -> Iterator[tuple[CaseResult, dict[str, WheelRailSolution] | None]]:
+    """Every case in order: (its record, its solutions or None when it failed); deformed profiles written into
+    ``out_dir`` as the cases are solved."""
     cases = scene.cases
     for k, case in enumerate(progress(cases, desc=scene.path.stem, total=len(cases), unit="case", leave=False)):
         t_case = time.perf_counter()
         try:
-            entry, sols = solve_case(scene, case, placed)
+            record, sols = solve_case(scene, case, placed)
             if scene.layers is not None and scene.output.deformed_profiles:
-                entry["deformed_profiles"] = write_deformed_profiles(scene, sols, out_dir, f"case{k:03d}")
+                record = dataclasses.replace(record, deformed_profiles=write_deformed_profiles(
+                    scene, sols, out_dir, f"case{k:03d}"))
         except (InputError, ConvergenceError) as err:
-            entry, sols = {**{key: getattr(case, key) for key in SWEEP_KEYS}, "error": str(err)}, None
-        entry["case"] = k
-        entry["time_s"] = time.perf_counter() - t_case
-        entries.append(entry)
-        all_sols.append(sols)
+            record, sols = CaseResult(*(getattr(case, key) for key in SWEEP_KEYS), error=str(err)), None
+        yield dataclasses.replace(record, case=k, time_s=time.perf_counter() - t_case), sols
+
+
+def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool) -> SweepResult:
+    """Run a wheel_rail scene; pictures, deformed profiles and CSV files go into ``out_dir`` (result.json is the
+    caller's: ``result.to_json()``)."""
+    t0 = time.perf_counter()
+    out_dir = Path(out_dir)
+    placed = place_rail(scene.rail_profile, scene.layout)
+    solved = list(solve_cases(scene, placed, out_dir))
+    records, all_sols = [r for r, _ in solved], [s for _, s in solved]
     if all(s is None for s in all_sols):
-        raise InputError(scene.path.name, f"every case failed; first: {entries[0]['error']}")
-    result = {
-        "type": "wheel_rail",
-        "inputs": inputs_echo(scene),
-        "code_version": code_version(),
-        "units": {**UNITS, "angles": "rad (contact_angle_deg in degrees)",
-                  "Fx_N, Fy_N": "N (creep forces of the rail on the wheel, contact frame x = rolling direction, "
-                                "y = contact-plane lateral axis with positive track-Y component)"},
-        "conventions": CONVENTIONS,
-        "rail_placement": {"dy_mm": placed.dy_mm, "dz_mm": placed.dz_mm, "angle_rad": placed.angle_rad,
-                           "gauge_point_Y_mm": placed.gauge_point[0], "gauge_point_Z_mm": placed.gauge_point[1],
-                           "top_y_rail_mm": placed.top_q_mm},
-        "cases": entries,
-        "n_failed": sum(1 for e in entries if "error" in e),
-        "timings_s": {"total": time.perf_counter() - t0},
-    }
-    result["frictional_outputs"] = write_wheel_rail(all_sols, out_dir)   # wear-ready CSVs beside result.json
-    text = cases_csv(result)
+        raise InputError(scene.path.name, f"every case failed; first: {records[0].error}")
+    result = SweepResult(
+        "wheel_rail", inputs_echo(scene), code_version(),
+        {**UNITS, "angles": "rad (contact_angle_deg in degrees)",
+         "Fx_N, Fy_N": "N (creep forces of the rail on the wheel, contact frame x = rolling direction, "
+                       "y = contact-plane lateral axis with positive track-Y component)"},
+        CONVENTIONS,
+        RailPlacement(placed.dy_mm, placed.dz_mm, placed.angle_rad, placed.gauge_point[0], placed.gauge_point[1],
+                      placed.top_q_mm),
+        tuple(records), sum(1 for r in records if r.error is not None), {"total": time.perf_counter() - t0},
+        tuple(write_wheel_rail(all_sols, out_dir)))   # wear-ready CSVs beside result.json
     out_dir.mkdir(parents=True, exist_ok=True)
-    (out_dir / "cases.csv").write_text(text, encoding="utf-8")
-    result["cases_csv"] = "cases.csv"
+    (out_dir / result.cases_csv).write_text(cases_csv(result), encoding="utf-8")
     if plots:
         from contact.wheel_rail.plots import write_wheel_rail_plots  # matplotlib only when pictures are asked for
 
-        result["pictures"] = [p.name for p in write_wheel_rail_plots(result, all_sols, out_dir)]
+        pictures = write_wheel_rail_plots(result.to_dict(), all_sols, out_dir)
+        result = dataclasses.replace(result, pictures=tuple(p.name for p in pictures))
     return result
 
 
-__all__ = ["run_wheel_rail_scene", "solve_case", "write_deformed_profiles"]
+__all__ = ["run_wheel_rail_scene", "solve_case", "solve_cases", "write_deformed_profiles"]

@@ -10,7 +10,6 @@ when it is built and kept beside the inputs (not compared, not written by :meth:
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,6 +18,7 @@ from typing import Any
 from contact.layer.characteristic import Characteristic
 from contact.normal.method import NormalMethod
 from contact.passes.passes import PassesOptions
+from contact.scenes.result_io import Record
 from contact.wheel_rail.contact_search import SearchSettings
 from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
 from contact.wheel_rail.scene_files import file_sha256, read_layer_table, read_profile
@@ -31,28 +31,8 @@ from wrlayer.errors import InputError
 SWEEP_KEYS = ("lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s", "vertical_load_N", "speed_mm_s")
 
 
-class Section:
-    """Plain-data conversion of a flat section dataclass: :meth:`to_dict` (tuples as lists) and :meth:`from_dict`
-    (lists back to tuples)."""
-
-    def to_dict(self) -> dict[str, Any]:
-        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self) if f.compare}
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any]):
-        return cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in data.items()})
-
-
-def _plain(value: Any) -> Any:
-    if isinstance(value, Section):
-        return value.to_dict()
-    if isinstance(value, tuple):
-        return [_plain(v) for v in value]
-    return value
-
-
 @dataclass(frozen=True)
-class ProfilesSpec(Section):
+class ProfilesSpec(Record):
     """[profiles]: the profiles as the scene names them.
 
     Attributes
@@ -69,7 +49,7 @@ class ProfilesSpec(Section):
 
 
 @dataclass(frozen=True)
-class TrackSpec(Section):
+class TrackSpec(Record):
     """[track]: the track dimensions.
 
     Attributes
@@ -95,7 +75,7 @@ class TrackSpec(Section):
 
 
 @dataclass(frozen=True)
-class WheelSpec(Section):
+class WheelSpec(Record):
     """[wheel]: the wheel radius and the simulated side(s).
 
     Attributes
@@ -111,7 +91,7 @@ class WheelSpec(Section):
 
 
 @dataclass(frozen=True)
-class WheelsetSpec(Section):
+class WheelsetSpec(Record):
     """[wheelset]: the wheelset pose and pitch rate of the single case (a sweep may vary them per case).
 
     Attributes
@@ -137,7 +117,7 @@ class WheelsetSpec(Section):
 
 
 @dataclass(frozen=True)
-class LoadSpec(Section):
+class LoadSpec(Record):
     """[load]: load and speed of the single case (a sweep may vary them per case).
 
     Attributes
@@ -153,7 +133,7 @@ class LoadSpec(Section):
 
 
 @dataclass(frozen=True)
-class MaterialSpec(Section):
+class MaterialSpec(Record):
     """[material]: elastic constants of wheel and rail (the scene may give ``G_MPa`` instead of ``E_MPa``).
 
     Attributes
@@ -174,7 +154,7 @@ class MaterialSpec(Section):
 
 
 @dataclass(frozen=True)
-class TangentialSpec(Section):
+class TangentialSpec(Record):
     """[tangential]: the friction of the tangential solution (FASTSIM).
 
     Attributes
@@ -187,7 +167,7 @@ class TangentialSpec(Section):
 
 
 @dataclass(frozen=True)
-class CombinedLayerSpec(Section):
+class CombinedLayerSpec(Record):
     """[layers.combined]: one characteristic for both bodies (the paper's eq. 13 layer).
 
     Attributes
@@ -203,7 +183,7 @@ class CombinedLayerSpec(Section):
 
 
 @dataclass(frozen=True)
-class LayersSpec(Section):
+class LayersSpec(Record):
     """[layers]: calibration tables per body or one combined characteristic.
 
     Attributes
@@ -261,7 +241,7 @@ def read_layers(combined: CombinedLayerSpec | None, tables: dict[str, str], scal
 
 
 @dataclass(frozen=True)
-class PassesSpec(Section):
+class PassesSpec(Record):
     """[passes]: repeated passes of the layer (paper section 5).
 
     Attributes
@@ -284,7 +264,7 @@ class PassesSpec(Section):
 
 
 @dataclass(frozen=True)
-class MethodSpec(Section):
+class MethodSpec(Record):
     """[method]: solver settings.
 
     Attributes
@@ -335,7 +315,7 @@ class MethodSpec(Section):
 
 
 @dataclass(frozen=True)
-class CaseSpec(Section):
+class CaseSpec(Record):
     """One case of the scene: a wheelset pose, load and speed.
 
     Attributes
@@ -363,7 +343,7 @@ class CaseSpec(Section):
 
 
 @dataclass(frozen=True)
-class SweepCsv(Section):
+class SweepCsv(Record):
     """The sweep CSV file (``sweep.csv``) as read.
 
     Attributes
@@ -388,7 +368,7 @@ class SweepCsv(Section):
 
 
 @dataclass(frozen=True)
-class SweepSpec(Section):
+class SweepSpec(Record):
     """[sweep]: the cases of the scene (one case, from [wheelset] and [load], without a [sweep]).
 
     Attributes
@@ -405,14 +385,9 @@ class SweepSpec(Section):
     csv: SweepCsv | None = None
     cases: tuple[CaseSpec, ...] = ()
 
-    @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> SweepSpec:
-        return cls(data["mode"], None if data["csv"] is None else SweepCsv.from_dict(data["csv"]),
-                   tuple(CaseSpec.from_dict(c) for c in data["cases"]))
-
 
 @dataclass(frozen=True)
-class OutputSpec(Section):
+class OutputSpec(Record):
     """[output]: extra output files.
 
     Attributes
@@ -442,7 +417,7 @@ class WheelRailScene:
         Free text.
     description : str
         Free text.
-    profiles, track, wheel, wheelset, load, material, tangential, passes, method, sweep, output : Section
+    profiles, track, wheel, wheelset, load, material, tangential, passes, method, sweep, output : Record
         The sections (see their classes).
     layers : LayersSpec | None
         [layers]; None: elastic bodies.

@@ -15,7 +15,7 @@ from contact.wear.profile_grid import ArcGrid
 from contact.wear.records import StepRecord
 from contact.wear.state import WearState
 from contact.wear.statistics import body_stats
-from contact.wheel_rail.solve import rigid_roll
+from contact.wheel_rail.deformed import rigid_roll
 from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
 from meshes.profiles import S1002, Rail60E1
 from wrlayer.errors import InputError

@@ -8,7 +8,8 @@ import pytest
 
 from contact.wheel_rail.kinematics import creepages
 from contact.wheel_rail.reference_point import weighted_centre_eta
-from contact.wheel_rail.solve import WheelRailInputs, solve_wheel
+from contact.wheel_rail.inputs import WheelRailInputs
+from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose, axle_direction
 
 Q = 10000.0

@@ -10,7 +10,8 @@ from contact.layer.layer_table import LayerTable
 from contact.layer.patch_scaling import PATCH_SCALING_TOLERANCE
 from contact.wheel_rail.parse import parse_wheel_rail_scene
 from contact.wheel_rail.run import run_wheel_rail_scene
-from contact.wheel_rail.solve import BALANCE_RTOL, WheelRailInputs, WheelRailLayers, solve_wheel
+from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
+from contact.wheel_rail.solve import BALANCE_RTOL, solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
 from wrlayer.errors import InputError
 
@@ -18,7 +19,7 @@ TABLES = Path(__file__).resolve().parents[3] / "scenes" / "tables"
 
 
 def _run(data, scene_path, out_dir, plots=False):
-    return run_wheel_rail_scene(parse_wheel_rail_scene(data, scene_path), out_dir, plots)
+    return run_wheel_rail_scene(parse_wheel_rail_scene(data, scene_path), out_dir, plots).to_dict()
 
 
 class _Recording:

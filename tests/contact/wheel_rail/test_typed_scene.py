@@ -44,3 +44,21 @@ def test_case_values_reach_the_inputs(tmp_path):
     assert scene.sides == ["right", "left"]
     inputs = scene.inputs("right", case=scene.cases[1])
     assert (inputs.vertical_load_N, inputs.speed_mm_s) == (7000.0, 3000.0)
+
+
+def test_result_records_round_trip_and_stay_short(tmp_path):
+    from contact.wheel_rail.results import SweepResult
+    from contact.wheel_rail.run import run_wheel_rail_scene
+
+    data = {"type": "wheel_rail", "wheel": {"side": "both"}, "sweep": {"lateral_mm": [0.0, 3.0]},
+            "layers": {"combined": {"u_mm": [0.0, 0.01, 0.05], "p_MPa": [0.0, 300.0, 900.0]}},
+            "passes": {"max": 2}}
+    result = run_wheel_rail_scene(parse_wheel_rail_scene(data, tmp_path / "s.toml"), tmp_path, plots=False)
+    assert SweepResult.from_dict(result.to_dict()) == result
+    assert SweepResult.from_dict(json.loads(result.to_json())) == result
+    case = result.cases[1]
+    patch = case.wheels["right"].patches[0]
+    assert len(patch.passes) == 2 and case.deformed_profiles is not None
+    for record in (result, case, case.wheels["left"], patch):
+        assert len(repr(record)) < 400
+    assert "error" not in case.to_dict() and "pictures" not in result.to_dict()

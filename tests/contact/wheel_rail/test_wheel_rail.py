@@ -8,15 +8,9 @@ import pytest
 
 from contact.layer.characteristic import Characteristic
 from contact.layer.layer_table import LayerTable
-from contact.wheel_rail.solve import (
-    BALANCE_RTOL,
-    WheelRailInputs,
-    WheelRailLayers,
-    deformed_profile,
-    residual_on_profiles,
-    rigid_roll,
-    solve_wheel,
-)
+from contact.wheel_rail.deformed import deformed_profile, residual_on_profiles, rigid_roll
+from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
+from contact.wheel_rail.solve import BALANCE_RTOL, solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
 from wrlayer.errors import InputError
 

@@ -12,7 +12,7 @@ from wrlayer.errors import InputError
 
 
 def _run(data, scene_path, out_dir, plots=False):
-    return run_wheel_rail_scene(parse_wheel_rail_scene(data, scene_path), out_dir, plots)
+    return run_wheel_rail_scene(parse_wheel_rail_scene(data, scene_path), out_dir, plots).to_dict()
 
 
 def _scene(**sections):
