@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from wrlayer import cli
 from wrlayer.atomic_write import output_lock
 from wrlayer.errors import InputError
 
@@ -91,8 +92,6 @@ def wear_command(args) -> int:
 
 
 def add_parser(sub) -> None:
-    from wrlayer import cli
-
     p = cli.subparser(sub, "wear", "run a wear scene (profiles evolving by wear and inelastic displacement)",
                       ["python -m contact wear scenes/wear/s1002_60e1.toml --out out/wear",
                        "python -m contact wear scenes/wear/s1002_60e1.toml --out out/wear --workers 2 --no-plots"])

@@ -20,9 +20,11 @@ from collections.abc import Callable, Iterator
 from functools import partial
 from pathlib import Path
 
+from tqdm import tqdm
+
 from contact.wear.conicity import radius_difference
-from contact.wear.records import StepRecord, WearRun, WearStopped
 from contact.wear.recalibrate import recalibrate_sides
+from contact.wear.records import StepRecord, WearRun, WearStopped
 from contact.wear.runner import TaskRunner
 from contact.wear.scene import WearScene
 from contact.wear.state import WearState
@@ -35,8 +37,6 @@ class StepBars:
     """Progress bars on stderr: the steps of the run and the conditions of the current step."""
 
     def __init__(self, steps: int, tasks: int, show: bool):
-        from tqdm import tqdm  # only where bars are drawn
-
         self.steps = tqdm(total=steps, desc="wear steps", unit="step", disable=not show, position=0,
                           file=sys.stderr)
         self.conditions = tqdm(total=tasks, desc="conditions", unit="cond", disable=not show, position=1,
