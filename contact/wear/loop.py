@@ -81,8 +81,10 @@ def recalibrated(scene: WearScene, state: WearState, record: StepRecord, work_di
 
 def wear_steps(run: WearRun, work_dir: Path | None = None, show_progress: bool = True) -> Iterator[StepRecord]:
     """Run the loop of ``run.scene`` from ``run``'s initial profiles, appending each completed step to
-    ``run.steps`` and yielding it. Raises :class:`WearStopped` naming the step on a failure (``run.stopped`` says
-    why). ``work_dir``: where recalibrations ([wear.recalibrate]) put their files (default: a temporary folder)."""
+    ``run.steps`` and yielding it. A recalibration ([wear.recalibrate]) due after a step runs when the next
+    record is asked for (so a consumer has written the step before), and the step's record in ``run.steps`` is
+    replaced by one that notes it. Raises :class:`WearStopped` naming the step on a failure (``run.stopped`` says
+    why). ``work_dir``: where recalibrations put their files (default: a temporary folder)."""
     scene = run.scene
     recal = scene.settings.recalibrate
     state = WearState.initial(scene, run.initial_profiles)
@@ -97,11 +99,10 @@ def wear_steps(run: WearRun, work_dir: Path | None = None, show_progress: bool =
                 record, history = wear_step(scene, state, partial(runner.map, on_done=bars.condition_done))
                 state = state.after(record, history)
                 run.steps.append(record)
-                if recal is not None and recal.due(step) and state.unfinished(scene):
-                    state, record = recalibrated(scene, state, record, work_dir)
-                    run.steps[-1] = record
                 bars.step_done(len(run.steps), state.unfinished(scene))
                 yield record
+                if recal is not None and recal.due(step) and state.unfinished(scene):
+                    state, run.steps[-1] = recalibrated(scene, state, record, work_dir)
         except (InputError, ConvergenceError) as err:
             run.stopped = f"step {step}: {err}"
             raise WearStopped(f"wear loop stopped at step {step} after {state.done_km:.6g} km ({len(run.steps)} "

@@ -2,6 +2,7 @@
 through its Python API with the worn profiles in place of the placeholders, its typed errors stopping the loop."""
 
 import dataclasses
+import json
 import shutil
 from pathlib import Path
 
@@ -172,6 +173,25 @@ def test_the_calibration_gets_the_worn_profiles(make_scene, tmp_path, monkeypatc
     recalibrate_side(scene.settings.recalibrate, run.steps[0].profiles["right"], tmp_path / "dask",
                      scheduler="tcp://cluster:8786")
     assert calls[-1]["scheduler"] == "tcp://cluster:8786"
+
+
+def test_cli_keeps_the_step_before_a_failed_recalibration(tmp_path, wear_dict, write_scene, monkeypatch, capsys):
+    """The step is written before its recalibration runs: a failed calibration leaves step 1's files, exit 3."""
+    def failing(*args, **kwargs):
+        raise ConvergenceError("Newton did not converge")
+
+    monkeypatch.setattr(recal_mod, "run_calibration", failing)
+    scene_file = write_scene(wear_dict(wear={"distance_km": 100.0, "steps": 2,
+                                             "recalibrate": {"config": str(_template(tmp_path))}},
+                                       passes={"max": 3}))
+    out = tmp_path / "out"
+    assert main(["wear", str(scene_file), "--out", str(out), "--quiet", "--no-plots"]) == 5
+    assert "step 1: wear.recalibrate (right side): calibration of the worn profiles failed" in capsys.readouterr().err
+    assert (out / "profiles" / "step_001_right_wheel.prw").is_file()
+    res = json.loads((out / "result.json").read_text())
+    assert res["status"].startswith("stopped: step 1: ") and "wear.recalibrate" in res["status"]
+    assert len(res["steps"]) == 1
+    assert res["steps"][0]["files"]
 
 
 def test_recalibrate_side_returns_the_written_tables(make_scene, tmp_path, monkeypatch):
