@@ -21,6 +21,7 @@ stopped at a step (see
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -38,7 +39,6 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
 
     The run's cost is estimated first (:mod:`contact.scenes.cost`); above :data:`wrlayer.cost.LIMIT_SECONDS` it is
     refused (CostError, exit 2) unless ``force``."""
-    from contact.scenes.result_io import result_text
     from contact.scenes.scene import read_scene_data, scene_type
 
     scene_path, data = read_scene_data(scene_path)
@@ -67,21 +67,19 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
     from contact.scenes.simulation import simulate
 
     run = simulate(scene)
-    text = result_text(run.result)  # serialise before anything is written (a failure leaves no file)
+    result = run.result
+    result.to_json()  # serialisable before anything is written (a failure leaves no file)
     with replace_output_dir(out_dir) as tmp:
         from contact.tangential.frictional_outputs import write_scene_run
 
         # wear-ready CSVs beside result.json
-
-        run.result["frictional_outputs"] = write_scene_run(run, tmp)
-        text = result_text(run.result)
+        result = dataclasses.replace(result, frictional_outputs=tuple(write_scene_run(run, tmp)))
         if plots:
             from contact.scenes.plots import write_scene_plots
 
-            run.result["pictures"] = [p.name for p in write_scene_plots(run, tmp)]
-            text = result_text(run.result)
-        (tmp / "result.json").write_text(text, encoding="utf-8")
-    return run.result
+            result = dataclasses.replace(result, pictures=tuple(p.name for p in write_scene_plots(run, tmp)))
+        (tmp / "result.json").write_text(result.to_json(), encoding="utf-8")
+    return result.to_dict()
 
 
 def _simulate(args: argparse.Namespace) -> int:

@@ -10,6 +10,7 @@ passes × strips × (STRIP_S + cells × CELL_S)), strips = WHEEL_RAIL_WINDOW_MM 
 
 from __future__ import annotations
 
+from contact.normal.exact import DEFAULT_CELLS
 from wrlayer.cost import CostEstimate
 
 #: Normal solve (+ layer) per strip and pass (s): 7.5-17 us measured on the paper scenes; rounded up.
@@ -23,8 +24,6 @@ LAYER_CASE_WHEEL_S = 0.15
 #: Exact (FFT half-space) normal solver per strip of the table and x cell, per pass (s): 27 ms CPU for the paper
 #: scene with the layer (160 strips, 48 cells; docs/exact-solver.md) -> 3.5 us; rounded up.
 EXACT_CELL_S = 5e-6
-#: method.exact_cells when not given (contact.normal.exact.DEFAULT_CELLS).
-EXACT_DEFAULT_CELLS = 48
 #: Lateral extent of a wheel–rail contact candidate's strip grid assumed by the estimate (mm).
 WHEEL_RAIL_WINDOW_MM = 40.0
 
@@ -41,7 +40,7 @@ def scene_cost(scene) -> CostEstimate:
         factors["cells"] = cells
     per_strip = STRIP_S + cells * CELL_S
     if getattr(scene.method, "normal", "kik_piotrowski") == "exact":
-        exact_cells = scene.method.exact_cells or EXACT_DEFAULT_CELLS
+        exact_cells = scene.method.exact_cells or DEFAULT_CELLS
         factors["exact cells"] = exact_cells
         per_strip += exact_cells * EXACT_CELL_S
     seconds = passes * strips * per_strip
@@ -62,7 +61,7 @@ def wheel_rail_cost(scene) -> CostEstimate:
     if cells:
         factors["cells"] = cells
     if method.normal == "exact":
-        exact_cells = method.exact_cells or EXACT_DEFAULT_CELLS
+        exact_cells = method.exact_cells or DEFAULT_CELLS
         factors["exact cells"] = exact_cells
         per_strip += exact_cells * EXACT_CELL_S
     seconds = cases * wheels * (per + passes * strips * per_strip)

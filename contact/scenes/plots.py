@@ -154,18 +154,18 @@ def plot_separation(run, path: Path) -> Path:
 def plot_shakedown(run, path: Path) -> Path:
     """Area, p_max and delta against the pass number."""
     hist = run.history
-    n = np.array([h["pass"] for h in hist])
+    n = np.array([h.number for h in hist])
     fig, axes = plt.subplots(3, 1, figsize=(7.5, 7.5), sharex=True, constrained_layout=True)
     for ax, key, label in zip(axes, ("area_mm2", "p_max_MPa", "delta_mm"),
                               ("area [mm$^2$]", "p$_{max}$ [MPa]", "approach delta [mm]")):
-        ax.plot(n, [h[key] for h in hist], "o-", ms=3)
+        ax.plot(n, [getattr(h, key) for h in hist], "o-", ms=3)
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
     p2 = _elastic_limit(run)
     if p2 is not None:
         axes[1].axhline(p2, color="r", lw=0.8, ls=":", label=_p2_label(p2))
         axes[1].legend(fontsize=8)
-    sd = run.result.get("shakedown_pass")
+    sd = run.result.shakedown_pass
     if sd is not None:
         for ax in axes:
             ax.axvline(sd, color="k", lw=0.7, ls="--")

@@ -267,19 +267,7 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
     material = MaterialSpec(mat_keys.number("E_MPa", ge=MIN_E_MPA, le=MAX_E_MPA),
                             mat_keys.number("poisson", ge=0.0, lt=0.5))
 
-    method = MethodSpec()
-    if (keys := top.sub("method")) is not None:
-        keys.check_known(("alpha", "grid_mm", "fastsim_cells", "normal", "exact_cells", "layer_mode"))
-        method = MethodSpec(alpha=keys.number("alpha", 0.55, ge=MIN_ALPHA, le=1.0),
-                            grid_mm=keys.number("grid_mm", 0.1, ge=MIN_GRID_MM),
-                            fastsim_cells=keys.integer("fastsim_cells", 60, ge=2, le=MAX_FASTSIM_CELLS),
-                            normal=keys.text("normal", "kik_piotrowski"),
-                            exact_cells=keys.integer("exact_cells", None, ge=1),
-                            layer_mode=keys.text("layer_mode", "indentation"))
-        try:
-            method.normal_method()
-        except InputError as err:
-            raise InputError(f"{file}: {err.what}", err.problem) from None
+    method = _parse_method(top.sub("method"), file)
 
     separation = _parse_separation(top.sub("separation"), method.grid_mm)
     n_strips = (separation.y_mm[-1] - separation.y_mm[0]) / method.grid_mm
@@ -294,22 +282,7 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
     if (keys := top.sub("layer")) is not None:
         layer = _parse_layer(keys, path.parent, hashes)
 
-    tangential = None
-    if (keys := top.sub("tangential")) is not None:
-        keys.check_known(("creepage_x", "creepage_y", "spin_per_mm", "friction", "speed_mm_s", "flexibility"))
-        tangential = TangentialSpec(creepage_x=keys.number("creepage_x", 0.0),
-                                    creepage_y=keys.number("creepage_y", 0.0),
-                                    spin_per_mm=keys.number("spin_per_mm", 0.0),
-                                    friction=keys.number("friction", ge=0.0),
-                                    speed_mm_s=keys.number("speed_mm_s", 1000.0, gt=0.0),
-                                    flexibility=keys.text("flexibility", "three"))
-        from contact.tangential.fastsim import (
-            FLEXIBILITY_RULES,  # lazy: fastsim compiles with numba
-        )
-
-        if tangential.flexibility not in FLEXIBILITY_RULES:
-            raise keys.error("flexibility", f"must be one of {', '.join(FLEXIBILITY_RULES)}, "
-                             f"got {tangential.flexibility!r}")
+    tangential = _parse_tangential(top.sub("tangential"))
 
     passes = PassesSpec()
     if (keys := top.sub("passes")) is not None:
@@ -329,6 +302,41 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
     return Scene(path=path, title=title, description=description, load=load, material=material,
                  separation=separation, layer=layer, tangential=tangential, passes=passes, method=method,
                  reference=reference, data=data, content_hash=hashlib.sha256("".join(hashes).encode()).hexdigest())
+
+
+def _parse_method(keys: SceneKeys | None, file: str) -> MethodSpec:
+    if keys is None:
+        return MethodSpec()
+    keys.check_known(("alpha", "grid_mm", "fastsim_cells", "normal", "exact_cells", "layer_mode"))
+    method = MethodSpec(alpha=keys.number("alpha", 0.55, ge=MIN_ALPHA, le=1.0),
+                        grid_mm=keys.number("grid_mm", 0.1, ge=MIN_GRID_MM),
+                        fastsim_cells=keys.integer("fastsim_cells", 60, ge=2, le=MAX_FASTSIM_CELLS),
+                        normal=keys.text("normal", "kik_piotrowski"),
+                        exact_cells=keys.integer("exact_cells", None, ge=1),
+                        layer_mode=keys.text("layer_mode", "indentation"))
+    try:
+        method.normal_method()
+    except InputError as err:
+        raise InputError(f"{file}: {err.what}", err.problem) from None
+    return method
+
+
+def _parse_tangential(keys: SceneKeys | None) -> TangentialSpec | None:
+    if keys is None:
+        return None
+    keys.check_known(("creepage_x", "creepage_y", "spin_per_mm", "friction", "speed_mm_s", "flexibility"))
+    tangential = TangentialSpec(creepage_x=keys.number("creepage_x", 0.0),
+                                creepage_y=keys.number("creepage_y", 0.0),
+                                spin_per_mm=keys.number("spin_per_mm", 0.0),
+                                friction=keys.number("friction", ge=0.0),
+                                speed_mm_s=keys.number("speed_mm_s", 1000.0, gt=0.0),
+                                flexibility=keys.text("flexibility", "three"))
+    from contact.tangential.fastsim import FLEXIBILITY_RULES  # here: fastsim compiles with numba
+
+    if tangential.flexibility not in FLEXIBILITY_RULES:
+        raise keys.error("flexibility", f"must be one of {', '.join(FLEXIBILITY_RULES)}, "
+                         f"got {tangential.flexibility!r}")
+    return tangential
 
 
 def _parse_separation(keys: SceneKeys, grid_mm: float) -> SeparationSpec:

@@ -41,7 +41,6 @@ from contact.normal.method import NormalMethod
 from contact.wheel_rail.inputs import BALANCES
 from contact.wheel_rail.reference_point import CONTACT_POINTS
 from contact.wheel_rail.scene import (
-    CaseSpec,
     CombinedLayerSpec,
     LayersSpec,
     LoadSpec,
@@ -60,6 +59,7 @@ from contact.wheel_rail.scene import (
 from contact.wheel_rail.scene_files import read_profile
 from contact.wheel_rail.sweep import KEYS as SWEEP_SECTION_KEYS
 from contact.wheel_rail.sweep import parse_sweep
+from contact.wheel_rail.sweep_spec import CaseSpec
 from contact.wheel_rail.track_geometry import TrackLayout
 from wrlayer.elastic import youngs_modulus_MPa
 from wrlayer.errors import InputError

@@ -136,6 +136,9 @@ class StripsResult(Record):
     y_rail_mm: tuple[float, ...]
     y_wheel_mm: tuple[float, ...]
 
+    def __repr__(self) -> str:
+        return f"StripsResult({len(self.eta_mm)} strips)"
+
 
 @dataclass(frozen=True)
 class PassSummary(Record):

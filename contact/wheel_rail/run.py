@@ -23,7 +23,8 @@ from contact.scenes.result_io import UNITS, code_version
 from contact.tangential.frictional_outputs import write_wheel_rail
 from contact.wheel_rail.result_files import CONVENTIONS, cases_csv, inputs_echo
 from contact.wheel_rail.results import CaseResult, DeformedProfileFile, RailPlacement, SweepResult, WheelResult
-from contact.wheel_rail.scene import SWEEP_KEYS, CaseSpec, WheelRailScene
+from contact.wheel_rail.scene import WheelRailScene
+from contact.wheel_rail.sweep_spec import SWEEP_KEYS, CaseSpec
 from contact.wheel_rail.deformed import deformed_profile, residual_on_profiles, rigid_roll
 from contact.wheel_rail.solution import WheelRailSolution
 from contact.wheel_rail.solve import solve_wheel

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contact.wheel_rail.scene import SWEEP_KEYS, CaseSpec, SweepCsv, SweepSpec
+from contact.wheel_rail.sweep_spec import SWEEP_KEYS, CaseSpec, SweepCsv, SweepSpec
 from contact.wheel_rail.scene_files import file_sha256, resolve_path
 from wrlayer.validate import MAX_ABS, MIN_FORCE_N, Keys
 

@@ -43,18 +43,20 @@ grid_mm = 0.1
 def test_scaled_layer_follows_the_solved_patch(tmp_path):
     plain = simulate(_scene(tmp_path, "", "plain")).result
     scaled = simulate(_scene(tmp_path, "scale_to_patch = true", "scaled")).result
-    assert plain["layer_scaled_to_patch"] is None
-    info, first = scaled["layer_scaled_to_patch"], scaled["passes"][0]
-    assert 2 <= info["solves"] <= 6
+    assert plain.layer_scaled_to_patch is None
+    info, first = scaled.layer_scaled_to_patch, scaled.passes[0]
+    assert 2 <= info.solves <= 6
     # the layer was scaled to the patch the solver then found (fixed point, 0.1 %)
-    assert info["a_mm"] == pytest.approx(first["length_mm"] / 2, rel=2e-3)
-    assert info["b_mm"] == pytest.approx(first["width_mm"] / 2, rel=2e-3)
+    assert info.a_mm == pytest.approx(first.length_mm / 2, rel=2e-3)
+    assert info.b_mm == pytest.approx(first.width_mm / 2, rel=2e-3)
     # the crown's solved patch is larger than the calibrated one, so the scaled layer dents more (about the
     # length ratio; the layer's own compliance also enlarges the patch a little)
     geo = LayerTable.read(TABLE).positions[[p["y_mm"] for p in LayerTable.read(TABLE).positions].index(0.0)]["geometry"]
-    ratio = (info["a_mm"] * info["b_mm"] / (geo["a_mm"] * geo["b_mm"])) ** 0.5
+    ratio = (info.a_mm * info.b_mm / (geo["a_mm"] * geo["b_mm"])) ** 0.5
     assert ratio > 1.02
-    assert first["up0_mm"] / plain["passes"][0]["up0_mm"] == pytest.approx(ratio, rel=0.05)
+    assert first.up0_mm / plain.passes[0].up0_mm == pytest.approx(ratio, rel=0.05)
+    # the records are plain data at the edge and come back equal
+    assert type(scaled).from_dict(scaled.to_dict()) == scaled
 
 
 def test_scale_to_patch_needs_a_table(tmp_path):

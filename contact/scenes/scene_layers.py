@@ -1,0 +1,93 @@
+"""The layers of a Kik–Piotrowski scene on its strip grid: built from the scene's characteristics or calibration
+tables, their coverage of the contact, and their scaling to the solved patch size (units mm, MPa).
+
+A per-body calibration table is read at ``position_mm + y`` for every strip y (outside the table's range the
+nearest tabulated end is used for building, and a contact on such a strip is a
+:class:`wrlayer.errors.LayerNotCovered`: the table does not cover the contact location;
+:mod:`contact.layer.strip_lookup`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from contact.layer.patch_scaling import settle_patch_sizes
+from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
+from contact.layer.strip_lookup import check_coverage, clamped_characteristics
+from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
+from contact.normal.method import solve_normal_with
+from contact.scenes.scene import BODIES, Scene
+
+
+def normal_problem(scene: Scene) -> NormalProblem:
+    """The scene's normal problem (separation table, load, material, alpha, strip grid)."""
+    sep, load, mat, met = scene.separation, scene.load, scene.material, scene.method
+    return NormalProblem(sep.y_mm, sep.f_mm, load.normal_force_N, load.rolling_radius_mm, mat.E_MPa, mat.poisson,
+                         alpha=met.alpha, grid_mm=met.grid_mm)
+
+
+def scales_to_patch(scene: Scene) -> bool:
+    """A table layer of the scene asks to be scaled to the solved patch size."""
+    return scene.layer is not None and any(
+        getattr(getattr(scene.layer, b), "scale_to_patch", False) for b in BODIES)
+
+
+def build_layers(scene: Scene, strip_y_mm: np.ndarray, patch_mm: tuple[float, float] | None = None
+                 ) -> LayerPair | None:
+    """The scene's layers on the strip grid (PrandtlLayer per body, or one combined layer). A table layer is read
+    at ``position_mm + y`` for every strip y, clamped to the table's range (coverage is checked after each pass, on
+    the strips in contact: :func:`check_table_coverage`); with ``scale_to_patch`` scaled to ``patch_mm`` = (a, b)
+    (mm)."""
+    spec = scene.layer
+    if spec is None:
+        return None
+    if spec.combined is not None:
+        return LayerPair(combined=PrandtlLayer.uniform(spec.combined, strip_y_mm, name="layer"))
+    layers = {}
+    for body in BODIES:
+        b = getattr(spec, body)
+        if b is None:
+            continue
+        what = f"{scene.path.name}: layer.{body}"
+        if b.characteristic is not None:
+            layers[body] = PrandtlLayer.uniform(b.characteristic, strip_y_mm, name=what)
+        else:
+            chars, _ = clamped_characteristics(b.table, b.position_mm + strip_y_mm, f"{what}.table",
+                                               patch_mm if b.scale_to_patch else None)
+            layers[body] = PrandtlLayer.from_characteristics(chars, strip_y_mm, name=what)
+    return LayerPair(**layers)
+
+
+def check_table_coverage(scene: Scene, solution: NormalSolution) -> None:
+    """LayerNotCovered when a strip in contact lies outside a body's calibration table."""
+    if scene.layer is None:
+        return
+    in_contact = solution.strip_y_mm[solution.p_peak_MPa > 0]
+    for body in BODIES:
+        b = getattr(scene.layer, body)
+        if b is not None and b.table is not None:
+            check_coverage(b.table, b.position_mm + in_contact, f"{scene.path.name}: layer.{body}.table", body,
+                           b.table_path.name, tolerance_mm=1e-9)
+
+
+def scale_layers_to_patch(scene: Scene, prob: NormalProblem, layers: LayerPair):
+    """A table characteristic holds for the patch size it was calibrated on (its displacements scale
+    with sqrt(a b)). Solve the first pass's normal problem, rebuild the layers scaled to the solved semi-axes
+    (a, b) = (length/2, width/2) and solve again until the patch settles
+    (:func:`contact.layer.patch_scaling.settle_patch_sizes`). Returns (the layers at the settled (a, b), (a, b),
+    normal solves including the first, unscaled one); ConvergenceError when the patch does not settle."""
+    method = scene.method.normal_method()
+
+    def sizes_of(sol) -> dict:
+        return {0: (0.5 * sol.length_mm, 0.5 * sol.width_mm)}
+
+    def solve_at(sizes: dict):
+        scaled = build_layers(scene, prob.strip_y_mm, sizes[0])
+        return scaled, sizes_of(solve_normal_with(method, prob, scaled))
+
+    first = sizes_of(solve_normal_with(method, prob, layers))
+    layers, sizes, solves = settle_patch_sizes(solve_at, first, f"{scene.path.name}: scale_to_patch")
+    return layers, sizes[0], solves + 1
+
+
+__all__ = ["build_layers", "check_table_coverage", "normal_problem", "scale_layers_to_patch", "scales_to_patch"]
