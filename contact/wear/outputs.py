@@ -18,6 +18,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -110,7 +111,26 @@ def _jsonable(x):
     return x
 
 
-def result_dict(run: WearRun, files: dict, status: str) -> dict[str, Any]:
+@dataclass
+class WrittenFiles:
+    """The files written so far (names relative to the output folder), as result.json lists them.
+
+    Attributes
+    ----------
+    initial : list
+        The initial profiles: per side and body, the profile files and their read-back error (mm).
+    steps : dict
+        ``steps[index]``: per side and body, the step's profile, depth and layer-state files.
+    pictures : list
+        The PNG pictures.
+    """
+
+    initial: list = field(default_factory=list)
+    steps: dict[int, list] = field(default_factory=dict)
+    pictures: list[str] = field(default_factory=list)
+
+
+def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any]:
     sc = run.scene
     col, st = sc.collective, sc.settings
     path = Path(sc.path)
@@ -128,18 +148,18 @@ def result_dict(run: WearRun, files: dict, status: str) -> dict[str, Any]:
             "passes_cap": sc.wheel_rail.passes.max,
             "layers": None if sc.wheel_rail.solver_layers is None else dict(sc.wheel_rail.solver_layers.names),
             "scene_toml": sc.data},
-        "initial": {"conicity": run.initial_conicity, "profiles": files.get("initial", [])},
+        "initial": {"conicity": run.initial_conicity, "profiles": files.initial},
         "steps": [{"step": r.index, "start_km": r.start_km, "length_km": r.length_km, "end_km": r.end_km,
                    "notes": r.notes, "conicity": r.conicity, "timings_s": r.timings,
                    "bodies": [{"side": s, "body": b, **bs.stats.to_dict()} for (s, b), bs in r.bodies.items()],
-                   "files": files.get(r.index, []), "conditions": [c.to_dict() for c in r.conditions]}
+                   "files": files.steps.get(r.index, []), "conditions": [c.to_dict() for c in r.conditions]}
                   for r in run.steps],
         "distance_done_km": run.steps[-1].end_km if run.steps else 0.0,
-        "pictures": files.get("pictures", []),
+        "pictures": files.pictures,
     })
 
 
-def write_result(out_dir: Path, run: WearRun, files: dict, status: str) -> Path:
+def write_result(out_dir: Path, run: WearRun, files: WrittenFiles, status: str) -> Path:
     return atomic_write_text(out_dir / "result.json", json.dumps(result_dict(run, files, status), indent=1) + "\n")
 
 
@@ -149,16 +169,18 @@ class RunFiles:
 
     def __init__(self, out_dir: Path, run: WearRun):
         self.out_dir, self.run = Path(out_dir), run
-        self.files: dict[Any, Any] = {}
+        self.files = WrittenFiles()
+        self._initial_written = False
 
     def _initial(self) -> None:
-        if "initial" not in self.files:
-            self.files["initial"] = write_initial(self.out_dir, self.run)
+        if not self._initial_written:
+            self.files.initial = write_initial(self.out_dir, self.run)
+            self._initial_written = True
 
     def step(self, rec: StepRecord) -> None:
         """Write a completed step's profiles and depths, the table and result.json ("running")."""
         self._initial()
-        self.files[rec.index] = write_step(self.out_dir, rec)
+        self.files.steps[rec.index] = write_step(self.out_dir, rec)
         write_table(self.out_dir, self.run)
         write_result(self.out_dir, self.run, self.files, "running")
 
@@ -166,11 +188,10 @@ class RunFiles:
         """Write the table and the final result.json with ``status`` and the ``pictures``; returns the result."""
         self._initial()
         write_table(self.out_dir, self.run)
-        if pictures:
-            self.files["pictures"] = [p.name for p in pictures]
+        self.files.pictures = [p.name for p in pictures]
         write_result(self.out_dir, self.run, self.files, status)
         return result_dict(self.run, self.files, status)
 
 
-__all__ = ["TABLE_COLUMNS", "UNITS", "RunFiles", "result_dict", "table_rows", "write_initial", "write_profile_pair",
+__all__ = ["TABLE_COLUMNS", "UNITS", "RunFiles", "WrittenFiles", "result_dict", "table_rows", "write_initial", "write_profile_pair",
            "write_result", "write_step", "write_table"]
