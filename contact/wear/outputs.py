@@ -83,8 +83,8 @@ def table_rows(run: WearRun) -> list[dict]:
             mass = st.get("mass_loss_g_per_km", st.get("mass_loss_g_per_m_rail_per_km"))
             rows.append({"step": rec.index, "start_km": rec.start_km, "length_km": rec.length_km,
                          "end_km": rec.end_km, "side": s, "body": b, **{k: st[k] for k in TABLE_COLUMNS if k in st},
-                         "mass_loss": mass, "mass_loss_unit": unit, "delta_r_mm": rec.conicity["delta_r_mm"],
-                         "quasi_conicity": rec.conicity["quasi_conicity"]})
+                         "mass_loss": mass, "mass_loss_unit": unit, "delta_r_mm": rec.conicity.delta_r_mm,
+                         "quasi_conicity": rec.conicity.quasi_conicity})
     return rows
 
 
@@ -148,9 +148,9 @@ def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any
             "passes_cap": sc.wheel_rail.passes.max,
             "layers": None if sc.wheel_rail.solver_layers is None else dict(sc.wheel_rail.solver_layers.names),
             "scene_toml": sc.data},
-        "initial": {"conicity": run.initial_conicity, "profiles": files.initial},
+        "initial": {"conicity": run.initial_conicity.to_dict(), "profiles": files.initial},
         "steps": [{"step": r.index, "start_km": r.start_km, "length_km": r.length_km, "end_km": r.end_km,
-                   "notes": r.notes, "conicity": r.conicity, "timings_s": r.timings,
+                   "notes": r.notes, "conicity": r.conicity.to_dict(), "timings_s": r.timings,
                    "bodies": [{"side": s, "body": b, **bs.stats.to_dict()} for (s, b), bs in r.bodies.items()],
                    "files": files.steps.get(r.index, []), "conditions": [c.to_dict() for c in r.conditions]}
                   for r in run.steps],

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from contact.wear.conicity import RadiusDifference
 from contact.wear.layer_state import History
 from contact.wear.profile_grid import ArcGrid
 from contact.wear.scene import WearScene
@@ -94,9 +95,8 @@ class StepRecord:
         Length of the step (km), after the step control.
     bodies : dict
         ``bodies[(side, body)]``: :class:`BodyStep`.
-    conicity : dict
-        Rolling-radius difference after the step: ``delta_r_mm``, ``quasi_conicity``, ``r_right_mm``,
-        ``r_left_mm`` (mm, -).
+    conicity : RadiusDifference
+        Rolling-radius difference of the profiles after the step.
     conditions : tuple
         :class:`ConditionSummary` per (condition, side).
     timings : dict
@@ -115,7 +115,7 @@ class StepRecord:
     start_km: float
     length_km: float
     bodies: dict[tuple[str, str], BodyStep]
-    conicity: dict[str, float]
+    conicity: RadiusDifference
     conditions: tuple[ConditionSummary, ...]
     timings: dict[str, float]
     profiles: Profiles
@@ -134,7 +134,7 @@ class WearRun:
 
     scene: WearScene
     initial_profiles: Profiles
-    initial_conicity: dict[str, float]
+    initial_conicity: RadiusDifference
     steps: list[StepRecord] = field(default_factory=list)
     stopped: str | None = None
 

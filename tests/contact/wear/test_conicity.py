@@ -22,11 +22,11 @@ def test_cone_on_a_round_head_gives_its_slope(slope, amplitude):
     the wheel the wheelset moves towards: r_right(a) - r_left(a) = 2 slope a, quasi-conicity = slope."""
     wheel, rail, layout = _cone(slope), Rail60E1(), TrackLayout()
     got = radius_difference({"right": {"rail": rail, "wheel": wheel}}, layout, amplitude)
-    assert got["delta_r_mm"] == pytest.approx(2.0 * slope * amplitude, rel=1e-7)
-    assert got["quasi_conicity"] == pytest.approx(slope, rel=1e-7)
+    assert got.delta_r_mm == pytest.approx(2.0 * slope * amplitude, rel=1e-7)
+    assert got.quasi_conicity == pytest.approx(slope, rel=1e-7)
     centre = rolling_radius(rail, wheel, layout, "right", 0.0)
-    assert got["r_right_mm"] - centre == pytest.approx(slope * amplitude, rel=1e-7)
-    assert centre - got["r_left_mm"] == pytest.approx(slope * amplitude, rel=1e-7)
+    assert got.r_right_mm - centre == pytest.approx(slope * amplitude, rel=1e-7)
+    assert centre - got.r_left_mm == pytest.approx(slope * amplitude, rel=1e-7)
 
 
 def test_one_side_stands_for_both_and_the_sides_are_used_as_given():
@@ -37,7 +37,7 @@ def test_one_side_stands_for_both_and_the_sides_are_used_as_given():
     both = radius_difference({"right": s1002, "left": dict(s1002)}, layout, 3.0)
     left_only = radius_difference({"left": s1002}, layout, 3.0)
     assert right_only == both == left_only
-    assert right_only["delta_r_mm"] > 0  # S1002: the radius grows towards the flange
+    assert right_only.delta_r_mm > 0  # S1002: the radius grows towards the flange
     cone = radius_difference({"right": s1002, "left": {"rail": Rail60E1(), "wheel": _cone(0.025)}}, layout, 3.0)
-    assert cone["r_right_mm"] == right_only["r_right_mm"]
-    assert cone["r_left_mm"] == pytest.approx(rolling_radius(Rail60E1(), _cone(0.025), layout, "left", 3.0))
+    assert cone.r_right_mm == right_only.r_right_mm
+    assert cone.r_left_mm == pytest.approx(rolling_radius(Rail60E1(), _cone(0.025), layout, "left", 3.0))
