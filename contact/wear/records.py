@@ -129,8 +129,22 @@ class StepRecord:
 
 @dataclass
 class WearRun:
-    """The loop's result, filled step by step: initial profiles and conicity, the completed steps, and the stop
-    reason if any (mutable: :func:`contact.wear.loop.wear_steps` appends each step as it completes)."""
+    """The loop's result, filled step by step (mutable: :func:`contact.wear.loop.wear_steps` appends each step as
+    it completes).
+
+    Attributes
+    ----------
+    scene : WearScene
+        The scene run.
+    initial_profiles : dict
+        ``initial_profiles[side][body]``: the profiles before the first step.
+    initial_conicity : RadiusDifference
+        Rolling-radius difference of the initial profiles (result.json ``initial.conicity``).
+    steps : list of StepRecord
+        The completed steps.
+    stopped : str or None
+        Why the loop stopped early, naming the step (result.json ``status`` = "stopped: ..."); None: not stopped.
+    """
 
     scene: WearScene
     initial_profiles: Profiles
