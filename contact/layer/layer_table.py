@@ -213,6 +213,21 @@ class LayerTable:
                                           name=f"{self.body} layer at y = {y:g} mm")
 
 
+def read_body_table(rel: str, base: Path, body: str, what: str) -> tuple[Path, LayerTable]:
+    """The ``body`` ("rail" or "wheel") table a scene names, ``rel`` relative to the scene's folder ``base``:
+    (resolved path, table). InputError naming ``what`` when it is missing, unreadable or of the other body."""
+    path = (Path(base) / rel).resolve()
+    if not path.is_file():
+        raise InputError(what, f"no such calibration table {rel!r} (looked at {path})")
+    try:
+        table = LayerTable.read(path)
+    except InputError as err:
+        raise InputError(what, str(err)) from None
+    if table.body != body:
+        raise InputError(what, f"is a {table.body} table, expected a {body} table")
+    return path, table
+
+
 def _plain(obj):
     """numpy scalars/arrays -> JSON-able Python objects."""
     if isinstance(obj, dict):

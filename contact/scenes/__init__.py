@@ -1,6 +1,6 @@
 """Single-contact scenes: reading scene files, running them, writing results, tables and pictures.
 
-- :mod:`~contact.scenes.scene`: scene TOML -> validated dataclasses.
+- :mod:`~contact.scenes.scene`: scene TOML -> validated dataclasses (:mod:`~contact.scenes.scene_spec`).
 - :mod:`~contact.scenes.scene_layers`: the scene's layers on the strip grid, table coverage, patch-size scaling.
 - :mod:`~contact.scenes.simulation`: a scene run (normal, passes, tangential) -> result records.
 - :mod:`~contact.scenes.run_result`: the result records of a scene run (SceneResult, PassResult, ...).

@@ -1,4 +1,4 @@
-"""Contact scenes: TOML files -> validated dataclasses (units mm, N, MPa, s).
+"""Contact scenes: TOML files -> validated dataclasses (:mod:`contact.scenes.scene_spec`; units mm, N, MPa, s).
 
 A scene describes one Kik–Piotrowski contact (paper section 4) with an optional Prandtl-body layer, optional
 creepages for FASTSIM and optional repeated passes (section 5). Keys (all carry their unit):
@@ -31,14 +31,25 @@ from __future__ import annotations
 import hashlib
 import math
 import tomllib
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from contact.layer.characteristic import Characteristic
-from wrlayer.elastic import shear_modulus_MPa
+from contact.layer.layer_table import read_body_table
+from contact.scenes.scene_spec import (
+    BODIES,
+    BodyLayerSpec,
+    LayerSpec,
+    LoadSpec,
+    MaterialSpec,
+    MethodSpec,
+    PassesSpec,
+    Scene,
+    SeparationSpec,
+    TangentialSpec,
+)
 from wrlayer.errors import InputError
 from wrlayer.validate import (
     MAX_E_MPA,
@@ -56,146 +67,9 @@ from wrlayer.validate import (
 )
 
 SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
-BODIES = ("wheel", "rail")
 #: Keys allowed in [reference]: published values of the last pass (Table 1 rows), units in the names.
 REFERENCE_KEYS = ("source", "length_mm", "width_mm", "area_mm2", "delta_mm", "Fx_N", "Fy_N", "p_max_MPa",
                   "WT_max", "PT_max_W_per_mm2", "passes", "u0_mm", "up0_mm")
-
-
-# ---------------------------------------------------------------------------------------------------- dataclasses
-@dataclass(frozen=True)
-class LoadSpec:
-    normal_force_N: float
-    rolling_radius_mm: float
-
-
-@dataclass(frozen=True)
-class MaterialSpec:
-    E_MPa: float
-    poisson: float
-
-    @property
-    def G_MPa(self) -> float:
-        """Shear modulus E / (2 (1 + nu)) (MPa)."""
-        return shear_modulus_MPa(self.E_MPa, self.poisson)
-
-
-@dataclass(frozen=True)
-class SeparationSpec:
-    """Profile separation f(y) (mm) as a table; ``kind`` says how it was given ("table" or "parabola")."""
-
-    y_mm: np.ndarray
-    f_mm: np.ndarray
-    kind: str = "table"
-    lateral_radius_mm: float | None = None
-
-
-@dataclass(frozen=True)
-class BodyLayerSpec:
-    """One body's layer: a characteristic, or a calibration table read at ``position_mm`` (+ strip offsets)."""
-
-    body: str
-    characteristic: Characteristic | None = None
-    table_path: Path | None = None
-    position_mm: float | None = None
-    table: Any = None  # contact.layer.layer_table.LayerTable when table_path is given
-    scale_to_patch: bool = False  # scale the table's characteristic to the solved patch size (issue 12)
-
-    def characteristic_at(self, offset_mm: float = 0.0, what: str = "layer",
-                          patch_mm: tuple[float, float] | None = None) -> Characteristic:
-        """The characteristic at the contact point shifted by ``offset_mm`` along the profile (InputError if the
-        table does not cover it); with ``scale_to_patch`` and ``patch_mm`` = (a, b) in mm, scaled to that patch
-        (``LayerTable.characteristic_at``)."""
-        if self.characteristic is not None:
-            return self.characteristic
-        y = float(self.position_mm) + float(offset_mm)
-        lo, hi = (float(v) for v in self.table.y_range_mm)
-        if not lo <= y <= hi:
-            raise InputError(f"{what}.table", f"does not cover the contact location y = {y:.4g} mm on the "
-                             f"{self.body} (table {self.table_path.name} covers {lo:.4g}..{hi:.4g} mm)")
-        try:
-            if self.scale_to_patch and patch_mm is not None:
-                return self.table.characteristic_at(y, patch_mm=patch_mm)
-            return self.table.characteristic_at(y)
-        except InputError as err:
-            raise InputError(f"{what}.table", str(err)) from None
-
-
-@dataclass(frozen=True)
-class LayerSpec:
-    """Either ``combined`` (one characteristic for wheel and rail together, eq. 13) or per body."""
-
-    combined: Characteristic | None = None
-    wheel: BodyLayerSpec | None = None
-    rail: BodyLayerSpec | None = None
-
-    @property
-    def uses_tables(self) -> bool:
-        return any(b is not None and b.table_path is not None for b in (self.wheel, self.rail))
-
-
-@dataclass(frozen=True)
-class TangentialSpec:
-    creepage_x: float = 0.0
-    creepage_y: float = 0.0
-    spin_per_mm: float = 0.0
-    friction: float = 0.3
-    speed_mm_s: float = 1000.0
-    flexibility: str = "three"
-
-    @property
-    def has_creepage(self) -> bool:
-        return not (self.creepage_x == 0.0 and self.creepage_y == 0.0 and self.spin_per_mm == 0.0)
-
-
-@dataclass(frozen=True)
-class PassesSpec:
-    max: int = 1
-    hardening: bool = False
-    tolerance_mm: float = 1e-6
-
-
-@dataclass(frozen=True)
-class MethodSpec:
-    """[method]: KP's alpha, the strip grid (mm), FASTSIM cells; ``normal`` the normal solver ("kik_piotrowski"
-    or "exact"), ``exact_cells`` (None: the exact solver's default) and ``layer_mode`` of the exact solver."""
-
-    alpha: float = 0.55
-    grid_mm: float = 0.1
-    fastsim_cells: int = 60
-    normal: str = "kik_piotrowski"
-    exact_cells: int | None = None
-    layer_mode: str = "indentation"
-
-    def normal_method(self):
-        """The :class:`contact.normal.method.NormalMethod` of these keys."""
-        from contact.normal.method import NormalMethod
-
-        return NormalMethod(self.normal, self.exact_cells, self.layer_mode)
-
-
-@dataclass(frozen=True)
-class Scene:
-    """A validated contact scene. ``data`` is the TOML content as read; ``content_hash`` covers the scene file
-    and every file it refers to (sha256)."""
-
-    path: Path
-    title: str
-    description: str
-    load: LoadSpec
-    material: MaterialSpec
-    separation: SeparationSpec
-    layer: LayerSpec | None
-    tangential: TangentialSpec | None
-    passes: PassesSpec
-    method: MethodSpec
-    reference: dict[str, Any] = field(default_factory=dict)
-    data: dict[str, Any] = field(default_factory=dict)
-    content_hash: str = ""
-
-    @property
-    def name(self) -> str:
-        return self.path.stem
 
 
 # ---------------------------------------------------------------------------------------------------- reading
@@ -390,21 +264,8 @@ def _characteristic(keys: SceneKeys) -> Characteristic:
 def _parse_body(keys: SceneKeys, body: str, base: Path, hashes: list[str]) -> BodyLayerSpec:
     if "table" in keys.table:
         keys.check_known(("table", "position_mm", "scale_to_patch"))
-        rel = keys.text("table")
-        table_path = (base / rel).resolve()
-        if not table_path.is_file():
-            raise keys.error("table", f"no such calibration table {rel!r} (looked at {table_path})")
+        table_path, table = read_body_table(keys.text("table"), base, body, keys.what("table"))
         position = keys.number("position_mm")
-        try:
-            from contact.layer.layer_table import LayerTable
-        except ImportError:
-            raise keys.error("table", "calibration tables are not available (contact.layer.layer_table missing)") from None
-        try:
-            table = LayerTable.read(table_path)
-        except InputError as err:
-            raise keys.error("table", str(err)) from None
-        if getattr(table, "body", body) not in (body, None):
-            raise keys.error("table", f"is a {table.body} table, expected a {body} table")
         hashes.append(hashlib.sha256(table_path.read_bytes()).hexdigest())
         spec = BodyLayerSpec(body, table_path=table_path, position_mm=position, table=table,
                              scale_to_patch=keys.boolean("scale_to_patch", False))

@@ -234,7 +234,8 @@ class VerticalBalance:
 
         e0 = excess(Delta0)
         Delta1 = Delta0 * (1.0 - 0.5 * e0 / Q)
-        Delta = secant(excess, Delta0, Delta1, 1e-14 * max(Delta0, 1e-3), 50, "vertical load balance (several patches)", f0=e0, bounds=(0.0, None), ftol=BALANCE_ITER_RTOL * Q)
+        Delta = secant(excess, Delta0, Delta1, 1e-14 * max(Delta0, 1e-3), 50, "vertical load balance (several patches)",
+                       f0=e0, bounds=(0.0, None), ftol=BALANCE_ITER_RTOL * Q)
         return cache.get(Delta) or self._at_Delta(Delta), Delta, self.evaluations
 
     def _solve_one(self, ctx: BalanceCandidate, with_tangential: bool) -> tuple[list[LoadedPatch], float, int]:

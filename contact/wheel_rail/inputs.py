@@ -122,7 +122,8 @@ class WheelRailInputs:
         for key in ("vertical_load_N", "speed_mm_s", "E_MPa", "grid_mm"):
             v = getattr(self, key)
             require(bool(np.isfinite(v)) and v > 0, key, f"must be a positive number, got {v!r}")
-        require(bool(np.isfinite(self.friction)) and self.friction >= 0, "friction", f"must be >= 0, got {self.friction!r}")
+        require(bool(np.isfinite(self.friction)) and self.friction >= 0, "friction",
+                f"must be >= 0, got {self.friction!r}")
         require(0.0 <= self.poisson < 0.5, "poisson", f"must lie in [0, 0.5), got {self.poisson!r}")
 
     @property

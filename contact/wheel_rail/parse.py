@@ -40,9 +40,8 @@ from typing import Any
 from contact.normal.method import NormalMethod
 from contact.wheel_rail.inputs import BALANCES
 from contact.wheel_rail.reference_point import CONTACT_POINTS
+from contact.wheel_rail.layers_spec import CombinedLayerSpec, LayersSpec, read_layers
 from contact.wheel_rail.scene import (
-    CombinedLayerSpec,
-    LayersSpec,
     LoadSpec,
     MaterialSpec,
     MethodSpec,
@@ -54,7 +53,6 @@ from contact.wheel_rail.scene import (
     WheelRailScene,
     WheelsetSpec,
     WheelSpec,
-    read_layers,
 )
 from contact.wheel_rail.scene_files import read_profile
 from contact.wheel_rail.sweep import KEYS as SWEEP_SECTION_KEYS

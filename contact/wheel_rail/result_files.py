@@ -89,8 +89,7 @@ def inputs_echo(scene: WheelRailScene) -> dict[str, Any]:
                   "flange_back_y_mm": lay.flange_back_y_mm, "nominal_radius_mm": lay.nominal_radius_mm},
         "sides": scene.sides, "roll": "auto" if scene.roll_auto else "given",
         "vertical_load_N": inp.vertical_load_N, "speed_mm_s": inp.speed_mm_s,
-        "pitch_rate_rad_s": inp.pitch_rate_rad_s if inp.pitch_rate_rad_s is not None
-        else inp.speed_mm_s / lay.nominal_radius_mm,
+        "pitch_rate_rad_s": inp.omega_rad_s,
         "friction": inp.friction, "E_MPa": inp.E_MPa, "poisson": inp.poisson, "G_MPa": inp.G_MPa,
         "method": {"alpha": inp.alpha, "grid_mm": inp.grid_mm, "fastsim_cells": inp.fastsim_cells,
                    "normal": inp.normal_method.name, "exact_cells": inp.normal_method.exact_cells,

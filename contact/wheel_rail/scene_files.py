@@ -1,5 +1,5 @@
-"""The files a wheel–rail scene names: profiles, calibration tables and sweep CSVs, found relative to the scene file
-or in the shared reference folder (``reference:`` names).
+"""The files a wheel–rail scene names: profiles and sweep CSVs, found relative to the scene file or in the shared
+reference folder (``reference:`` names); calibration tables: :func:`contact.layer.layer_table.read_body_table`.
 
 Every reader raises :class:`wrlayer.errors.InputError` naming ``what`` (``<file>: <section>.<key>``).
 """
@@ -10,7 +10,6 @@ import hashlib
 import os
 from pathlib import Path
 
-from contact.layer.layer_table import LayerTable
 from meshes.profiles import Profile, get_profile
 from wrlayer.errors import InputError
 
@@ -53,18 +52,4 @@ def read_profile(name: str, base: Path, body: str, what: str) -> Profile:
     return prof
 
 
-def read_layer_table(rel: str, base: Path, body: str, what: str) -> tuple[Path, LayerTable]:
-    """The ``body`` calibration table a scene names (relative to the scene's folder): (resolved path, table)."""
-    path = (base / rel).resolve()
-    if not path.is_file():
-        raise InputError(what, f"no such calibration table {rel!r} (looked at {path})")
-    try:
-        table = LayerTable.read(path)
-    except InputError as err:
-        raise InputError(what, str(err)) from None
-    if table.body != body:
-        raise InputError(what, f"{rel} is a {table.body} table, expected a {body} table")
-    return path, table
-
-
-__all__ = ["PROFILE_SUFFIXES", "file_sha256", "read_layer_table", "read_profile", "reference_dir", "resolve_path"]
+__all__ = ["PROFILE_SUFFIXES", "file_sha256", "read_profile", "reference_dir", "resolve_path"]

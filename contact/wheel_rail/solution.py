@@ -26,8 +26,8 @@ class PatchSolution:
     ``strip_sign`` is +1 (right) or -1 (left): the problem's strip coordinate (track orientation) is
     strip_sign * eta of the candidate. ``rail_y_of_strip``/``wheel_y_of_strip``: profile coordinates (mm) of the
     strips on each body; ``residual_mm``: accumulated residual displacement per layer after the last pass (mm);
-    ``pass_normals``: the normal solution of every pass; ``layer_patch_mm``: (a, b) (mm) the table layers were scaled to (``scale_to_patch``),
-    ``layer_scaling_solves``: balances solved with scaled layers (0: not scaled).
+    ``pass_normals``: the normal solution of every pass; ``layer_patch_mm``: (a, b) (mm) the table layers were
+    scaled to (``scale_to_patch``), ``layer_scaling_solves``: balances solved with scaled layers (0: not scaled).
     """
 
     candidate: ContactCandidate

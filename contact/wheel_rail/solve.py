@@ -79,13 +79,14 @@ def _solve_with_search(rail: PlacedRail, wheel_profile: Profile, inputs: WheelRa
     found = search_contacts(rail, wheel_profile, inputs.layout, inputs.pose.for_side(inputs.side), search, case=case)
     for k, cap in enumerate(LAYER_F_CAPS_MM):
         try:
-            try:
-                return _solve_found(found, rail, wheel_profile, inputs, layers, case, cap)
-            except InputError as err:
-                raise typed_input_error(err) from None
-        except LayerElementMissing:
-            if k == len(LAYER_F_CAPS_MM) - 1:
+            return _solve_found(found, rail, wheel_profile, inputs, layers, case, cap)
+        except InputError as err:
+            typed = typed_input_error(err)
+            if isinstance(typed, LayerElementMissing) and k < len(LAYER_F_CAPS_MM) - 1:
+                continue
+            if typed is err:
                 raise
+            raise typed from None
     raise AssertionError("unreachable")
 
 

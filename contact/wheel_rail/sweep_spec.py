@@ -84,5 +84,8 @@ class SweepSpec(Record):
     csv: SweepCsv | None = None
     cases: tuple[CaseSpec, ...] = ()
 
+    def __repr__(self) -> str:
+        return f"SweepSpec({self.mode}, {len(self.cases)} cases{', csv' if self.csv is not None else ''})"
+
 
 __all__ = ["SWEEP_KEYS", "CaseSpec", "SweepCsv", "SweepSpec"]

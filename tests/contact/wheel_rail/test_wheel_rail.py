@@ -12,7 +12,7 @@ from contact.wheel_rail.deformed import deformed_profile, residual_on_profiles, 
 from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
 from contact.wheel_rail.solve import BALANCE_RTOL, solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
-from wrlayer.errors import InputError
+from wrlayer.errors import InputError, PatchTruncated
 
 
 def _vertical(sol):
@@ -129,7 +129,7 @@ def test_heavy_load_widens_the_layer(rail60, s1002, placed):
 def test_patches_that_cannot_be_merged_are_a_clear_error(rail60, s1002, placed):
     # a very soft layer at 150 kN: the flange patch runs off its separation function even after merging candidates
     soft = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.2]), np.array([0, 600.0, 1500.0])))
-    with pytest.raises(InputError, match=r"wheel-rail case: a contact patch reaches the end of its separation "
+    with pytest.raises(PatchTruncated, match=r"wheel-rail case: a contact patch reaches the end of its separation "
                                          r"function .* even with candidates merged up to merge_mm = 0.5 mm"):
         solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(7.0), vertical_load_N=150000.0), soft,
                     placed_rail=placed)

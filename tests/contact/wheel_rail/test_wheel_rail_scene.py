@@ -1,11 +1,13 @@
 """wheel_rail scenes: validation naming the key, a sweep with a bad case still computes the others, CLI run."""
 
+import dataclasses
 import json
 from pathlib import Path
 
 import pytest
 
 from contact.__main__ import main
+from contact.scenes.scene import read_scene_data
 from contact.wheel_rail.parse import parse_wheel_rail_scene
 from contact.wheel_rail.run import run_wheel_rail_scene
 from wrlayer.errors import InputError
@@ -67,14 +69,40 @@ def test_cli_runs_a_scene_with_pictures(tmp_path):
     assert not list(out.glob("*.png")) and (out / "result.json").is_file()
 
 
+#: Baseline of the shipped layered sweep (scenes/wheel_rail_sweep_layers.toml, passes to shakedown on the shipped
+#: tables): case -> side -> per patch (normal force N, Fx N, Fy N, rail profile coordinate mm).
+LAYERED_SWEEP = {
+    0: {"right": [(9996.94679105588, -428.66242911127904, 247.11872380543562, 0.19148214311347828)],
+        "left": [(9996.946791055874, -428.66242911128126, -247.11872380543522, 0.19148214311347828)]},
+    10: {"right": [(2447.3135104508506, 355.52373125955364, 641.9374900957395, -26.52468085055775),
+                   (7264.441599856126, 517.6860270363704, 2115.923010826674, -15.523483665065557)],
+         "left": [(10025.936605153516, -165.67127644499865, 3002.290055160293, 4.942844800275009)]},
+    20: {"right": [(12022.467787455982, 2802.9338470216253, 2256.067752638748, -32.10518400123569)],
+         "left": [(10034.810201691247, -142.7480142900294, 3007.0481056826766, 4.089986196581998)]},
+}
+
+
 def test_shipped_calibrated_tables_cover_the_shipped_layered_sweep(tmp_path):
-    """scenes/tables/*_default.json (output of `make calibrate`) reach every contact of the 21-case sweep."""
-    scene = Path(__file__).resolve().parents[3] / "scenes" / "wheel_rail_sweep_layers.toml"
-    out = tmp_path / "out"
-    assert main(["simulate", str(scene), "--out", str(out)]) == 0
-    result = json.loads((out / "result.json").read_text())
-    assert len(result["cases"]) == 21 and result["n_failed"] == 0
-    tables = [json.loads((scene.parent / "tables" / f).read_text()) for f in
+    """scenes/tables/*_default.json (output of `make calibrate`) reach the contacts of the layered sweep: its first,
+    middle and last case (tread, tread + gauge corner, flange) give the baseline forces and dents."""
+    path, data = read_scene_data(Path(__file__).resolve().parents[3] / "scenes" / "wheel_rail_sweep_layers.toml")
+    scene = parse_wheel_rail_scene(data, path)
+    assert len(scene.cases) == 21
+    few = dataclasses.replace(scene, sweep=dataclasses.replace(scene.sweep, cases=tuple(
+        scene.cases[k] for k in LAYERED_SWEEP)))
+    result = run_wheel_rail_scene(few, tmp_path, plots=False)
+    assert result.n_failed == 0
+    for case, expected in zip(result.cases, LAYERED_SWEEP.values()):
+        for side, patches in expected.items():
+            got = [(p.normal_force_N, p.Fx_N, p.Fy_N, p.y_rail_mm) for p in case.wheels[side].patches]
+            assert len(got) == len(patches)
+            for values, baseline in zip(got, patches):
+                assert values == pytest.approx(baseline, rel=1e-6, abs=1e-6)
+    flange = result.cases[2].wheels["right"].patches[0].passes[-1]
+    assert flange.max_cumulative_residual_mm["rail"] == pytest.approx(0.010695227066957537, rel=1e-6)
+    assert flange.max_cumulative_residual_mm["wheel"] == pytest.approx(0.004903310523882927, rel=1e-6)
+    assert len(result.cases[2].deformed_profiles) > 0
+    tables = [json.loads((path.parent / "tables" / f).read_text()) for f in
               ("rail_60E1_default.json", "wheel_S1002_default.json")]
     assert all(t["header"]["model"] == "3d" and t["header"]["config"] == "calibration/configs/default.toml"
                for t in tables)
