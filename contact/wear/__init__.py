@@ -4,7 +4,10 @@ Prandtl surface layer (units mm, N, MPa, s; distances in km where named so). Ref
 Modules (one concept each): :mod:`laws` (Archard with the Jendel map, USFD T-gamma), :mod:`collective` (load
 collective), :mod:`scene` (the TOML "wear" scene), :mod:`condition` (one running condition solved and turned into
 depths), :mod:`runner` (in-process, local processes or Dask), :mod:`layer_state` (the layer's state per profile
-position between steps), :mod:`profile_grid` (deposit, smoothing, profile update), :mod:`recalibrate` (layer
-tables on the worn profiles), :mod:`conicity` (rolling-radius difference), :mod:`loop` (the step loop),
-:mod:`outputs` (files), :mod:`plots` (pictures), :mod:`cli` (``python -m contact wear``).
+position between steps), :mod:`profile_grid` (deposit, smoothing, profile update), :mod:`planning` (step length
+and the tasks of a step), :mod:`step` (one wear step), :mod:`state` (what a step hands to the next),
+:mod:`statistics` (numbers of a body's depths), :mod:`records` (step records and the run), :mod:`recalibrate`
+(layer tables on the worn profiles, through the calibration's Python API), :mod:`conicity` (rolling-radius
+difference), :mod:`loop` (the step loop as a generator of step records), :mod:`outputs` (files), :mod:`plots`
+(pictures), :mod:`cli` (``python -m contact wear``).
 """

@@ -10,15 +10,21 @@ from __future__ import annotations
 import dataclasses
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+from wrlayer import cli
 from wrlayer.atomic_write import output_lock
 from wrlayer.errors import InputError
+
+if TYPE_CHECKING:
+    from contact.wear.records import WearRun
+    from contact.wear.scene import WearScene
 
 
 def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = True, workers: int | None = None,
                   scheduler: str | None = None, show_progress: bool = True) -> dict[str, Any]:
     """Run one wear scene; returns the result dict (raises WearStopped after writing the completed steps)."""
+    # the solver stack (numpy, scipy, calibration) only when a scene runs: `python -m contact --help` stays quick
     from contact.scenes.scene import read_scene_data
     from contact.wear.scene import parse_wear_scene
 
@@ -40,41 +46,35 @@ def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Tru
         return _run_locked(scene, out, plots, show_progress)
 
 
-def _run_locked(scene, out: Path, plots: bool, show_progress: bool) -> dict[str, Any]:
-    from contact.wear.loop import WearStopped, run_wear
-    from contact.wear.outputs import result_dict, write_initial, write_result, write_step, write_table
+def _run_locked(scene: WearScene, out: Path, plots: bool, show_progress: bool) -> dict[str, Any]:
+    """Run the loop into ``out``, writing every step as it completes (the caller holds the folder's lock)."""
+    # imported here for the same reason as in run_wear_file
+    from contact.wear.loop import start_run, wear_steps
+    from contact.wear.outputs import RunFiles
+    from contact.wear.records import WearStopped
 
     out.mkdir(parents=True, exist_ok=True)
     for stale in list(out.glob("profiles/step_*")) + list(out.glob("depth/step_*")) + \
             list(out.glob("layer_state/step_*")) + \
             [p for p in out.glob("calibration/step_*/**/*") if p.is_file()]:
         stale.unlink()  # an earlier run's steps would be mistaken for this run's
-    files: dict[Any, Any] = {}
-
-    def on_step(rec, run):
-        if "initial" not in files:
-            files["initial"] = write_initial(out, run)
-        files[rec.index] = write_step(out, rec)
-        write_table(out, run)
-        write_result(out, run, files, "running")
-
-    def finish(run, status: str):
-        if "initial" not in files:
-            files["initial"] = write_initial(out, run)
-        write_table(out, run)
-        if plots and run.steps:
-            from contact.wear.plots import write_wear_plots
-
-            files["pictures"] = [p.name for p in write_wear_plots(run, out)]
-        write_result(out, run, files, status)
-        return result_dict(run, files, status)
-
+    run = start_run(scene)
+    files = RunFiles(out, run)
     try:
-        run = run_wear(scene, on_step=on_step, show_progress=show_progress, work_dir=out)
+        for record in wear_steps(run, work_dir=out, show_progress=show_progress):
+            files.step(record)
     except WearStopped as stop:
-        finish(stop.run, f"stopped: {stop.run.stopped}")
+        files.finish(f"stopped: {stop.run.stopped}", _pictures(run, out, plots))
         raise
-    return finish(run, "complete")
+    return files.finish("complete", _pictures(run, out, plots))
+
+
+def _pictures(run: WearRun, out: Path, plots: bool) -> list[Path]:
+    if not (plots and run.steps):
+        return []
+    from contact.wear.plots import write_wear_plots  # matplotlib only when pictures are drawn
+
+    return write_wear_plots(run, out)
 
 
 def wear_command(args) -> int:
@@ -92,8 +92,6 @@ def wear_command(args) -> int:
 
 
 def add_parser(sub) -> None:
-    from wrlayer import cli
-
     p = cli.subparser(sub, "wear", "run a wear scene (profiles evolving by wear and inelastic displacement)",
                       ["python -m contact wear scenes/wear/s1002_60e1.toml --out out/wear",
                        "python -m contact wear scenes/wear/s1002_60e1.toml --out out/wear --workers 2 --no-plots"])

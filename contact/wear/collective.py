@@ -18,10 +18,25 @@ WEIGHT_SUM_TOL = 1e-9
 
 @dataclass(frozen=True)
 class Condition:
-    """One running condition (mm, rad, N per wheel, mm/s) and its weight (share of the distance, 0..1].
+    """One running condition and its weight: a ``[[collective.condition]]`` table (or one entry of a sweep).
 
-    ``pitch_rate_rad_s``: the wheelset's angular velocity (rad/s); None = the scene's (default: pure rolling at the
-    nominal radius, V / r0). A value different from V / r0 adds a longitudinal creepage (traction or braking).
+    Attributes
+    ----------
+    lateral_mm : float
+        Lateral displacement of the wheelset towards the right rail (mm).
+    yaw_rad : float
+        Yaw angle of the wheelset (rad), |yaw| < 0.2.
+    vertical_load_N : float
+        Vertical load per wheel (N); default the scene's ``[load]``.
+    speed_mm_s : float
+        Running speed (mm/s); default the scene's ``[load]``.
+    weight : float
+        Share of the running distance spent in this condition (0..1]; the weights sum to 1.
+    label : str
+        Name in messages and results (default: the numbers).
+    pitch_rate_rad_s : float or None
+        Angular velocity of the wheelset (rad/s); None = the scene's (default: pure rolling at the nominal radius,
+        V / r0). A value different from V / r0 adds a longitudinal creepage (traction or braking).
     """
 
     lateral_mm: float
@@ -39,7 +54,19 @@ class Condition:
 
 @dataclass(frozen=True)
 class LoadCollective:
-    """Conditions, total running distance (km) and the nominal number of profile-update steps."""
+    """The ``[collective]`` with the distance and the nominal steps of ``[wear]``.
+
+    Attributes
+    ----------
+    conditions : tuple of Condition
+        The running conditions (``[[collective.condition]]`` or a sweep).
+    distance_km : float
+        Total running distance of the wheel (km), ``wear.distance_km``.
+    steps : int
+        Nominal number of profile-update steps, ``wear.steps`` (the step control may add some).
+    where : str
+        The input named in error messages (not a scene key).
+    """
 
     conditions: tuple[Condition, ...]
     distance_km: float

@@ -9,6 +9,8 @@ estimate at one amplitude, used to follow the profiles' evolution against distan
 
 from __future__ import annotations
 
+from dataclasses import asdict, dataclass
+
 from contact.wheel_rail.contact_search import SearchSettings, search_contacts
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
 from meshes.profiles import Profile
@@ -24,16 +26,41 @@ def rolling_radius(rail: Profile, wheel: Profile, layout: TrackLayout, side: str
     return float(first.wheel_radius_mm)
 
 
+@dataclass(frozen=True)
+class RadiusDifference:
+    """Rolling-radius difference at one lateral amplitude (result.json ``conicity``).
+
+    Attributes
+    ----------
+    delta_r_mm : float
+        r_right - r_left at the amplitude (mm).
+    quasi_conicity : float
+        delta_r / (2 amplitude) (-).
+    r_right_mm : float
+        Rolling radius of the right wheel (mm).
+    r_left_mm : float
+        Rolling radius of the left wheel (mm).
+    """
+
+    delta_r_mm: float
+    quasi_conicity: float
+    r_right_mm: float
+    r_left_mm: float
+
+    def to_dict(self) -> dict[str, float]:
+        return asdict(self)
+
+
 def radius_difference(profiles: dict, layout: TrackLayout, amplitude_mm: float,
-                      settings: SearchSettings | None = None) -> dict:
-    """{"delta_r_mm", "quasi_conicity"} at +amplitude; ``profiles[side] = {"rail": ..., "wheel": ...}``; a side
-    not simulated takes the other side's profiles (mirror-symmetric wheelset)."""
+                      settings: SearchSettings | None = None) -> RadiusDifference:
+    """The rolling-radius difference at +amplitude; ``profiles[side] = {"rail": ..., "wheel": ...}``; a side not
+    simulated takes the other side's profiles (mirror-symmetric wheelset)."""
     right = profiles.get("right") or profiles["left"]
     left = profiles.get("left") or profiles["right"]
     rr = rolling_radius(right["rail"], right["wheel"], layout, "right", amplitude_mm, settings)
     rl = rolling_radius(left["rail"], left["wheel"], layout, "left", amplitude_mm, settings)
     dr = rr - rl
-    return {"delta_r_mm": dr, "quasi_conicity": dr / (2.0 * amplitude_mm), "r_right_mm": rr, "r_left_mm": rl}
+    return RadiusDifference(dr, dr / (2.0 * amplitude_mm), rr, rl)
 
 
-__all__ = ["radius_difference", "rolling_radius"]
+__all__ = ["RadiusDifference", "radius_difference", "rolling_radius"]

@@ -63,11 +63,30 @@ R8T_SOURCE = ("R8T wheel steel regimes (twin-disc), Braghin et al. 2006, Wear 26
 
 @dataclass(frozen=True)
 class ArchardMap:
-    """Jendel's Archard coefficient map (dimensionless k) and the body's hardness H (MPa).
+    """Jendel's Archard coefficient map (dimensionless k) and the body's hardness H (MPa): ``[wear.archard.wheel]``,
+    ``[wear.archard.rail]``.
 
-    Velocity limits in m/s; ``seizure_pressure_ratio``: p / H above which k_seizure applies. ``source``: where the
-    map values come from; left empty it is filled in: :data:`JENDEL_SOURCE` when every map value (all but the
-    hardness) is the default, else ``"scene values"``.
+    Attributes
+    ----------
+    hardness_MPa : float
+        Hardness H of the body (MPa); default 2550 MPa = 260 HB (rail grade R260).
+    k_seizure : float
+        k where p > seizure_pressure_ratio x H (regime K1, seizure; -).
+    k_low_speed : float
+        k at slip velocities up to v_low_m_s (regime K2, mild; -).
+    k_mid_speed : float
+        k at slip velocities between v_low_m_s and v_high_m_s (regime K3, severe; -).
+    k_high_speed : float
+        k at slip velocities above v_high_m_s (regime K4, mild oxidative; -).
+    v_low_m_s : float
+        Upper slip velocity of the low-speed band (m/s).
+    v_high_m_s : float
+        Upper slip velocity of the middle band (m/s).
+    seizure_pressure_ratio : float
+        p / H above which k_seizure applies (-).
+    source : str
+        Where the map values come from; left empty it is filled in: :data:`JENDEL_SOURCE` when every map value
+        (all but the hardness) is the default, else ``"scene values"`` (recorded in result.json).
     """
 
     hardness_MPa: float = 2550.0
@@ -103,14 +122,32 @@ class ArchardMap:
 
 @dataclass(frozen=True)
 class UsfdTable:
-    """Three-regime USFD wear function: K (ug/(m mm^2)) of T gamma / A (N/mm^2).
+    """Three-regime USFD wear function: K (ug/(m mm^2)) of T gamma / A (N/mm^2): a table ``[wear.usfd.wheel]``,
+    ``[wear.usfd.rail]``, or a published material by name.
 
     K = mild_slope x                   for x < t1
     K = severe_rate                    for t1 <= x <= t2
     K = cat_slope x - cat_offset       for x > t2
 
-    ``source``: where the table comes from; left empty it is filled in: :data:`R8T_SOURCE` for the R8T table, else
-    ``"scene table"``.
+    Attributes
+    ----------
+    name : str
+        The material's name (``"R8T"``; a scene table is ``"custom <body>"``).
+    t1 : float
+        T gamma / A where the mild regime ends (N/mm^2).
+    t2 : float
+        T gamma / A where the severe regime ends (N/mm^2).
+    mild_slope : float
+        Slope of K in the mild regime (ug/(m mm^2) per N/mm^2).
+    severe_rate : float
+        K in the severe regime (ug/(m mm^2)).
+    cat_slope : float
+        Slope of K in the catastrophic regime (ug/(m mm^2) per N/mm^2).
+    cat_offset : float
+        Offset of K in the catastrophic regime (ug/(m mm^2)).
+    source : str
+        Where the table comes from; left empty it is filled in: :data:`R8T_SOURCE` for the R8T table, else
+        ``"scene table"`` (recorded in result.json).
     """
 
     name: str = "R8T"
@@ -143,7 +180,19 @@ USFD_MATERIALS = {"R8T": UsfdTable()}
 
 @dataclass(frozen=True)
 class WearLaw:
-    """The selected law with per-body coefficients. ``density_kg_m3``: steel density (also ug/mm^3)."""
+    """The selected abrasive wear law with per-body coefficients (``[wear]`` ``law`` and its tables).
+
+    Attributes
+    ----------
+    name : str
+        The law, scene key ``law``: ``"archard"`` or ``"usfd"``.
+    archard : dict
+        ``archard[body]``: :class:`ArchardMap` of the wheel and the rail (``[wear.archard.<body>]``).
+    usfd : dict
+        ``usfd[body]``: :class:`UsfdTable` of the wheel and the rail (``[wear.usfd]``).
+    density_kg_m3 : float
+        Steel density (kg/m^3, numerically ug/mm^3): the USFD depth and the mass loss.
+    """
 
     name: str = "archard"
     archard: dict = field(default_factory=lambda: {"wheel": ArchardMap(), "rail": ArchardMap()})

@@ -28,6 +28,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact.layer.characteristic import Characteristic
+from contact.wear.condition import BODIES, ConditionResult
+from contact.wear.profile_grid import ArcGrid
+from contact.wheel_rail.inputs import WheelRailLayers
+from meshes.profiles import Profile
+
+#: (profile coordinates y (mm), largest peak pressure p_hist (MPa)) per (side, body).
+History = dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]
 
 _TOL = 1e-9
 
@@ -76,4 +83,52 @@ class HardenedTable:
         return hardened(virgin, p)
 
 
-__all__ = ["HardenedTable", "hardened"]
+def virgin_history(profiles: dict[str, dict[str, Profile]], grid_mm: float) -> History:
+    """No load carried yet: p_hist = 0 at the profile-grid nodes (spacing ``grid_mm``) of every side's initial
+    profiles."""
+    history = {}
+    for side, bodies in profiles.items():
+        for body in BODIES:
+            y = ArcGrid.of(bodies[body], grid_mm).y_mm
+            history[side, body] = (y, np.zeros(y.size))
+    return history
+
+
+def raised_history(history: History, results: list[ConditionResult]) -> History:
+    """p_hist = max(p_hist, the peak pressures of the step's ``results``) at every (side, body)'s coordinates; the
+    arrays of ``history`` are not changed."""
+    out = {key: (y, p.copy()) for key, (y, p) in history.items()}
+    for r in results:
+        for body, patches in r.peaks.items():
+            if (r.side, body) not in out:
+                continue
+            y, p = out[r.side, body]
+            for ys, pk in patches:
+                order = np.argsort(ys)
+                ys, pk = ys[order], pk[order]
+                inside = (y >= ys[0]) & (y <= ys[-1])
+                p[inside] = np.maximum(p[inside], np.interp(y[inside], ys, pk))
+    return out
+
+
+def side_layers(layers: WheelRailLayers | None, history: History | None, side: str,
+                tables: dict | None = None) -> WheelRailLayers | None:
+    """The layers of one side: ``layers`` (or the tables recalibrated on the worn profiles, ``tables[(side,
+    body)]``), every table position hardened to its largest peak pressure so far when a ``history`` is given. A
+    combined characteristic has no positions: returned as it is."""
+    if layers is None or layers.combined is not None:
+        return layers
+    tables = tables or {}
+    chosen = {}
+    for body in BODIES:
+        table = tables.get((side, body), getattr(layers, body))
+        if history and table is not None and (side, body) in history:
+            y, p = history[side, body]
+            table = HardenedTable(table, y, p)
+        chosen[body] = table
+    names = {**layers.names, **{b: f"recalibrated {b} table" for (s, b) in tables if s == side}}
+    return WheelRailLayers(rail=chosen["rail"], wheel=chosen["wheel"], names=names,
+                           scale_to_patch=layers.scale_to_patch)
+
+
+__all__ = ["History", "HardenedTable", "hardened", "raised_history", "side_layers", "virgin_history"]

@@ -18,13 +18,14 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from contact.scenes.result_io import code_version
-from contact.wear.loop import StepRecord, WearRun
+from contact.wear.records import StepRecord, WearRun
 from meshes.profiles.io import write_profile_files
 from wrlayer.atomic_write import atomic_write_text
 
@@ -77,13 +78,13 @@ def table_rows(run: WearRun) -> list[dict]:
     rows = []
     for rec in run.steps:
         for (s, b), bs in rec.bodies.items():
-            st = bs.stats
+            st = bs.stats.to_dict()
             unit = "g/km" if b == "wheel" else "g/(m rail km)"
             mass = st.get("mass_loss_g_per_km", st.get("mass_loss_g_per_m_rail_per_km"))
             rows.append({"step": rec.index, "start_km": rec.start_km, "length_km": rec.length_km,
                          "end_km": rec.end_km, "side": s, "body": b, **{k: st[k] for k in TABLE_COLUMNS if k in st},
-                         "mass_loss": mass, "mass_loss_unit": unit, "delta_r_mm": rec.conicity["delta_r_mm"],
-                         "quasi_conicity": rec.conicity["quasi_conicity"]})
+                         "mass_loss": mass, "mass_loss_unit": unit, "delta_r_mm": rec.conicity.delta_r_mm,
+                         "quasi_conicity": rec.conicity.quasi_conicity})
     return rows
 
 
@@ -110,7 +111,26 @@ def _jsonable(x):
     return x
 
 
-def result_dict(run: WearRun, files: dict, status: str) -> dict[str, Any]:
+@dataclass
+class WrittenFiles:
+    """The files written so far (names relative to the output folder), as result.json lists them.
+
+    Attributes
+    ----------
+    initial : list
+        The initial profiles: per side and body, the profile files and their read-back error (mm).
+    steps : dict
+        ``steps[index]``: per side and body, the step's profile, depth and layer-state files.
+    pictures : list
+        The PNG pictures.
+    """
+
+    initial: list = field(default_factory=list)
+    steps: dict[int, list] = field(default_factory=dict)
+    pictures: list[str] = field(default_factory=list)
+
+
+def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any]:
     sc = run.scene
     col, st = sc.collective, sc.settings
     path = Path(sc.path)
@@ -119,28 +139,59 @@ def result_dict(run: WearRun, files: dict, status: str) -> dict[str, Any]:
         "inputs": {
             "scene_file": str(path.resolve()),
             "content_sha256": hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None,
-            "rail_profile": sc.parsed["rail"].name, "wheel_profile": sc.parsed["wheel"].name,
+            "rail_profile": sc.wheel_rail.rail_profile.name, "wheel_profile": sc.wheel_rail.wheel_profile.name,
             "sides": list(run.initial_profiles), "normal_method": sc.normal.name, "law": sc.law.name,
             "archard": {b: vars(m) for b, m in sc.law.archard.items()},
             "usfd": {b: vars(t) for b, t in sc.law.usfd.items()}, "density_kg_m3": sc.law.density_kg_m3,
-            "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": vars(st),
+            "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": st.to_dict(),
             "conditions": [vars(c) for c in col.conditions],
-            "passes_cap": sc.parsed["inputs"]["passes"].max_passes,
-            "layers": None if sc.parsed["layers"] is None else dict(sc.parsed["layers"].names),
+            "passes_cap": sc.wheel_rail.passes.max,
+            "layers": None if sc.wheel_rail.solver_layers is None else dict(sc.wheel_rail.solver_layers.names),
             "scene_toml": sc.data},
-        "initial": {"conicity": run.initial_conicity, "profiles": files.get("initial", [])},
+        "initial": {"conicity": run.initial_conicity.to_dict(), "profiles": files.initial},
         "steps": [{"step": r.index, "start_km": r.start_km, "length_km": r.length_km, "end_km": r.end_km,
-                   "notes": r.notes, "conicity": r.conicity, "timings_s": r.timings,
-                   "bodies": [{"side": s, "body": b, **bs.stats} for (s, b), bs in r.bodies.items()],
-                   "files": files.get(r.index, []), "conditions": r.conditions} for r in run.steps],
+                   "notes": r.notes, "conicity": r.conicity.to_dict(), "timings_s": r.timings,
+                   "bodies": [{"side": s, "body": b, **bs.stats.to_dict()} for (s, b), bs in r.bodies.items()],
+                   "files": files.steps.get(r.index, []), "conditions": [c.to_dict() for c in r.conditions]}
+                  for r in run.steps],
         "distance_done_km": run.steps[-1].end_km if run.steps else 0.0,
-        "pictures": files.get("pictures", []),
+        "pictures": files.pictures,
     })
 
 
-def write_result(out_dir: Path, run: WearRun, files: dict, status: str) -> Path:
+def write_result(out_dir: Path, run: WearRun, files: WrittenFiles, status: str) -> Path:
     return atomic_write_text(out_dir / "result.json", json.dumps(result_dict(run, files, status), indent=1) + "\n")
 
 
-__all__ = ["TABLE_COLUMNS", "UNITS", "result_dict", "table_rows", "write_initial", "write_profile_pair",
+class RunFiles:
+    """The files of one run in ``out_dir``, written as the run goes: the initial profiles with the first step (or
+    at the end of a run without steps), each step's files, the table and result.json after every step."""
+
+    def __init__(self, out_dir: Path, run: WearRun):
+        self.out_dir, self.run = Path(out_dir), run
+        self.files = WrittenFiles()
+        self._initial_written = False
+
+    def _initial(self) -> None:
+        if not self._initial_written:
+            self.files.initial = write_initial(self.out_dir, self.run)
+            self._initial_written = True
+
+    def step(self, rec: StepRecord) -> None:
+        """Write a completed step's profiles and depths, the table and result.json ("running")."""
+        self._initial()
+        self.files.steps[rec.index] = write_step(self.out_dir, rec)
+        write_table(self.out_dir, self.run)
+        write_result(self.out_dir, self.run, self.files, "running")
+
+    def finish(self, status: str, pictures: list[Path] = ()) -> dict[str, Any]:
+        """Write the table and the final result.json with ``status`` and the ``pictures``; returns the result."""
+        self._initial()
+        write_table(self.out_dir, self.run)
+        self.files.pictures = [p.name for p in pictures]
+        write_result(self.out_dir, self.run, self.files, status)
+        return result_dict(self.run, self.files, status)
+
+
+__all__ = ["TABLE_COLUMNS", "UNITS", "RunFiles", "WrittenFiles", "result_dict", "table_rows", "write_initial", "write_profile_pair",
            "write_result", "write_step", "write_table"]

@@ -11,7 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from contact.wear.loop import WearRun
+from contact.wear.records import WearRun
 from wrlayer.plotting import MICRO_M, save_figure
 
 
@@ -85,7 +85,7 @@ def plot_depths(run: WearRun, path: Path) -> Path:
 
 def plot_conicity(run: WearRun, path: Path) -> Path:
     km = [0.0] + [r.end_km for r in run.steps]
-    dr = [run.initial_conicity["delta_r_mm"]] + [r.conicity["delta_r_mm"] for r in run.steps]
+    dr = [run.initial_conicity.delta_r_mm] + [r.conicity.delta_r_mm for r in run.steps]
     amp = run.scene.settings.conicity_amplitude_mm
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
     ax.plot(km, dr, "o-")

@@ -3,66 +3,180 @@
 The layer characteristics depend on the local geometry (the paper: they vary along the profile and must come from
 FEM on the actual sections), so after wear has changed a profile its tables can be recomputed. With
 ``[wear.recalibrate] config = "template.toml", every_steps = N`` the loop, after every N-th step and for every
-simulated side, writes the current profiles as SIMPACK files, substitutes them into a calibration configuration
-template (the placeholders ``@wheel_profile@`` and ``@rail_profile@``, e.g. ``profile = "@wheel_profile@"``,
-``mate = "@rail_profile@"``) and runs ``python -m calibration run`` on it (a separate process: the contact package
-does not import the calibration package). The calibration runs on local processes (its ``[run] workers``) or on
-the Dask cluster of ``wear.scheduler`` (``--scheduler``, the calibration's own option). The tables it writes
-(``<body>_layer_table.json``) replace the scene's tables of that side from the next step on; the layer state
-(largest load per position) is kept. A failed calibration stops the loop naming the step; positions that failed
-inside a table are listed by it and the solver refuses to interpolate across them.
+simulated side, recalibrates the bodies of the template on that side's current profiles.
+
+The template is a calibration configuration (:mod:`calibration.config`) whose ``profile`` or ``mate`` entries of
+``[[bodies]]`` may name a worn profile by a placeholder, ``@wheel_profile@`` or ``@rail_profile@`` (e.g.
+``profile = "@wheel_profile@"``, ``mate = "@rail_profile@"``). It is read and validated once, when the scene is
+parsed, with the scene's initial profiles in place of the placeholders (:func:`read_template`): a bad template is an
+InputError before the first wear step. At a recalibration the current profiles are written as SIMPACK files into
+the step's folder, put in place of the placeholders and the calibration is run in this process
+(:func:`calibration.pipeline.run_calibration`, on its ``[run] workers`` or on the Dask cluster of
+``wear.scheduler``). The tables it writes replace the scene's tables of that side from the next step on; the
+layer state (largest load per position) is kept. A failed calibration (its InputError or ConvergenceError) stops
+the loop naming the step; positions that failed inside a table are listed by it and the solver refuses to
+interpolate across them.
 """
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
+import dataclasses
+import tempfile
+import tomllib
+from dataclasses import dataclass
 from pathlib import Path
 
+from calibration.config import BodySettings, CalibrationConfig, parse_config
+from calibration.cost import calibration_cost
+from calibration.pipeline import make_tasks, run_calibration
 from contact.layer.layer_table import LayerTable
+from meshes.profiles import Profile
 from meshes.profiles.io import write_simpack
-from wrlayer.errors import InputError
+from wrlayer.cost import guard
+from wrlayer.errors import ConvergenceError, InputError
 
+#: The placeholder of each body's worn profile in a template's ``profile`` and ``mate`` entries.
 PLACEHOLDERS = {"wheel": "@wheel_profile@", "rail": "@rail_profile@"}
+#: Keys of a ``[[bodies]]`` entry that may hold a placeholder.
+PROFILE_KEYS = ("profile", "mate")
+SUFFIX = {"wheel": "prw", "rail": "prr"}
 
 
-def template_bodies(text: str) -> list[str]:
-    """The bodies whose worn profile the template uses (by placeholder)."""
-    return [b for b, ph in PLACEHOLDERS.items() if ph in text]
+@dataclass(frozen=True)
+class Recalibration:
+    """The ``[wear.recalibrate]`` table: a calibration template run on the worn profiles every few steps.
+
+    Attributes
+    ----------
+    config : str
+        The calibration template file (resolved path; given relative to the scene file's folder).
+    template : str
+        The template's text as read (recorded in result.json; not a scene key).
+    calibration : CalibrationConfig
+        The validated template; its ``profile``/``mate`` entries hold the placeholders where the worn profiles go
+        (not a scene key).
+    every_steps : int
+        Recalibrate after every this many wear steps (>= 1; not after the last step).
+    """
+
+    config: str
+    template: str
+    calibration: CalibrationConfig
+    every_steps: int = 1
+
+    @property
+    def bodies(self) -> tuple[str, ...]:
+        """The bodies whose worn profile the template uses (by placeholder)."""
+        used = {getattr(b, key) for b in self.calibration.bodies for key in PROFILE_KEYS}
+        return tuple(body for body, ph in PLACEHOLDERS.items() if ph in used)
+
+    def due(self, step: int) -> bool:
+        """True after the steps at which the tables are recalibrated."""
+        return step % self.every_steps == 0
 
 
-def recalibrate_side(template_text: str, profiles: dict, work: Path, scheduler: str = "",
+def read_template(path: Path, what: str, profiles: dict[str, Profile]) -> tuple[str, CalibrationConfig]:
+    """Read and validate a calibration template (InputError ``what: ...``); returns its text and the config with
+    the placeholders kept in its ``profile``/``mate`` entries. Everything the calibration checks before its FEM
+    (keys, profiles and positions, each position's contact geometry, mesh settings, the cost guard) is checked here
+    with ``profiles[body]`` (the scene's initial profiles) in place of the placeholders."""
+    try:
+        text = path.read_text(encoding="utf-8")
+        data = tomllib.loads(text)
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as err:
+        raise InputError(what, f"cannot read the calibration template {path}: {err}") from None
+    rows = data.get("bodies") if isinstance(data.get("bodies"), list) else []
+    if not any(isinstance(row, dict) and row.get(key) in PLACEHOLDERS.values()
+               for row in rows for key in PROFILE_KEYS):
+        raise InputError(what, f"{path.name} uses neither placeholder {' nor '.join(PLACEHOLDERS.values())} as a "
+                         "[[bodies]] profile or mate (where the worn profile files go)")
+    with tempfile.TemporaryDirectory(prefix="wrlayer-template-") as tmp:
+        files = write_profiles(profiles, Path(tmp), "initial")
+        for row in rows:
+            for key in PROFILE_KEYS:
+                body = _placeholder_body(row.get(key)) if isinstance(row, dict) else None
+                if body is not None:
+                    row[key] = str(files[body])
+        cfg = parse_config(data, f"{what} ({path.name})", path.parent)
+        tasks, failed, _warnings = make_tasks(cfg, Path(tmp), plots=False)  # each position's contact geometry
+    if failed:
+        raise InputError(f"{what} ({path.name})", f"{failed[0]['body']} position y = {failed[0]['y_mm']:g} mm on "
+                         f"the initial profiles: {failed[0]['error']}")
+    guard(calibration_cost(cfg, tasks))  # a recalibration refused by its cost would stop the loop late
+    cfg = dataclasses.replace(cfg, bodies=tuple(_restore(b, rows[i], files) for i, b in enumerate(cfg.bodies)))
+    return text, cfg
+
+
+def _placeholder_body(value) -> str | None:
+    return next((body for body, ph in PLACEHOLDERS.items() if value == ph), None)
+
+
+def _restore(body: BodySettings, row: dict, files: dict[str, Path]) -> BodySettings:
+    """``body`` with the placeholders back in the entries the template gave them (not the validation files)."""
+    back = {key: PLACEHOLDERS[b] for key in PROFILE_KEYS for b, f in files.items() if row.get(key) == str(f)}
+    return dataclasses.replace(body, **back)
+
+
+def write_profiles(profiles: dict[str, Profile], folder: Path, label: str) -> dict[str, Path]:
+    """Write ``profiles[body]`` (wheel, rail) as SIMPACK files into ``folder``; returns their paths."""
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = {}
+    for body, profile in profiles.items():
+        path = folder / f"{body}.{SUFFIX[body]}"
+        write_simpack(path, profile, body=body, comment=f"{label} {body} profile for recalibration")
+        paths[body] = path.resolve()
+    return paths
+
+
+def worn_config(cfg: CalibrationConfig, files: dict[str, Path]) -> CalibrationConfig:
+    """``cfg`` with the placeholders replaced by the worn profile files ``files[body]``."""
+    by_placeholder = {PLACEHOLDERS[b]: str(path) for b, path in files.items()}
+    bodies = tuple(dataclasses.replace(b, **{key: by_placeholder[getattr(b, key)] for key in PROFILE_KEYS
+                                             if getattr(b, key) in by_placeholder}) for b in cfg.bodies)
+    return dataclasses.replace(cfg, bodies=bodies)
+
+
+def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: Path, scheduler: str = "",
                      what: str = "wear.recalibrate") -> dict[str, LayerTable]:
-    """Calibrate the bodies of the template on ``profiles[body]`` (current profiles of one side) in ``work``;
-    returns {body: LayerTable} for the bodies the template calibrates (those with a ``[[bodies]]`` entry)."""
+    """Calibrate the bodies of the template on ``profiles[body]`` (the current profiles of one side) in ``work``;
+    returns {body: LayerTable} of the bodies the template calibrates. InputError/ConvergenceError ``what: ...``."""
     work = Path(work)
-    work.mkdir(parents=True, exist_ok=True)
-    text = template_text
-    for body, ph in PLACEHOLDERS.items():
-        path = work / f"{body}.{'prw' if body == 'wheel' else 'prr'}"
-        write_simpack(path, profiles[body], body=body, comment=f"worn {body} profile for recalibration")
-        text = text.replace(ph, str(path.resolve()))
-    cfg = work / "calibration.toml"
-    cfg.write_text(text, encoding="utf-8")
-    out = work / "tables"
-    cmd = [sys.executable, "-m", "calibration", "run", str(cfg), "--out", str(out), "--quiet", "--no-plots"]
-    if scheduler:
-        cmd += ["--scheduler", scheduler]
-    env = dict(os.environ)
-    root = str(Path(__file__).resolve().parents[2])
-    env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=env, check=False)
-    if proc.returncode not in (0, 4):  # 4: some positions failed, the tables list them
-        last = (proc.stderr.strip().splitlines() or ["no message"])[-1]
-        raise InputError(what, f"calibration of the worn profiles failed (exit {proc.returncode}): {last}")
-    tables = {}
-    for path in sorted(out.glob("*_layer_table.json")):
-        table = LayerTable.read(path)
-        tables[table.body] = table
+    files = write_profiles(profiles, work, "worn")
+    cfg = worn_config(recal.calibration, files)
+    try:
+        for b in recal.calibration.bodies:  # the template's positions were checked on the initial profiles
+            worn = profiles[_placeholder_body(b.profile)] if b.profile in PLACEHOLDERS.values() else None
+            for y in b.positions_mm if worn is not None else ():
+                worn.check_y(y, f"position y = {y:g} mm on the worn {b.body} profile")
+        summary = run_calibration(cfg, work / "tables", scheduler=scheduler or None, plots=False,
+                                  show_progress=False, log=_quiet)
+    except InputError as err:
+        raise InputError(what, f"calibration of the worn profiles failed: {err}") from None
+    except ConvergenceError as err:
+        raise ConvergenceError(f"{what}: calibration of the worn profiles failed: {err}") from None
+    tables = {body: LayerTable.read(info["table"]) for body, info in summary["bodies"].items() if info["table"]}
     if not tables:
-        raise InputError(what, f"the calibration wrote no layer table into {out}")
+        raise InputError(what, f"the calibration wrote no layer table into {work / 'tables'}: "
+                         f"{'; '.join(f['error'] for f in summary['failed']) or 'no position calibrated'}")
     return tables
 
 
-__all__ = ["PLACEHOLDERS", "recalibrate_side", "template_bodies"]
+def recalibrate_sides(recal: Recalibration, profiles: dict[str, dict[str, Profile]], step: int,
+                      work_dir: Path | None, scheduler: str = "") -> dict[tuple[str, str], LayerTable]:
+    """The tables of every side recalibrated on its current profiles after ``step``, as {(side, body): table};
+    the files go to ``work_dir``/calibration/step_NNN_<side> (default: a new temporary folder)."""
+    base = Path(work_dir) if work_dir is not None else Path(tempfile.mkdtemp(prefix="wrlayer-recal-"))
+    tables = {}
+    for side, prof in profiles.items():
+        found = recalibrate_side(recal, prof, base / "calibration" / f"step_{step:03d}_{side}", scheduler,
+                                 what=f"step {step}: wear.recalibrate ({side} side)")
+        tables.update({(side, body): table for body, table in found.items()})
+    return tables
+
+
+def _quiet(message: str) -> None:
+    """The calibration's progress lines are not shown inside a wear run (its summary.json records the run)."""
+
+
+__all__ = ["PLACEHOLDERS", "Recalibration", "read_template", "recalibrate_side", "recalibrate_sides", "worn_config",
+           "write_profiles"]

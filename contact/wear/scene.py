@@ -25,17 +25,18 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.parse`: [profiles], [
                                                            k_mid_speed, k_high_speed, v_low_m_s, v_high_m_s)
     [wear.recalibrate] config = "template.toml", every_steps = 1   recalibrate the layer tables on the worn profiles
                                                            (contact.wear.recalibrate; placeholders @wheel_profile@,
-                                                           @rail_profile@ in the calibration template)
+                                                           @rail_profile@ as [[bodies]] profile or mate)
     [wear.usfd]  wheel = "R8T", rail = "R8T"              a published material, or a table {t1, t2, mild_slope,
                                                            severe_rate, cat_slope, cat_offset}
     [collective] either [[collective.condition]] tables (lateral_mm, yaw_rad = 0, vertical_load_N and speed_mm_s
-                 defaulting to [load], weight, label, pitch_rate_rad_s (traction/braking; default the scene's)) or a sweep: lateral_mm (list or {start, stop, step}), yaw_rad (one
-                 number or a list of the same length), weights (a list of the same length, or "uniform").
+                 defaulting to [load], weight, label, pitch_rate_rad_s (traction/braking; default the scene's)) or a
+                 sweep: lateral_mm (list or {start, stop, step}), yaw_rad (one number or a list of the same length),
+                 weights (a list of the same length, or "uniform").
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -45,9 +46,11 @@ from contact.normal.method import NormalMethod
 from contact.scenes.scene import SceneKeys
 from contact.wear.collective import Condition, LoadCollective
 from contact.wear.laws import USFD_MATERIALS, ArchardMap, UsfdTable, WearLaw
+from contact.wear.recalibrate import Recalibration, read_template
 from contact.wheel_rail.parse import parse_wheel_rail_scene
 from contact.wheel_rail.scene import WheelRailScene
 from contact.wheel_rail.sweep import sweep_values
+from meshes.profiles import Profile
 from wrlayer.errors import InputError
 
 WHEEL_RAIL_SECTIONS = ("title", "description", "profiles", "track", "wheel", "wheelset", "load", "material",
@@ -63,7 +66,34 @@ USFD_KEYS = ("t1", "t2", "mild_slope", "severe_rate", "cat_slope", "cat_offset")
 
 @dataclass(frozen=True)
 class WearSettings:
-    """The [wear] numbers (mm, km)."""
+    """The ``[wear]`` numbers of the step loop (mm, km).
+
+    Attributes
+    ----------
+    max_depth_per_step_mm : float
+        Step control: a step is shortened so that its largest smoothed wear depth stays below this (mm).
+    smoothing_mm : float
+        Standard deviation of the Gaussian filter applied to each step's depth distributions (mm of arc length;
+        0 = none).
+    grid_mm : float
+        Arc-length spacing of the profile update grid (mm).
+    rail_passes_per_wheel_pass : float
+        Passes a rail section sees per wheel revolution (-).
+    inelastic : bool
+        Add the layer's residual displacement to the profile change (needs ``[layers]``).
+    layer_state : str
+        ``"hardening"``: each profile position keeps its largest peak pressure between steps; ``"virgin"``: the
+        layer starts virgin every step.
+    workers : int
+        Local processes solving a step's conditions (1 = in-process).
+    scheduler : str
+        Address of a Dask scheduler solving the conditions (and recalibrations); empty = local.
+    conicity_amplitude_mm : float
+        Lateral wheelset displacement at which the rolling-radius difference is evaluated (mm).
+    recalibrate : Recalibration or None
+        ``[wear.recalibrate]``: the calibration template run on the worn profiles (None = the scene's tables
+        throughout).
+    """
 
     max_depth_per_step_mm: float = 0.1
     smoothing_mm: float = 1.0
@@ -74,23 +104,56 @@ class WearSettings:
     workers: int = 1
     scheduler: str = ""
     conicity_amplitude_mm: float = 3.0
-    recalibrate_config: str = ""
-    recalibrate_template: str = ""
-    recalibrate_every: int = 0
+    recalibrate: Recalibration | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The settings as result.json records them (the recalibration as its file, text and interval)."""
+        out = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "recalibrate"}
+        recal = self.recalibrate
+        out.update(recalibrate_config=recal.config if recal else "", recalibrate_template=recal.template if recal
+                   else "", recalibrate_every=recal.every_steps if recal else 0)
+        return out
 
 
 @dataclass(frozen=True)
 class WearScene:
-    """A parsed wear scene: the wheel-rail part (``parsed``, :func:`parse_wheel_rail_scene`), the normal method,
-    the law, the collective and the settings."""
+    """A parsed wear scene (units mm, N, MPa, s, rad; distance in km).
+
+    Attributes
+    ----------
+    path : Path
+        The scene file.
+    data : dict
+        The scene's TOML tables as read (recorded in result.json).
+    wheel_rail : WheelRailScene
+        The wheel–rail part (profiles, track, wheel, wheelset, load, material, tangential, layers, passes, method;
+        :mod:`contact.wheel_rail.parse`), including ``[method] normal``, ``exact_cells``, ``layer_mode``: the
+        normal contact method of every condition.
+    law : WearLaw
+        ``[wear] law`` with its coefficients (``[wear.archard]``, ``[wear.usfd]``, ``density_kg_m3``).
+    collective : LoadCollective
+        ``[collective]`` with ``[wear] distance_km`` and ``steps``.
+    settings : WearSettings
+        The other ``[wear]`` keys.
+    """
 
     path: Path
     data: dict
-    parsed: WheelRailScene
-    normal: NormalMethod
+    wheel_rail: WheelRailScene
     law: WearLaw
     collective: LoadCollective
     settings: WearSettings
+
+    @property
+    def normal(self) -> NormalMethod:
+        """The normal contact method of every condition (``[method] normal``)."""
+        return self.wheel_rail.method.normal_method
+
+    @property
+    def initial_profiles(self) -> dict[str, dict[str, Profile]]:
+        """``profiles[side][body]``: the scene's profiles on every simulated side."""
+        wr = self.wheel_rail
+        return {side: {"rail": wr.rail_profile, "wheel": wr.wheel_profile} for side in wr.sides}
 
 
 def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
@@ -101,49 +164,14 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     top.check_known(("type",) + WHEEL_RAIL_SECTIONS + ("wear", "collective"))
     if data.get("type") != "wear":
         raise top.error("type", f"must be \"wear\" for python -m contact wear, got {data.get('type')!r}")
-    wr = {k: v for k, v in data.items() if k in WHEEL_RAIL_SECTIONS}
-    wr["type"] = "wheel_rail"
-    method = dict(wr.get("method", {})) if isinstance(wr.get("method"), dict) else wr.get("method", {})
-    normal_kw = {}
-    if isinstance(method, dict):
-        mk = SceneKeys(file, "method", method)
-        if "normal" in method:
-            normal_kw["name"] = mk.text("normal")
-        if "exact_cells" in method:
-            normal_kw["exact_cells"] = mk.integer("exact_cells", 48, ge=1)
-        if "layer_mode" in method:
-            normal_kw["layer_mode"] = mk.text("layer_mode")
-        for key in ("normal", "exact_cells", "layer_mode"):
-            method.pop(key, None)
-        wr["method"] = method
-    try:
-        normal = NormalMethod(**normal_kw)
-    except InputError as err:
-        key = err.what if err.what.startswith("method.") else "method.normal"
-        raise InputError(f"{file}: {key}", err.problem) from None
-    wr["output"] = {"deformed_profiles": False}
-    parsed = parse_wheel_rail_scene(wr, scene_path)
+    wheel_rail = parse_wheel_rail_scene({"type": "wheel_rail", **{k: v for k, v in data.items()
+                                                                   if k in WHEEL_RAIL_SECTIONS}}, scene_path)
     wear = top.sub("wear")
     if wear is None:
         raise top.error("wear", "a wear scene needs a [wear] table (law, distance_km, steps)")
     wear.check_known(WEAR_KEYS)
     law = _law(wear)
-    settings = WearSettings(
-        max_depth_per_step_mm=wear.number("max_depth_per_step_mm", 0.1, gt=0.0),
-        smoothing_mm=wear.number("smoothing_mm", 1.0, ge=0.0),
-        grid_mm=wear.number("grid_mm", 0.2, gt=0.0, le=2.0),
-        rail_passes_per_wheel_pass=wear.number("rail_passes_per_wheel_pass", 1.0, ge=0.0),
-        inelastic=wear.boolean("inelastic", True),
-        layer_state=wear.text("layer_state", "hardening"),
-        workers=wear.integer("workers", 1, ge=1),
-        scheduler=wear.text("scheduler", ""),
-        conicity_amplitude_mm=wear.number("conicity_amplitude_mm", 3.0, gt=0.0))
-    settings = _recalibration(wear, scene_path.parent, settings, parsed)
-    if settings.layer_state not in ("hardening", "virgin"):
-        raise wear.error("layer_state", f"must be 'hardening' or 'virgin', got {settings.layer_state!r}")
-    if settings.inelastic and parsed.layers is None:
-        raise wear.error("inelastic", "true needs [layers] (the Prandtl layer gives the inelastic displacement); "
-                         "set inelastic = false for abrasive wear alone")
+    settings = _settings(wear, scene_path.parent, wheel_rail)
     distance = wear.number("distance_km")
     if not distance > 0:
         raise wear.error("distance_km", f"must be a positive distance, got {distance:g}")
@@ -153,37 +181,51 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     col = top.sub("collective")
     if col is None:
         raise top.error("collective", "a wear scene needs a [collective] (running conditions with weights)")
-    conds = _conditions(col, parsed)
+    conds = _conditions(col, wheel_rail)
     try:
         collective = LoadCollective(tuple(conds), distance, steps, where=f"{file}: collective")
     except InputError as err:
         raise InputError(err.what if err.what.startswith(file) else f"{file}: {err.what}", err.problem) from None
-    return WearScene(scene_path, data, parsed, normal, law, collective, settings)
+    return WearScene(scene_path, data, wheel_rail, law, collective, settings)
 
 
-def _recalibration(wear: SceneKeys, base: Path, settings: WearSettings, parsed: WheelRailScene) -> WearSettings:
-    """[wear.recalibrate]: the calibration template (must use a placeholder) and the interval in steps."""
-    import dataclasses
+def _settings(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> WearSettings:
+    settings = WearSettings(
+        max_depth_per_step_mm=wear.number("max_depth_per_step_mm", 0.1, gt=0.0),
+        smoothing_mm=wear.number("smoothing_mm", 1.0, ge=0.0),
+        grid_mm=wear.number("grid_mm", 0.2, gt=0.0, le=2.0),
+        rail_passes_per_wheel_pass=wear.number("rail_passes_per_wheel_pass", 1.0, ge=0.0),
+        inelastic=wear.boolean("inelastic", True),
+        layer_state=wear.text("layer_state", "hardening"),
+        workers=wear.integer("workers", 1, ge=1),
+        scheduler=wear.text("scheduler", ""),
+        conicity_amplitude_mm=wear.number("conicity_amplitude_mm", 3.0, gt=0.0),
+        recalibrate=_recalibration(wear, base, wheel_rail))
+    if settings.layer_state not in ("hardening", "virgin"):
+        raise wear.error("layer_state", f"must be 'hardening' or 'virgin', got {settings.layer_state!r}")
+    if settings.inelastic and wheel_rail.layers is None:
+        raise wear.error("inelastic", "true needs [layers] (the Prandtl layer gives the inelastic displacement); "
+                         "set inelastic = false for abrasive wear alone")
+    return settings
 
-    from contact.wear.recalibrate import PLACEHOLDERS, template_bodies
 
+def _recalibration(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> Recalibration | None:
+    """[wear.recalibrate]: the calibration template (read and validated here) and the interval in steps."""
     sub = wear.sub("recalibrate") if "recalibrate" in wear.table else None
     if sub is None:
-        return settings
+        return None
     sub.check_known(("config", "every_steps"))
     rel = sub.text("config")
     path = (base / rel).resolve()
     if not path.is_file():
         raise sub.error("config", f"no such calibration template {rel!r} (looked at {path})")
-    text = path.read_text(encoding="utf-8")
-    if not template_bodies(text):
-        raise sub.error("config", f"{rel} uses neither placeholder {' nor '.join(PLACEHOLDERS.values())} "
-                        "(where the worn profile files go)")
-    layers = parsed.solver_layers
+    every = sub.integer("every_steps", 1, ge=1)
+    layers = wheel_rail.solver_layers
+    text, cfg = read_template(path, sub.what("config"), {"wheel": wheel_rail.wheel_profile,
+                                                         "rail": wheel_rail.rail_profile})
     if layers is None or layers.combined is not None:
         raise sub.error("config", "recalibration needs per-body [layers] tables (rail and/or wheel)")
-    return dataclasses.replace(settings, recalibrate_config=str(path), recalibrate_template=text,
-                               recalibrate_every=sub.integer("every_steps", 1, ge=1))
+    return Recalibration(str(path), text, cfg, every)
 
 
 def _law(wear: SceneKeys) -> WearLaw:
@@ -226,8 +268,8 @@ def _law(wear: SceneKeys) -> WearLaw:
     return WearLaw(name, archard, usfd, wear.number("density_kg_m3", 7850.0, gt=0.0))
 
 
-def _conditions(col: SceneKeys, parsed: WheelRailScene) -> list[Condition]:
-    Q0, V0 = parsed.load.vertical_load_N, parsed.load.speed_mm_s
+def _conditions(col: SceneKeys, wheel_rail: WheelRailScene) -> list[Condition]:
+    Q0, V0 = wheel_rail.load.vertical_load_N, wheel_rail.load.speed_mm_s
     if "condition" in col.table:
         col.check_known(("condition",))
         rows = col.table["condition"]

@@ -1,5 +1,6 @@
 """Small wear scenes for fast tests (coarse grids, few passes)."""
 
+import json
 from pathlib import Path
 
 import pytest
@@ -49,3 +50,43 @@ def make_scene(tmp_path):
 def wear_dict():
     """The scene-dict builder :func:`wear_data`."""
     return wear_data
+
+
+@pytest.fixture
+def write_scene(tmp_path):
+    """Write a scene dict as ``tmp_path/w.toml``; returns the path."""
+    def write(data):
+        path = tmp_path / "w.toml"
+        path.write_text(_toml(data))
+        return path
+
+    return write
+
+
+def _toml(data, prefix=""):
+    """Tiny TOML writer for the test scenes (tables, numbers, strings, lists of numbers)."""
+    lines, tables = [], []
+    for k, v in data.items():
+        if isinstance(v, dict):
+            tables.append((k, v))
+        else:
+            lines.append(f"{k} = {_val(v)}")
+    out = "\n".join(lines) + "\n"
+    for k, v in tables:
+        name = f"{prefix}{k}"
+        scal = {kk: vv for kk, vv in v.items() if not isinstance(vv, dict)}
+        out += f"\n[{name}]\n" + "".join(f"{kk} = {_val(vv)}\n" for kk, vv in scal.items())
+        sub = {kk: vv for kk, vv in v.items() if isinstance(vv, dict)}
+        if sub:
+            out += _toml(sub, prefix=f"{name}.")
+    return out
+
+
+def _val(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(_val(x) for x in v) + "]"
+    return repr(float(v)) if isinstance(v, float) else str(v)

@@ -1,20 +1,29 @@
 """The wear loop: linearity in distance, mass balance, inelastic saturation, mirror symmetry, read-back, stops."""
 
 import json
+import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from contact.__main__ import main
+from contact.layer.layer_table import LayerTable
 from contact.wear import condition as condition_mod
 from contact.wear.condition import BODIES
-from contact.wear.loop import WearStopped, build_tasks, map_tasks, passes_per_km, run_wear
+from contact.wear.layer_state import HardenedTable, hardened, side_layers
+from contact.wear.loop import run_wear
+from contact.wear.planning import build_tasks, passes_per_km
 from contact.wear.profile_grid import ArcGrid
+from contact.wear.records import WearStopped
+from contact.wear.runner import map_tasks
+from contact.wear.scene import parse_wear_scene
 from contact.wheel_rail.contact_search import SearchSettings, search_contacts
 from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
-from meshes.profiles.io import read_profile, write_simpack
+from meshes.profiles.io import read_profile, write_simpack, write_text
 from wrlayer.errors import InputError
+
+TABLES = Path(__file__).resolve().parents[3] / "scenes" / "tables"
 
 
 def test_wear_proportional_to_distance(make_scene):
@@ -24,8 +33,8 @@ def test_wear_proportional_to_distance(make_scene):
     ten = run_wear(make_scene(layers=None, wear={"distance_km": 0.02, "steps": 10, "inelastic": False}),
                    show_progress=False)
     assert len(ten.steps) == 10
-    a1 = one.steps[0].bodies["right", "wheel"].stats["worn_area_mm2"]
-    a10 = sum(s.bodies["right", "wheel"].stats["worn_area_mm2"] for s in ten.steps)
+    a1 = one.steps[0].bodies["right", "wheel"].stats.worn_area_mm2
+    a10 = sum(s.bodies["right", "wheel"].stats.worn_area_mm2 for s in ten.steps)
     assert a1 > 0
     assert a10 == pytest.approx(a1, rel=1e-4)
     d1 = one.steps[0].bodies["right", "wheel"].wear_mm
@@ -37,11 +46,10 @@ def test_mass_balance(make_scene):
     """Worn area on the profile grid = sum over strips of depth per pass x strip width x passes (1e-6)."""
     scene = make_scene(collective={"lateral_mm": [1.0, 3.0], "yaw_rad": [0.0, 0.002], "weights": [0.4, 0.6]})
     km = 50.0
-    results = map_tasks(build_tasks(scene, {"right": {"rail": scene.parsed["rail"], "wheel": scene.parsed["wheel"]}},
-                                    1, km))
+    results = map_tasks(build_tasks(scene, scene.initial_profiles, 1, km))
     per_km = passes_per_km(scene)
     for body in BODIES:
-        prof = scene.parsed[body]
+        prof = scene.initial_profiles["right"][body]
         g = ArcGrid.of(prof, 0.2)
         direct = sum(scene.collective.conditions[r.index].weight * per_km[body] * km * np.sum(r.wear_mm[body])
                      * r.strip_mm for r in results)
@@ -60,7 +68,7 @@ def test_inelastic_saturates_and_is_zero_without_layer(make_scene):
             "passes": {"max": 40}, "wear": {"distance_km": 300.0, "steps": 3}}
 
     def increments(run):
-        return [max(s.bodies["right", b].stats["inelastic_max_mm"] for b in BODIES) for s in run.steps]
+        return [max(s.bodies["right", b].stats.inelastic_max_mm for b in BODIES) for s in run.steps]
 
     run = run_wear(make_scene(**data), show_progress=False)
     inc = increments(run)
@@ -68,24 +76,19 @@ def test_inelastic_saturates_and_is_zero_without_layer(make_scene):
     assert p_hist.max() > 1000.0 and np.all(p_hist >= 0) and y.size == p_hist.size
     assert inc[0] > 1e-3
     assert inc[1] < 1e-15 and inc[2] < 1e-15  # round-off
-    assert all(s.bodies["right", b].stats["wear_max_mm"] == 0 for s in run.steps for b in BODIES)
+    assert all(s.bodies["right", b].stats.wear_max_mm == 0 for s in run.steps for b in BODIES)
     virgin = increments(run_wear(make_scene(**{**data, "wear": {**data["wear"], "layer_state": "virgin"}}),
                                  show_progress=False))
     assert virgin[0] == pytest.approx(inc[0], rel=1e-12)
     assert 0 < virgin[1] < 0.1 * virgin[0] and virgin[2] < 0.1 * virgin[0]
     off = run_wear(make_scene(layers=None, **{**data, "wear": {**data["wear"], "inelastic": False}}),
                    show_progress=False)
-    assert all(s.bodies["right", b].stats["inelastic_max_mm"] == 0 for s in off.steps for b in BODIES)
+    assert all(s.bodies["right", b].stats.inelastic_max_mm == 0 for s in off.steps for b in BODIES)
 
 
 def test_hardened_characteristic_residual_is_the_increment():
     """An element hardened to p_hist: no residual up to p_hist, u_p(p) - u_p(p_hist) beyond (eq. 8)."""
-    from pathlib import Path
-
-    from contact.layer.layer_table import LayerTable
-    from contact.wear.layer_state import hardened
-
-    table = LayerTable.read(Path(__file__).resolve().parents[3] / "scenes" / "tables" / "rail_60E1_default.json")
+    table = LayerTable.read(TABLES / "rail_60E1_default.json")
     c = table.characteristic_at(1.0)
     assert hardened(c, 0.9 * c.elastic_limit_MPa) is c
     for ph in (1.3 * c.elastic_limit_MPa, 1.2 * c.p_MPa[-1]):
@@ -113,9 +116,7 @@ def test_written_profiles_give_the_same_separation(make_scene, tmp_path):
     scene = make_scene(wear={"distance_km": 300.0, "steps": 1, "inelastic": False}, layers=None)
     run = run_wear(scene, show_progress=False)
     worn = run.steps[0].profiles["right"]
-    from meshes.profiles.io import write_text
-
-    layout = scene.parsed["layout"]
+    layout = scene.wheel_rail.layout
     pose = WheelsetPose(2.0, 0.0, 0.0)
     placed = place_rail(worn["rail"], layout)
     a = search_contacts(placed, worn["wheel"], layout, pose, SearchSettings())
@@ -147,8 +148,6 @@ def test_written_profiles_give_the_same_separation(make_scene, tmp_path):
     ({"collective": {"lateral_mm": [0.0], "weights": [1.0], "speed": 3}}, r"w.toml: collective.speed: unknown key"),
 ])
 def test_bad_input_names_the_key(tmp_path, wear_dict, over, match):
-    from contact.wear.scene import parse_wear_scene
-
     with pytest.raises(InputError, match=match):
         parse_wear_scene(wear_dict(**over), tmp_path / "w.toml")
 
@@ -160,11 +159,10 @@ def test_condition_without_contact_stops_naming_the_step(make_scene):
         run_wear(scene, show_progress=False)
 
 
-def test_stop_keeps_completed_steps(tmp_path, wear_dict, monkeypatch, capsys):
+def test_stop_keeps_completed_steps(tmp_path, wear_dict, write_scene, monkeypatch, capsys):
     """A failure in step 2: exit code 1, one line naming the step, step 1's profiles and table kept."""
     data = wear_dict(layers=None, wear={"distance_km": 20.0, "steps": 2, "inelastic": False})
-    scene_file = tmp_path / "w.toml"
-    scene_file.write_text(_toml(data))
+    scene_file = write_scene(data)
     real = condition_mod.solve_condition
 
     def failing(task):
@@ -186,49 +184,15 @@ def test_stop_keeps_completed_steps(tmp_path, wear_dict, monkeypatch, capsys):
     assert len((out / "steps.csv").read_text().strip().splitlines()) == 1 + 2
 
 
-def _toml(data, prefix=""):
-    """Tiny TOML writer for the test scenes (tables, numbers, strings, lists of numbers)."""
-    lines, tables = [], []
-    for k, v in data.items():
-        if isinstance(v, dict):
-            tables.append((k, v))
-        else:
-            lines.append(f"{k} = {_val(v)}")
-    out = "\n".join(lines) + "\n"
-    for k, v in tables:
-        name = f"{prefix}{k}"
-        scal = {kk: vv for kk, vv in v.items() if not isinstance(vv, dict)}
-        out += f"\n[{name}]\n" + "".join(f"{kk} = {_val(vv)}\n" for kk, vv in scal.items())
-        sub = {kk: vv for kk, vv in v.items() if isinstance(vv, dict)}
-        if sub:
-            out += _toml(sub, prefix=f"{name}.")
-    return out
-
-
-def _val(v):
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, str):
-        return json.dumps(v)
-    if isinstance(v, list):
-        return "[" + ", ".join(_val(x) for x in v) + "]"
-    return repr(float(v)) if isinstance(v, float) else str(v)
-
-
 def test_shipped_example_parses_and_runs_a_short_distance(tmp_path):
     """The `make wear` scene, cut to 20 km in one step and two conditions (seconds)."""
-    import tomllib
-    from pathlib import Path
-
-    from contact.wear.scene import parse_wear_scene
-
-    path = Path(__file__).resolve().parents[3] / "scenes" / "wear" / "s1002_60e1.toml"
+    path = TABLES.parent / "wear" / "s1002_60e1.toml"
     data = tomllib.loads(path.read_text())
     data["wear"].update(distance_km=20.0, steps=1)
     data["collective"] = {"lateral_mm": [-1.5, 1.5], "yaw_rad": [0.0, 0.0], "weights": "uniform"}
     data["method"].update(grid_mm=0.2, fastsim_cells=16)
     run = run_wear(parse_wear_scene(data, path), show_progress=False)
-    assert run.steps[0].bodies["right", "wheel"].stats["wear_max_mm"] > 0
+    assert run.steps[0].bodies["right", "wheel"].stats.wear_max_mm > 0
 
 
 def test_local_processes_give_the_same_result(make_scene):
@@ -240,49 +204,6 @@ def test_local_processes_give_the_same_result(make_scene):
     assert a.max() > 0 and np.array_equal(a, b)
 
 
-def test_recalibration_on_worn_profiles(make_scene, tmp_path):
-    """[wear.recalibrate]: after step 1 the wheel table is recomputed (coarse FEM, separate process) on the worn
-    wheel and used in step 2; a template without placeholder is refused."""
-    template = tmp_path / "recal.toml"
-    template.write_text("""
-[run]
-model = "2d"
-workers = 1
-plots = false
-[load]
-max_factor = 2.0
-n_levels = 3
-unload_factors = [2.0]
-max_increment_factor = 0.5
-[mesh]
-elements_per_semi_axis = 3
-h_max_mm = 10.0
-order = 1
-[fit]
-n_segments = 3
-max_relative_error = 0.3
-[[bodies]]
-body = "wheel"
-profile = "@wheel_profile@"
-mate = "@rail_profile@"
-wheel_radius_mm = 460.0
-positions_mm = [-25.0, -12.0, 0.0, 12.0, 25.0]
-""")
-    scene = make_scene(wear={"distance_km": 100.0, "steps": 2, "recalibrate": {"config": str(template)}},
-                       passes={"max": 3})
-    run = run_wear(scene, show_progress=False, work_dir=tmp_path / "work")
-    assert len(run.steps) == 2
-    assert any("recalibrated" in n for n in run.steps[0].notes)
-    table = tmp_path / "work" / "calibration" / "step_001_right" / "tables" / "wheel_layer_table.json"
-    assert table.is_file()
-    worn = read_profile(tmp_path / "work" / "calibration" / "step_001_right" / "wheel.prw")
-    assert np.allclose(worn.points, run.steps[0].profiles["right"]["wheel"].points, atol=1e-9)
-    bad = tmp_path / "bad.toml"
-    bad.write_text('[[bodies]]\nbody = "wheel"\nprofile = "S1002"\n')
-    with pytest.raises(InputError, match="wear.recalibrate.config: .*placeholder"):
-        make_scene(wear={"recalibrate": {"config": str(bad)}})
-
-
 def test_folding_worn_profile_stops_naming_the_step(make_scene):
     """An absurd step (no step control, no smoothing) folds the profile: a clear stop at step 1."""
     scene = make_scene(layers=None, wear={"distance_km": 200000.0, "steps": 1, "max_depth_per_step_mm": 1000.0,
@@ -291,10 +212,9 @@ def test_folding_worn_profile_stops_naming_the_step(make_scene):
         run_wear(scene, show_progress=False)
 
 
-def test_cli_writes_profiles_table_pictures(tmp_path, wear_dict):
+def test_cli_writes_profiles_table_pictures(tmp_path, wear_dict, write_scene):
     data = wear_dict(layers=None, wear={"distance_km": 40.0, "steps": 2, "inelastic": False})
-    scene_file = tmp_path / "w.toml"
-    scene_file.write_text(_toml(data))
+    scene_file = write_scene(data)
     out = tmp_path / "out"
     assert main(["wear", str(scene_file), "--out", str(out), "--quiet"]) == 0
     res = json.loads((out / "result.json").read_text())
@@ -322,15 +242,13 @@ def test_area_between_profiles_equals_worn_area(make_scene):
         lo, hi = max(old.y_min, new.y_min) + 1.0, min(old.y_max, new.y_max) - 1.0
         y = np.linspace(lo, hi, 200001)
         area = sign * np.trapezoid(old.z(y) - new.z(y), y)
-        worn = step.bodies["right", body].stats["worn_area_mm2"]
+        worn = step.bodies["right", body].stats.worn_area_mm2
         assert worn > 0.1
         assert area == pytest.approx(worn, rel=5e-3)
 
 
 def test_condition_pitch_rate_adds_longitudinal_creepage(tmp_path, wear_dict):
     """A braking condition (wheel turning slower than V/r0) wears more than free rolling at the same position."""
-    from contact.wear.scene import parse_wear_scene
-
     free = {"lateral_mm": 0.0, "weight": 1.0}
     braking = {**free, "pitch_rate_rad_s": 2000.0 / 460.0 * (1.0 - 0.003)}
     runs = []
@@ -338,8 +256,8 @@ def test_condition_pitch_rate_adds_longitudinal_creepage(tmp_path, wear_dict):
         data = wear_dict(layers=None, wear={"distance_km": 10.0, "steps": 1, "inelastic": False})
         data["collective"] = {"condition": [c]}
         runs.append(run_wear(parse_wear_scene(data, tmp_path / "w.toml"), show_progress=False))
-    kx = [r.steps[0].conditions[0]["patches"][0]["creepage_x"] for r in runs]
-    area = [r.steps[0].bodies["right", "wheel"].stats["worn_area_mm2"] for r in runs]
+    kx = [r.steps[0].conditions[0].patches[0]["creepage_x"] for r in runs]
+    area = [r.steps[0].bodies["right", "wheel"].stats.worn_area_mm2 for r in runs]
     assert abs(kx[1] - kx[0]) > 2e-3
     assert area[1] > 2.0 * area[0]
 
@@ -351,24 +269,21 @@ def test_exact_normal_method_runs_the_loop(make_scene):
     ex = run_wear(make_scene(method={"normal": "exact", "exact_cells": 24}, **kw), show_progress=False).steps[0]
     for body in BODIES:
         a, b = kp.bodies["right", body].stats, ex.bodies["right", body].stats
-        assert b["wear_max_mm"] > 0 and b["inelastic_max_mm"] > 0
-        assert b["worn_area_mm2"] == pytest.approx(a["worn_area_mm2"], rel=0.3)
-    assert ex.conditions[0]["patches"][0]["p_max_MPa"] != kp.conditions[0]["patches"][0]["p_max_MPa"]
+        assert b.wear_max_mm > 0 and b.inelastic_max_mm > 0
+        assert b.worn_area_mm2 == pytest.approx(a.worn_area_mm2, rel=0.3)
+    assert ex.conditions[0].patches[0]["p_max_MPa"] != kp.conditions[0].patches[0]["p_max_MPa"]
 
 
 def test_wear_loop_keeps_scale_to_patch_and_hardened_tables_scale(make_scene):
-    from contact.layer.layer_table import LayerTable
-    from contact.wear.layer_state import HardenedTable, hardened
-    from contact.wear.loop import side_layers
-
     scene = make_scene(layers={"scale_to_patch": True}, wear={"layer_state": "hardening"})
     y = np.array([-10.0, 10.0])
-    layers = side_layers(scene, {("right", "rail"): (y, np.array([900.0, 900.0]))}, "right")
+    layers = side_layers(scene.wheel_rail.solver_layers, {("right", "rail"): (y, np.array([900.0, 900.0]))}, "right")
     assert layers.scale_to_patch
     assert isinstance(layers.rail, HardenedTable)
     patch = (3.0, 2.0)
     got = layers.rail.characteristic_at(0.0, patch_mm=patch)
-    want = hardened(LayerTable.read(Path(__file__).resolve().parents[3] / "scenes" / "tables" / "rail_60E1_default.json").characteristic_at(0.0, patch_mm=patch), 900.0)
+    table = LayerTable.read(TABLES / "rail_60E1_default.json")
+    want = hardened(table.characteristic_at(0.0, patch_mm=patch), 900.0)
     np.testing.assert_allclose(got.u_mm, want.u_mm, rtol=1e-12)
     np.testing.assert_allclose(got.p_MPa, want.p_MPa, rtol=1e-12)
     assert not np.allclose(got.u_mm, layers.rail.characteristic_at(0.0).u_mm)
