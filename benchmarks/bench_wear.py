@@ -55,7 +55,7 @@ def _deviation(run) -> dict:
             inside = (pts[:, 0] > prof.y_min + 1) & (pts[:, 0] < prof.y_max - 1)
             d, _ = prof.signed_distance(pts[inside])
             out[f"{side}_{body}_max_change_mm"] = float(np.max(np.abs(d)))
-    out["delta_r_mm"] = last.conicity["delta_r_mm"]
+    out["delta_r_mm"] = last.conicity.delta_r_mm
     out["n_steps_done"] = len(run.steps)
     return out
 
@@ -82,16 +82,16 @@ def _split(scene) -> dict:
                 t += sum(v[3] for (cf, _, cfn), v in row[4].items() if cfn == caller)
         return t
 
-    solve_found = cum("_solve_found", "solve_wheel")
-    tangential = cum("_tangential", "_solve_found")
-    return {"geometry: contact search + rail placement + rigid roll": cum("search_contacts", "solve_wheel")
-            + cum("place_rail", "solve_condition") + cum("_roll", "build_tasks"),
+    solve_found = cum("_solve_found", "_solve_with_search")
+    tangential = cum("patch_tangential")
+    return {"geometry: contact search + rail placement + rigid roll": cum("search_contacts", "_solve_with_search")
+            + cum("place_rail", "solve_condition") + cum("wheelset_roll", "build_tasks"),
             "normal: load balance, Kik-Piotrowski with layers, passes": solve_found - tangential,
             "tangential: FASTSIM": tangential,
             "wear law on the cells": cum("wear_of", "solve_condition"),
-            "profile update: deposit, smoothing, new spline": cum("of", "run_wear") + cum("deposit", "_depth_rates")
-            + cum("smooth", "<dictcomp>") + cum("updated", "run_wear"),
-            "rolling-radius difference": cum("radius_difference", "run_wear"),
+            "profile update: deposit, smoothing, new spline": cum("of", "wear_step")
+            + cum("deposit", "depth_rates") + cum("smooth", "<dictcomp>") + cum("updated", "wear_step"),
+            "rolling-radius difference": cum("radius_difference", "wear_step"),
             "total step (profiled, with cProfile overhead)": total}
 
 
@@ -157,8 +157,8 @@ def run(mode: str, out: pathlib.Path) -> dict:
         st = r.steps[0]
         for body in ("wheel", "rail"):
             b = st.bodies["right", body]
-            laws.append({"law": law, "body": body, "max_mm_per_1000km": b.stats["wear_max_mm"] / st.length_km * 1e3,
-                         "area_mm2_per_1000km": b.stats["worn_area_mm2"] / st.length_km * 1e3})
+            laws.append({"law": law, "body": body, "max_mm_per_1000km": b.stats.wear_max_mm / st.length_km * 1e3,
+                         "area_mm2_per_1000km": b.stats.worn_area_mm2 / st.length_km * 1e3})
 
     fig, ax = plt.subplots(1, 2, figsize=(9, 3.5))
     ax[0].plot(n_conds, t_cond, "o-")

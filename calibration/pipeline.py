@@ -166,7 +166,7 @@ def _compute(todo: list[PositionTask], cfg: CalibrationConfig, scheduler: str, c
         return
     quiet = not show_progress
     with ProgressBar(len(todo), "positions", "pos", quiet, 0) as bar_pos, \
-            ProgressBar(sum(t.stages for t in todo), "load stages", "stage", quiet, 1) as bar_steps, \
+            ProgressBar(sum(t.stages for t in todo), "load stages", "stage", quiet, 1, lines=False) as bar_steps, \
             Runner(cfg.run.workers, scheduler) as runner:
         for k, outcome in runner.imap(run_position, todo, on_progress=bar_steps.update):
             t = todo[k]

@@ -8,6 +8,8 @@ import pytest
 
 matplotlib.use("Agg")
 os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
+# no progress lines in the captured stderr of the tests (tests/wrlayer/test_progress.py sets its own mode)
+os.environ.setdefault("WRLAYER_PROGRESS", "0")
 
 REPO = Path(__file__).resolve().parents[1]
 

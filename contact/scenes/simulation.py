@@ -166,7 +166,7 @@ def _layered_passes(scene: Scene, prob: NormalProblem, layers) -> tuple[list[tup
     stamps = [time.perf_counter()]
     solved: list[tuple] = []
     # a bar over passes.max on a terminal (the run may stop earlier at shakedown); a plain counter otherwise
-    ticks = progress(range(scene.passes.max), desc=scene.name, unit="pass", leave=False)
+    ticks = progress(range(scene.passes.max), desc=scene.name, unit="pass", lines=False, leave=False)
     tick = iter(ticks)
 
     def on_pass(record: PassRecord, solution: NormalSolution) -> None:

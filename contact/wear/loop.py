@@ -14,13 +14,11 @@ an error naming the step; :class:`~contact.wear.records.WearStopped` carries the
 from __future__ import annotations
 
 import dataclasses
-import sys
 import time
 from collections.abc import Callable, Iterator
 from functools import partial
 from pathlib import Path
 
-from tqdm import tqdm
 
 from contact.wear.conicity import radius_difference
 from contact.wear.recalibrate import recalibrate_sides
@@ -30,26 +28,24 @@ from contact.wear.scene import WearScene
 from contact.wear.state import WearState
 from contact.wear.step import wear_step
 from wrlayer.errors import ConvergenceError, InputError
-from wrlayer.progress import progress_enabled
+from wrlayer.progress import ProgressBar
 
 
 class StepBars:
     """Progress bars on stderr: the steps of the run and the conditions of the current step."""
 
-    def __init__(self, steps: int, tasks: int, show: bool):
-        self.steps = tqdm(total=steps, desc="wear steps", unit="step", disable=not show, position=0,
-                          file=sys.stderr)
-        self.conditions = tqdm(total=tasks, desc="conditions", unit="cond", disable=not show, position=1,
-                               file=sys.stderr, leave=False)
+    def __init__(self, steps: int, tasks: int, quiet: bool):
+        self.steps = ProgressBar(steps, "wear steps", "step", quiet, position=0)
+        self.conditions = ProgressBar(tasks, "conditions", "cond", quiet, position=1, lines=False, leave=False)
 
     def step_started(self) -> None:
-        self.conditions.reset(total=self.conditions.total)
+        self.conditions.reset()
 
     def condition_done(self, _result) -> None:
         self.conditions.update(1)
 
     def step_done(self, steps_done: int, more: bool) -> None:
-        self.steps.total = max(self.steps.total, steps_done + (1 if more else 0))
+        self.steps.grow_total(steps_done + (1 if more else 0))
         self.steps.update(1)
 
     def close(self) -> None:
@@ -90,7 +86,7 @@ def wear_steps(run: WearRun, work_dir: Path | None = None, show_progress: bool =
     state = WearState.initial(scene, run.initial_profiles)
     n_tasks = len(scene.collective.conditions) * len(state.profiles)
     with TaskRunner(scene.settings.workers, scene.settings.scheduler) as runner:  # a bad scheduler: before step 1
-        bars = StepBars(scene.collective.steps, n_tasks, progress_enabled(not show_progress))
+        bars = StepBars(scene.collective.steps, n_tasks, quiet=not show_progress)
         step = 1
         try:
             while state.unfinished(scene):

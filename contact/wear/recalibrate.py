@@ -11,7 +11,7 @@ The template is a calibration configuration (:mod:`calibration.config`) whose ``
 parsed, with the scene's initial profiles in place of the placeholders (:func:`read_template`): a bad template is an
 InputError before the first wear step. At a recalibration the current profiles are written as SIMPACK files into
 the step's folder, put in place of the placeholders and the calibration is run in this process
-(:func:`calibration.pipeline.run_calibration`, on its ``[run] workers`` or on the Dask cluster of
+(:func:`calibration.calibrate`, on its ``[run] workers`` or on the Dask cluster of
 ``wear.scheduler``). The tables it writes replace the scene's tables of that side from the next step on; the
 layer state (largest load per position) is kept. A failed calibration (its InputError or ConvergenceError) stops
 the loop naming the step; positions that failed inside a table are listed by it and the solver refuses to
@@ -28,7 +28,8 @@ from pathlib import Path
 
 from calibration.config import BodySettings, CalibrationConfig, parse_config
 from calibration.cost import calibration_cost
-from calibration.pipeline import make_tasks, run_calibration
+from calibration.pipeline import calibrate
+from calibration.tasks import make_tasks
 from contact.layer.layer_table import LayerTable
 from meshes.profiles import Profile
 from meshes.profiles.io import write_simpack
@@ -100,8 +101,8 @@ def read_template(path: Path, what: str, profiles: dict[str, Profile]) -> tuple[
         cfg = parse_config(data, f"{what} ({path.name})", path.parent)
         tasks, failed, _warnings = make_tasks(cfg, Path(tmp), plots=False)  # each position's contact geometry
     if failed:
-        raise InputError(f"{what} ({path.name})", f"{failed[0]['body']} position y = {failed[0]['y_mm']:g} mm on "
-                         f"the initial profiles: {failed[0]['error']}")
+        raise InputError(f"{what} ({path.name})", f"{failed[0].body} position y = {failed[0].y_mm:g} mm on "
+                         f"the initial profiles: {failed[0].message}")
     guard(calibration_cost(cfg, tasks))  # a recalibration refused by its cost would stop the loop late
     cfg = dataclasses.replace(cfg, bodies=tuple(_restore(b, rows[i], files) for i, b in enumerate(cfg.bodies)))
     return text, cfg
@@ -148,16 +149,16 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
             worn = profiles[_placeholder_body(b.profile)] if b.profile in PLACEHOLDERS.values() else None
             for y in b.positions_mm if worn is not None else ():
                 worn.check_y(y, f"position y = {y:g} mm on the worn {b.body} profile")
-        summary = run_calibration(cfg, work / "tables", scheduler=scheduler or None, plots=False,
-                                  show_progress=False, log=_quiet)
+        result = calibrate(cfg, work / "tables", scheduler=scheduler or None, plots=False, show_progress=False,
+                           log=_quiet)
     except InputError as err:
         raise InputError(what, f"calibration of the worn profiles failed: {err}") from None
     except ConvergenceError as err:
         raise ConvergenceError(f"{what}: calibration of the worn profiles failed: {err}") from None
-    tables = {body: LayerTable.read(info["table"]) for body, info in summary["bodies"].items() if info["table"]}
+    tables = {body: LayerTable.read(path) for body, path in result.tables.items()}
     if not tables:
         raise InputError(what, f"the calibration wrote no layer table into {work / 'tables'}: "
-                         f"{'; '.join(f['error'] for f in summary['failed']) or 'no position calibrated'}")
+                         f"{'; '.join(f.message for f in result.failed) or 'no position calibrated'}")
     return tables
 
 

@@ -54,8 +54,8 @@ def test_wrlayer_unknown_command_is_a_usage_error(capsys):
 def test_progress_bar_only_on_a_terminal(monkeypatch):
     monkeypatch.delenv("WRLAYER_PROGRESS", raising=False)
     items = [1, 2, 3]
-    # pytest captures stderr: not a terminal, so the iterable comes back unchanged (no escape codes in logs)
-    assert progress(items, desc="x") is items
+    # pytest captures stderr: not a terminal, so no bar (no escape codes in logs; one line per item instead)
+    assert not progress_enabled() and list(progress(items, desc="x")) == items
     monkeypatch.setenv("WRLAYER_PROGRESS", "1")
     assert progress_enabled() and list(progress(items, desc="x")) == items
     assert not progress_enabled(quiet=True)

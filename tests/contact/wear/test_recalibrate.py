@@ -5,10 +5,12 @@ import dataclasses
 import json
 import shutil
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
+from calibration.tasks import PositionNote
 from contact.__main__ import main
 from contact.wear import condition as condition_mod
 from contact.wear import recalibrate as recal_mod
@@ -146,19 +148,19 @@ def _fake_calibration(calls, tables=("wheel",)):
         calls.append({"cfg": cfg, "out_dir": Path(out_dir), "scheduler": scheduler, "plots": plots,
                       "show_progress": show_progress})
         Path(out_dir).mkdir(parents=True, exist_ok=True)
-        bodies = {}
+        written = {}
         for body in tables:
             shutil.copy(TABLES / ("wheel_S1002_default.json" if body == "wheel" else "rail_60E1_default.json"),
                         Path(out_dir) / f"{body}_layer_table.json")
-            bodies[body] = {"table": str(Path(out_dir) / f"{body}_layer_table.json")}
-        return {"bodies": bodies, "failed": [{"body": "wheel", "y_mm": 9.0, "error": "no table"}]}
+            written[body] = Path(out_dir) / f"{body}_layer_table.json"
+        return SimpleNamespace(tables=written, failed=[PositionNote("wheel", 9.0, "no table")])
 
     return fake
 
 
 def test_the_calibration_gets_the_worn_profiles(make_scene, tmp_path, monkeypatch):
     calls = []
-    monkeypatch.setattr(recal_mod, "run_calibration", _fake_calibration(calls))
+    monkeypatch.setattr(recal_mod, "calibrate", _fake_calibration(calls))
     scene = _recal_scene(make_scene, _template(tmp_path))
     run = run_wear(scene, show_progress=False, work_dir=tmp_path / "work")
     (call,) = calls
@@ -180,7 +182,7 @@ def test_cli_keeps_the_step_before_a_failed_recalibration(tmp_path, wear_dict, w
     def failing(*args, **kwargs):
         raise ConvergenceError("Newton did not converge")
 
-    monkeypatch.setattr(recal_mod, "run_calibration", failing)
+    monkeypatch.setattr(recal_mod, "calibrate", failing)
     scene_file = write_scene(wear_dict(wear={"distance_km": 100.0, "steps": 2,
                                              "recalibrate": {"config": str(_template(tmp_path))}},
                                        passes={"max": 3}))
@@ -195,12 +197,12 @@ def test_cli_keeps_the_step_before_a_failed_recalibration(tmp_path, wear_dict, w
 
 
 def test_recalibrate_side_returns_the_written_tables(make_scene, tmp_path, monkeypatch):
-    monkeypatch.setattr(recal_mod, "run_calibration", _fake_calibration([], tables=("wheel", "rail")))
+    monkeypatch.setattr(recal_mod, "calibrate", _fake_calibration([], tables=("wheel", "rail")))
     scene = _recal_scene(make_scene, _template(tmp_path))
     profiles = {"wheel": scene.wheel_rail.wheel_profile, "rail": scene.wheel_rail.rail_profile}
     tables = recalibrate_side(scene.settings.recalibrate, profiles, tmp_path / "side")
     assert sorted(tables) == ["rail", "wheel"] and tables["rail"].body == "rail"
-    monkeypatch.setattr(recal_mod, "run_calibration", _fake_calibration([], tables=()))
+    monkeypatch.setattr(recal_mod, "calibrate", _fake_calibration([], tables=()))
     with pytest.raises(InputError, match=r"here: the calibration wrote no layer table .*: no table"):
         recalibrate_side(scene.settings.recalibrate, profiles, tmp_path / "none", what="here")
 
@@ -211,7 +213,7 @@ def test_a_failed_calibration_stops_the_loop_naming_the_step(make_scene, tmp_pat
     def failing(*args, **kwargs):
         raise error
 
-    monkeypatch.setattr(recal_mod, "run_calibration", failing)
+    monkeypatch.setattr(recal_mod, "calibrate", failing)
     scene = _recal_scene(make_scene, _template(tmp_path))
     profiles = {"wheel": scene.wheel_rail.wheel_profile, "rail": scene.wheel_rail.rail_profile}
     with pytest.raises(kind, match=rf"^here: calibration of the worn profiles failed: {error}$"):
