@@ -33,8 +33,6 @@ ALLOWED = {
     ("calibration.tables", "contact.layer.layer_table"): "table format below calibration",
     ("calibration.fit.characteristic_fit", "contact.layer.characteristic"): "characteristic below calibration",
     # private names imported across modules: make them public in the defining module
-    ("contact.normal.exact_layer", "contact.layer.prandtl_layer:_move_elements"):
-        "contact.layer.prandtl_layer: _move_elements -> move_elements",
 }
 
 

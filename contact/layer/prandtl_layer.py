@@ -56,7 +56,7 @@ def _pressures(u, slip, k, e, k_last):
 
 
 @numba.njit(cache=True)
-def _move_elements(u, slip, k, e, k_last, p_target):
+def move_elements(u, slip, k, e, k_last, p_target):
     """Exact monotonic move of elements (u (n,), slips (n, m)) to p_target (n,): (u, slips, dissipation).
 
     Unloading is loading of the mirrored element (u, s, p) -> (-u, -s, -p). On loading, branch i carries
@@ -244,13 +244,13 @@ class PrandtlLayer:
         if not np.all(np.isfinite(p_target)):
             raise InputError(f"{self.name} target pressure", "must be finite")
         if index is None and p_target.shape == u0.shape:       # the common case: one target per element
-            return _move_elements(u0, s0, k, e, kl, np.ascontiguousarray(p_target))
+            return move_elements(u0, s0, k, e, kl, np.ascontiguousarray(p_target))
         shape = np.broadcast_shapes(np.shape(u0), p_target.shape)
         m = k.shape[-1]
         flat = [np.ascontiguousarray(np.broadcast_to(a, shape).reshape(-1)) for a in (u0, kl, p_target)]
         size = int(np.prod(shape))
         mats = [np.ascontiguousarray(np.broadcast_to(a, shape + (m,)).reshape(size, m)) for a in (s0, k, e)]
-        u, s, d = _move_elements(flat[0], mats[0], mats[1], mats[2], flat[1], flat[2])
+        u, s, d = move_elements(flat[0], mats[0], mats[1], mats[2], flat[1], flat[2])
         return u.reshape(shape), s.reshape(shape + (m,)), d.reshape(shape)
 
     def displacement_at(self, p_MPa, index=None) -> np.ndarray:

@@ -25,7 +25,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from contact.layer.prandtl_layer import LayerPair, PrandtlLayer, _move_elements
+from contact.layer.prandtl_layer import LayerPair, PrandtlLayer, move_elements
 from contact.normal.layer_at_strip import layer_points
 from wrlayer.errors import InputError
 
@@ -56,8 +56,8 @@ class _Body:
         u0, kl = rep(self.u), rep(self.kl)
         s0, k, e = (rep(a).reshape(ny * nx, m) for a in (self.slip, self.k, self.e))
         flat = np.ascontiguousarray(p.reshape(-1))
-        u1 = _move_elements(u0, s0, k, e, kl, flat)[0]
-        u2 = _move_elements(u0, s0, k, e, kl, flat + _DP)[0]
+        u1 = move_elements(u0, s0, k, e, kl, flat)[0]
+        u2 = move_elements(u0, s0, k, e, kl, flat + _DP)[0]
         return (u1 - u0).reshape(ny, nx), ((u2 - u1) / _DP).reshape(ny, nx)
 
     def rolling(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -79,10 +79,10 @@ def _rolling_march(p, u0, slip0, k, e, kl):
     step = np.empty(ny)
     for i in range(nx - 1, -1, -1):
         col = np.ascontiguousarray(p[:, i])
-        u_new, s_new, _ = _move_elements(u, s, k, e, kl, col)
+        u_new, s_new, _ = move_elements(u, s, k, e, kl, col)
         for j in range(ny):
             step[j] = _DP if col[j] >= p_prev[j] else -_DP
-        u_pert = _move_elements(u, s, k, e, kl, col + step)[0]
+        u_pert = move_elements(u, s, k, e, kl, col + step)[0]
         for j in range(ny):
             u_out[j, i] = u_new[j] - u0[j]
             c_out[j, i] = (u_pert[j] - u_new[j]) / step[j]
