@@ -1,4 +1,4 @@
-"""FEM validation: 3D elastic-plastic half-space under a prescribed circular Hertz pressure (issue 12, item 6).
+"""FEM validation: 3D elastic-plastic half-space under a prescribed circular Hertz pressure.
 
 Problem (units mm, N, MPa): quarter block 20 mm (unstructured gmsh P2 tetrahedra, element size h within 1.5 mm of
 the load centre), circular Hertz pressure p0 sqrt(1 - (r/a)^2) with a = 1 mm, far faces clamped, symmetry planes

@@ -118,7 +118,7 @@ def random_separation(rng: np.random.Generator, kind: str) -> tuple[np.ndarray, 
 
 
 def random_contact_case(seed: int) -> ContactCase:
-    """A reproducible random scene covering the ranges of issue 7 (see the module docstring)."""
+    """A reproducible random scene covering the ranges stated in the module docstring."""
     rng = np.random.default_rng(seed)
     kind = SEPARATION_KINDS[int(rng.integers(len(SEPARATION_KINDS)))]
     force = 10 ** rng.uniform(3.0, 6.0)

@@ -29,9 +29,9 @@ Public API (imported on first use: ``import contact`` loads no solver; the full 
   ``run_wheel_rail_scene(scene, out_dir, plots) -> SweepResult``.
 - Wear: ``run_wear_file(scene_path, out_dir)`` -> the wear run (profiles per step, steps.csv, result.json).
 
-Depends on: wrlayer, meshes.
-The contact package reads the layer-table format and uses the public profile API :mod:`meshes.profiles`; the wear
-loop's recalibration runs ``python -m calibration`` as a separate process instead of importing it.
+Depends on: wrlayer, meshes, calibration.
+The contact package uses the public profile API :mod:`meshes.profiles`; only the wear loop's recalibration imports
+:mod:`calibration` (its Python API, ``calibration.calibrate``).
 """
 
 from wrlayer import lazy_exports

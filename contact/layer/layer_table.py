@@ -39,7 +39,7 @@ from wrlayer.errors import InputError
 
 FORMAT = "wrlayer-layer-table"
 FORMAT_VERSION = 2
-#: Versions this reader accepts. 2 (issue 12): positions may carry "warnings" (conforming contact) and the
+#: Versions this reader accepts. 2: positions may carry "warnings" (conforming contact) and the
 #: characteristic can be scaled to a patch size (``characteristic_at(y, patch_mm)``, needs geometry a_mm, b_mm).
 SUPPORTED_VERSIONS = (1, 2)
 BODIES = ("rail", "wheel")
@@ -175,7 +175,7 @@ class LayerTable:
         then scaled by sqrt(a b) / sqrt(a_c b_c), (a_c, b_c) the calibrated patch: a half-space of J2 material
         with linear hardening under a Hertz pressure p0 sqrt(1 - (x/a)^2 - (y/b)^2) has no length of its own,
         so at fixed p0 and a/b its displacements are proportional to the patch size (docs/calibration.md;
-        measured x1.26 for a x1.27 patch, issue 12). InputError for a table without the calibrated semi-axes."""
+        measured x1.26 for a x1.27 patch). InputError for a table without the calibrated semi-axes."""
         ch = self._characteristic_at(y_mm)
         if patch_mm is None:
             return ch

@@ -1,4 +1,4 @@
-"""Table layers scaled to the solved contact patch (issue 12, item 7): the fixed point over the patch sizes.
+"""Table layers scaled to the solved contact patch: the fixed point over the patch sizes.
 
 A table characteristic holds for the patch it was calibrated on; ``LayerTable.characteristic_at(y, patch_mm)``
 scales it to another patch (a, b) (mm). The patch a solve finds depends on the layers, so scenes and wheel–rail

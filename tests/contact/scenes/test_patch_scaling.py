@@ -1,4 +1,4 @@
-"""Issue 12, item 7: a table layer with ``scale_to_patch = true`` is scaled to the contact solver's own patch
+"""A table layer with ``scale_to_patch = true`` is scaled to the contact solver's own patch
 (fixed point over first-pass solves); the shipped 3D rail table at the crown."""
 
 from pathlib import Path

@@ -1,4 +1,4 @@
-"""Issue 12, item 7 in wheel-rail scenes: ``scale_to_patch`` scales each patch's table characteristics to that
+"""In wheel-rail scenes ``scale_to_patch`` scales each patch's table characteristics to that
 patch's own solved semi-axes (fixed point), per patch when a wheel has two; scene key validation and result keys."""
 
 import json
