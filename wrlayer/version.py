@@ -34,8 +34,10 @@ def code_version() -> str:
 
 
 def version_text(prog: str) -> str:
-    """One line for ``--version``: program, package version and code revision."""
-    return f"{prog} {package_version()} ({code_version()})"
+    """One line for ``--version``: program, package version and, from a source tree, the code revision (an
+    installed package has no revision of its own: its version is printed once)."""
+    revision = code_version()
+    return f"{prog} {package_version()}" + (f" ({revision})" if revision.startswith("git ") else "")
 
 
 #: Packages whose versions every calibration table records.

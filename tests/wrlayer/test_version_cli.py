@@ -59,3 +59,13 @@ def test_progress_bar_only_on_a_terminal(monkeypatch):
     monkeypatch.setenv("WRLAYER_PROGRESS", "1")
     assert progress_enabled() and list(progress(items, desc="x")) == items
     assert not progress_enabled(quiet=True)
+
+
+def test_installed_version_printed_once(monkeypatch):
+    import wrlayer.version as version
+
+    monkeypatch.setattr(version, "code_version", lambda: "wrlayer 0.1.0")
+    monkeypatch.setattr(version, "package_version", lambda: "0.1.0")
+    assert version.version_text("wrlayer") == "wrlayer 0.1.0"
+    monkeypatch.setattr(version, "code_version", lambda: "git v0.1.0-3-gabc1234")
+    assert version.version_text("wrlayer") == "wrlayer 0.1.0 (git v0.1.0-3-gabc1234)"
