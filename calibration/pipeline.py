@@ -230,11 +230,11 @@ def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress,
     result = CalibrationResult(bodies, len(todo), n_cached, fem_seconds, tuple(failed), tuple(warnings), worst,
                                time.perf_counter() - t_start, tuple(written))
     atomic_write_text(out_dir / "summary.json", json.dumps(result.to_dict(), indent=1) + "\n")
-    _report(result, out_dir, log)
+    _report(result, cfg.run.model, out_dir, log)
     return result
 
 
-def _report(result: CalibrationResult, out_dir: Path, log) -> None:
+def _report(result: CalibrationResult, model: str, out_dir: Path, log) -> None:
     """Warnings and errors on stderr, one summary line to ``log``."""
     for w in result.warnings:
         print(f"warning: {w.message}", file=sys.stderr)
@@ -242,7 +242,7 @@ def _report(result: CalibrationResult, out_dir: Path, log) -> None:
         print(f"error: {f.message}", file=sys.stderr)
     n_ok = sum(v.calibrated for v in result.bodies.values())
     fem = result.fem_seconds
-    log(f"calibration: {n_ok} position(s) calibrated ({result.positions_computed} computed, "
+    log(f"calibration ({model.upper()} model): {n_ok} position(s) calibrated ({result.positions_computed} computed, "
         f"{result.positions_cached} cached), {len(result.failed)} failed, {result.seconds:.1f} s"
         + ("" if fem is None else f" (FEM {fem.per_position_min:.1f}-{fem.per_position_max:.1f} s per position, "
                                   f"field output {fem.output_total:.0f} s in all)")

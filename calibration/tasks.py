@@ -20,6 +20,7 @@ from calibration.fem.material import J2Material
 from calibration.hertz.geometry import (HERTZ_B_OVER_R_LIMIT, LocalGeometry, conformity, fitted_load_N,
                                         given_geometry, local_geometry)
 from calibration.indentation import indent
+from calibration.placement import cant_rad
 from calibration.results import IndentationResult
 from calibration.settings import (BodySettings, CalibrationConfig, LoadSettings, MaterialSettings, MeshSettings)
 from meshes.meshing.section_mesh import DEFAULT_DEPTH_MM, check_mesh_inputs
@@ -132,7 +133,8 @@ def position_geometry(b: BodySettings, profile, mate, y: float, reference_load_N
     conforming position (b/R_min > HERTZ_B_OVER_R_LIMIT), at the load whose patch has b/R_min at the limit."""
     if b.semi_axes_mm is not None:
         return given_geometry(profile, y, *b.semi_axes_mm), None
-    args = (b.material.E_MPa, b.material.poisson, b.rail_cant_rad, b.wheel_radius_mm, b.max_lateral_radius_mm)
+    args = (b.material.E_MPa, b.material.poisson, cant_rad(b, f"bodies.{b.body}"), b.wheel_radius_mm,
+            b.max_lateral_radius_mm)
     geo = local_geometry(profile, y, mate, reference_load_N, *args)
     ratio = conformity(geo)
     if ratio <= HERTZ_B_OVER_R_LIMIT:
