@@ -3,8 +3,9 @@
 The mating position of a calibration point (:func:`calibration.hertz.geometry.mating_position`) compares the
 surface slopes of the rail and the wheel in the track frame, so it needs the angle by which the track tilts the
 rail profile's own frame: ``inclination`` (1:n, as the wheel-rail scenes' ``track.inclination``) or
-``inclination_rad``. A builtin rail (e.g. "60E1") is upright in its frame and is canted 1:40 unless told
-otherwise; a rail read from a file, or given as a Profile object, may already be canted (e.g. the Manchester
+``inclination_rad``. A builtin rail (e.g. "60E1", or its Profile object) is upright in its frame and is canted
+1:40 unless told otherwise; a rail read from a file, or built from points (e.g. a worn profile), may already be
+canted (e.g. the Manchester
 benchmark's ``MBench_UIC60_v3.prr``, canted 1:40 in the file), so its inclination must be given: 0 for a file
 already placed as in the track.
 """
@@ -30,8 +31,11 @@ def inclination_to_rad(ratio: float) -> float:
 
 
 def is_builtin(spec: Any) -> bool:
-    """True for a builtin profile name (not a file path, not a Profile object)."""
-    return isinstance(spec, str) and spec.strip().upper() in BUILTIN_PROFILES
+    """True for a builtin profile: its name, or a Profile object of a builtin profile's class (not one read from
+    a file or built from points)."""
+    if isinstance(spec, str):
+        return spec.strip().upper() in BUILTIN_PROFILES
+    return type(spec) in set(BUILTIN_PROFILES.values())
 
 
 def rail_spec(b: BodySettings) -> Any:
