@@ -62,12 +62,13 @@ def _master(cfg, quick: bool):
     tasks = master_tasks(cfg, mat)
     cache = Path(cfg.run.master_dir)
     missing = [t for t in tasks if not fem_entry(cache, t.key).is_file()]
-    if missing and quick:
-        return None, f"{len(missing)} of {len(tasks)} master positions not in {cache}"
-    if missing:
+    if len(missing) == len(tasks) and quick:
+        return None, f"no master positions in {cache}"
+    if missing and not quick:
         with tempfile.TemporaryDirectory() as tmp:
             calibrate(dataclasses.replace(cfg, bodies=cfg.bodies[:1]), tmp, show_progress=False)
-    results = {t.key: load_indentation(fem_entry(cache, t.key))[0] for t in tasks}
+    results = {t.key: load_indentation(fem_entry(cache, t.key))[0] for t in tasks
+               if fem_entry(cache, t.key).is_file()}  # a failed master position has no entry
     return MasterCurves.build(cfg, mat, tasks, results), ""
 
 
@@ -130,7 +131,9 @@ def compare_runs(direct_out: Path, master_dir: Path, quick: bool = True) -> dict
         rows.append(row)
     served = [r for r in rows if r["method"] == "similarity"]
     worst = {k: max((abs(r[k]) for r in served), default=float("nan")) for k in ("p_y", "u_pl", "residual")}
-    return {"rows": rows, "worst": worst, "master_fem_s": master.fem_seconds, "master_positions": len(master.aspects),
+    return {"rows": rows, "worst": worst, "master_fem_s": master.fem_seconds,
+            "master_positions": len(master.aspects) * len(master.lengths_mm) - len(master.substituted),
+            "substituted": master.substituted,
             "timing": _timing(cfg, master, tasks), "target": TARGET}
 
 
@@ -147,7 +150,8 @@ def _markdown(data: dict) -> str:
     w, tm = data["worst"], data["timing"]
     md += ["", f"Worst over the {tm['served']} served positions: p_y {100 * w['p_y']:.2f} %, u_pl "
                f"{100 * w['u_pl']:.2f} %, residual dents {100 * w['residual']:.2f} % (target {100 * TARGET:g} %).",
-           f"Master: {data['master_positions']} FEM positions, {data['master_fem_s']:.0f} s of FEM. Per position "
+           f"Master: {data['master_positions']} FEM positions, {data['master_fem_s']:.0f} s of FEM"
+           f"{' (substituted: ' + '; '.join(data['substituted']) + ')' if data['substituted'] else ''}. Per position "
            f"once the master exists: interpolation {1e3 * tm['interpolation_s']:.3f} ms, route and interpolation in "
            f"calibrate {1e3 * tm['route_s']:.3f} ms, a whole calibrate call (geometry, fit, table) "
            f"{1e3 * tm['calibrate_s_per_position']:.0f} ms per position."]

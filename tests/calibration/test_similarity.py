@@ -17,7 +17,7 @@ from calibration.hertz.geometry import given_geometry
 from calibration.indentation import load_levels
 from calibration.pipeline import calibrate
 from calibration.results import IndentationResult
-from calibration.similarity.master import ASPECTS, MasterCurves, master_tasks
+from calibration.similarity.master import ASPECTS, LENGTHS_MM, MasterCurves, master_tasks
 from calibration.similarity.route import route, similar_indentation
 from calibration.tasks import make_tasks
 from contact.layer.layer_table import LayerTable
@@ -43,7 +43,7 @@ def _fake_indentation(a_mm: float, b_mm: float, cfg) -> IndentationResult:
                              100, 10, 5, 1.0)
 
 
-def _sim_cfg(tmp_path: Path, positions=(0.0, 10.0), **body):
+def _sim_cfg(tmp_path: Path, positions=(-5.0, 0.0), **body):
     cfg = load_config(COARSE)
     run = dataclasses.replace(cfg.run, method="similarity", master_dir=str(tmp_path / "master"))
     return dataclasses.replace(cfg, run=run, bodies=(dataclasses.replace(cfg.bodies[0], positions_mm=positions,
@@ -93,7 +93,7 @@ def test_similarity_run_with_a_cached_master_computes_no_fem(tmp_path):
     result = calibrate(cfg, tmp_path / "out", show_progress=False, log=lambda *a: None)
     assert result.ok and result.positions_computed == 0 and result.fem_seconds is None
     sim = result.similarity
-    assert sim.served == 2 and sim.direct == 0 and sim.master_positions_cached == len(ASPECTS)
+    assert sim.served == 2 and sim.direct == 0 and sim.master_positions_cached == len(ASPECTS) * len(LENGTHS_MM)
     assert sim.master_positions_computed == 0 and sim.seconds_per_position < 0.1  # ms warm (benchmark)
     assert Path(sim.master_files[0]).is_file()
     table = LayerTable.read(result.tables["rail"])
@@ -122,7 +122,7 @@ def test_a_folder_of_profiles_is_costed_first_then_calibrated_from_the_master(tm
     for name in ("worn_a.prr", "worn_b.prr"):
         (folder / name).write_bytes(RAIL_FILE.read_bytes())
     (folder / "README.md").write_text("not a profile")
-    cfg = _sim_cfg(tmp_path, positions=(-10.0, 0.0), inclination=0.0)
+    cfg = _sim_cfg(tmp_path, positions=(-8.0, -3.0), inclination=0.0)
     _fake_master(cfg)
     lines = []
     results = calibrate_profiles([folder], cfg, tmp_path / "out", log=lines.append, show_progress=False)
