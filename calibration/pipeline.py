@@ -82,7 +82,8 @@ class SimilaritySummary:
     master_fem_seconds : float
         FEM time of all master positions, cached ones included (s).
     seconds_per_position : float
-        Time to route a position and build its characteristic from the master, without the fit (s).
+        Time per position to route it and (when served) build its characteristic from the master, without the
+        fit (s).
     """
 
     served: int
@@ -254,10 +255,11 @@ def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress,
     # that no worker is left alone with a long position at the end
     todo.sort(key=lambda t: -t.aspect)
     n_cached = len(cached)
-    guard(calibration_cost(cfg, todo, scheduler), force)
+    estimate = guard(calibration_cost(cfg, todo, scheduler), force)
     if todo:
         log(f"calibration ({cfg.run.model.upper()} model): {len(todo)} position(s) to compute, {n_cached} cached "
-            f"({'Dask ' + scheduler if scheduler else f'{min(cfg.run.workers, len(todo))} local worker(s)'})")
+            f"({'Dask ' + scheduler if scheduler else f'{min(cfg.run.workers, len(todo))} local worker(s)'}; "
+            f"estimated {estimate.describe()})")
     _compute(todo, cfg, scheduler, cache, show_progress, results, failed)
     computed = [results[t.key] for t in todo if t.key in results]
     fem_s = [r.seconds for r in computed]
@@ -306,11 +308,11 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     mresults, mtodo = _split_cached([t for m in materials for t in mtasks[m]], mcache, log)
     n_mcached = len(mresults)
     direct = [t for t in tasks if route(t, cfg.reference_load_N).method == METHOD_DIRECT]
-    guard(calibration_cost(cfg, mtodo + _split_cached(direct, out_dir / "cache", lambda *a: None)[1], scheduler),
-          force)
+    estimate = guard(calibration_cost(cfg, mtodo + _split_cached(direct, out_dir / "cache", lambda *a: None)[1],
+                                      scheduler), force)
     if mtodo:
         log(f"calibration (3D model, similarity): {len(mtodo)} master position(s) to compute "
-            f"({len(mresults)} cached) in {mcache}")
+            f"({len(mresults)} cached) in {mcache}; with the direct positions estimated {estimate.describe()}")
     mfailed: list[PositionNote] = []
     _compute(mtodo, cfg, scheduler, mcache, show_progress, mresults, mfailed)
     warnings += [PositionNote("master", n.y_mm, f"similarity master: {n.message}") for n in mfailed]
@@ -327,10 +329,13 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
             results[t.key] = similar_indentation(master, t.geometry.a_mm, t.geometry.b_mm)
         routes[t.key] = r
         out.append(t)
+    per_position = (time.perf_counter() - t0) / max(len(tasks), 1)
+    for t in out:
+        if routes[t.key].method == METHOD_DIRECT:
+            log(f"calibration: {t.body} y = {t.y_mm:g} mm by the direct FEM: {routes[t.key].note}")
     served = sum(r.method == METHOD_SIMILARITY for r in routes.values())
     summary = SimilaritySummary(served, len(tasks) - served, files, len(mtodo) - len(mfailed), n_mcached,
-                                sum(mc.fem_seconds for mc in masters.values() if mc),
-                                (time.perf_counter() - t0) / max(served, 1))
+                                sum(mc.fem_seconds for mc in masters.values() if mc), per_position)
     return out, summary
 
 
