@@ -29,8 +29,9 @@ Public API (imported on first use: ``import calibration`` loads neither scikit-f
 - ``calibrate(cfg, out_dir, *, scheduler=None, plots=None) -> CalibrationResult``: calibrate every body and
   position of ``cfg`` into ``out_dir`` (``<body>_layer_table.json``/``.csv``, ``summary.json``; cached by input
   hash); ``run_calibration`` is the same returning the summary dictionary.
-- ``calibrate_profiles(paths, template, out_dir) -> {file: CalibrationResult}``: every profile file of ``paths``
-  (files, folders, globs) calibrated with a template configuration, the batch's cost printed first.
+- ``calibration.batch.calibrate_profiles(paths, template, out_dir) -> {file: CalibrationResult}``: every profile
+  file of ``paths`` (files, folders, globs) calibrated with a template configuration, the batch's cost printed
+  first.
 - ``CalibrationConfig``, ``BodySettings``, ``MaterialSettings``: the configuration's dataclasses (change a copy
   with :func:`dataclasses.replace`, e.g. fewer positions).
 
@@ -42,7 +43,6 @@ from wrlayer import lazy_exports
 #: Public name -> the module that defines it (imported on first use).
 API = {
     "calibrate": "calibration.pipeline",
-    "calibrate_profiles": "calibration.batch",
     "run_calibration": "calibration.pipeline",
     "CalibrationResult": "calibration.pipeline",
     "load_config": "calibration.config",
