@@ -13,6 +13,9 @@ Python API (a calibration of given positions)::
 - :mod:`calibration.hertz`: Hertzian contact geometry and pressure loads.
 - :mod:`calibration.position_mesh`, :mod:`calibration.indentation`: one position's mesh and FEM indentation.
 - :mod:`calibration.fit`, :mod:`calibration.position_fit`: the Prandtl element fit (paper eqs. 4-8).
+- :mod:`calibration.placement`: the rail inclination of a body (profiles in their own frame).
+- :mod:`calibration.similarity`: master curves over the patch aspect ratio and the similarity route.
+- :mod:`calibration.batch`: a folder of profile files with one template configuration.
 - :mod:`calibration.results`: a position's results (FEM indentation, table entry) as typed records.
 - :mod:`calibration.tasks`, :mod:`calibration.cache`, :mod:`calibration.tables`, :mod:`calibration.pipeline`,
   :mod:`calibration.plots`: the cached run over many positions (:mod:`wrlayer.runner`) and the layer tables,
@@ -26,6 +29,9 @@ Public API (imported on first use: ``import calibration`` loads neither scikit-f
 - ``calibrate(cfg, out_dir, *, scheduler=None, plots=None) -> CalibrationResult``: calibrate every body and
   position of ``cfg`` into ``out_dir`` (``<body>_layer_table.json``/``.csv``, ``summary.json``; cached by input
   hash); ``run_calibration`` is the same returning the summary dictionary.
+- ``calibration.batch.calibrate_profiles(paths, template, out_dir) -> {file: CalibrationResult}``: every profile
+  file of ``paths`` (files, folders, globs) calibrated with a template configuration, the batch's cost printed
+  first.
 - ``CalibrationConfig``, ``BodySettings``, ``MaterialSettings``: the configuration's dataclasses (change a copy
   with :func:`dataclasses.replace`, e.g. fewer positions).
 

@@ -14,7 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from calibration.fit.characteristic_fit import N_SEGMENTS_RANGE
-from calibration.settings import (LINEAR_SOLVERS, MESH_STYLES, MODELS, REFERENCE_LOAD_N, BodySettings,
+from calibration.placement import MIN_INCLINATION_RATIO, cant_rad
+from calibration.settings import (LINEAR_SOLVERS, MESH_STYLES, METHODS, MODELS, REFERENCE_LOAD_N, BodySettings,
                                   CalibrationConfig, FitSettings, LoadSettings, MaterialSettings, MeshSettings,
                                   RunSettings)
 from meshes.profiles import PROFILE_FILE_SUFFIXES, Profile, get_profile
@@ -27,8 +28,8 @@ from wrlayer.validate import Keys
 MAX_POSITIONS = 500
 
 _TOP_KEYS = ("run", "material", "load", "mesh", "fit", "bodies")
-_BODY_KEYS = ("body", "profile", "mate", "positions_mm", "positions", "semi_axes_mm", "rail_cant_rad",
-              "max_lateral_radius_mm", "wheel_radius_mm", "material")
+_BODY_KEYS = ("body", "profile", "mate", "positions_mm", "positions", "semi_axes_mm", "inclination",
+              "inclination_rad", "rail_cant_rad", "max_lateral_radius_mm", "wheel_radius_mm", "material")
 
 
 def _names(cls) -> tuple[str, ...]:
@@ -40,6 +41,10 @@ def _run(k: Keys) -> RunSettings:
     kw: dict[str, Any] = {}
     if "model" in k.table:
         kw["model"] = k.text("model", choices=MODELS)
+    if "method" in k.table:
+        kw["method"] = k.text("method", choices=METHODS)
+    if "master_dir" in k.table:
+        kw["master_dir"] = k.text("master_dir")
     if "workers" in k.table:
         kw["workers"] = k.integer("workers", None, ge=1, le=64)
     if "scheduler" in k.table:
@@ -48,7 +53,10 @@ def _run(k: Keys) -> RunSettings:
         kw["plots"] = k.boolean("plots", True)
     if "linear_solver" in k.table:
         kw["linear_solver"] = k.text("linear_solver", choices=LINEAR_SOLVERS)
-    return RunSettings(**kw)
+    run = RunSettings(**kw)
+    if run.method == "similarity" and run.model != "3d":
+        raise k.error("method", "'similarity' needs model = '3d' (the master curves are 3D half-model results)")
+    return run
 
 
 def _material(k: Keys, base: MaterialSettings = MaterialSettings()) -> MaterialSettings:
@@ -198,10 +206,28 @@ def _body(k: Keys, base: Path, material: MaterialSettings) -> BodySettings:
     if "mate" not in k.table and semi is None:
         raise k.error("mate", "missing (needed for the Hertz semi-axes unless semi_axes_mm is given)")
     mate = _mate(k, body, base) if "mate" in k.table else None
-    kw = _numbers(k, {"rail_cant_rad": dict(ge=-0.2, le=0.2), "max_lateral_radius_mm": dict(gt=0.0),
-                      "wheel_radius_mm": dict(gt=0.0)})
+    kw = _numbers(k, {"max_lateral_radius_mm": dict(gt=0.0), "wheel_radius_mm": dict(gt=0.0)})
+    kw.update(_inclination(k))
     mat = _material(k.sub("material"), material) if "material" in k.table else material
-    return BodySettings(body, spec, mate, ys, semi, material=mat, **kw)
+    settings = BodySettings(body, spec, mate, ys, semi, material=mat, **kw)
+    cant_rad(settings, f"{k.file}: {k.prefix}")  # a rail of unknown placement: refused here
+    return settings
+
+
+def _inclination(k: Keys) -> dict[str, float]:
+    """``inclination`` (1:n) or ``inclination_rad`` (alias ``rail_cant_rad``), at most one of them."""
+    given = [name for name in ("inclination", "inclination_rad", "rail_cant_rad") if name in k.table]
+    if len(given) > 1:
+        raise k.error(given[1], f"give one of inclination (1:n) or inclination_rad, not also {given[0]}")
+    if not given:
+        return {}
+    if given[0] == "inclination":
+        ratio = k.number("inclination", ge=0.0)
+        if 0 < ratio < MIN_INCLINATION_RATIO:
+            raise k.error("inclination", f"1:n needs n >= {MIN_INCLINATION_RATIO:g} (or 0 for a rail already "
+                                         f"placed as in the track), got {ratio:g}")
+        return {"inclination": ratio}
+    return {"inclination_rad": k.number(given[0], ge=-0.2, le=0.2)}
 
 
 def _table(k: Keys, key: str) -> Keys:

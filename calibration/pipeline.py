@@ -25,6 +25,9 @@ from calibration.cost import calibration_cost
 from calibration.position_fit import fit_position
 from calibration.results import IndentationResult, PositionFit
 from calibration.settings import CalibrationConfig
+from calibration.similarity.master import MasterCurves, master_tasks
+from calibration.similarity.route import (METHOD_DIRECT, METHOD_SIMILARITY, SIMILARITY_SOURCES, Route, route,
+                                          similar_indentation, similarity_task)
 from calibration.tables import FIT_SOURCES, BodySummary, write_body_table
 # make_tasks, position_geometry and limited_threads are also re-exported (__all__) for the benchmarks and input
 # tests that import them from this module
@@ -60,6 +63,39 @@ class FemSeconds:
 
 
 @dataclass(frozen=True)
+class SimilaritySummary:
+    """The similarity route of a run (``similarity`` of ``summary.json``).
+
+    Attributes
+    ----------
+    served : int
+        Positions calibrated from the master curves.
+    direct : int
+        Positions the master did not serve (calibrated by the direct FEM; why: each table entry's ``method`` and
+        the summary's ``position_details``).
+    master_files : tuple of str
+        The master curves written (``similarity_master_<key>.json``).
+    master_positions_computed : int
+        Master FEM positions computed in this run.
+    master_positions_cached : int
+        Master FEM positions read from the master's cache.
+    master_fem_seconds : float
+        FEM time of all master positions, cached ones included (s).
+    seconds_per_position : float
+        Time per position to route it and (when served) build its characteristic from the master, without the
+        fit (s).
+    """
+
+    served: int
+    direct: int
+    master_files: tuple[str, ...]
+    master_positions_computed: int
+    master_positions_cached: int
+    master_fem_seconds: float
+    seconds_per_position: float
+
+
+@dataclass(frozen=True)
 class CalibrationResult:
     """The outcome of a calibration run (``summary.json``).
 
@@ -83,6 +119,8 @@ class CalibrationResult:
         Wall time of the run (s).
     files : tuple of str
         Files written (tables, pictures).
+    similarity : SimilaritySummary or None
+        The similarity route's summary (None, and absent from the file: ``run.method = "direct"``).
     """
 
     bodies: dict[str, BodySummary]
@@ -94,6 +132,7 @@ class CalibrationResult:
     worst_relative_fit_error: float
     seconds: float
     files: tuple[str, ...]
+    similarity: SimilaritySummary | None = None
 
     @property
     def ok(self) -> bool:
@@ -115,6 +154,8 @@ class CalibrationResult:
                    warnings=[{"body": w.body, "y_mm": w.y_mm, "warning": w.message} for w in self.warnings],
                    worst_relative_fit_error=self.worst_relative_fit_error, seconds=self.seconds,
                    files=list(self.files))
+        if self.similarity is not None:
+            out["similarity"] = asdict(self.similarity)
         return out
 
 
@@ -201,40 +242,104 @@ def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress,
     scheduler = scheduler if scheduler is not None else (cfg.run.scheduler or "")
     tasks, failed, warnings = make_tasks(cfg, out_dir, plots)
     cache = out_dir / "cache"
-    results, todo = _split_cached(tasks, cache, log)
+    results: dict[str, IndentationResult] = {}
+    routes: dict[str, Route] = {}
+    similarity = None
+    if cfg.run.method == "similarity":
+        tasks, similarity = _similarity(cfg, tasks, out_dir, scheduler, show_progress, log, force, warnings,
+                                        results, routes)
+    cached, todo = _split_cached([t for t in tasks if t.key not in results], cache, log)
+    results.update(cached)
     # longest first: the most elongated patches take the most Newton iterations and solves (with the stretched mesh
     # of the default run 8-9.6 s at a/b = 5.8-13.6 against 6.4-7.6 s for round patches, docs/calibration.md), so
     # that no worker is left alone with a long position at the end
     todo.sort(key=lambda t: -t.aspect)
-    n_cached = len(tasks) - len(todo)
-    guard(calibration_cost(cfg, todo, scheduler), force)
+    n_cached = len(cached)
+    estimate = guard(calibration_cost(cfg, todo, scheduler), force)
     if todo:
-        log(f"calibration: {len(todo)} position(s) to compute, {n_cached} cached "
-            f"({'Dask ' + scheduler if scheduler else f'{min(cfg.run.workers, len(todo))} local worker(s)'})")
+        log(f"calibration ({cfg.run.model.upper()} model): {len(todo)} position(s) to compute, {n_cached} cached "
+            f"({'Dask ' + scheduler if scheduler else f'{min(cfg.run.workers, len(todo))} local worker(s)'}; "
+            f"estimated {estimate.describe()})")
     _compute(todo, cfg, scheduler, cache, show_progress, results, failed)
     computed = [results[t.key] for t in todo if t.key in results]
     fem_s = [r.seconds for r in computed]
     fem_seconds = None if not fem_s else FemSeconds(min(fem_s), max(fem_s), sum(fem_s),
                                                     sum(r.output_seconds for r in computed))
+    bodies, written = _tables(cfg, tasks, results, routes, failed, warnings, plots, out_dir)
+    worst = max([s.max_relative_fit_error for s in bodies.values() if s.table is not None], default=0.0)
+    result = CalibrationResult(bodies, len(todo), n_cached, fem_seconds, tuple(failed), tuple(warnings), worst,
+                               time.perf_counter() - t_start, tuple(written), similarity)
+    atomic_write_text(out_dir / "summary.json", json.dumps(result.to_dict(), indent=1) + "\n")
+    _report(result, cfg.run.model, out_dir, log)
+    return result
+
+
+def _tables(cfg: CalibrationConfig, tasks: list[PositionTask], results: dict[str, IndentationResult],
+            routes: dict[str, Route], failed: list[PositionNote], warnings: list[PositionNote], plots: bool,
+            out_dir: Path) -> tuple[dict[str, BodySummary], list[str]]:
+    """Fit every position with a result and write each body's table; ({body: summary}, files written)."""
     fit_code = code_hash(FIT_SOURCES)
+    cache = out_dir / "cache"
     bodies, written = {}, []
+    body_routes = {k: (r.method, r.note) for k, r in routes.items()}
     for b in cfg.bodies:
         fits = []
         for t in (t for t in tasks if t.body == b.body and t.key in results):
             fit = _fit(t, results[t.key], cfg, cache, fit_code, failed)
             if fit is not None:
                 fits.append((t.key, fit))
-        bodies[b.body], _, files = write_body_table(cfg, b, fits, failed, warnings, fit_code, plots, out_dir)
+        bodies[b.body], _, files = write_body_table(cfg, b, fits, failed, warnings, fit_code, plots, out_dir,
+                                                    body_routes)
         written += [str(p) for p in files]
-    worst = max([s.max_relative_fit_error for s in bodies.values() if s.table is not None], default=0.0)
-    result = CalibrationResult(bodies, len(todo), n_cached, fem_seconds, tuple(failed), tuple(warnings), worst,
-                               time.perf_counter() - t_start, tuple(written))
-    atomic_write_text(out_dir / "summary.json", json.dumps(result.to_dict(), indent=1) + "\n")
-    _report(result, out_dir, log)
-    return result
+    return bodies, written
 
 
-def _report(result: CalibrationResult, out_dir: Path, log) -> None:
+def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path, scheduler: str, show_progress,
+                log, force: bool, warnings: list[PositionNote], results: dict[str, IndentationResult],
+                routes: dict[str, Route]) -> tuple[list[PositionTask], SimilaritySummary]:
+    """The similarity route: compute (or read) each material's master, then give every position it serves its
+    characteristic from the master (into ``results``, keyed by its similarity key) and every position its route
+    (``routes``). Returns the tasks (the served ones re-keyed) and the route's summary."""
+    if cfg.run.model != "3d":
+        raise InputError(f"{cfg.source}: run.method", "'similarity' needs run.model = '3d'")
+    mcache = Path(cfg.run.master_dir) if cfg.run.master_dir else out_dir / "cache"
+    materials = list(dict.fromkeys(b.material for b in cfg.bodies))
+    mtasks = {m: master_tasks(cfg, m) for m in materials}
+    mresults, mtodo = _split_cached([t for m in materials for t in mtasks[m]], mcache, log)
+    n_mcached = len(mresults)
+    direct = [t for t in tasks if route(t, cfg.reference_load_N).method == METHOD_DIRECT]
+    estimate = guard(calibration_cost(cfg, mtodo + _split_cached(direct, out_dir / "cache", lambda *a: None)[1],
+                                      scheduler), force)
+    if mtodo:
+        log(f"calibration (3D model, similarity): {len(mtodo)} master position(s) to compute "
+            f"({len(mresults)} cached) in {mcache}; with the direct positions estimated {estimate.describe()}")
+    mfailed: list[PositionNote] = []
+    _compute(mtodo, cfg, scheduler, mcache, show_progress, mresults, mfailed)
+    warnings += [PositionNote("master", n.y_mm, f"similarity master: {n.message}") for n in mfailed]
+    masters = {m: MasterCurves.build(cfg, m, mtasks[m], mresults) for m in materials}
+    files = tuple(str(mc.write(out_dir)) for mc in masters.values() if mc is not None)
+    out, code = [], code_hash(SIMILARITY_SOURCES)
+    t0 = time.perf_counter()
+    for t in tasks:
+        master = masters[t.material]
+        r = route(t, cfg.reference_load_N, master.aspect_range) if master else \
+            Route(METHOD_DIRECT, "the similarity master of its material failed")
+        if r.method == METHOD_SIMILARITY:
+            t = similarity_task(t, master, code)
+            results[t.key] = similar_indentation(master, t.geometry.a_mm, t.geometry.b_mm)
+        routes[t.key] = r
+        out.append(t)
+    per_position = (time.perf_counter() - t0) / max(len(tasks), 1)
+    for t in out:
+        if routes[t.key].method == METHOD_DIRECT:
+            log(f"calibration: {t.body} y = {t.y_mm:g} mm by the direct FEM: {routes[t.key].note}")
+    served = sum(r.method == METHOD_SIMILARITY for r in routes.values())
+    summary = SimilaritySummary(served, len(tasks) - served, files, len(mtodo) - len(mfailed), n_mcached,
+                                sum(mc.fem_seconds for mc in masters.values() if mc), per_position)
+    return out, summary
+
+
+def _report(result: CalibrationResult, model: str, out_dir: Path, log) -> None:
     """Warnings and errors on stderr, one summary line to ``log``."""
     for w in result.warnings:
         print(f"warning: {w.message}", file=sys.stderr)
@@ -242,7 +347,7 @@ def _report(result: CalibrationResult, out_dir: Path, log) -> None:
         print(f"error: {f.message}", file=sys.stderr)
     n_ok = sum(v.calibrated for v in result.bodies.values())
     fem = result.fem_seconds
-    log(f"calibration: {n_ok} position(s) calibrated ({result.positions_computed} computed, "
+    log(f"calibration ({model.upper()} model): {n_ok} position(s) calibrated ({result.positions_computed} computed, "
         f"{result.positions_cached} cached), {len(result.failed)} failed, {result.seconds:.1f} s"
         + ("" if fem is None else f" (FEM {fem.per_position_min:.1f}-{fem.per_position_max:.1f} s per position, "
                                   f"field output {fem.output_total:.0f} s in all)")
@@ -251,5 +356,5 @@ def _report(result: CalibrationResult, out_dir: Path, log) -> None:
                                     "interpolated across; a rerun computes only the failed ones)"))
 
 
-__all__ = ["CalibrationResult", "FemSeconds", "calibrate", "limited_threads", "make_tasks", "position_geometry",
+__all__ = ["CalibrationResult", "FemSeconds", "SimilaritySummary", "calibrate", "limited_threads", "make_tasks", "position_geometry",
            "run_calibration"]

@@ -12,10 +12,12 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from calibration.hertz.geometry import DEFAULT_MAX_LATERAL_RADIUS_MM, DEFAULT_RAIL_CANT_RAD
+from calibration.hertz.geometry import DEFAULT_MAX_LATERAL_RADIUS_MM
 
 #: The models of RunSettings.model.
 MODELS = ("2d", "3d")
+#: The calibration routes of RunSettings.method.
+METHODS = ("direct", "similarity")
 #: The linear solvers of RunSettings.linear_solver.
 LINEAR_SOLVERS = ("auto", "pardiso", "scipy")
 #: The 3D mesh styles of MeshSettings.style.
@@ -32,6 +34,12 @@ class RunSettings:
     ----------
     model : str
         FEM model: "3d" (local half model under the elliptic Hertz pressure) or "2d" (plane-strain section).
+    method : str
+        "direct" (the FEM at every position) or "similarity" (3D only: non-conforming positions from the
+        material's master curves over the patch aspect ratio a/b, scaled by the patch size; conforming positions
+        and those outside the master's range by the direct FEM; docs/calibration.md, "Calibration by similarity").
+    master_dir : str
+        Folder of the similarity master's FEM cache, shared between runs ("" : the run's own OUT/cache).
     workers : int
         Local worker processes (1..64); the machine's cores are shared among them as BLAS threads.
     scheduler : str
@@ -42,7 +50,9 @@ class RunSettings:
         "auto" (PARDISO when installed, else SuperLU), "pardiso" or "scipy" (SuperLU, faster for 2D sections).
     """
 
-    model: str = "2d"
+    model: str = "3d"
+    method: str = "direct"
+    master_dir: str = ""
     workers: int = 2
     scheduler: str = ""
     plots: bool = True
@@ -197,8 +207,13 @@ class BodySettings:
         ``positions = {start_mm, stop_mm, step_mm}``).
     semi_axes_mm : tuple of float or None
         Given Hertz semi-axes [a, b] (mm; rolling, lateral) instead of the mate's.
-    rail_cant_rad : float
-        Rail cant for the mating position (rad, in [-0.2, 0.2]).
+    inclination : float or None
+        Rail inclination 1:n of the track relative to the rail profile's own frame, as the wheel-rail scenes'
+        ``track.inclination`` (-, n >= 5, or 0 for a profile already placed as in the track, e.g. a canted
+        file); the rail is the body's profile (rail) or its mate (wheel). None: 1:40 for a builtin rail; a rail
+        from a file or a Profile object must give it (or inclination_rad).
+    inclination_rad : float or None
+        The same as an angle (rad, in [-0.2, 0.2]; TOML alias ``rail_cant_rad``); give at most one of the two.
     max_lateral_radius_mm : float
         Largest lateral radius of the curvature sum (mm, > 0): a flatter contact is taken as this curved.
     wheel_radius_mm : float or None
@@ -212,7 +227,8 @@ class BodySettings:
     mate: Any
     positions_mm: tuple[float, ...]
     semi_axes_mm: tuple[float, float] | None = None
-    rail_cant_rad: float = DEFAULT_RAIL_CANT_RAD
+    inclination: float | None = None
+    inclination_rad: float | None = None
     max_lateral_radius_mm: float = DEFAULT_MAX_LATERAL_RADIUS_MM
     wheel_radius_mm: float | None = None
     material: MaterialSettings = MaterialSettings()
@@ -255,4 +271,4 @@ class CalibrationConfig:
 
 
 __all__ = ["BodySettings", "CalibrationConfig", "FitSettings", "LINEAR_SOLVERS", "LoadSettings", "MESH_STYLES",
-           "MODELS", "MaterialSettings", "MeshSettings", "REFERENCE_LOAD_N", "RunSettings"]
+           "METHODS", "MODELS", "MaterialSettings", "MeshSettings", "REFERENCE_LOAD_N", "RunSettings"]

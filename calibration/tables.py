@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from calibration.hertz.geometry import HERTZ_B_OVER_R_LIMIT
+from calibration.placement import cant_rad
 from calibration.results import PositionFit
 from calibration.settings import BodySettings, CalibrationConfig
 from calibration.tasks import PositionNote, code_hash, inputs_hash, profile_label, profile_source
@@ -27,6 +28,37 @@ DEFINITION = ("u(p) = p/S_1 + u_pl(p); u_pl = FEM approach of the load centre to
               "reference_depth_factor * max(a, b) below it, minus the same mesh's elastic part; S_1 = p_max / "
               "(elastic_tolerance * u_pl(p_max)) (or 1/(elastic_fraction * half-space centre compliance) when "
               "elastic_fraction is given); p_2 = FEM first yield (docs/calibration.md)")
+
+
+@dataclass(frozen=True)
+class PositionReport:
+    """One calibrated position in the run summary (``bodies.<body>.position_details[i]`` of ``summary.json``).
+
+    Attributes
+    ----------
+    y_mm : float
+        Lateral position on the body's profile (mm).
+    y_mate_mm : float or None
+        The mating profile's position in contact with it (mm; None: given semi-axes).
+    a_mm : float
+        Hertz semi-axis in the rolling direction (mm).
+    b_mm : float
+        Hertz semi-axis in the lateral direction (mm).
+    method : str
+        How the position was calibrated: "direct" (its own FEM) or "similarity" (master curves).
+    note : str
+        Why the direct FEM was used under ``run.method = "similarity"`` ("" otherwise).
+    """
+
+    y_mm: float
+    y_mate_mm: float | None
+    a_mm: float
+    b_mm: float
+    method: str
+    note: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
 
 
 @dataclass(frozen=True)
@@ -49,6 +81,8 @@ class BodySummary:
         Largest fit error relative to the position's max u (-).
     max_residual_error_mm : float or None
         Largest |eq. (8) residual dent - FEM residual dent| (mm).
+    position_details : tuple of PositionReport
+        Per calibrated position: the mating position, the semi-axes and the route.
     """
 
     positions: int
@@ -58,19 +92,22 @@ class BodySummary:
     max_fit_error_mm: float | None = None
     max_relative_fit_error: float | None = None
     max_residual_error_mm: float | None = None
+    position_details: tuple[PositionReport, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         head = {"positions": self.positions, "calibrated": self.calibrated, "failed": self.failed}
         if self.table is None:
             return dict(head, table=None)
         return dict(head, max_fit_error_mm=self.max_fit_error_mm, max_relative_fit_error=self.max_relative_fit_error,
-                    max_residual_error_mm=self.max_residual_error_mm, table=self.table)
+                    max_residual_error_mm=self.max_residual_error_mm, table=self.table,
+                    position_details=[p.to_dict() for p in self.position_details])
 
 
 def table_header(cfg: CalibrationConfig, b: BodySettings) -> dict[str, Any]:
     """The JSON header of a body's table: inputs, units, definition, software and code versions."""
     return {"body": b.body, "profile": profile_label(b.profile), "profile_source": profile_source(b.profile),
             "mate": None if b.mate is None else profile_source(b.mate), "model": cfg.run.model,
+            "method": cfg.run.method, "inclination_rad": cant_rad(b, f"bodies.{b.body}"),
             "units": {"length": "mm", "pressure": "MPa", "stiffness": "N/mm^3", "force": "N"},
             "material": asdict(b.material), "mesh": asdict(cfg.mesh), "load": asdict(cfg.load),
             "reference_load_N": cfg.reference_load_N, "fit": asdict(cfg.fit), "definition": DEFINITION,
@@ -96,12 +133,21 @@ def _note(n: PositionNote, kind: str) -> dict[str, Any]:
     return {"body": n.body, "y_mm": n.y_mm, kind: n.message}
 
 
+def position_report(fit: PositionFit, method: str, note: str = "") -> PositionReport:
+    """The summary line of one calibrated position."""
+    g = fit.geometry
+    return PositionReport(float(fit.y_mm), g.y_mate_mm, float(g.a_mm), float(g.b_mm), method, note)
+
+
 def write_body_table(cfg: CalibrationConfig, b: BodySettings, fits: list[tuple[str, PositionFit]],
                      failed: list[PositionNote], warnings: list[PositionNote], fit_code: str, plots: bool,
-                     out_dir: Path) -> tuple[BodySummary, LayerTable | None, list[Path]]:
+                     out_dir: Path, routes: dict[str, tuple[str, str]] | None = None
+                     ) -> tuple[BodySummary, LayerTable | None, list[Path]]:
     """Write body ``b``'s table from its fits [(FEM cache key, fit)] in position order, listing its failed
-    positions; unchanged inputs leave the files as they are, no fit removes a stale table. Returns the body's
-    summary, the table (None: none) and the files written."""
+    positions; unchanged inputs leave the files as they are, no fit removes a stale table. ``routes``: {key:
+    (method, note)} of the positions (default: all "direct"), recorded as each entry's ``method``. Returns the
+    body's summary, the table (None: none) and the files written."""
+    routes = routes or {}
     body_failed = sorted((f for f in failed if f.body == b.body), key=lambda f: f.y_mm)
     json_path = out_dir / f"{b.body}_layer_table.json"
     csv_path = out_dir / f"{b.body}_layer_table.csv"
@@ -112,9 +158,11 @@ def write_body_table(cfg: CalibrationConfig, b: BodySettings, fits: list[tuple[s
         return BodySummary(**n), None, []
     body_warnings = [w for w in warnings if w.body == b.body]
     entries = []
-    for _, fit in fits:
+    reports = []
+    for key, fit in fits:
         notes = [w.message for w in body_warnings if w.y_mm == fit.y_mm]
-        entry = fit.to_dict()
+        reports.append(position_report(fit, *routes.get(key, ("direct", ""))))
+        entry = dict(fit.to_dict(), method=reports[-1].method)
         entries.append(dict(entry, warnings=notes) if notes else entry)
     header = table_header(cfg, b)
     header["conforming_limit_b_over_R"] = HERTZ_B_OVER_R_LIMIT
@@ -132,7 +180,7 @@ def write_body_table(cfg: CalibrationConfig, b: BodySettings, fits: list[tuple[s
     summary = BodySummary(**n, table=str(json_path), max_fit_error_mm=max(f.max_error_mm for _, f in fits),
                           max_relative_fit_error=max(rel),
                           max_residual_error_mm=max((abs(x) for _, f in fits for x in f.residual_error_mm),
-                                                    default=0.0))
+                                                    default=0.0), position_details=tuple(reports))
     if plots and not unchanged:
         from calibration.plots import write_body_plots  # matplotlib only when pictures are drawn
 
@@ -140,4 +188,4 @@ def write_body_table(cfg: CalibrationConfig, b: BodySettings, fits: list[tuple[s
     return summary, table, written
 
 
-__all__ = ["BodySummary", "DEFINITION", "FIT_SOURCES", "same_inputs", "table_header", "write_body_table"]
+__all__ = ["BodySummary", "DEFINITION", "FIT_SOURCES", "PositionReport", "position_report", "same_inputs", "table_header", "write_body_table"]

@@ -20,6 +20,7 @@ from calibration.fem.material import J2Material
 from calibration.hertz.geometry import (HERTZ_B_OVER_R_LIMIT, LocalGeometry, conformity, fitted_load_N,
                                         given_geometry, local_geometry)
 from calibration.indentation import indent
+from calibration.placement import cant_rad
 from calibration.results import IndentationResult
 from calibration.settings import (BodySettings, CalibrationConfig, LoadSettings, MaterialSettings, MeshSettings)
 from meshes.meshing.section_mesh import DEFAULT_DEPTH_MM, check_mesh_inputs
@@ -132,7 +133,8 @@ def position_geometry(b: BodySettings, profile, mate, y: float, reference_load_N
     conforming position (b/R_min > HERTZ_B_OVER_R_LIMIT), at the load whose patch has b/R_min at the limit."""
     if b.semi_axes_mm is not None:
         return given_geometry(profile, y, *b.semi_axes_mm), None
-    args = (b.material.E_MPa, b.material.poisson, b.rail_cant_rad, b.wheel_radius_mm, b.max_lateral_radius_mm)
+    args = (b.material.E_MPa, b.material.poisson, cant_rad(b, f"bodies.{b.body}"), b.wheel_radius_mm,
+            b.max_lateral_radius_mm)
     geo = local_geometry(profile, y, mate, reference_load_N, *args)
     ratio = conformity(geo)
     if ratio <= HERTZ_B_OVER_R_LIMIT:
@@ -186,6 +188,7 @@ def make_tasks(cfg: CalibrationConfig, out_dir: Path, plots: bool | None = None
     code = code_hash()
     tasks, failed, warnings = [], [], []
     for b in cfg.bodies:
+        cant_rad(b, f"{cfg.source}: bodies.{b.body}")  # a rail of unknown placement: refused before any position
         profile = profile_of(b.profile)
         mate = profile_of(b.mate) if b.mate else None
         for y in b.positions_mm:
@@ -197,16 +200,23 @@ def make_tasks(cfg: CalibrationConfig, out_dir: Path, plots: bool | None = None
                 failed.append(PositionNote(b.body, y, str(err)))
                 continue
             check_mesh_settings(cfg, b, profile, geo)
-            fem_inputs = {"profile": profile_identity(b.profile), "body": b.body, "y_mm": y,
-                          "geometry": geo.to_dict(), "material": asdict(b.material), "model": cfg.run.model,
-                          "mesh": asdict(cfg.mesh), "load": asdict(cfg.load), "code": code}
             fields = out_dir / "fields" / f"{b.body}_y{y:+08.3f}mm" if plots else None
-            tasks.append(PositionTask(b.body, b.profile, float(y), geo, b.material, cfg.run.model, cfg.mesh,
-                                      cfg.load, inputs_hash(fem_inputs), str(fields) if fields else None,
-                                      cfg.run.linear_solver))
+            tasks.append(position_task(cfg, b.body, b.profile, geo, b.material, fields, code))
     return tasks, failed, warnings
 
 
+def position_task(cfg: CalibrationConfig, body: str, profile: Any, geometry: LocalGeometry,
+                  material: MaterialSettings, fields_dir: Path | None = None, code: str | None = None
+                  ) -> PositionTask:
+    """The task of one position, keyed by the hash of its FEM inputs (``code``: :func:`code_hash`, computed when
+    not given)."""
+    fem_inputs = {"profile": profile_identity(profile), "body": body, "y_mm": geometry.y_mm,
+                  "geometry": geometry.to_dict(), "material": asdict(material), "model": cfg.run.model,
+                  "mesh": asdict(cfg.mesh), "load": asdict(cfg.load), "code": code or code_hash()}
+    return PositionTask(body, profile, float(geometry.y_mm), geometry, material, cfg.run.model, cfg.mesh, cfg.load,
+                        inputs_hash(fem_inputs), str(fields_dir) if fields_dir else None, cfg.run.linear_solver)
+
+
 __all__ = ["FEM_SOURCES", "PositionNote", "PositionOutcome", "PositionTask", "check_mesh_settings", "code_hash",
-           "inputs_hash", "make_tasks", "position_geometry", "profile_identity", "profile_label", "profile_source",
+           "inputs_hash", "make_tasks", "position_geometry", "position_task", "profile_identity", "profile_label", "profile_source",
            "run_position"]

@@ -1,0 +1,116 @@
+"""Which positions the similarity master serves, and their FEM characteristic from it (units mm, MPa, s).
+
+A position is served when its contact is non-conforming (it was not moved to a lower load because b/R exceeded
+:data:`calibration.hertz.geometry.HERTZ_B_OVER_R_LIMIT` at the reference load), the body's own surface is flat
+over the patch (sag over y +- b at most :data:`SAG_LIMIT` b: the master is a half-space) and its aspect ratio
+a/b lies in the master's range; the others are calibrated by the direct FEM, each with the reason. A served
+position's characteristic is the master's at its a/b and patch size L = sqrt(a b) (linear in log(a/b) and log L
+between the grid's values, max(a/b, b/a) by the half-space's symmetry; L outside the master's sizes takes the
+nearest size's curves, pure similarity) scaled by L: p_y = (p_y / Y)(r, L) Y, u_pl(q p_y) = L U(q; r, L),
+residual dents L R(r, L), elastic compliance L C(r, L) / E. The result is an :class:`IndentationResult` as the FEM's
+(no mesh: n_dofs = 0), so the fit and the tables treat both routes alike.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from calibration.config import profile_of
+from calibration.hertz.geometry import HERTZ_B_OVER_R_LIMIT, conformity, halfspace_centre_compliance_mm_per_MPa
+from calibration.results import IndentationResult
+from calibration.similarity.master import ASPECTS, MasterCurves
+from calibration.tasks import PositionTask, code_hash, inputs_hash
+
+#: Sources that determine a similarity result (its cache key for the fit includes their content).
+SIMILARITY_SOURCES = ("calibration/similarity/*.py",)
+METHOD_DIRECT, METHOD_SIMILARITY = "direct", "similarity"
+#: Largest sag of the body's own surface over the patch (y - b .. y + b, from the tangent at y) relative to b for
+#: the half-space master (-; a circle of radius R: b / (2 R), i.e. b/R = 0.02). At the default run's positions the
+#: similarity error grows with it: 1.2-1.9 % at 0.006-0.009, 2.5-3.8 % at 0.016-0.032, 6-12 % at 0.035-0.18
+#: (benchmarks/bench_similarity.py, master of one size).
+SAG_LIMIT = 0.01
+
+
+@dataclass(frozen=True)
+class Route:
+    """How one position is calibrated: ``method`` "similarity" or "direct", and ``note`` why the direct FEM is
+    used ("" when the master serves it)."""
+
+    method: str
+    note: str = ""
+
+
+def route(task: PositionTask, reference_load_N: float, aspect_range: tuple[float, float] | None = None) -> Route:
+    """The route of ``task`` under ``run.method = "similarity"`` (``aspect_range``: the master's, default the
+    full grid's [1/20, 20])."""
+    geo = task.geometry
+    lo, hi = aspect_range or (1.0 / ASPECTS[-1], ASPECTS[-1])
+    if geo.reference_load_N is not None and geo.reference_load_N < reference_load_N:
+        ratio = conformity(geo) * (reference_load_N / geo.reference_load_N) ** (1.0 / 3.0)
+        return Route(METHOD_DIRECT, f"conforming contact (b/R = {ratio:.2f} > {HERTZ_B_OVER_R_LIMIT:g} at "
+                                    f"{reference_load_N:g} N): outside the half-space similarity")
+    r = geo.a_mm / geo.b_mm
+    if not lo * (1 - 1e-9) <= r <= hi * (1 + 1e-9):
+        return Route(METHOD_DIRECT, f"aspect ratio a/b = {r:.3g} outside the master's range {lo:.3g}..{hi:.3g}")
+    sag = patch_sag(profile_of(task.profile), geo.y_mm, geo.b_mm)
+    if sag > SAG_LIMIT:
+        return Route(METHOD_DIRECT, f"surface not flat over the patch (sag over y +- b = {sag:.3f} b > "
+                                    f"{SAG_LIMIT:g} b): outside the half-space similarity")
+    return Route(METHOD_SIMILARITY)
+
+
+def patch_sag(profile, y_mm: float, b_mm: float) -> float:
+    """Largest distance of the profile from its tangent at y over y - b .. y + b (clipped to the profile), over b
+    (-)."""
+    ys = np.clip(y_mm + np.linspace(-b_mm, b_mm, 41), profile.y_min, profile.y_max)
+    dev = np.asarray(profile.z(ys)) - float(profile.z(y_mm)) - float(profile.dz(y_mm)) * (ys - y_mm)
+    return float(np.max(np.abs(dev)) / b_mm)
+
+
+def _weights(grid_values: list[float], x: float) -> tuple[int, int, float]:
+    """(i, j, t): x lies between grid_values[i] and [j], at t in [0, 1] in log scale (clamped at the ends)."""
+    x, grid = math.log(x), np.log(grid_values)
+    j = int(np.clip(np.searchsorted(grid, x), 1, len(grid) - 1)) if len(grid) > 1 else 0
+    i = max(j - 1, 0)
+    t = 0.0 if i == j else float(np.clip((x - grid[i]) / (grid[j] - grid[i]), 0.0, 1.0))
+    return i, j, t
+
+
+def similar_indentation(master: MasterCurves, a_mm: float, b_mm: float) -> IndentationResult:
+    """The FEM indentation of the patch a x b (mm) from the master (in the master's range)."""
+    t0 = time.perf_counter()
+    length = math.sqrt(a_mm * b_mm)
+    i, j, t = _weights(master.aspects, max(a_mm / b_mm, b_mm / a_mm))
+    k, m, s = _weights(master.lengths_mm, length)
+
+    def at(values) -> np.ndarray:
+        v = [np.asarray(values[n], dtype=float) for n in (k, m)]
+        by_size = [(1 - t) * w[i] + t * w[j] for w in v]
+        return (1 - s) * by_size[0] + s * by_size[1]
+
+    mat = master.material
+    p_y = float(at(master.first_yield_over_yield)) * mat.yield_MPa
+    c_el = float(at(master.elastic_compliance)) * length / mat.E_MPa
+    p = np.asarray(master.q) * p_y
+    u_pl = at(master.u_pl_over_length) * length
+    peaks = [f * p_y for f in master.unload_factors]
+    residual = at(master.residual_over_length) * length
+    c_hs = halfspace_centre_compliance_mm_per_MPa(a_mm, b_mm, mat.E_MPa, mat.poisson)
+    return IndentationResult("3d", p.tolist(), (c_el * p + u_pl).tolist(), u_pl.tolist(), p_y, p_y, c_el, c_hs,
+                             peaks, residual.tolist(), (residual - np.interp(peaks, p, u_pl)).tolist(), 0, 0, 0,
+                             time.perf_counter() - t0)
+
+
+def similarity_task(task: PositionTask, master: MasterCurves, code: str | None = None) -> PositionTask:
+    """``task`` keyed by the master and its geometry instead of its own FEM inputs (the fit's cache key)."""
+    key = inputs_hash({"similarity": master.key, "geometry": task.geometry.to_dict(),
+                       "code": code or code_hash(SIMILARITY_SOURCES)})
+    return replace(task, key=key, fields_dir=None)
+
+
+__all__ = ["METHOD_DIRECT", "METHOD_SIMILARITY", "Route", "SAG_LIMIT", "SIMILARITY_SOURCES", "patch_sag", "route",
+           "similar_indentation", "similarity_task"]
