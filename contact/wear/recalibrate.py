@@ -76,11 +76,14 @@ class Recalibration:
         return step % self.every_steps == 0
 
 
-def read_template(path: Path, what: str, profiles: dict[str, Profile]) -> tuple[str, CalibrationConfig]:
+def read_template(path: Path, what: str, profiles: dict[str, Profile], inclination_rad: float
+                  ) -> tuple[str, CalibrationConfig]:
     """Read and validate a calibration template (InputError ``what: ...``); returns its text and the config with
     the placeholders kept in its ``profile``/``mate`` entries. Everything the calibration checks before its FEM
     (keys, profiles and positions, each position's contact geometry, mesh settings, the cost guard) is checked here
-    with ``profiles[body]`` (the scene's initial profiles) in place of the placeholders."""
+    with ``profiles[body]`` (the scene's initial profiles) in place of the placeholders. A body with the worn rail
+    (a profile file in the rail's own frame) is calibrated at the scene's rail inclination ``inclination_rad`` (rad)
+    unless the template gives one."""
     try:
         text = path.read_text(encoding="utf-8")
         data = tomllib.loads(text)
@@ -91,6 +94,10 @@ def read_template(path: Path, what: str, profiles: dict[str, Profile]) -> tuple[
                for row in rows for key in PROFILE_KEYS):
         raise InputError(what, f"{path.name} uses neither placeholder {' nor '.join(PLACEHOLDERS.values())} as a "
                          "[[bodies]] profile or mate (where the worn profile files go)")
+    for row in rows:
+        if isinstance(row, dict) and PLACEHOLDERS["rail"] in (row.get("profile"), row.get("mate")) and not \
+                {"inclination", "inclination_rad", "rail_cant_rad"} & set(row):
+            row["inclination_rad"] = float(inclination_rad)  # the worn rail file is in the rail's own frame
     with tempfile.TemporaryDirectory(prefix="wrlayer-template-") as tmp:
         files = write_profiles(profiles, Path(tmp), "initial")
         for row in rows:

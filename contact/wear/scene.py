@@ -222,7 +222,8 @@ def _recalibration(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> R
     every = sub.integer("every_steps", 1, ge=1)
     layers = wheel_rail.solver_layers
     text, cfg = read_template(path, sub.what("config"), {"wheel": wheel_rail.wheel_profile,
-                                                         "rail": wheel_rail.rail_profile})
+                                                         "rail": wheel_rail.rail_profile},
+                              wheel_rail.layout.inclination_rad)
     if layers is None or layers.combined is not None:
         raise sub.error("config", "recalibration needs per-body [layers] tables (rail and/or wheel)")
     return Recalibration(str(path), text, cfg, every)
