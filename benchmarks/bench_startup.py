@@ -3,15 +3,18 @@
 The whole process is timed from outside (wall time, median of repeated runs after one untimed warm-up, the same
 interpreter as the benchmarks) and split into the interpreter's own start-up (`python -c pass`), the imports
 (`python -X importtime`: every module the run imports beyond those of the bare interpreter, top-level cumulative
-times summed; the flag itself adds a little) and the solve (the scene's own `solver.total_s` in result.json); the
-rest is argument parsing, reading the scene, writing the results and exit. Target: under 0.5 s for a small scene.
-The heaviest imports are grouped by package (summed self times, so nothing is counted twice; our own packages
-one level deeper, e.g. `contact.normal`) with the module through which each is first imported. Units: seconds.
+times summed, less those a library imports itself inside the solve; the flag itself adds a little) and the solve
+(the scene's own `solver.total_s` in result.json); the rest is argument parsing, reading the scene, writing the
+results and exit. The scene is also run twice in one process: the second solve is the solve proper, the
+difference is the first call's cost (numba loading its cached machine code, lazy imports). CPU times (user +
+system) are given beside the wall times: on a loaded machine they show the cost itself. Target: under 0.5 s for
+a small scene. The heaviest imports are grouped by package (summed self times, so nothing is counted twice; our
+own packages one level deeper, e.g. `contact.normal`) with the module through which the most expensive part of
+each is imported. Units: seconds.
 """
 
 from __future__ import annotations
 
-import ast
 import dataclasses
 import json
 import os
@@ -23,64 +26,15 @@ import sys
 import tempfile
 import time
 
+from benchmarks.importtime import (ImportGroup, ImportRecord, import_groups, import_seconds, lazy_library_seconds,
+                                   module_level_importers, parse_importtime, third_party)
+
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SCENE = ROOT / "scenes" / "hertz_check.toml"
 #: start-up target for a small scene, s
 TARGET_S = 0.5
-#: our packages: grouped one level deeper, and the ones whose module-level imports are listed
-PROJECT_PACKAGES = ("wrlayer", "meshes", "calibration", "contact")
 #: how many of the heaviest import groups the report lists
 N_HEAVIEST = 10
-
-
-@dataclasses.dataclass(frozen=True)
-class ImportRecord:
-    """One line of ``python -X importtime`` output.
-
-    Attributes
-    ----------
-    name : str
-        Module name.
-    self_us : int
-        Time spent in the module's own body, µs.
-    cumulative_us : int
-        Time including the modules it imported first, µs.
-    depth : int
-        Nesting level (0: imported by the running code, not by another module's import).
-    parent : int
-        Index of the module whose import pulled this one in, -1 at depth 0.
-    """
-
-    name: str
-    self_us: int
-    cumulative_us: int
-    depth: int
-    parent: int
-
-
-@dataclasses.dataclass(frozen=True)
-class ImportGroup:
-    """The import cost of one package (or, for our packages, one sub-package).
-
-    Attributes
-    ----------
-    group : str
-        Package name (``numba``) or our sub-package (``contact.normal``).
-    self_s : float
-        Summed self time of its modules, s.
-    modules : int
-        Number of its modules imported.
-    importer : str
-        Module whose import first pulled the group in; ``(run time)`` when it was imported by running code.
-    project_importer : str
-        Nearest module of our packages on that import chain (the one that imports it at module level), or "".
-    """
-
-    group: str
-    self_s: float
-    modules: int
-    importer: str
-    project_importer: str
 
 
 @dataclasses.dataclass(frozen=True)
@@ -112,10 +66,18 @@ class StartupTiming:
         The same in CPU time, median, s.
     run_import_s : float
         Imports of the whole run beyond the bare interpreter's (``-X importtime``, one run), s.
+    lazy_import_s : float
+        The part of ``run_import_s`` that a library imports itself when running (numba's typing and lowering
+        registries at the first call of compiled code, inside the solve), s.
     solve_s : float
         The scene's own ``solver.total_s`` (result.json), median, s.
+    solve_first_s : float
+        ``solver.total_s`` of the first of two runs of the scene in one process, median, s.
+    solve_warm_s : float
+        ``solver.total_s`` of the second run in the same process (numba's compiled code loaded, modules imported):
+        the solve proper, median, s.
     other_s : float
-        ``wall_s - interpreter_s - run_import_s - solve_s``: parsing, reading, writing, exit, s.
+        ``wall_s - interpreter_s - (run_import_s - lazy_import_s) - solve_s``: parsing, reading, writing, exit, s.
     target_s : float
         Start-up target, s.
     target_met : bool
@@ -137,106 +99,15 @@ class StartupTiming:
     main_import_s: float
     main_import_cpu_s: float
     run_import_s: float
+    lazy_import_s: float
     solve_s: float
+    solve_first_s: float
+    solve_warm_s: float
     other_s: float
     target_s: float
     target_met: bool
     load_before: float
     load_after: float
-
-
-def parse_importtime(text: str) -> list[ImportRecord]:
-    """The records of ``-X importtime`` stderr, in output order (a module is printed after those it imported).
-
-    Lines that are not ``import time: <self> | <cumulative> | <indent><name>`` (the header, other output) are
-    skipped; the nesting depth is the indentation of the name in steps of two spaces."""
-    rows: list[tuple[str, int, int, int]] = []
-    for line in text.splitlines():
-        if not line.startswith("import time:"):
-            continue
-        parts = line[len("import time:"):].split("|")
-        if len(parts) != 3 or not parts[0].strip().isdigit():
-            continue
-        label = parts[2][1:] if parts[2].startswith(" ") else parts[2]
-        depth = (len(label) - len(label.lstrip(" "))) // 2
-        rows.append((label.strip(), int(parts[0]), int(parts[1]), depth))
-    parents = [-1] * len(rows)
-    waiting: dict[int, list[int]] = {}  # depth -> records still looking for their importer
-    for i, (_, _, _, depth) in enumerate(rows):
-        for child in waiting.pop(depth + 1, []):
-            parents[child] = i
-        waiting.setdefault(depth, []).append(i)
-    return [ImportRecord(n, s, c, d, p) for (n, s, c, d), p in zip(rows, parents)]
-
-
-def import_seconds(records: list[ImportRecord], exclude: frozenset[str] = frozenset()) -> float:
-    """Summed cumulative time (s) of the top-level imports, leaving out the modules in ``exclude`` (e.g. those the
-    bare interpreter imports)."""
-    return sum(r.cumulative_us for r in records if r.depth == 0 and r.name not in exclude) / 1e6
-
-
-def group_of(name: str) -> str:
-    """The group a module's cost is counted in: its top-level package, or for our packages the sub-package."""
-    parts = name.split(".")
-    return ".".join(parts[:2]) if parts[0] in PROJECT_PACKAGES else parts[0]
-
-
-def import_groups(records: list[ImportRecord]) -> list[ImportGroup]:
-    """Import cost per group, heaviest first, with the module that first pulled each group in."""
-    self_us: dict[str, int] = {}
-    count: dict[str, int] = {}
-    entry: dict[str, int] = {}  # group -> first record whose importer is outside the group
-    for i, r in enumerate(records):
-        g = group_of(r.name)
-        self_us[g] = self_us.get(g, 0) + r.self_us
-        count[g] = count.get(g, 0) + 1
-        if g not in entry and (r.parent < 0 or group_of(records[r.parent].name) != g):
-            entry[g] = i
-    out = []
-    for g in sorted(self_us, key=self_us.get, reverse=True):
-        first = records[entry[g]] if g in entry else None
-        importer = records[first.parent].name if first is not None and first.parent >= 0 else "(run time)"
-        out.append(ImportGroup(g, self_us[g] / 1e6, count[g], importer, _project_ancestor(records, entry.get(g))))
-    return out
-
-
-def _project_ancestor(records: list[ImportRecord], index: int | None) -> str:
-    while index is not None and index >= 0:
-        index = records[index].parent
-        if index >= 0 and records[index].name.split(".")[0] in PROJECT_PACKAGES:
-            return records[index].name
-    return ""
-
-
-def module_level_importers(root: pathlib.Path, packages: set[str],
-                           modules: set[str] | None = None) -> dict[str, list[str]]:
-    """Our modules (of ``modules`` when given) that import one of ``packages`` at module level (statements in the
-    module body, also inside a top-level ``if``/``try``), by package. Read from the sources: every such module is
-    found, not only the first one an import chain meets."""
-    found: dict[str, list[str]] = {p: [] for p in sorted(packages)}
-    for pkg in PROJECT_PACKAGES:
-        for path in sorted((root / pkg).rglob("*.py")):
-            module = ".".join(path.relative_to(root).with_suffix("").parts).removesuffix(".__init__")
-            if modules is not None and module not in modules:
-                continue
-            for p in sorted(_top_imports(ast.parse(path.read_text(encoding="utf-8"))) & packages):
-                found[p].append(module)
-    return found
-
-
-def _top_imports(tree: ast.Module) -> set[str]:
-    names: set[str] = set()
-    stack = list(tree.body)
-    while stack:
-        node = stack.pop()
-        if isinstance(node, ast.Import):
-            names.update(a.name.split(".")[0] for a in node.names)
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            names.add(node.module.split(".")[0])
-        elif isinstance(node, (ast.If, ast.Try)):
-            stack += node.body + node.orelse + getattr(node, "finalbody", [])
-            stack += [s for h in getattr(node, "handlers", []) for s in h.body]
-    return names
 
 
 def _env() -> dict[str, str]:
@@ -262,6 +133,18 @@ def _simulate_args(out: pathlib.Path) -> list[str]:
     return ["-m", "contact", "simulate", str(SCENE), "--out", str(out)]
 
 
+#: runs the scene twice in one process and prints the two ``solver.total_s`` (s) as JSON
+_TWICE = ("import json, sys\nfrom contact.__main__ import run_scene_file\n"
+          "print(json.dumps([run_scene_file(sys.argv[1], sys.argv[2] + str(i))['solver']['total_s'] for i in (0, 1)]))")
+
+
+def _solve_twice(env: dict[str, str], work: pathlib.Path, repeat: int) -> tuple[float, float]:
+    """Median ``solver.total_s`` (s) of the first and of the second run of the scene in one process."""
+    pairs = [json.loads(_timed(["-c", _TWICE, str(SCENE), str(work / f"twice{k}-")], env)[2].stdout)
+             for k in range(repeat)]
+    return statistics.median(p[0] for p in pairs), statistics.median(p[1] for p in pairs)
+
+
 def measure(repeat: int, work: pathlib.Path) -> tuple[StartupTiming, list[ImportRecord], frozenset[str]]:
     """Time the command ``repeat`` times (interleaved with the bare interpreter and the import of the command
     line), then one ``-X importtime`` run; returns the timing, that run's import records and the bare set."""
@@ -282,11 +165,16 @@ def measure(repeat: int, work: pathlib.Path) -> tuple[StartupTiming, list[Import
     interp, interp_cpu = (statistics.median(v) for v in zip(*runs["pass"]))
     main, main_cpu = (statistics.median(v) for v in zip(*runs["main"]))
     solve = statistics.median(solves)
+    solve_first, solve_warm = _solve_twice(env, work, max(1, repeat // 2))
     run_import = import_seconds(records, bare_set)
-    timing = StartupTiming(str(SCENE.relative_to(ROOT)), repeat, wall, [w for w, _ in runs["simulate"]], cpu, first,
-                           interp, interp_cpu, main - interp, main_cpu - interp_cpu, run_import, solve,
-                           wall - interp - run_import - solve, TARGET_S, wall < TARGET_S, load_before,
-                           os.getloadavg()[0])
+    lazy = lazy_library_seconds(records)
+    timing = StartupTiming(
+        scene=str(SCENE.relative_to(ROOT)), repeat=repeat, wall_s=wall, wall_runs_s=[w for w, _ in runs["simulate"]],
+        cpu_s=cpu, first_run_s=first, interpreter_s=interp, interpreter_cpu_s=interp_cpu, main_import_s=main - interp,
+        main_import_cpu_s=main_cpu - interp_cpu, run_import_s=run_import, lazy_import_s=lazy, solve_s=solve,
+        solve_first_s=solve_first, solve_warm_s=solve_warm, other_s=wall - interp - (run_import - lazy) - solve,
+        target_s=TARGET_S,
+        target_met=wall < TARGET_S, load_before=load_before, load_after=os.getloadavg()[0])
     return timing, records, bare_set
 
 
@@ -302,11 +190,14 @@ def _markdown(t: StartupTiming, groups: list[ImportGroup], importers: dict[str, 
           "| module-level imports of the command line (`import contact.__main__` minus the above; "
           f"CPU {t.main_import_cpu_s:.3f}) | {t.main_import_s:.3f} |",
           f"| all imports of the run (`-X importtime`) | {t.run_import_s:.3f} |",
+          f"| ... of which libraries import while running (numba, inside the solve) | {t.lazy_import_s:.3f} |",
           f"| solve (result.json `solver.total_s`) | {t.solve_s:.3f} |",
+          f"| solve, first run in a process / second run in the same process | {t.solve_first_s:.3f} / "
+          f"{t.solve_warm_s:.3f} |",
           f"| other (parsing, reading, writing, exit) | {t.other_s:.3f} |", "",
           f"Target {t.target_s:g} s: **{'met' if t.target_met else 'not met'}**.", "",
           f"The {N_HEAVIEST} heaviest import groups of the run (summed self times):", "",
-          "| group | s | modules | first imported by | our module on that chain |", "|---|---|---|---|---|"]
+          "| group | s | modules | mostly imported by | our module on that chain |", "|---|---|---|---|---|"]
     md += [f"| {g.group} | {g.self_s:.3f} | {g.modules} | {g.importer} | {g.project_importer or '—'} |"
            for g in groups[:N_HEAVIEST]]
     if importers:
@@ -323,9 +214,8 @@ def run(mode: str, out: pathlib.Path) -> dict:
     with tempfile.TemporaryDirectory(prefix="bench-startup-") as tmp:
         timing, records, _ = measure(repeat, pathlib.Path(tmp))
     groups = import_groups(records)
-    third_party = {g.group for g in groups[:N_HEAVIEST]
-                   if g.group.split(".")[0] not in PROJECT_PACKAGES and g.group not in sys.stdlib_module_names}
-    importers = module_level_importers(ROOT, third_party, {r.name for r in records})
+    libraries = {g.group for g in groups[:N_HEAVIEST] if third_party(g.group)}
+    importers = module_level_importers(ROOT, libraries, {r.name for r in records})
     return {"title": "Start-up of the command line (small scene)", "markdown": _markdown(timing, groups, importers),
             "figures": [],
             "data": {"timing": dataclasses.asdict(timing),
