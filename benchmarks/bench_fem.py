@@ -215,10 +215,8 @@ def _plot(rows, ref_u, ref_dent, out: pathlib.Path) -> pathlib.Path:
     return path
 
 
-def run(mode: str, out: pathlib.Path) -> dict:
-    out = pathlib.Path(out)
-    quick = mode == "quick"
-    hs = [0.5, 0.35, 0.25] if quick else [0.4, 0.28, 0.2, 0.14]
+def _mesh_levels(hs: list[float]) -> tuple[list[dict], dict]:
+    """One indentation per level h (heap and RSS recorded) and its error against the Richardson extrapolation."""
     rows = []
     for h in hs:
         result, heap = peak_memory_mb(lambda h=h: indentation(h))
@@ -230,12 +228,11 @@ def run(mode: str, out: pathlib.Path) -> dict:
     for r in rows:
         r["err_u_peak_pct"] = (r["u_peak_mm"] / ref_u - 1) * 100
         r["err_dent_pct"] = (r["dent_mm"] / ref_d - 1) * 100
-    fig = _plot(rows, ref_u, ref_d, out)
+    return rows, {"u_peak_mm": ref_u, "order_u": p_u, "dent_mm": ref_d, "order_dent": p_d}
 
-    elastic = [elastic_half_space(0.25 if quick else 0.15, L) for L in ((60.0,) if quick else (20.0, 60.0, 200.0))]
 
-    # solver variants on one level (interleaved medians)
-    h_cmp = hs[1]
+def _solver_variants(h_cmp: float, quick: bool) -> tuple[dict, dict]:
+    """Solver variants on one level (interleaved medians): times (s) and each variant's last result."""
     mesh_cmp = _mesh(h_cmp)
     variants = {f"pcg + {DIRECT_NAME}": ("pcg", DIRECT, {}), f"newton + {DIRECT_NAME}": ("newton", DIRECT, {}),
                 f"modified + {DIRECT_NAME}": ("modified", DIRECT, {}), "pcg + SuperLU": ("pcg", "scipy", {})}
@@ -246,28 +243,35 @@ def run(mode: str, out: pathlib.Path) -> dict:
     if quick:  # modified Newton: ~2000 iterations, 25x the time of the others (measured); full mode only
         variants.pop("pcg + SuperLU", None)
         variants.pop(f"modified + {DIRECT_NAME}")
-    var_times, var_res = _interleaved_runs({k: (lambda s=s, b=b, o=o: indentation(h_cmp, s, b, mesh=mesh_cmp, **o))
-                                            for k, (s, b, o) in variants.items()}, repeat=1 if quick else 3)
-    precision = factor_precision(hs[-1]) if HAVE_PARDISO else []
+    return _interleaved_runs({k: (lambda s=s, b=b, o=o: indentation(h_cmp, s, b, mesh=mesh_cmp, **o))
+                              for k, (s, b, o) in variants.items()}, repeat=1 if quick else 3)
 
-    # load-increment (time-discretisation) error on the coarsest level: backward-Euler return mapping
-    n_incr = (8, 16, 32) if quick else (8, 16, 32, 64)
-    mesh_inc = _mesh(hs[0])
-    incr = [indentation(hs[0], "newton", mesh=mesh_inc, increments=n) for n in n_incr]
+
+def _increment_error(h: float, n_incr: tuple[int, ...]) -> dict:
+    """Load-increment (time-discretisation) error on one level: backward-Euler return mapping, Newton."""
+    mesh_inc = _mesh(h)
+    incr = [indentation(h, "newton", mesh=mesh_inc, increments=n) for n in n_incr]
     ref_inc_u, p_inc_u = richardson([1 / n for n in n_incr[-3:]], [r["u_peak_mm"] for r in incr[-3:]])
     ref_inc_d, _ = richardson([1 / n for n in n_incr[-3:]], [r["dent_mm"] for r in incr[-3:]])
+    return {"n": list(n_incr), "runs": incr, "reference_u_peak_mm": ref_inc_u, "reference_dent_mm": ref_inc_d,
+            "order": p_inc_u}
 
-    # felupe on the same P1 mesh
-    h_fe = 0.4 if quick else 0.2
+
+def _felupe_comparison(h_fe: float, quick: bool) -> dict:
+    """Ours and felupe on the same P1 mesh, interleaved median solve times (s)."""
     mesh1, force1, masks = _felupe_case(h_fe)
     fe_times, fe_res = _interleaved_runs({
         OURS: lambda: indentation(h_fe, order=1, mesh=mesh1, material=MAT_FELUPE),
         FELUPE: lambda: felupe_indentation(mesh1, force1, masks)}, repeat=2 if quick else 3)
-    ours1, theirs = fe_res[OURS], fe_res[FELUPE]
+    return {"h_mm": h_fe, "ours": fe_res[OURS], "felupe": fe_res[FELUPE], "median_s": fe_times,
+            "ratio": fe_times[FELUPE] / fe_times[OURS]}
 
+
+def _levels_markdown(hs: list[float], rows: list[dict], rich: dict, elastic: list[dict]) -> list[str]:
     md = [__doc__.split("\n\n", 1)[1].strip(), "",
-          f"Richardson reference (levels h = {hs[-3:]} mm): centre displacement at peak {ref_u * 1000:.4f} µm "
-          f"(observed order {p_u:.2f}), dent {ref_d * 1000:.4f} µm (order {p_d:.2f}).", "",
+          f"Richardson reference (levels h = {hs[-3:]} mm): centre displacement at peak "
+          f"{rich['u_peak_mm'] * 1000:.4f} µm (observed order {rich['order_u']:.2f}), "
+          f"dent {rich['dent_mm'] * 1000:.4f} µm (order {rich['order_dent']:.2f}).", "",
           "| h mm | dofs | elements | mesh s | solve s | heap MiB | max RSS MiB | Newton its | CG its | "
           "u_peak µm | err % | dent µm | err % | first yield / Y |",
           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -276,22 +280,27 @@ def run(mode: str, out: pathlib.Path) -> dict:
                   f"{r['heap_peak_MiB']:.0f} | {r['max_rss_MiB']:.0f} | {r['newton_iters']} | {r['cg_iters']} | "
                   f"{r['u_peak_mm'] * 1000:.4f} | {r['err_u_peak_pct']:+.2f} | {r['dent_mm'] * 1000:.4f} | "
                   f"{r['err_dent_pct']:+.2f} | {r['first_yield_over_Y']:.4f} |")
-    md += ["", f"Elastic check against the half-space (Boussinesq/Hertz, p0 = 100 MPa, h = {elastic[0]['h_mm']} mm, far faces clamped; "
-           "the truncation error decays like a / block size):", "",
+    md += ["", "Elastic check against the half-space (Boussinesq/Hertz, p0 = 100 MPa, "
+           f"h = {elastic[0]['h_mm']} mm, far faces clamped; the truncation error decays like a / block size):", "",
            "| block mm | dofs | time s | w0 FE µm | w0 half-space µm | error % | first yield / Y (Johnson: 1.61) |",
            "|---|---|---|---|---|---|---|"]
     for e in elastic:
         md.append(f"| {e['block_mm']:g} | {e['n_dofs']} | {e['time_s']:.1f} | {e['w0_mm'] * 1000:.4f} | "
                   f"{e['w0_exact_mm'] * 1000:.4f} | {e['err_pct']:+.2f} | {e['first_yield_over_Y']:.4f} |")
-    md += ["", f"Linear-solver strategies on h = {h_cmp} mm ({var_res[next(iter(var_res))]['n_dofs']} dofs), "
-           "interleaved medians (s):", "",
-           "| variant | solve s | Newton its | CG its | triangular solves | factorisations | u_peak µm | dent µm |",
-           "|---|---|---|---|---|---|---|---|"]
+    return md
+
+
+def _solvers_markdown(h_cmp: float, var_times: dict, var_res: dict, h_prec: float, precision: list[dict],
+                      h_inc: float, inc: dict) -> list[str]:
+    md = ["", f"Linear-solver strategies on h = {h_cmp} mm ({var_res[next(iter(var_res))]['n_dofs']} dofs), "
+          "interleaved medians (s):", "",
+          "| variant | solve s | Newton its | CG its | triangular solves | factorisations | u_peak µm | dent µm |",
+          "|---|---|---|---|---|---|---|---|"]
     for k, r in var_res.items():
         md.append(f"| {k} | {var_times[k]:.2f} | {r['newton_iters']} | {r['cg_iters']} | {r['linear_solves']} | "
                   f"{r['factorisations']} | {r['u_peak_mm'] * 1000:.5f} | {r['dent_mm'] * 1000:.5f} |")
     if precision:
-        md += ["", f"PARDISO factorisation precision on h = {hs[-1]} mm ({precision[0]['n_dofs']} dofs, elastic "
+        md += ["", f"PARDISO factorisation precision on h = {h_prec} mm ({precision[0]['n_dofs']} dofs, elastic "
                "stiffness, one thread): the single-precision factorisation preconditions CG (and is refined in "
                "double precision where a direct solve is needed).", "",
                "| precision | first factorisation s | refactorisation s | solve ms | rel. residual, one solve | "
@@ -300,34 +309,50 @@ def run(mode: str, out: pathlib.Path) -> dict:
             md.append(f"| {r['precision']} | {r['first_factorisation_s']:.2f} | {r['refactorisation_s']:.2f} | "
                       f"{r['solve_ms']:.1f} | {r['relres_one_solve']:.1e} | {r['relres_refined']:.1e} | "
                       f"{r['solves_refined']} |")
-    md += ["", f"Load-increment error (h = {hs[0]} mm, newton; the table above uses 8 increments to the peak). "
+    n_incr, ref_inc_u, ref_inc_d = inc["n"], inc["reference_u_peak_mm"], inc["reference_dent_mm"]
+    md += ["", f"Load-increment error (h = {h_inc} mm, newton; the table above uses 8 increments to the peak). "
            f"Reference: Richardson extrapolation of {'/'.join(map(str, n_incr[-3:]))} increments "
-           f"(observed order {p_inc_u:.2f}): u_peak "
+           f"(observed order {inc['order']:.2f}): u_peak "
            f"{ref_inc_u * 1000:.4f} µm, dent {ref_inc_d * 1000:.4f} µm. The increment error of 8 increments is larger "
            "than the mesh error of the finest level above: the calibration therefore limits the step to "
            "`max_increment_factor` x first yield (0.15 by default, i.e. about 14 steps to this peak).", "",
            "| increments to the peak | solve s | u_peak µm | err % | dent µm | err % |", "|---|---|---|---|---|---|"]
-    for n, r in zip(n_incr, incr):
+    for n, r in zip(n_incr, inc["runs"]):
         md.append(f"| {n} | {r['solve_s']:.1f} | {r['u_peak_mm'] * 1000:.4f} | "
                   f"{(r['u_peak_mm'] / ref_inc_u - 1) * 100:+.2f} | {r['dent_mm'] * 1000:.4f} | "
                   f"{(r['dent_mm'] / ref_inc_d - 1) * 100:+.2f} |")
-    ratio = fe_times[FELUPE] / fe_times[OURS]
-    md += ["", f"felupe {__import__('felupe').__version__} on the same P1 tetrahedral mesh (h = {h_fe} mm, "
-           f"{ours1['n_dofs']} dofs, same constrained dofs, same consistent nodal forces, same 9 increments, "
-           f"both with {DIRECT_NAME}; material with linear isotropic hardening H = {MAT_FELUPE.H_iso_MPa:g} MPa, "
-           "because felupe's Newton stagnates on the perfectly plastic case): interleaved median solve times "
-           f"ours {fe_times[OURS]:.2f} s, felupe {fe_times[FELUPE]:.2f} s "
-           f"(felupe / ours = {ratio:.2f}). Same discretisation, so equal error: u_peak ours "
-           f"{ours1['u_peak_mm'] * 1000:.5f} µm vs felupe {theirs['u_peak_mm'] * 1000:.5f} µm, dent "
-           f"{ours1['dent_mm'] * 1000:.5f} vs {theirs['dent_mm'] * 1000:.5f} µm. (P1 tets are much less accurate "
-           "than P2 for this problem; the comparison is of the solvers, not of the elements.)"]
-    data = {"levels": rows, "richardson": {"u_peak_mm": ref_u, "order_u": p_u, "dent_mm": ref_d, "order_dent": p_d},
+    return md
+
+
+def _felupe_markdown(fe: dict) -> list[str]:
+    fe_times, ours1, theirs, ratio = fe["median_s"], fe["ours"], fe["felupe"], fe["ratio"]
+    return ["", f"felupe {__import__('felupe').__version__} on the same P1 tetrahedral mesh (h = {fe['h_mm']} mm, "
+            f"{ours1['n_dofs']} dofs, same constrained dofs, same consistent nodal forces, same 9 increments, "
+            f"both with {DIRECT_NAME}; material with linear isotropic hardening H = {MAT_FELUPE.H_iso_MPa:g} MPa, "
+            "because felupe's Newton stagnates on the perfectly plastic case): interleaved median solve times "
+            f"ours {fe_times[OURS]:.2f} s, felupe {fe_times[FELUPE]:.2f} s "
+            f"(felupe / ours = {ratio:.2f}). Same discretisation, so equal error: u_peak ours "
+            f"{ours1['u_peak_mm'] * 1000:.5f} µm vs felupe {theirs['u_peak_mm'] * 1000:.5f} µm, dent "
+            f"{ours1['dent_mm'] * 1000:.5f} vs {theirs['dent_mm'] * 1000:.5f} µm. (P1 tets are much less accurate "
+            "than P2 for this problem; the comparison is of the solvers, not of the elements.)"]
+
+
+def run(mode: str, out: pathlib.Path) -> dict:
+    out = pathlib.Path(out)
+    quick = mode == "quick"
+    hs = [0.5, 0.35, 0.25] if quick else [0.4, 0.28, 0.2, 0.14]
+    rows, rich = _mesh_levels(hs)
+    fig = _plot(rows, rich["u_peak_mm"], rich["dent_mm"], out)
+    elastic = [elastic_half_space(0.25 if quick else 0.15, L) for L in ((60.0,) if quick else (20.0, 60.0, 200.0))]
+    var_times, var_res = _solver_variants(hs[1], quick)
+    precision = factor_precision(hs[-1]) if HAVE_PARDISO else []
+    inc = _increment_error(hs[0], (8, 16, 32) if quick else (8, 16, 32, 64))
+    fe = _felupe_comparison(0.4 if quick else 0.2, quick)
+    md = (_levels_markdown(hs, rows, rich, elastic)
+          + _solvers_markdown(hs[1], var_times, var_res, hs[-1], precision, hs[0], inc) + _felupe_markdown(fe))
+    data = {"levels": rows, "richardson": rich,
             "elastic_half_space": elastic, "variants": {k: dict(var_res[k], median_s=var_times[k]) for k in var_res},
-            "factor_precision": precision,
-            "increments": {"n": list(n_incr), "runs": incr, "reference_u_peak_mm": ref_inc_u,
-                           "reference_dent_mm": ref_inc_d, "order": p_inc_u},
-            "felupe": {"h_mm": h_fe, "ours": ours1, "felupe": theirs, "median_s": fe_times, "ratio": ratio},
-            "machine": machine_info()}
+            "factor_precision": precision, "increments": inc, "felupe": fe, "machine": machine_info()}
     json.dumps(data)  # must be serialisable
     return {"title": "FEM engine: 3D elastoplastic Hertz indentation", "markdown": "\n".join(md),
             "figures": [fig], "data": data}

@@ -76,13 +76,9 @@ def _main_patch(sol):
     return max(sol.patches, key=lambda p: p.normal_force_N)
 
 
-def run(mode: str, out: pathlib.Path) -> dict:
-    out = pathlib.Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    repeat = 3 if mode == "quick" else 7
-    layout = TrackLayout()
-    rail, wheel = Rail60E1(), S1002()
-    placed = place_rail(rail, layout)
+def _timings(rail, wheel, placed, layout, repeat: int) -> dict:
+    """Wall and CPU times (s) of the sweep, the search alone and both wheels with roll; heap peak (MiB) and the
+    accuracy checks of one sweep."""
     t_sweep, _ = median_time(lambda: _sweep(rail, wheel, placed, layout), repeat=repeat)
     t_search, _ = median_time(lambda: _search_only(wheel, placed, layout), repeat=repeat)
     t_both, _ = median_time(lambda: _sweep_both_with_roll(rail, wheel, placed, layout), repeat=max(1, repeat // 2))
@@ -92,51 +88,59 @@ def run(mode: str, out: pathlib.Path) -> dict:
         c0 = time.process_time()
         _sweep(rail, wheel, placed, layout)
         cpu.append(time.process_time() - c0)
-    t_cpu = float(np.median(cpu))
-    balance = max(s.vertical_balance_rel for s in sols)
-    sep_err = _separation_error(sols, placed)
-    n_two = sum(1 for s in sols if len(s.patches) > 1)
+    return {"sweep_s": t_sweep, "search_s": t_search, "both_wheels_roll_s": t_both,
+            "sweep_cpu_s": float(np.median(cpu)), "peak_heap_MiB": peak_mb,
+            "balance_rel_max": max(s.vertical_balance_rel for s in sols),
+            "separation_rail_distance_max_mm": _separation_error(sols, placed),
+            "two_patch_cases": sum(1 for s in sols if len(s.patches) > 1)}
 
-    # analytic profiles against the Manchester SIMPACK files (no yaw, right wheel)
+
+def _profile_comparison(rail, wheel, placed, layout) -> list[dict]:
+    """The analytic profiles against the Manchester SIMPACK files (no yaw, right wheel); empty without the files."""
     comparison = []
-    if (REFERENCE / "MBench_UIC60_v3.prr").is_file():
-        rail_f = get_profile(str(REFERENCE / "MBench_UIC60_v3.prr"))
-        wheel_f = get_profile(str(REFERENCE / "MBench_S1002_v3.prw"))
-        layout_f = TrackLayout(inclination_rad=0.0)  # the file's head is canted already
-        placed_f = place_rail(rail_f, layout_f)
-        a_sols = _sweep(rail, wheel, placed, layout, yaw=False)
-        f_sols = _sweep(rail_f, wheel_f, placed_f, layout_f, yaw=False)
-        for d, sa, sf in zip(LATERAL, a_sols, f_sols):
-            pa, pf = _main_patch(sa), _main_patch(sf)
-            comparison.append({
-                "lateral_mm": float(d),
-                "Y_analytic_mm": float(pa.point_track[1]), "Y_file_mm": float(pf.point_track[1]),
-                "y_wheel_analytic_mm": pa.candidate.y_wheel_mm, "y_wheel_file_mm": pf.candidate.y_wheel_mm,
-                "angle_analytic_deg": math.degrees(pa.candidate.contact_angle_rad),
-                "angle_file_deg": math.degrees(pf.candidate.contact_angle_rad),
-                "p_max_analytic_MPa": pa.normal.p_max_MPa, "p_max_file_MPa": pf.normal.p_max_MPa,
-                "n_patches_analytic": len(sa.patches), "n_patches_file": len(sf.patches)})
+    if not (REFERENCE / "MBench_UIC60_v3.prr").is_file():
+        return comparison
+    rail_f = get_profile(str(REFERENCE / "MBench_UIC60_v3.prr"))
+    wheel_f = get_profile(str(REFERENCE / "MBench_S1002_v3.prw"))
+    layout_f = TrackLayout(inclination_rad=0.0)  # the file's head is canted already
+    placed_f = place_rail(rail_f, layout_f)
+    a_sols = _sweep(rail, wheel, placed, layout, yaw=False)
+    f_sols = _sweep(rail_f, wheel_f, placed_f, layout_f, yaw=False)
+    for d, sa, sf in zip(LATERAL, a_sols, f_sols):
+        pa, pf = _main_patch(sa), _main_patch(sf)
+        comparison.append({
+            "lateral_mm": float(d),
+            "Y_analytic_mm": float(pa.point_track[1]), "Y_file_mm": float(pf.point_track[1]),
+            "y_wheel_analytic_mm": pa.candidate.y_wheel_mm, "y_wheel_file_mm": pf.candidate.y_wheel_mm,
+            "angle_analytic_deg": math.degrees(pa.candidate.contact_angle_rad),
+            "angle_file_deg": math.degrees(pf.candidate.contact_angle_rad),
+            "p_max_analytic_MPa": pa.normal.p_max_MPa, "p_max_file_MPa": pf.normal.p_max_MPa,
+            "n_patches_analytic": len(sa.patches), "n_patches_file": len(sf.patches)})
+    return comparison
 
-    figures = []
-    if comparison:
-        fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
-        d = [c["lateral_mm"] for c in comparison]
-        for ax, key, label in ((axes[0], "Y", "contact point Y on the rail (track, mm)"),
-                               (axes[1], "angle", "contact angle (deg)"), (axes[2], "p_max", "p_max (MPa)")):
-            suffix = "_mm" if key == "Y" else ("_deg" if key == "angle" else "_MPa")
-            ax.plot(d, [c[f"{key}_analytic{suffix}"] for c in comparison], "o-", ms=4, label="analytic S1002 / 60E1")
-            ax.plot(d, [c[f"{key}_file{suffix}"] for c in comparison], "x--", ms=5,
-                    label="Manchester SIMPACK files")
-            ax.set_xlabel("lateral displacement (mm), yaw 0")
-            ax.set_ylabel(label)
-            ax.grid(alpha=0.3)
-        axes[0].legend(fontsize=7)
-        fig.tight_layout()
-        path = out / "geometry_profiles_vs_files.png"
-        save_figure(fig, path)
-        figures.append(str(path))
 
-    lines = [
+def _plot_comparison(comparison: list[dict], out: pathlib.Path) -> str:
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+    d = [c["lateral_mm"] for c in comparison]
+    for ax, key, label in ((axes[0], "Y", "contact point Y on the rail (track, mm)"),
+                           (axes[1], "angle", "contact angle (deg)"), (axes[2], "p_max", "p_max (MPa)")):
+        suffix = "_mm" if key == "Y" else ("_deg" if key == "angle" else "_MPa")
+        ax.plot(d, [c[f"{key}_analytic{suffix}"] for c in comparison], "o-", ms=4, label="analytic S1002 / 60E1")
+        ax.plot(d, [c[f"{key}_file{suffix}"] for c in comparison], "x--", ms=5,
+                label="Manchester SIMPACK files")
+        ax.set_xlabel("lateral displacement (mm), yaw 0")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7)
+    fig.tight_layout()
+    path = out / "geometry_profiles_vs_files.png"
+    save_figure(fig, path)
+    return str(path)
+
+
+def _timings_markdown(t: dict, repeat: int) -> list[str]:
+    t_sweep = t["sweep_s"]
+    return [
         "## Wheel–rail geometry (S1002 on 60E1 at 1:40, Manchester A-2.2 conditions)",
         "",
         ("Whole lateral sweep: 21 cases (lateral 0..10 mm with yaw 0..24 mrad), right wheel, elastic: contact search, "
@@ -146,44 +150,58 @@ def run(mode: str, out: pathlib.Path) -> dict:
         "|---|---|",
         (f"| sweep of 21 cases (geometry + normal + tangential), median of {repeat} | {t_sweep * 1e3:.0f} ms "
          f"({t_sweep / 21 * 1e3:.1f} ms per case) |"),
-        f"| the same sweep, CPU time of this process (median of {repeat}) | {t_cpu * 1e3:.0f} ms |",
-        f"| contact search only (21 cases) | {t_search * 1e3:.0f} ms |",
-        f"| both wheels with the rigid-wheelset roll (21 cases) | {t_both * 1e3:.0f} ms |",
-        f"| peak Python heap during one sweep | {peak_mb:.1f} MiB |",
-        f"| largest vertical load balance residual sum N cos(gamma) vs Q (relative) | {balance:.1e} |",
+        f"| the same sweep, CPU time of this process (median of {repeat}) | {t['sweep_cpu_s'] * 1e3:.0f} ms |",
+        f"| contact search only (21 cases) | {t['search_s'] * 1e3:.0f} ms |",
+        f"| both wheels with the rigid-wheelset roll (21 cases) | {t['both_wheels_roll_s'] * 1e3:.0f} ms |",
+        f"| peak Python heap during one sweep | {t['peak_heap_MiB']:.1f} MiB |",
+        f"| largest vertical load balance residual sum N cos(gamma) vs Q (relative) | {t['balance_rel_max']:.1e} |",
         ("| largest distance of the separation's rail points from the exact rail profile "
-         f"(reference: `Profile.signed_distance`) | {sep_err:.1e} mm |"),
-        f"| cases with two loaded patches | {n_two} of 21 |",
+         f"(reference: `Profile.signed_distance`) | {t['separation_rail_distance_max_mm']:.1e} mm |"),
+        f"| cases with two loaded patches | {t['two_patch_cases']} of 21 |",
         "",
         ("Wall-clock timings are taken on a shared 2-core machine (other jobs running): treat them as upper bounds; "
          "the CPU time is the cost of the sweep itself."),
     ]
-    if comparison:
-        dY = max(abs(c["Y_analytic_mm"] - c["Y_file_mm"]) for c in comparison)
-        dA = max(abs(c["angle_analytic_deg"] - c["angle_file_deg"]) for c in comparison)
-        lines += [
-            "",
-            ("Analytic profiles (EN 13715 S1002, EN 13674-1 60E1 canted 1:40) against the Manchester benchmark "
-             "SIMPACK files (`MBench_S1002_v3.prw`, `MBench_UIC60_v3.prr`, canted in the file), yaw 0: the reference "
-             "is the same sweep on the files."),
-            "",
-            ("| lateral (mm) | Y analytic / file (mm) | wheel y analytic / file (mm) | angle analytic / file (deg) | "
-             "p_max analytic / file (MPa) | patches |"),
-            "|---|---|---|---|---|---|",
-        ]
-        lines += [f"| {c['lateral_mm']:.1f} | {c['Y_analytic_mm']:.2f} / {c['Y_file_mm']:.2f} | "
-                  f"{c['y_wheel_analytic_mm']:.2f} / {c['y_wheel_file_mm']:.2f} | {c['angle_analytic_deg']:.2f} / "
-                  f"{c['angle_file_deg']:.2f} | {c['p_max_analytic_MPa']:.0f} / {c['p_max_file_MPa']:.0f} | "
-                  f"{c['n_patches_analytic']} / {c['n_patches_file']} |" for c in comparison]
-        lines += ["", (f"Largest differences: contact point Y {dY:.2f} mm, contact angle {dA:.2f} deg (near a contact "
-                       "jump the two nearly equal gap minima can swap, which moves the point by several mm).")]
+
+
+def _comparison_markdown(comparison: list[dict]) -> list[str]:
+    dY = max(abs(c["Y_analytic_mm"] - c["Y_file_mm"]) for c in comparison)
+    dA = max(abs(c["angle_analytic_deg"] - c["angle_file_deg"]) for c in comparison)
+    lines = [
+        "",
+        ("Analytic profiles (EN 13715 S1002, EN 13674-1 60E1 canted 1:40) against the Manchester benchmark "
+         "SIMPACK files (`MBench_S1002_v3.prw`, `MBench_UIC60_v3.prr`, canted in the file), yaw 0: the reference "
+         "is the same sweep on the files."),
+        "",
+        ("| lateral (mm) | Y analytic / file (mm) | wheel y analytic / file (mm) | angle analytic / file (deg) | "
+         "p_max analytic / file (MPa) | patches |"),
+        "|---|---|---|---|---|---|",
+    ]
+    lines += [f"| {c['lateral_mm']:.1f} | {c['Y_analytic_mm']:.2f} / {c['Y_file_mm']:.2f} | "
+              f"{c['y_wheel_analytic_mm']:.2f} / {c['y_wheel_file_mm']:.2f} | {c['angle_analytic_deg']:.2f} / "
+              f"{c['angle_file_deg']:.2f} | {c['p_max_analytic_MPa']:.0f} / {c['p_max_file_MPa']:.0f} | "
+              f"{c['n_patches_analytic']} / {c['n_patches_file']} |" for c in comparison]
+    lines += ["", (f"Largest differences: contact point Y {dY:.2f} mm, contact angle {dA:.2f} deg (near a contact "
+                   "jump the two nearly equal gap minima can swap, which moves the point by several mm).")]
+    return lines
+
+
+def run(mode: str, out: pathlib.Path) -> dict:
+    out = pathlib.Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    repeat = 3 if mode == "quick" else 7
+    layout = TrackLayout()
+    rail, wheel = Rail60E1(), S1002()
+    placed = place_rail(rail, layout)
+    timings = _timings(rail, wheel, placed, layout, repeat)
+    comparison = _profile_comparison(rail, wheel, placed, layout)
+    figures = [_plot_comparison(comparison, out)] if comparison else []
+    lines = _timings_markdown(timings, repeat) + (_comparison_markdown(comparison) if comparison else [])
     return {
         "title": "Wheel-rail geometry: sweep run time, load balance, profiles vs Manchester files",
         "markdown": "\n".join(lines) + "\n",
         "figures": figures,
-        "data": {"sweep_s": t_sweep, "search_s": t_search, "both_wheels_roll_s": t_both, "sweep_cpu_s": t_cpu,
-                 "peak_heap_MiB": peak_mb, "balance_rel_max": balance, "separation_rail_distance_max_mm": sep_err,
-                 "two_patch_cases": n_two, "comparison": comparison, "machine": machine_info()},
+        "data": {**timings, "comparison": comparison, "machine": machine_info()},
     }
 
 

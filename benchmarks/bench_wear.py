@@ -95,71 +95,73 @@ def _split(scene) -> dict:
             "total step (profiled, with cProfile overhead)": total}
 
 
-def run(mode: str, out: pathlib.Path) -> dict:
-    out = pathlib.Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    quick = mode == "quick"
-    one_step = {"wear": {"distance_km": 100.0, "steps": 1, "max_depth_per_step_mm": 10.0}}
+#: one wear step of 100 km without step control (the timing runs)
+ONE_STEP = {"wear": {"distance_km": 100.0, "steps": 1, "max_depth_per_step_mm": 10.0}}
 
-    # time per step against the number of conditions (both wheels: 2 tasks per condition)
-    n_conds = (1, 3, 5) if quick else (1, 3, 5, 9)
+
+def _time_vs_conditions(n_conds) -> list[float]:
+    """Time per step (s) against the number of conditions (both wheels: 2 tasks per condition)."""
     t_cond = []
     for n in n_conds:
         lat = list(np.linspace(-3.0, 3.0, n)) if n > 1 else [0.0]
-        sc = _scene(collective={"lateral_mm": lat, "yaw_rad": [0.0] * n, "weights": "uniform"}, **one_step)
+        sc = _scene(collective={"lateral_mm": lat, "yaw_rad": [0.0] * n, "weights": "uniform"}, **ONE_STEP)
         _one_step_time(sc) if n == n_conds[0] else None  # warm-up (numba, caches)
         t_cond.append(_one_step_time(sc))
+    return t_cond
 
-    # time per step against the contact grid (strip width, FASTSIM cells per strip), 5 conditions
-    grids = ((0.2, 20), (0.1, 40)) if quick else ((0.2, 20), (0.1, 40), (0.05, 60))
-    t_grid = [_one_step_time(_scene(method={"grid_mm": g, "fastsim_cells": c}, **one_step)) for g, c in grids]
 
-    split = _split(_scene(**one_step))
-
-    # convergence in the number of steps (no step control: max depth 1 mm), 2000 km
-    steps_list = (1, 2, 4, 8) if quick else (1, 2, 4, 8, 16)
+def _convergence(steps_list, smoothing) -> tuple[list[dict], list[dict]]:
+    """Profile change against the number of steps (no step control: max depth 1 mm, 2000 km) and against the
+    smoothing width (2 steps of 1000 km)."""
     conv = []
     for n in steps_list:
         r = run_wear(_scene(wear={"distance_km": 2000.0, "steps": n, "max_depth_per_step_mm": 1.0}),
                      show_progress=False)
         conv.append({"steps": n, **_deviation(r)})
-    # smoothing width, 2 steps of 1000 km
     smooth = []
-    for sigma in ((0.0, 1.0, 2.0, 4.0) if quick else (0.0, 0.5, 1.0, 2.0, 4.0)):
+    for sigma in smoothing:
         r = run_wear(_scene(wear={"distance_km": 2000.0, "steps": 2, "max_depth_per_step_mm": 1.0,
                                   "smoothing_mm": sigma}), show_progress=False)
         smooth.append({"smoothing_mm": sigma, **_deviation(r)})
+    return conv, smooth
 
-    # the normal method (full mode): one step with Kik–Piotrowski and with the exact solver, interleaved
+
+def _normal_methods() -> list[dict]:
+    """One step with Kik–Piotrowski and with the exact solver, interleaved medians of 3 runs after a warm-up."""
+    cfgs = {"kik_piotrowski": {}, "exact (24 cells)": {"normal": "exact", "exact_cells": 24},
+            "exact (48 cells)": {"normal": "exact"}}
+    scenes = {k: _scene(method=v, **ONE_STEP) for k, v in cfgs.items()}
+    for sc in scenes.values():
+        run_wear(sc, show_progress=False)
+    times = {k: [] for k in scenes}
+    last = {}
+    for _ in range(3):
+        for k, sc in scenes.items():
+            t0 = time.perf_counter()
+            last[k] = run_wear(sc, show_progress=False)
+            times[k].append(time.perf_counter() - t0)
     methods = []
-    if not quick:
-        cfgs = {"kik_piotrowski": {}, "exact (24 cells)": {"normal": "exact", "exact_cells": 24},
-                "exact (48 cells)": {"normal": "exact"}}
-        scenes = {k: _scene(method=v, **one_step) for k, v in cfgs.items()}
-        for sc in scenes.values():
-            run_wear(sc, show_progress=False)
-        times = {k: [] for k in scenes}
-        last = {}
-        for _ in range(3):
-            for k, sc in scenes.items():
-                t0 = time.perf_counter()
-                last[k] = run_wear(sc, show_progress=False)
-                times[k].append(time.perf_counter() - t0)
-        for k in scenes:
-            st = last[k].steps[0].bodies["right", "wheel"].stats
-            methods.append({"method": k, "s_per_step": float(np.median(times[k])), "wear_max_mm": st["wear_max_mm"],
-                            "worn_area_mm2": st["worn_area_mm2"], "inelastic_max_mm": st["inelastic_max_mm"]})
+    for k in scenes:
+        st = last[k].steps[0].bodies["right", "wheel"].stats
+        methods.append({"method": k, "s_per_step": float(np.median(times[k])), "wear_max_mm": st["wear_max_mm"],
+                        "worn_area_mm2": st["worn_area_mm2"], "inelastic_max_mm": st["inelastic_max_mm"]})
+    return methods
 
-    # the two wear laws on the same first step (rates on the new profiles)
+
+def _laws() -> list[dict]:
+    """The two wear laws on the same first step (rates on the new profiles), per 1000 km."""
     laws = []
     for law in ("archard", "usfd"):
-        r = run_wear(_scene(wear={"law": law, **one_step["wear"]}), show_progress=False)
+        r = run_wear(_scene(wear={"law": law, **ONE_STEP["wear"]}), show_progress=False)
         st = r.steps[0]
         for body in ("wheel", "rail"):
             b = st.bodies["right", body]
             laws.append({"law": law, "body": body, "max_mm_per_1000km": b.stats.wear_max_mm / st.length_km * 1e3,
                          "area_mm2_per_1000km": b.stats.worn_area_mm2 / st.length_km * 1e3})
+    return laws
 
+
+def _plot(n_conds, t_cond: list[float], conv: list[dict], out: pathlib.Path) -> pathlib.Path:
     fig, ax = plt.subplots(1, 2, figsize=(9, 3.5))
     ax[0].plot(n_conds, t_cond, "o-")
     ax[0].set_xlabel("conditions (x 2 wheels)")
@@ -174,33 +176,56 @@ def run(mode: str, out: pathlib.Path) -> dict:
     fig.tight_layout()
     fig_path = out / "wear_benchmark.png"
     save_figure(fig, fig_path)
+    return fig_path
 
+
+def _markdown(d: dict) -> str:
+    """The report section from the ``data`` of :func:`run`."""
     md = ["Base: scenes/wear/s1002_60e1.toml, both wheels, in-process, wall times on a shared 2-core machine.", "",
           "| conditions | tasks | s per step |", "|---|---|---|"]
-    md += [f"| {n} | {2 * n} | {t:.2f} |" for n, t in zip(n_conds, t_cond)]
+    md += [f"| {n} | {2 * n} | {t:.2f} |" for n, t in zip(d["conditions"], d["time_per_step_s"])]
     md += ["", "| grid_mm | FASTSIM cells | s per step (5 conditions) |", "|---|---|---|"]
-    md += [f"| {g} | {c} | {t:.2f} |" for (g, c), t in zip(grids, t_grid)]
+    md += [f"| {g} | {c} | {t:.2f} |" for (g, c), t in zip(d["grids"], d["time_per_step_grid_s"])]
     md += ["", "| part of one step (cProfile, cumulative) | s |", "|---|---|"]
-    md += [f"| {k} | {v:.2f} |" for k, v in split.items()]
+    md += [f"| {k} | {v:.2f} |" for k, v in d["split_s"].items()]
     md += ["", "| steps (2000 km) | wheel max change mm | rail max change mm | dr mm |", "|---|---|---|---|"]
     md += [f"| {c['steps']} | {c['right_wheel_max_change_mm']:.4f} | {c['right_rail_max_change_mm']:.4f} | "
-           f"{c['delta_r_mm']:.4f} |" for c in conv]
+           f"{c['delta_r_mm']:.4f} |" for c in d["step_convergence"]]
     md += ["", "| smoothing sigma mm (2 steps) | wheel max change mm | rail max change mm | dr mm |",
            "|---|---|---|---|"]
     md += [f"| {c['smoothing_mm']} | {c['right_wheel_max_change_mm']:.4f} | {c['right_rail_max_change_mm']:.4f} | "
-           f"{c['delta_r_mm']:.4f} |" for c in smooth]
+           f"{c['delta_r_mm']:.4f} |" for c in d["smoothing"]]
     md += ["", "| law (first step, right side) | body | max wear mm per 1000 km | worn area mm^2 per 1000 km |",
            "|---|---|---|---|"]
-    md += [f"| {c['law']} | {c['body']} | {c['max_mm_per_1000km']:.4f} | {c['area_mm2_per_1000km']:.3f} |" for c in laws]
-    if methods:
+    md += [f"| {c['law']} | {c['body']} | {c['max_mm_per_1000km']:.4f} | {c['area_mm2_per_1000km']:.3f} |"
+           for c in d["laws"]]
+    if d["normal_methods"]:
         md += ["", "| normal method (one step) | s per step | wheel max wear mm | worn area mm^2 | inelastic mm |",
                "|---|---|---|---|---|"]
         md += [f"| {m['method']} | {m['s_per_step']:.2f} | {m['wear_max_mm']:.4f} | {m['worn_area_mm2']:.3f} | "
-               f"{m['inelastic_max_mm']:.4f} |" for m in methods]
-    md += ["", f"Published comparison: {PUBLISHED_STATUS}"]
-    return {"title": "Wear loop: time per step, split, step and smoothing convergence", "markdown": "\n".join(md),
-            "figures": [str(fig_path)],
-            "data": {"conditions": list(n_conds), "time_per_step_s": t_cond,
-                     "grids": [list(g) for g in grids], "time_per_step_grid_s": t_grid, "split_s": split,
-                     "step_convergence": conv, "smoothing": smooth, "laws": laws, "normal_methods": methods,
-                     "published": PUBLISHED_STATUS}}
+               f"{m['inelastic_max_mm']:.4f} |" for m in d["normal_methods"]]
+    md += ["", f"Published comparison: {d['published']}"]
+    return "\n".join(md)
+
+
+def run(mode: str, out: pathlib.Path) -> dict:
+    out = pathlib.Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    quick = mode == "quick"
+    n_conds = (1, 3, 5) if quick else (1, 3, 5, 9)
+    t_cond = _time_vs_conditions(n_conds)
+    # time per step against the contact grid (strip width, FASTSIM cells per strip), 5 conditions
+    grids = ((0.2, 20), (0.1, 40)) if quick else ((0.2, 20), (0.1, 40), (0.05, 60))
+    t_grid = [_one_step_time(_scene(method={"grid_mm": g, "fastsim_cells": c}, **ONE_STEP)) for g, c in grids]
+    split = _split(_scene(**ONE_STEP))
+    conv, smooth = _convergence((1, 2, 4, 8) if quick else (1, 2, 4, 8, 16),
+                                (0.0, 1.0, 2.0, 4.0) if quick else (0.0, 0.5, 1.0, 2.0, 4.0))
+    methods = [] if quick else _normal_methods()
+    laws = _laws()
+    fig_path = _plot(n_conds, t_cond, conv, out)
+    data = {"conditions": list(n_conds), "time_per_step_s": t_cond,
+            "grids": [list(g) for g in grids], "time_per_step_grid_s": t_grid, "split_s": split,
+            "step_convergence": conv, "smoothing": smooth, "laws": laws, "normal_methods": methods,
+            "published": PUBLISHED_STATUS}
+    return {"title": "Wear loop: time per step, split, step and smoothing convergence", "markdown": _markdown(data),
+            "figures": [str(fig_path)], "data": data}

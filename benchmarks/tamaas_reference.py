@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from typing import Any
 
 import numpy as np
 
@@ -149,11 +150,72 @@ def solve(settings: TamaasSettings, verbose: bool = False) -> dict:
     ``grid``, ``time_s`` and ``stopped`` (None, or why the path stopped early: the plastic zone reached the
     bottom of the layer, Lz too small; the levels above are then missing). Raises ImportError when Tamaas is not
     installed."""
-    import tamaas as tm
-    from tamaas.nonlinear_solvers import DFSANECXXSolver
+    import tamaas as tm  # optional dependency: imported only when a reference run is asked for
 
     t_start = time.perf_counter()
     s = settings
+    cell = _cell(tm, s)
+    elastic = _elastic_check(cell, s)
+    onset, last_elastic, prev = None, 0.0, 0.0
+    rows, step_log, stopped = [], [], None
+    dz_a = cell.z_a[1] - cell.z_a[0]
+    for f in load_steps(s.levels_Y, s.step_Y, s.start_Y, s.probe_Y):
+        t0 = time.perf_counter()
+        cum_before = np.array(cell.model["cumulated_plastic_strain"])
+        _apply_increment(cell, (f - prev) * s.yield_MPa)
+        prev = f
+        cum = np.array(cell.model["cumulated_plastic_strain"])
+        top, bottom, count = zone_extent(cum, cell.z_a, 0.0)
+        if onset is None:
+            if (cum > 0).any():
+                onset = (last_elastic, f)
+            else:
+                last_elastic = f
+        if np.isfinite(bottom) and bottom >= cell.z_a[-1] - 1.5 * dz_a:
+            stopped = (f"plastic zone reaches the bottom of the layer (z = {bottom:.3f} a) at p0 = {f:g} Y: "
+                       "load path stopped there (increase depth_a)")
+            break
+        step_log.append({"p0_over_Y": f, "time_s": time.perf_counter() - t0})
+        if verbose:
+            print(f"  tamaas p0 = {f:.3f} Y: zone {top:.3f}-{bottom:.3f} a, {count} points, "
+                  f"{time.perf_counter() - t0:.1f} s", flush=True)
+        if not any(abs(f - lev) < 1e-9 for lev in s.levels_Y):
+            continue
+        row = _level_row(cell, s, f, cum, cum_before, top, bottom, count)
+        if any(abs(f - lev) < 1e-9 for lev in s.unload_Y):
+            row.update(_unload(cell, s, f))
+        rows.append(row)
+    return {"settings": dataclasses.asdict(s), "tamaas_version": tamaas_version(),
+            "grid": {"n_xy": cell.n, "n_z": cell.nz, "dx_mm": s.dx_a * s.a_mm,
+                     "unknowns": int(cell.nz * cell.n * cell.n * 6)},
+            "elastic": elastic, "onset_Y": list(onset) if onset else None, "levels": rows,
+            "steps": step_log, "stopped": stopped, "time_s": time.perf_counter() - t_start}
+
+
+#: the model fields that make up the state of a load step (saved before an unloading, restored after it)
+STATE_FIELDS = ("strain", "plastic_strain", "cumulated_plastic_strain", "stress")
+
+
+@dataclasses.dataclass(frozen=True)
+class _Cell:
+    """One Tamaas model of the periodic cell and what the load path needs of it (lengths mm, depths z / a)."""
+
+    tm: Any
+    model: Any
+    material: Any
+    residual: Any
+    solver: Any
+    shape: np.ndarray
+    z_a: np.ndarray
+    n: int
+    nz: int
+    c: int
+
+
+def _cell(tm: Any, s: TamaasSettings) -> _Cell:
+    """The model, its J2 isotropic-hardening material and DF-SANE solver, and the unit Hertz pressure shape."""
+    from tamaas.nonlinear_solvers import DFSANECXXSolver  # optional dependency, as in solve
+
     tm.set_log_level(tm.LogLevel.warning)
     a = s.a_mm
     n, nz = s.n_xy, s.n_z
@@ -164,103 +226,93 @@ def solve(settings: TamaasSettings, verbose: bool = False) -> dict:
     residual = tm.Residual(model, material)
     solver = DFSANECXXSolver(residual)
     solver.tolerance = s.tolerance
-
     x = np.arange(n) * length / n
     gx, gy = np.meshgrid(x, x, indexing="ij")
     c = n // 2
     shape = np.sqrt(np.clip(1.0 - ((gx - x[c]) ** 2 + (gy - x[c]) ** 2) / a ** 2, 0.0, None))
     z_a = np.arange(nz) * (depth / (nz - 1)) / a
+    # the material and residual are kept with the solver: the C++ solver refers to them
+    return _Cell(tm, model, material, residual, solver, shape, z_a, n, nz, c)
 
-    def von_mises(stress: np.ndarray) -> np.ndarray:
-        vm = np.zeros(stress.shape[:-1] + (1,))
-        tm.compute.von_mises(tm.model_type.volume_2d, vm, np.ascontiguousarray(stress))
-        return vm[..., 0]
 
-    # elastic field of p0 = 1 MPa (operators only, no plasticity)
+def _von_mises(cell: _Cell, stress: np.ndarray) -> np.ndarray:
+    tm = cell.tm
+    vm = np.zeros(stress.shape[:-1] + (1,))
+    tm.compute.von_mises(tm.model_type.volume_2d, vm, np.ascontiguousarray(stress))
+    return vm[..., 0]
+
+
+def _elastic_check(cell: _Cell, s: TamaasSettings) -> dict:
+    """The elastic field of p0 = 1 MPa (operators only, no plasticity) against Johnson eq. 3.45 on the axis."""
+    n, nz, c, z_a, model = cell.n, cell.nz, cell.c, cell.z_a, cell.model
     trac = np.zeros((n, n, 3))
-    trac[..., 2] = shape
+    trac[..., 2] = cell.shape
     strain = np.zeros((nz, n, n, 6))
     model.operators["boussinesq_gradient"](trac, strain)
     stress = np.zeros_like(strain)
     model.operators["hooke"](strain, stress)
-    vm1 = von_mises(stress)
+    vm1 = _von_mises(cell, stress)
     k = int(np.argmax(vm1[:, c, c]))
     y0, y1, y2 = vm1[k - 1, c, c], vm1[k, c, c], vm1[k + 1, c, c]
     shift = 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2)
     dz_a = z_a[1] - z_a[0]
     axis_dev = vm1[:, c, c] - hertz_axis_von_mises(z_a, s.poisson)
-    elastic = {"first_yield_over_Y": float(1.0 / vm1.max()),
-               "first_yield_axis_parabola_over_Y": float(1.0 / (y1 - 0.25 * (y0 - y2) * shift)),
-               "depth_over_a": float(z_a[k] + shift * dz_a),
-               "axis_vm_max_dev_per_p0": float(np.abs(axis_dev).max()),
-               "axis_vm_dev_at_max_per_p0": float(axis_dev[k]),
-               "centre_szz_surface_per_p0": float(stress[0, c, c, 2])}
+    return {"first_yield_over_Y": float(1.0 / vm1.max()),
+            "first_yield_axis_parabola_over_Y": float(1.0 / (y1 - 0.25 * (y0 - y2) * shift)),
+            "depth_over_a": float(z_a[k] + shift * dz_a),
+            "axis_vm_max_dev_per_p0": float(np.abs(axis_dev).max()),
+            "axis_vm_dev_at_max_per_p0": float(axis_dev[k]),
+            "centre_szz_surface_per_p0": float(stress[0, c, c, 2])}
 
-    def plastic_displacement_um() -> float:
-        eps_p = np.ascontiguousarray(np.array(model["plastic_strain"]))
-        eig = np.zeros_like(eps_p)
-        model.operators["hooke"](eps_p, eig)
-        u = np.zeros((nz, n, n, 3))
-        model.operators["mindlin"](eig, u)
-        return float((u[0, c, c, 2] - u[0, 0, 0, 2]) * 1000.0)
 
-    state_fields = ("strain", "plastic_strain", "cumulated_plastic_strain", "stress")
-    prev = 0.0
-    onset = None
-    last_elastic = 0.0
-    rows = []
-    step_log = []
-    stopped = None
-    for f in load_steps(s.levels_Y, s.step_Y, s.start_Y, s.probe_Y):
-        t0 = time.perf_counter()
-        cum_before = np.array(model["cumulated_plastic_strain"])
-        model.traction[...] = 0.0
-        model.traction[..., 2] = (f - prev) * s.yield_MPa * shape
-        solver.solve()
-        solver.updateState()
-        prev = f
-        cum = np.array(model["cumulated_plastic_strain"])
-        top, bottom, count = zone_extent(cum, z_a, 0.0)
-        if onset is None:
-            if (cum > 0).any():
-                onset = (last_elastic, f)
-            else:
-                last_elastic = f
-        if np.isfinite(bottom) and bottom >= z_a[-1] - 1.5 * dz_a:
-            stopped = (f"plastic zone reaches the bottom of the layer (z = {bottom:.3f} a) at p0 = {f:g} Y: "
-                       "load path stopped there (increase depth_a)")
-            break
-        step_log.append({"p0_over_Y": f, "time_s": time.perf_counter() - t0})
-        if verbose:
-            print(f"  tamaas p0 = {f:.3f} Y: zone {top:.3f}-{bottom:.3f} a, {count} points, "
-                  f"{time.perf_counter() - t0:.1f} s", flush=True)
-        if not any(abs(f - lev) < 1e-9 for lev in s.levels_Y):
-            continue
-        grew = (cum - cum_before) > 0
-        vm = von_mises(np.array(model["stress"]))
-        hard_err = (float(np.abs(vm[grew] - (s.yield_MPa + s.hardening_MPa * cum[grew])).max() / s.yield_MPa)
-                    if grew.any() else float("nan"))
-        top_t, bottom_t, _ = zone_extent(cum, z_a, s.threshold)
-        # on the axis the plastic strain is axisymmetric with a fixed direction (-1/2, -1/2, 1) eps_zz, so the
-        # accumulated equivalent plastic strain int sqrt(2/3 deps:deps) must equal |eps_p_zz| there
-        eps_axis = np.array(model["plastic_strain"])[:, c, c, 2]
-        eq_check = float(np.abs(cum[:, c, c] - np.abs(eps_axis)).max() / max(cum[:, c, c].max(), 1e-300))
-        row = {"p0_over_Y": f, "u_pl_um": plastic_displacement_um(), "z_top": top, "z_bottom": bottom,
-               "z_top_thr": top_t, "z_bottom_thr": bottom_t, "n_plastic": count, "yield_surface_check": hard_err,
-               "eq_strain_axis_check": eq_check}
-        if any(abs(f - lev) < 1e-9 for lev in s.unload_Y):
-            saved = {k: np.array(model[k]) for k in state_fields}
-            model.traction[..., 2] = -f * s.yield_MPa * shape
-            solver.solve()
-            solver.updateState()
-            row["dent_um"] = plastic_displacement_um()
-            row["unload_reverse_yield"] = float((np.array(model["cumulated_plastic_strain"]) - saved[
-                "cumulated_plastic_strain"]).max())
-            for k in state_fields:
-                model[k][...] = saved[k]
-            model.traction[...] = 0.0
-        rows.append(row)
-    return {"settings": dataclasses.asdict(s), "tamaas_version": tamaas_version(),
-            "grid": {"n_xy": n, "n_z": nz, "dx_mm": s.dx_a * a, "unknowns": int(nz * n * n * 6)},
-            "elastic": elastic, "onset_Y": list(onset) if onset else None, "levels": rows,
-            "steps": step_log, "stopped": stopped, "time_s": time.perf_counter() - t_start}
+def _apply_increment(cell: _Cell, dp0_MPa: float) -> None:
+    """Solve one step whose Hertz pressure changes by ``dp0_MPa`` and commit it (the traction holds the increment)."""
+    cell.model.traction[...] = 0.0
+    cell.model.traction[..., 2] = dp0_MPa * cell.shape
+    cell.solver.solve()
+    cell.solver.updateState()
+
+
+def _plastic_displacement_um(cell: _Cell) -> float:
+    """Inelastic surface displacement u_z(centre) - u_z(corner) (µm): Mindlin operator of C : eps_p."""
+    model, n, nz, c = cell.model, cell.n, cell.nz, cell.c
+    eps_p = np.ascontiguousarray(np.array(model["plastic_strain"]))
+    eig = np.zeros_like(eps_p)
+    model.operators["hooke"](eps_p, eig)
+    u = np.zeros((nz, n, n, 3))
+    model.operators["mindlin"](eig, u)
+    return float((u[0, c, c, 2] - u[0, 0, 0, 2]) * 1000.0)
+
+
+def _level_row(cell: _Cell, s: TamaasSettings, f: float, cum: np.ndarray, cum_before: np.ndarray, top: float,
+               bottom: float, count: int) -> dict:
+    """The recorded quantities at the level p0 = ``f`` Y, with the yield-surface and equivalent-strain checks."""
+    c = cell.c
+    grew = (cum - cum_before) > 0
+    vm = _von_mises(cell, np.array(cell.model["stress"]))
+    hard_err = (float(np.abs(vm[grew] - (s.yield_MPa + s.hardening_MPa * cum[grew])).max() / s.yield_MPa)
+                if grew.any() else float("nan"))
+    top_t, bottom_t, _ = zone_extent(cum, cell.z_a, s.threshold)
+    # on the axis the plastic strain is axisymmetric with a fixed direction (-1/2, -1/2, 1) eps_zz, so the
+    # accumulated equivalent plastic strain int sqrt(2/3 deps:deps) must equal |eps_p_zz| there
+    eps_axis = np.array(cell.model["plastic_strain"])[:, c, c, 2]
+    eq_check = float(np.abs(cum[:, c, c] - np.abs(eps_axis)).max() / max(cum[:, c, c].max(), 1e-300))
+    return {"p0_over_Y": f, "u_pl_um": _plastic_displacement_um(cell), "z_top": top, "z_bottom": bottom,
+            "z_top_thr": top_t, "z_bottom_thr": bottom_t, "n_plastic": count, "yield_surface_check": hard_err,
+            "eq_strain_axis_check": eq_check}
+
+
+def _unload(cell: _Cell, s: TamaasSettings, f: float) -> dict:
+    """Unload from p0 = ``f`` Y to zero: the dent (µm) and the reverse-yield check; the loaded state is restored."""
+    model = cell.model
+    saved = {k: np.array(model[k]) for k in STATE_FIELDS}
+    model.traction[..., 2] = -f * s.yield_MPa * cell.shape
+    cell.solver.solve()
+    cell.solver.updateState()
+    out = {"dent_um": _plastic_displacement_um(cell),
+           "unload_reverse_yield": float((np.array(model["cumulated_plastic_strain"]) - saved[
+               "cumulated_plastic_strain"]).max())}
+    for k in STATE_FIELDS:
+        model[k][...] = saved[k]
+    model.traction[...] = 0.0
+    return out
