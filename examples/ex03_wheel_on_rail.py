@@ -24,7 +24,7 @@ from pathlib import Path
 
 import contact
 import meshes
-from contact.wheel_rail.scene import reference_dir
+from contact.wheel_rail.scene_files import reference_dir
 
 G_MPA, POISSON = 82000.0, 0.28
 
