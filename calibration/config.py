@@ -8,7 +8,6 @@ the file and the key (:mod:`wrlayer.validate`).
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import asdict, fields
 from pathlib import Path
 from typing import Any
@@ -21,6 +20,7 @@ from calibration.settings import (LINEAR_SOLVERS, MESH_STYLES, METHODS, MODELS, 
 from meshes.profiles import PROFILE_FILE_SUFFIXES, Profile, get_profile
 from wrlayer import validate
 from wrlayer.errors import InputError
+from wrlayer.input_files import read_toml
 from wrlayer.validate import Keys
 
 #: Largest number of positions per body (a hard size limit; the cost guard of calibration.cost refuses long runs
@@ -29,7 +29,8 @@ MAX_POSITIONS = 500
 
 _TOP_KEYS = ("run", "material", "load", "mesh", "fit", "bodies")
 _BODY_KEYS = ("body", "profile", "mate", "positions_mm", "positions", "semi_axes_mm", "inclination",
-              "inclination_rad", "rail_cant_rad", "max_lateral_radius_mm", "wheel_radius_mm", "material")
+              "inclination_rad", "rail_cant_rad", "max_lateral_radius_mm", "wheel_radius_mm", "material",
+              "accept_unusual_profile")
 
 
 def _names(cls) -> tuple[str, ...]:
@@ -122,9 +123,10 @@ def _fit(k: Keys) -> FitSettings:
     return fit
 
 
-def resolve_profile(spec: Any, what: str, base: Path) -> tuple[Any, Profile]:
+def resolve_profile(spec: Any, what: str, base: Path, accept_unusual: bool = False) -> tuple[Any, Profile]:
     """(spec as stored, Profile) of a profile given as a name, a file path (relative to ``base``) or a Profile
-    object; InputError naming ``what`` when it is none of them or cannot be read."""
+    object; InputError naming ``what`` when it is none of them or cannot be read. ``accept_unusual``: a file is
+    read without the plausibility checks and stored as the Profile object (so that it is not read again)."""
     if isinstance(spec, Profile):
         return spec, spec
     if not isinstance(spec, str) or not spec.strip():
@@ -135,6 +137,9 @@ def resolve_profile(spec: Any, what: str, base: Path) -> tuple[Any, Profile]:
             raise InputError(what, f"profile file {str(path)!r} not found")
         spec = str(path)
     try:
+        if accept_unusual and Path(spec).suffix.lower() in PROFILE_FILE_SUFFIXES:
+            profile = get_profile(spec, accept_unusual=True)
+            return profile, profile
         return spec, get_profile(spec)
     except InputError as err:
         raise InputError(what, str(err)) from None
@@ -171,8 +176,8 @@ def _positions(k: Keys) -> tuple[float, ...]:
     return tuple(sorted(ys))
 
 
-def _mate(k: Keys, body: str, base: Path):
-    mate, profile = resolve_profile(k.table["mate"], k.what("mate"), base)
+def _mate(k: Keys, body: str, base: Path, accept_unusual: bool = False):
+    mate, profile = resolve_profile(k.table["mate"], k.what("mate"), base, accept_unusual)
     if profile.body == body:
         raise k.error("mate", f"{profile.name} is a {profile.body} profile; the mate of a {body} must be a "
                               f"{'wheel' if body == 'rail' else 'rail'}")
@@ -188,7 +193,8 @@ def _body(k: Keys, base: Path, material: MaterialSettings) -> BodySettings:
         raise k.error("body", f"must be 'rail' or 'wheel', got {validate.show(body)}")
     if "profile" not in k.table:
         raise k.error("profile", "missing (required)")
-    spec, profile = resolve_profile(k.table["profile"], k.what("profile"), base)
+    unusual = k.boolean("accept_unusual_profile", False)
+    spec, profile = resolve_profile(k.table["profile"], k.what("profile"), base, unusual)
     if profile.body != body:
         raise k.error("profile", f"{profile.name} is a {profile.body} profile, not a {body} profile")
     ys = _positions(k)
@@ -205,11 +211,11 @@ def _body(k: Keys, base: Path, material: MaterialSettings) -> BodySettings:
         semi = tuple(float(x) for x in k.array("semi_axes_mm", gt=0.0))
     if "mate" not in k.table and semi is None:
         raise k.error("mate", "missing (needed for the Hertz semi-axes unless semi_axes_mm is given)")
-    mate = _mate(k, body, base) if "mate" in k.table else None
+    mate = _mate(k, body, base, unusual) if "mate" in k.table else None
     kw = _numbers(k, {"max_lateral_radius_mm": dict(gt=0.0), "wheel_radius_mm": dict(gt=0.0)})
     kw.update(_inclination(k))
     mat = _material(k.sub("material"), material) if "material" in k.table else material
-    settings = BodySettings(body, spec, mate, ys, semi, material=mat, **kw)
+    settings = BodySettings(body, spec, mate, ys, semi, material=mat, accept_unusual_profile=unusual, **kw)
     cant_rad(settings, f"{k.file}: {k.prefix}")  # a rail of unknown placement: refused here
     return settings
 
@@ -257,19 +263,7 @@ def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> 
 def load_config(path: str | Path) -> CalibrationConfig:
     """Read and validate a TOML configuration file."""
     path = Path(path)
-    try:
-        raw = path.read_bytes()
-    except FileNotFoundError:
-        raise InputError(str(path), "configuration file not found") from None
-    except OSError as err:
-        raise InputError(str(path), f"cannot read: {err.strerror}") from None
-    try:
-        data = tomllib.loads(raw.decode("utf-8"))
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as err:
-        raise InputError(str(path), f"not valid TOML: {err}") from None
-    except RecursionError:
-        raise InputError(str(path), "arrays or tables nested too deeply to read") from None
-    return parse_config(data, str(path), path.parent)
+    return parse_config(read_toml(path, what=str(path)), str(path), path.parent)
 
 
 def material_of(body: BodySettings):

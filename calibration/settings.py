@@ -220,6 +220,9 @@ class BodySettings:
         Wheel rolling radius (mm, > 0; None: the profile's default).
     material : MaterialSettings
         The body's material (``[bodies.material]`` overrides ``[material]``).
+    accept_unusual_profile : bool
+        Read the body's and the mate's profile files without the plausibility checks of
+        :mod:`meshes.profiles.plausibility` (units, orientation, steps; a profile unusual on purpose).
     """
 
     body: str
@@ -232,6 +235,7 @@ class BodySettings:
     max_lateral_radius_mm: float = DEFAULT_MAX_LATERAL_RADIUS_MM
     wheel_radius_mm: float | None = None
     material: MaterialSettings = MaterialSettings()
+    accept_unusual_profile: bool = False
 
 
 @dataclass(frozen=True)

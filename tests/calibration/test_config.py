@@ -7,6 +7,7 @@ import pytest
 
 from calibration.__main__ import main
 from calibration.config import load_config
+from wrlayer.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[2]
 BAD = sorted((ROOT / "tests" / "inputs" / "bad_calibration_configs").glob("*.toml"))
@@ -40,3 +41,20 @@ def test_bad_configuration_is_a_one_line_error_and_writes_nothing(path, tmp_path
     assert err.startswith("error: ") and "\n" not in err, err
     assert path.name in err or "profile" in err, err
     assert not out.exists()
+
+
+def test_unusual_profile_file_accepted_on_request(tmp_path):
+    """A profile file that fails the plausibility checks (here a rail head 4 mm wide) is refused, naming the file
+    and the switch; with accept_unusual_profile = true it is read (and kept in memory, not read again)."""
+    import numpy as np
+
+    from calibration.config import parse_config
+    from meshes.profiles.io import write_text
+
+    y = np.linspace(-2.0, 2.0, 41)
+    write_text(tmp_path / "narrow.csv", np.column_stack([y, -y ** 2 / 600.0]))
+    body = {"body": "rail", "profile": "narrow.csv", "mate": "S1002", "positions_mm": [0.0], "inclination": 0}
+    with pytest.raises(InputError, match="narrow.csv: spans only 4 mm.*accept_unusual_profile"):
+        parse_config({"bodies": [body]}, "c.toml", tmp_path)
+    cfg = parse_config({"bodies": [{**body, "accept_unusual_profile": True}]}, "c.toml", tmp_path)
+    assert cfg.bodies[0].accept_unusual_profile and cfg.bodies[0].profile.name == "narrow"

@@ -407,7 +407,7 @@ def main() -> None:
                    "make_corpus.py", [body])
         expected[f"{stem}.toml"] = fragment
     (folder / "binary_garbage.toml").write_bytes(GARBAGE)
-    expected["binary_garbage.toml"] = "not valid TOML"
+    expected["binary_garbage.toml"] = "not UTF-8 text"
     write_expected(folder, expected)
     folder = HERE / "bad_profiles"
     folder.mkdir(exist_ok=True)
