@@ -102,10 +102,10 @@ def test_layer_table_does_not_import_the_fem_code():
     ("rail_60E1_2d.json", "2d", (-35.9, 15.0)), ("wheel_S1002_2d.json", "2d", (-45.0, 30.0))])
 def test_shipped_tables_are_valid_calibrations(name, model, y_range):
     """scenes/tables: valid, complete FEM calibrations; p_2 pinned at the FEM first yield; 3D dents below 2D.
-    *_default: `make calibrate` (3D, issue 12); *_2d: the former 2D default, kept for comparison."""
+    *_default: `make calibrate` (3D); *_2d: the former 2D default, kept for comparison."""
     from pathlib import Path
 
-    path = Path(__file__).resolve().parents[2] / "scenes" / "tables" / name
+    path = Path(__file__).resolve().parents[3] / "scenes" / "tables" / name
     table = LayerTable.read(path)
     assert table.header["model"] == model and table.failed == []
     assert table.y_range_mm == pytest.approx(y_range)
