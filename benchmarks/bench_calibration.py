@@ -227,7 +227,7 @@ def run(mode: str, out: Path) -> dict:
                      "end_to_end": e2e}}
 
 
-#: The three positions of the convergence study (issue 12): crown, gauge corner, wheel flange root.
+#: The three positions of the convergence study: crown, gauge corner, wheel flange root.
 CONVERGENCE_POSITIONS = (("rail", 0.0, "crown"), ("rail", -35.0, "gauge corner"), ("wheel", -37.5, "flange root"))
 
 
@@ -284,7 +284,7 @@ def _loglog_interp(x, xp, fp):
 
 
 def convergence_at_same_pressure(body: str, y_mm: float, mesh_kw: dict, ref_mesh_kw: dict) -> dict:
-    """Issue 12, item 3, compared at the same ABSOLUTE pressures (what the contact solver reads from a table: u(p)
+    """Mesh convergence compared at the same ABSOLUTE pressures (what the contact solver reads from a table: u(p)
     in MPa): the case ``mesh_kw`` runs the default load path (levels and unloading peaks at multiples of its own
     p_y); the reference ``ref_mesh_kw`` runs a load path scaled by r = p_y(case) / p_y(ref) (max_factor and
     unload_factors x r), so that it unloads from the same absolute peaks and reaches the same peak pressure.
@@ -328,7 +328,7 @@ def mesh_convergence_same_pressure(default_kw: dict | None = None) -> list[dict]
             for body, y, name in CONVERGENCE_POSITIONS]
 
 
-#: Issue 12, item 7: positions of the end-to-end check: (label, rail position y (mm), combined lateral radius (mm),
+#: Positions of the end-to-end check: (label, rail position y (mm), combined lateral radius (mm),
 #: rolling radius (mm)) at 100 kN. The crown is the geometry of scenes/calibrated_layers.toml (rail crown R300 on a
 #: flat tread); y = -15 mm (the 60E1's R80 region) takes the curvatures the table records there:
 #: 1 / (k_y + k_y,mate) = 1 / (0.0125 - 0.008168) and 1 / (k_x + k_x,mate) = 1 / 0.0021684 per mm.
@@ -381,7 +381,7 @@ def _fem_dent_mm(a_mm: float, b_mm: float, p0_MPa: float, y_mm: float = 0.0) -> 
 
 
 def end_to_end(work: Path, positions=END_TO_END_POSITIONS) -> list[dict]:
-    """Issue 12, item 7: the contact solver's residual dent u_p(0) (rail layer of the shipped 3D table) against the
+    """End to end: the contact solver's residual dent u_p(0) (rail layer of the shipped 3D table) against the
     FEM dent under the Hertz pressure of the contact solver's own patch (a = length/2, b = width/2) and peak
     pressure, at each of ``positions``; without scaling, and with the scene key ``scale_to_patch = true`` (the
     characteristic scaled to the solver's own patch by a fixed point, contact.scenes.simulation)."""
@@ -459,7 +459,7 @@ def mesh_convergence(levels=(3, 4, 6, 8), style: str = "isotropic") -> list[dict
     return out
 
 
-#: Issue 12 items 3-4: the three convergence positions plus the two most elongated patches of the default run
+#: The three convergence positions plus the two most elongated patches of the default run
 #: (wheel field side y = 30, a/b = 10.2; flange flank y = -45, a/b = 13.6).
 STYLE_POSITIONS = CONVERGENCE_POSITIONS + (("wheel", 30.0, "wheel field side"), ("wheel", -45.0, "flange flank"))
 
@@ -469,7 +469,7 @@ def style_comparison(levels=(3, 4, 6), reference: dict | None = None) -> list[di
     so that both see the same machine load; every case's errors against ``reference`` (default: the isotropic
     mesh with 8 elements per semi-axis at the conforming positions, 6 at the crown, the extruded one with 6 on
     the elongated patches, where the isotropic 6 would take an estimated 370,000 dofs). About 30 runs of 10-170 s
-    each (docs/calibration.md, "Anisotropic (extruded) mesh")."""
+    each (docs/calibration.md, "Mesh styles")."""
     ref_mesh = reference or {"rail 0": {"elements_per_semi_axis": 6, "style": "isotropic"},
                              "rail -35": {"elements_per_semi_axis": 8, "style": "isotropic"},
                              "wheel -37.5": {"elements_per_semi_axis": 8, "style": "isotropic"},
@@ -499,7 +499,7 @@ if __name__ == "__main__":  # python -m benchmarks.bench_calibration BODY Y MESH
                                       threads=int(sys.argv[4]) if len(sys.argv) > 4 else 1)))
 
 
-#: The references of the convergence study (issue 12, item 3): the finest isotropic runs of docs/calibration.md.
+#: The references of the convergence study: the finest isotropic runs of docs/calibration.md.
 REFERENCE_MESHES = {"rail 0": {"elements_per_semi_axis": 6, "style": "isotropic"},
                           "rail -35": {"elements_per_semi_axis": 8, "style": "isotropic"},
                           "wheel -37.5": {"elements_per_semi_axis": 8, "style": "isotropic"}}

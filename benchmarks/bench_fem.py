@@ -236,7 +236,7 @@ def _solver_variants(h_cmp: float, quick: bool) -> tuple[dict, dict]:
     mesh_cmp = _mesh(h_cmp)
     variants = {f"pcg + {DIRECT_NAME}": ("pcg", DIRECT, {}), f"newton + {DIRECT_NAME}": ("newton", DIRECT, {}),
                 f"modified + {DIRECT_NAME}": ("modified", DIRECT, {}), "pcg + SuperLU": ("pcg", "scipy", {})}
-    if HAVE_PARDISO:  # the fast paths switched off one at a time (docs/calibration.md, "Speed")
+    if HAVE_PARDISO:  # the fast paths switched off one at a time (`make bench`, bench_fem)
         variants["pcg + PARDISO, double-precision factor"] = ("pcg", DIRECT, {"factor_precision": "double"})
         variants["pcg + PARDISO, fixed CG tolerance"] = ("pcg", DIRECT, {"cg_forcing": "fixed"})
         variants["pcg + PARDISO, no elastic predictor"] = ("pcg", DIRECT, {"elastic_predictor": False})

@@ -18,7 +18,7 @@ H_kin = 0). Tamaas has no kinematic hardening; the calibration's mixed law (H_is
 with Tamaas' isotropic hardening of the summed modulus, H = 20 GPa, which it equals wherever the stress path of a
 point is proportional (the back stress and the yield radius then grow along one direction: the uniaxial slope is
 H_iso + H_kin either way); how far the Hertz load path is from that is measured on our FEM (mixed against isotropic
-20 GPa on the same mesh). No published table or figure of this response could be read (docs/calibration.md, "Validation against an independent reference").
+20 GPa on the same mesh). No published table or figure of this response could be read (docs/fem-engine.md, "Validated accuracy").
 If Tamaas is not installed, the report says so and gives the FEM values alone.
 """
 

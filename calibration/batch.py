@@ -5,7 +5,7 @@ glob patterns) as the template's body of the same kind (rail or wheel: its mate,
 and the shared settings), each into ``out_dir/<file stem>/``, locally or on the Dask cluster of
 ``run.scheduler``. With ``run.method = "similarity"`` all of them share one master (``run.master_dir``, default
 ``out_dir/master``), computed once. The cost of the whole batch is estimated and printed before any FEM runs, and
-refused above the limit of :mod:`wrlayer.cost` unless forced. docs/calibration.md, "A folder of profiles".
+refused above the limit of :mod:`wrlayer.cost` unless forced. docs/calibration.md, "Many positions and profiles on a cluster".
 """
 
 from __future__ import annotations

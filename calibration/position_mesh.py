@@ -1,6 +1,6 @@
 """The FEM mesh of one calibration position (units mm): the 2D section or one of the 3D local mesh styles of
 :class:`calibration.settings.MeshSettings`, sized from the position's Hertz semi-axes, and the rail's support
-boundary. docs/calibration.md, "Mesh convergence".
+boundary. docs/calibration.md, "Mesh styles".
 """
 
 from __future__ import annotations
@@ -17,12 +17,12 @@ from wrlayer.errors import require
 YIELD_ZONE_DEPTH_FACTOR = 0.55
 YIELD_ZONE = (0.45, 0.45, 0.4)
 #: style "auto": the extruded mesh for patches with a/b at least this, the isotropic one below (docs/calibration.md,
-#: "Anisotropic (extruded) mesh" and "Every position": with the finer zone around the first-yield point the
+#: "Mesh styles": with the finer zone around the first-yield point the
 #: isotropic mesh is within 0.9 % of finer meshes at a/b = 3.2-3.7, where the extruded one is 0.6-3.0 % off, at
 #: 1.3-1.8x its time; at a/b >= 5.8 the isotropic mesh costs 2-3x more than the extruded one).
 AUTO_EXTRUDED_ASPECT = 4.0
 #: style "stretched": patches with a/b above this are meshed as the isotropic mesh of a patch of this aspect (x
-#: divided by a/b / STRETCH_ASPECT) and stretched back along x (docs/calibration.md, "Stretched mesh"); the round
+#: divided by a/b / STRETCH_ASPECT) and stretched back along x (docs/calibration.md, "Mesh styles"); the round
 #: patches of the default run (a/b <= 1.35) are meshed exactly as by "isotropic".
 STRETCH_ASPECT = 1.4
 

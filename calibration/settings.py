@@ -112,7 +112,7 @@ class LoadSettings:
 
 @dataclass(frozen=True)
 class MeshSettings:
-    """The FEM mesh of one position (TOML table ``[mesh]``); docs/calibration.md, "Mesh convergence". The mesh
+    """The FEM mesh of one position (TOML table ``[mesh]``); docs/calibration.md, "Mesh styles" and "Validated accuracy". The mesh
     size is h_min = min(a, b) / elements_per_semi_axis at the load point (2D: b / it), growing to h_max_mm.
 
     Attributes

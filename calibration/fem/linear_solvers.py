@@ -67,7 +67,7 @@ class _PardisoSymmetric:
     1e-6 to 1e-5 (measured on the 62k-dof wheel mesh: 5e-6): use it as a preconditioner or refine it
     (:meth:`Factoriser.solve_refined`). It halves the factor's memory traffic: triangular solves 38 ms against
     64 ms, factorisations 2.2 s against 3.2 s on the 62k-dof wheel mesh at y = 30 mm, one core; no faster solves
-    below ~30k dofs (docs/calibration.md, "Speed"; benchmarks/bench_fem.py measures both on its block).
+    below ~30k dofs (benchmarks/bench_fem.py measures both on its block).
     """
 
     def __init__(self, indptr: np.ndarray, indices: np.ndarray, n: int, single: bool = False):

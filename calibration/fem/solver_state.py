@@ -33,7 +33,7 @@ class SolverOptions:
     converges, and a failed step is cut as any other); factor_precision: 'single' (default) or 'double'
     factorisations with PARDISO (single: 0.6x the solve and factorisation time at 62k dofs; the factorisation only
     preconditions CG or is refined in double precision, so the converged states agree to the Newton tolerance,
-    docs/calibration.md "Speed"; SuperLU is always double); cg_forcing: 'fixed' (every CG to cg_rtol) or
+    `make bench`, bench_fem; SuperLU is always double); cg_forcing: 'fixed' (every CG to cg_rtol) or
     'adaptive' (Eisenstat-Walker: the CG tolerance of Newton iteration k is gamma (|r_k| / |r_k-1|)^2, at most
     cg_rtol_max and at least cg_rtol, and the first iteration's cg_rtol_max: the early corrections of an increment
     are limited by the change of the plastic zone, not by the linear solve); elastic_predictor: start an
@@ -43,7 +43,7 @@ class SolverOptions:
     if some do, Newton continues from there); predictor_order: 2 (default) extrapolates the last three converged
     points of the loading branch quadratically in p0, 1 the last two linearly (measured on the default 3D
     calibration: 7-13 % fewer triangular solves than linear, with the branch carried across load stages,
-    docs/calibration.md "Speed")."""
+    `make bench`, bench_fem)."""
 
     rtol: float = 1e-8
     etol: float = 1e-10

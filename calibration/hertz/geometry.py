@@ -215,7 +215,7 @@ def local_geometry(profile, y_mm: float, mate, reference_load_N: float, E_MPa: f
 #: the Hertz (half-space, quadratic gap) load is used as it is. Hertz assumes the patch small against the radii;
 #: at b/R = 0.2 the quadratic gap y^2/(2R) is 1 % off the circle's at y = b (sagitta R - sqrt(R^2 - b^2)), at the
 #: gauge corner / flange root (b/R = 0.4 at 100 kN) 4 %, and the measured FEM p_2 there was 25 % below the
-#: half-space value (issue 12).
+#: half-space value.
 HERTZ_B_OVER_R_LIMIT = 0.2
 
 

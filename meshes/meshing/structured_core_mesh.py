@@ -10,7 +10,7 @@ nodes lie on the normals at s_i, at the depths d_k, on the planes x_j. Everythin
 over 0 <= x <= core.length_mm and the whole section beyond -- is unstructured tetrahedra (Gmsh Delaunay, Netgen
 optimiser) conforming to the core, of size h + grading * (distance from the core block) up to h_max, with
 h = StructuredCore.h_mm. Refining the core moves its nodes smoothly, which an unstructured triangulation around
-the load point does not (docs/calibration.md, "Mesh convergence").
+the load point does not (docs/calibration.md, "Mesh styles").
 
 Boundaries as in the other local meshes: "surface", "side", "fixed" (the far cut, extruded), "symmetry" (x = 0)
 and "end" (x = length_mm).

@@ -24,7 +24,7 @@ def test_default_configuration_covers_rail_and_wheel():
     cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")
     bodies = {b.body: b for b in cfg.bodies}
     assert bodies["rail"].profile == "60E1" and bodies["wheel"].profile == "S1002"
-    assert cfg.run.model == "3d"  # issue 12: 3D is the default; 2D is default_2d.toml
+    assert cfg.run.model == "3d"  # 3D is the default; 2D is default_2d.toml
     assert len(bodies["rail"].positions_mm) >= 5 and len(bodies["wheel"].positions_mm) >= 5
 
 

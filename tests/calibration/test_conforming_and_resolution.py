@@ -1,4 +1,4 @@
-"""Issue 12: conforming positions are detected and calibrated at a load whose Hertz patch fits (with a warning);
+"""Conforming positions are detected and calibrated at a load whose Hertz patch fits (with a warning);
 a mesh too coarse for the contact is an error naming the setting; S_1 follows the stated rule."""
 
 import dataclasses

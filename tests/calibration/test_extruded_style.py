@@ -1,4 +1,4 @@
-"""mesh.style = "extruded" (structured layers along x, docs/calibration.md "Anisotropic (extruded) mesh"): the
+"""mesh.style = "extruded" (structured layers along x, docs/calibration.md, "Mesh styles"): the
 configuration key, the mesh build_mesh makes with it, and a coarse 3D calibration of one position with it."""
 
 import dataclasses

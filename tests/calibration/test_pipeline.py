@@ -51,7 +51,7 @@ def test_coarse_rail_position_writes_a_valid_table(coarse_run):
     # the elastic limit of the fit is the FEM first-yield pressure (within 3 %)
     assert ch.elastic_limit_MPa == pytest.approx(pos["first_yield_fem_MPa"], rel=0.03)
     # 3D (the default model): elliptic contact a/b ~ 1.33, von Mises, nu = 0.3: half-space first yield at
-    # p0 = 1.62 Y (issue 12; closed form); the coarse local model is within 5 % of it
+    # p0 = 1.62 Y (closed form, Johnson 1985 eq. 3.45); the coarse local model is within 5 % of it
     assert pos["fem"]["model"] == "3d"
     assert pos["first_yield_fem_MPa"] == pytest.approx(1.62 * cfg.bodies[0].material.yield_MPa, rel=0.05)
     # the fitted points reproduce the FEM points within the reported errors

@@ -1,4 +1,4 @@
-"""mesh.style = "stretched" (docs/calibration.md, "Stretched mesh"): the isotropic mesh of a patch of aspect
+"""mesh.style = "stretched" (docs/calibration.md, "Mesh styles"): the isotropic mesh of a patch of aspect
 STRETCH_ASPECT, stretched along x to the patch's own aspect. The configuration key, the identity with "isotropic" on
 round patches, and the elastic solution and first yield of an elongated patch against the isotropic mesh."""
 

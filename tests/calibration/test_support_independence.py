@@ -1,5 +1,5 @@
-"""The 3D layer displacement does not depend on the rail's support or on the depth of the section's cut
-(issue 12, item 1): a real (coarse, P2) FEM indentation of the 60E1 crown, three boundary variants."""
+"""The 3D layer displacement does not depend on the rail's support or on the depth of the section's cut:
+a real (coarse, P2) FEM indentation of the 60E1 crown, three boundary variants."""
 
 import numpy as np
 import pytest

@@ -129,7 +129,7 @@ def test_round_trip_parameters_element_monotonic_and_unloading():
 
 def test_fit_finds_the_best_break_points_of_a_calibrated_position(monkeypatch):
     """The break-point cost has several local minima: the default fit must reach the best one that 8x more random
-    starts find (issue 12: without the random starts the wheel table at y = -30 mm was fitted with an RMS error
+    starts find (without the random starts the wheel table at y = -30 mm was fitted with an RMS error
     0.148 or 0.159 µm, depending on the 9th digit of the FEM input, where 0.102 µm is possible)."""
     import json
     from pathlib import Path
