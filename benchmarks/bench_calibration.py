@@ -315,7 +315,7 @@ def convergence_at_same_pressure(body: str, y_mm: float, mesh_kw: dict, ref_mesh
 
 
 #: The finer references of the convergence study (isotropic, elements per semi-axis): 6 at the crown, 8 at the
-#: conforming positions (docs/calibration.md, "Mesh convergence").
+#: conforming positions (docs/calibration.md, "Validated accuracy").
 CONVERGENCE_REFERENCES = {0.0: 6, -35.0: 8, -37.5: 8}
 
 
@@ -510,7 +510,7 @@ def structured_comparison(levels=(3, 4, 6, 8), reference: dict | None = None) ->
     ``levels``, and the isotropic default (4 per semi-axis) run alternately with the structured 4, so that both
     see the same machine load. Every case's errors against ``reference`` (default REFERENCE_MESHES:
     ``errors``) and against the finest structured run (``errors_own``). About 20 runs of 10-250 s each
-    (docs/calibration.md, "Mesh convergence")."""
+    (docs/calibration.md, "Validated accuracy")."""
     ref_mesh = reference or REFERENCE_MESHES
     out = []
     for body, y, _ in CONVERGENCE_POSITIONS:

@@ -13,7 +13,7 @@ from wrlayer.errors import require
 
 #: MeshSettings.yield_zone_refinement: centre of the finer zone, this many b below the load centre along the inward
 #: normal (the von Mises maximum of the Hertz pressure lies 0.47-0.55 b deep for a/b = 1-2), and its half-sizes
-#: (x, y, z) as multiples of (a, b, b): it covers 0.15-0.95 b in depth (docs/calibration.md, "Mesh convergence").
+#: (x, y, z) as multiples of (a, b, b): it covers 0.15-0.95 b in depth (docs/calibration.md, "Validated accuracy").
 YIELD_ZONE_DEPTH_FACTOR = 0.55
 YIELD_ZONE = (0.45, 0.45, 0.4)
 #: style "auto": the extruded mesh for patches with a/b at least this, the isotropic one below (docs/calibration.md,
