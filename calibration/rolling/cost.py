@@ -8,25 +8,30 @@ tetrahedra, EPP steel at 1.3-2.1 p_y (most steps plastic).
 
 from __future__ import annotations
 
+import numpy as np
+
 from calibration.rolling.config import RollingConfig
 from calibration.rolling.passes import pass_targets
+from calibration.rolling.track_mesh import track_axes
 from wrlayer.cost import CostEstimate
 
 #: Measured wall seconds per rolling step and degree of freedom (2D, 3D).
 STEP_S_PER_DOF = {"2d": 2.0e-5, "3d": 4.0e-5}
 
 
-def dof_count(mesh) -> int:
-    """Degrees of freedom of the displacement field on a scikit-fem simplex mesh (vertices and, P2, edges)."""
-    n = mesh.p.shape[1]  # MeshTri2/MeshTet2 carry the edge midpoints as points too
-    return int(mesh.dim() * n)
+def dof_count(config: RollingConfig) -> int:
+    """Degrees of freedom of the displacement field on the track mesh, from its grid lines (no mesh built):
+    dim x nodes, the nodes of a quadratic simplex grid being those of the grid with every cell halved."""
+    axes = track_axes(config.contact, config.track, config.mesh)
+    k = config.mesh.order
+    return int(len(axes) * np.prod([k * (len(ax) - 1) + 1 for ax in axes]))
 
 
-def rolling_cost(config: RollingConfig, mesh) -> CostEstimate:
-    """The estimate of ``config`` on ``mesh`` (built, not yet discretised)."""
+def rolling_cost(config: RollingConfig) -> CostEstimate:
+    """The estimate of ``config`` (before any mesh is built)."""
     steps = len(pass_targets(config.track.positions_over_a(), config.track.ramp_steps))
     levels = len(config.contact.levels)
-    dofs = dof_count(mesh)
+    dofs = dof_count(config)
     rate = STEP_S_PER_DOF[config.contact.model]
     seconds = levels * (config.track.n_passes + 1) * steps * dofs * rate
     return CostEstimate(config.source, {"levels": levels, "passes (+1 static)": config.track.n_passes + 1,

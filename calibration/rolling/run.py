@@ -197,8 +197,8 @@ def run_rolling(config: RollingConfig, out_dir: str | Path, force: bool = False,
     limit; ``progress(text)``: called after each pass. InputError (bad input, cost), RollingConvergenceError."""
     t0 = time.perf_counter()
     out_dir = Path(out_dir)
+    guard(rolling_cost(config), force)
     tm = track_mesh(config.contact, config.track, config.mesh)
-    guard(rolling_cost(config, tm.mesh), force)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as err:

@@ -40,16 +40,26 @@ def symmetric_axis(h: float, fine: float, length: float, growth: float) -> np.nd
     return np.concatenate([-half[::-1], half[1:]])
 
 
-def track_mesh(contact: ContactSettings, track: TrackSettings, mesh: TrackMeshSettings) -> TrackMesh:
-    """The refined block of a contact and track (see the module docstring)."""
+def track_axes(contact: ContactSettings, track: TrackSettings, mesh: TrackMeshSettings) -> list[np.ndarray]:
+    """The grid lines (mm) of the block: [x, z] (2D) or [x, y, z] (3D), z <= 0."""
     a, b = contact.a_mm, contact.lateral_mm
     n = mesh.elements_per_semi_axis
     half_track = track.length_factor * a
     ax_x = symmetric_axis(a / n, half_track + a, half_track + mesh.size_factor * a, mesh.growth)
-    depth = mesh.size_factor * a
     h_z = min(a, b) / n if contact.model == "3d" else a / n
-    ax_z = -graded_axis(h_z, mesh.fine_depth_factor * a, depth, mesh.growth)[::-1]
-    tol = 1e-9 * depth
+    ax_z = -graded_axis(h_z, mesh.fine_depth_factor * a, mesh.size_factor * a, mesh.growth)[::-1]
+    if contact.model == "2d":
+        return [ax_x, ax_z]
+    return [ax_x, graded_axis(b / n, mesh.fine_width_factor * b, max(mesh.size_factor * a, 3.0 * b), mesh.growth),
+            ax_z]
+
+
+def track_mesh(contact: ContactSettings, track: TrackSettings, mesh: TrackMeshSettings) -> TrackMesh:
+    """The refined block of a contact and track (see the module docstring)."""
+    axes = track_axes(contact, track, mesh)
+    ax_x, ax_z = axes[0], axes[-1]
+    half_track = track.length_factor * contact.a_mm
+    tol = 1e-9 * float(-ax_z[0])
     x_end = ax_x[-1]
     if contact.model == "2d":
         m = skfem.MeshTri1.init_tensor(ax_x, ax_z)
@@ -57,7 +67,7 @@ def track_mesh(contact: ContactSettings, track: TrackSettings, mesh: TrackMeshSe
         m = m.with_boundaries({"surface": lambda x: x[1] > -tol, "fixed": lambda x: x[1] < ax_z[0] + tol,
                                "ends": lambda x: np.abs(x[0]) > x_end - tol})
         return TrackMesh(m, {"fixed": [0, 1], "ends": [0]}, half_track)
-    ax_y = graded_axis(b / n, mesh.fine_width_factor * b, max(mesh.size_factor * a, 3.0 * b), mesh.growth)
+    ax_y = axes[1]
     m = skfem.MeshTet1.init_tensor(ax_x, ax_y, ax_z)
     m = skfem.MeshTet2.from_mesh(m) if mesh.order == 2 else m
     y_far = ax_y[-1]
@@ -67,4 +77,4 @@ def track_mesh(contact: ContactSettings, track: TrackSettings, mesh: TrackMeshSe
     return TrackMesh(m, {"fixed": [0, 1, 2], "sym_y": [1], "ends": [0]}, half_track)
 
 
-__all__ = ["TrackMesh", "symmetric_axis", "track_mesh"]
+__all__ = ["TrackMesh", "symmetric_axis", "track_axes", "track_mesh"]
