@@ -13,5 +13,6 @@ p0 and with the calibrated layer's prediction under both memory rules (docs/roll
 - :mod:`~calibration.rolling.layer_prediction`: the static dent, the fitted characteristic and the layer's groove.
 - :mod:`~calibration.rolling.run`: ``run_rolling(config, out_dir)`` writing ``rolling.json`` and ParaView series.
 
-Depends on: wrlayer, calibration.fem, calibration.hertz, calibration.fit.
+Depends on: wrlayer, calibration.fem, calibration.hertz, calibration.fit, calibration.position_fit (the layer's
+elastic slope S_1), calibration.settings (the fit defaults).
 """
