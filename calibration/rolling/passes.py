@@ -5,8 +5,8 @@ removed there (one step); the next pass starts again at x_start from the residua
 Newton increment of the engine (:func:`calibration.fem.newton.newton_increment`) on the kept
 :class:`~calibration.fem.newton.TangentProblem` (the elastic factorisation is assembled once and kept across steps
 and passes; PCG on the consistent tangent, refreshed as the engine does). The first iterate of a step is the
-converged state plus the response of the kept factorisation to the change of the load vector (exact for an
-elastic step with the elastic factorisation). A step whose Newton iteration fails is cut in halves (positions and
+converged state plus the elastic response to the change of the load vector (a back-substitution with the kept
+elastic factorisation, or CG preconditioned by the kept tangent factorisation). A step whose Newton iteration fails is cut in halves (positions and
 load fractions interpolated) down to 1/32; then :class:`RollingConvergenceError` names the level, pass and step.
 Units mm, N, MPa, s.
 """
@@ -19,6 +19,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from calibration.fem.linear_solvers import preconditioned_cg
 from calibration.fem.newton import TangentProblem, newton_increment
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.moving_load import SurfaceForces
@@ -26,6 +27,9 @@ from wrlayer.errors import ConvergenceError
 
 #: Deepest halving of a failed step (1/2^MAX_CUTS of it).
 MAX_CUTS = 5
+#: CG tolerance of the elastic predictor when the kept factorisation is a tangent (measured: the tangent's own
+#: response to the load change, a plastic zone elsewhere, made Newton diverge and cost the step cuts).
+PREDICTOR_RTOL = 1e-6
 
 
 class RollingConvergenceError(ConvergenceError):
@@ -82,7 +86,7 @@ class RollingSolver:
     """Steps of the moving load on one problem: ``prob`` (the engine's kept tangent problem), ``forces`` (the
     load's nodal forces), p0 (MPa), the Newton iteration limit."""
 
-    def __init__(self, prob: TangentProblem, forces: SurfaceForces, p0_MPa: float, max_newton: int = 25):
+    def __init__(self, prob: TangentProblem, forces: SurfaceForces, p0_MPa: float, max_newton: int = 10):
         self.prob, self.forces, self.p0, self.max_newton = prob, forces, float(p0_MPa), max_newton
 
     def load_vector(self, target: Target) -> np.ndarray:
@@ -116,7 +120,11 @@ class RollingSolver:
         f_b = self.load_vector(b)
         df = b.fraction * f_b - a.fraction * self.load_vector(a)
         df[prob.fixed] = 0.0
-        u_start = state.u_mm + prob.factor.solve(df)
+        if prob.factor_is_elastic:
+            du = prob.factor.solve(df)
+        else:  # the kept factorisation is a tangent of another load position: the ELASTIC response by CG
+            du, _ = preconditioned_cg(prob.Ke.dot, df, prob.factor.solve, rtol=PREDICTOR_RTOL, max_iter=200)
+        u_start = state.u_mm + du
         new, info = newton_increment(prob, state, f_b, a.fraction, b.fraction, self.max_newton, p_scale=1.0,
                                      u_start=u_start, elastic_start=prob.factor_is_elastic)
         return replace(new, p0_MPa=self.p0 * b.fraction), info
