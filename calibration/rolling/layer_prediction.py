@@ -57,9 +57,9 @@ class LayerGroove:
         return {"relaxed": self.relaxed, "state_kept": self.state_kept}
 
 
-def static_curve(path: LoadPath, p0_MPa: float, far, depth_at, compliance_mm_per_MPa: float) -> StaticCurve:
-    """Load ``path`` (a virgin static LoadPath whose requested levels are [p0, 0]) and unload it: the curve.
-    ``far(u)``: the far-field u_z (mm); ``depth_at(u)``: the residual depth at the centre (mm)."""
+def static_curve(path: LoadPath, depth_at, compliance_mm_per_MPa: float) -> StaticCurve:
+    """Load ``path`` (a virgin static LoadPath whose requested levels are [p0, 0], with the probe "far": the
+    far-field u_z in mm) and unload it: the curve. ``depth_at(u)``: the residual depth at the centre (mm)."""
     records = list(path.levels())
     loading = records[0].increments
     p = np.array([0.0] + [h.p0_MPa for h in loading])

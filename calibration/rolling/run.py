@@ -182,8 +182,7 @@ def static_dents(model: RollingModel, config: RollingConfig, levels_MPa: list[fl
         opts = replace(model.opts, max_increment_MPa=0.1 * model.p_y_MPa, max_unload_increment_MPa=p0)
         path = LoadPath(model.tm.mesh, mat, model.static_load, [p0, 0.0], opts, disc=model.disc,
                         probes={"far": model.probe.far_field})
-        out.append(static_curve(path, p0, model.probe.far_field, lambda u: model.probe.depth_at(u, 0.0),
-                                model.compliance_mm_per_MPa))
+        out.append(static_curve(path, lambda u: model.probe.depth_at(u, 0.0), model.compliance_mm_per_MPa))
     model.prob.reset_to_elastic()
     return out
 
