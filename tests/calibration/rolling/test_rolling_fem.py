@@ -117,3 +117,12 @@ def test_failed_step_names_level_pass_and_step_and_keeps_passes(tmp_path, monkey
     data = json.loads((tmp_path / "rolling.json").read_text())
     assert data["failed"].startswith("level 0")
     assert len(data["levels"][0]["groove_mm"]) == 1
+
+
+def test_traction_pushes_the_surface_forward(tmp_path):
+    """A traction q = c p along +x (c = 0.3) moves the surface forward and deepens the plastic strain at p0/k = 3.5
+    (with c > 0.25 the largest shear is at the surface: Johnson's shakedown limit drops below 4 k)."""
+    dry, wet = (run_rolling(config("2d", levels=(3.5,), n=2.0, length=1.0, c=c), tmp_path / str(c)).levels[0]
+                for c in (0.0, 0.3))
+    assert wet.shift_mm[0] > dry.shift_mm[0] + 1e-4
+    assert wet.max_eq_plastic_strain[0] > dry.max_eq_plastic_strain[0]
