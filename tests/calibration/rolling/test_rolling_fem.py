@@ -66,7 +66,7 @@ def test_load_that_does_not_move_is_the_static_indentation(model, levels):
 @pytest.fixture(scope="module")
 def rolling_2d(tmp_path_factory):
     """Frictionless EPP line contact at p0/k = 3.5 (below the shakedown limit 4 k) and 5.0 (above), 4 passes."""
-    return run_rolling(config("2d", levels=(3.5, 5.0), passes=4), tmp_path_factory.mktemp("roll2d"))
+    return run_rolling(config("2d", levels=(3.5, 5.0), passes=4, size=15.0), tmp_path_factory.mktemp("roll2d"))
 
 
 def increments(values):
