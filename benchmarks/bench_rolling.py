@@ -84,7 +84,7 @@ def _markdown(res: RollingResult, rows: list[dict], load: tuple, cfg: RollingCon
         ref = REFERENCE.get(round(lv.p0_over_py, 2))
         ref_txt = f"{ref[0][0]}-{ref[0][1]}, {ref[1]}" if ref else "-"
         lg = lv.layer_groove_mm
-        layer = f"{lg['relaxed'][-1]:.4g} / {lg['state_kept'][-1]:.4g}" if lg.get("relaxed") else "-"
+        layer = f"{lg.relaxed[-1]:.4g} / {lg.state_kept[-1]:.4g}" if lg.relaxed else "-"
         md.append(f"| {lv.p0_over_py:.2f} | {lv.static_dent_mm:.4g} | {', '.join(f'{x:.4g}' for x in g)} | "
                   f"{g[0] / lv.static_dent_mm:.3f} | {add2} | {later} | {ref_txt} | "
                   f"{sum(lv.pass_seconds) / len(lv.pass_seconds):.0f} | {layer} |")

@@ -53,8 +53,8 @@ class LevelResult:
         Residual depth of the static indentation at mid-track (mm, relative to the far field).
     groove_mm : list of float
         Groove depth after each completed pass (mm, cumulative, :class:`~calibration.rolling.groove.GrooveProfile`).
-    layer_groove_mm : dict
-        The layer's groove after each pass, {"relaxed": [...], "state_kept": [...]} (mm; empty without a fit).
+    layer_groove_mm : LayerGroove
+        The layer's groove after each pass, {"relaxed": [...], "state_kept": [...]} (mm; empty lists without a fit).
     shift_mm : list of float
         Mean residual surface displacement along x at mid-track after each pass (mm).
     max_eq_plastic_strain : list of float
@@ -63,7 +63,7 @@ class LevelResult:
         Wall time of each pass (s).
     newton_iterations : list of int
         Newton iterations of each pass.
-    profiles : list of dict
+    profiles : list of GrooveProfile
         The groove profile after each pass (:class:`~calibration.rolling.groove.GrooveProfile`, mm).
     """
 
@@ -71,12 +71,12 @@ class LevelResult:
     p0_MPa: float
     static_dent_mm: float
     groove_mm: list[float] = field(default_factory=list)
-    layer_groove_mm: dict = field(default_factory=dict)
+    layer_groove_mm: LayerGroove = LayerGroove([], [])
     shift_mm: list[float] = field(default_factory=list)
     max_eq_plastic_strain: list[float] = field(default_factory=list)
     pass_seconds: list[float] = field(default_factory=list)
     newton_iterations: list[int] = field(default_factory=list)
-    profiles: list[dict] = field(default_factory=list)
+    profiles: list[GrooveProfile] = field(default_factory=list)
 
     def with_pass(self, rec: PassRecord, prof: GrooveProfile) -> LevelResult:
         """This level with one more completed pass."""
@@ -84,10 +84,12 @@ class LevelResult:
                        max_eq_plastic_strain=self.max_eq_plastic_strain + [prof.max_eq_plastic_strain],
                        pass_seconds=self.pass_seconds + [rec.seconds],
                        newton_iterations=self.newton_iterations + [rec.newton_iters],
-                       profiles=self.profiles + [prof.to_dict()])
+                       profiles=self.profiles + [prof])
 
     def to_dict(self) -> dict:
         out = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        out["layer_groove_mm"] = self.layer_groove_mm.to_dict()
+        out["profiles"] = [p.to_dict() for p in self.profiles]
         out["groove_over_static"] = [g / self.static_dent_mm if self.static_dent_mm > 0 else math.nan
                                      for g in self.groove_mm]
         return out
@@ -135,7 +137,7 @@ class RollingResult:
         return out
 
 
-@dataclass
+@dataclass(frozen=True)
 class RollingModel:
     """The discretised block with its kept problem: track mesh, discretisation, solver options, static load,
     moving load forces, surface probe, p_y (MPa), elastic centre compliance c_el (mm/MPa) and the tangent problem."""
@@ -211,7 +213,7 @@ def run_rolling(config: RollingConfig, out_dir: str | Path, force: bool = False,
                               config.run.layer_segments)
     except InputError:  # no inelastic static curve to fit (all levels elastic): no layer prediction
         layer = [LayerGroove([], [])] * len(levels_MPa)
-    results = [LevelResult(p0 / model.p_y_MPa, p0, c.dent_mm, layer_groove_mm=lg.to_dict())
+    results = [LevelResult(p0 / model.p_y_MPa, p0, c.dent_mm, layer_groove_mm=lg)
                for p0, c, lg in zip(levels_MPa, curves, layer)]
     files: list[str] = []
     base = RollingResult(FORMAT_VERSION, config.to_dict(), model.p_y_MPa, int(model.disc.n_dofs),
