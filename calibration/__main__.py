@@ -1,5 +1,7 @@
 """Command line: ``python -m calibration run CONFIG --out DIR [--scheduler ADDRESS] [--workers N]
-[--plots/--no-plots] [--quiet]``.
+[--plots/--no-plots] [--quiet]`` and ``python -m calibration rolling CONFIG --out DIR [--force] [--quiet]`` (the
+moving-load FEM of :mod:`calibration.rolling`, docs/rolling.md; exit 3 when a step fails, the completed passes
+written).
 
 Exit codes: 0 all positions calibrated; 2 bad input (configuration, or a run whose estimated cost exceeds the
 limit without ``--force``, or ``--out`` in use by another run; nothing written); 3 numerical failure of the
@@ -34,12 +36,29 @@ def _parser() -> argparse.ArgumentParser:
                      help="write PNG/VTK pictures (default: config run.plots)")
     run.add_argument("--quiet", action="store_true", help="no progress bars")
     run.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
+    roll = cli.subparser(sub, "rolling", "moving Hertz load pass after pass on an elastic-plastic half-space",
+                         ["python -m calibration rolling calibration/configs/rolling_halfspace.toml --out out/rolling"])
+    roll.add_argument("config", help="TOML rolling configuration file")
+    roll.add_argument("--out", required=True, help="output folder (rolling.json, fields/)")
+    roll.add_argument("--quiet", action="store_true", help="no progress lines")
+    roll.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     return ap
+
+
+def _rolling(args) -> int:
+    from calibration.rolling.config import load_rolling_config  # the FEM stack only once the arguments are valid
+    from calibration.rolling.run import run_rolling
+
+    cfg = load_rolling_config(args.config)
+    run_rolling(cfg, args.out, force=args.force, progress=None if args.quiet else print)
+    return 0
 
 
 @cli_guard
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    if args.command == "rolling":
+        return _rolling(args)
     from calibration.config import load_config  # the FEM stack only once the arguments are valid
     from calibration.pipeline import calibrate
 

@@ -1,0 +1,283 @@
+"""Rolling configuration: TOML file -> frozen dataclasses (keys = field names; units mm, N, MPa).
+
+Layout of a file (every key optional except ``contact.a_mm`` and ``contact.levels``)::
+
+    [material]  E_MPa, poisson, yield_MPa, H_iso_MPa, H_kin_MPa
+    [contact]   model, a_mm, b_mm, traction_coefficient, levels, level_unit
+    [track]     length_factor, step_factor, n_passes, ramp_steps
+    [mesh]      elements_per_semi_axis, order, fine_width_factor, fine_depth_factor, size_factor, growth
+    [run]       linear_solver, plots, layer_segments
+
+Bad values are InputError naming ``<file>: <table>.<key>`` (:mod:`wrlayer.validate`).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+from calibration.fem.material import J2Material
+from wrlayer.errors import InputError
+from wrlayer.validate import Keys
+
+#: The models of ContactSettings.model.
+MODELS = ("2d", "3d")
+#: The units of ContactSettings.levels: multiples of the FEM first-yield pressure p_y, of k = Y / sqrt(3), or MPa.
+LEVEL_UNITS = ("p_y", "k", "MPa")
+#: Hard bounds (the cost guard refuses long runs below them unless forced).
+MAX_PASSES = 50
+MAX_LEVELS = 10
+MAX_TRACK_FACTOR = 20.0
+
+
+@dataclass(frozen=True)
+class RollingMaterial:
+    """J2 material of the block (TOML table ``[material]``).
+
+    Attributes
+    ----------
+    E_MPa : float
+        Young's modulus (MPa, > 0).
+    poisson : float
+        Poisson's ratio (-, in (-1, 0.4999]).
+    yield_MPa : float
+        Initial uniaxial yield stress Y (MPa, > 0).
+    H_iso_MPa : float
+        Linear isotropic hardening modulus (MPa, >= 0; 0 with H_kin_MPa = 0: elastic-perfectly plastic).
+    H_kin_MPa : float
+        Linear kinematic (Prager) hardening modulus (MPa, >= 0).
+    """
+
+    E_MPa: float = 210000.0
+    poisson: float = 0.3
+    yield_MPa: float = 500.0
+    H_iso_MPa: float = 0.0
+    H_kin_MPa: float = 0.0
+
+    def j2(self) -> J2Material:
+        """The engine's material."""
+        return J2Material(self.E_MPa, self.poisson, self.yield_MPa, self.H_iso_MPa, self.H_kin_MPa)
+
+
+@dataclass(frozen=True)
+class ContactSettings:
+    """The moving Hertz load (TOML table ``[contact]``). 3D: p = p0 sqrt(1 - (s/a)^2 - (y/b)^2), s = x - x_c;
+    2D plane strain (line contact): p = p0 sqrt(1 - (s/a)^2) per unit length; traction q = c p along +x.
+
+    Attributes
+    ----------
+    model : str
+        "3d" (half model about the track centreline y = 0) or "2d" (plane-strain line contact).
+    a_mm : float
+        Contact semi-axis along the rolling direction x (mm, > 0).
+    b_mm : float
+        Lateral semi-axis (mm, > 0; 3D only; 0: circular, b = a).
+    traction_coefficient : float
+        c of the surface traction q = c p in the rolling direction (-, in [-1, 1]; 0: frictionless).
+    levels : tuple of float
+        Peak pressures p0 of the runs, in ``level_unit`` (each > 0; one run per level).
+    level_unit : str
+        "p_y" (multiples of the FEM first-yield pressure of the static load, frictionless), "k" (multiples of the
+        shear yield stress k = Y / sqrt(3)) or "MPa".
+    """
+
+    a_mm: float
+    levels: tuple[float, ...]
+    model: str = "3d"
+    b_mm: float = 0.0
+    traction_coefficient: float = 0.0
+    level_unit: str = "p_y"
+
+    @property
+    def lateral_mm(self) -> float:
+        """The lateral semi-axis b (mm): a when not given."""
+        return self.b_mm if self.b_mm > 0 else self.a_mm
+
+
+@dataclass(frozen=True)
+class TrackSettings:
+    """The passes (TOML table ``[track]``). The load centre moves from x_start = -L/2 to x_end = +L/2 in steps
+    of ds, then is removed; each pass starts again at x_start.
+
+    Attributes
+    ----------
+    length_factor : float
+        Track length L in contact lengths 2a (-, in [1, 20]).
+    step_factor : float
+        Step length ds as a multiple of a (-, in [0.02, 1]).
+    n_passes : int
+        Passes per level (1..50).
+    ramp_steps : int
+        Load steps in which p0 is applied at x_start (1..50; removal at x_end: one step, cut on failure).
+    """
+
+    length_factor: float = 3.0
+    step_factor: float = 0.25
+    n_passes: int = 3
+    ramp_steps: int = 4
+
+    def positions_over_a(self) -> list[float]:
+        """Load-centre positions x_c / a of one pass (from -L/2 to +L/2; the last step lands on +L/2)."""
+        half = self.length_factor  # L / 2 = length_factor * 2a / 2, in units of a
+        n = max(1, int(round(2.0 * half / self.step_factor)))
+        return [-half + 2.0 * half * i / n for i in range(n + 1)]
+
+
+@dataclass(frozen=True)
+class TrackMeshSettings:
+    """The block refined along the loaded strip (TOML table ``[mesh]``). Lengths in units of a.
+
+    Attributes
+    ----------
+    elements_per_semi_axis : float
+        Element size h = a / this in the refined strip (-, in [1, 40]).
+    order : int
+        Element order, 1 (linear) or 2 (quadratic).
+    fine_width_factor : float
+        Refined half-width of the strip across the track, in b (-, in [0.5, 5]; 3D only).
+    fine_depth_factor : float
+        Refined depth below the surface, in a (-, in [0.5, 5]).
+    size_factor : float
+        Block depth, lateral half-width and run-out beyond the track ends, in a (-, in [3, 50]).
+    growth : float
+        Growth ratio of the element size outside the refined strip (-, in (1, 3]).
+    """
+
+    elements_per_semi_axis: float = 4.0
+    order: int = 2
+    fine_width_factor: float = 1.5
+    fine_depth_factor: float = 1.5
+    size_factor: float = 8.0
+    growth: float = 1.5
+
+
+@dataclass(frozen=True)
+class RollingRunSettings:
+    """How the run is done (TOML table ``[run]``).
+
+    Attributes
+    ----------
+    linear_solver : str
+        "auto" (PARDISO when installed, else SuperLU), "pardiso" or "scipy".
+    plots : bool
+        Write the ParaView series (plastic strain and residual stress after each pass, .pvd).
+    layer_segments : int
+        Segments N of the layer characteristic fitted to the static indentation (2..8).
+    """
+
+    linear_solver: str = "auto"
+    plots: bool = True
+    layer_segments: int = 4
+
+
+@dataclass(frozen=True)
+class RollingConfig:
+    """A rolling configuration: its tables and the file it came from (``source``, for messages)."""
+
+    contact: ContactSettings
+    material: RollingMaterial = RollingMaterial()
+    track: TrackSettings = TrackSettings()
+    mesh: TrackMeshSettings = TrackMeshSettings()
+    run: RollingRunSettings = RollingRunSettings()
+    source: str = "rolling"
+
+    def to_dict(self) -> dict:
+        """The configuration as TOML-like tables (JSON-serialisable)."""
+        out = {}
+        for name in ("material", "contact", "track", "mesh", "run"):
+            obj = getattr(self, name)
+            out[name] = {f.name: (list(v) if isinstance(v := getattr(obj, f.name), tuple) else v)
+                         for f in fields(obj)}
+        return out
+
+
+def _names(cls) -> tuple[str, ...]:
+    return tuple(f.name for f in fields(cls))
+
+
+def _numbers(k: Keys, cls, bounds: dict[str, dict]) -> dict:
+    k.check_known(_names(cls))
+    return {name: k.number(name, **b) for name, b in bounds.items() if name in k.table}
+
+
+def _material(k: Keys) -> RollingMaterial:
+    return RollingMaterial(**_numbers(k, RollingMaterial, {
+        "E_MPa": dict(gt=0.0), "poisson": dict(gt=-1.0, le=0.4999), "yield_MPa": dict(gt=0.0),
+        "H_iso_MPa": dict(ge=0.0), "H_kin_MPa": dict(ge=0.0)}))
+
+
+def _contact(k: Keys) -> ContactSettings:
+    kw = _numbers(k, ContactSettings, {"a_mm": dict(gt=0.0, le=1000.0), "b_mm": dict(ge=0.0, le=1000.0),
+                                       "traction_coefficient": dict(ge=-1.0, le=1.0)})
+    if "a_mm" not in kw:
+        raise k.error("a_mm", "missing (required)")
+    kw["levels"] = tuple(float(x) for x in k.array("levels", min_len=1, max_len=MAX_LEVELS, gt=0.0))
+    if "model" in k.table:
+        kw["model"] = k.text("model", choices=MODELS)
+    if "level_unit" in k.table:
+        kw["level_unit"] = k.text("level_unit", choices=LEVEL_UNITS)
+    return ContactSettings(**kw)
+
+
+def _track(k: Keys) -> TrackSettings:
+    kw = _numbers(k, TrackSettings, {"length_factor": dict(ge=1.0, le=MAX_TRACK_FACTOR),
+                                     "step_factor": dict(ge=0.02, le=1.0)})
+    for name, hi in (("n_passes", MAX_PASSES), ("ramp_steps", 50)):
+        if name in k.table:
+            kw[name] = k.integer(name, None, ge=1, le=hi)
+    return TrackSettings(**kw)
+
+
+def _mesh(k: Keys) -> TrackMeshSettings:
+    kw = _numbers(k, TrackMeshSettings, {
+        "elements_per_semi_axis": dict(ge=1.0, le=40.0), "fine_width_factor": dict(ge=0.5, le=5.0),
+        "fine_depth_factor": dict(ge=0.5, le=5.0), "size_factor": dict(ge=3.0, le=50.0),
+        "growth": dict(gt=1.0, le=3.0)})
+    if "order" in k.table:
+        kw["order"] = k.integer("order", None, ge=1, le=2)
+    return TrackMeshSettings(**kw)
+
+
+def _run(k: Keys) -> RollingRunSettings:
+    k.check_known(_names(RollingRunSettings))
+    kw: dict = {}
+    if "linear_solver" in k.table:
+        kw["linear_solver"] = k.text("linear_solver", choices=("auto", "pardiso", "scipy"))
+    if "plots" in k.table:
+        kw["plots"] = k.boolean("plots", True)
+    if "layer_segments" in k.table:
+        kw["layer_segments"] = k.integer("layer_segments", None, ge=2, le=8)
+    return RollingRunSettings(**kw)
+
+
+def parse_rolling_config(data: dict, source: str = "rolling") -> RollingConfig:
+    """Validate a TOML-like mapping into a :class:`RollingConfig` (InputError naming ``source`` and the key)."""
+    top = Keys(source, "", data)
+    top.check_known(("material", "contact", "track", "mesh", "run"))
+    contact = top.sub("contact")
+    if contact is None:
+        raise top.error("contact", "missing (required table)")
+    kw = {"contact": _contact(contact)}
+    for name, reader in (("material", _material), ("track", _track), ("mesh", _mesh), ("run", _run)):
+        sub = top.sub(name)
+        if sub is not None:
+            kw[name] = reader(sub)
+    return RollingConfig(source=source, **kw)
+
+
+def load_rolling_config(path: str | Path) -> RollingConfig:
+    """Read and validate a rolling TOML file; InputError when missing, unreadable or invalid."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as err:
+        raise InputError(str(path), f"cannot read: {err.strerror or err}") from err
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
+        raise InputError(str(path), f"not valid TOML: {err}") from err
+    return parse_rolling_config(data, str(path))
+
+
+__all__ = ["ContactSettings", "LEVEL_UNITS", "MAX_LEVELS", "MAX_PASSES", "MAX_TRACK_FACTOR", "MODELS",
+           "RollingConfig", "RollingMaterial", "RollingRunSettings", "TrackMeshSettings", "TrackSettings",
+           "load_rolling_config", "parse_rolling_config"]

@@ -1,0 +1,260 @@
+"""``run_rolling(config, out_dir) -> RollingResult``: static dents, passes of the moving load and the layer's
+prediction for every level; ``rolling.json`` and ParaView series (units mm, N, MPa, s; docs/rolling.md).
+
+Order of work: mesh and cost guard (before any FEM), discretisation and the kept elastic factorisation, the
+elastic first-yield pressure p_y of the static load at mid-track, one static indentation per level (its dent;
+the highest one's loading curve gives the layer's characteristic), then the passes level by level. Output:
+``out_dir/rolling.json`` (:class:`RollingResult`) and, with ``run.plots``, ``out_dir/fields/level_<k>/passes.pvd``:
+the unloaded body before the first pass and after each pass (plastic strain, residual stress, displacement).
+A step that fails (RollingConvergenceError, exit code 3) is reported with the passes completed before it, which
+are written.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from calibration.fem.assembly import discretise
+from calibration.fem.elastoplastic_solver import LoadPath
+from calibration.fem.solver_state import SolverOptions, SolverState
+from calibration.hertz.load import HertzLoad
+from calibration.rolling.config import RollingConfig
+from calibration.rolling.cost import rolling_cost
+from calibration.rolling.groove import GrooveProfile, SurfaceProbe
+from calibration.rolling.layer_prediction import LayerGroove, StaticCurve, layer_grooves, static_curve
+from calibration.rolling.moving_load import MovingHertzLoad, SurfaceForces
+from calibration.rolling.passes import PassRecord, RollingConvergenceError, RollingSolver, roll
+from calibration.rolling.track_mesh import TrackMesh, track_mesh
+from wrlayer.atomic_write import atomic_write_text
+from wrlayer.cost import guard
+from wrlayer.errors import InputError
+
+#: Version of the rolling.json layout.
+FORMAT_VERSION = 1
+
+
+@dataclass(frozen=True)
+class LevelResult:
+    """One load level.
+
+    Attributes
+    ----------
+    p0_over_py : float
+        Peak pressure over the FEM first-yield pressure p_y of the static load (-).
+    p0_MPa : float
+        Peak Hertz pressure p0 (MPa).
+    static_dent_mm : float
+        Residual depth of the static indentation at mid-track (mm, relative to the far field).
+    groove_mm : list of float
+        Groove depth after each completed pass (mm, cumulative, :class:`~calibration.rolling.groove.GrooveProfile`).
+    layer_groove_mm : LayerGroove
+        The layer's groove after each pass, {"relaxed": [...], "state_kept": [...]} (mm; empty lists without a fit).
+    shift_mm : list of float
+        Mean residual surface displacement along x at mid-track after each pass (mm).
+    max_eq_plastic_strain : list of float
+        Largest equivalent plastic strain below mid-track after each pass (-).
+    pass_seconds : list of float
+        Wall time of each pass (s).
+    newton_iterations : list of int
+        Newton iterations of each pass.
+    profiles : list of GrooveProfile
+        The groove profile after each pass (:class:`~calibration.rolling.groove.GrooveProfile`, mm).
+    """
+
+    p0_over_py: float
+    p0_MPa: float
+    static_dent_mm: float
+    groove_mm: list[float] = field(default_factory=list)
+    layer_groove_mm: LayerGroove = LayerGroove([], [])
+    shift_mm: list[float] = field(default_factory=list)
+    max_eq_plastic_strain: list[float] = field(default_factory=list)
+    pass_seconds: list[float] = field(default_factory=list)
+    newton_iterations: list[int] = field(default_factory=list)
+    profiles: list[GrooveProfile] = field(default_factory=list)
+
+    def with_pass(self, rec: PassRecord, prof: GrooveProfile) -> LevelResult:
+        """This level with one more completed pass."""
+        return replace(self, groove_mm=self.groove_mm + [prof.groove_mm], shift_mm=self.shift_mm + [prof.shift_mm],
+                       max_eq_plastic_strain=self.max_eq_plastic_strain + [prof.max_eq_plastic_strain],
+                       pass_seconds=self.pass_seconds + [rec.seconds],
+                       newton_iterations=self.newton_iterations + [rec.newton_iters],
+                       profiles=self.profiles + [prof])
+
+    def to_dict(self) -> dict:
+        out = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        out["layer_groove_mm"] = self.layer_groove_mm.to_dict()
+        out["profiles"] = [p.to_dict() for p in self.profiles]
+        out["groove_over_static"] = [g / self.static_dent_mm if self.static_dent_mm > 0 else math.nan
+                                     for g in self.groove_mm]
+        return out
+
+
+@dataclass(frozen=True)
+class RollingResult:
+    """A rolling run (``rolling.json``).
+
+    Attributes
+    ----------
+    format_version : int
+        Version of the file's layout.
+    config : dict
+        The configuration's tables as read (units as their keys).
+    p_y_MPa : float
+        FEM first-yield pressure of the static (frictionless) load at mid-track (MPa).
+    n_dofs : int
+        Degrees of freedom of the mesh.
+    n_elements : int
+        Elements of the mesh.
+    levels : list of LevelResult
+        One entry per level (the completed passes).
+    failed : str
+        The error that stopped the run ("" : none).
+    seconds : float
+        Wall time of the run (s).
+    files : list of str
+        Files written (rolling.json, the .pvd series).
+    """
+
+    format_version: int
+    config: dict
+    p_y_MPa: float
+    n_dofs: int
+    n_elements: int
+    levels: list[LevelResult]
+    failed: str = ""
+    seconds: float = 0.0
+    files: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        out = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        out["levels"] = [lv.to_dict() for lv in self.levels]
+        return out
+
+
+@dataclass(frozen=True)
+class RollingModel:
+    """The discretised block with its kept problem: track mesh, discretisation, solver options, static load,
+    moving load forces, surface probe, p_y (MPa), elastic centre compliance c_el (mm/MPa) and the tangent problem."""
+
+    tm: TrackMesh
+    disc: object
+    opts: SolverOptions
+    static_load: HertzLoad
+    forces: SurfaceForces
+    probe: SurfaceProbe
+    p_y_MPa: float
+    compliance_mm_per_MPa: float
+    prob: object
+
+
+def build_model(config: RollingConfig, tm: TrackMesh) -> RollingModel:
+    """Discretise, factorise once and solve the unit static load elastically (p_y and c_el)."""
+    c = config.contact
+    disc = discretise(tm.mesh, config.mesh.order)
+    b = None if c.model == "2d" else c.lateral_mm
+    static = HertzLoad(0.0, c.a_mm) if b is None else HertzLoad(0.0, b, c.a_mm, centre_x_mm=0.0)
+    opts = SolverOptions(rtol=1e-6, etol=1e-8, dirichlet=tm.dirichlet, linear_solver=config.run.linear_solver)
+    path = LoadPath(tm.mesh, config.material.j2(), static, [0.0], opts, disc=disc)
+    probe = SurfaceProbe(disc, c.a_mm)
+    u1 = path.u_unit
+    c_el = path.prepared.centre_displacement_mm(u1) + probe.far_field(u1)
+    forces = SurfaceForces(disc.basis, MovingHertzLoad(c.a_mm, b, c.traction_coefficient),
+                           (-tm.track_half_mm, tm.track_half_mm))
+    return RollingModel(tm, disc, opts, static, forces, probe, float(path.first_yield_p0_MPa), float(c_el),
+                        path.prob)
+
+
+def level_pressures(config: RollingConfig, p_y_MPa: float) -> list[float]:
+    """The levels in MPa (from p_y, k = Y / sqrt(3) or MPa)."""
+    unit = {"p_y": p_y_MPa, "k": config.material.yield_MPa / math.sqrt(3.0), "MPa": 1.0}[config.contact.level_unit]
+    return [float(x) * unit for x in config.contact.levels]
+
+
+def static_dents(model: RollingModel, config: RollingConfig, levels_MPa: list[float]) -> list[StaticCurve]:
+    """One virgin static indentation (load to p0 in steps of p_y / 10, unload) per level."""
+    out = []
+    mat = config.material.j2()
+    for p0 in levels_MPa:
+        opts = replace(model.opts, max_increment_MPa=0.1 * model.p_y_MPa, max_unload_increment_MPa=p0)
+        path = LoadPath(model.tm.mesh, mat, model.static_load, [p0, 0.0], opts, disc=model.disc,
+                        probes={"far": model.probe.far_field})
+        out.append(static_curve(path, lambda u: model.probe.depth_at(u, 0.0), model.compliance_mm_per_MPa))
+    model.prob.reset_to_elastic()
+    return out
+
+
+def _write(out_dir: Path, result: RollingResult) -> Path:
+    return atomic_write_text(out_dir / "rolling.json", json.dumps(result.to_dict(), indent=1, allow_nan=True))
+
+
+def run_rolling(config: RollingConfig, out_dir: str | Path, force: bool = False, progress=None) -> RollingResult:
+    """Run every level of ``config`` into ``out_dir`` (see the module docstring). ``force``: run beyond the cost
+    limit; ``progress(text)``: called after each pass. InputError (bad input, cost), RollingConvergenceError."""
+    t0 = time.perf_counter()
+    out_dir = Path(out_dir)
+    guard(rolling_cost(config), force)
+    tm = track_mesh(config.contact, config.track, config.mesh)
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise InputError(str(out_dir), f"cannot create the output folder: {err.strerror or err}") from err
+    model = build_model(config, tm)
+    levels_MPa = level_pressures(config, model.p_y_MPa)
+    curves = static_dents(model, config, levels_MPa)
+    n_passes = config.track.n_passes
+    try:
+        layer = layer_grooves(curves[int(np.argmax(levels_MPa))], model.p_y_MPa, levels_MPa, n_passes,
+                              config.run.layer_segments)
+    except InputError:  # no inelastic static curve to fit (all levels elastic): no layer prediction
+        layer = [LayerGroove([], [])] * len(levels_MPa)
+    results = [LevelResult(p0 / model.p_y_MPa, p0, c.dent_mm, layer_groove_mm=lg)
+               for p0, c, lg in zip(levels_MPa, curves, layer)]
+    files: list[str] = []
+    base = RollingResult(FORMAT_VERSION, config.to_dict(), model.p_y_MPa, int(model.disc.n_dofs),
+                         int(tm.mesh.t.shape[1]), results)
+    positions = [x * config.contact.a_mm for x in config.track.positions_over_a()]
+    for k, p0 in enumerate(levels_MPa):
+        series = _series(config, out_dir, k, model)
+        solver = RollingSolver(model.prob, model.forces, p0)
+        try:
+            for rec in roll(solver, SolverState.virgin(model.disc), positions, n_passes, config.track.ramp_steps, k):
+                if isinstance(rec, PassRecord):
+                    results[k] = results[k].with_pass(rec, model.probe.profile(rec.state))
+                    if series is not None:
+                        series(model.disc, rec.state)
+                        series.write_pvd()
+                    if progress is not None:
+                        progress(f"level {k}: pass {rec.pass_index} groove {results[k].groove_mm[-1]:.4g} mm "
+                                 f"({rec.seconds:.1f} s)")
+        except RollingConvergenceError as err:
+            failed = replace(base, levels=results, failed=str(err), seconds=time.perf_counter() - t0, files=files)
+            _write(out_dir, failed)
+            raise
+        finally:
+            if series is not None and series.steps:
+                files.append(str(series.write_pvd()))
+        model.prob.reset_to_elastic()
+    result = replace(base, levels=results, seconds=time.perf_counter() - t0, files=files)
+    files.insert(0, str(_write(out_dir, result)))
+    return result
+
+
+def _series(config: RollingConfig, out_dir: Path, level: int, model: RollingModel):
+    """The ParaView series of one level (None without plots), started with the virgin body."""
+    if not config.run.plots:
+        return None
+    from calibration.fem.output import FieldSeries  # pyvista/meshio only where fields are written
+
+    series = FieldSeries(out_dir / "fields" / f"level_{level}", config.material.j2(), stem="passes")
+    series(model.disc, SolverState.virgin(model.disc))
+    return series
+
+
+__all__ = ["FORMAT_VERSION", "LevelResult", "RollingModel", "RollingResult", "build_model", "level_pressures",
+           "run_rolling", "static_dents"]
