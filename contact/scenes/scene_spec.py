@@ -152,18 +152,19 @@ class LayerSpec:
 
 @dataclass(frozen=True)
 class TangentialSpec:
-    """[tangential]: creepages and friction of the FASTSIM solution.
+    """[tangential]: creepages and friction of the tangential solution (``method.tangential``); the creepages hold
+    at the scene's origin (x = 0, y = 0; docs/conventions.md).
 
     Attributes
     ----------
     creepage_x : float
-        Longitudinal creepage (-).
+        Longitudinal creepage xi at the scene's origin (-), |xi| <= 0.1.
     creepage_y : float
-        Lateral creepage (-).
+        Lateral creepage eta at the scene's origin (-), |eta| <= 0.1.
     spin_per_mm : float
-        Spin creepage (1/mm).
+        Spin creepage phi (1/mm), |phi| <= 0.01.
     friction : float
-        Coulomb friction coefficient (-).
+        Coulomb friction coefficient mu (-), > 0 when a creepage is given.
     speed_mm_s : float
         Rolling speed (mm/s).
     flexibility : str
@@ -219,6 +220,9 @@ class MethodSpec:
         Exact solver grid: cells along x over the patch length (-); None: the solver's default.
     layer_mode : str
         Exact solver's layer mode: "indentation" or "rolling" (-).
+    tangential : str
+        The tangential solver: "fastsim" (Kalker's simplified theory), "fastrip" (FaStrip) or "exact" (Kalker's
+        full theory on the grid) (-; docs/tangential.md).
     """
 
     alpha: float = 0.55
@@ -227,6 +231,7 @@ class MethodSpec:
     normal: str = "kik_piotrowski"
     exact_cells: int | None = None
     layer_mode: str = "indentation"
+    tangential: str = "fastsim"
 
     def normal_method(self) -> NormalMethod:
         """The :class:`contact.normal.method.NormalMethod` of these keys."""

@@ -21,8 +21,8 @@ sum N_i cos(gamma_i) = Q (the earlier model, kept for comparison; on the flange 
 Each patch is a separate normal problem in its own contact plane (no elastic interaction between patches), solved
 with ``method.normal`` (:func:`contact.normal.method.solve_normal_with`), with the candidate's layers looked up
 strip by strip (:func:`candidate_layers`). The reference point (``method.contact_point``,
-:mod:`contact.wheel_rail.reference_point`) is where the creepages are evaluated and the origin of FASTSIM's strip
-coordinate and Mz.
+:mod:`contact.wheel_rail.reference_point`) is where the creepages are evaluated and the origin of the tangential
+results' strip coordinate and Mz (FASTSIM solves about each region's force centroid, the creepages moved there).
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from contact.layer.strip_lookup import clamped_characteristics
 from contact.normal.kik_piotrowski import NormalForceEvaluator, NormalProblem, NormalSolution, solve_normal
 from contact.normal.method import solve_normal_with
 from contact.tangential.fastsim import Creepage, TangentialResult
-from contact.tangential.on_patch import FastsimSettings, solve_regions
+from contact.tangential.on_patch import TangentialSettings, solve_regions
 from contact.wheel_rail.contact_search import ContactCandidate, SearchResult
 from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
 from contact.wheel_rail.kinematics import PatchKinematics, contact_frame, creepages
@@ -71,13 +71,14 @@ def normal_problem(cand: ContactCandidate, sign: int, inputs: WheelRailInputs, f
 
 def patch_tangential(normal: NormalSolution, kin: PatchKinematics, inputs: WheelRailInputs,
                      eta_ref_mm: float) -> list[TangentialResult]:
-    """FASTSIM on every region of a patch's normal solution with the creepages ``kin`` evaluated at the reference
-    point ``eta_ref_mm`` (mm, problem orientation; the origin of the strip coordinate and Mz); [] without
-    friction."""
+    """The tangential solution (``method.tangential``) of every region of a patch's normal solution with the
+    creepages ``kin`` evaluated at the reference point ``eta_ref_mm`` (mm, problem orientation; the origin of the
+    results' strip coordinate and Mz); FASTSIM takes the spin about each region's force centroid with the
+    creepages moved there from the reference point (:mod:`contact.tangential.spin_centre`). [] without friction."""
     if inputs.friction == 0:
         return []
-    settings = FastsimSettings(inputs.E_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
-                               inputs.fastsim_cells)
+    settings = TangentialSettings(inputs.E_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
+                                  inputs.fastsim_cells, method=inputs.tangential_method)
     return solve_regions(normal, Creepage(kin.vx, kin.vy, kin.phi_per_mm), settings, eta_ref_mm)
 
 

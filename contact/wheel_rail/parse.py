@@ -38,6 +38,7 @@ from pathlib import Path
 from typing import Any
 
 from contact.normal.method import NormalMethod
+from contact.tangential.method import TANGENTIAL_METHODS
 from contact.wheel_rail.inputs import BALANCES
 from contact.wheel_rail.reference_point import CONTACT_POINTS
 from contact.wheel_rail.layers_spec import CombinedLayerSpec, LayersSpec, read_layers
@@ -89,7 +90,7 @@ SECTION_KEYS = {
     "layers": ("rail", "wheel", "combined", "scale_to_patch"),
     "passes": ("max", "hardening", "tolerance_mm"),
     "method": ("alpha", "grid_mm", "fastsim_cells", "merge_mm", "candidate_gap_mm", "f_cap_mm", "normal",
-               "exact_cells", "layer_mode", "contact_point", "balance"),
+               "exact_cells", "layer_mode", "contact_point", "balance", "tangential"),
     "sweep": SWEEP_SECTION_KEYS,
     "output": ("deformed_profiles",),
 }
@@ -136,6 +137,9 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path) -> Whee
     load_spec = LoadSpec(load.number("vertical_load_N", 10000.0, ge=MIN_FORCE_N),
                          load.number("speed_mm_s", 2000.0, gt=0.0))
     tangential = TangentialSpec(s("tangential").number("friction", 0.3, ge=0.0))
+    if tangential.friction == 0 and "tangential" in s("method").table:
+        raise s("tangential").error("friction", f"must be > 0 with method.tangential = {method.tangential!r} "
+                                    "(0: no tangential solution)")
     layers = _layers(sec.get("layers"), base)
     base_case = CaseSpec(wheelset.lateral_mm, wheelset.yaw_rad, 0.0 if wheelset.roll_auto else wheelset.roll_rad,
                          wheelset.pitch_rate_rad_s, load_spec.vertical_load_N, load_spec.speed_mm_s)
@@ -200,7 +204,8 @@ def _method(met: Keys) -> MethodSpec:
                       exact_cells=met.integer("exact_cells", None, ge=1),
                       layer_mode=met.text("layer_mode", "indentation"),
                       contact_point=met.text("contact_point", "first_contact", CONTACT_POINTS),
-                      balance=met.text("balance", "total", BALANCES))
+                      balance=met.text("balance", "total", BALANCES),
+                      tangential=met.text("tangential", MethodSpec.tangential, TANGENTIAL_METHODS))
     try:
         NormalMethod(spec.normal, exact_cells=spec.exact_cells, layer_mode=spec.layer_mode)
     except InputError as err:
