@@ -13,9 +13,10 @@ paper's Table 1 and writes it to ``OUT/table.md`` and ``OUT/table.csv``; a faili
 the others still run, and the exit code is non-zero if any failed.
 
 Exit codes: 0 success; 1 some scenes of ``simulate-all`` failed (each reported in one line); 2 bad input (scene,
-table or profile file, a refused cost, a busy ``--out``); 3 numerical failure (ConvergenceError); 5 wear loop
-stopped at a step (see
-:mod:`contact.wear.cli`); 130 interrupted; 143 terminated.
+table or profile file, a refused cost, a busy ``--out``); 3 numerical failure (ConvergenceError); 4 some cases of a
+wheel–rail sweep failed (each printed on stderr as case, wheel, reason; every result, the failed cases' errors
+included, was written; ``simulate-all`` gives 4 when no scene but some case failed); 5 wear loop stopped at a step
+(see :mod:`contact.wear.cli`); 130 interrupted; 143 terminated.
 """
 
 from __future__ import annotations
@@ -82,6 +83,23 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
     return result.to_dict()
 
 
+def failed_cases(result: dict[str, Any]) -> list[str]:
+    """One line per failed case of a wheel–rail sweep result: case number, wheel and reason (empty otherwise)."""
+    return [f"case {c.get('case', k)}: {c.get('failed_wheel') or 'wheelset'}: {c['error']}"
+            for k, c in enumerate(result.get("cases") or []) if c.get("error") is not None]
+
+
+def report_failed_cases(name: str, result: dict[str, Any]) -> int:
+    """Print the failed cases of a sweep on stderr; the exit code: 4 when some failed (all results written), 0."""
+    lines = failed_cases(result)
+    for line in lines:
+        print(f"error: {name}: {line}", file=sys.stderr, flush=True)
+    if lines:
+        print(f"error: {name}: {len(lines)} of {len(result['cases'])} cases failed (the others were written)",
+              file=sys.stderr, flush=True)
+    return 4 if lines else 0
+
+
 def _simulate(args: argparse.Namespace) -> int:
     result = run_scene_file(args.scene, args.out, plots=args.plots, force=args.force)
     if args.json:
@@ -90,7 +108,7 @@ def _simulate(args: argparse.Namespace) -> int:
         sys.stdout.write(result_text(result))
     else:
         print(f"{Path(args.scene).name}: wrote {Path(args.out) / 'result.json'}")
-    return 0
+    return report_failed_cases(Path(args.scene).name, result)
 
 
 def _simulate_all(args: argparse.Namespace) -> int:
@@ -110,10 +128,12 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
 
     results: dict[str, dict[str, Any]] = {}
     failed = []
+    code = 0
     for path in scenes:
         try:
             results[path.stem] = run_scene_file(path, out / path.stem, plots=args.plots, force=args.force)
             print(f"{path.name}: ok -> {out / path.stem / 'result.json'}", flush=True)
+            code = max(code, report_failed_cases(path.name, results[path.stem]))
         except WrLayerError as err:
             failed.append(path.name)
             print(f"error: {path.name}: {err}", file=sys.stderr, flush=True)
@@ -129,7 +149,7 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
     if failed:
         print(f"error: {len(failed)} of {len(scenes)} scenes failed: {', '.join(failed)}", file=sys.stderr)
         return 1
-    return 0
+    return code
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -35,7 +35,8 @@ from wrlayer.progress import progress
 
 def solve_case(scene: WheelRailScene, case: CaseSpec, placed_rail: PlacedRail | None = None
                ) -> tuple[CaseResult, dict[str, WheelRailSolution]]:
-    """One case of the scene: (its record, {side: WheelRailSolution}); raises InputError/ConvergenceError."""
+    """One case of the scene: (its record, {side: WheelRailSolution}); raises InputError/ConvergenceError, with
+    the failed wheel's side as the error's ``wheel`` attribute when one wheel failed."""
     layout, rail, wheel = scene.layout, scene.rail_profile, scene.wheel_profile
     placed_rail = placed_rail or place_rail(rail, layout)
     pose = WheelsetPose(case.lateral_mm, case.yaw_rad, 0.0 if scene.roll_auto else case.roll_rad)
@@ -44,8 +45,13 @@ def solve_case(scene: WheelRailScene, case: CaseSpec, placed_rail: PlacedRail | 
         pose = WheelsetPose(pose.lateral_mm, pose.yaw_rad, roll)
     sols = {}
     for side in scene.sides:
-        sols[side] = solve_wheel(rail, wheel, scene.inputs(side, pose, case), scene.solver_layers, placed_rail,
-                                 case=f"case lateral {pose.lateral_mm:g} mm, yaw {pose.yaw_rad:g} rad, {side} wheel")
+        try:
+            sols[side] = solve_wheel(rail, wheel, scene.inputs(side, pose, case), scene.solver_layers, placed_rail,
+                                     case=f"case lateral {pose.lateral_mm:g} mm, yaw {pose.yaw_rad:g} rad, {side} "
+                                          "wheel")
+        except (InputError, ConvergenceError) as err:
+            err.wheel = side       # the failed wheel, for the case's record
+            raise
     any_inputs = next(iter(sols.values())).inputs
     difference = None
     if len(sols) == 2:  # rolling radius difference of the main (largest normal force) patches, left - right
@@ -90,7 +96,9 @@ def solve_cases(scene: WheelRailScene, placed: PlacedRail, out_dir: Path
                 record = dataclasses.replace(record, deformed_profiles=write_deformed_profiles(
                     scene, sols, out_dir, f"case{k:03d}"))
         except (InputError, ConvergenceError) as err:
-            record, sols = CaseResult(*(getattr(case, key) for key in SWEEP_KEYS), error=str(err)), None
+            record = CaseResult(*(getattr(case, key) for key in SWEEP_KEYS), error=str(err),
+                                failed_wheel=getattr(err, "wheel", None))
+            sols = None
         yield dataclasses.replace(record, case=k, time_s=time.perf_counter() - t_case), sols
 
 
