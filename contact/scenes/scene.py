@@ -22,6 +22,8 @@ creepages for FASTSIM and optional repeated passes (section 5). Keys (all carry 
                  exact_cells (exact solver: cells along x over the KP patch length, 8..1024, default 48),
                  layer_mode (exact solver: "indentation" (default) or "rolling"),
                  tangential ("fastsim" (default), "fastrip" or "exact": docs/tangential.md)
+    [output]     vtk (bool, default true: vtk/contact_fields.pvd for ParaView), convention ("wrlayer" (default) or
+                 "contact": also contact_convention.csv in CONTACT's signs)
     [reference]  published numbers to compare with (optional; any of the Table 1 keys, see REFERENCE_KEYS)
 
 Every problem raises :class:`wrlayer.errors.InputError` naming the file and the key, e.g.
@@ -46,6 +48,8 @@ from contact.scenes.scene_spec import (
     LoadSpec,
     MaterialSpec,
     MethodSpec,
+    OUTPUT_CONVENTIONS,
+    OutputSpec,
     PassesSpec,
     Scene,
     SeparationSpec,
@@ -102,7 +106,7 @@ class SceneKeys(Keys):
 
 
 TOP_KEYS = ("title", "description", "type", "load", "material", "separation", "layer", "tangential", "passes",
-            "method", "reference")
+            "method", "output", "reference")
 
 
 def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
@@ -158,6 +162,11 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
             raise keys.error("max", f"repeated passes ({passes.max}) need a [layer] (without a layer every pass "
                              "is the same elastic contact)")
 
+    output = OutputSpec()
+    if (keys := top.sub("output")) is not None:
+        keys.check_known(("vtk", "convention"))
+        output = OutputSpec(keys.boolean("vtk", True), keys.text("convention", "wrlayer", OUTPUT_CONVENTIONS))
+
     reference: dict[str, Any] = {}
     if (keys := top.sub("reference")) is not None:
         keys.check_known(REFERENCE_KEYS)
@@ -166,7 +175,8 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
 
     return Scene(path=path, title=title, description=description, load=load, material=material,
                  separation=separation, layer=layer, tangential=tangential, passes=passes, method=method,
-                 reference=reference, data=data, content_hash=hashlib.sha256("".join(hashes).encode()).hexdigest())
+                 output=output, reference=reference, data=data,
+                 content_hash=hashlib.sha256("".join(hashes).encode()).hexdigest())
 
 
 def _parse_method(keys: SceneKeys | None, file: str) -> MethodSpec:
@@ -323,6 +333,7 @@ def scene_inputs(scene: Scene) -> dict[str, Any]:
         "tangential": None if scene.tangential is None else vars(scene.tangential).copy(),
         "passes": vars(scene.passes).copy(),
         "method": vars(scene.method).copy(),
+        "output": vars(scene.output).copy(),
         "reference": dict(scene.reference),
         "scene_toml": scene.data,
     }

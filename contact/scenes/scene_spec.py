@@ -238,6 +238,27 @@ class MethodSpec:
         return NormalMethod(self.normal, self.exact_cells, self.layer_mode)
 
 
+#: Values of ``output.convention``: wrlayer's signs only, or also CONTACT's (contact_convention.csv).
+OUTPUT_CONVENTIONS = ("wrlayer", "contact")
+
+
+@dataclass(frozen=True)
+class OutputSpec:
+    """[output]: extra output files of a contact scene.
+
+    Attributes
+    ----------
+    vtk : bool
+        Write the patches' fields for ParaView (vtk/contact_fields.pvd and one .vtu per patch and pass) (-).
+    convention : str
+        "wrlayer" (default) or "contact": also write the creep forces, moment and creepages in CONTACT's sign
+        convention (contact_convention.csv; docs/conventions.md) (-).
+    """
+
+    vtk: bool = True
+    convention: str = "wrlayer"
+
+
 @dataclass(frozen=True)
 class Scene:
     """A validated contact scene.
@@ -264,6 +285,8 @@ class Scene:
         [passes].
     method : MethodSpec
         [method].
+    output : OutputSpec
+        [output].
     reference : dict
         [reference]: published numbers to compare with (units in the key names).
     data : dict
@@ -282,6 +305,7 @@ class Scene:
     tangential: TangentialSpec | None
     passes: PassesSpec
     method: MethodSpec
+    output: OutputSpec = field(default_factory=OutputSpec)
     reference: dict[str, Any] = field(default_factory=dict)
     data: dict[str, Any] = field(default_factory=dict)
     content_hash: str = ""
@@ -295,5 +319,5 @@ class Scene:
         return self.path.stem
 
 
-__all__ = ["BODIES", "BodyLayerSpec", "LayerSpec", "LoadSpec", "MaterialSpec", "MethodSpec", "PassesSpec", "Scene",
-           "SeparationSpec", "TangentialSpec"]
+__all__ = ["BODIES", "BodyLayerSpec", "LayerSpec", "LoadSpec", "MaterialSpec", "MethodSpec", "PassesSpec", "OUTPUT_CONVENTIONS",
+           "OutputSpec", "Scene", "SeparationSpec", "TangentialSpec"]

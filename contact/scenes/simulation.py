@@ -82,6 +82,7 @@ class PassSnapshot:
     tangential: list[TangentialResult | None]
     local_patches: list[Patch]
     y_ref_mm: list[float]
+    residual_mm: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 @dataclass(frozen=True, eq=False)
@@ -111,7 +112,8 @@ class SimulationRun:
         return self.result.passes
 
 
-def solve_patches(scene: Scene, solution: NormalSolution, number: int) -> tuple[PassSnapshot, float]:
+def solve_patches(scene: Scene, solution: NormalSolution, number: int,
+                  residual_mm: dict[str, np.ndarray] | None = None) -> tuple[PassSnapshot, float]:
     """The tangential solution (``method.tangential``) of every patch of the solution, if the scene has creepages:
     creepages about the scene's origin, each result's strip y and Mz in the scene frame; returns the snapshot and
     its time (s)."""
@@ -124,7 +126,7 @@ def solve_patches(scene: Scene, solution: NormalSolution, number: int) -> tuple[
         settings = TangentialSettings(scene.material.E_MPa, scene.material.poisson, ts.friction, ts.speed_mm_s,
                                       scene.method.fastsim_cells, ts.flexibility, scene.method.tangential)
         tang = solve_regions(solution, Creepage(ts.creepage_x, ts.creepage_y, ts.spin_per_mm), settings)
-    return PassSnapshot(number, solution, tang, local, y_ref), time.perf_counter() - t0
+    return PassSnapshot(number, solution, tang, local, y_ref, dict(residual_mm or {})), time.perf_counter() - t0
 
 
 def local_patch(patch: Patch, y_ref_mm: float) -> Patch:
@@ -213,7 +215,7 @@ def _with_tangential(scene: Scene, solved: list[tuple]) -> Iterator[tuple[PassSn
     """Every pass of ``solved`` ((record, solution, time) of :func:`_layered_passes`) with FASTSIM on its patches:
     (snapshot, result record)."""
     for number, (record, solution, t_pass) in enumerate(solved, start=1):
-        snap, t_tang = solve_patches(scene, solution, number)
+        snap, t_tang = solve_patches(scene, solution, number, record.cumulative_residual_mm)
         yield snap, pass_result(snap, record, {"normal_and_layer_s": t_pass, "tangential_s": t_tang})
 
 

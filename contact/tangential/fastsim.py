@@ -402,8 +402,8 @@ def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: fl
 class GridSample:
     """Fields of a TangentialResult on the patch's square picture grid (:meth:`Patch.grid`).
 
-    x_mm (ng,), mask (ny, ng) of cells inside; tx_MPa, ty_MPa, PT_W_per_mm2, WT_field_N_per_mm (ny, ng), NaN
-    outside; slip (ny, ng) bool, False outside.
+    x_mm (ng,), mask (ny, ng) of cells inside; tx_MPa, ty_MPa, PT_W_per_mm2, WT_field_N_per_mm,
+    slip_velocity_mm_s (ny, ng), NaN outside; slip (ny, ng) bool, False outside.
     """
 
     x_mm: np.ndarray
@@ -413,6 +413,7 @@ class GridSample:
     slip: np.ndarray
     PT_W_per_mm2: np.ndarray
     WT_field_N_per_mm: np.ndarray
+    slip_velocity_mm_s: np.ndarray
 
 
 def sample_on_grid(patch: Patch, result: TangentialResult) -> GridSample:
@@ -436,7 +437,8 @@ def sample_on_grid(patch: Patch, result: TangentialResult) -> GridSample:
     slip = np.take_along_axis(np.asarray(result.slip)[:, ::-1], nearest, axis=1)
     return GridSample(x_mm=xg, mask=mask, tx_MPa=lerp(result.tx_MPa), ty_MPa=lerp(result.ty_MPa),
                       slip=mask & slip, PT_W_per_mm2=lerp(result.PT_W_per_mm2),
-                      WT_field_N_per_mm=lerp(result.WT_field_N_per_mm))
+                      WT_field_N_per_mm=lerp(result.WT_field_N_per_mm),
+                      slip_velocity_mm_s=lerp(result.slip_velocity_mm_s))
 
 
 __all__ = ["FLEXIBILITY_RULES", "Creepage", "StripCells", "strip_cells", "EquivalentEllipse", "GridSample",

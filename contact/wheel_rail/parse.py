@@ -38,6 +38,7 @@ from pathlib import Path
 from typing import Any
 
 from contact.normal.method import NormalMethod
+from contact.scenes.scene_spec import OUTPUT_CONVENTIONS
 from contact.tangential.method import TANGENTIAL_METHODS
 from contact.wheel_rail.inputs import BALANCES
 from contact.wheel_rail.reference_point import CONTACT_POINTS
@@ -92,7 +93,7 @@ SECTION_KEYS = {
     "method": ("alpha", "grid_mm", "fastsim_cells", "merge_mm", "candidate_gap_mm", "f_cap_mm", "normal",
                "exact_cells", "layer_mode", "contact_point", "balance", "tangential"),
     "sweep": SWEEP_SECTION_KEYS,
-    "output": ("deformed_profiles",),
+    "output": ("deformed_profiles", "vtk", "convention"),
 }
 SIDES = ("right", "left", "both")
 
@@ -144,7 +145,8 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path) -> Whee
     base_case = CaseSpec(wheelset.lateral_mm, wheelset.yaw_rad, 0.0 if wheelset.roll_auto else wheelset.roll_rad,
                          wheelset.pitch_rate_rad_s, load_spec.vertical_load_N, load_spec.speed_mm_s)
     sweep = parse_sweep(sec.get("sweep"), base_case, base, wheelset.roll_auto)
-    output = OutputSpec(s("output").boolean("deformed_profiles", True))
+    output = OutputSpec(s("output").boolean("deformed_profiles", True), s("output").boolean("vtk", True),
+                        s("output").text("convention", OutputSpec.convention, OUTPUT_CONVENTIONS))
     return WheelRailScene(path, title, description, profiles, track, wheel, wheelset, load_spec, material, tangential,
                           layers, passes, method, sweep, output, data, rail, wheel_profile)
 

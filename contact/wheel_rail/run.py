@@ -19,7 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
+from contact.scenes.contact_convention import write_contact_convention
 from contact.scenes.result_io import UNITS, code_version
+from contact.scenes.vtk_output import sweep_items, write_series
 from contact.tangential.frictional_outputs import write_wheel_rail
 from contact.wheel_rail.result_files import CONVENTIONS, cases_csv, inputs_echo
 from contact.wheel_rail.results import CaseResult, DeformedProfileFile, RailPlacement, SweepResult, WheelResult
@@ -102,9 +104,11 @@ def solve_cases(scene: WheelRailScene, placed: PlacedRail, out_dir: Path
         yield dataclasses.replace(record, case=k, time_s=time.perf_counter() - t_case), sols
 
 
-def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool) -> SweepResult:
-    """Run a wheel_rail scene; pictures, deformed profiles and CSV files go into ``out_dir`` (result.json is the
-    caller's: ``result.to_json()``)."""
+def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk: bool | None = None
+                         ) -> SweepResult:
+    """Run a wheel_rail scene; pictures, deformed profiles, CSV files and (``vtk``, default ``output.vtk``) the
+    VTK fields go into ``out_dir`` (result.json is the caller's: ``result.to_json()``); with
+    ``output.convention = "contact"`` also contact_convention.csv."""
     t0 = time.perf_counter()
     out_dir = Path(out_dir)
     placed = place_rail(scene.rail_profile, scene.layout)
@@ -124,6 +128,10 @@ def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool) -> S
         tuple(write_wheel_rail(all_sols, out_dir)))   # wear-ready CSVs beside result.json
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / result.cases_csv).write_text(cases_csv(result), encoding="utf-8")
+    if scene.output.vtk if vtk is None else vtk:
+        write_series(sweep_items(all_sols), out_dir)
+    if scene.output.convention == "contact":
+        write_contact_convention(result.to_dict(), out_dir)
     if plots:
         from contact.wheel_rail.plots import write_wheel_rail_plots  # matplotlib only when pictures are asked for
 

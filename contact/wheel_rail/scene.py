@@ -249,9 +249,17 @@ class OutputSpec(Record):
     ----------
     deformed_profiles : bool
         With layers: write each case's deformed rail and wheel profiles (SIMPACK .prr/.prw and CSV) (-).
+    vtk : bool
+        Write the patches' fields for ParaView (vtk/contact_fields.pvd over the cases, one .vtu per case, wheel and
+        patch) (-).
+    convention : str
+        "wrlayer" (default) or "contact": also write every patch in CONTACT's sign convention
+        (contact_convention.csv; docs/conventions.md) (-).
     """
 
     deformed_profiles: bool = True
+    vtk: bool = True
+    convention: str = "wrlayer"
 
 
 #: The sections of a wheel–rail scene with their dataclasses (the order of :meth:`WheelRailScene.to_dict`).
