@@ -6,7 +6,7 @@ import pytest
 
 from contact.scenes.scene import parse_scene
 from contact.scenes.simulation import simulate
-from contact.tangential.fastsim import Creepage
+from contact.tangential.fastsim import Creepage, sample_on_grid
 from contact.tangential.method import PressureGrid, solve_on_grid
 
 E_MPa, NU, MU = 210000.0, 0.28, 0.3
@@ -40,10 +40,17 @@ def test_fastsim_force_does_not_depend_on_the_exact_grid():
     assert fx[48] == pytest.approx(sum(r.Fx_N for r in full), rel=0.15)   # FASTSIM: -8.46 kN, full: -9.76 kN
 
 
-@pytest.mark.parametrize("method", ["fastrip", "exact"])
+@pytest.mark.parametrize("method", ["fastsim", "fastrip", "exact"])
 def test_every_method_through_the_scene(method):
-    """method.tangential picks the solver; the same result keys, near the full theory."""
+    """method.tangential picks the solver; the same result keys; the adhesion/slip map on the picture grid from the
+    result's own cells (the exact theory's are grid cells)."""
     run = simulate(flat_scene(24, method))
     p = run.result.passes[0]
-    assert run.first.tangential[0].method == method
+    tr = run.first.tangential[0]
+    assert tr.method == method
     assert p.Fx_N < 0 and p.WT_max > 0 and p.PT_max_W_per_mm2 > 0
+    g = sample_on_grid(run.first.solution.patches[0], tr)
+    inside = g.mask.sum()
+    assert 0 < g.slip.sum() < inside
+    share = tr.slip_area_mm2 / (tr.slip_area_mm2 + tr.adhesion_area_mm2)
+    assert g.slip.sum() / inside == pytest.approx(share, abs=0.1)
