@@ -137,16 +137,20 @@ class PressureGrid:
         return patch, np.array(pn), 0.5 * (hi + lo)
 
 
-def _exact(grid: PressureGrid, creepage: Creepage, G_MPa, poisson, friction, speed_mm_s, options
-           ) -> list[TangentialResult]:
+def _exact(grid: PressureGrid, creepage: Creepage, G_MPa, poisson, friction, speed_mm_s, options,
+           start: list[TangentialResult] | None = None) -> list[TangentialResult]:
     """Kalker's full theory on all regions of the grid at once (their elastic interaction included), one
-    TangentialResult per region (rows: its lines; columns from the leading edge)."""
+    TangentialResult per region (rows: its lines; columns from the leading edge); started from the tractions of
+    ``start`` (an earlier solve of one region on a grid of the same shape), if given."""
     regions = grid.regions()
     lines = np.arange(regions[0][0], regions[-1][-1] + 1)
     y, x, p = grid.y_mm[lines], grid.x_mm, grid.p_MPa[lines]
     X, Y = np.meshgrid(x, y)
+    initial = None
+    if start is not None and len(start) == 1 and len(regions) == 1:
+        initial = (start[0].tx_MPa[:, ::-1], start[0].ty_MPa[:, ::-1])
     sol = solve_rolling(x, y, p, creepage.vx - creepage.phi_per_mm * Y, creepage.vy + creepage.phi_per_mm * X,
-                        friction, G_MPa, poisson, options)
+                        friction, G_MPa, poisson, options, initial)
     dx, dy = grid.dx_mm, grid.dy_mm
     out = []
     for rows in regions:
@@ -169,7 +173,8 @@ def _exact(grid: PressureGrid, creepage: Creepage, G_MPa, poisson, friction, spe
 
 def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa: float, poisson: float,
                   method: str = "exact", speed_mm_s: float = 1000.0, nx: int = 60,
-                  options: RollingOptions = RollingOptions()) -> list[TangentialResult]:
+                  options: RollingOptions = RollingOptions(), start: list[TangentialResult] | None = None
+                  ) -> list[TangentialResult]:
     """The tangential solution of ``method`` ("fastsim", "fastrip" or "exact") on the grid's pressure: one
     TangentialResult per contact region (:meth:`PressureGrid.regions`), Mz of each about the grid's origin (so
     they add up).
@@ -178,11 +183,11 @@ def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa
     modulus E / (2 (1 + nu)) in MPa); speed_mm_s: rolling speed V; nx: cells per strip of the strip methods;
     options: the exact solver's. FASTSIM takes the spin about each region's force centroid
     (:func:`contact.tangential.spin_centre.solve_about_centroid`). ConvergenceError when the exact solver or a
-    FaStrip strip does not converge.
+    FaStrip strip does not converge. ``start``: the exact solver's starting tractions (see :func:`_exact`).
     """
     require(method in TANGENTIAL_METHODS, "method.tangential", f"must be one of {TANGENTIAL_METHODS}, got {method!r}")
     if method == "exact":
-        return _exact(grid, creepage, G_MPa, poisson, friction, speed_mm_s, options)
+        return _exact(grid, creepage, G_MPa, poisson, friction, speed_mm_s, options, start)
     solver = solve_about_centroid if method == "fastsim" else solve_fastrip
     out = []
     for rows in grid.regions():
@@ -195,7 +200,8 @@ def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa
 def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, friction: float, G_MPa: float,
                               poisson: float, method: str = "fastsim", speed_mm_s: float = 1000.0, nx: int = 60,
                               flexibility: str = "three", options: RollingOptions = RollingOptions(),
-                              origin_y_mm: float = 0.0) -> list[TangentialResult]:
+                              origin_y_mm: float = 0.0, start: list[TangentialResult] | None = None
+                              ) -> list[TangentialResult]:
     """The tangential solution of every patch of a normal solution (Kik–Piotrowski or exact), in its order.
 
     Frame: the solution's strips measured from ``origin_y_mm`` (mm, the solution's strip coordinate; x = 0 at the
@@ -208,6 +214,8 @@ def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, fric
     at once), or, for a Kik–Piotrowski solution, on each patch rasterised with ``nx`` cells along x
     (:meth:`PressureGrid.from_patch`; the patches then do not interact tangentially).
     InputError when a patch carries no pressure; ConvergenceError naming the patch when a solve does not converge.
+    ``start``: an earlier result of the same solution's kind (e.g. the previous load of a balance iteration), the
+    exact theory's starting tractions on the exact grid (the same solution to the tolerance, in fewer sweeps).
     """
     require(method in TANGENTIAL_METHODS, "method.tangential", f"must be one of {TANGENTIAL_METHODS}, got {method!r}")
     patches = [p if origin_y_mm == 0.0 else Patch(p.grid_mm, p.y_mm - origin_y_mm, p.x_lead_mm, p.p_peak_MPa)
@@ -219,7 +227,7 @@ def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, fric
     if method == "exact" and exact_field:
         with _naming("patches 1.." + str(len(patches)), method):
             return solve_on_grid(PressureGrid.from_exact(solution, y_ref_mm=origin_y_mm), creepage, friction, G_MPa,
-                                 poisson, "exact", speed_mm_s, nx, options)
+                                 poisson, "exact", speed_mm_s, nx, options, start)
     out = []
     for k, patch in enumerate(patches):
         with _naming(f"patch {k + 1}", method):

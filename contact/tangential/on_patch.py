@@ -56,13 +56,14 @@ class TangentialSettings:
 
 
 def solve_regions(solution: NormalSolution, creepage: Creepage, settings: TangentialSettings,
-                  origin_y_mm: float = 0.0) -> list[TangentialResult]:
+                  origin_y_mm: float = 0.0, start: list[TangentialResult] | None = None) -> list[TangentialResult]:
     """The tangential solution of every region of ``solution`` with ``creepage`` holding at ``origin_y_mm`` (mm,
-    the solution's strip coordinate); results' strip y and Mz about that point."""
+    the solution's strip coordinate); results' strip y and Mz about that point. ``start``: an earlier result to
+    start the exact theory from (:func:`contact.tangential.method.solve_for_normal_solution`)."""
     return solve_for_normal_solution(solution, creepage, settings.friction,
                                      shear_modulus_MPa(settings.E_MPa, settings.poisson), settings.poisson,
                                      settings.method, settings.speed_mm_s, settings.cells, settings.flexibility,
-                                     origin_y_mm=origin_y_mm)
+                                     origin_y_mm=origin_y_mm, start=start)
 
 
 __all__ = ["TangentialSettings", "solve_regions"]

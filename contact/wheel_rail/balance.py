@@ -70,16 +70,17 @@ def normal_problem(cand: ContactCandidate, sign: int, inputs: WheelRailInputs, f
 
 
 def patch_tangential(normal: NormalSolution, kin: PatchKinematics, inputs: WheelRailInputs,
-                     eta_ref_mm: float) -> list[TangentialResult]:
+                     eta_ref_mm: float, start: list[TangentialResult] | None = None) -> list[TangentialResult]:
     """The tangential solution (``method.tangential``) of every region of a patch's normal solution with the
     creepages ``kin`` evaluated at the reference point ``eta_ref_mm`` (mm, problem orientation; the origin of the
     results' strip coordinate and Mz); FASTSIM takes the spin about each region's force centroid with the
-    creepages moved there from the reference point (:mod:`contact.tangential.spin_centre`). [] without friction."""
+    creepages moved there from the reference point (:mod:`contact.tangential.spin_centre`). [] without friction.
+    ``start``: the previous solve of the balance iteration (the exact theory starts from its tractions)."""
     if inputs.friction == 0:
         return []
     settings = TangentialSettings(inputs.E_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
                                   inputs.fastsim_cells, method=inputs.tangential_method)
-    return solve_regions(normal, Creepage(kin.vx, kin.vy, kin.phi_per_mm), settings, eta_ref_mm)
+    return solve_regions(normal, Creepage(kin.vx, kin.vy, kin.phi_per_mm), settings, eta_ref_mm, start)
 
 
 def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, layers: WheelRailLayers | None,
@@ -110,7 +111,8 @@ def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, lay
 @dataclass(eq=False)
 class BalanceCandidate:
     """A contact candidate prepared for the balance: layers, angle, the Kik–Piotrowski approach -> force evaluator;
-    ``delta_guess`` the last approach (mm) solved (the next solve's start)."""
+    ``delta_guess`` the last approach (mm) solved and ``tangential_guess`` its tangential solution (the next
+    solve's start)."""
 
     cand: ContactCandidate
     pair: LayerPair | None
@@ -121,6 +123,7 @@ class BalanceCandidate:
     sign: int = 1
     delta_guess: float | None = None
     layer_patch_mm: tuple[float, float] | None = None
+    tangential_guess: list[TangentialResult] | None = None
 
 
 @dataclass(eq=False)
@@ -199,7 +202,8 @@ class VerticalBalance:
         n_track = track_vector(ref.normal, self.sign)
         centre = np.array([0.0, inp.pose.lateral_mm, self.found.wheel_height_mm])   # rigid-contact geometry
         kin = creepages(point, n_track, centre, self.axle, inp.speed_mm_s, inp.omega_rad_s)
-        tangential = patch_tangential(sol, kin, inp, self.sign * ref.eta_mm)
+        tangential = patch_tangential(sol, kin, inp, self.sign * ref.eta_mm, ctx.tangential_guess)
+        ctx.tangential_guess = tangential
         return LoadedPatch(ctx, float(force), prob, sol, ref, kin, tangential)
 
     def force_at_approach(self, ctx: BalanceCandidate, delta: float) -> float:
