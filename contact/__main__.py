@@ -1,10 +1,11 @@
 """Command line of the contact solver.
 
-    python -m contact simulate SCENE --out DIR [--json] [--plots]
-    python -m contact simulate-all SCENES_DIR --out OUT [--plots]
+    python -m contact simulate SCENE --out DIR [--json] [--plots] [--no-vtk]
+    python -m contact simulate-all SCENES_DIR --out OUT [--plots] [--no-vtk]
     python -m contact wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS]   (contact.wear.cli)
 
-``simulate`` writes ``DIR/result.json`` (and pictures with ``--plots``) atomically: on any error nothing is
+``simulate`` writes ``DIR/result.json``, the frictional CSVs, the VTK fields ``DIR/vtk/contact_fields.pvd`` (unless
+``--no-vtk`` or ``output.vtk = false``) and pictures with ``--plots``, atomically: on any error nothing is
 written; the folder is built beside DIR and replaces it as a whole (:func:`wrlayer.atomic_write.replace_output_dir`:
 a lock refuses a second run into the same DIR, files of an earlier run never survive beside the new ones). A run
 whose estimated cost exceeds the limit is refused up front unless ``--force`` (:mod:`contact.scenes.cost`).
@@ -13,9 +14,10 @@ paper's Table 1 and writes it to ``OUT/table.md`` and ``OUT/table.csv``; a faili
 the others still run, and the exit code is non-zero if any failed.
 
 Exit codes: 0 success; 1 some scenes of ``simulate-all`` failed (each reported in one line); 2 bad input (scene,
-table or profile file, a refused cost, a busy ``--out``); 3 numerical failure (ConvergenceError); 5 wear loop
-stopped at a step (see
-:mod:`contact.wear.cli`); 130 interrupted; 143 terminated.
+table or profile file, a refused cost, a busy ``--out``); 3 numerical failure (ConvergenceError); 4 some cases of a
+wheel–rail sweep failed (each printed on stderr as case, wheel, reason; every result, the failed cases' errors
+included, was written; ``simulate-all`` gives 4 when no scene but some case failed); 5 wear loop stopped at a step
+(see :mod:`contact.wear.cli`); 130 interrupted; 143 terminated.
 """
 
 from __future__ import annotations
@@ -34,11 +36,13 @@ from wrlayer.errors import InputError, WrLayerError, cli_guard
 
 
 def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = False,
-                   force: bool = False) -> dict[str, Any]:
+                   force: bool = False, vtk: bool = True) -> dict[str, Any]:
     """Run one scene file into ``out_dir`` (result.json + pictures, atomically); returns the result dict.
 
     The run's cost is estimated first (:mod:`contact.scenes.cost`); above :data:`wrlayer.cost.LIMIT_SECONDS` it is
-    refused (CostError, exit 2) unless ``force``."""
+    refused (CostError, exit 2) unless ``force``. VTK fields (:mod:`contact.scenes.vtk_output`) are written when the
+    scene's ``output.vtk`` and ``vtk`` (False: ``--no-vtk``) are both true; contact_convention.csv with
+    ``output.convention = "contact"`` (:mod:`contact.scenes.contact_convention`)."""
     from contact.scenes.scene import read_scene_data, scene_type
 
     scene_path, data = read_scene_data(scene_path)
@@ -54,7 +58,7 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
         scene = parse_wheel_rail_scene(data, scene_path)
         guard(wheel_rail_cost(scene), force)
         with replace_output_dir(out_dir) as tmp:
-            result = run_wheel_rail_scene(scene, tmp, plots)
+            result = run_wheel_rail_scene(scene, tmp, plots, vtk=vtk and scene.output.vtk)
             (tmp / "result.json").write_text(result.to_json(), encoding="utf-8")
         return result.to_dict()
 
@@ -74,6 +78,14 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
 
         # wear-ready CSVs beside result.json
         result = dataclasses.replace(result, frictional_outputs=tuple(write_scene_run(run, tmp)))
+        if vtk and scene.output.vtk:
+            from contact.scenes.vtk_output import scene_items, write_series
+
+            write_series(scene_items(run), tmp)
+        if scene.output.convention == "contact":
+            from contact.scenes.contact_convention import write_contact_convention
+
+            write_contact_convention(result.to_dict(), tmp)
         if plots:
             from contact.scenes.plots import write_scene_plots
 
@@ -82,15 +94,32 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
     return result.to_dict()
 
 
+def failed_cases(result: dict[str, Any]) -> list[str]:
+    """One line per failed case of a wheel–rail sweep result: case number, wheel and reason (empty otherwise)."""
+    return [f"case {c.get('case', k)}: {c.get('failed_wheel') or 'wheelset'}: {c['error']}"
+            for k, c in enumerate(result.get("cases") or []) if c.get("error") is not None]
+
+
+def report_failed_cases(name: str, result: dict[str, Any]) -> int:
+    """Print the failed cases of a sweep on stderr; the exit code: 4 when some failed (all results written), 0."""
+    lines = failed_cases(result)
+    for line in lines:
+        print(f"error: {name}: {line}", file=sys.stderr, flush=True)
+    if lines:
+        print(f"error: {name}: {len(lines)} of {len(result['cases'])} cases failed (the others were written)",
+              file=sys.stderr, flush=True)
+    return 4 if lines else 0
+
+
 def _simulate(args: argparse.Namespace) -> int:
-    result = run_scene_file(args.scene, args.out, plots=args.plots, force=args.force)
+    result = run_scene_file(args.scene, args.out, plots=args.plots, force=args.force, vtk=not args.no_vtk)
     if args.json:
         from contact.scenes.result_io import result_text
 
         sys.stdout.write(result_text(result))
     else:
         print(f"{Path(args.scene).name}: wrote {Path(args.out) / 'result.json'}")
-    return 0
+    return report_failed_cases(Path(args.scene).name, result)
 
 
 def _simulate_all(args: argparse.Namespace) -> int:
@@ -110,10 +139,13 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
 
     results: dict[str, dict[str, Any]] = {}
     failed = []
+    code = 0
     for path in scenes:
         try:
-            results[path.stem] = run_scene_file(path, out / path.stem, plots=args.plots, force=args.force)
+            results[path.stem] = run_scene_file(path, out / path.stem, plots=args.plots, force=args.force,
+                                                vtk=not args.no_vtk)
             print(f"{path.name}: ok -> {out / path.stem / 'result.json'}", flush=True)
+            code = max(code, report_failed_cases(path.name, results[path.stem]))
         except WrLayerError as err:
             failed.append(path.name)
             print(f"error: {path.name}: {err}", file=sys.stderr, flush=True)
@@ -129,7 +161,7 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
     if failed:
         print(f"error: {len(failed)} of {len(scenes)} scenes failed: {', '.join(failed)}", file=sys.stderr)
         return 1
-    return 0
+    return code
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -146,6 +178,7 @@ def build_parser() -> argparse.ArgumentParser:
     one.add_argument("--json", action="store_true", help="also print the result JSON")
     one.add_argument("--plots", action="store_true", help="write PNG pictures")
     one.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
+    one.add_argument("--no-vtk", action="store_true", help="do not write the VTK fields for ParaView (vtk/)")
     one.set_defaults(func=_simulate)
     many = cli.subparser(sub, "simulate-all", "run every *.toml in a folder and print a Table 1",
                          ["python -m contact simulate-all scenes --out out/simulate --plots"])
@@ -153,6 +186,7 @@ def build_parser() -> argparse.ArgumentParser:
     many.add_argument("--out", required=True, help="output folder (one subfolder per scene, table.md, table.csv)")
     many.add_argument("--plots", action="store_true", help="write PNG pictures")
     many.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
+    many.add_argument("--no-vtk", action="store_true", help="do not write the VTK fields for ParaView (vtk/)")
     many.set_defaults(func=_simulate_all)
     from contact.wear.cli import add_parser as add_wear_parser
 

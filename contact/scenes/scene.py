@@ -14,12 +14,16 @@ creepages for FASTSIM and optional repeated passes (section 5). Keys (all carry 
     [layer.wheel], [layer.rail]  per body: u_mm + p_MPa, or table (calibration JSON, relative to the scene file)
                                  + position_mm (profile coordinate of the contact point on that body)
     [tangential] creepage_x, creepage_y (-), spin_per_mm (1/mm), friction (>= 0), speed_mm_s (> 0, default 1000),
-                 flexibility ("three" (default), "single", "blended": FASTSIM flexibility rule, contact.tangential.fastsim)
+                 flexibility ("three" (default), "single", "blended": FASTSIM flexibility rule, contact.tangential.fastsim);
+                 creepages about the scene's origin, |creepage| <= 0.1, |spin| <= 0.01 1/mm, friction > 0 with creepages
     [passes]     max (>= 1, default 1), hardening (bool, default false), tolerance_mm (> 0, default 1e-6)
     [method]     alpha (0 < alpha <= 1, default 0.55), grid_mm (> 0, default 0.1), fastsim_cells (>= 2, default 60),
                  normal ("kik_piotrowski" (default, the paper's) or "exact": FFT half-space, docs/exact-solver.md),
                  exact_cells (exact solver: cells along x over the KP patch length, 8..1024, default 48),
-                 layer_mode (exact solver: "indentation" (default) or "rolling")
+                 layer_mode (exact solver: "indentation" (default) or "rolling"),
+                 tangential ("fastsim" (default), "fastrip" or "exact": docs/tangential.md)
+    [output]     vtk (bool, default true: vtk/contact_fields.pvd for ParaView), convention ("wrlayer" (default) or
+                 "contact": also contact_convention.csv in CONTACT's signs)
     [reference]  published numbers to compare with (optional; any of the Table 1 keys, see REFERENCE_KEYS)
 
 Every problem raises :class:`wrlayer.errors.InputError` naming the file and the key, e.g.
@@ -44,6 +48,8 @@ from contact.scenes.scene_spec import (
     LoadSpec,
     MaterialSpec,
     MethodSpec,
+    OUTPUT_CONVENTIONS,
+    OutputSpec,
     PassesSpec,
     Scene,
     SeparationSpec,
@@ -100,7 +106,7 @@ class SceneKeys(Keys):
 
 
 TOP_KEYS = ("title", "description", "type", "load", "material", "separation", "layer", "tangential", "passes",
-            "method", "reference")
+            "method", "output", "reference")
 
 
 def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
@@ -156,6 +162,11 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
             raise keys.error("max", f"repeated passes ({passes.max}) need a [layer] (without a layer every pass "
                              "is the same elastic contact)")
 
+    output = OutputSpec()
+    if (keys := top.sub("output")) is not None:
+        keys.check_known(("vtk", "convention"))
+        output = OutputSpec(keys.boolean("vtk", True), keys.text("convention", "wrlayer", OUTPUT_CONVENTIONS))
+
     reference: dict[str, Any] = {}
     if (keys := top.sub("reference")) is not None:
         keys.check_known(REFERENCE_KEYS)
@@ -164,19 +175,25 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
 
     return Scene(path=path, title=title, description=description, load=load, material=material,
                  separation=separation, layer=layer, tangential=tangential, passes=passes, method=method,
-                 reference=reference, data=data, content_hash=hashlib.sha256("".join(hashes).encode()).hexdigest())
+                 output=output, reference=reference, data=data,
+                 content_hash=hashlib.sha256("".join(hashes).encode()).hexdigest())
 
 
 def _parse_method(keys: SceneKeys | None, file: str) -> MethodSpec:
     if keys is None:
         return MethodSpec()
-    keys.check_known(("alpha", "grid_mm", "fastsim_cells", "normal", "exact_cells", "layer_mode"))
+    keys.check_known(("alpha", "grid_mm", "fastsim_cells", "normal", "exact_cells", "layer_mode", "tangential"))
     method = MethodSpec(alpha=keys.number("alpha", 0.55, ge=MIN_ALPHA, le=1.0),
                         grid_mm=keys.number("grid_mm", 0.1, ge=MIN_GRID_MM),
                         fastsim_cells=keys.integer("fastsim_cells", 60, ge=2, le=MAX_FASTSIM_CELLS),
                         normal=keys.text("normal", "kik_piotrowski"),
                         exact_cells=keys.integer("exact_cells", None, ge=1),
-                        layer_mode=keys.text("layer_mode", "indentation"))
+                        layer_mode=keys.text("layer_mode", "indentation"),
+                        tangential=keys.text("tangential", MethodSpec.tangential))
+    from contact.tangential.method import TANGENTIAL_METHODS  # here: the tangential solvers compile with numba
+
+    if method.tangential not in TANGENTIAL_METHODS:
+        raise keys.error("tangential", f"must be one of {', '.join(TANGENTIAL_METHODS)}, got {method.tangential!r}")
     try:
         method.normal_method()
     except InputError as err:
@@ -199,7 +216,24 @@ def _parse_tangential(keys: SceneKeys | None) -> TangentialSpec | None:
     if tangential.flexibility not in FLEXIBILITY_RULES:
         raise keys.error("flexibility", f"must be one of {', '.join(FLEXIBILITY_RULES)}, "
                          f"got {tangential.flexibility!r}")
+    check_creepages(keys, tangential)
     return tangential
+
+
+#: Largest |creepage_x|, |creepage_y| (-) and |spin_per_mm| (1/mm) of a scene: beyond them the creepages are not
+#: small (rolling contact theory's assumption) and almost surely a unit or sign slip (e.g. percent for -).
+MAX_CREEPAGE = 0.1
+MAX_SPIN_PER_MM = 0.01
+
+
+def check_creepages(keys: SceneKeys, tangential: TangentialSpec) -> None:
+    """Creepages within range and, when any is given, a friction coefficient > 0 (InputError naming the key)."""
+    for key, limit in (("creepage_x", MAX_CREEPAGE), ("creepage_y", MAX_CREEPAGE), ("spin_per_mm", MAX_SPIN_PER_MM)):
+        value = getattr(tangential, key)
+        if not abs(value) <= limit:
+            raise keys.error(key, f"must be within +-{limit:g}, got {value!r}")
+    if tangential.has_creepage and not tangential.friction > 0:
+        raise keys.error("friction", f"must be > 0 with creepages (a tangential solution), got {tangential.friction!r}")
 
 
 def _parse_separation(keys: SceneKeys, grid_mm: float) -> SeparationSpec:
@@ -299,6 +333,7 @@ def scene_inputs(scene: Scene) -> dict[str, Any]:
         "tangential": None if scene.tangential is None else vars(scene.tangential).copy(),
         "passes": vars(scene.passes).copy(),
         "method": vars(scene.method).copy(),
+        "output": vars(scene.output).copy(),
         "reference": dict(scene.reference),
         "scene_toml": scene.data,
     }

@@ -152,18 +152,19 @@ class LayerSpec:
 
 @dataclass(frozen=True)
 class TangentialSpec:
-    """[tangential]: creepages and friction of the FASTSIM solution.
+    """[tangential]: creepages and friction of the tangential solution (``method.tangential``); the creepages hold
+    at the scene's origin (x = 0, y = 0; docs/conventions.md).
 
     Attributes
     ----------
     creepage_x : float
-        Longitudinal creepage (-).
+        Longitudinal creepage xi at the scene's origin (-), |xi| <= 0.1.
     creepage_y : float
-        Lateral creepage (-).
+        Lateral creepage eta at the scene's origin (-), |eta| <= 0.1.
     spin_per_mm : float
-        Spin creepage (1/mm).
+        Spin creepage phi (1/mm), |phi| <= 0.01.
     friction : float
-        Coulomb friction coefficient (-).
+        Coulomb friction coefficient mu (-), > 0 when a creepage is given.
     speed_mm_s : float
         Rolling speed (mm/s).
     flexibility : str
@@ -219,6 +220,9 @@ class MethodSpec:
         Exact solver grid: cells along x over the patch length (-); None: the solver's default.
     layer_mode : str
         Exact solver's layer mode: "indentation" or "rolling" (-).
+    tangential : str
+        The tangential solver: "fastsim" (Kalker's simplified theory), "fastrip" (FaStrip) or "exact" (Kalker's
+        full theory on the grid) (-; docs/tangential.md).
     """
 
     alpha: float = 0.55
@@ -227,10 +231,32 @@ class MethodSpec:
     normal: str = "kik_piotrowski"
     exact_cells: int | None = None
     layer_mode: str = "indentation"
+    tangential: str = "fastsim"
 
     def normal_method(self) -> NormalMethod:
         """The :class:`contact.normal.method.NormalMethod` of these keys."""
         return NormalMethod(self.normal, self.exact_cells, self.layer_mode)
+
+
+#: Values of ``output.convention``: wrlayer's signs only, or also CONTACT's (contact_convention.csv).
+OUTPUT_CONVENTIONS = ("wrlayer", "contact")
+
+
+@dataclass(frozen=True)
+class OutputSpec:
+    """[output]: extra output files of a contact scene.
+
+    Attributes
+    ----------
+    vtk : bool
+        Write the patches' fields for ParaView (vtk/contact_fields.pvd and one .vtu per patch and pass) (-).
+    convention : str
+        "wrlayer" (default) or "contact": also write the creep forces, moment and creepages in CONTACT's sign
+        convention (contact_convention.csv; docs/conventions.md) (-).
+    """
+
+    vtk: bool = True
+    convention: str = "wrlayer"
 
 
 @dataclass(frozen=True)
@@ -259,6 +285,8 @@ class Scene:
         [passes].
     method : MethodSpec
         [method].
+    output : OutputSpec
+        [output].
     reference : dict
         [reference]: published numbers to compare with (units in the key names).
     data : dict
@@ -277,6 +305,7 @@ class Scene:
     tangential: TangentialSpec | None
     passes: PassesSpec
     method: MethodSpec
+    output: OutputSpec = field(default_factory=OutputSpec)
     reference: dict[str, Any] = field(default_factory=dict)
     data: dict[str, Any] = field(default_factory=dict)
     content_hash: str = ""
@@ -290,5 +319,5 @@ class Scene:
         return self.path.stem
 
 
-__all__ = ["BODIES", "BodyLayerSpec", "LayerSpec", "LoadSpec", "MaterialSpec", "MethodSpec", "PassesSpec", "Scene",
-           "SeparationSpec", "TangentialSpec"]
+__all__ = ["BODIES", "BodyLayerSpec", "LayerSpec", "LoadSpec", "MaterialSpec", "MethodSpec", "PassesSpec", "OUTPUT_CONVENTIONS",
+           "OutputSpec", "Scene", "SeparationSpec", "TangentialSpec"]

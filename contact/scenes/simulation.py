@@ -9,10 +9,13 @@ Steps (units mm, N, MPa, s):
 3. Without a layer: one normal solve. With a layer: :func:`contact.passes.passes.run_passes` (the paper's passes: the
    residual displacements of each pass raise the separation of the next; stop at shakedown or ``passes.max``);
    each pass's contact is checked against the tables' ranges as it is solved.
-4. With creepages: FASTSIM (:func:`contact.tangential.on_patch.solve_region`) on every patch of every pass, each
-   patch in its own frame (origin y at the patch's reference strip, the maximum of the virtual penetration), the
-   same creepages for all patches; Fx, Fy and Mz are summed over the patches (each Mz about its own patch origin),
-   W_T max and P_T max are the maxima over the patches.
+4. With creepages: the tangential solution of ``method.tangential`` ("fastsim", "fastrip" or "exact";
+   :func:`contact.tangential.on_patch.solve_regions`) on every patch of every pass. The creepages hold at the
+   scene's origin (x = 0, y = 0): a patch centred at y_c sees the longitudinal creepage creepage_x - spin y_c
+   (FASTSIM takes the spin about each patch's force centroid, docs/conventions.md); Fx, Fy and Mz are summed over
+   the patches, every Mz about the scene's origin; W_T max and P_T max are the maxima over the patches. Each
+   patch's geometry is reported in its own frame (origin y at the patch's reference strip, the maximum of the
+   virtual penetration).
 
 ``shakedown_pass`` is the number of the first pass that added no residual displacement beyond
 ``passes.tolerance_mm`` (a purely elastic pass: the paper's shakedown), null when none did or without a layer.
@@ -50,7 +53,7 @@ from contact.scenes.scene_layers import (
     scales_to_patch,
 )
 from contact.tangential.fastsim import Creepage, TangentialResult
-from contact.tangential.on_patch import FastsimSettings, local_patch, solve_region
+from contact.tangential.on_patch import TangentialSettings, solve_regions
 from wrlayer.errors import InputError, PatchTruncated, typed_input_error
 from wrlayer.progress import progress
 
@@ -58,6 +61,13 @@ _NORMAL_METHOD_TEXT = {
     "kik_piotrowski": "Kik-Piotrowski virtual penetration with the Prandtl-body layer (paper eqs. 9-15)",
     "exact": "exact half-space (FFT boundary elements, Polonsky-Keer CG) with the Prandtl-body layer cell by cell "
              "(layer_mode {m.layer_mode}, exact_cells {cells})",
+}
+
+#: The result's ``method.tangential`` text per ``method.tangential`` key.
+TANGENTIAL_METHOD_TEXT = {
+    "fastsim": "FASTSIM on the strips of each patch (Kalker; equivalent-ellipse flexibilities)",
+    "fastrip": "FaStrip on the strips of each patch (Sichani, Enblom, Berg)",
+    "exact": "Kalker's exact steady rolling theory on the patch grid (CONTACT's full theory)",
 }
 
 
@@ -72,6 +82,7 @@ class PassSnapshot:
     tangential: list[TangentialResult | None]
     local_patches: list[Patch]
     y_ref_mm: list[float]
+    residual_mm: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 @dataclass(frozen=True, eq=False)
@@ -101,19 +112,26 @@ class SimulationRun:
         return self.result.passes
 
 
-def solve_patches(scene: Scene, solution: NormalSolution, number: int) -> tuple[PassSnapshot, float]:
-    """FASTSIM on every patch of the solution (if the scene has creepages), each in its own frame (origin at the
-    patch's reference strip); returns the snapshot and its time (s)."""
+def solve_patches(scene: Scene, solution: NormalSolution, number: int,
+                  residual_mm: dict[str, np.ndarray] | None = None) -> tuple[PassSnapshot, float]:
+    """The tangential solution (``method.tangential``) of every patch of the solution, if the scene has creepages:
+    creepages about the scene's origin, each result's strip y and Mz in the scene frame; returns the snapshot and
+    its time (s)."""
     t0 = time.perf_counter()
     ts = scene.tangential
-    solve = ts is not None and ts.has_creepage
-    settings = None if not solve else FastsimSettings(scene.material.E_MPa, scene.material.poisson, ts.friction,
-                                                      ts.speed_mm_s, scene.method.fastsim_cells, ts.flexibility)
     y_ref = [float(solution.strip_y_mm[region.reference]) for region in solution.regions]
     local = [local_patch(patch, yr) for patch, yr in zip(solution.patches, y_ref)]
-    tang = [solve_region(solution, k, lp, Creepage(ts.creepage_x, ts.creepage_y, ts.spin_per_mm), settings)
-            if solve else None for k, lp in enumerate(local)]
-    return PassSnapshot(number, solution, tang, local, y_ref), time.perf_counter() - t0
+    tang: list[TangentialResult | None] = [None] * len(local)
+    if ts is not None and ts.has_creepage:
+        settings = TangentialSettings(scene.material.E_MPa, scene.material.poisson, ts.friction, ts.speed_mm_s,
+                                      scene.method.fastsim_cells, ts.flexibility, scene.method.tangential)
+        tang = solve_regions(solution, Creepage(ts.creepage_x, ts.creepage_y, ts.spin_per_mm), settings)
+    return PassSnapshot(number, solution, tang, local, y_ref, dict(residual_mm or {})), time.perf_counter() - t0
+
+
+def local_patch(patch: Patch, y_ref_mm: float) -> Patch:
+    """``patch`` with its strip coordinate measured from ``y_ref_mm`` (mm)."""
+    return Patch(patch.grid_mm, patch.y_mm - y_ref_mm, patch.x_lead_mm, patch.p_peak_MPa)
 
 
 def region_result(snapshot: PassSnapshot, i: int) -> RegionResult:
@@ -197,7 +215,7 @@ def _with_tangential(scene: Scene, solved: list[tuple]) -> Iterator[tuple[PassSn
     """Every pass of ``solved`` ((record, solution, time) of :func:`_layered_passes`) with FASTSIM on its patches:
     (snapshot, result record)."""
     for number, (record, solution, t_pass) in enumerate(solved, start=1):
-        snap, t_tang = solve_patches(scene, solution, number)
+        snap, t_tang = solve_patches(scene, solution, number, record.cumulative_residual_mm)
         yield snap, pass_result(snap, record, {"normal_and_layer_s": t_pass, "tangential_s": t_tang})
 
 
@@ -225,7 +243,7 @@ def _simulate(scene: Scene) -> SimulationRun:
         _NORMAL_METHOD_TEXT[scene.method.normal].format(m=scene.method,
                                                         cells=scene.method.normal_method().exact_options().cells),
         None if scene.tangential is None or not scene.tangential.has_creepage
-        else "FASTSIM on the strips of each patch (Kalker; equivalent-ellipse flexibilities)",
+        else TANGENTIAL_METHOD_TEXT[scene.method.tangential],
         None if layers is None else tuple(sorted(layers.bodies())))
     result = SceneResult(
         scene_inputs(scene), code_version(), UNITS, method, scaled, len(history),
@@ -239,4 +257,4 @@ def _simulate(scene: Scene) -> SimulationRun:
 
 
 __all__ = ["PassSnapshot", "SimulationRun", "build_layers", "normal_problem", "pass_result", "region_result",
-           "simulate", "solve_patches"]
+           "local_patch", "simulate", "solve_patches"]

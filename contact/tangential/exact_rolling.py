@@ -173,11 +173,14 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, j0, j1, c0, c1, slip):  
 
 def solve_rolling(x_mm: np.ndarray, y_mm: np.ndarray, p_MPa: np.ndarray, wx: np.ndarray, wy: np.ndarray,
                   friction: float, G_MPa: float, poisson: float,
-                  options: RollingOptions = RollingOptions()) -> RollingField:
+                  options: RollingOptions = RollingOptions(),
+                  initial_MPa: tuple[np.ndarray, np.ndarray] | None = None) -> RollingField:
     """Solve the steady rolling problem of the module docstring.
 
     x_mm (nx,), y_mm (ny,): cell centres (uniform, x increasing: +x is the leading side); p_MPa (ny, nx) >= 0;
-    wx, wy (ny, nx): rigid slip / V at the cell centres (-); friction mu; G_MPa, poisson: the (common) material.
+    wx, wy (ny, nx): rigid slip / V at the cell centres (-); friction mu; G_MPa, poisson: the (common) material;
+    initial_MPa: (tx, ty) (ny, nx) to start the iteration from (e.g. the previous solve of an iteration over the
+    load; ignored when the shape differs): the same solution to the tolerance in fewer sweeps.
     """
     ny, nx = p_MPa.shape
     dx = float(x_mm[1] - x_mm[0]) if nx > 1 else 1.0
@@ -188,6 +191,9 @@ def solve_rolling(x_mm: np.ndarray, y_mm: np.ndarray, p_MPa: np.ndarray, wx: np.
     scale = float(bound.max())
     tx = np.zeros((ny, nx))
     ty = np.zeros((ny, nx))
+    if initial_MPa is not None and np.shape(initial_MPa[0]) == (ny, nx) == np.shape(initial_MPa[1]):
+        tx = np.where(bound > 0, np.asarray(initial_MPa[0], dtype=float), 0.0)
+        ty = np.where(bound > 0, np.asarray(initial_MPa[1], dtype=float), 0.0)
     slip = np.zeros((ny, nx), dtype=np.bool_)
     zero = np.zeros((ny, 1))
     wxc, wyc = np.ascontiguousarray(wx, dtype=float), np.ascontiguousarray(wy, dtype=float)

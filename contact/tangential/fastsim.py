@@ -402,8 +402,8 @@ def solve_tangential(patch: Patch, creepage: Creepage, G_MPa: float, poisson: fl
 class GridSample:
     """Fields of a TangentialResult on the patch's square picture grid (:meth:`Patch.grid`).
 
-    x_mm (ng,), mask (ny, ng) of cells inside; tx_MPa, ty_MPa, PT_W_per_mm2, WT_field_N_per_mm (ny, ng), NaN
-    outside; slip (ny, ng) bool, False outside.
+    x_mm (ng,), mask (ny, ng) of cells inside; tx_MPa, ty_MPa, PT_W_per_mm2, WT_field_N_per_mm,
+    slip_velocity_mm_s (ny, ng), NaN outside; slip (ny, ng) bool, False outside.
     """
 
     x_mm: np.ndarray
@@ -413,30 +413,32 @@ class GridSample:
     slip: np.ndarray
     PT_W_per_mm2: np.ndarray
     WT_field_N_per_mm: np.ndarray
+    slip_velocity_mm_s: np.ndarray
 
 
 def sample_on_grid(patch: Patch, result: TangentialResult) -> GridSample:
-    """Interpolate the strip fields (linear between cell centres along each strip) onto ``patch.grid()``.
+    """Interpolate the result's fields (linear between its cell centres ``x_mm`` along each row, constant beyond
+    the end cells) onto ``patch.grid()``: the strips of FASTSIM and FaStrip and the grid cells of the exact theory
+    alike (rows: the patch's strips; columns from the leading edge).
 
-    The slip flag is taken from the nearest FASTSIM cell; use it for the adhesion/slip map.
+    The slip flag is taken from the nearest cell; use it for the adhesion/slip map.
     """
     require(result.x_mm.shape[0] == patch.n_strips, "result", "does not belong to this patch (strip count differs)")
     xg, mask = patch.grid()
-    ny, nx = result.x_mm.shape
-    q = (1.0 - xg[None, :] / patch.x_lead_mm[:, None]) * nx / 2.0 - 0.5  # continuous cell index along the strip
-    q = np.clip(q, 0.0, nx - 1.0)
-    k0 = np.minimum(np.floor(q).astype(int), nx - 2) if nx > 1 else np.zeros_like(q, dtype=int)
-    frac = q - k0
-    rows = np.arange(ny)[:, None]
+    x = np.asarray(result.x_mm, dtype=float)[:, ::-1]        # increasing along each row
+    ny = x.shape[0]
 
     def lerp(field):
-        out = (1.0 - frac) * field[rows, k0] + frac * field[rows, k0 + 1]
+        f = np.asarray(field, dtype=float)[:, ::-1]
+        out = np.array([np.interp(xg, x[j], f[j]) for j in range(ny)]).reshape(ny, xg.size)
         return np.where(mask, out, np.nan)
 
-    nearest = np.clip(np.rint(q).astype(int), 0, nx - 1)
+    nearest = np.array([np.abs(x[j][:, None] - xg[None, :]).argmin(axis=0) for j in range(ny)]).reshape(ny, xg.size)
+    slip = np.take_along_axis(np.asarray(result.slip)[:, ::-1], nearest, axis=1)
     return GridSample(x_mm=xg, mask=mask, tx_MPa=lerp(result.tx_MPa), ty_MPa=lerp(result.ty_MPa),
-                      slip=mask & result.slip[rows, nearest], PT_W_per_mm2=lerp(result.PT_W_per_mm2),
-                      WT_field_N_per_mm=lerp(result.WT_field_N_per_mm))
+                      slip=mask & slip, PT_W_per_mm2=lerp(result.PT_W_per_mm2),
+                      WT_field_N_per_mm=lerp(result.WT_field_N_per_mm),
+                      slip_velocity_mm_s=lerp(result.slip_velocity_mm_s))
 
 
 __all__ = ["FLEXIBILITY_RULES", "Creepage", "StripCells", "strip_cells", "EquivalentEllipse", "GridSample",

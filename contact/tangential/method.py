@@ -17,6 +17,7 @@ given about another point are moved there with :meth:`contact.tangential.fastsim
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -28,7 +29,7 @@ from contact.tangential.exact_rolling import RollingOptions, solve_rolling
 from contact.tangential.fastrip import solve_fastrip
 from contact.tangential.fastsim import Creepage, StripCells, TangentialResult, equivalent_ellipse
 from contact.tangential.spin_centre import solve_about_centroid
-from wrlayer.errors import require
+from wrlayer.errors import ConvergenceError, require
 
 __all__ = ["TANGENTIAL_METHODS", "PressureGrid", "solve_on_grid", "solve_for_normal_solution"]
 
@@ -136,16 +137,20 @@ class PressureGrid:
         return patch, np.array(pn), 0.5 * (hi + lo)
 
 
-def _exact(grid: PressureGrid, creepage: Creepage, G_MPa, poisson, friction, speed_mm_s, options
-           ) -> list[TangentialResult]:
+def _exact(grid: PressureGrid, creepage: Creepage, G_MPa, poisson, friction, speed_mm_s, options,
+           start: list[TangentialResult] | None = None) -> list[TangentialResult]:
     """Kalker's full theory on all regions of the grid at once (their elastic interaction included), one
-    TangentialResult per region (rows: its lines; columns from the leading edge)."""
+    TangentialResult per region (rows: its lines; columns from the leading edge); started from the tractions of
+    ``start`` (an earlier solve of one region on a grid of the same shape), if given."""
     regions = grid.regions()
     lines = np.arange(regions[0][0], regions[-1][-1] + 1)
     y, x, p = grid.y_mm[lines], grid.x_mm, grid.p_MPa[lines]
     X, Y = np.meshgrid(x, y)
+    initial = None
+    if start is not None and len(start) == 1 and len(regions) == 1:
+        initial = (start[0].tx_MPa[:, ::-1], start[0].ty_MPa[:, ::-1])
     sol = solve_rolling(x, y, p, creepage.vx - creepage.phi_per_mm * Y, creepage.vy + creepage.phi_per_mm * X,
-                        friction, G_MPa, poisson, options)
+                        friction, G_MPa, poisson, options, initial)
     dx, dy = grid.dx_mm, grid.dy_mm
     out = []
     for rows in regions:
@@ -168,7 +173,8 @@ def _exact(grid: PressureGrid, creepage: Creepage, G_MPa, poisson, friction, spe
 
 def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa: float, poisson: float,
                   method: str = "exact", speed_mm_s: float = 1000.0, nx: int = 60,
-                  options: RollingOptions = RollingOptions()) -> list[TangentialResult]:
+                  options: RollingOptions = RollingOptions(), start: list[TangentialResult] | None = None
+                  ) -> list[TangentialResult]:
     """The tangential solution of ``method`` ("fastsim", "fastrip" or "exact") on the grid's pressure: one
     TangentialResult per contact region (:meth:`PressureGrid.regions`), Mz of each about the grid's origin (so
     they add up).
@@ -177,11 +183,11 @@ def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa
     modulus E / (2 (1 + nu)) in MPa); speed_mm_s: rolling speed V; nx: cells per strip of the strip methods;
     options: the exact solver's. FASTSIM takes the spin about each region's force centroid
     (:func:`contact.tangential.spin_centre.solve_about_centroid`). ConvergenceError when the exact solver or a
-    FaStrip strip does not converge.
+    FaStrip strip does not converge. ``start``: the exact solver's starting tractions (see :func:`_exact`).
     """
     require(method in TANGENTIAL_METHODS, "method.tangential", f"must be one of {TANGENTIAL_METHODS}, got {method!r}")
     if method == "exact":
-        return _exact(grid, creepage, G_MPa, poisson, friction, speed_mm_s, options)
+        return _exact(grid, creepage, G_MPa, poisson, friction, speed_mm_s, options, start)
     solver = solve_about_centroid if method == "fastsim" else solve_fastrip
     out = []
     for rows in grid.regions():
@@ -193,36 +199,63 @@ def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa
 
 def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, friction: float, G_MPa: float,
                               poisson: float, method: str = "fastsim", speed_mm_s: float = 1000.0, nx: int = 60,
-                              flexibility: str = "three", options: RollingOptions = RollingOptions()
+                              flexibility: str = "three", options: RollingOptions = RollingOptions(),
+                              origin_y_mm: float = 0.0, start: list[TangentialResult] | None = None
                               ) -> list[TangentialResult]:
     """The tangential solution of every patch of a normal solution (Kik–Piotrowski or exact), in its order.
 
-    Frame: the solution's (strip y about the scene origin, x = 0 at the separation's reference point); creepage
-    about that origin; each result's Mz about it (so the patches' moments add up) and its strip y in it.
+    Frame: the solution's strips measured from ``origin_y_mm`` (mm, the solution's strip coordinate; x = 0 at the
+    separation's reference point); creepage about that origin; each result's Mz about it (so the patches' moments
+    add up) and its strip y in it.
     "fastsim": FASTSIM with the spin about each patch's force centroid
     (:func:`contact.tangential.spin_centre.solve_about_centroid`) on the patch's strips, with the exact pressure
     along each line for an exact solution (:func:`contact.normal.exact.fastsim_pressure`, ``strip_centres``);
     "fastrip": FaStrip on the same strips; "exact": Kalker's full theory on the exact solver's grid (all patches
     at once), or, for a Kik–Piotrowski solution, on each patch rasterised with ``nx`` cells along x
     (:meth:`PressureGrid.from_patch`; the patches then do not interact tangentially).
+    InputError when a patch carries no pressure; ConvergenceError naming the patch when a solve does not converge.
+    ``start``: an earlier result of the same solution's kind (e.g. the previous load of a balance iteration), the
+    exact theory's starting tractions on the exact grid (the same solution to the tolerance, in fewer sweeps).
     """
     require(method in TANGENTIAL_METHODS, "method.tangential", f"must be one of {TANGENTIAL_METHODS}, got {method!r}")
+    patches = [p if origin_y_mm == 0.0 else Patch(p.grid_mm, p.y_mm - origin_y_mm, p.x_lead_mm, p.p_peak_MPa)
+               for p in solution.patches]
+    for k, p in enumerate(patches):
+        require(bool(np.any(p.p_peak_MPa > 0) and np.any(p.x_lead_mm > 0)), f"patch {k + 1}",
+                f"carries no pressure: no tangential solution ({method})")
     exact_field = getattr(solution, "field", None) is not None
-    if method == "exact":
-        if exact_field:
-            return solve_on_grid(PressureGrid.from_exact(solution), creepage, friction, G_MPa, poisson, "exact",
-                                 speed_mm_s, nx, options)
-        return [solve_on_grid(PressureGrid.from_patch(p, nx), creepage, friction, G_MPa, poisson, "exact",
-                              speed_mm_s, nx, options)[0] for p in solution.patches]
+    if method == "exact" and exact_field:
+        with _naming("patches 1.." + str(len(patches)), method):
+            return solve_on_grid(PressureGrid.from_exact(solution, y_ref_mm=origin_y_mm), creepage, friction, G_MPa,
+                                 poisson, "exact", speed_mm_s, nx, options, start)
     out = []
-    for k, patch in enumerate(solution.patches):
-        kw = {}
-        if exact_field:
-            kw = {"pressure_cells_MPa": fastsim_pressure(solution, k, nx),
-                  "strip_centre_mm": strip_centres(solution, k)}
-        if method == "fastsim":
-            out.append(solve_about_centroid(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx,
-                                            flexibility=flexibility, **kw))
-        else:
-            out.append(solve_fastrip(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx, **kw))
+    for k, patch in enumerate(patches):
+        with _naming(f"patch {k + 1}", method):
+            out.append(_one_patch(solution, k, patch, creepage, friction, G_MPa, poisson, method, speed_mm_s, nx,
+                                  flexibility, options))
     return out
+
+
+def _one_patch(solution, k: int, patch: Patch, creepage: Creepage, friction, G_MPa, poisson, method, speed_mm_s,
+               nx, flexibility, options) -> TangentialResult:
+    """Patch ``k`` of ``solution`` (``patch``: in the frame to solve in) by a strip method or, for a
+    Kik–Piotrowski solution, by the exact theory on the patch rasterised with ``nx`` cells."""
+    if method == "exact":
+        return solve_on_grid(PressureGrid.from_patch(patch, nx), creepage, friction, G_MPa, poisson, "exact",
+                             speed_mm_s, nx, options)[0]
+    kw = {}
+    if getattr(solution, "field", None) is not None:
+        kw = {"pressure_cells_MPa": fastsim_pressure(solution, k, nx), "strip_centre_mm": strip_centres(solution, k)}
+    if method == "fastsim":
+        return solve_about_centroid(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx,
+                                    flexibility=flexibility, **kw)
+    return solve_fastrip(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx, **kw)
+
+
+@contextmanager
+def _naming(where: str, method: str):
+    """A ConvergenceError of the solver, re-raised naming the patch (or patches) and the method."""
+    try:
+        yield
+    except ConvergenceError as err:
+        raise ConvergenceError(f"tangential solution ({method}) of {where}: {err}") from None

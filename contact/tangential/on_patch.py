@@ -1,26 +1,26 @@
-"""FASTSIM on the regions of a normal solution, whichever solver produced it (units mm, N, MPa, s).
+"""The tangential solution of a normal solution's patches, whichever normal solver produced it (units mm, N, MPa, s).
 
-Each region (patch) of the normal solution is solved in its own frame: the strip coordinate measured from a
-reference strip position ``y_ref_mm`` (the point where the creepages hold; the spin and Mz refer to it). With the
-exact normal solver each strip's cells carry the exact pressure along that line
-(:func:`contact.normal.exact.fastsim_pressure`) and its extent (:func:`contact.normal.exact.strip_centres`), not a
-semi-ellipse; with Kik–Piotrowski the semi-ellipses of the patch.
+The one entry both scene kinds use: :class:`TangentialSettings` (the scene's keys) and :func:`solve_regions`, which
+dispatches to :func:`contact.tangential.method.solve_for_normal_solution` ("fastsim", "fastrip" or "exact"). The
+creepages hold at one point of the solution's strip coordinate, ``origin_y_mm`` (a contact scene's origin, a
+wheel–rail patch's reference point); every result's strip y and Mz refer to it, and FASTSIM takes the spin about
+each patch's force centroid with the creepages moved there (:mod:`contact.tangential.spin_centre`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from contact.normal.exact import fastsim_pressure, strip_centres
 from contact.normal.kik_piotrowski import NormalSolution
-from contact.normal.patch import Patch
-from contact.tangential.fastsim import Creepage, TangentialResult, solve_tangential
+from contact.tangential.fastsim import Creepage, TangentialResult
+from contact.tangential.method import TANGENTIAL_METHODS, solve_for_normal_solution
 from wrlayer.elastic import shear_modulus_MPa
+from wrlayer.errors import require
 
 
 @dataclass(frozen=True)
-class FastsimSettings:
-    """What FASTSIM needs besides the patch and the creepages.
+class TangentialSettings:
+    """What the tangential solution needs besides the patches and the creepages.
 
     Attributes
     ----------
@@ -29,13 +29,15 @@ class FastsimSettings:
     poisson : float
         Poisson's ratio of both bodies (-).
     friction : float
-        Coulomb friction coefficient mu (-).
+        Coulomb friction coefficient mu (-), > 0.
     speed_mm_s : float
         Rolling speed V (mm/s).
     cells : int
-        FASTSIM cells per strip (-).
+        Cells per strip of the strip methods (FASTSIM, FaStrip; the exact theory on a Kik–Piotrowski patch) (-).
     flexibility : str
         FASTSIM flexibility rule: "three", "single" or "blended" (:func:`contact.tangential.fastsim.flexibilities`).
+    method : str
+        The tangential method: "fastsim", "fastrip" or "exact" (:mod:`contact.tangential.method`).
     """
 
     E_MPa: float
@@ -44,32 +46,24 @@ class FastsimSettings:
     speed_mm_s: float
     cells: int
     flexibility: str = "three"
+    method: str = "fastsim"
+
+    def __post_init__(self):
+        require(self.method in TANGENTIAL_METHODS, "method.tangential",
+                f"must be one of {', '.join(TANGENTIAL_METHODS)}, got {self.method!r}")
+        require(self.friction > 0, "tangential.friction", f"must be > 0 for a tangential solution ({self.method}), "
+                f"got {self.friction!r}")
 
 
-def local_patch(patch: Patch, y_ref_mm: float) -> Patch:
-    """``patch`` with its strip coordinate measured from ``y_ref_mm`` (mm)."""
-    return Patch(patch.grid_mm, patch.y_mm - y_ref_mm, patch.x_lead_mm, patch.p_peak_MPa)
+def solve_regions(solution: NormalSolution, creepage: Creepage, settings: TangentialSettings,
+                  origin_y_mm: float = 0.0, start: list[TangentialResult] | None = None) -> list[TangentialResult]:
+    """The tangential solution of every region of ``solution`` with ``creepage`` holding at ``origin_y_mm`` (mm,
+    the solution's strip coordinate); results' strip y and Mz about that point. ``start``: an earlier result to
+    start the exact theory from (:func:`contact.tangential.method.solve_for_normal_solution`)."""
+    return solve_for_normal_solution(solution, creepage, settings.friction,
+                                     shear_modulus_MPa(settings.E_MPa, settings.poisson), settings.poisson,
+                                     settings.method, settings.speed_mm_s, settings.cells, settings.flexibility,
+                                     origin_y_mm=origin_y_mm, start=start)
 
 
-def solve_region(solution: NormalSolution, index: int, patch: Patch, creepage: Creepage,
-                 settings: FastsimSettings) -> TangentialResult:
-    """FASTSIM on region ``index`` of ``solution``; ``patch`` is that region in the frame to solve in
-    (:func:`local_patch`)."""
-    pressure = centres = None
-    if getattr(solution, "field", None) is not None:   # the exact solver: its pressure and each line's extent
-        pressure = fastsim_pressure(solution, index, settings.cells)
-        centres = strip_centres(solution, index)
-    return solve_tangential(patch, creepage, shear_modulus_MPa(settings.E_MPa, settings.poisson), settings.poisson,
-                            settings.friction, settings.speed_mm_s, nx=settings.cells,
-                            flexibility=settings.flexibility, pressure_cells_MPa=pressure, strip_centre_mm=centres)
-
-
-def solve_regions(solution: NormalSolution, creepage: Creepage, settings: FastsimSettings,
-                  y_ref_mm: float = 0.0) -> list[TangentialResult]:
-    """FASTSIM on every region of ``solution``, all about the same reference position ``y_ref_mm`` (mm, the
-    solution's strip coordinate)."""
-    return [solve_region(solution, k, p if y_ref_mm == 0.0 else local_patch(p, y_ref_mm), creepage, settings)
-            for k, p in enumerate(solution.patches)]
-
-
-__all__ = ["FastsimSettings", "local_patch", "solve_region", "solve_regions"]
+__all__ = ["TangentialSettings", "solve_regions"]

@@ -21,8 +21,8 @@ sum N_i cos(gamma_i) = Q (the earlier model, kept for comparison; on the flange 
 Each patch is a separate normal problem in its own contact plane (no elastic interaction between patches), solved
 with ``method.normal`` (:func:`contact.normal.method.solve_normal_with`), with the candidate's layers looked up
 strip by strip (:func:`candidate_layers`). The reference point (``method.contact_point``,
-:mod:`contact.wheel_rail.reference_point`) is where the creepages are evaluated and the origin of FASTSIM's strip
-coordinate and Mz.
+:mod:`contact.wheel_rail.reference_point`) is where the creepages are evaluated and the origin of the tangential
+results' strip coordinate and Mz (FASTSIM solves about each region's force centroid, the creepages moved there).
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from contact.layer.strip_lookup import clamped_characteristics
 from contact.normal.kik_piotrowski import NormalForceEvaluator, NormalProblem, NormalSolution, solve_normal
 from contact.normal.method import solve_normal_with
 from contact.tangential.fastsim import Creepage, TangentialResult
-from contact.tangential.on_patch import FastsimSettings, solve_regions
+from contact.tangential.on_patch import TangentialSettings, solve_regions
 from contact.wheel_rail.contact_search import ContactCandidate, SearchResult
 from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
 from contact.wheel_rail.kinematics import PatchKinematics, contact_frame, creepages
@@ -70,15 +70,17 @@ def normal_problem(cand: ContactCandidate, sign: int, inputs: WheelRailInputs, f
 
 
 def patch_tangential(normal: NormalSolution, kin: PatchKinematics, inputs: WheelRailInputs,
-                     eta_ref_mm: float) -> list[TangentialResult]:
-    """FASTSIM on every region of a patch's normal solution with the creepages ``kin`` evaluated at the reference
-    point ``eta_ref_mm`` (mm, problem orientation; the origin of the strip coordinate and Mz); [] without
-    friction."""
+                     eta_ref_mm: float, start: list[TangentialResult] | None = None) -> list[TangentialResult]:
+    """The tangential solution (``method.tangential``) of every region of a patch's normal solution with the
+    creepages ``kin`` evaluated at the reference point ``eta_ref_mm`` (mm, problem orientation; the origin of the
+    results' strip coordinate and Mz); FASTSIM takes the spin about each region's force centroid with the
+    creepages moved there from the reference point (:mod:`contact.tangential.spin_centre`). [] without friction.
+    ``start``: the previous solve of the balance iteration (the exact theory starts from its tractions)."""
     if inputs.friction == 0:
         return []
-    settings = FastsimSettings(inputs.E_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
-                               inputs.fastsim_cells)
-    return solve_regions(normal, Creepage(kin.vx, kin.vy, kin.phi_per_mm), settings, eta_ref_mm)
+    settings = TangentialSettings(inputs.E_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
+                                  inputs.fastsim_cells, method=inputs.tangential_method)
+    return solve_regions(normal, Creepage(kin.vx, kin.vy, kin.phi_per_mm), settings, eta_ref_mm, start)
 
 
 def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, layers: WheelRailLayers | None,
@@ -109,7 +111,8 @@ def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, lay
 @dataclass(eq=False)
 class BalanceCandidate:
     """A contact candidate prepared for the balance: layers, angle, the Kik–Piotrowski approach -> force evaluator;
-    ``delta_guess`` the last approach (mm) solved (the next solve's start)."""
+    ``delta_guess`` the last approach (mm) solved and ``tangential_guess`` its tangential solution (the next
+    solve's start)."""
 
     cand: ContactCandidate
     pair: LayerPair | None
@@ -120,6 +123,7 @@ class BalanceCandidate:
     sign: int = 1
     delta_guess: float | None = None
     layer_patch_mm: tuple[float, float] | None = None
+    tangential_guess: list[TangentialResult] | None = None
 
 
 @dataclass(eq=False)
@@ -198,7 +202,8 @@ class VerticalBalance:
         n_track = track_vector(ref.normal, self.sign)
         centre = np.array([0.0, inp.pose.lateral_mm, self.found.wheel_height_mm])   # rigid-contact geometry
         kin = creepages(point, n_track, centre, self.axle, inp.speed_mm_s, inp.omega_rad_s)
-        tangential = patch_tangential(sol, kin, inp, self.sign * ref.eta_mm)
+        tangential = patch_tangential(sol, kin, inp, self.sign * ref.eta_mm, ctx.tangential_guess)
+        ctx.tangential_guess = tangential
         return LoadedPatch(ctx, float(force), prob, sol, ref, kin, tangential)
 
     def force_at_approach(self, ctx: BalanceCandidate, delta: float) -> float:

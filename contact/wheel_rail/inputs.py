@@ -15,6 +15,7 @@ from contact.layer.characteristic import Characteristic
 from contact.layer.strip_lookup import LayerLookup
 from contact.normal.method import NormalMethod
 from contact.passes.passes import PassesOptions
+from contact.tangential.method import TANGENTIAL_METHODS
 from contact.wheel_rail.contact_search import SearchSettings
 from contact.wheel_rail.reference_point import check_contact_point
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, side_sign
@@ -94,6 +95,8 @@ class WheelRailInputs:
         "first_contact" or "weighted_centre" (:mod:`contact.wheel_rail.reference_point`).
     balance : str
         "total" or "normal" (:data:`BALANCES`).
+    tangential_method : str
+        The tangential solver (``method.tangential``): "fastsim", "fastrip" or "exact".
     """
 
     layout: TrackLayout = field(default_factory=TrackLayout)
@@ -113,6 +116,7 @@ class WheelRailInputs:
     normal_method: NormalMethod = field(default_factory=NormalMethod)
     contact_point: str = "first_contact"
     balance: str = "total"
+    tangential_method: str = "fastsim"
 
     def __post_init__(self):
         side_sign(self.side)
@@ -124,6 +128,8 @@ class WheelRailInputs:
             require(bool(np.isfinite(v)) and v > 0, key, f"must be a positive number, got {v!r}")
         require(bool(np.isfinite(self.friction)) and self.friction >= 0, "friction",
                 f"must be >= 0, got {self.friction!r}")
+        require(self.tangential_method in TANGENTIAL_METHODS, "method.tangential",
+                f"must be one of {', '.join(TANGENTIAL_METHODS)}, got {self.tangential_method!r}")
         require(0.0 <= self.poisson < 0.5, "poisson", f"must lie in [0, 0.5), got {self.poisson!r}")
 
     @property

@@ -38,6 +38,8 @@ from pathlib import Path
 from typing import Any
 
 from contact.normal.method import NormalMethod
+from contact.scenes.scene_spec import OUTPUT_CONVENTIONS
+from contact.tangential.method import TANGENTIAL_METHODS
 from contact.wheel_rail.inputs import BALANCES
 from contact.wheel_rail.reference_point import CONTACT_POINTS
 from contact.wheel_rail.layers_spec import CombinedLayerSpec, LayersSpec, read_layers
@@ -89,9 +91,9 @@ SECTION_KEYS = {
     "layers": ("rail", "wheel", "combined", "scale_to_patch"),
     "passes": ("max", "hardening", "tolerance_mm"),
     "method": ("alpha", "grid_mm", "fastsim_cells", "merge_mm", "candidate_gap_mm", "f_cap_mm", "normal",
-               "exact_cells", "layer_mode", "contact_point", "balance"),
+               "exact_cells", "layer_mode", "contact_point", "balance", "tangential"),
     "sweep": SWEEP_SECTION_KEYS,
-    "output": ("deformed_profiles",),
+    "output": ("deformed_profiles", "vtk", "convention"),
 }
 SIDES = ("right", "left", "both")
 
@@ -136,11 +138,15 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path) -> Whee
     load_spec = LoadSpec(load.number("vertical_load_N", 10000.0, ge=MIN_FORCE_N),
                          load.number("speed_mm_s", 2000.0, gt=0.0))
     tangential = TangentialSpec(s("tangential").number("friction", 0.3, ge=0.0))
+    if tangential.friction == 0 and "tangential" in s("method").table:
+        raise s("tangential").error("friction", f"must be > 0 with method.tangential = {method.tangential!r} "
+                                    "(0: no tangential solution)")
     layers = _layers(sec.get("layers"), base)
     base_case = CaseSpec(wheelset.lateral_mm, wheelset.yaw_rad, 0.0 if wheelset.roll_auto else wheelset.roll_rad,
                          wheelset.pitch_rate_rad_s, load_spec.vertical_load_N, load_spec.speed_mm_s)
     sweep = parse_sweep(sec.get("sweep"), base_case, base, wheelset.roll_auto)
-    output = OutputSpec(s("output").boolean("deformed_profiles", True))
+    output = OutputSpec(s("output").boolean("deformed_profiles", True), s("output").boolean("vtk", True),
+                        s("output").text("convention", OutputSpec.convention, OUTPUT_CONVENTIONS))
     return WheelRailScene(path, title, description, profiles, track, wheel, wheelset, load_spec, material, tangential,
                           layers, passes, method, sweep, output, data, rail, wheel_profile)
 
@@ -200,7 +206,8 @@ def _method(met: Keys) -> MethodSpec:
                       exact_cells=met.integer("exact_cells", None, ge=1),
                       layer_mode=met.text("layer_mode", "indentation"),
                       contact_point=met.text("contact_point", "first_contact", CONTACT_POINTS),
-                      balance=met.text("balance", "total", BALANCES))
+                      balance=met.text("balance", "total", BALANCES),
+                      tangential=met.text("tangential", MethodSpec.tangential, TANGENTIAL_METHODS))
     try:
         NormalMethod(spec.normal, exact_cells=spec.exact_cells, layer_mode=spec.layer_mode)
     except InputError as err:

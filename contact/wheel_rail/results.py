@@ -179,6 +179,9 @@ class CaseResult(Record):
         The deformed profiles written (with layers and ``output.deformed_profiles``).
     error : str | None
         Why the case failed; left out for a solved case.
+    failed_wheel : str | None
+        The wheel ("right" or "left") whose solution failed; left out for a solved case or a failure of the
+        whole wheelset (the rigid roll).
     case : int
         Case number, 0-based (-).
     time_s : float
@@ -195,6 +198,7 @@ class CaseResult(Record):
     rolling_radius_difference_mm: float | None = field(default=None, metadata=OMIT_NONE)
     deformed_profiles: tuple[DeformedProfileFile, ...] | None = field(default=None, metadata=OMIT_NONE)
     error: str | None = field(default=None, metadata=OMIT_NONE)
+    failed_wheel: str | None = field(default=None, metadata=OMIT_NONE)
     case: int = 0
     time_s: float = 0.0
 

@@ -19,7 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
+from contact.scenes.contact_convention import write_contact_convention
 from contact.scenes.result_io import UNITS, code_version
+from contact.scenes.vtk_output import sweep_items, write_series
 from contact.tangential.frictional_outputs import write_wheel_rail
 from contact.wheel_rail.result_files import CONVENTIONS, cases_csv, inputs_echo
 from contact.wheel_rail.results import CaseResult, DeformedProfileFile, RailPlacement, SweepResult, WheelResult
@@ -35,7 +37,8 @@ from wrlayer.progress import progress
 
 def solve_case(scene: WheelRailScene, case: CaseSpec, placed_rail: PlacedRail | None = None
                ) -> tuple[CaseResult, dict[str, WheelRailSolution]]:
-    """One case of the scene: (its record, {side: WheelRailSolution}); raises InputError/ConvergenceError."""
+    """One case of the scene: (its record, {side: WheelRailSolution}); raises InputError/ConvergenceError, with
+    the failed wheel's side as the error's ``wheel`` attribute when one wheel failed."""
     layout, rail, wheel = scene.layout, scene.rail_profile, scene.wheel_profile
     placed_rail = placed_rail or place_rail(rail, layout)
     pose = WheelsetPose(case.lateral_mm, case.yaw_rad, 0.0 if scene.roll_auto else case.roll_rad)
@@ -44,8 +47,13 @@ def solve_case(scene: WheelRailScene, case: CaseSpec, placed_rail: PlacedRail | 
         pose = WheelsetPose(pose.lateral_mm, pose.yaw_rad, roll)
     sols = {}
     for side in scene.sides:
-        sols[side] = solve_wheel(rail, wheel, scene.inputs(side, pose, case), scene.solver_layers, placed_rail,
-                                 case=f"case lateral {pose.lateral_mm:g} mm, yaw {pose.yaw_rad:g} rad, {side} wheel")
+        try:
+            sols[side] = solve_wheel(rail, wheel, scene.inputs(side, pose, case), scene.solver_layers, placed_rail,
+                                     case=f"case lateral {pose.lateral_mm:g} mm, yaw {pose.yaw_rad:g} rad, {side} "
+                                          "wheel")
+        except (InputError, ConvergenceError) as err:
+            err.wheel = side       # the failed wheel, for the case's record
+            raise
     any_inputs = next(iter(sols.values())).inputs
     difference = None
     if len(sols) == 2:  # rolling radius difference of the main (largest normal force) patches, left - right
@@ -90,13 +98,17 @@ def solve_cases(scene: WheelRailScene, placed: PlacedRail, out_dir: Path
                 record = dataclasses.replace(record, deformed_profiles=write_deformed_profiles(
                     scene, sols, out_dir, f"case{k:03d}"))
         except (InputError, ConvergenceError) as err:
-            record, sols = CaseResult(*(getattr(case, key) for key in SWEEP_KEYS), error=str(err)), None
+            record = CaseResult(*(getattr(case, key) for key in SWEEP_KEYS), error=str(err),
+                                failed_wheel=getattr(err, "wheel", None))
+            sols = None
         yield dataclasses.replace(record, case=k, time_s=time.perf_counter() - t_case), sols
 
 
-def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool) -> SweepResult:
-    """Run a wheel_rail scene; pictures, deformed profiles and CSV files go into ``out_dir`` (result.json is the
-    caller's: ``result.to_json()``)."""
+def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk: bool | None = None
+                         ) -> SweepResult:
+    """Run a wheel_rail scene; pictures, deformed profiles, CSV files and (``vtk``, default ``output.vtk``) the
+    VTK fields go into ``out_dir`` (result.json is the caller's: ``result.to_json()``); with
+    ``output.convention = "contact"`` also contact_convention.csv."""
     t0 = time.perf_counter()
     out_dir = Path(out_dir)
     placed = place_rail(scene.rail_profile, scene.layout)
@@ -116,6 +128,10 @@ def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool) -> S
         tuple(write_wheel_rail(all_sols, out_dir)))   # wear-ready CSVs beside result.json
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / result.cases_csv).write_text(cases_csv(result), encoding="utf-8")
+    if scene.output.vtk if vtk is None else vtk:
+        write_series(sweep_items(all_sols), out_dir)
+    if scene.output.convention == "contact":
+        write_contact_convention(result.to_dict(), out_dir)
     if plots:
         from contact.wheel_rail.plots import write_wheel_rail_plots  # matplotlib only when pictures are asked for
 

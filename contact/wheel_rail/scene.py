@@ -152,7 +152,7 @@ class MaterialSpec(Record):
 
 @dataclass(frozen=True)
 class TangentialSpec(Record):
-    """[tangential]: the friction of the tangential solution (FASTSIM).
+    """[tangential]: the friction of the tangential solution (``method.tangential``).
 
     Attributes
     ----------
@@ -214,6 +214,9 @@ class MethodSpec(Record):
         The reported point of a patch, where creepages are evaluated: "first_contact" or "weighted_centre" (-).
     balance : str
         Vertical load balance: "total" (normal + tangential forces) or "normal" (normal forces only) (-).
+    tangential : str
+        The tangential solver: "fastsim" (Kalker's simplified theory), "fastrip" (FaStrip) or "exact" (Kalker's
+        full theory on the grid) (-; docs/tangential.md).
     """
 
     alpha: float = 0.55
@@ -227,6 +230,7 @@ class MethodSpec(Record):
     layer_mode: str = "indentation"
     contact_point: str = "first_contact"
     balance: str = "total"
+    tangential: str = "fastsim"
 
     @property
     def normal_method(self) -> NormalMethod:
@@ -245,9 +249,17 @@ class OutputSpec(Record):
     ----------
     deformed_profiles : bool
         With layers: write each case's deformed rail and wheel profiles (SIMPACK .prr/.prw and CSV) (-).
+    vtk : bool
+        Write the patches' fields for ParaView (vtk/contact_fields.pvd over the cases, one .vtu per case, wheel and
+        patch) (-).
+    convention : str
+        "wrlayer" (default) or "contact": also write every patch in CONTACT's sign convention
+        (contact_convention.csv; docs/conventions.md) (-).
     """
 
     deformed_profiles: bool = True
+    vtk: bool = True
+    convention: str = "wrlayer"
 
 
 #: The sections of a wheel–rail scene with their dataclasses (the order of :meth:`WheelRailScene.to_dict`).
@@ -342,7 +354,7 @@ class WheelRailScene:
                                E_MPa=self.material.E_MPa, poisson=self.material.poisson, alpha=m.alpha,
                                grid_mm=m.grid_mm, fastsim_cells=m.fastsim_cells, passes=self.passes.options,
                                search=m.search, normal_method=m.normal_method, contact_point=m.contact_point,
-                               balance=m.balance)
+                               balance=m.balance, tangential_method=m.tangential)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data (the resolved inputs; the profiles and tables by name)."""

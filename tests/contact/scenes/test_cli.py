@@ -114,7 +114,7 @@ def test_json_flag_prints_the_result_and_plots_are_written(tmp_path, capsys):
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20_000
     frictional = {"frictional_strips.csv", "frictional_cells.csv"}  # wear-ready outputs (with creepage)
     assert set(result["frictional_outputs"]) == frictional
-    assert sorted(p.name for p in out.iterdir()) == sorted(names | {"result.json"} | frictional)
+    assert sorted(p.name for p in out.iterdir()) == sorted(names | {"result.json", "vtk"} | frictional)
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary folders left
     # strain hardening: the state is kept, so the passes stop adding residual quickly, below p_max of pass 1
     assert 1 < result["shakedown_pass"] == n <= 5 and not result["passes"][0]["shakedown"]
@@ -128,7 +128,7 @@ def test_rerun_without_plots_removes_the_old_pictures(tmp_path):
     (out / "notes.txt").write_text("user file")
     second = run(SCENES / "hertz_check.toml", out)
     assert "pictures" not in second
-    assert sorted(p.name for p in out.iterdir()) == ["notes.txt", "result.json"]
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt", "result.json", "vtk"]
 
 
 def test_rerun_without_tangential_problem_removes_the_old_frictional_csvs(tmp_path):
@@ -138,7 +138,7 @@ def test_rerun_without_tangential_problem_removes_the_old_frictional_csvs(tmp_pa
     assert (out / "frictional_cells.csv").is_file()
     second = run(SCENES / "hertz_check.toml", out)  # no creepage: no frictional CSVs of its own
     assert second["frictional_outputs"] == []
-    assert sorted(p.name for p in out.iterdir()) == ["result.json"]
+    assert sorted(p.name for p in out.iterdir()) == ["result.json", "vtk"]
 
 
 def test_failed_run_leaves_the_previous_output_untouched(tmp_path):
@@ -147,7 +147,7 @@ def test_failed_run_leaves_the_previous_output_untouched(tmp_path):
     before = (out / "result.json").read_bytes()
     assert main(["simulate", str(BAD / "negative_friction.toml"), "--out", str(out), "--plots"]) == 2
     assert (out / "result.json").read_bytes() == before
-    assert sorted(p.name for p in out.iterdir()) == ["result.json"]
+    assert sorted(p.name for p in out.iterdir()) == ["result.json", "vtk"]
 
 
 def test_simulate_all_table_and_failures(tmp_path, capsys):

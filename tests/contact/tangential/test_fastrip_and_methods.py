@@ -121,9 +121,9 @@ def test_grid_from_patch_keeps_the_force():
 
 def test_spin_centre_defects_and_fix():
     """Two patches at y = -5 and +5 mm (scene creepages vx = 0.002, phi = 0.0012 1/mm about the scene origin; exact
-    normal solver): the scene runner's FASTSIM (spin about each patch's own reference strip) gives about 4 x the
-    full theory's Fx; with the creepages moved to each patch and the spin about its centroid FASTSIM is within 5 %
-    in Fx and Fy."""
+    normal solver): FASTSIM with the spin about each patch's own reference strip gave about 4 x the full theory's Fx
+    and 2.2 x its Fy; the scene runner moves the creepages to each patch and takes the spin about its centroid:
+    within 5 % in Fx and Fy."""
     y = np.round(np.arange(-14.0, 14.0001, 0.05), 4)
     f = np.minimum((y + 5) ** 2 / 80, 0.005 + (y - 5) ** 2 / 80)
     scene = parse_scene({"load": {"normal_force_N": 6e4, "rolling_radius_mm": 460.0},
@@ -134,7 +134,8 @@ def test_spin_centre_defects_and_fix():
     sol, cr = snap.solution, Creepage(0.002, 0.0, 0.0012)
     exact = solve_on_grid(PressureGrid.from_exact(sol), cr, MU, G_MPa, NU, "exact")
     fx, fy = sum(r.Fx_N for r in exact), sum(r.Fy_N for r in exact)
-    assert sum(t.Fx_N for t in snap.tangential) == pytest.approx(4 * fx, rel=0.1)
+    assert sum(t.Fx_N for t in snap.tangential) == pytest.approx(fx, rel=0.05)
+    assert sum(t.Fy_N for t in snap.tangential) == pytest.approx(fy, rel=0.05)
     fixed = [solve_about_centroid(Patch(lp.grid_mm, lp.y_mm + yr, lp.x_lead_mm, lp.p_peak_MPa), cr, G_MPa, NU, MU,
                                   pressure_cells_MPa=fastsim_pressure(sol, i, 60),
                                   strip_centre_mm=strip_centres(sol, i))
