@@ -3,17 +3,15 @@
 
 Per-case values of the :data:`contact.wheel_rail.scene.SWEEP_KEYS` are a list of values or {start, stop, step}
 (stop included) per key; ``mode`` = "zip" (default; lists of equal length, case k takes the k-th value of each) or
-"product"; or ``csv`` = "cases.csv" (columns named like those keys, one case per row, '#' comments; other columns
-ignored) with ``convention`` = "wrlayer" (default) | "contact" (CONTACT's roll and pitch-rate signs). File names
+"product"; or ``csv`` = "cases.csv" (columns named like those keys, one case per row, '#' comments, an optional
+``case`` label column; any other column must be listed in ``ignore_columns``) with ``convention`` = "wrlayer" (default) | "contact" (CONTACT's roll and pitch-rate signs). File names
 starting with "reference:" are looked up in the shared reference folder
 (:func:`contact.wheel_rail.scene_files.reference_dir`).
 """
 
 from __future__ import annotations
 
-import csv
 import dataclasses
-import io
 import itertools
 import math
 from pathlib import Path
@@ -21,8 +19,9 @@ from pathlib import Path
 import numpy as np
 
 from contact.wheel_rail.sweep_spec import SWEEP_KEYS, CaseSpec, SweepCsv, SweepSpec
-from contact.wheel_rail.scene_files import file_sha256, resolve_path
-from wrlayer.validate import MAX_ABS, MIN_FORCE_N, Keys
+from contact.wheel_rail.scene_files import resolve_path
+from wrlayer.csv_input import CsvTable, read_numeric_csv
+from wrlayer.validate import MIN_FORCE_N, Keys
 
 #: Sign conventions of a sweep CSV: factors applied to its columns ("contact": CONTACT's input files, whose roll and
 #: pitch rate are measured the other way round; see docs/wheel-rail.md).
@@ -31,7 +30,7 @@ CSV_CONVENTIONS = {"wrlayer": {}, "contact": {"roll_rad": -1.0, "pitch_rate_rad_
 #: checked before any case is built; the cost guard (contact.scenes.cost) refuses long runs below it unless forced.
 MAX_CASES = 100000
 #: Keys of [sweep].
-KEYS = SWEEP_KEYS + ("mode", "csv", "convention")
+KEYS = SWEEP_KEYS + ("mode", "csv", "convention", "ignore_columns")
 
 
 def sweep_values(keys: Keys, key: str) -> np.ndarray:
@@ -50,50 +49,39 @@ def sweep_values(keys: Keys, key: str) -> np.ndarray:
     return keys.array(key, min_len=1, max_len=MAX_CASES)
 
 
-def _csv_rows(sweep: Keys, rel: str, path: Path) -> tuple[list[str], list[list[str]]]:
-    """Header and data rows of the sweep CSV ('#' comment lines and blank lines skipped)."""
-    text = path.read_text(encoding="utf-8", errors="replace")
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    rows = list(csv.reader(io.StringIO("\n".join(lines))))
-    if len(rows) < 2:
-        raise sweep.error("csv", f"{rel}: needs a header line and at least one case")
-    if len(rows) - 1 > MAX_CASES:
-        raise sweep.error("csv", f"{rel}: has {len(rows) - 1} cases (at most {MAX_CASES})")
-    return [h.strip() for h in rows[0]], rows[1:]
+def _check_direction(sweep: Keys, rel: str, table: CsvTable, convention: str) -> None:
+    """A pitch rate that, in the wrlayer convention, turns the wheel backwards is refused with the hint to check
+    ``sweep.convention`` (CONTACT's input files give it negative for forward rolling)."""
+    if "pitch_rate_rad_s" not in table.columns:
+        return
+    rates = table.column("pitch_rate_rad_s") * CSV_CONVENTIONS[convention].get("pitch_rate_rad_s", 1.0)
+    backwards = np.flatnonzero(rates < 0.0)
+    if backwards.size:
+        k = int(backwards[0])
+        raise sweep.error("convention", f"{rel}: row {k + 1}: pitch rate {rates[k]:g} rad/s in the {convention!r} "
+                          "convention turns the wheel backwards; check sweep.convention (\"contact\" for CONTACT's "
+                          "signs)")
 
 
 def _csv_columns(sweep: Keys, base: Path) -> tuple[dict[str, np.ndarray], SweepCsv]:
-    """The sweep CSV (``sweep.csv``): columns named like the sweep keys (others are ignored and listed), one case
-    per row; ``sweep.convention`` = "wrlayer" (default) or "contact" (sign factors)."""
+    """The sweep CSV (``sweep.csv``), read strictly (:func:`wrlayer.csv_input.read_numeric_csv`): columns named like
+    the sweep keys, an optional ``case`` label column, other columns only when listed in ``sweep.ignore_columns``;
+    one case per row; ``sweep.convention`` = "wrlayer" (default) or "contact" (sign factors)."""
     rel = sweep.text("csv")
     path = resolve_path(rel, base)
-    if not path.is_file():
-        raise sweep.error("csv", f"no such file {rel!r} (looked at {path})")
     convention = sweep.text("convention", "wrlayer")
     if convention not in CSV_CONVENTIONS:
         raise sweep.error("convention", f"must be one of {', '.join(CSV_CONVENTIONS)}, got {convention!r}")
-    header, rows = _csv_rows(sweep, rel, path)
-    used = [h for h in header if h in SWEEP_KEYS]
-    if not used:
-        raise sweep.error("csv", f"{rel}: no column named like a sweep key ({', '.join(SWEEP_KEYS)}); header: "
-                          f"{', '.join(header)}")
-    cols: dict[str, list[float]] = {h: [] for h in used}
-    for number, row in enumerate(rows, start=1):
-        if len(row) != len(header):
-            raise sweep.error("csv", f"{rel}: data row {number} has {len(row)} fields, the header {len(header)}")
-        for h, v in zip(header, row):
-            if h in cols:
-                try:
-                    x = float(v)
-                except ValueError:
-                    raise sweep.error("csv", f"{rel}: data row {number}, column {h}: not a number: {v!r}") from None
-                if not (math.isfinite(x) and abs(x) <= MAX_ABS):
-                    raise sweep.error("csv", f"{rel}: data row {number}, column {h}: not a finite number of "
-                                      f"magnitude <= {MAX_ABS:g}: {v!r}")
-                cols[h].append(x * CSV_CONVENTIONS[convention].get(h, 1.0))
-    info = SweepCsv(str(path), file_sha256(path), convention, tuple(used),
-                    tuple(h for h in header if h not in used))
-    return {k: np.array(v) for k, v in cols.items()}, info
+    ignore = tuple(sweep.table["ignore_columns"]) if "ignore_columns" in sweep.table else ()
+    if not all(isinstance(c, str) for c in ignore):
+        raise sweep.error("ignore_columns", "must be a list of column names")
+    table = read_numeric_csv(path, SWEEP_KEYS, what=sweep.what("csv") + f" ({rel})", label="case", ignore=ignore,
+                             ignore_key="sweep.ignore_columns", max_rows=MAX_CASES)
+    _check_direction(sweep, rel, table, convention)
+    cols = {h: table.column(h) * CSV_CONVENTIONS[convention].get(h, 1.0) for h in table.columns}
+    ignored = (("case",) if table.labels else ()) + table.ignored_columns
+    info = SweepCsv(str(path), table.sha256, convention, table.columns, ignored)
+    return cols, info
 
 
 def _rows(sweep: Keys, axes: dict[str, np.ndarray], mode: str) -> list[tuple]:

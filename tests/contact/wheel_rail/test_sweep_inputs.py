@@ -44,7 +44,10 @@ def test_every_pose_and_kinematic_input_can_vary_per_case(tmp_path):
 def test_sweep_csv_with_contact_signs(tmp_path):
     (tmp_path / "cases.csv").write_text("# a comment\ncase,lateral_mm,yaw_rad,roll_rad,pitch_rate_rad_s,extra\n"
                                         "1,0.0,0.0,0.0,-4.35,7\n2,1.0,0.0024,-5.0e-05,-4.3466,7\n", encoding="utf-8")
-    parsed = parse_wheel_rail_scene(_scene(sweep={"csv": "cases.csv", "convention": "contact"}), tmp_path / "s.toml")
+    with pytest.raises(InputError, match=r"unknown column 'extra'.*list it in sweep.ignore_columns"):
+        parse_wheel_rail_scene(_scene(sweep={"csv": "cases.csv", "convention": "contact"}), tmp_path / "s.toml")
+    parsed = parse_wheel_rail_scene(_scene(sweep={"csv": "cases.csv", "convention": "contact",
+                                                  "ignore_columns": ["extra"]}), tmp_path / "s.toml")
     cases = parsed.cases
     assert [c.lateral_mm for c in cases] == [0.0, 1.0]
     assert cases[1].roll_rad == pytest.approx(5.0e-05) and cases[1].pitch_rate_rad_s == pytest.approx(4.3466)
@@ -52,8 +55,13 @@ def test_sweep_csv_with_contact_signs(tmp_path):
 
 
 @pytest.mark.parametrize("text, sweep, match", [
-    ("lateral_mm\nabc\n", {}, r"s.toml: sweep.csv: c.csv: data row 1, column lateral_mm: not a number"),
-    ("a,b\n1,2\n", {}, r"sweep.csv: c.csv: no column named like a sweep key"),
+    ("lateral_mm\nabc\n", {}, r"s.toml: sweep.csv \(c.csv\): row 1, column lateral_mm: not a number"),
+    ("a,b\n1,2\n", {"ignore_columns": ["a", "b"]}, r"sweep.csv \(c.csv\): no column named like"),
+    ("\ufefflateral_mm\n3\n", {"mode": "bad"}, r"sweep.mode"),  # a byte-order mark does not hide the column
+    ("lateral_mm,lateral_mm\n1,2\n", {}, r"column 'lateral_mm' appears twice"),
+    ("lateral_mm,pitch_rate_rad_s\n0,-4.35\n", {}, r"row 1: pitch rate -4.35 rad/s in the 'wrlayer' convention "
+     r"turns the wheel backwards; check sweep.convention"),
+    ("lateral_mm\n" + "1" * 300 + "\n", {}, r"a field of 300 characters"),
     ("lateral_mm\n1\n", {"lateral_mm": [1.0]}, r"sweep.lateral_mm: give the per-case values either in the CSV"),
     ("lateral_mm\n1\n", {"convention": "simpack"}, r"sweep.convention: must be one of"),
     ("lateral_mm,vertical_load_N\n1,-5\n", {}, r"sweep.vertical_load_N: must be > 0"),
