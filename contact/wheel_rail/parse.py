@@ -81,7 +81,7 @@ TOP_KEYS = ("title", "description", "type", "profiles", "track", "wheel", "wheel
             "tangential", "layers", "passes", "method", "sweep", "output")
 #: Keys of each section.
 SECTION_KEYS = {
-    "profiles": ("rail", "wheel"),
+    "profiles": ("rail", "wheel", "accept_unusual_profile"),
     "track": ("gauge_mm", "gauge_depth_mm", "inclination", "inclination_rad", "back_to_back_mm", "flange_back_y_mm"),
     "wheel": ("nominal_radius_mm", "side"),
     "wheelset": ("lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s"),
@@ -120,12 +120,14 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path) -> Whee
     def s(name: str) -> Keys:
         return sec.get(name) or Keys(file, name, {})
 
-    profiles = ProfilesSpec(s("profiles").text("rail", "60E1"), s("profiles").text("wheel", "S1002"))
-    rail = read_profile(profiles.rail, base, "rail", s("profiles").what("rail"))
+    profiles = ProfilesSpec(s("profiles").text("rail", "60E1"), s("profiles").text("wheel", "S1002"),
+                            s("profiles").boolean("accept_unusual_profile", False))
+    unusual = profiles.accept_unusual_profile
+    rail = read_profile(profiles.rail, base, "rail", s("profiles").what("rail"), unusual)
     track = _track(s("track"))
     wheel = WheelSpec(s("wheel").number("nominal_radius_mm", 460.0, ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM),
                       s("wheel").text("side", "right"))
-    wheel_profile = read_profile(profiles.wheel, base, "wheel", s("profiles").what("wheel"))
+    wheel_profile = read_profile(profiles.wheel, base, "wheel", s("profiles").what("wheel"), unusual)
     _check_layout(s("track"), track, wheel)
     if wheel.side not in SIDES:
         raise s("wheel").error("side", f"must be 'right', 'left' or 'both', got {wheel.side!r}")

@@ -39,10 +39,14 @@ class ProfilesSpec(Record):
         or "reference:NAME" in the shared reference folder).
     wheel : str
         Wheel profile: a standard name (e.g. "S1002") or a profile file (.prw/.txt/.csv), as ``rail``.
+    accept_unusual_profile : bool
+        Read profile files without the plausibility checks (units, orientation, steps, spikes;
+        :mod:`meshes.profiles.plausibility`): for a profile that is unusual on purpose.
     """
 
     rail: str = "60E1"
     wheel: str = "S1002"
+    accept_unusual_profile: bool = False
 
 
 @dataclass(frozen=True)

@@ -23,11 +23,18 @@ def reference_dir() -> Path:
     return Path(env) if env else Path(__file__).resolve().parents[2].parent / "shared" / "reference"
 
 
-def resolve_path(name: str, base: Path) -> Path:
+def resolve_path(name: str, base: Path, what: str | None = None) -> Path:
     """A file named in a scene: ``reference:REL`` is REL inside :func:`reference_dir`, anything else is relative to
-    the scene file's folder ``base``."""
+    the scene file's folder ``base``. With ``what``, a missing reference file is an InputError naming both places
+    the reference folder is looked for (an installed package has no sibling folder)."""
     if name.startswith("reference:"):
-        return reference_dir() / name[len("reference:"):]
+        path = reference_dir() / name[len("reference:"):]
+        if what is not None and not path.exists():
+            where = ("$WRLAYER_REFERENCE = " + os.environ["WRLAYER_REFERENCE"] if "WRLAYER_REFERENCE" in os.environ
+                     else f"{reference_dir()} (beside the repository; set $WRLAYER_REFERENCE to the reference "
+                          "folder elsewhere)")
+            raise InputError(what, f"{name!r}: not found in the reference folder {where}")
+        return path
     return base / name
 
 
@@ -36,15 +43,17 @@ def file_sha256(path: Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def read_profile(name: str, base: Path, body: str, what: str) -> Profile:
-    """The ``body`` ("rail" or "wheel") profile a scene names: a standard name or a profile file."""
-    candidate = resolve_path(name, base)
+def read_profile(name: str, base: Path, body: str, what: str, accept_unusual: bool = False) -> Profile:
+    """The ``body`` ("rail" or "wheel") profile a scene names: a standard name or a profile file (checked for
+    plausibility unless ``accept_unusual``)."""
+    candidate = resolve_path(name, base, what)
     target = str(candidate) if candidate.suffix.lower() in PROFILE_SUFFIXES else name
     if target != name and not candidate.is_file():
         raise InputError(what, f"no such profile file {name!r} (looked at {candidate})")
     try:
-        prof = get_profile(target, body=body) if Path(target).suffix.lower() in (".txt", ".csv") \
-            else get_profile(target)
+        options = {"accept_unusual": True} if accept_unusual and target != name else {}
+        prof = get_profile(target, body=body, **options) if Path(target).suffix.lower() in (".txt", ".csv") \
+            else get_profile(target, **options)
     except InputError as err:
         raise InputError(what, str(err)) from None
     if prof.body != body:

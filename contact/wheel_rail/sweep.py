@@ -68,7 +68,7 @@ def _csv_columns(sweep: Keys, base: Path) -> tuple[dict[str, np.ndarray], SweepC
     the sweep keys, an optional ``case`` label column, other columns only when listed in ``sweep.ignore_columns``;
     one case per row; ``sweep.convention`` = "wrlayer" (default) or "contact" (sign factors)."""
     rel = sweep.text("csv")
-    path = resolve_path(rel, base)
+    path = resolve_path(rel, base, sweep.what("csv"))
     convention = sweep.text("convention", "wrlayer")
     if convention not in CSV_CONVENTIONS:
         raise sweep.error("convention", f"must be one of {', '.join(CSV_CONVENTIONS)}, got {convention!r}")

@@ -145,3 +145,29 @@ def test_cases_csv_gives_both_reference_points(tmp_path):
     assert float(row["y_rail_weighted_centre_mm"]) == pytest.approx(p["weighted_centre"]["y_rail_mm"])
     assert float(row["y_rail_first_contact_mm"]) == pytest.approx(p["first_contact"]["y_rail_mm"])
     assert row["contact_point"] == "weighted_centre"
+
+
+def test_profile_file_plausibility_and_its_switch(tmp_path):
+    """An upside-down rail file is refused naming the scene key and the switch; accept_unusual_profile reads it."""
+    import numpy as np
+
+    from meshes.profiles import get_profile
+    from meshes.profiles.io import write_text
+
+    y, z = get_profile("60E1").sample(0.5)
+    write_text(tmp_path / "flipped.csv", np.column_stack([y, -np.asarray(z)]))
+    scene = _scene()
+    scene["profiles"] = {"rail": "flipped.csv"}
+    with pytest.raises(InputError, match=r"s.toml: profiles.rail: .*upside down.*accept_unusual_profile"):
+        parse_wheel_rail_scene(scene, tmp_path / "s.toml")
+    scene["profiles"]["accept_unusual_profile"] = True
+    parsed = parse_wheel_rail_scene(scene, tmp_path / "s.toml")
+    assert parsed.profiles.accept_unusual_profile and parsed.rail_profile.name == "flipped"
+
+
+def test_missing_reference_file_names_where_it_was_looked_for(tmp_path, monkeypatch):
+    monkeypatch.setenv("WRLAYER_REFERENCE", str(tmp_path / "ref"))
+    scene = _scene(sweep={"csv": "reference:none.csv"})
+    with pytest.raises(InputError, match=r"sweep.csv: 'reference:none.csv': not found in the reference folder "
+                                         r"\$WRLAYER_REFERENCE = "):
+        parse_wheel_rail_scene(scene, tmp_path / "s.toml")
