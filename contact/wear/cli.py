@@ -10,11 +10,13 @@ its earlier content until the first step completes. So a kill at any moment (eve
 earlier DIR or the completed steps with a result.json that matches them. At the end result.json says "complete";
 a failure during the loop stops it with one line naming the step, result.json says "stopped: step N: ..." and the
 exit code is 5; SIGTERM or Ctrl-C marks the published steps "terminated after step N" / "interrupted after step
-N" and removes the staging folder (exit 143 / 130).
+N" and removes the staging folder (exit 143 / 130); a full disk or another failure to write marks them "stopped
+after step N: <path>: <reason>" (exit 2).
 """
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import sys
 from pathlib import Path
@@ -80,15 +82,24 @@ def _run_staged(scene: WearScene, staged: StagedOutput, plots: bool, show_progre
         files.finish(f"stopped: {stop.run.stopped}", _pictures(run, staged.dir, plots))
         staged.publish()
         raise
-    except (Terminated, KeyboardInterrupt) as err:
+    except (Terminated, KeyboardInterrupt, InputError, OSError) as err:
         if staged.published:  # the published steps say how the run ended (the staging goes with the block)
-            how = "terminated (SIGTERM)" if isinstance(err, Terminated) else "interrupted"
-            mark_published(staged.path, f"{how} after step {staged.published}")
+            with contextlib.suppress(OSError, InputError):  # a full disk may refuse this too: "running" stays
+                mark_published(staged.path, _end_status(err, staged.published, staged.path))
         raise
     result = files.finish("complete", _pictures(run, staged.dir, plots))
     check_terminated()  # a SIGTERM swallowed by a C callback (plots): the last published steps stay
     staged.publish()
     return result
+
+
+def _end_status(err: BaseException, steps: int, out: Path) -> str:
+    """result.json's status for a run ended by ``err`` after ``steps`` published steps."""
+    if isinstance(err, Terminated):
+        return f"terminated (SIGTERM) after step {steps}"
+    if isinstance(err, KeyboardInterrupt):
+        return f"interrupted after step {steps}"
+    return f"stopped after step {steps}: {output_error(err, out) if isinstance(err, OSError) else err}"
 
 
 def _pictures(run: WearRun, out: Path, plots: bool) -> list[Path]:

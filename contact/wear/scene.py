@@ -226,8 +226,11 @@ def _recalibration(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> R
         return None
     sub.check_known(("config", "every_steps"))
     rel = sub.text("config")
-    path = (base / rel).resolve()
-    if not path.is_file():
+    try:
+        path = (base / rel).resolve()
+    except (RuntimeError, OSError):  # a symbolic-link loop (RuntimeError before Python 3.13)
+        raise sub.error("config", f"{rel!r}: a symbolic-link loop") from None
+    if not path.exists() and not path.is_symlink():
         raise sub.error("config", f"no such calibration template {rel!r} (looked at {path})")
     every = sub.integer("every_steps", 1, ge=1)
     layers = wheel_rail.solver_layers
