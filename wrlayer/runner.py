@@ -330,5 +330,5 @@ class Runner:
             yield futures[fut], fut.result()
 
 
-__all__ = ["POLL_S", "SCHEDULER_SCHEMES", "THREAD_VARIABLES", "Runner", "check_scheduler_address", "blas_threads_per_worker", "call_limited", "limited_threads",
-           "report_progress", "thread_environment", "worker_lifeline"]
+__all__ = ["POLL_S", "SCHEDULER_SCHEMES", "THREAD_VARIABLES", "Runner", "blas_threads_per_worker", "call_limited",
+           "check_scheduler_address", "limited_threads", "report_progress", "thread_environment", "worker_lifeline"]
