@@ -9,8 +9,15 @@
   find no folder but never one that mixes two runs), under an exclusive lock (:func:`output_lock`) so that two
   runs into the same folder cannot interleave. Only a folder that is new, empty or an earlier output of the tool
   (it holds one of :data:`OUTPUT_FILES`) is replaced; anything else is refused (InputError), never deleted.
+- :func:`staged_output_dir`: a folder built in a staging sibling and published into ``path`` several times while
+  it grows (a wear run publishes after every step): each :meth:`StagedOutput.publish` hard-links the staging
+  folder's files into a fresh snapshot sibling and swaps it in as a whole, so a kill at any moment leaves ``path``
+  as it was before the first publish or as one published snapshot.
 - Staging folders are named ``.<name>.staging-<pid>-<random>``; those whose process is gone (a killed run) are
-  removed by the next run into the same folder (:func:`clean_stale_staging`).
+  removed by the next run into the same folder (:func:`clean_stale_staging`), which also puts back an earlier
+  output that a kill caught between the two renames of the non-atomic swap.
+- A file or folder that cannot be written (disk full, permissions, read-only file system) raises
+  :class:`OutputError` naming its path (``error: <path>: no space left on device``).
 """
 
 from __future__ import annotations
@@ -32,8 +39,21 @@ from wrlayer.errors import InputError, check_terminated
 OUTPUT_FILES = ("result.json",)
 #: Files of an output folder that the tool writes (never carried over from an earlier run: a run that does not
 #: write one of them, e.g. no frictional CSVs without a tangential problem, must not leave the old one beside its
-#: result). Relative paths, matched with :meth:`pathlib.PurePath.match`.
+#: result). Relative paths, matched with :meth:`pathlib.PurePath.match`; ``"name/"``: everything under the top
+#: folder ``name``.
 OWNED_PATTERNS = ("result.json", "*.png", "*.csv", "deformed_profiles/*")
+
+
+class OutputError(InputError):
+    """An output file or folder cannot be written (disk full, permissions, read-only file system): ``what`` is its
+    path (exit code 2, like an unwritable ``--out``)."""
+
+
+def output_error(err: OSError, path: str | os.PathLike) -> OutputError:
+    """``err`` as an :class:`OutputError` naming ``path`` (or the file the OS named) and the reason in lower case:
+    ``<path>: no space left on device``."""
+    reason = err.strerror or str(err)
+    return OutputError(str(err.filename or path), reason[:1].lower() + reason[1:])
 
 
 def _umask() -> int:
@@ -48,16 +68,21 @@ def _user_mode(path: str | os.PathLike, directory: bool = False) -> None:
 
 
 def _write_atomic(path: Path, data: bytes) -> Path:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as err:
+        raise output_error(err, path) from None
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
         _user_mode(tmp)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as err:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
+        if isinstance(err, OSError):  # the temporary file's name would mislead: the path being written
+            raise output_error(err, path) from None
         raise
     return path
 
@@ -101,6 +126,11 @@ def clean_stale_staging(path: str | os.PathLike) -> list[Path]:
     removed = []
     if not path.parent.is_dir():
         return removed
+    if not path.exists():  # a kill between the two renames of a non-atomic swap: the earlier output comes back
+        for item in path.parent.glob(f".{path.name}.old-*-*/{path.name}"):
+            with contextlib.suppress(OSError):
+                os.replace(item, path)
+                break
     for kind in ("staging", "old"):
         for item in path.parent.glob(f".{path.name}.{kind}-*-*"):
             try:
@@ -220,18 +250,37 @@ def check_replaceable(path: str | os.PathLike, what: str | None = None) -> None:
                            "replaced as a whole; choose a new or empty folder")
 
 
+def _owned(rel: Path, owned: tuple[str, ...]) -> bool:
+    """``rel`` matches one of the ``owned`` patterns (``"name/"``: everything under the top folder ``name``)."""
+    return any(rel.parts[0] == p[:-1] if p.endswith("/") else rel.match(p) for p in owned)
+
+
 def _carry_over(old: Path, new: Path, owned: tuple[str, ...]) -> None:
     """Hard-link (or copy) into ``new`` the files of ``old`` that the tool does not own (a user's notes), unless
     ``new`` has a file of that name."""
     for item in old.rglob("*"):
         rel = item.relative_to(old)
-        if not item.is_file() or any(rel.match(p) for p in owned) or (new / rel).exists():
+        if not item.is_file() or _owned(rel, owned) or (new / rel).exists():
             continue
         (new / rel).parent.mkdir(parents=True, exist_ok=True)
         try:
             os.link(item, new / rel)
         except OSError:
             shutil.copy2(item, new / rel)
+
+
+def _swap_in(new: Path, path: Path) -> None:
+    """Put the folder ``new`` in place of ``path`` in one step; ``new`` then holds the previous ``path`` (or is
+    gone), for the caller to remove."""
+    if path.exists() and _exchange(new, path):
+        return
+    if path.exists():
+        old = _staging_dir(path, "old")
+        os.replace(path, old / path.name)
+        os.replace(new, path)
+        shutil.rmtree(old, ignore_errors=True)
+    else:
+        os.replace(new, path)
 
 
 @contextlib.contextmanager
@@ -255,18 +304,67 @@ def replace_output_dir(path: str | os.PathLike, what: str | None = None,
             check_terminated()  # a SIGTERM swallowed by a C callback: the earlier output stays
             if path.is_dir():
                 _carry_over(path, tmp, owned)
-            if path.exists() and _exchange(tmp, path):
-                shutil.rmtree(tmp, ignore_errors=True)  # tmp now holds the previous output
-            elif path.exists():
-                old = _staging_dir(path, "old")
-                os.replace(path, old / path.name)
-                os.replace(tmp, path)
-                shutil.rmtree(old, ignore_errors=True)
-            else:
-                os.replace(tmp, path)
+            _swap_in(tmp, path)
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
 
 
-__all__ = ["OUTPUT_FILES", "OWNED_PATTERNS", "atomic_output_dir", "atomic_write_bytes", "atomic_write_text", "check_replaceable",
-           "clean_stale_staging", "output_lock", "replace_output_dir"]
+# ------------------------------------------------------------------------------------------------ publish
+def _link_tree(src: Path, dest: Path) -> None:
+    """Hard-link (or copy, across file systems) every file of ``src`` into ``dest``. The files of a staging
+    folder are written atomically (a new file each time), so a snapshot never changes after it is taken."""
+    for item in sorted(src.rglob("*")):
+        if item.is_file() and not (item.name.startswith(".") and item.name.endswith(".tmp")):
+            target = dest / item.relative_to(src)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            try:
+                os.link(item, target)
+            except OSError:
+                shutil.copy2(item, target)
+
+
+class StagedOutput:
+    """A staging folder ``dir`` (build the output in it) that :meth:`publish` puts in place of ``path``."""
+
+    def __init__(self, path: Path, staging: Path, owned: tuple[str, ...]):
+        self.path, self.dir, self.owned = path, staging, owned
+        self.published = 0
+
+    def publish(self) -> None:
+        """Put a snapshot of the staging folder in place of ``path`` as a whole (files of the previous ``path``
+        that the tool does not own are carried over). A kill at any moment leaves ``path`` unchanged or the
+        complete snapshot; a snapshot left by a kill is removed by the next run (:func:`clean_stale_staging`)."""
+        snap = _staging_dir(self.path)
+        try:
+            _link_tree(self.dir, snap)
+            if self.path.is_dir():
+                _carry_over(self.path, snap, self.owned)
+            _swap_in(snap, self.path)
+            self.published += 1
+        except OSError as err:
+            raise output_error(err, self.path) from None
+        finally:
+            shutil.rmtree(snap, ignore_errors=True)  # the previous output, or a snapshot not swapped in
+
+
+@contextlib.contextmanager
+def staged_output_dir(path: str | os.PathLike, what: str | None = None,
+                      owned: tuple[str, ...] = OWNED_PATTERNS) -> Iterator[StagedOutput]:
+    """Build an output folder beside ``path`` and publish it into ``path`` as often as the block asks
+    (:meth:`StagedOutput.publish`), under :func:`output_lock`. ``path`` is untouched until the first publish;
+    the staging folder is removed when the block ends, also on an exception or SIGTERM (what was published stays).
+    ``path`` must pass :func:`check_replaceable`; stale staging folders of killed runs are removed first."""
+    path = Path(path)
+    with output_lock(path, what):
+        check_replaceable(path, what)
+        clean_stale_staging(path)
+        tmp = _staging_dir(path)
+        try:
+            yield StagedOutput(path, tmp, owned)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+__all__ = ["OUTPUT_FILES", "OWNED_PATTERNS", "OutputError", "StagedOutput", "atomic_output_dir",
+           "atomic_write_bytes", "atomic_write_text", "check_replaceable", "clean_stale_staging", "output_error",
+           "output_lock", "replace_output_dir", "staged_output_dir"]

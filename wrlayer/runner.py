@@ -15,6 +15,10 @@ Used by the calibration (one task per profile position) and by the wear loop (on
 - **Dask** (``scheduler`` address): a client connected once per ``with`` block; one BLAS thread per task (a Dask
   worker runs as many tasks as it has threads).
 
+A scheduler address is checked when the runner is made (:func:`check_scheduler_address`: ``tcp://``, ``tls://``,
+``ucx://``, ``ws://``, ``wss://``, ``inproc://`` or a bare ``host:port``), without contacting the scheduler, so a
+mistyped address fails before the first task, with one line naming the input.
+
 A task reports progress inside itself with :func:`report_progress`; the runner forwards it to ``on_progress``
 (in-process and local processes; on Dask, :attr:`Runner.streams_progress` is False and the caller counts whole
 tasks). On an exception, ``KeyboardInterrupt`` or SIGTERM (:class:`wrlayer.errors.Terminated`, raised in the main
@@ -120,6 +124,52 @@ def call_limited(fn: Callable[[T], R], task: T, blas_threads: int) -> R:
         return fn(task)
 
 
+#: Address schemes of the Dask communication layer.
+SCHEDULER_SCHEMES = ("tcp", "tls", "ucx", "ws", "wss", "inproc")
+
+
+def _host_port(rest: str, address: str, what: str) -> None:
+    """InputError unless ``rest`` is ``host``, ``host:port`` or ``[ipv6]:port`` (port 1..65535)."""
+    host, port = rest, ""
+    if rest.startswith("["):
+        host, _, tail = rest[1:].partition("]")
+        if tail and not tail.startswith(":"):
+            raise InputError(what, f"{address!r} is not a scheduler address ([ipv6]:port)")
+        port = tail[1:]
+    elif ":" in rest:
+        host, _, port = rest.rpartition(":")
+    if not host or any(c in host for c in "/?#@ ") or ":" in host and not rest.startswith("["):
+        raise InputError(what, f"{address!r} is not a scheduler address (host:port, e.g. tcp://10.0.0.5:8786)")
+    if port and not (port.isdigit() and 1 <= int(port) <= 65535):
+        raise InputError(what, f"{address!r}: the port must be an integer 1..65535, got {port!r}")
+
+
+def check_scheduler_address(address: Any, what: str = "scheduler") -> str:
+    """The Dask scheduler ``address`` checked by its form only (no connection): "" (none), ``scheme://host:port``
+    with a scheme of :data:`SCHEDULER_SCHEMES` (``inproc://`` takes any non-empty rest) or a bare ``host:port``.
+    InputError naming ``what`` otherwise (also for a value that is not a string)."""
+    if not isinstance(address, str):
+        raise InputError(what, f"must be a Dask scheduler address (a string such as \"tcp://host:8786\"), got "
+                               f"{type(address).__name__} {address!r}")
+    address = address.strip()
+    if not address:
+        return ""
+    if not address.isprintable() or any(c.isspace() for c in address):
+        raise InputError(what, f"{address!r} is not a scheduler address (spaces or control characters)")
+    scheme, sep, rest = address.partition("://")
+    if not sep:
+        scheme, rest = "", address
+    elif scheme.lower() not in SCHEDULER_SCHEMES:
+        raise InputError(what, f"{address!r}: unknown scheme {scheme!r}; use one of "
+                               f"{', '.join(s + '://' for s in SCHEDULER_SCHEMES)} or host:port")
+    if scheme.lower() == "inproc":
+        if not rest:
+            raise InputError(what, f"{address!r}: inproc:// needs the in-process address after it")
+        return address
+    _host_port(rest, address, what)
+    return address
+
+
 def _raise_terminated(signum, frame):
     raise Terminated()
 
@@ -144,7 +194,8 @@ class Runner:
 
     def __init__(self, workers: int = 1, scheduler: str = "", *, blas_threads: int | None = None,
                  what: str = "scheduler"):
-        self.workers, self.scheduler, self.what = max(1, int(workers)), scheduler or "", what
+        self.workers, self.what = max(1, int(workers)), what
+        self.scheduler = check_scheduler_address(scheduler or "", what)
         self.blas_threads = blas_threads_per_worker(self.workers) if blas_threads is None else int(blas_threads)
         self._pool: cf.ProcessPoolExecutor | None = None
         self._queue = None
@@ -183,8 +234,9 @@ class Runner:
             raise InputError(self.what, "needs the 'distributed' package (pip install dask[distributed])") from None
         try:
             return Client(self.scheduler, timeout="20s")
-        except (OSError, TimeoutError, ValueError) as err:
-            raise InputError(self.what, f"cannot connect to the Dask scheduler {self.scheduler!r}: {err}") from None
+        except (OSError, TimeoutError, ValueError, TypeError) as err:  # TypeError: e.g. tls:// without security
+            reason = " ".join(str(err).split()) or type(err).__name__
+            raise InputError(self.what, f"cannot connect to the Dask scheduler {self.scheduler!r}: {reason}") from None
 
     def __exit__(self, exc_type, exc, tb) -> None:
         try:
@@ -278,5 +330,5 @@ class Runner:
             yield futures[fut], fut.result()
 
 
-__all__ = ["POLL_S", "THREAD_VARIABLES", "Runner", "blas_threads_per_worker", "call_limited", "limited_threads",
-           "report_progress", "thread_environment", "worker_lifeline"]
+__all__ = ["POLL_S", "SCHEDULER_SCHEMES", "THREAD_VARIABLES", "Runner", "blas_threads_per_worker", "call_limited",
+           "check_scheduler_address", "limited_threads", "report_progress", "thread_environment", "worker_lifeline"]

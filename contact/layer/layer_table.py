@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from contact.layer.characteristic import Characteristic
-from wrlayer import validate
+from wrlayer import input_files, validate
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import InputError
 
@@ -46,6 +46,9 @@ BODIES = ("rail", "wheel")
 #: Relative tolerance between stored (k_i, T_0i) and those re-derived from the stored characteristic.
 PARAMETER_RTOL = 1e-6
 MAX_SEGMENTS = 8
+#: Bounds of a calibrated patch semi-axis ``geometry.a_mm``/``b_mm`` (mm): a wheel-rail patch is 1-10 mm; far
+#: outside, a scale to the patch size (``characteristic_at(y, patch_mm)``) would be meaningless or overflow.
+SEMI_AXIS_RANGE_MM = (1e-3, 1e3)
 
 
 @dataclass
@@ -66,11 +69,12 @@ class LayerTable:
     def read(cls, path: str | Path) -> "LayerTable":
         """Read and validate a JSON table (InputError naming the file and the problem)."""
         path = Path(path)
+        if not path.exists() and not path.is_symlink():  # a broken link or a loop: input_files names it
+            raise InputError(str(path), "layer table file not found")
+        text = input_files.read_text(path, input_files.MAX_DATA_BYTES, str(path))  # FIFO, size, UTF-8
         try:
-            data = json.loads(path.read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise InputError(str(path), "layer table file not found") from None
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
+            data = json.loads(text)
+        except json.JSONDecodeError as err:
             raise InputError(str(path), f"not a readable JSON layer table: {err}") from None
         except RecursionError:
             raise InputError(str(path), "arrays or objects nested too deeply to read") from None
@@ -186,7 +190,10 @@ class LayerTable:
         if ref is None:
             raise InputError(self.source, "records no calibrated semi-axes (geometry a_mm, b_mm): cannot scale the "
                                           "characteristic to the patch size")
-        scale = math.sqrt(a * b) / ref
+        scale = math.sqrt(a * b) / ref  # ref >= SEMI_AXIS_RANGE_MM[0] (validated)
+        if not (math.isfinite(scale) and scale > 0):
+            raise InputError("patch_mm", f"semi-axes {a:g} x {b:g} mm are too small or too large to scale the "
+                                         f"characteristic of the {self.body} table ({self.source}) to")
         return Characteristic(np.asarray(ch.u_mm) * scale, np.asarray(ch.p_MPa),
                               f"{ch.name} scaled to the patch {a:.3g} x {b:.3g} mm (x{scale:.3g})")
 
@@ -216,8 +223,11 @@ class LayerTable:
 def read_body_table(rel: str, base: Path, body: str, what: str) -> tuple[Path, LayerTable]:
     """The ``body`` ("rail" or "wheel") table a scene names, ``rel`` relative to the scene's folder ``base``:
     (resolved path, table). InputError naming ``what`` when it is missing, unreadable or of the other body."""
-    path = (Path(base) / rel).resolve()
-    if not path.is_file():
+    try:
+        path = (Path(base) / rel).resolve()
+    except (RuntimeError, OSError):  # a symbolic-link loop (RuntimeError before Python 3.13)
+        raise InputError(what, f"{rel!r}: a symbolic-link loop") from None
+    if not path.exists() and not path.is_symlink():
         raise InputError(what, f"no such calibration table {rel!r} (looked at {path})")
     try:
         table = LayerTable.read(path)
@@ -239,6 +249,23 @@ def _plain(obj):
     if isinstance(obj, np.generic):
         return obj.item()
     return obj
+
+
+def _check_extras(pos: dict, what: str) -> None:
+    """The optional entries of a position: ``geometry`` an object whose semi-axes ``a_mm``, ``b_mm`` are numbers
+    (not booleans: true is not 1) within :data:`SEMI_AXIS_RANGE_MM`; ``warnings`` a list of strings."""
+    if "geometry" in pos:
+        geo = validate.table(pos["geometry"], f"{what}: geometry")
+        lo, hi = SEMI_AXIS_RANGE_MM
+        for key in ("a_mm", "b_mm"):
+            if key in geo:
+                validate.number(geo[key], f"{what}: geometry.{key}", ge=lo, le=hi)
+    if "warnings" in pos:
+        items = pos["warnings"]
+        if not isinstance(items, list):
+            raise InputError(f"{what}: warnings", f"must be a list of strings, got {validate.kind(items)}")
+        for i, item in enumerate(items):
+            validate.text(item, f"{what}: warnings[{i}]")
 
 
 def _validate(header, positions, failed, source) -> list[Characteristic]:
@@ -275,6 +302,7 @@ def _validate(header, positions, failed, source) -> list[Characteristic]:
                 stored = validate.number_list(pos[key], f"{what}: {key}", min_len=0)
                 if stored.shape != derived.shape or not np.allclose(stored, derived, rtol=PARAMETER_RTOL, atol=0):
                     raise InputError(what, f"{key!r} disagrees with the characteristic (eqs. 4-6)")
+        _check_extras(pos, what)
         chars.append(ch)
         ys.append(y)
     if np.any(np.diff(ys) <= 0):

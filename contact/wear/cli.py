@@ -1,31 +1,48 @@
-"""``python -m contact wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS] [--quiet]``.
+"""``python -m contact wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS] [--quiet] [--force]``.
 
-Runs a wear scene (:mod:`contact.wear.scene`) into DIR (files: :mod:`contact.wear.outputs`). A bad scene fails
-before anything is written. A failure during the loop stops it with one line naming the step; every completed
-step's profiles and the table stay in DIR, result.json says "stopped: ..." and the exit code is non-zero.
+Runs a wear scene (:mod:`contact.wear.scene`) into DIR (files: :mod:`contact.wear.outputs`). A bad scene, a
+scheduler address of a wrong form or a run whose estimated cost exceeds the limit (:mod:`contact.wear.cost`,
+unless ``--force``) fails before anything is written.
+
+The run is built in a staging folder beside DIR (:func:`wrlayer.atomic_write.staged_output_dir`) and published
+into DIR as a whole after every completed step, with result.json saying "running: N steps completed"; DIR keeps
+its earlier content until the first step completes. So a kill at any moment (even ``kill -9``) leaves either the
+earlier DIR or the completed steps with a result.json that matches them. At the end result.json says "complete";
+a failure during the loop stops it with one line naming the step, result.json says "stopped: step N: ..." and the
+exit code is 5; SIGTERM or Ctrl-C marks the published steps "terminated after step N" / "interrupted after step
+N" and removes the staging folder (exit 143 / 130); a full disk or another failure to write marks them "stopped
+after step N: <path>: <reason>" (exit 2).
 """
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from wrlayer import cli
-from wrlayer.atomic_write import output_lock
-from wrlayer.errors import InputError
+from wrlayer.atomic_write import StagedOutput, output_error, staged_output_dir
+from wrlayer.cost import guard
+from wrlayer.errors import InputError, Terminated, check_terminated
+from wrlayer.runner import check_scheduler_address
 
 if TYPE_CHECKING:
     from contact.wear.records import WearRun
     from contact.wear.scene import WearScene
 
+#: What a wear run writes in its folder (replaced by each run; other files of DIR, e.g. a user's notes, are kept).
+WEAR_OWNED = ("result.json", "steps.csv", "*.png", "profiles/", "depth/", "layer_state/", "calibration/")
+
 
 def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = True, workers: int | None = None,
-                  scheduler: str | None = None, show_progress: bool = True) -> dict[str, Any]:
-    """Run one wear scene; returns the result dict (raises WearStopped after writing the completed steps)."""
+                  scheduler: str | None = None, show_progress: bool = True, force: bool = False) -> dict[str, Any]:
+    """Run one wear scene into ``out_dir``; returns the result dict (raises WearStopped after publishing the
+    completed steps). Refused (CostError, exit 2) when the estimate exceeds the limit, unless ``force``."""
     # the solver stack (numpy, scipy, calibration) only when a scene runs: `python -m contact --help` stays quick
     from contact.scenes.scene import read_scene_data
+    from contact.wear.cost import wear_cost
     from contact.wear.scene import parse_wear_scene
 
     scene_path, data = read_scene_data(scene_path)
@@ -36,37 +53,53 @@ def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Tru
             raise InputError("--workers", f"must be >= 1, got {workers}")
         changes["workers"] = workers
     if scheduler is not None:
-        changes["scheduler"] = scheduler
+        changes["scheduler"] = check_scheduler_address(scheduler, "--scheduler")
     if changes:
         scene = dataclasses.replace(scene, settings=dataclasses.replace(scene.settings, **changes))
+    guard(wear_cost(scene), force)
     out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"--out {out}", "exists and is not a folder")
-    with output_lock(out):  # a second wear run into the same folder is refused (its steps would mix)
-        return _run_locked(scene, out, plots, show_progress)
+    with staged_output_dir(out, owned=WEAR_OWNED) as staged:  # a second run into DIR is refused (the lock)
+        try:
+            return _run_staged(scene, staged, plots, show_progress)
+        except OSError as err:  # a full disk or a permission: the path named once
+            raise output_error(err, out) from None
 
 
-def _run_locked(scene: WearScene, out: Path, plots: bool, show_progress: bool) -> dict[str, Any]:
-    """Run the loop into ``out``, writing every step as it completes (the caller holds the folder's lock)."""
+def _run_staged(scene: WearScene, staged: StagedOutput, plots: bool, show_progress: bool) -> dict[str, Any]:
+    """Run the loop in ``staged.dir``, publishing after every completed step (the caller holds DIR's lock)."""
     # imported here for the same reason as in run_wear_file
     from contact.wear.loop import start_run, wear_steps
-    from contact.wear.outputs import RunFiles
+    from contact.wear.outputs import RunFiles, mark_published
     from contact.wear.records import WearStopped
 
-    out.mkdir(parents=True, exist_ok=True)
-    for stale in list(out.glob("profiles/step_*")) + list(out.glob("depth/step_*")) + \
-            list(out.glob("layer_state/step_*")) + \
-            [p for p in out.glob("calibration/step_*/**/*") if p.is_file()]:
-        stale.unlink()  # an earlier run's steps would be mistaken for this run's
     run = start_run(scene)
-    files = RunFiles(out, run)
+    files = RunFiles(staged.dir, run)
     try:
-        for record in wear_steps(run, work_dir=out, show_progress=show_progress):
+        for record in wear_steps(run, work_dir=staged.dir, show_progress=show_progress):
             files.step(record)
+            staged.publish()
     except WearStopped as stop:
-        files.finish(f"stopped: {stop.run.stopped}", _pictures(run, out, plots))
+        files.finish(f"stopped: {stop.run.stopped}", _pictures(run, staged.dir, plots))
+        staged.publish()
         raise
-    return files.finish("complete", _pictures(run, out, plots))
+    except (Terminated, KeyboardInterrupt, InputError, OSError) as err:
+        if staged.published:  # the published steps say how the run ended (the staging goes with the block)
+            with contextlib.suppress(OSError, InputError):  # a full disk may refuse this too: "running" stays
+                mark_published(staged.path, _end_status(err, staged.published, staged.path))
+        raise
+    result = files.finish("complete", _pictures(run, staged.dir, plots))
+    check_terminated()  # a SIGTERM swallowed by a C callback (plots): the last published steps stay
+    staged.publish()
+    return result
+
+
+def _end_status(err: BaseException, steps: int, out: Path) -> str:
+    """result.json's status for a run ended by ``err`` after ``steps`` published steps."""
+    if isinstance(err, Terminated):
+        return f"terminated (SIGTERM) after step {steps}"
+    if isinstance(err, KeyboardInterrupt):
+        return f"interrupted after step {steps}"
+    return f"stopped after step {steps}: {output_error(err, out) if isinstance(err, OSError) else err}"
 
 
 def _pictures(run: WearRun, out: Path, plots: bool) -> list[Path]:
@@ -79,7 +112,7 @@ def _pictures(run: WearRun, out: Path, plots: bool) -> list[Path]:
 
 def wear_command(args) -> int:
     result = run_wear_file(args.scene, args.out, plots=not args.no_plots, workers=args.workers,
-                           scheduler=args.scheduler, show_progress=not args.quiet)
+                           scheduler=args.scheduler, show_progress=not args.quiet, force=args.force)
     steps = result["steps"]
     print(f"{Path(args.scene).name}: {len(steps)} steps, {result['distance_done_km']:.6g} km -> "
           f"{Path(args.out) / 'result.json'}, steps.csv, profiles/")
@@ -101,7 +134,8 @@ def add_parser(sub) -> None:
     p.add_argument("--workers", type=int, default=None, help="local processes per step (default: the scene's)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address (default: the scene's; none = local)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     p.set_defaults(func=wear_command)
 
 
-__all__ = ["add_parser", "run_wear_file", "wear_command"]
+__all__ = ["WEAR_OWNED", "add_parser", "run_wear_file", "wear_command"]

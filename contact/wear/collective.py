@@ -16,6 +16,9 @@ from wrlayer.errors import InputError
 WEIGHT_SUM_TOL = 1e-9
 
 
+#: Largest number of running conditions of a collective (each is solved on every side in every step).
+MAX_CONDITIONS = 10_000
+
 @dataclass(frozen=True)
 class Condition:
     """One running condition and its weight: a ``[[collective.condition]]`` table (or one entry of a sweep).
@@ -76,6 +79,9 @@ class LoadCollective:
     def __post_init__(self):
         if not self.conditions:
             raise InputError(f"{self.where}.conditions", "needs at least one running condition")
+        if len(self.conditions) > MAX_CONDITIONS:
+            raise InputError(f"{self.where}.conditions", f"at most {MAX_CONDITIONS} conditions, got "
+                                                         f"{len(self.conditions)}")
         for k, c in enumerate(self.conditions):
             if not (math.isfinite(c.weight) and c.weight > 0):
                 raise InputError(f"{self.where}.conditions[{k}].weight", f"must be > 0, got {c.weight!r}")
@@ -98,4 +104,4 @@ class LoadCollective:
         return self.distance_km / self.steps
 
 
-__all__ = ["WEIGHT_SUM_TOL", "Condition", "LoadCollective"]
+__all__ = ["MAX_CONDITIONS", "WEIGHT_SUM_TOL", "Condition", "LoadCollective"]

@@ -24,10 +24,10 @@ from contact.wear.conicity import radius_difference
 from contact.wear.recalibrate import recalibrate_sides
 from contact.wear.records import StepRecord, WearRun, WearStopped
 from contact.wear.runner import TaskRunner
-from contact.wear.scene import WearScene
+from contact.wear.scene import MAX_STEPS, WearScene
 from contact.wear.state import WearState
 from contact.wear.step import wear_step
-from wrlayer.errors import ConvergenceError, InputError
+from wrlayer.errors import ConvergenceError, InputError, check_terminated
 from wrlayer.progress import ProgressBar
 
 
@@ -42,6 +42,7 @@ class StepBars:
         self.conditions.reset()
 
     def condition_done(self, _result) -> None:
+        check_terminated()  # a SIGTERM swallowed inside a condition's solver ends the run here
         self.conditions.update(1)
 
     def step_done(self, steps_done: int, more: bool) -> None:
@@ -90,7 +91,11 @@ def wear_steps(run: WearRun, work_dir: Path | None = None, show_progress: bool =
         step = 1
         try:
             while state.unfinished(scene):
+                check_terminated()
                 step = state.steps_done + 1
+                if step > MAX_STEPS:
+                    raise InputError("wear.max_depth_per_step_mm", f"the step control needs more than {MAX_STEPS} "
+                                     "steps for the distance (raise it, or shorten distance_km)")
                 bars.step_started()
                 record, history = wear_step(scene, state, partial(runner.map, on_done=bars.condition_done))
                 state = state.after(record, history)

@@ -9,8 +9,11 @@ completed step. Each file is written atomically.
                                                     profile coordinates y (mm) of the initial profile
     steps.csv                                       one row per step, side and body: distance, wear and inelastic
                                                     max/location/area, mass loss, rolling-radius difference
-    result.json                                     inputs, units, every step's numbers, status ("complete" or
-                                                    "stopped: <reason naming the step>")
+    result.json                                     inputs, units, every step's numbers, status: "complete",
+                                                    "stopped: <reason naming the step>", "running: N steps
+                                                    completed" (the run was killed after step N, or still runs),
+                                                    "terminated (SIGTERM) after step N", "interrupted after step N";
+                                                    always the steps of the folder's files
 """
 
 from __future__ import annotations
@@ -178,11 +181,12 @@ class RunFiles:
             self._initial_written = True
 
     def step(self, rec: StepRecord) -> None:
-        """Write a completed step's profiles and depths, the table and result.json ("running")."""
+        """Write a completed step's profiles and depths, the table and result.json ("running: N steps
+        completed", written last: the folder is then consistent and may be published)."""
         self._initial()
         self.files.steps[rec.index] = write_step(self.out_dir, rec)
         write_table(self.out_dir, self.run)
-        write_result(self.out_dir, self.run, self.files, "running")
+        write_result(self.out_dir, self.run, self.files, f"running: {len(self.run.steps)} steps completed")
 
     def finish(self, status: str, pictures: list[Path] = ()) -> dict[str, Any]:
         """Write the table and the final result.json with ``status`` and the ``pictures``; returns the result."""
@@ -193,5 +197,12 @@ class RunFiles:
         return result_dict(self.run, self.files, status)
 
 
-__all__ = ["TABLE_COLUMNS", "UNITS", "RunFiles", "WrittenFiles", "result_dict", "table_rows", "write_initial", "write_profile_pair",
-           "write_result", "write_step", "write_table"]
+def mark_published(out_dir: Path, status: str) -> None:
+    """Set the ``status`` of the result.json published in ``out_dir`` (its steps and files unchanged)."""
+    path = Path(out_dir) / "result.json"
+    result = json.loads(path.read_text(encoding="utf-8"))
+    atomic_write_text(path, json.dumps({**result, "status": status}, indent=1) + "\n")
+
+
+__all__ = ["TABLE_COLUMNS", "UNITS", "RunFiles", "WrittenFiles", "mark_published", "result_dict", "table_rows",
+           "write_initial", "write_profile_pair", "write_result", "write_step", "write_table"]

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import dataclasses
 import tempfile
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,6 +32,7 @@ from calibration.tasks import make_tasks
 from contact.layer.layer_table import LayerTable
 from meshes.profiles import Profile
 from meshes.profiles.io import write_simpack
+from wrlayer import input_files
 from wrlayer.cost import guard
 from wrlayer.errors import ConvergenceError, InputError
 
@@ -84,11 +84,9 @@ def read_template(path: Path, what: str, profiles: dict[str, Profile], inclinati
     with ``profiles[body]`` (the scene's initial profiles) in place of the placeholders. A body with the worn rail
     (a profile file in the rail's own frame) is calibrated at the scene's rail inclination ``inclination_rad`` (rad)
     unless the template gives one."""
-    try:
-        text = path.read_text(encoding="utf-8")
-        data = tomllib.loads(text)
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as err:
-        raise InputError(what, f"cannot read the calibration template {path}: {err}") from None
+    where = f"{what} ({path.name})"
+    text = input_files.read_text(path, input_files.MAX_TOML_BYTES, where)  # FIFO, size, UTF-8 (byte offset)
+    data = input_files.parse_toml(text, where)
     rows = data.get("bodies") if isinstance(data.get("bodies"), list) else []
     if not any(isinstance(row, dict) and row.get(key) in PLACEHOLDERS.values()
                for row in rows for key in PROFILE_KEYS):

@@ -8,11 +8,12 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.parse`: [profiles], [
                 layer_mode                                 the exact solver's options (contact.normal.method)
     [wear]      law = "archard" | "usfd"                  the abrasive wear law (contact.wear.laws)
                 distance_km (required, > 0)                total running distance of the wheel
-                steps (required, >= 1)                     nominal number of profile-update steps
+                steps (required, 1..1000)                  nominal number of profile-update steps
                 max_depth_per_step_mm = 0.1                step control: a step is shortened so that the largest
                                                            depth change (wear + inelastic) stays below this
                 smoothing_mm = 1.0                         standard deviation (mm of arc length) of the Gaussian
                                                            filter applied to each step's depth distributions
+                                                           (<= 1000 x grid_mm)
                 grid_mm = 0.2                              arc-length spacing of the profile update grid
                 density_kg_m3 = 7850                       steel density (mass loss, USFD law)
                 rail_passes_per_wheel_pass = 1.0           passes a rail section sees per wheel revolution
@@ -31,7 +32,7 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.parse`: [profiles], [
     [collective] either [[collective.condition]] tables (lateral_mm, yaw_rad = 0, vertical_load_N and speed_mm_s
                  defaulting to [load], weight, label, pitch_rate_rad_s (traction/braking; default the scene's)) or a
                  sweep: lateral_mm (list or {start, stop, step}), yaw_rad (one number or a list of the same length),
-                 weights (a list of the same length, or "uniform").
+                 weights (a list of the same length, or "uniform"). At most 10 000 conditions.
 """
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ import numpy as np
 
 from contact.normal.method import NormalMethod
 from contact.scenes.scene import SceneKeys
-from contact.wear.collective import Condition, LoadCollective
+from contact.wear.collective import MAX_CONDITIONS, Condition, LoadCollective
 from contact.wear.laws import USFD_MATERIALS, ArchardMap, UsfdTable, WearLaw
 from contact.wear.recalibrate import Recalibration, read_template
 from contact.wheel_rail.parse import parse_wheel_rail_scene
@@ -52,6 +53,7 @@ from contact.wheel_rail.scene import WheelRailScene
 from contact.wheel_rail.sweep import sweep_values
 from meshes.profiles import Profile
 from wrlayer.errors import InputError
+from wrlayer.runner import check_scheduler_address
 
 WHEEL_RAIL_SECTIONS = ("title", "description", "profiles", "track", "wheel", "wheelset", "load", "material",
                        "tangential", "layers", "passes", "method")
@@ -61,6 +63,10 @@ WEAR_KEYS = ("law", "distance_km", "steps", "max_depth_per_step_mm", "smoothing_
              "usfd")
 ARCHARD_KEYS = ("hardness_MPa", "k_seizure", "k_low_speed", "k_mid_speed", "k_high_speed", "v_low_m_s",
                 "v_high_m_s", "seizure_pressure_ratio")
+#: Largest ``wear.steps`` (each step writes its profiles; the step control may add steps up to the same bound).
+MAX_STEPS = 1000
+#: Largest ``smoothing_mm`` in update-grid cells (``grid_mm``): a wider Gaussian smooths more than the profile.
+MAX_SMOOTHING_CELLS = 1000
 USFD_KEYS = ("t1", "t2", "mild_slope", "severe_rate", "cat_slope", "cat_offset")
 
 
@@ -175,7 +181,7 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     distance = wear.number("distance_km")
     if not distance > 0:
         raise wear.error("distance_km", f"must be a positive distance, got {distance:g}")
-    steps = wear.integer("steps", 1, ge=1) if "steps" in wear.table else None
+    steps = wear.integer("steps", 1, ge=1, le=MAX_STEPS) if "steps" in wear.table else None
     if steps is None:
         raise wear.error("steps", "required (number of profile-update steps)")
     col = top.sub("collective")
@@ -198,9 +204,13 @@ def _settings(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> WearSe
         inelastic=wear.boolean("inelastic", True),
         layer_state=wear.text("layer_state", "hardening"),
         workers=wear.integer("workers", 1, ge=1),
-        scheduler=wear.text("scheduler", ""),
+        scheduler=check_scheduler_address(wear.table.get("scheduler", ""), wear.what("scheduler")),
         conicity_amplitude_mm=wear.number("conicity_amplitude_mm", 3.0, gt=0.0),
         recalibrate=_recalibration(wear, base, wheel_rail))
+    if settings.smoothing_mm > MAX_SMOOTHING_CELLS * settings.grid_mm:
+        raise wear.error("smoothing_mm", f"must be <= {MAX_SMOOTHING_CELLS} x grid_mm = "
+                         f"{MAX_SMOOTHING_CELLS * settings.grid_mm:g} mm (a Gaussian wider than the profile), got "
+                         f"{settings.smoothing_mm:g}")
     if settings.layer_state not in ("hardening", "virgin"):
         raise wear.error("layer_state", f"must be 'hardening' or 'virgin', got {settings.layer_state!r}")
     if settings.inelastic and wheel_rail.layers is None:
@@ -216,8 +226,11 @@ def _recalibration(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> R
         return None
     sub.check_known(("config", "every_steps"))
     rel = sub.text("config")
-    path = (base / rel).resolve()
-    if not path.is_file():
+    try:
+        path = (base / rel).resolve()
+    except (RuntimeError, OSError):  # a symbolic-link loop (RuntimeError before Python 3.13)
+        raise sub.error("config", f"{rel!r}: a symbolic-link loop") from None
+    if not path.exists() and not path.is_symlink():
         raise sub.error("config", f"no such calibration template {rel!r} (looked at {path})")
     every = sub.integer("every_steps", 1, ge=1)
     layers = wheel_rail.solver_layers
@@ -276,6 +289,8 @@ def _conditions(col: SceneKeys, wheel_rail: WheelRailScene) -> list[Condition]:
         rows = col.table["condition"]
         if not isinstance(rows, list) or not rows:
             raise col.error("condition", "must be an array of tables [[collective.condition]]")
+        if len(rows) > MAX_CONDITIONS:
+            raise col.error("condition", f"at most {MAX_CONDITIONS} conditions, got {len(rows)}")
         out = []
         for k, row in enumerate(rows):
             keys = SceneKeys(col.file, f"{col.prefix}.condition[{k}]", row)
@@ -290,6 +305,8 @@ def _conditions(col: SceneKeys, wheel_rail: WheelRailScene) -> list[Condition]:
     if "lateral_mm" not in col.table:
         raise col.error("lateral_mm", "give [[collective.condition]] tables or a sweep (lateral_mm, weights)")
     lat = sweep_values(col, "lateral_mm") if isinstance(col.table["lateral_mm"], dict) else col.array("lateral_mm", 1)
+    if lat.size > MAX_CONDITIONS:
+        raise col.error("lateral_mm", f"at most {MAX_CONDITIONS} conditions, got {lat.size}")
     yaw_value = col.table.get("yaw_rad", 0.0)
     yaw = np.full(lat.size, col.number("yaw_rad", 0.0)) if not isinstance(yaw_value, list) \
         else col.array("yaw_rad", 1)

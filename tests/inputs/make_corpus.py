@@ -380,6 +380,12 @@ TABLE_BAD = [
      _set(["positions", 1, "characteristic"], {"u_mm": [0.01 * i for i in range(60)],
                                                 "p_MPa": [100.0 * i for i in range(60)]}),
      "segment 2"),
+    ("geometry_a_true.json", _set(["positions", 1, "geometry"], {"a_mm": True, "b_mm": 5.0}),
+     "geometry.a_mm: must be a number, got boolean"),
+    ("geometry_tiny.json", _set(["positions", 1, "geometry"], {"a_mm": 1e-300, "b_mm": 1e-300}),
+     "geometry.a_mm: must be >= 0.001"),
+    ("geometry_list.json", _set(["positions", 0, "geometry"], [5.0, 4.0]), "geometry: must be a table, got list"),
+    ("warnings_number.json", _set(["positions", 2, "warnings"], 3), "warnings: must be a list of strings"),
 ]
 
 
@@ -429,7 +435,7 @@ def main() -> None:
                                            1)
     (folder / "u_nested_100000_deep.json").write_text(deep + "\n", encoding="utf-8")
     (folder / "binary_garbage.json").write_bytes(GARBAGE)
-    expected["binary_garbage.json"] = "not a readable JSON layer table"
+    expected["binary_garbage.json"] = "not UTF-8 text"
     expected["u_nested_100000_deep.json"] = "nested too deeply"
     (folder / "good.json").write_text(json.dumps(table_doc(), indent=1) + "\n", encoding="utf-8")
     write_expected(folder, expected)

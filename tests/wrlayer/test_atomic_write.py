@@ -12,11 +12,13 @@ from pathlib import Path
 import pytest
 
 from wrlayer.atomic_write import (
+    OutputError,
     atomic_output_dir,
     atomic_write_text,
     clean_stale_staging,
     output_lock,
     replace_output_dir,
+    staged_output_dir,
 )
 from wrlayer.errors import InputError
 
@@ -194,3 +196,56 @@ def test_long_sweep_has_201_cases(tmp_path):
 
     path = _long_sweep(tmp_path)
     assert len(parse_wheel_rail_scene(tomllib.loads(path.read_text()), path).cases) == 201
+
+
+def test_staged_output_is_published_whole_at_each_publish(tmp_path):
+    """Nothing in --out before the first publish; each publish a complete snapshot (files written later in the
+    staging folder do not reach it); a user's file kept; no staging left."""
+    out = tmp_path / "out"
+    with replace_output_dir(out) as tmp:
+        (tmp / "result.json").write_text('{"run": 0}')
+        (tmp / "profiles").mkdir()
+        (tmp / "profiles" / "old.prr").write_text("old")
+    (out / "notes.txt").write_text("mine")
+    owned = ("result.json", "profiles/")
+    with staged_output_dir(out, owned=owned) as staged:
+        atomic_write_text(staged.dir / "profiles" / "step_001.prr", "1")
+        atomic_write_text(staged.dir / "result.json", '{"run": 1, "steps": 1}')
+        assert json.loads((out / "result.json").read_text()) == {"run": 0}
+        staged.publish()
+        atomic_write_text(staged.dir / "profiles" / "step_002.prr", "2")
+        atomic_write_text(staged.dir / "result.json", '{"run": 1, "steps": 2}')
+        assert sorted(str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()) == \
+            ["notes.txt", "profiles/step_001.prr", "result.json"]
+        assert json.loads((out / "result.json").read_text()) == {"run": 1, "steps": 1}
+        staged.publish()
+        assert staged.published == 2
+    assert json.loads((out / "result.json").read_text()) == {"run": 1, "steps": 2}
+    assert (out / "notes.txt").read_text() == "mine" and not (out / "profiles" / "old.prr").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_a_failed_write_names_its_path(tmp_path, monkeypatch):
+    import errno
+
+    def full(*args):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr("wrlayer.atomic_write.os.replace", full)
+    with pytest.raises(OutputError) as err:
+        atomic_write_text(tmp_path / "a.json", "{}")
+    assert str(err.value) == f"{tmp_path / 'a.json'}: no space left on device"
+    assert list(tmp_path.iterdir()) == []  # the temporary file removed
+
+
+def test_an_interrupted_swap_is_undone_by_the_next_run(tmp_path):
+    """A kill between the two renames of the non-atomic swap leaves the earlier output in an 'old' sibling: the
+    next run into the same folder puts it back before anything else."""
+    out = tmp_path / "out"
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
+                          text=True).stdout.strip()
+    old = tmp_path / f".out.old-{dead}-abc"
+    (old / "out").mkdir(parents=True)
+    (old / "out" / "result.json").write_text("{}")
+    clean_stale_staging(out)
+    assert (out / "result.json").read_text() == "{}" and not old.exists()

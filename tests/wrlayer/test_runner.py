@@ -10,7 +10,8 @@ import time
 
 import pytest
 
-from wrlayer.runner import THREAD_VARIABLES, Runner, blas_threads_per_worker, report_progress
+from wrlayer.errors import InputError
+from wrlayer.runner import THREAD_VARIABLES, Runner, blas_threads_per_worker, check_scheduler_address, report_progress
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -144,3 +145,25 @@ def test_sigterm_ends_the_workers_and_unwinds_the_caller():
     finally:
         if parent.poll() is None:
             parent.kill()
+
+
+@pytest.mark.parametrize("address", ["tcp://10.0.0.5:8786", "tls://scheduler.example:8786", "ucx://h:13337",
+                                     "ws://h:8786", "wss://h", "inproc://10.0.0.5/123/4", "h:8786",
+                                     "[::1]:8786", "tcp://[::1]:8786", "", "  "])
+def test_scheduler_addresses_of_every_scheme_accepted_without_a_scheduler(address):
+    assert check_scheduler_address(address, "x") == address.strip()
+    assert Runner(1, address).scheduler == address.strip()  # no connection until the block is entered
+
+
+@pytest.mark.parametrize("address, fragment", [
+    ("tls://", "is not a scheduler address"), ("http://h:1", "unknown scheme 'http'"),
+    ("tcp://h:70000", "the port must be an integer 1..65535"), ("inproc://", "needs the in-process address"),
+    ("tcp://h 1", "spaces or control characters"), (True, "got bool True"), (8786, "got int 8786"),
+    ("tcp://a:b:c", "is not a scheduler address"),
+])
+def test_bad_scheduler_address_is_one_input_error(address, fragment):
+    with pytest.raises(InputError, match=r"^wear\.scheduler: ") as err:
+        check_scheduler_address(address, "wear.scheduler")
+    assert fragment in str(err.value) and "\n" not in str(err.value)
+    with pytest.raises(InputError):
+        Runner(1, address, what="wear.scheduler")
