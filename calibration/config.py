@@ -21,6 +21,7 @@ from meshes.profiles import PROFILE_FILE_SUFFIXES, Profile, get_profile
 from wrlayer import validate
 from wrlayer.errors import InputError
 from wrlayer.input_files import read_toml
+from wrlayer.runner import check_scheduler_address
 from wrlayer.validate import Keys
 
 #: Largest number of positions per body (a hard size limit; the cost guard of calibration.cost refuses long runs
@@ -49,7 +50,7 @@ def _run(k: Keys) -> RunSettings:
     if "workers" in k.table:
         kw["workers"] = k.integer("workers", None, ge=1, le=64)
     if "scheduler" in k.table:
-        kw["scheduler"] = k.text("scheduler")
+        kw["scheduler"] = check_scheduler_address(k.table["scheduler"], k.what("scheduler"))  # by its form, up front
     if "plots" in k.table:
         kw["plots"] = k.boolean("plots", True)
     if "linear_solver" in k.table:

@@ -33,7 +33,8 @@ EXIT_CODES = {
        "and results hold the others and list the failed ones)",
     5: "wear: the loop stopped at a step (named); the completed steps' profiles and table were written",
     130: "interrupted (Ctrl-C)",
-    143: "terminated (SIGTERM); the run's staging folders are removed and its workers ended",
+    143: "terminated (SIGTERM); the run's staging folders are removed and its workers ended (a wear run keeps its "
+         "completed steps)",
 }
 
 

@@ -102,8 +102,8 @@ def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
                 if _terminated:  # whatever a library made of the interrupted call (e.g. numba wraps it), SIGTERM
                     raise Terminated() from None  # came first: the run ends as terminated
                 raise
-        except Terminated:
-            print("error: terminated (SIGTERM); nothing written", file=sys.stderr)
+        except Terminated as err:
+            print(f"error: terminated (SIGTERM); {err.kept or 'nothing written'}", file=sys.stderr)
             return 143
         except WrLayerError as err:
             print(f"error: {_one_line(str(err))}", file=sys.stderr)
@@ -130,7 +130,12 @@ def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
 
 class Terminated(BaseException):
     """Raised in the main thread on SIGTERM while a command runs, so that staging folders are removed and worker
-    processes ended (``finally``/``except BaseException`` blocks run) before the process exits with 143."""
+    processes ended (``finally``/``except BaseException`` blocks run) before the process exits with 143.
+    ``kept``: what a run that publishes as it goes kept (e.g. a wear run's completed steps); "" for nothing."""
+
+    def __init__(self, kept: str = ""):
+        super().__init__(kept)
+        self.kept = kept
 
 
 #: Set by the SIGTERM handler and kept: an exception raised inside a C callback (e.g. numba's compiler calling back

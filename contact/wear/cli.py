@@ -86,6 +86,8 @@ def _run_staged(scene: WearScene, staged: StagedOutput, plots: bool, show_progre
         if staged.published:  # the published steps say how the run ended (the staging goes with the block)
             with contextlib.suppress(OSError, InputError):  # a full disk may refuse this too: "running" stays
                 mark_published(staged.path, _end_status(err, staged.published, staged.path))
+            if isinstance(err, Terminated):
+                raise Terminated(f"{staged.published} completed step(s) kept in {staged.path}") from None
         raise
     result = files.finish("complete", _pictures(run, staged.dir, plots))
     check_terminated()  # a SIGTERM swallowed by a C callback (plots): the last published steps stay
