@@ -148,7 +148,8 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
             code = max(code, report_failed_cases(path.name, results[path.stem]))
         except WrLayerError as err:
             failed.append(path.name)
-            print(f"error: {path.name}: {err}", file=sys.stderr, flush=True)
+            named = getattr(err, "what", "").split(":")[0].strip() in (path.name, str(path))
+            print(f"error: {err}" if named else f"error: {path.name}: {err}", file=sys.stderr, flush=True)
         except Exception as err:  # noqa: BLE001 - a programming error in one scene must not stop the batch
             failed.append(path.name)
             print(f"error: {path.name}: internal error {type(err).__name__}: {err}", file=sys.stderr, flush=True)

@@ -160,7 +160,7 @@ def test_simulate_all_table_and_failures(tmp_path, capsys):
     assert main(["simulate-all", str(scenes), "--out", str(out)]) == 1
     captured = capsys.readouterr()
     errors = captured.err.strip().splitlines()
-    assert errors[0].startswith("error: broken.toml: broken.toml: separation.y_mm")
+    assert errors[0].startswith("error: broken.toml: separation.y_mm")  # the file named once
     assert "1 of 3 scenes failed" in errors[-1] and len(errors) == 2
     assert not (out / "broken").exists()
     assert (out / "hertz_check" / "result.json").is_file()
