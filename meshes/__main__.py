@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from pathlib import Path
 
 from wrlayer import cli
 from wrlayer.errors import cli_guard
@@ -41,6 +42,8 @@ def _parser() -> argparse.ArgumentParser:
                       help="3D: half-sizes of the box meshed with h_min (mm)")
     mesh.add_argument("--grading", type=float, default=None, help="size growth per mm of distance (default 0.3)")
     mesh.add_argument("--out", required=True, help="output mesh file (.vtu or .msh)")
+    mesh.add_argument("--accept-unusual-profile", action="store_true",
+                      help="read a profile file without the plausibility checks (units, orientation, steps)")
     return parser
 
 
@@ -57,11 +60,13 @@ def main(argv: list[str] | None = None) -> int:
     from meshes.meshing.local_mesh import local_mesh
     from meshes.meshing.mesh_io import check_mesh_path, write_mesh
     from meshes.meshing.mesh_quality import element_quality
-    from meshes.profiles import get_profile
+    from meshes.profiles import PROFILE_FILE_SUFFIXES, get_profile
     from meshes.meshing.section_mesh import DEFAULT_GRADING, section_mesh
 
     check_mesh_path(args.out)
-    profile = get_profile(args.profile)
+    is_file = Path(args.profile).suffix.lower() in PROFILE_FILE_SUFFIXES
+    profile = get_profile(args.profile, **({"accept_unusual": True} if args.accept_unusual_profile and is_file
+                                           else {}))
     grading = DEFAULT_GRADING if args.grading is None else args.grading
     start = time.perf_counter()
     if args.dim == 2:

@@ -40,7 +40,8 @@ MIN_FLANGE_MM = 10.0
 #: Largest turning angle (rad) between consecutive segments of the profile's points (60 degrees).
 MAX_TURN_RAD = np.pi / 3.0
 
-_HINT = "; set accept_unusual_profile = true (Python: accept_unusual=True) if this is intended"
+_HINT = ("; set accept_unusual_profile = true (command line: --accept-unusual-profile; Python: accept_unusual=True) "
+         "if this is intended")
 
 
 class ImplausibleProfile(InputError):
