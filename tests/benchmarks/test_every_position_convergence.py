@@ -3,7 +3,12 @@ configuration is compared with a finer mesh (isotropic 8 per semi-axis, extruded
 The FEM cases are replaced by a stub here (the real run takes about 30 minutes); what is tested is the choice of
 reference and the reported errors."""
 
+from pathlib import Path
+
 import benchmarks.bench_calibration as bc
+from calibration.config import load_config
+
+DEFAULT_CONFIG = Path(__file__).resolve().parents[2] / "calibration" / "configs" / "default.toml"
 
 
 def test_every_position_uses_a_finer_reference_by_aspect_ratio(monkeypatch):
@@ -20,17 +25,18 @@ def test_every_position_uses_a_finer_reference_by_aspect_ratio(monkeypatch):
 
     monkeypatch.setattr(bc, "convergence_case", fake_case)
     rows = bc.convergence_every_position()
-    assert len(rows) == 24 and len(calls) == 48
+    n = sum(len(b.positions_mm) for b in load_config(DEFAULT_CONFIG).bodies)  # every position of the default run
+    assert n >= 24 and len(rows) == n and len(calls) == 2 * n
     refs = {(r["body"], r["y_mm"]): r["reference"] for r in rows}
     # the default mesh is the stretched one everywhere; the most elongated patches (a/b >= 4: 5.8-13.6) are
     # compared with the extruded 6, the others with the isotropic 8
     assert {r["style"] for r in rows} == {"stretched"}
     for key in (("wheel", 30.0), ("wheel", -45.0), ("wheel", -30.0)):
         assert refs[key] == bc.EVERY_POSITION_REFERENCES["extruded"]
-    assert sum(ref == bc.EVERY_POSITION_REFERENCES["extruded"] for ref in refs.values()) == 3
+    assert sum(ref == bc.EVERY_POSITION_REFERENCES["extruded"] for ref in refs.values()) == 6  # with the field-side ones
     assert refs[("rail", 15.0)] == refs[("rail", 0.0)] == bc.EVERY_POSITION_REFERENCES["isotropic"]
     for r in rows:
         assert abs(r["errors"]["first_yield"] - 0.02) < 1e-12
         assert all(abs(x - 0.02) < 1e-12 for x in r["errors"]["residual_levels"])
     md = bc.every_position_markdown(rows)
-    assert len(md) == 2 + 24 and "| rail y = 15 | 1.4 | stretched | 10 / 100 | 1.0 / 1 | isotropic 8 |" in md[2 + 12]
+    assert len(md) == 2 + n and "| rail y = 15 | 1.4 | stretched | 10 / 100 | 1.0 / 1 | isotropic 8 |" in md[2 + 12]

@@ -182,7 +182,7 @@ BODY = {"body": '"rail"', "profile": '"60E1"', "mate": '"S1002"', "positions_mm"
 
 CONFIG_BAD = [
     ("run_workers_huge", "run", "workers", "1000000", "run.workers: must be <= 64"),
-    ("run_scheduler_number", "run", "scheduler", "5", "run.scheduler: must be a string"),
+    ("run_scheduler_number", "run", "scheduler", "5", "run.scheduler: must be a Dask scheduler address"),
     ("run_plots_string", "run", "plots", '"no"', "run.plots: must be true or false"),
     ("run_linear_solver_unknown", "run", "linear_solver", '"mumps"', "run.linear_solver"),
     ("material_E_string", "material", "E_MPa", '"210e3"', "material.E_MPa: must be a number"),

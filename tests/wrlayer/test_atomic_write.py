@@ -137,7 +137,7 @@ def _previous_output_and_a_staging_run(tmp_path: Path, out: Path, sig: int):
     ``sig`` while it was writing its staging folder."""
     first = _simulate(SCENES / "hertz_check.toml", out)
     assert first.wait(timeout=120) == 0, first.stderr.read()
-    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    before = {str(p.relative_to(out)): p.read_bytes() for p in out.rglob("*") if p.is_file()}
     run = _simulate(_long_sweep(tmp_path), out)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and not list(tmp_path.glob(".out.staging-*")):
@@ -154,7 +154,7 @@ def test_killed_wheel_rail_run_leaves_the_previous_output_and_its_staging_is_cle
     before, run = _previous_output_and_a_staging_run(tmp_path, out, signal.SIGKILL)
     run.wait(timeout=30)
     assert list(tmp_path.glob(".out.staging-*")), "the run was not killed while staging"
-    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert {str(p.relative_to(out)): p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
     again = _simulate(SCENES / "hertz_check.toml", out)
     assert again.wait(timeout=120) == 0
     assert not list(tmp_path.glob(".out.*"))
@@ -186,7 +186,7 @@ def test_sigterm_removes_the_staging_folder_at_once(tmp_path):
     assert rc == 143, run.stderr.read()[-3000:]
     assert run.stderr.read().strip() == "error: terminated (SIGTERM); nothing written"
     assert not list(tmp_path.glob(".out.*"))
-    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert {str(p.relative_to(out)): p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
 
 
 def test_long_sweep_has_201_cases(tmp_path):
