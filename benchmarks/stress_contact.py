@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from contact.tangential.fastsim import Creepage, solve_tangential
 from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
 from contact.passes.passes import PassesOptions, PassRecord, run_passes

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from calibration.results import IndentationResult, PositionFit
-from contact.layer.layer_table import LayerTable
+from wrlayer.layer_table import LayerTable
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import InputError
 

@@ -1,5 +1,5 @@
 """The layer table of one calibrated body (``OUT/<body>_layer_table.json`` and ``.csv``, format
-:class:`contact.layer.layer_table.LayerTable`): its header, its positions and failed positions, written only when
+:class:`wrlayer.layer_table.LayerTable`): its header, its positions and failed positions, written only when
 its inputs changed, and the body's line of the run summary. Units mm, N, MPa, N/mm^3.
 """
 
@@ -15,13 +15,13 @@ from calibration.placement import cant_rad
 from calibration.results import PositionFit
 from calibration.settings import BodySettings, CalibrationConfig
 from calibration.tasks import PositionNote, code_hash, inputs_hash, profile_label, profile_source
-from contact.layer.layer_table import LayerTable
+from wrlayer.layer_table import LayerTable
 from wrlayer.errors import WrLayerError
 from wrlayer.version import code_version, software_versions
 
 #: Sources that determine a fit and the table written from it (the fit cache key includes their content).
 FIT_SOURCES = ("calibration/fit/*.py", "calibration/position_fit.py", "calibration/results.py",
-               "calibration/tables.py", "contact/layer/characteristic.py", "contact/layer/layer_table.py")
+               "calibration/tables.py", "wrlayer/characteristic.py", "wrlayer/layer_table.py")
 
 #: The layer's definition, recorded in every table header (docs/calibration.md).
 DEFINITION = ("u(p) = p/S_1 + u_pl(p); u_pl = FEM approach of the load centre towards the material point "

@@ -26,14 +26,7 @@ REPO = Path(__file__).resolve().parents[1]
 ROOTS = ("wrlayer", "meshes", "calibration", "contact")
 
 #: (importing module, imported module or "module:private name") -> the change that removes the violation.
-ALLOWED = {
-    # calibration -> contact: the layer-table format and the characteristic live in contact.layer; moving them
-    # below calibration (or into meshes/wrlayer) removes these three.
-    ("calibration.cache", "contact.layer.layer_table"): "table format below calibration",
-    ("calibration.tables", "contact.layer.layer_table"): "table format below calibration",
-    ("calibration.fit.characteristic_fit", "contact.layer.characteristic"): "characteristic below calibration",
-    # private names imported across modules: make them public in the defining module
-}
+ALLOWED: dict[tuple[str, str], str] = {}
 
 
 def module_name(path: Path) -> str:

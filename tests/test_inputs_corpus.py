@@ -47,7 +47,7 @@ def test_every_corpus_file_has_an_expectation():
 def test_base_documents_are_valid(tmp_path):
     from calibration.config import load_config
     from calibration.pipeline import make_tasks
-    from contact.layer.layer_table import LayerTable
+    from wrlayer.layer_table import LayerTable
     from contact.scenes.scene import load_scene
     from contact.wheel_rail.parse import parse_wheel_rail_scene
 

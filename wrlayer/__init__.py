@@ -1,5 +1,9 @@
 """Shared basics of the wrlayer packages (meshes, calibration, contact): nothing here knows about contact or FEM.
 
+- :mod:`wrlayer.characteristic`, :mod:`wrlayer.layer_table`: the layer's data shared by the calibration that
+  produces them and the contact solvers that read them: the piecewise-linear characteristic p(u) with its Prandtl
+  element parameters (paper eqs. 4-6), and the parameter table format.
+
 - :mod:`wrlayer.errors`: the error types (InputError, ConvergenceError, ...), ``require`` and the command-line guard
   that turns them into one-line messages and documented exit codes.
 - :mod:`wrlayer.validate`: validation helpers for values read from files.

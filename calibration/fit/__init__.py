@@ -2,5 +2,5 @@
 
 - :mod:`~calibration.fit.characteristic_fit`: piecewise-linear concave fit -> springs k_i and slider thresholds T_0i.
 
-Depends on: wrlayer, contact.layer (the characteristic and table format it produces).
+Depends on: wrlayer (the characteristic it produces, wrlayer.characteristic).
 """

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize, nnls
 
-from contact.layer.characteristic import Characteristic, PrandtlParameters
+from wrlayer.characteristic import Characteristic, PrandtlParameters
 from wrlayer.errors import InputError, require
 
 #: Allowed numbers of segments.

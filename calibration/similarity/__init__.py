@@ -11,4 +11,7 @@ the direct FEM, reported per position.
 
 - :mod:`calibration.similarity.master`: the master grid's FEM tasks and the master curves (JSON).
 - :mod:`calibration.similarity.route`: which positions the master serves, and their characteristic from it.
+
+Depends on: calibration.config, calibration.settings, calibration.hertz, calibration.indentation,
+calibration.results, calibration.tasks, meshes.
 """

@@ -33,7 +33,7 @@ from typing import Callable, Sequence
 import numba
 import numpy as np
 
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from wrlayer.errors import InputError
 
 

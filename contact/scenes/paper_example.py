@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from contact.normal.kik_piotrowski import NormalProblem
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 

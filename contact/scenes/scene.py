@@ -39,8 +39,8 @@ from typing import Any
 
 import numpy as np
 
-from contact.layer.characteristic import Characteristic
-from contact.layer.layer_table import read_body_table
+from wrlayer.characteristic import Characteristic
+from wrlayer.layer_table import read_body_table
 from contact.scenes.scene_spec import (
     BODIES,
     BodyLayerSpec,

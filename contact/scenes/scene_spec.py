@@ -10,8 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from contact.layer.characteristic import Characteristic
-from contact.layer.layer_table import LayerTable
+from wrlayer.characteristic import Characteristic
+from wrlayer.layer_table import LayerTable
 from contact.normal.method import NormalMethod
 from wrlayer.elastic import shear_modulus_MPa
 from wrlayer.errors import InputError

@@ -10,4 +10,7 @@ and the tasks of a step), :mod:`step` (one wear step), :mod:`state` (what a step
 (layer tables on the worn profiles, through the calibration's Python API), :mod:`conicity` (rolling-radius
 difference), :mod:`loop` (the step loop as a generator of step records), :mod:`outputs` (files), :mod:`plots`
 (pictures), :mod:`cli` (``python -m contact wear``).
+
+Depends on: contact.wheel_rail, contact.scenes, contact.passes, contact.normal, contact.tangential, contact.layer,
+meshes, calibration (the recalibration only, through its Python API).
 """

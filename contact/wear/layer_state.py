@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from contact.wear.condition import BODIES, ConditionResult
 from contact.wear.profile_grid import ArcGrid
 from contact.wheel_rail.inputs import WheelRailLayers

@@ -29,7 +29,7 @@ from calibration.config import BodySettings, CalibrationConfig, parse_config
 from calibration.cost import calibration_cost
 from calibration.pipeline import calibrate
 from calibration.tasks import make_tasks
-from contact.layer.layer_table import LayerTable
+from wrlayer.layer_table import LayerTable
 from meshes.profiles import Profile
 from meshes.profiles.io import write_simpack
 from wrlayer import input_files

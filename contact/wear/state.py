@@ -15,7 +15,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
-from contact.layer.layer_table import LayerTable
+from wrlayer.layer_table import LayerTable
 from contact.wear.layer_state import History, virgin_history
 from contact.wear.planning import distance_left
 from contact.wear.records import Profiles, StepRecord

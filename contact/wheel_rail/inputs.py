@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from contact.layer.strip_lookup import LayerLookup
 from contact.normal.method import NormalMethod
 from contact.passes.passes import PassesOptions

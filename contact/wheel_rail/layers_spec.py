@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from contact.layer.characteristic import Characteristic
-from contact.layer.layer_table import read_body_table
+from wrlayer.characteristic import Characteristic
+from wrlayer.layer_table import read_body_table
 from contact.scenes.result_io import Record
 from contact.wheel_rail.inputs import WheelRailLayers
 from contact.wheel_rail.scene_files import file_sha256

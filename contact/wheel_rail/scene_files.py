@@ -1,5 +1,5 @@
 """The files a wheel–rail scene names: profiles and sweep CSVs, found relative to the scene file or in the shared
-reference folder (``reference:`` names); calibration tables: :func:`contact.layer.layer_table.read_body_table`.
+reference folder (``reference:`` names); calibration tables: :func:`wrlayer.layer_table.read_body_table`.
 
 Every reader raises :class:`wrlayer.errors.InputError` naming ``what`` (``<file>: <section>.<key>``).
 """

@@ -68,7 +68,7 @@ def test_shipped_tables_flag_the_conforming_positions_in_json_and_csv():
     import csv
     import io
 
-    from contact.layer.layer_table import LayerTable
+    from wrlayer.layer_table import LayerTable
 
     table = LayerTable.read(ROOT / "scenes" / "tables" / "rail_60E1_default.json")
     flagged = {p["y_mm"] for p in table.positions if p.get("warnings")}

@@ -12,7 +12,7 @@ from calibration.hertz.geometry import given_geometry
 from calibration.position_mesh import AUTO_EXTRUDED_ASPECT, build_mesh, mesh_style
 from calibration.settings import MeshSettings
 from calibration.pipeline import run_calibration
-from contact.layer.layer_table import LayerTable
+from wrlayer.layer_table import LayerTable
 from meshes.profiles import get_profile
 from wrlayer.errors import InputError
 

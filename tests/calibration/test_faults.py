@@ -20,7 +20,7 @@ import calibration.pipeline as pipeline
 from calibration.cache import load_indentation
 from calibration.pipeline import run_calibration
 from calibration.tasks import PositionOutcome
-from contact.layer.layer_table import LayerTable
+from wrlayer.layer_table import LayerTable
 from wrlayer.atomic_write import output_lock
 
 ROOT = Path(__file__).resolve().parents[2]

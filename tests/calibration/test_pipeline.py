@@ -12,7 +12,7 @@ import calibration.pipeline as pipeline
 from calibration.config import load_config
 from calibration.pipeline import CalibrationResult, calibrate, run_calibration
 from calibration.tasks import PositionOutcome
-from contact.layer.layer_table import LayerTable
+from wrlayer.layer_table import LayerTable
 
 ROOT = Path(__file__).resolve().parents[2]
 COARSE = ROOT / "calibration" / "configs" / "test_coarse.toml"

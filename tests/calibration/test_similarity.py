@@ -20,7 +20,7 @@ from calibration.results import IndentationResult
 from calibration.similarity.master import ASPECTS, LENGTHS_MM, MasterCurves, master_tasks
 from calibration.similarity.route import route, similar_indentation
 from calibration.tasks import make_tasks
-from contact.layer.layer_table import LayerTable
+from wrlayer.layer_table import LayerTable
 from meshes.profiles import get_profile
 from wrlayer.errors import InputError
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from calibration.fit.characteristic_fit import fit_characteristic
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from wrlayer.errors import InputError
 
 KNOWN = Characteristic(np.array([0.0, 0.01, 0.03, 0.08]), np.array([0.0, 800.0, 1200.0, 1500.0]))

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from calibration.rolling.layer_prediction import StaticCurve, layer_grooves, masing_residual
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from contact.layer.prandtl_layer import PrandtlLayer
 
 CH = Characteristic(np.array([0.0, 0.001, 0.004, 0.012]), np.array([0.0, 800.0, 1300.0, 1800.0]), "test")

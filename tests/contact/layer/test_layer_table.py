@@ -7,8 +7,8 @@ import json
 import numpy as np
 import pytest
 
-from contact.layer.characteristic import Characteristic
-from contact.layer.layer_table import FORMAT, LayerTable
+from wrlayer.characteristic import Characteristic
+from wrlayer.layer_table import FORMAT, LayerTable
 from wrlayer.errors import InputError
 
 
@@ -90,7 +90,7 @@ def test_layer_table_does_not_import_the_fem_code():
     import subprocess
     import sys
 
-    code = ("import sys, contact.layer.layer_table; "
+    code = ("import sys, wrlayer.layer_table; "
             "bad = [m for m in sys.modules if m.startswith('calibration') or m in ('skfem', 'gmsh')]; "
             "print(bad); sys.exit(1 if bad else 0)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)

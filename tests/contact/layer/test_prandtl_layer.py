@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from wrlayer.errors import InputError
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from contact.layer.strip_lookup import check_coverage, clamped_characteristics
 from wrlayer.errors import InputError, LayerNotCovered
 

@@ -8,7 +8,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.normal.exact import ExactOptions, solve_exact
 from contact.normal.halfspace import HalfSpace, compliance_factor, influence_coefficients

@@ -13,7 +13,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.special import ellipk
 
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.normal.exact import ExactOptions, solve_exact
 from contact.normal.halfspace import compliance_factor

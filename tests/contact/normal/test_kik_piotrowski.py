@@ -17,7 +17,7 @@ from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
 from contact.normal.boussinesq import boussinesq_integral, elliptic_patch_integral, rectangle_kernel_integral
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from contact.normal.kik_piotrowski import NormalProblem, solve_normal
 from contact.scenes.paper_example import paper_characteristic, paper_problem
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer

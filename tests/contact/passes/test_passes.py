@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from contact.normal.kik_piotrowski import solve_normal
 from contact.scenes.paper_example import PAPER_EXAMPLE, paper_characteristic, paper_layers, paper_problem
 from contact.passes.passes import PassesOptions, run_passes

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from contact.__main__ import main
-from contact.layer.characteristic import Characteristic
-from contact.layer.layer_table import FORMAT, FORMAT_VERSION, LayerTable
+from wrlayer.characteristic import Characteristic
+from wrlayer.layer_table import FORMAT, FORMAT_VERSION, LayerTable
 from contact.scenes.scene import load_scene
 
 SCENES = Path(__file__).resolve().parents[3] / "scenes"

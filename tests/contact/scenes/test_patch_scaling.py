@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from contact.layer.layer_table import LayerTable
+from wrlayer.layer_table import LayerTable
 from contact.scenes.scene import load_scene
 from contact.scenes.simulation import simulate
 from wrlayer.errors import InputError

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from contact.__main__ import main
-from contact.layer.layer_table import LayerTable
+from wrlayer.layer_table import LayerTable
 from contact.wear import condition as condition_mod
 from contact.wear.condition import BODIES
 from contact.wear.layer_state import HardenedTable, hardened, side_layers

@@ -165,7 +165,7 @@ def test_close_patches_merged_and_solved_on_one_exact_grid(rail60, s1002, placed
 
 @pytest.mark.parametrize("method", ["kik_piotrowski", "exact"])
 def test_layered_wheel_with_either_normal_method(rail60, s1002, placed, method):
-    from contact.layer.characteristic import Characteristic
+    from wrlayer.characteristic import Characteristic
     from contact.normal.method import NormalMethod
     from contact.wheel_rail.inputs import WheelRailLayers
 
@@ -178,7 +178,7 @@ def test_layered_wheel_with_either_normal_method(rail60, s1002, placed, method):
 
 
 def test_every_pass_is_kept(rail60, s1002, placed):
-    from contact.layer.characteristic import Characteristic
+    from wrlayer.characteristic import Characteristic
     from contact.passes.passes import PassesOptions
     from contact.wheel_rail.inputs import WheelRailLayers
 

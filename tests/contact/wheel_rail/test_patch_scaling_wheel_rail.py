@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from contact.layer.layer_table import LayerTable
+from wrlayer.layer_table import LayerTable
 from contact.layer.patch_scaling import PATCH_SCALING_TOLERANCE
 from contact.wheel_rail.parse import parse_wheel_rail_scene
 from contact.wheel_rail.run import run_wheel_rail_scene

@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from contact.layer.characteristic import Characteristic
-from contact.layer.layer_table import LayerTable
+from wrlayer.characteristic import Characteristic
+from wrlayer.layer_table import LayerTable
 from contact.wheel_rail.deformed import deformed_profile, residual_on_profiles, rigid_roll
 from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
 from contact.wheel_rail.solve import BALANCE_RTOL, solve_wheel

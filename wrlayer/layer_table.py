@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from contact.layer.characteristic import Characteristic
+from wrlayer.characteristic import Characteristic
 from wrlayer import input_files, validate
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import InputError
