@@ -18,6 +18,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 
 from calibration.fem.material import J2Material
+from calibration.settings import MaterialSettings
 from wrlayer.errors import InputError
 from wrlayer.validate import Keys
 
@@ -32,8 +33,10 @@ MAX_TRACK_FACTOR = 20.0
 
 
 @dataclass(frozen=True)
-class RollingMaterial:
-    """J2 material of the block (TOML table ``[material]``).
+class RollingMaterial(MaterialSettings):
+    """J2 material of the block (TOML table ``[material]``): the calibration's material keys
+    (:class:`calibration.settings.MaterialSettings`), elastic-perfectly plastic by default (the rolling reference's
+    material).
 
     Attributes
     ----------
@@ -49,9 +52,6 @@ class RollingMaterial:
         Linear kinematic (Prager) hardening modulus (MPa, >= 0).
     """
 
-    E_MPa: float = 210000.0
-    poisson: float = 0.3
-    yield_MPa: float = 500.0
     H_iso_MPa: float = 0.0
     H_kin_MPa: float = 0.0
 
