@@ -287,3 +287,19 @@ def test_wear_loop_keeps_scale_to_patch_and_hardened_tables_scale(make_scene):
     np.testing.assert_allclose(got.u_mm, want.u_mm, rtol=1e-12)
     np.testing.assert_allclose(got.p_MPa, want.p_MPa, rtol=1e-12)
     assert not np.allclose(got.u_mm, layers.rail.characteristic_at(0.0).u_mm)
+
+
+@pytest.mark.parametrize("tangential", ["fastrip", "exact"])
+def test_tangential_methods_run_the_loop(make_scene, tangential):
+    """method.tangential (FaStrip; Kalker's exact theory on the exact grid) feeds the abrasive wear like FASTSIM:
+    same order of worn area, the patch records naming the method's creep forces."""
+    kw = {"wear": {"distance_km": 100.0, "steps": 1}, "passes": {"max": 3}}
+    fastsim = run_wear(make_scene(**kw), show_progress=False).steps[0]
+    method = {"tangential": tangential} if tangential == "fastrip" else \
+        {"tangential": "exact", "normal": "exact", "exact_cells": 24}
+    other = run_wear(make_scene(method=method, **kw), show_progress=False).steps[0]
+    for body in BODIES:
+        a, b = fastsim.bodies["right", body].stats, other.bodies["right", body].stats
+        assert b.wear_max_mm > 0
+        assert b.worn_area_mm2 == pytest.approx(a.worn_area_mm2, rel=0.5)
+    assert other.conditions[0].patches[0]["Fx_N"] != fastsim.conditions[0].patches[0]["Fx_N"]
