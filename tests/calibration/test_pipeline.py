@@ -77,11 +77,14 @@ def test_second_run_uses_the_cache_and_fit_changes_need_no_fem(coarse_run, tmp_p
     work = tmp_path / "copy"
     shutil.copytree(out, work)
     before = (work / "rail_layer_table.json").read_text()
+    cold = (work / "summary.json").read_text()
     two_workers = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, workers=2))
     again = run_calibration(two_workers, work, show_progress=False, log=_quiet)
     assert again["positions_computed"] == 0 and again["positions_cached"] == 1
     assert "fem_seconds" not in again  # nothing computed
     assert (work / "rail_layer_table.json").read_text() == before  # nothing changed: nothing rewritten
+    assert (work / "summary.json").read_text() == cold  # the warm run keeps the cold run's record
+    assert json.loads((work / "summary_cached.json").read_text())["positions_cached"] == 1
     cfg2 = dataclasses.replace(cfg, fit=dataclasses.replace(cfg.fit, n_segments=2, max_relative_error=1.0))
     refit = run_calibration(cfg2, work, show_progress=False, log=_quiet)
     assert refit["positions_computed"] == 0
