@@ -13,6 +13,8 @@ import numpy as np
 from wrlayer.characteristic import Characteristic
 from wrlayer.layer_table import LayerTable
 from contact.normal.method import NormalMethod
+from contact.passes.passes import PassesOptions
+from contact.scenes.result_io import Record
 from wrlayer.elastic import shear_modulus_MPa
 from wrlayer.errors import InputError
 
@@ -184,8 +186,8 @@ class TangentialSpec:
 
 
 @dataclass(frozen=True)
-class PassesSpec:
-    """[passes]: repeated passes (paper section 5).
+class PassesSpec(Record):
+    """[passes]: repeated passes (paper section 5), in the contact and the wheel–rail scenes.
 
     Attributes
     ----------
@@ -200,6 +202,11 @@ class PassesSpec:
     max: int = 1
     hardening: bool = False
     tolerance_mm: float = 1e-6
+
+    @property
+    def options(self) -> PassesOptions:
+        """The passes' options of :func:`contact.passes.passes.run_passes`."""
+        return PassesOptions(max_passes=self.max, tolerance_mm=self.tolerance_mm, hardening=self.hardening)
 
 
 @dataclass(frozen=True)

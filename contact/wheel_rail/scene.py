@@ -16,8 +16,8 @@ from pathlib import Path
 from typing import Any
 
 from contact.normal.method import NormalMethod
-from contact.passes.passes import PassesOptions
 from contact.scenes.result_io import Record
+from contact.scenes.scene_spec import PassesSpec
 from contact.wheel_rail.contact_search import SearchSettings
 from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
 from contact.wheel_rail.layers_spec import LayersSpec
@@ -165,29 +165,6 @@ class TangentialSpec(Record):
     """
 
     friction: float = 0.3
-
-
-@dataclass(frozen=True)
-class PassesSpec(Record):
-    """[passes]: repeated passes of the layer (paper section 5).
-
-    Attributes
-    ----------
-    max : int
-        Largest number of passes (-).
-    hardening : bool
-        Harden the sliders to the largest pressure of each pass (-).
-    tolerance_mm : float
-        Residual displacement below which a pass counts as elastic (shakedown) (mm).
-    """
-
-    max: int = 1
-    hardening: bool = False
-    tolerance_mm: float = 1e-6
-
-    @property
-    def options(self) -> PassesOptions:
-        return PassesOptions(max_passes=self.max, tolerance_mm=self.tolerance_mm, hardening=self.hardening)
 
 
 @dataclass(frozen=True)
