@@ -1,5 +1,5 @@
-"""Command line: ``python -m calibration run CONFIG --out DIR [--scheduler ADDRESS] [--workers N]
-[--plots/--no-plots] [--quiet]`` and ``python -m calibration rolling CONFIG --out DIR [--force] [--quiet]`` (the
+"""Command line: ``wrlayer calibrate CONFIG --out DIR [--scheduler ADDRESS] [--workers N]
+[--plots/--no-plots] [--quiet]`` and ``wrlayer rolling CONFIG --out DIR [--force] [--quiet]`` (the
 moving-load FEM of :mod:`calibration.rolling`, docs/rolling.md; exit 3 when a step fails, the completed passes
 written).
 
@@ -23,11 +23,11 @@ from wrlayer.errors import cli_guard, require
 def _parser() -> argparse.ArgumentParser:
     ap = cli.parser("python -m calibration", "FEM calibration of Prandtl surface-layer tables along profiles "
                     "(units mm, N, MPa, s)",
-                    ["python -m calibration run calibration/configs/default.toml --out out/calibration"])
+                    ["wrlayer calibrate calibration/configs/default.toml --out out/calibration"])
     sub = ap.add_subparsers(dest="command", required=True)
     run = cli.subparser(sub, "run", "calibrate the bodies and positions of a TOML configuration",
-                        ["python -m calibration run calibration/configs/test_coarse.toml --out out/cal --no-plots",
-                         "python -m calibration run my.toml --out out/cal --scheduler tcp://host:8786"])
+                        ["wrlayer calibrate calibration/configs/test_coarse.toml --out out/cal --no-plots",
+                         "wrlayer calibrate my.toml --out out/cal --scheduler tcp://host:8786"])
     run.add_argument("config", help="TOML configuration file")
     run.add_argument("--out", required=True, help="output folder (tables, cache, plots, fields)")
     run.add_argument("--scheduler", default=None, help="Dask scheduler address (default: local processes)")
@@ -37,7 +37,7 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--quiet", action="store_true", help="no progress bars")
     run.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     roll = cli.subparser(sub, "rolling", "moving Hertz load pass after pass on an elastic-plastic half-space",
-                         ["python -m calibration rolling calibration/configs/rolling_halfspace.toml --out out/rolling"])
+                         ["wrlayer rolling calibration/configs/rolling_halfspace.toml --out out/rolling"])
     roll.add_argument("config", help="TOML rolling configuration file")
     roll.add_argument("--out", required=True, help="output folder (rolling.json, fields/)")
     roll.add_argument("--quiet", action="store_true", help="no progress lines")

@@ -1,8 +1,8 @@
 """Command line of the contact solver.
 
-    python -m contact simulate SCENE --out DIR [--json] [--plots] [--no-vtk]
-    python -m contact simulate-all SCENES_DIR --out OUT [--plots] [--no-vtk]
-    python -m contact wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS]   (contact.wear.cli)
+    wrlayer simulate SCENE --out DIR [--json] [--plots] [--no-vtk]
+    wrlayer simulate-all SCENES_DIR --out OUT [--plots] [--no-vtk]
+    wrlayer wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS]   (contact.wear.cli)
 
 ``simulate`` writes ``DIR/result.json``, the frictional CSVs, the VTK fields ``DIR/vtk/contact_fields.pvd`` (unless
 ``--no-vtk`` or ``output.vtk = false``) and pictures with ``--plots``, atomically: on any error nothing is
@@ -168,12 +168,12 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
 def build_parser() -> argparse.ArgumentParser:
     parser = cli.parser("python -m contact", "Kik–Piotrowski contact with the Prandtl-body layer, FASTSIM, passes to "
                         "shakedown, wheel-on-rail scenes (units mm, N, MPa, s).",
-                        ["python -m contact simulate scenes/paper_with_layer.toml --out out/one --plots",
-                         "python -m contact simulate-all scenes --out out/simulate",
-                         "python -m contact wear scenes/wear/s1002_60e1.toml --out out/wear"])
+                        ["wrlayer simulate scenes/paper_with_layer.toml --out out/one --plots",
+                         "wrlayer simulate-all scenes --out out/simulate",
+                         "wrlayer wear scenes/wear/s1002_60e1.toml --out out/wear"])
     sub = parser.add_subparsers(dest="command", required=True)
     one = cli.subparser(sub, "simulate", "run one scene file",
-                        ["python -m contact simulate scenes/calibrated_layers.toml --out out/one --plots"])
+                        ["wrlayer simulate scenes/calibrated_layers.toml --out out/one --plots"])
     one.add_argument("scene", help="scene TOML file")
     one.add_argument("--out", required=True, help="output folder (result.json, pictures)")
     one.add_argument("--json", action="store_true", help="also print the result JSON")
@@ -182,7 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
     one.add_argument("--no-vtk", action="store_true", help="do not write the VTK fields for ParaView (vtk/)")
     one.set_defaults(func=_simulate)
     many = cli.subparser(sub, "simulate-all", "run every *.toml in a folder and print a Table 1",
-                         ["python -m contact simulate-all scenes --out out/simulate --plots"])
+                         ["wrlayer simulate-all scenes --out out/simulate --plots"])
     many.add_argument("scenes_dir", help="folder of scene TOML files")
     many.add_argument("--out", required=True, help="output folder (one subfolder per scene, table.md, table.csv)")
     many.add_argument("--plots", action="store_true", help="write PNG pictures")

@@ -1,8 +1,8 @@
 """Command line of the meshes package (lengths in mm).
 
-    python -m meshes plots --out DIR
+    wrlayer mesh-plots --out DIR
         PNG pictures of the default 2D section and 3D local meshes (60E1 rail, S1002 wheel).
-    python -m meshes mesh PROFILE --y0 Y --h-min H --h-max H [--dim 2|3] [--order 1|2] [--depth D]
+    wrlayer mesh PROFILE --y0 Y --h-min H --h-max H [--dim 2|3] [--order 1|2] [--depth D]
                           [--length L] [--refine-radius R] [--refine-box BX BY BZ] [--grading G] --out FILE
         Mesh a profile (standard name such as 60E1, 54E1, S1002, or a profile file) and write FILE (.vtu/.msh).
 """
@@ -20,14 +20,14 @@ from wrlayer.errors import cli_guard
 
 def _parser() -> argparse.ArgumentParser:
     parser = cli.parser("python -m meshes", "Meshes of rail and wheel profiles (lengths in mm).",
-                        ["python -m meshes mesh 60E1 --y0 0 --h-min 0.5 --h-max 5 --out out/mesh/rail_2d.vtu",
-                         "python -m meshes plots --out out/plots"])
+                        ["wrlayer mesh 60E1 --y0 0 --h-min 0.5 --h-max 5 --out out/mesh/rail_2d.vtu",
+                         "wrlayer mesh-plots --out out/plots"])
     sub = parser.add_subparsers(dest="command", required=True)
-    plots = cli.subparser(sub, "plots", "pictures of the default meshes", ["python -m meshes plots --out out/plots"])
+    plots = cli.subparser(sub, "plots", "pictures of the default meshes", ["wrlayer mesh-plots --out out/plots"])
     plots.add_argument("--out", required=True, help="output folder for the PNG files")
     mesh = cli.subparser(sub, "mesh", "mesh a profile section (2D) or a local 3D block and write it",
-                         ["python -m meshes mesh 60E1 --y0 0 --h-min 0.5 --h-max 5 --out out/mesh/rail_2d.vtu",
-                          "python -m meshes mesh S1002 --y0 0 --h-min 0.5 --h-max 8 --dim 3 --order 2 "
+                         ["wrlayer mesh 60E1 --y0 0 --h-min 0.5 --h-max 5 --out out/mesh/rail_2d.vtu",
+                          "wrlayer mesh S1002 --y0 0 --h-min 0.5 --h-max 8 --dim 3 --order 2 "
                           "--refine-box 3 4 2 --out out/mesh/wheel.msh"])
     mesh.add_argument("profile", help="60E1, 54E1, S1002 or a profile file (.prr/.prw/.txt/.csv)")
     mesh.add_argument("--y0", type=float, required=True, help="lateral load position y0 (mm)")

@@ -12,6 +12,10 @@ collectives) goes through :func:`read_bytes`, :func:`read_text` or :func:`read_t
   ``tomllib`` sees it (its cost grows with the square of a dotted key's length).
 
 Every failure is an :class:`~wrlayer.errors.InputError` whose ``what`` is the path as the user gave it.
+
+A file named ``reference:REL`` in a scene lies in the shared reference folder (:func:`resolve_reference`):
+``$WRLAYER_REFERENCE``, else ``shared/reference`` beside the repository of a source tree; an installed package has
+no such sibling, so there the variable is the only way, and a missing file names both places.
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from wrlayer.errors import InputError
+from wrlayer.version import source_tree
 
 #: Largest TOML scene or configuration file read (bytes).
 MAX_TOML_BYTES = 4 * 2**20
@@ -31,6 +36,10 @@ MAX_TOML_BYTES = 4 * 2**20
 MAX_DATA_BYTES = 64 * 2**20
 #: Largest CSV input read (bytes): a 100 000-case sweep or load collective is about 10 MB.
 MAX_CSV_BYTES = 64 * 2**20
+#: Prefix of a file name that lies in the shared reference folder (profiles and inputs of published benchmarks).
+REFERENCE_PREFIX = "reference:"
+#: Environment variable naming the shared reference folder.
+REFERENCE_ENV = "WRLAYER_REFERENCE"
 #: Deepest nesting of keys (dotted parts or table headers) and inline tables/arrays accepted in a TOML file.
 MAX_TOML_DEPTH = 32
 
@@ -181,3 +190,43 @@ def read_toml(path: str | Path, max_bytes: int = MAX_TOML_BYTES, what: str | Non
     """A TOML file read safely: regular file, at most ``max_bytes``, UTF-8, nesting bounded."""
     what = str(path) if what is None else what
     return parse_toml(read_text(path, max_bytes, what), what)
+
+
+def sibling_reference_dir() -> Path | None:
+    """``shared/reference`` beside the repository this code runs from, or None for an installed package."""
+    root = source_tree()
+    return None if root is None else root.parent / "shared" / "reference"
+
+
+def reference_dir() -> Path | None:
+    """The shared reference folder: ``$WRLAYER_REFERENCE``, else :func:`sibling_reference_dir` (None: neither)."""
+    env = os.environ.get(REFERENCE_ENV)
+    return Path(env) if env else sibling_reference_dir()
+
+
+def reference_places() -> str:
+    """Where reference files are looked for, for messages: the variable (set or not) and the sibling folder."""
+    env = os.environ.get(REFERENCE_ENV)
+    sibling = sibling_reference_dir()
+    first = f"${REFERENCE_ENV} = {env}" if env else f"${REFERENCE_ENV} (not set)"
+    if sibling is None:
+        second = "no folder beside the repository (an installed package)"
+    else:
+        second = f"the folder beside the repository, {sibling}" + (" (used when the variable is not set)" if env
+                                                                     else "")
+    return f"{first}; {second}; set ${REFERENCE_ENV} to the reference folder"
+
+
+def resolve_reference(name: str, what: str) -> Path:
+    """The file ``reference:REL`` stands for: REL inside :func:`reference_dir`.
+
+    Raises
+    ------
+    InputError
+        ``what``: the file is not there (or no reference folder is known); the message names both places.
+    """
+    rel = name[len(REFERENCE_PREFIX):] if name.startswith(REFERENCE_PREFIX) else name
+    folder = reference_dir()
+    if folder is None or not (folder / rel).exists():
+        raise InputError(what, f"{name!r}: not found in the reference folder {reference_places()}")
+    return folder / rel

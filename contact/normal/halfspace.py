@@ -19,7 +19,6 @@ from __future__ import annotations
 import functools
 
 import numpy as np
-import scipy.fft as sfft
 
 from contact.normal.boussinesq import rectangle_kernel_integral
 
@@ -43,6 +42,8 @@ def influence_coefficients(di: np.ndarray, dj: np.ndarray, dx: float, dy: float)
 @functools.lru_cache(maxsize=32)
 def _kernel_spectrum(ny: int, nx: int, dy: float, dx: float) -> tuple[np.ndarray, tuple[int, int]]:
     """rfft2 of the wrapped kernel on the padded shape (>= 2n - 1 each way, fast FFT length)."""
+    import scipy.fft as sfft  # here: scipy.fft takes 0.2-0.4 s to import; the Kik-Piotrowski path never needs it
+
     shape = (sfft.next_fast_len(2 * ny - 1, real=True), sfft.next_fast_len(2 * nx - 1, real=True))
     oy = np.arange(shape[0])
     ox = np.arange(shape[1])
@@ -68,6 +69,8 @@ class HalfSpace:
 
     def displacement(self, p: np.ndarray) -> np.ndarray:
         """u = C * p (mm) for the cell pressures p (ny, nx) (MPa)."""
+        import scipy.fft as sfft  # here, as in _kernel_spectrum (already imported by then: a dictionary look-up)
+
         self.evaluations += 1
         ph = sfft.rfft2(p, s=self.shape)
         return sfft.irfft2(ph * self._spec, s=self.shape)[: self.ny, : self.nx]

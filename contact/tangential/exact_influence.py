@@ -30,7 +30,6 @@ from __future__ import annotations
 import functools
 
 import numpy as np
-import scipy.fft as sfft
 
 from contact.normal.boussinesq import rectangle_kernel_integral
 
@@ -67,6 +66,8 @@ def cerruti_coefficients(di, dj, dx: float, dy: float, poisson: float) -> tuple[
 def _spectra(ny: int, nx: int, dy: float, dx: float, poisson: float):
     """rfft2 of the three wrapped kernels (scaled by pi G) on the padded shape, and the kernels themselves on the
     offsets -(n-1)..(n-1) (read-only; the local solver uses the near field)."""
+    import scipy.fft as sfft  # here: scipy.fft takes 0.2-0.4 s to import; only the exact rolling solver needs it
+
     shape = (sfft.next_fast_len(2 * ny - 1, real=True), sfft.next_fast_len(2 * nx - 1, real=True))
     oy = np.arange(shape[0])
     ox = np.arange(shape[1])
@@ -100,6 +101,8 @@ class TractionHalfSpace:
 
     def displacement(self, tx: np.ndarray, ty: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ux, uy) (mm) of the cell tractions (tx, ty) (MPa)."""
+        import scipy.fft as sfft  # here, as in _spectra (already imported by then: a dictionary look-up)
+
         self.evaluations += 1
         fx = sfft.rfft2(tx, s=self.shape)
         fy = sfft.rfft2(ty, s=self.shape)

@@ -1,4 +1,4 @@
-"""``python -m contact wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS] [--quiet] [--force]``.
+"""``wrlayer wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS] [--quiet] [--force]``.
 
 Runs a wear scene (:mod:`contact.wear.scene`) into DIR (files: :mod:`contact.wear.outputs`). A bad scene, a
 scheduler address of a wrong form or a run whose estimated cost exceeds the limit (:mod:`contact.wear.cost`,
@@ -26,7 +26,6 @@ from wrlayer import cli
 from wrlayer.atomic_write import StagedOutput, output_error, staged_output_dir
 from wrlayer.cost import guard
 from wrlayer.errors import InputError, Terminated, check_terminated
-from wrlayer.runner import check_scheduler_address
 
 if TYPE_CHECKING:
     from contact.wear.records import WearRun
@@ -44,6 +43,7 @@ def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Tru
     from contact.scenes.scene import read_scene_data
     from contact.wear.cost import wear_cost
     from contact.wear.scene import parse_wear_scene
+    from wrlayer.runner import check_scheduler_address  # here: the process pool's modules only for a wear run
 
     scene_path, data = read_scene_data(scene_path)
     scene = parse_wear_scene(data, scene_path)
@@ -128,8 +128,8 @@ def wear_command(args) -> int:
 
 def add_parser(sub) -> None:
     p = cli.subparser(sub, "wear", "run a wear scene (profiles evolving by wear and inelastic displacement)",
-                      ["python -m contact wear scenes/wear/s1002_60e1.toml --out out/wear",
-                       "python -m contact wear scenes/wear/s1002_60e1.toml --out out/wear --workers 2 --no-plots"])
+                      ["wrlayer wear scenes/wear/s1002_60e1.toml --out out/wear",
+                       "wrlayer wear scenes/wear/s1002_60e1.toml --out out/wear --workers 2 --no-plots"])
     p.add_argument("scene", help="wear scene TOML file")
     p.add_argument("--out", required=True, help="output folder (profiles/, depth/, steps.csv, result.json, PNGs)")
     p.add_argument("--no-plots", action="store_true", help="do not write PNG pictures")

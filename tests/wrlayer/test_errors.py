@@ -19,7 +19,7 @@ def test_bad_arguments_are_one_line_exit_2(main, argv, capsys):
         main(argv)
     err = capsys.readouterr().err
     assert exc.value.code == 2
-    assert err.count("\n") == 1 and err.startswith("error: python -m "), err
+    assert err.count("\n") == 1 and err.startswith(("error: python -m ", "error: wrlayer ")), err
 
 
 def test_unusable_out_is_one_line_exit_2(tmp_path, capsys):

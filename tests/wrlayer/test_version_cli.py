@@ -27,7 +27,10 @@ def test_version_names_package_and_revision(module):
 def test_every_help_has_an_example_and_the_exit_codes(argv):
     run = subprocess.run([sys.executable, "-m", *argv, "--help"], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0
-    assert "examples:\n  python -m " + argv[0] in run.stdout
+    command = cli.wrlayer_name(argv[1])                 # usage and examples in the console command's form
+    assert run.stdout.startswith(f"usage: wrlayer {command} ")
+    assert f"examples:\n  wrlayer {command} " in run.stdout
+    assert "\nreference: docs/" in run.stdout
     for code in cli.EXIT_CODES:
         assert f"\n  {code:>3}  " in run.stdout
 
