@@ -1,4 +1,4 @@
-"""Start-up time of the command line for a small scene: `python -m contact simulate scenes/hertz_check.toml`.
+"""Start-up time of the command line for a small scene: `wrlayer simulate scenes/hertz_check.toml`.
 
 The whole process is timed from outside (wall time, median of repeated runs after one untimed warm-up, the same
 interpreter as the benchmarks) and split into the interpreter's own start-up (`python -c pass`), the imports
@@ -8,9 +8,11 @@ times summed, less those a library imports itself inside the solve; the flag its
 results and exit. The scene is also run twice in one process: the second solve is the solve proper, the
 difference is the first call's cost (numba loading its cached machine code, lazy imports). CPU times (user +
 system) are given beside the wall times: on a loaded machine they show the cost itself. Target: under 0.5 s for
-a small scene. The heaviest imports are grouped by package (summed self times, so nothing is counted twice; our
-own packages one level deeper, e.g. `contact.normal`) with the module through which the most expensive part of
-each is imported. Units: seconds.
+a small scene. The floor of the Kik-Piotrowski path is measured on its own: the interpreter, numpy, numba and the
+first call of one cached numba function (the Boussinesq sum every solve makes), in one process. The heaviest
+imports are grouped by package (summed self times, so nothing is counted twice; our own packages one level
+deeper, e.g. `contact.normal`) with the module through which the most expensive part of each is imported.
+Units: seconds.
 """
 
 from __future__ import annotations
@@ -60,8 +62,8 @@ class StartupTiming:
     interpreter_cpu_s : float
         CPU time of ``python -c pass``, median, s.
     main_import_s : float
-        Wall time of ``python -c "import contact.__main__"`` minus ``interpreter_s`` (the module-level imports of
-        the command line), median, s.
+        Wall time of ``python -c "import wrlayer.cli, contact.__main__"`` minus ``interpreter_s`` (the
+        module-level imports of the command line), median, s.
     main_import_cpu_s : float
         The same in CPU time, median, s.
     run_import_s : float
@@ -82,6 +84,18 @@ class StartupTiming:
         Start-up target, s.
     target_met : bool
         Whether ``wall_s < target_s``.
+    floor_numpy_s : float
+        ``import numpy`` in a bare interpreter, median, s.
+    floor_numba_s : float
+        ``import numba`` after numpy, median, s.
+    floor_first_call_s : float
+        First call of the cached numba function of the Kik-Piotrowski solve (numba's type registries and the
+        cached machine code loaded), median, s.
+    floor_s : float
+        ``interpreter_s + floor_numpy_s + floor_numba_s + floor_first_call_s``: what a Kik-Piotrowski run cannot
+        go below while its solver is compiled by numba, s.
+    floor_cpu_s : float
+        The same in CPU time (interpreter, numpy, numba, first call), s.
     load_before : float
         One-minute load average of the machine before the runs (2 cores).
     load_after : float
@@ -106,6 +120,11 @@ class StartupTiming:
     other_s: float
     target_s: float
     target_met: bool
+    floor_numpy_s: float
+    floor_numba_s: float
+    floor_first_call_s: float
+    floor_s: float
+    floor_cpu_s: float
     load_before: float
     load_after: float
 
@@ -129,8 +148,28 @@ def _timed(args: list[str], env: dict[str, str]) -> tuple[float, float, subproce
     return time.perf_counter() - t0, _children_cpu() - c0, proc
 
 
+#: what the ``wrlayer`` console script runs (pip's generated script: import, call, exit)
+_CONSOLE = "import sys; from wrlayer.cli import main; sys.exit(main())"
+
+
 def _simulate_args(out: pathlib.Path) -> list[str]:
-    return ["-m", "contact", "simulate", str(SCENE), "--out", str(out)]
+    return ["-c", _CONSOLE, "simulate", str(SCENE), "--out", str(out)]
+
+
+#: imports numpy and numba and calls the Boussinesq sum (numba, cached) once on a one-strip patch, printing the
+#: three wall times and the three CPU times (s) as JSON
+_FLOOR = ("import time, json\nc = lambda: (time.perf_counter(), time.process_time())\nt0 = c()\n"
+          "import numpy as np\nt1 = c()\nimport numba\nt2 = c()\n"
+          "from contact.normal.boussinesq import boussinesq_integral\nt3 = c()\n"
+          "boussinesq_integral(np.ones(1), np.zeros(1, dtype=np.int64), 0.1)\nt4 = c()\n"
+          "print(json.dumps([b[k] - a[k] for k in (0, 1) for a, b in ((t0, t1), (t1, t2), (t3, t4))]))")
+
+
+def _floor(env: dict[str, str], repeat: int) -> list[float]:
+    """Median wall times of importing numpy, numba after it and the first call of a cached numba function, then
+    the same three in CPU time (s)."""
+    runs = [json.loads(_timed(["-c", _FLOOR], env)[2].stdout) for _ in range(repeat)]
+    return [statistics.median(r[i] for r in runs) for i in range(6)]
 
 
 #: runs the scene twice in one process and prints the two ``solver.total_s`` (s) as JSON
@@ -158,7 +197,7 @@ def measure(repeat: int, work: pathlib.Path) -> tuple[StartupTiming, list[Import
         runs["simulate"].append(_timed(_simulate_args(out), env)[:2])
         solves.append(json.loads((out / "result.json").read_text(encoding="utf-8"))["solver"]["total_s"])
         runs["pass"].append(_timed(["-c", "pass"], env)[:2])
-        runs["main"].append(_timed(["-c", "import contact.__main__"], env)[:2])
+        runs["main"].append(_timed(["-c", "import wrlayer.cli, contact.__main__"], env)[:2])
     bare_set = frozenset(r.name for r in parse_importtime(_timed(["-X", "importtime", "-c", "pass"], env)[2].stderr))
     records = parse_importtime(_timed(["-X", "importtime", *_simulate_args(work / "importtime")], env)[2].stderr)
     wall, cpu = (statistics.median(v) for v in zip(*runs["simulate"]))
@@ -168,13 +207,16 @@ def measure(repeat: int, work: pathlib.Path) -> tuple[StartupTiming, list[Import
     solve_first, solve_warm = _solve_twice(env, work, max(1, repeat // 2))
     run_import = import_seconds(records, bare_set)
     lazy = lazy_library_seconds(records)
+    floor = _floor(env, repeat)
     timing = StartupTiming(
         scene=str(SCENE.relative_to(ROOT)), repeat=repeat, wall_s=wall, wall_runs_s=[w for w, _ in runs["simulate"]],
         cpu_s=cpu, first_run_s=first, interpreter_s=interp, interpreter_cpu_s=interp_cpu, main_import_s=main - interp,
         main_import_cpu_s=main_cpu - interp_cpu, run_import_s=run_import, lazy_import_s=lazy, solve_s=solve,
         solve_first_s=solve_first, solve_warm_s=solve_warm, other_s=wall - interp - (run_import - lazy) - solve,
-        target_s=TARGET_S,
-        target_met=wall < TARGET_S, load_before=load_before, load_after=os.getloadavg()[0])
+        target_s=TARGET_S, target_met=wall < TARGET_S, floor_numpy_s=floor[0], floor_numba_s=floor[1],
+        floor_first_call_s=floor[2], floor_s=interp + sum(floor[:3]), floor_cpu_s=interp_cpu + sum(floor[3:]),
+        load_before=load_before,
+        load_after=os.getloadavg()[0])
     return timing, records, bare_set
 
 
@@ -187,7 +229,7 @@ def _markdown(t: StartupTiming, groups: list[ImportGroup], importers: dict[str, 
           f"| whole process, CPU time (user + system), median | {t.cpu_s:.3f} |",
           f"| first (warm-up) run | {t.first_run_s:.3f} |",
           f"| interpreter start-up (`python -c pass`; CPU {t.interpreter_cpu_s:.3f}) | {t.interpreter_s:.3f} |",
-          "| module-level imports of the command line (`import contact.__main__` minus the above; "
+          "| module-level imports of the command line (`import wrlayer.cli, contact.__main__` minus the above; "
           f"CPU {t.main_import_cpu_s:.3f}) | {t.main_import_s:.3f} |",
           f"| all imports of the run (`-X importtime`) | {t.run_import_s:.3f} |",
           f"| ... of which libraries import while running (numba, inside the solve) | {t.lazy_import_s:.3f} |",
@@ -195,7 +237,10 @@ def _markdown(t: StartupTiming, groups: list[ImportGroup], importers: dict[str, 
           f"| solve, first run in a process / second run in the same process | {t.solve_first_s:.3f} / "
           f"{t.solve_warm_s:.3f} |",
           f"| other (parsing, reading, writing, exit) | {t.other_s:.3f} |", "",
-          f"Target {t.target_s:g} s: **{'met' if t.target_met else 'not met'}**.", "",
+          f"Target {t.target_s:g} s: **{'met' if t.target_met else 'not met'}**. Floor of a Kik-Piotrowski run "
+          f"while its solver is compiled by numba: {t.floor_s:.3f} s = interpreter {t.interpreter_s:.3f} + numpy "
+          f"{t.floor_numpy_s:.3f} + numba {t.floor_numba_s:.3f} + first call of a cached numba function "
+          f"{t.floor_first_call_s:.3f} (CPU time {t.floor_cpu_s:.3f}).", "",
           f"The {N_HEAVIEST} heaviest import groups of the run (summed self times):", "",
           "| group | s | modules | mostly imported by | our module on that chain |", "|---|---|---|---|---|"]
     md += [f"| {g.group} | {g.self_s:.3f} | {g.modules} | {g.importer} | {g.project_importer or '—'} |"
