@@ -89,7 +89,8 @@ def reference_text(command: str | None) -> str:
     return "reference: " + ", ".join(reference_page(p) for p in pages) if pages else ""
 
 
-def _epilog(examples: Sequence[str], command: str | None) -> str:
+def epilog(examples: Sequence[str], command: str | None) -> str:
+    """The help's closing text: the examples, the reference pages of ``command`` and the exit codes."""
     parts = ["examples:\n" + "\n".join(f"  {e}" for e in examples), reference_text(command), exit_codes_text()]
     return "\n\n".join(p for p in parts if p)
 
@@ -108,7 +109,7 @@ class VersionAction(argparse.Action):
 
 def parser(prog: str, description: str, examples: Sequence[str]) -> argparse.ArgumentParser:
     """An ArgumentParser with ``--version``, the examples, the reference pages and the exit codes in its help."""
-    ap = ArgumentParser(prog=prog, description=description, epilog=_epilog(examples, None),
+    ap = ArgumentParser(prog=prog, description=description, epilog=epilog(examples, None),
                         formatter_class=argparse.RawDescriptionHelpFormatter)  # one-line argument errors, exit 2
     ap.add_argument("--version", action=VersionAction)
     return ap
@@ -119,7 +120,7 @@ def subparser(sub, name: str, help: str, examples: Sequence[str]) -> argparse.Ar
     pages of its keys and the exit codes in its help."""
     command = wrlayer_name(name)
     return sub.add_parser(name, prog=f"wrlayer {command}", help=help, description=help,
-                          epilog=_epilog(examples, command), formatter_class=argparse.RawDescriptionHelpFormatter)
+                          epilog=epilog(examples, command), formatter_class=argparse.RawDescriptionHelpFormatter)
 
 
 def _top_parser() -> argparse.ArgumentParser:

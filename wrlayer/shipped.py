@@ -196,12 +196,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     """``wrlayer example NAME DIR`` / ``wrlayer example --list``."""
     from wrlayer import cli  # here: cli imports this module for the reference pages of its help texts
 
+    usage_examples = ["wrlayer example --list", "wrlayer example hertz_check work",
+                 "wrlayer example wear/s1002_60e1 work", "wrlayer example config/test_coarse work"]
     ap = cli.parser("wrlayer example", "copy a shipped scene or configuration (with the layer tables it names) into "
-                    "a folder, to run or edit it", ["wrlayer example --list",
-                                                    "wrlayer example hertz_check work",
-                                                    "wrlayer example wear/s1002_60e1 work",
-                                                    "wrlayer example config/test_coarse work"])
-    ap.epilog = ap.epilog.replace("reference: docs/README.md", cli.reference_text("example"))
+                    "a folder, to run or edit it", usage_examples)
+    ap.epilog = cli.epilog(usage_examples, "example")
     ap.add_argument("name", nargs="?", help="shipped scene (e.g. hertz_check) or config/NAME (see --list)")
     ap.add_argument("folder", nargs="?", help="folder to copy into (created; nothing in it is overwritten)")
     ap.add_argument("--list", action="store_true", help="list the shipped scenes and configurations")
