@@ -46,6 +46,7 @@ def test_source_tree_version_is_pyprojects_and_the_tag_matches():
     text = (REPO / "pyproject.toml").read_text(encoding="utf-8")
     stated = text.split('\nversion = "', 1)[1].split('"', 1)[0]
     assert version.package_version() == stated
+    assert version.software_versions()["wrlayer"] == stated          # what calibration tables record
     assert f"## {stated} - " in (REPO / "CHANGELOG.md").read_text(encoding="utf-8")
 
 

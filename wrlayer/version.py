@@ -71,12 +71,16 @@ RECORDED_PACKAGES = ("numpy", "scipy", "scikit-fem", "gmsh", "wrlayer")
 
 
 def software_versions(packages: tuple[str, ...] = RECORDED_PACKAGES) -> dict[str, str]:
-    """{"python": version, package: installed version or "not installed"} for the result files."""
+    """{"python": version, package: installed version or "not installed"} for the result files (wrlayer's own
+    as :func:`package_version` gives it)."""
     import platform  # here, with importlib.metadata: only calibration tables record these
     from importlib import metadata
 
     out = {"python": platform.python_version()}
     for pkg in packages:
+        if pkg == "wrlayer":
+            out[pkg] = package_version()
+            continue
         try:
             out[pkg] = metadata.version(pkg)
         except metadata.PackageNotFoundError:
