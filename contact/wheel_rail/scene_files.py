@@ -7,34 +7,22 @@ Every reader raises :class:`wrlayer.errors.InputError` naming ``what`` (``<file>
 from __future__ import annotations
 
 import hashlib
-import os
 from pathlib import Path
 
 from meshes.profiles import Profile, get_profile
 from wrlayer.errors import InputError
+from wrlayer.input_files import REFERENCE_PREFIX, reference_dir, resolve_reference
 
 #: Profile file suffixes a scene may name (anything else is a standard profile name).
 PROFILE_SUFFIXES = (".prr", ".prw", ".txt", ".csv")
 
 
-def reference_dir() -> Path:
-    """The shared reference folder: ``$WRLAYER_REFERENCE`` or ``<repo>/../shared/reference``."""
-    env = os.environ.get("WRLAYER_REFERENCE")
-    return Path(env) if env else Path(__file__).resolve().parents[2].parent / "shared" / "reference"
-
-
-def resolve_path(name: str, base: Path, what: str | None = None) -> Path:
-    """A file named in a scene: ``reference:REL`` is REL inside :func:`reference_dir`, anything else is relative to
-    the scene file's folder ``base``. With ``what``, a missing reference file is an InputError naming both places
-    the reference folder is looked for (an installed package has no sibling folder)."""
-    if name.startswith("reference:"):
-        path = reference_dir() / name[len("reference:"):]
-        if what is not None and not path.exists():
-            where = ("$WRLAYER_REFERENCE = " + os.environ["WRLAYER_REFERENCE"] if "WRLAYER_REFERENCE" in os.environ
-                     else f"{reference_dir()} (beside the repository; set $WRLAYER_REFERENCE to the reference "
-                          "folder elsewhere)")
-            raise InputError(what, f"{name!r}: not found in the reference folder {where}")
-        return path
+def resolve_path(name: str, base: Path, what: str) -> Path:
+    """A file named in a scene: ``reference:REL`` is REL in the shared reference folder
+    (:func:`wrlayer.input_files.resolve_reference`: ``$WRLAYER_REFERENCE``, else beside the repository; a missing
+    file is an InputError naming both), anything else is relative to the scene file's folder ``base``."""
+    if name.startswith(REFERENCE_PREFIX):
+        return resolve_reference(name, what)
     return base / name
 
 
