@@ -175,7 +175,8 @@ def separation_figure(run):
     for a in axes:
         outside_legend(a)
         a.grid(alpha=0.3)
-    fig.suptitle(f"{run.scene.title}: separation, residual displacements, peak pressure", fontsize=10)
+    shown = "separation, residual displacements, peak pressure" if run.residual_mm else "separation, peak pressure"
+    fig.suptitle(f"{run.scene.title}: {shown}", fontsize=10)
     return fig
 
 

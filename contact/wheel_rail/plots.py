@@ -221,8 +221,9 @@ def _sweep_axis(result: dict[str, Any]) -> tuple[str, str]:
 def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
     """Six panels over the cases, one quantity each, one colour per wheel, one marker per patch of a case:
     contact position on the rail (mm), contact angle (°), normal force (kN), p_max (MPa), creep forces F_x and F_y
-    of the rail on the wheel in the contact frame (kN), and the wheel's Y/Q (track frame)."""
-    fig, axes = plt.subplots(3, 2, figsize=(10, 9.5), sharex=True)
+    of the rail on the wheel in the contact frame (kN), and the wheel's Y/Q (track frame). One legend below the
+    panels (wheel colours, F_x / F_y markers), none over the points."""
+    fig, axes = plt.subplots(3, 2, figsize=(10, 10), sharex=True, constrained_layout=True)
     (a_pos, a_ang), (a_n, a_p), (a_f, a_yq) = axes
     key, xlabel = _sweep_axis(result)
     x_of = (lambda k, c: c["lateral_mm"]) if key == "lateral_mm" else (lambda k, c: k + 1)
@@ -250,8 +251,11 @@ def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
         for xf in failed:
             ax.axvline(xf, color="r", lw=0.8, ls=":")
         ax.grid(alpha=0.3)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7)
+    handles = [Line2D([], [], color=SIDE_COLOURS.get(side, "k"), marker="o", ms=4, ls="none") for side in sides]
+    handles += [Line2D([], [], color="0.3", marker="o", ms=4, ls="none"),
+                Line2D([], [], color="0.3", marker="s", mfc="none", ms=4, ls="none")]
+    fig.legend(handles, [f"{side} wheel" for side in sides] + ["creep force F_x", "creep force F_y"],
+               loc="outside lower center", ncol=len(handles), fontsize=8)
     a_pos.set_ylabel("contact position on the rail\ny_rail (mm, field side +)")
     a_ang.set_ylabel("contact angle γ (°)")
     a_n.set_ylabel("normal force N (kN)")
@@ -261,7 +265,6 @@ def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
     for ax in axes[-1]:
         ax.set_xlabel(xlabel)
     fig.suptitle(sweep_title(result, bool(failed)), fontsize=9)
-    fig.tight_layout()
     save_figure(fig, path)
     return path
 
