@@ -41,3 +41,24 @@ def test_residual_displacements_colour_bar_and_limits():
                                                                                          + RESIDUAL_MARGIN_MM)
     assert hi - lo < 15.0                                                # not the whole profile (100 mm)
     plt.close(fig)
+
+
+def test_sweep_has_one_legend_below_the_panels(monkeypatch, tmp_path):
+    from contact.wheel_rail import plots
+
+    kept = []
+    monkeypatch.setattr(plots, "save_figure", lambda fig, path: kept.append(fig))
+    patch = {"y_rail_mm": -1.0, "contact_angle_rad": 0.01, "normal_force_N": 1e4, "p_max_MPa": 900.0,
+             "Fx_N": 100.0, "Fy_N": -50.0}
+    cases = [{"lateral_mm": lat, "wheels": {side: {"patches": [patch], "Y_over_Q": 0.1} for side in ("right", "left")}}
+             for lat in (0.0, 1.0, 2.0)]
+    plots._sweep_plot({"inputs": {"title": "t"}, "cases": cases}, tmp_path / "s.png")
+    (fig,) = kept
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    assert all(ax.get_legend() is None for ax in fig.axes)
+    (legend,) = fig.legends
+    assert [t.get_text() for t in legend.get_texts()] == ["left wheel", "right wheel", "creep force F_x",
+                                                          "creep force F_y"]
+    assert legend.get_window_extent(renderer).y1 <= min(ax.get_window_extent(renderer).y0 for ax in fig.axes)
+    plt.close(fig)
