@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from calibration.config import profile_of
-from wrlayer.plotting import save_figure
+from wrlayer.plotting import outside_legend, save_figure
 
 
 def plot_characteristics(table, path: Path) -> Path:
@@ -76,7 +76,7 @@ def parameters_figure(table):
     a2.set_ylabel("T_0i [MPa]")
     for ax in (a1, a2):
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+        outside_legend(ax, fontsize=7)
     fig.suptitle(f"{table.body} ({table.profile_name}): Prandtl element parameters along the profile", fontsize=10)
     return fig
 

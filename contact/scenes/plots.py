@@ -28,7 +28,7 @@ from matplotlib.patches import Ellipse, Rectangle
 from matplotlib.ticker import MaxNLocator
 
 from contact.tangential.fastsim import sample_on_grid
-from wrlayer.plotting import save_figure
+from wrlayer.plotting import outside_legend, save_figure
 
 _SLIP = ListedColormap(["#ffffff", "#9a9a9a"])  # adhesion white, slip grey
 
@@ -134,11 +134,6 @@ def plot_patch(snapshot, path: Path, title: str, hertz: tuple[float, float] | No
     ax.legend(loc="upper right", fontsize=8, frameon=False)
     save_figure(fig, path)
     return path
-
-
-def outside_legend(ax) -> None:
-    """The axes' legend right of it (upper left corner beside the axes' top right): never over the curves."""
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8)
 
 
 def separation_figure(run):
