@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from calibration.config import profile_of
-from wrlayer.plotting import save_figure
+from wrlayer.plotting import outside_legend, save_figure
 
 
 def plot_characteristics(table, path: Path) -> Path:
@@ -42,8 +42,19 @@ def plot_characteristics(table, path: Path) -> Path:
     return save_figure(fig, path)
 
 
-def plot_parameters(table, path: Path) -> Path:
-    """k_i (N/mm^3) and T_0i (MPa) along the profile coordinate."""
+#: Line style and marker of segment i (cycled): neighbouring k_i or T_0i that nearly coincide stay distinguishable.
+SEGMENT_STYLES = (("-", "o"), ("--", "s"), ("-.", "^"), (":", "D"), ((0, (5, 1, 1, 1)), "v"), ((0, (1, 1)), "P"))
+
+
+def segment_style(i: int) -> dict:
+    """Matplotlib line keywords of segment i (0-based): its own line style and marker (open markers)."""
+    ls, marker = SEGMENT_STYLES[i % len(SEGMENT_STYLES)]
+    return {"ls": ls, "marker": marker, "ms": 5, "mfc": "none", "lw": 1.2}
+
+
+def parameters_figure(table):
+    """The figure of :func:`plot_parameters` (returned open, for tests): k_i (log scale) and T_0i along y, each
+    segment with its own colour, line style and marker; the legends right of the panels."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -52,22 +63,27 @@ def plot_parameters(table, path: Path) -> Path:
     y = table.y_mm
     pars = [ch.to_parameters() for ch in table.characteristics]
     n = max(p.n_segments for p in pars)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 3.6))
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 3.8), constrained_layout=True)
     for i in range(n):
-        a1.semilogy(y, [p.k_N_per_mm3[i] if i < p.n_segments else np.nan for p in pars], "o-", ms=3,
-                    label=f"k_{i + 1}")
+        a1.semilogy(y, [p.k_N_per_mm3[i] if i < p.n_segments else np.nan for p in pars], color=f"C{i}",
+                    label=f"k_{i + 1}", **segment_style(i))
         if i < n - 1:
-            a2.plot(y, [p.T0_MPa[i] if i < p.n_segments - 1 else np.nan for p in pars], "o-", ms=3,
-                    label=f"T_0{i + 1}")
+            a2.plot(y, [p.T0_MPa[i] if i < p.n_segments - 1 else np.nan for p in pars], color=f"C{i}",
+                    label=f"T_0{i + 1}", **segment_style(i))
     a1.set_xlabel("y [mm]")
     a1.set_ylabel("k_i [N/mm³]")
     a2.set_xlabel("y [mm]")
     a2.set_ylabel("T_0i [MPa]")
-    a1.legend(fontsize=7)
-    a2.legend(fontsize=7)
+    for ax in (a1, a2):
+        ax.grid(alpha=0.3)
+        outside_legend(ax, fontsize=7)
     fig.suptitle(f"{table.body} ({table.profile_name}): Prandtl element parameters along the profile", fontsize=10)
-    fig.tight_layout()
-    return save_figure(fig, path)
+    return fig
+
+
+def plot_parameters(table, path: Path) -> Path:
+    """k_i (N/mm^3) and T_0i (MPa) along the profile coordinate (:func:`parameters_figure`)."""
+    return save_figure(parameters_figure(table), path)
 
 
 def plot_profile_positions(profile, table, path: Path, failed_y=()) -> Path:

@@ -9,8 +9,9 @@
 written; the folder is built beside DIR and replaces it as a whole (:func:`wrlayer.atomic_write.replace_output_dir`:
 a lock refuses a second run into the same DIR, files of an earlier run never survive beside the new ones). A run
 whose estimated cost exceeds the limit is refused up front unless ``--force`` (:mod:`contact.scenes.cost`).
-``simulate-all`` runs every ``*.toml`` of the folder into ``OUT/<scene-stem>/``, then prints a table like the
-paper's Table 1 and writes it to ``OUT/table.md`` and ``OUT/table.csv``; a failing scene is reported in one line,
+``simulate-all`` runs every ``*.toml`` of the folder into ``OUT/<scene-stem>/``, then writes a table like the
+paper's Table 1 to ``OUT/table.md`` and ``OUT/table.csv`` and prints a summary that fits 100 columns (one short
+table per scene kind, :func:`contact.scenes.result_table.summary_text`); a failing scene is reported in one line,
 the others still run, and the exit code is non-zero if any failed.
 
 Exit codes: 0 success; 1 some scenes of ``simulate-all`` failed (each reported in one line); 2 bad input (scene,
@@ -135,7 +136,7 @@ def _simulate_all(args: argparse.Namespace) -> int:
 
 
 def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
-    from contact.scenes.result_table import results_table
+    from contact.scenes.result_table import results_table, summary_text
 
     results: dict[str, dict[str, Any]] = {}
     failed = []
@@ -158,7 +159,7 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
         atomic_write_text(out / "table.md", markdown)
         atomic_write_text(out / "table.csv", csv)
         print()
-        print(markdown)
+        print(summary_text(results, out), flush=True)
     if failed:
         print(f"error: {len(failed)} of {len(scenes)} scenes failed: {', '.join(failed)}", file=sys.stderr)
         return 1

@@ -2,7 +2,8 @@
 
 - :func:`plot_section`: the triangles with the named boundaries coloured, and a close-up of the load point.
 - :func:`plot_local`: the boundary facets of the 3D mesh coloured by boundary name with element edges, an
-  overview and a close-up of the load region (the x = 0 symmetry face shows the refinement in depth).
+  overview with x, y, z axes ticked in mm and a close-up of the load region with scale bars (lateral and in depth,
+  mm; the x = 0 symmetry face shows the refinement in depth); an x-y-z orientation triad in both.
 PNG files are written atomically.
 """
 
@@ -71,6 +72,15 @@ def _boundary_polydata(mesh: skfem.Mesh):
     return poly, names
 
 
+def _scale_bar(plotter, pyvista, a: np.ndarray, b: np.ndarray, label: str) -> None:
+    """A white scale bar from a to b (mm) with ticks at its ends and a boxed label at its middle."""
+    plotter.add_mesh(pyvista.Line(a, b), color="white", line_width=6, render_lines_as_tubes=True)
+    plotter.add_mesh(pyvista.PolyData(np.vstack([a, b])), color="white", point_size=14,
+                     render_points_as_spheres=True)
+    plotter.add_point_labels(np.array([0.5 * (a + b)]), [label], font_size=16, text_color="black",
+                             shape_color="white", shape_opacity=0.85, always_visible=True, show_points=False)
+
+
 def plot_local(mesh: skfem.Mesh, profile, y0: float, path: str | os.PathLike, title: str = "",
                zoom_mm: float = 10.0) -> Path:
     """PNG of a 3D local mesh: overview and close-up (+-``zoom_mm``) of the load point (0, y0, z(y0))."""
@@ -84,6 +94,8 @@ def plot_local(mesh: skfem.Mesh, profile, y0: float, path: str | os.PathLike, ti
     load = np.array([0.0, y0, float(profile.z(y0))])
     view = np.array([-1.0, 0.7, 0.8 if profile.body == "rail" else -0.8])
     plotter = pyvista.Plotter(off_screen=True, shape=(1, 2), window_size=(1600, 800), border=False)
+    inward = np.array([0.0, 0.0, -1.0 if profile.body == "rail" else 1.0])  # from the surface into the material
+    half = 0.5 * zoom_mm
     for col in (0, 1):
         plotter.subplot(0, col)
         plotter.add_mesh(poly, scalars="boundary", cmap=cmap, clim=(-0.5, len(names) - 0.5), show_edges=True,
@@ -91,11 +103,20 @@ def plot_local(mesh: skfem.Mesh, profile, y0: float, path: str | os.PathLike, ti
         plotter.add_mesh(pyvista.PolyData(load[None, :]), color="black", point_size=12,
                          render_points_as_spheres=True)
         plotter.view_vector(view, viewup=(0.0, 0.0, 1.0))
-        if col == 0:
+        plotter.add_axes(xlabel="x", ylabel="y", zlabel="z", line_width=2, viewport=(0.0, 0.0, 0.14, 0.14))
+        if col == 0:  # axes with tick labels in mm around the whole mesh
+            plotter.show_bounds(xtitle="x (mm)", ytitle="y (mm)", ztitle="z (mm)", location="outer",
+                                ticks="outside", font_size=12, color="black", fmt="%.0f", use_3d_text=False)
             plotter.reset_camera()
+            plotter.camera.zoom(0.85)  # room for the axis titles
             plotter.add_text(title or f"{profile.name}: {mesh.nvertices} nodes, {mesh.nelements} tetrahedra",
                              font_size=10)
         else:
+            # scale bars of zoom_mm / 2 from the load point, lateral and into the depth, drawn just in front of
+            # the x = 0 face (towards the camera) so that the mesh does not hide them
+            front = np.array([-0.02 * zoom_mm, 0.0, 0.0]) - 0.01 * zoom_mm * inward
+            _scale_bar(plotter, pyvista, load + front, load + front + [0.0, half, 0.0], f"{half:g} mm (y)")
+            _scale_bar(plotter, pyvista, load + front, load + front + half * inward, f"{half:g} mm (depth)")
             plotter.camera.focal_point = load
             plotter.camera.position = load + 3.0 * zoom_mm * view / np.linalg.norm(view)
             plotter.add_text("load region (x = 0 is the symmetry plane)", font_size=10)

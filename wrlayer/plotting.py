@@ -1,4 +1,5 @@
-"""Common settings of every picture the project writes (matplotlib): one resolution, unit labels, atomic saving."""
+"""Common settings of every picture the project writes (matplotlib): one resolution, unit labels, legends beside
+the axes, atomic saving."""
 
 from __future__ import annotations
 
@@ -10,6 +11,12 @@ from pathlib import Path
 DPI = 150
 #: Micrometre label (the micro sign, not "um").
 MICRO_M = "µm"
+
+
+def outside_legend(ax, fontsize: float = 8):
+    """The axes' legend right of it, its upper left corner beside the axes' top right: never over the curves
+    (leave room for it: a wider figure with ``constrained_layout=True``). Returns the legend."""
+    return ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=fontsize)
 
 
 def save_figure(fig, path: str | os.PathLike) -> Path:
@@ -25,4 +32,4 @@ def save_figure(fig, path: str | os.PathLike) -> Path:
     return atomic_write_bytes(Path(path), buf.getvalue())
 
 
-__all__ = ["DPI", "MICRO_M", "save_figure"]
+__all__ = ["DPI", "MICRO_M", "outside_legend", "save_figure"]

@@ -2,12 +2,15 @@
 
 - ``patch_pass<N>.png``: the patch(es) of pass N on the square grid (x rolling direction, y lateral), pressure
   contours (MPa), slip cells grey and adhesion cells white (like the paper's Figs. 6–8), a 1 x 1 mm box for scale
-  and the rolling-direction arrow. Written for the first and the last pass.
+  and the rolling-direction arrow; with a Hertz ``[reference]`` (``source`` starting with "Hertz", ``length_mm``
+  and ``width_mm`` given) the Hertz ellipse's outline centred on the reference point. Written for the first and
+  the last pass.
 - ``separation.png``: the separation f(y) before the first and after the last pass, the residual displacements of
-  each layer (cumulative), and the peak pressure p(0, y) of the first and last pass against the elastic limit p_2.
+  each layer (cumulative), and the peak pressure p(0, y) of the first and last pass against the elastic limit p_2;
+  the legends right of the panels, never over the curves.
 - ``shakedown.png``: area, p_max and approach delta against the pass number (scenes with more than one pass).
-- ``exact_pressure_pass<N>.png``: with ``method.normal = "exact"``, the pressure on the exact solver's grid and
-  p(x) (and the layer displacement) on the line of the largest pressure.
+- ``exact_pressure_pass<N>.png``: with ``method.normal = "exact"``, the pressure on the exact solver's grid (with
+  the Hertz ellipse as above) and p(x) (and the layer displacement) on the line of the largest pressure.
 Units: mm, MPa.
 """
 
@@ -21,11 +24,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import ListedColormap
-from matplotlib.patches import Rectangle
+from matplotlib.patches import Ellipse, Rectangle
 from matplotlib.ticker import MaxNLocator
 
 from contact.tangential.fastsim import sample_on_grid
-from wrlayer.plotting import save_figure
+from wrlayer.plotting import outside_legend, save_figure
 
 _SLIP = ListedColormap(["#ffffff", "#9a9a9a"])  # adhesion white, slip grey
 
@@ -41,11 +44,33 @@ def _elastic_limit(run) -> float | None:
 
 
 def _p2_label(p2: float) -> str:
-    return f"elastic limit p$_2$ = {p2:.0f} MPa (at the contact point)"
+    return f"elastic limit p$_2$ = {p2:.0f} MPa\n(at the contact point)"
 
 
-def plot_patch(snapshot, path: Path, title: str) -> Path:
-    """The patches of one pass on their grid: pressure contours, slip cells grey, scale box, rolling arrow."""
+def hertz_semi_axes(scene) -> tuple[float, float] | None:
+    """Semi-axes (a along x, b along y; mm) of the Hertz ellipse the scene compares with: its ``[reference]`` when
+    ``source`` names Hertz ("Hertz ..." in any case) and gives ``length_mm`` = 2a and ``width_mm`` = 2b; else None
+    (a published Kik–Piotrowski patch, like the paper's Table 1, is not an ellipse)."""
+    ref = scene.reference
+    if not str(ref.get("source", "")).strip().lower().startswith("hertz"):
+        return None
+    if ref.get("length_mm") is None or ref.get("width_mm") is None:
+        return None
+    return 0.5 * float(ref["length_mm"]), 0.5 * float(ref["width_mm"])
+
+
+def draw_hertz_ellipse(ax, semi_axes: tuple[float, float] | None, centre_mm: tuple[float, float]) -> None:
+    """The Hertz ellipse's outline (red dashed, labelled with its size) centred on ``centre_mm`` (x, y; mm)."""
+    if semi_axes is None:
+        return
+    a, b = semi_axes
+    ax.add_patch(Ellipse(centre_mm, 2.0 * a, 2.0 * b, fill=False, ls="--", lw=1.3, color="tab:red",
+                         label=f"Hertz ellipse (reference): 2a = {2 * a:.2f} mm, 2b = {2 * b:.2f} mm"))
+
+
+def plot_patch(snapshot, path: Path, title: str, hertz: tuple[float, float] | None = None) -> Path:
+    """The patches of one pass on their grid: pressure contours, slip cells grey, scale box, rolling arrow, and
+    the Hertz ellipse of semi-axes ``hertz`` (a, b; mm) centred on the reference point when given."""
     sol = snapshot.solution
     h = sol.patches[0].grid_mm
     x_max = max(p.x_lead_mm.max() for p in sol.patches)
@@ -105,35 +130,34 @@ def plot_patch(snapshot, path: Path, title: str) -> Path:
     ax.set_title(f"{title}\n{info}\n{legend}", fontsize=9)
     if contour is not None:
         fig.colorbar(contour, ax=ax, label="pressure contour p [MPa]", shrink=0.7, pad=0.01, format="%.0f")
+    draw_hertz_ellipse(ax, hertz, (0.0, snapshot.y_ref_mm[0]))
     ax.legend(loc="upper right", fontsize=8, frameon=False)
     save_figure(fig, path)
     return path
 
 
-def plot_separation(run, path: Path) -> Path:
-    """Separation before/after the passes, cumulative residual displacement per layer, peak pressure p(0, y)."""
+def separation_figure(run):
+    """The figure of :func:`plot_separation` (returned open, for tests): three panels over y, legends outside."""
     y = run.strip_y_mm
     on = (run.first.solution.p_peak_MPa > 0) | (run.last.solution.p_peak_MPa > 0)
     lo, hi = y[on].min(), y[on].max()
     pad = max(1.0, 0.5 * (hi - lo))
     view = (y >= lo - pad) & (y <= hi + pad)
     rows = 3 if run.residual_mm else 2
-    fig, axes = plt.subplots(rows, 1, figsize=(8.5, 2.9 * rows), sharex=True, constrained_layout=True)
+    fig, axes = plt.subplots(rows, 1, figsize=(11.0, 2.9 * rows), sharex=True, constrained_layout=True)
     ax = axes[0]
     ax.plot(y[view], run.separation_before_mm[view] * 1e3, label="before the first pass")
     if run.residual_mm:
         ax.plot(y[view], run.separation_after_mm[view] * 1e3, "--", label=f"after pass {len(run.history)}")
     ax.axhline(run.first.solution.delta0_mm * 1e3, color="C0", lw=0.7, ls=":",
-               label=f"virtual penetration delta$_0$ pass 1 = {run.first.solution.delta0_mm * 1e3:.1f} µm")
+               label=f"virtual penetration delta$_0$\npass 1 = {run.first.solution.delta0_mm * 1e3:.1f} µm")
     ax.set_ylabel("separation f [µm]")
     ax.set_ylim(0, max(3.0 * run.first.solution.delta0_mm * 1e3, 1e-3))
-    ax.legend(fontsize=8)
     if run.residual_mm:
         ax = axes[1]
         for name, up in run.residual_mm.items():
             ax.plot(y[view], np.asarray(up)[view] * 1e3, label=f"{name} layer")
-        ax.legend(fontsize=8)
-        ax.set_ylabel(f"residual u$_p$ after pass {len(run.history)} [µm]")
+        ax.set_ylabel(f"residual u$_p$\nafter pass {len(run.history)} [µm]")
     ax = axes[-1]
     ax.plot(y[view], run.first.solution.p_peak_MPa[view], label="pass 1")
     if len(run.history) > 1:
@@ -143,11 +167,17 @@ def plot_separation(run, path: Path) -> Path:
         ax.axhline(p2, color="r", lw=0.8, ls=":", label=_p2_label(p2))
     ax.set_ylabel("peak pressure p(0, y) [MPa]")
     ax.set_xlabel("y (lateral) [mm]")
-    ax.legend(fontsize=8)
     for a in axes:
+        outside_legend(a)
         a.grid(alpha=0.3)
-    fig.suptitle(f"{run.scene.title}: separation, residual displacements, peak pressure", fontsize=10)
-    save_figure(fig, path)
+    shown = "separation, residual displacements, peak pressure" if run.residual_mm else "separation, peak pressure"
+    fig.suptitle(f"{run.scene.title}: {shown}", fontsize=10)
+    return fig
+
+
+def plot_separation(run, path: Path) -> Path:
+    """Separation before/after the passes, cumulative residual displacement per layer, peak pressure p(0, y)."""
+    save_figure(separation_figure(run), path)
     return path
 
 
@@ -178,10 +208,11 @@ def plot_shakedown(run, path: Path) -> Path:
     return path
 
 
-def plot_exact_field(snapshot, path: Path, title: str) -> Path:
+def plot_exact_field(snapshot, path: Path, title: str, hertz: tuple[float, float] | None = None) -> Path:
     """The exact normal solver's pressure on its own grid (method.normal = "exact"): the cell pressures (colour),
-    the refined contact ends of every line, and p along x on the line of the largest pressure (its asymmetry
-    shows the rolling mode's unloading behind the peak)."""
+    the refined contact ends of every line, the Hertz ellipse of semi-axes ``hertz`` (a, b; mm) when given, and p
+    along x on the line of the largest pressure (its asymmetry shows the rolling mode's unloading behind the
+    peak)."""
     sol = snapshot.solution
     fld = sol.field
     xe = np.append(fld.x_mm - 0.5 * fld.dx_mm, fld.x_mm[-1] + 0.5 * fld.dx_mm)
@@ -194,6 +225,7 @@ def plot_exact_field(snapshot, path: Path, title: str) -> Path:
     ok = np.isfinite(fld.x_extent_mm[:, 0])
     ax.plot(fld.x_extent_mm[ok, 0], fld.y_mm[ok], "k.", ms=2, label="refined contact ends (trailing / leading)")
     ax.plot(fld.x_extent_mm[ok, 1], fld.y_mm[ok], "k.", ms=2)
+    draw_hertz_ellipse(ax, hertz, (0.0, snapshot.y_ref_mm[0]))
     ax.set_xlim(xe[0], xe[-1])
     ax.set_ylim(ye[0], ye[-1])
     ax.set_aspect("equal")
@@ -225,13 +257,14 @@ def write_scene_plots(run, out_dir: str | Path) -> list[Path]:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     title = run.scene.title
-    paths = [plot_patch(run.first, out / f"patch_pass{run.first.number}.png", f"{title}: pass {run.first.number}")]
-    if run.last.number != run.first.number:
-        paths.append(plot_patch(run.last, out / f"patch_pass{run.last.number}.png", f"{title}: pass {run.last.number}"))
-    for snap in ([run.first] if run.last.number == run.first.number else [run.first, run.last]):
+    hertz = hertz_semi_axes(run.scene)
+    snaps = [run.first] if run.last.number == run.first.number else [run.first, run.last]
+    paths = [plot_patch(snap, out / f"patch_pass{snap.number}.png", f"{title}: pass {snap.number}", hertz)
+             for snap in snaps]
+    for snap in snaps:
         if getattr(snap.solution, "field", None) is not None:
             paths.append(plot_exact_field(snap, out / f"exact_pressure_pass{snap.number}.png",
-                                          f"{title}: pass {snap.number}"))
+                                          f"{title}: pass {snap.number}", hertz))
     paths.append(plot_separation(run, out / "separation.png"))
     if len(run.history) > 1:
         paths.append(plot_shakedown(run, out / "shakedown.png"))

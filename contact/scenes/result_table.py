@@ -1,16 +1,23 @@
-"""A table like the paper's Table 1 from several scene results (markdown and CSV).
+"""Tables of several scene results: the full table like the paper's Table 1 (``table.md``, ``table.csv``) and a
+short console summary (:func:`summary_text`, at most :data:`SUMMARY_WIDTH` columns).
 
-Rows: patch length, width, area, approach delta, F_x, F_y, p_max, W_T max, P_T max (Table 1), then the layer
-displacement u(0) at the reference point under load and the residual u_p(0) the pass left there (reported in the
-paper's text for the first pass). Columns: one per scene (its
-last pass); scenes with several passes also get their first pass; scenes with a ``[reference]`` (published values)
-get a column with those beside.
+Full table, rows: patch length, width, area, approach delta, F_x, F_y, p_max, W_T max, P_T max (Table 1), then the
+layer displacement u(0) at the reference point under load and the residual u_p(0) the pass left there (reported in
+the paper's text for the first pass). Columns: one per scene (its last pass); scenes with several passes also get
+their first pass; scenes with a ``[reference]`` (published values) get a column with those beside. The markdown
+file adds a section with the key numbers of every wheel–rail scene (:func:`wheel_rail_rows`); the CSV holds the
+Table 1 rows only.
+
+Console summary: one short table per scene kind, one row per scene: contact scenes (last pass; a scene's
+``[reference]`` values on an indented row below it) and wheel–rail scenes (cases, failures, largest values over
+the cases); the last line names the files holding the full table.
 """
 
 from __future__ import annotations
 
 import csv
 import io
+from pathlib import Path
 from typing import Any
 
 #: (label, unit, result key, scale, decimals)
@@ -54,16 +61,111 @@ def _cell(values: dict[str, Any], key: str, scale: float, decimals: int) -> str:
     return f"{value * scale:.{decimals}f}"
 
 
+def _markdown(header: list[str], rows: list[list[str]]) -> list[str]:
+    return ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)] + ["| " + " | ".join(r) + " |" for r in rows]
+
+
 def results_table(results: dict[str, dict[str, Any]]) -> tuple[str, str]:
-    """The markdown and CSV texts of the table (quantities in rows, scenes in columns)."""
+    """The markdown and CSV texts of the full table (quantities in rows, scenes in columns); the markdown adds the
+    wheel–rail scenes' key numbers (:func:`wheel_rail_rows`) when there are any."""
     columns = table_columns(results)
     header = ["quantity", "unit"] + [title for title, _ in columns]
     rows = [[label, unit] + [_cell(values, key, scale, dec) for _, values in columns]
             for label, unit, key, scale, dec in ROWS]
-    md = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    md += ["| " + " | ".join(row) + " |" for row in rows]
+    md = _markdown(header, rows)
+    wheel_rail = wheel_rail_rows(results)
+    if wheel_rail:
+        md += ["", "Wheel–rail scenes (largest absolute values over the cases and wheels):", ""]
+        md += _markdown(WHEEL_RAIL_HEADER, wheel_rail)
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(header)
     writer.writerows(rows)
     return "\n".join(md) + "\n", buf.getvalue()
+
+
+# ------------------------------------------------------------------------------------------- console summary
+#: Widest line of :func:`summary_text` (terminal columns).
+SUMMARY_WIDTH = 100
+#: Widest scene name in the summary (longer names are cut, ending in "…").
+NAME_WIDTH = 28
+#: Columns of the contact-scene summary: (short label, result key; unit, scale and decimals from :data:`ROWS`).
+SUMMARY_COLUMNS = (("area", "area_mm2"), ("delta", "delta_mm"), ("p_max", "p_max_MPa"), ("F_x", "Fx_N"),
+                   ("F_y", "Fy_N"), ("u(0)", "u0_mm"))
+#: Columns of the wheel–rail rows (console summary and table.md).
+WHEEL_RAIL_HEADER = ["scene", "normal method", "cases", "failed", "patches", "N max kN", "p_max MPa", "Y/Q max"]
+
+
+def _name(text: str) -> str:
+    return text if len(text) <= NAME_WIDTH else text[:NAME_WIDTH - 1] + "…"
+
+
+def contact_rows(results: dict[str, dict[str, Any]]) -> tuple[list[str], list[list[str]]]:
+    """Header and rows of the contact scenes' summary: per scene its last pass, then its ``[reference]`` values
+    (if any of the summary's) on an indented row."""
+    spec = {key: (unit, scale, dec) for _, unit, key, scale, dec in ROWS}
+    header = ["scene", "passes"] + [f"{label} {spec[key][0]}" for label, key in SUMMARY_COLUMNS]
+
+    def cells(values: dict[str, Any]) -> list[str]:
+        return [_cell(values, key, *spec[key][1:]) for _, key in SUMMARY_COLUMNS]
+
+    rows = []
+    for name, result in results.items():
+        passes = result.get("passes")
+        if not passes:
+            continue
+        rows.append([_name(name), str(len(passes))] + cells(passes[-1]))
+        reference = (result.get("inputs") or {}).get("reference") or {}
+        if any(key in reference for _, key in SUMMARY_COLUMNS):
+            count = f"{reference['passes']:g}" if reference.get("passes") is not None else "-"
+            rows.append([_name("  " + str(reference.get("source", "reference"))), count] + cells(reference))
+    return header, rows
+
+
+def _largest(values, fmt: str) -> str:
+    """The largest absolute value formatted, "-" when there is none."""
+    values = [abs(v) for v in values if v is not None]
+    return format(max(values), fmt) if values else "-"
+
+
+def wheel_rail_rows(results: dict[str, dict[str, Any]]) -> list[list[str]]:
+    """One row per wheel–rail scene (:data:`WHEEL_RAIL_HEADER`): normal method, cases, failed cases, loaded
+    patches, and the largest normal force (kN), p_max (MPa) and |Y/Q| over its cases and wheels."""
+    rows = []
+    for name, result in results.items():
+        if result.get("type") != "wheel_rail":
+            continue
+        cases = result.get("cases") or []
+        wheels = [w for c in cases for w in (c.get("wheels") or {}).values()]
+        patches = [p for w in wheels for p in w.get("patches", [])]
+        failed = sum(1 for c in cases if c.get("error") is not None)
+        method = ((result.get("inputs") or {}).get("method") or {}).get("normal", "-")
+        rows.append([_name(name), method, str(len(cases)), str(failed), str(len(patches)),
+                     _largest([p.get("normal_force_N", 0.0) / 1e3 for p in patches], ".1f"),
+                     _largest([p.get("p_max_MPa") for p in patches], ".0f"),
+                     _largest([w.get("Y_over_Q") for w in wheels], ".2f")])
+    return rows
+
+
+def _aligned(header: list[str], rows: list[list[str]]) -> list[str]:
+    """Plain-text columns: the first left-aligned, the others right-aligned, two spaces between."""
+    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
+    return ["  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths))).rstrip()
+            for r in [header, *rows]]
+
+
+def summary_text(results: dict[str, dict[str, Any]], out_dir: str | Path) -> str:
+    """The console summary of a batch: one table per scene kind (at most :data:`SUMMARY_WIDTH` columns), then
+    where the full table and the per-scene results are (one path a line, indented)."""
+    out = Path(out_dir)
+    parts = []
+    header, rows = contact_rows(results)
+    if rows:
+        parts += ["contact scenes: last pass (indented: the scene's [reference])", *_aligned(header, rows), ""]
+    wheel_rail = wheel_rail_rows(results)
+    if wheel_rail:
+        parts += ["wheel–rail scenes: largest absolute values over the cases and wheels",
+                  *_aligned(WHEEL_RAIL_HEADER, wheel_rail), ""]
+    parts += ["full table (every pass, all quantities, references) and each scene's result:",
+              f"  {out / 'table.md'}", f"  {out / 'table.csv'}", f"  {out / '<scene>' / 'result.json'}"]
+    return "\n".join(parts)

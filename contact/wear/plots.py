@@ -1,5 +1,6 @@
 """Pictures of a wear run (units mm, km): profile evolution (overlay, zoomed on the changed part), wear and
-inelastic depth along the profile per step, rolling-radius difference against distance."""
+inelastic depth along the profile per step (zoomed on the same part: :func:`changed_range`), rolling-radius
+difference against distance."""
 
 from __future__ import annotations
 
@@ -15,8 +16,29 @@ from contact.wear.records import WearRun
 from wrlayer.plotting import MICRO_M, save_figure
 
 
+#: The pictures show the part of a profile where some step changed it by more than this fraction of that step's
+#: largest change (wear + inelastic depth), widened by CHANGED_MARGIN_MM on each side.
+CHANGED_FRACTION = 0.02
+CHANGED_MARGIN_MM = 3.0
+
+
 def _keys(run: WearRun) -> list[tuple[str, str]]:
     return [(s, b) for s in run.initial_profiles for b in ("wheel", "rail")]
+
+
+def changed_range(run: WearRun, side: str, body: str) -> tuple[float, float] | None:
+    """(lo, hi) in mm of the profile coordinate y where some step's wear + inelastic depth exceeds
+    :data:`CHANGED_FRACTION` of that step's largest, widened by :data:`CHANGED_MARGIN_MM`; None if nothing changed."""
+    changed = []
+    for rec in run.steps:
+        bs = rec.bodies[side, body]
+        tot = bs.wear_mm + bs.inelastic_mm
+        if np.any(tot > 0):
+            changed.append(bs.grid.y_mm[tot > CHANGED_FRACTION * tot.max()])
+    if not changed:
+        return None
+    y = np.concatenate(changed)
+    return float(y.min()) - CHANGED_MARGIN_MM, float(y.max()) + CHANGED_MARGIN_MM
 
 
 def plot_profiles(run: WearRun, path: Path) -> Path:
@@ -28,13 +50,7 @@ def plot_profiles(run: WearRun, path: Path) -> Path:
     for col, (s, b) in enumerate(keys):
         ax, ax2 = axes[0][col], axes[1][col]
         first = run.initial_profiles[s][b]
-        changed = np.zeros(0)
-        for rec in run.steps:
-            bs = rec.bodies[s, b]
-            tot = bs.wear_mm + bs.inelastic_mm
-            if np.any(tot > 0):
-                changed = np.concatenate([changed, bs.grid.y_mm[tot > 0.02 * tot.max()]])
-        lo, hi = (changed.min() - 3, changed.max() + 3) if changed.size else (first.y_min, first.y_max)
+        lo, hi = changed_range(run, s, b) or (first.y_min, first.y_max)
         y = np.linspace(max(lo, first.y_min), min(hi, first.y_max), 400)
         ax.plot(y, first.z(y), "k-", lw=1.2, label="initial")
         for k, rec in enumerate(run.steps):
@@ -60,9 +76,12 @@ def plot_profiles(run: WearRun, path: Path) -> Path:
     return path
 
 
-def plot_depths(run: WearRun, path: Path) -> Path:
+def depths_figure(run: WearRun):
+    """The figure of :func:`plot_depths` (returned open, for tests): one panel per side and body, the abscissa
+    limited to :func:`changed_range` (the whole grid if nothing changed), one legend right of the panels."""
     keys = _keys(run)
-    fig, axes = plt.subplots(1, len(keys), figsize=(4.2 * len(keys), 3.8), squeeze=False)
+    fig, axes = plt.subplots(1, len(keys), figsize=(4.2 * len(keys) + 1.8, 3.8), squeeze=False,
+                             constrained_layout=True)
     cmap = plt.get_cmap("viridis")
     for ax, (s, b) in zip(axes[0], keys):
         for k, rec in enumerate(run.steps):
@@ -72,14 +91,24 @@ def plot_depths(run: WearRun, path: Path) -> Path:
             if np.any(bs.inelastic_mm > 0):
                 ax.plot(bs.grid.y_mm, bs.inelastic_mm * 1e3, color=c, lw=1.0, ls="--",
                         label=f"inelastic, step {rec.index}")
+        span = changed_range(run, s, b)
+        if span is not None:
+            y = run.steps[0].bodies[s, b].grid.y_mm
+            ax.set_xlim(max(span[0], float(y.min())), min(span[1], float(y.max())))
         ax.set_title(f"{s} {b}")
         ax.set_xlabel("y (mm)")
         ax.set_ylabel(f"depth per step ({MICRO_M})")
         ax.grid(alpha=0.3)
-    axes[0][0].legend(fontsize=6)
-    fig.suptitle("wear (solid) and inelastic (dashed) depth along the profile, per step")
-    fig.tight_layout()
-    save_figure(fig, path)
+    fig.legend(*axes[0][0].get_legend_handles_labels(), loc="outside right upper", fontsize=7)
+    fig.suptitle("wear (solid) and inelastic (dashed) depth along the profile, per step; y limited to where a "
+                 f"step changed the profile by > {CHANGED_FRACTION:.0%} of its largest change, ± "
+                 f"{CHANGED_MARGIN_MM:g} mm", fontsize=10)
+    return fig
+
+
+def plot_depths(run: WearRun, path: Path) -> Path:
+    """depth_per_step.png: wear and inelastic depth (µm) along the profile y (mm) per step (:func:`depths_figure`)."""
+    save_figure(depths_figure(run), path)
     return path
 
 
@@ -107,4 +136,5 @@ def write_wear_plots(run: WearRun, out_dir: Path) -> list[Path]:
             plot_conicity(run, out_dir / "rolling_radius_difference.png")]
 
 
-__all__ = ["plot_conicity", "plot_depths", "plot_profiles", "write_wear_plots"]
+__all__ = ["CHANGED_FRACTION", "CHANGED_MARGIN_MM", "changed_range", "depths_figure", "plot_conicity",
+           "plot_depths", "plot_profiles", "write_wear_plots"]

@@ -1,8 +1,11 @@
-"""Pictures of a wheel_rail scene (matplotlib, Agg): the profiles in contact with contact points and patches, and
-the sweep (contact position, p_max, forces against the lateral displacement). Units mm, N, MPa."""
+"""Pictures of a wheel_rail scene (matplotlib, Agg): the profiles in contact with contact points and patches, the
+sweep (contact position, p_max, forces against the lateral displacement; the title names the scene file and its
+solvers) and the residual displacements (one curve per case coloured by its lateral displacement, colour bar).
+Units mm, N, MPa."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -11,7 +14,11 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.cm import ScalarMappable
+from matplotlib.colors import Normalize
+from matplotlib.lines import Line2D
 
+from contact.normal.exact import DEFAULT_CELLS
 from contact.wheel_rail.deformed import residual_on_profiles
 from contact.wheel_rail.solution import WheelRailSolution
 from contact.wheel_rail.track_geometry import wheel_locus, wheel_sample_y
@@ -87,37 +94,120 @@ def write_wheel_rail_plots(result: dict[str, Any], solutions: list[dict[str, Whe
     return paths
 
 
-def _residual_plot(result: dict[str, Any], solutions: list, path: Path) -> Path | None:
-    """Residual displacement u_p (mm, into the body) against the profile coordinate, rail and wheel, per case."""
-    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
-    cmap = plt.get_cmap("viridis")
-    drawn = False
-    n = max(len(solutions) - 1, 1)
+#: residual_displacements.png shows y where some curve of a panel exceeds this fraction of the panel's largest
+#: residual displacement, widened by RESIDUAL_MARGIN_MM on each side.
+RESIDUAL_FRACTION = 0.01
+RESIDUAL_MARGIN_MM = 3.0
+#: Line style of each wheel in residual_displacements.png (the colour is the case's sweep value).
+SIDE_STYLES = {"right": "-", "left": "--"}
+
+
+@dataclass(frozen=True)
+class ResidualCurve:
+    """One curve of residual_displacements.png: a body's residual displacement after the passes of one case.
+
+    Attributes
+    ----------
+    body : str
+        "rail" or "wheel".
+    side : str
+        "right" or "left" wheel.
+    value : float
+        The case's sweep abscissa (lateral displacement in mm, or the case number; :func:`_sweep_axis`).
+    y_mm : numpy.ndarray
+        Profile coordinate, ascending (mm, field side +).
+    up_um : numpy.ndarray
+        Residual displacement into the body (µm).
+    """
+
+    body: str
+    side: str
+    value: float
+    y_mm: np.ndarray
+    up_um: np.ndarray
+
+
+def residual_curves(result: dict[str, Any], solutions: list) -> list[ResidualCurve]:
+    """The non-zero residual displacements of every computed case, wheel and body."""
+    key, _ = _sweep_axis(result)
+    curves = []
     for k, sols in enumerate(solutions):
-        if not sols:
-            continue
-        for side, sol in sols.items():
-            for ax, body in zip(axes, ("rail", "wheel")):
-                res = residual_on_profiles(sol.patches).get(body)
+        for side, sol in (sols or {}).items():
+            for body, res in residual_on_profiles(sol.patches).items():
                 if res is None or not np.any(res[1] > 1e-9):
                     continue
                 order = np.argsort(res[0])
-                ax.plot(res[0][order], res[1][order] * 1e3, "-" if side == "right" else "--", color=cmap(k / n),
-                        lw=1, label=f"{result['cases'][k]['lateral_mm']:g} mm, {side}")
-                drawn = True
-    if not drawn:
-        plt.close(fig)
-        return None
+                value = result["cases"][k]["lateral_mm"] if key == "lateral_mm" else k + 1
+                curves.append(ResidualCurve(body, side, float(value), res[0][order], res[1][order] * 1e3))
+    return curves
+
+
+def residual_span(curves: list[ResidualCurve]) -> tuple[float, float]:
+    """(lo, hi) in mm: where some curve exceeds :data:`RESIDUAL_FRACTION` of the largest, ± RESIDUAL_MARGIN_MM."""
+    peak = max(float(c.up_um.max()) for c in curves)
+    y = np.concatenate([c.y_mm[c.up_um > RESIDUAL_FRACTION * peak] for c in curves])
+    return float(y.min()) - RESIDUAL_MARGIN_MM, float(y.max()) + RESIDUAL_MARGIN_MM
+
+
+def residual_figure(curves: list[ResidualCurve], value_label: str):
+    """rail and wheel panels: one curve per case and wheel, coloured by the case's sweep value (colour bar), line
+    style by wheel (legend of the styles only), y limited to :func:`residual_span`. Returned open (for tests)."""
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.0), constrained_layout=True)
+    values = [c.value for c in curves]
+    norm = Normalize(min(values), max(values) if max(values) > min(values) else min(values) + 1.0)
+    cmap = plt.get_cmap("viridis")
     for ax, body in zip(axes, ("rail", "wheel")):
+        mine = [c for c in curves if c.body == body]
+        for c in mine:
+            ax.plot(c.y_mm, c.up_um, SIDE_STYLES.get(c.side, ":"), color=cmap(norm(c.value)), lw=1)
+        if mine:
+            ax.set_xlim(*residual_span(mine))
+        sides = sorted({c.side for c in mine}, key=lambda side: list(SIDE_STYLES).index(side)
+                       if side in SIDE_STYLES else len(SIDE_STYLES))
+        if sides:
+            ax.legend([Line2D([], [], color="0.3", ls=SIDE_STYLES.get(side, ":")) for side in sides],
+                      [f"{side} wheel" for side in sides], fontsize=8, loc="upper right")
         ax.set_xlabel(f"{body} profile coordinate y (mm, field side +)")
         ax.set_ylabel("residual displacement u_p (µm, into the body)")
         ax.set_title(f"{body}: residual displacement after the passes", fontsize=9)
         ax.grid(alpha=0.3)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=6, ncol=2)
-    fig.tight_layout()
-    save_figure(fig, path)
+    fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=axes, label=value_label, pad=0.01)
+    return fig
+
+
+def _residual_plot(result: dict[str, Any], solutions: list, path: Path) -> Path | None:
+    """residual_displacements.png (:func:`residual_figure`); None when no case left a residual displacement."""
+    curves = residual_curves(result, solutions)
+    if not curves:
+        return None
+    save_figure(residual_figure(curves, _sweep_axis(result)[1]), path)
     return path
+
+
+def method_label(method: dict[str, Any], layered: bool = True) -> str:
+    """The solvers of a result's ``inputs.method`` in words: normal method (with its options; the exact solver's
+    layer mode only when ``layered``), tangential method when recorded, reported contact point."""
+    if method.get("normal") == "exact":
+        cells = DEFAULT_CELLS if method.get("exact_cells") is None else method["exact_cells"]
+        mode = f", {method.get('layer_mode', 'indentation')} layer" if layered else ""
+        normal = f"exact half-space solver ({cells} cells along x{mode})"
+    else:
+        normal = f"Kik–Piotrowski (α = {method.get('alpha', 0.55):g}, strips {method.get('grid_mm', 0.1):g} mm)"
+    words = [f"normal: {normal}"]
+    if method.get("tangential"):
+        words.append(f"tangential: {method['tangential']}")
+    if method.get("contact_point"):
+        words.append(f"contact point: {method['contact_point'].replace('_', ' ')}")
+    return "; ".join(words)
+
+
+def sweep_title(result: dict[str, Any], failed: bool = False) -> str:
+    """Title of sweep.png: the scene's title, its file name and its solvers (:func:`method_label`), what is drawn."""
+    inputs = result.get("inputs", {})
+    name = Path(inputs["scene_file"]).name if inputs.get("scene_file") else "scene"
+    note = "one marker per loaded patch" + ("; red dotted lines: failed cases" if failed else "")
+    label = method_label(inputs.get("method", {}), layered=bool(inputs.get("layers")))
+    return f"{inputs.get('title', '')}\n{name} — {label}\n{note}"
 
 
 def _sweep_axis(result: dict[str, Any]) -> tuple[str, str]:
@@ -131,8 +221,9 @@ def _sweep_axis(result: dict[str, Any]) -> tuple[str, str]:
 def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
     """Six panels over the cases, one quantity each, one colour per wheel, one marker per patch of a case:
     contact position on the rail (mm), contact angle (°), normal force (kN), p_max (MPa), creep forces F_x and F_y
-    of the rail on the wheel in the contact frame (kN), and the wheel's Y/Q (track frame)."""
-    fig, axes = plt.subplots(3, 2, figsize=(10, 9.5), sharex=True)
+    of the rail on the wheel in the contact frame (kN), and the wheel's Y/Q (track frame). One legend below the
+    panels (wheel colours, F_x / F_y markers), none over the points."""
+    fig, axes = plt.subplots(3, 2, figsize=(10, 10), sharex=True, constrained_layout=True)
     (a_pos, a_ang), (a_n, a_p), (a_f, a_yq) = axes
     key, xlabel = _sweep_axis(result)
     x_of = (lambda k, c: c["lateral_mm"]) if key == "lateral_mm" else (lambda k, c: k + 1)
@@ -160,8 +251,11 @@ def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
         for xf in failed:
             ax.axvline(xf, color="r", lw=0.8, ls=":")
         ax.grid(alpha=0.3)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7)
+    handles = [Line2D([], [], color=SIDE_COLOURS.get(side, "k"), marker="o", ms=4, ls="none") for side in sides]
+    handles += [Line2D([], [], color="0.3", marker="o", ms=4, ls="none"),
+                Line2D([], [], color="0.3", marker="s", mfc="none", ms=4, ls="none")]
+    fig.legend(handles, [f"{side} wheel" for side in sides] + ["creep force F_x", "creep force F_y"],
+               loc="outside lower center", ncol=len(handles), fontsize=8)
     a_pos.set_ylabel("contact position on the rail\ny_rail (mm, field side +)")
     a_ang.set_ylabel("contact angle γ (°)")
     a_n.set_ylabel("normal force N (kN)")
@@ -170,11 +264,10 @@ def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
     a_yq.set_ylabel("Y/Q of the wheel (track frame)")
     for ax in axes[-1]:
         ax.set_xlabel(xlabel)
-    note = "one marker per loaded patch; red dotted lines: failed cases" if failed else "one marker per loaded patch"
-    fig.suptitle(f"{result['inputs'].get('title', '')}\n{note}", fontsize=9)
-    fig.tight_layout()
+    fig.suptitle(sweep_title(result, bool(failed)), fontsize=9)
     save_figure(fig, path)
     return path
 
 
-__all__ = ["write_wheel_rail_plots"]
+__all__ = ["ResidualCurve", "method_label", "residual_curves", "residual_figure", "residual_span", "sweep_title",
+           "write_wheel_rail_plots"]

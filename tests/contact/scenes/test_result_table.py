@@ -1,0 +1,59 @@
+"""The console summary of ``simulate-all`` (fits 100 columns, one short table per scene kind) and the full table in
+table.md / table.csv."""
+
+import csv
+import io
+from pathlib import Path
+
+from contact.scenes.result_table import SUMMARY_WIDTH, results_table, summary_text, wheel_rail_rows
+
+
+def contact_result(p_max, passes=1, reference=None):
+    one = {"length_mm": 10.0, "width_mm": 5.0, "area_mm2": 40.0, "delta_mm": 0.08, "Fx_N": -1234.0,
+           "Fy_N": 0.0, "p_max_MPa": p_max, "WT_max": 1.0, "PT_max_W_per_mm2": 0.5, "u0_mm": 0.01, "up0_mm": 0.0}
+    return {"passes": [dict(one, pass_=k + 1) for k in range(passes)], "inputs": {"reference": reference or {}}}
+
+
+def wheel_rail_result(normal="kik_piotrowski"):
+    patch = {"normal_force_N": 12_345.0, "p_max_MPa": 1500.0}
+    wheels = {"right": {"patches": [patch, dict(patch, normal_force_N=2000.0)], "Y_over_Q": -1.25},
+              "left": {"patches": [dict(patch, p_max_MPa=600.0)], "Y_over_Q": 0.3}}
+    return {"type": "wheel_rail", "inputs": {"method": {"normal": normal}},
+            "cases": [{"wheels": wheels}, {"error": "table does not cover the contact location"}]}
+
+
+def results():
+    return {"hertz_check": contact_result(1659.0, reference={"source": "Hertz", "p_max_MPa": 1818.5}),
+            "paper_shakedown": contact_result(1194.0, passes=20,
+                                              reference={"source": "paper Table 1", "passes": 19.0,
+                                                         "p_max_MPa": 1190.0}),
+            "a_scene_with_a_very_long_file_name_indeed": contact_result(900.0),
+            "sweep": wheel_rail_result(), "sweep_exact": wheel_rail_result("exact")}
+
+
+def test_summary_fits_the_terminal_and_points_to_the_full_table():
+    out = Path("out") / "simulate"
+    lines = summary_text(results(), out).splitlines()
+    assert max(len(line) for line in lines) <= SUMMARY_WIDTH == 100
+    assert lines[-3:] == [f"  {out / 'table.md'}", f"  {out / 'table.csv'}", f"  {out / '<scene>' / 'result.json'}"]
+    # one row per scene, its reference indented below it
+    row = next(k for k, line in enumerate(lines) if line.startswith("paper_shakedown "))
+    assert lines[row].split()[1:2] == ["20"] and "1194" in lines[row].split()
+    assert lines[row + 1].startswith("  paper Table 1") and "1190" in lines[row + 1].split()
+    assert any(line.startswith("a_scene_with_a_very_long_fi…") for line in lines)
+    # wheel-rail scenes: their own table, largest absolute values, failed cases counted
+    sweep = next(line for line in lines if line.startswith("sweep "))
+    assert sweep.split() == ["sweep", "kik_piotrowski", "2", "1", "3", "12.3", "1500", "1.25"]
+    assert next(line for line in lines if line.startswith("sweep_exact")).split()[1] == "exact"
+
+
+def test_full_table_keeps_every_column_and_adds_the_wheel_rail_rows():
+    md, text = results_table(results())
+    rows = list(csv.reader(io.StringIO(text)))
+    assert rows[0] == ["quantity", "unit", "hertz_check", "hertz_check: Hertz", "paper_shakedown (pass 1)",
+                       "paper_shakedown (pass 20)", "paper_shakedown: paper Table 1",
+                       "a_scene_with_a_very_long_file_name_indeed"]
+    assert all("sweep" not in cell for cell in rows[0])                  # the CSV holds the Table 1 rows only
+    assert md.splitlines()[0] == "| " + " | ".join(rows[0]) + " |"
+    assert "| sweep | kik_piotrowski | 2 | 1 | 3 | 12.3 | 1500 | 1.25 |" in md
+    assert wheel_rail_rows({"x": contact_result(1.0)}) == []
