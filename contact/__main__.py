@@ -182,7 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
     one.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     one.add_argument("--no-vtk", action="store_true", help="do not write the VTK fields for ParaView (vtk/)")
     one.set_defaults(func=_simulate)
-    many = cli.subparser(sub, "simulate-all", "run every *.toml in a folder and print a Table 1",
+    many = cli.subparser(sub, "simulate-all", "run every *.toml in a folder and print a summary (full table in OUT/table.md)",
                          ["wrlayer simulate-all scenes --out out/simulate --plots"])
     many.add_argument("scenes_dir", help="folder of scene TOML files")
     many.add_argument("--out", required=True, help="output folder (one subfolder per scene, table.md, table.csv)")
