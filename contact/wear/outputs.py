@@ -150,6 +150,7 @@ def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any
             "usfd": {b: vars(t) for b, t in sc.law.usfd.items()}, "density_kg_m3": sc.law.density_kg_m3,
             "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": st.to_dict(),
             "conditions": [vars(c) for c in col.conditions],
+            "collective_source": {"file": col.source_file, "sha256": col.source_sha256} if col.source_file else None,
             "passes_cap": sc.wheel_rail.passes.max,
             "layers": None if sc.wheel_rail.solver_layers is None else dict(sc.wheel_rail.solver_layers.names),
             "scene_toml": sc.data},
