@@ -27,7 +27,7 @@ interval's distance (from ``time_s``: interval x speed); ``weight_by = "time"`` 
 
 Merging (the documented rule): each sample falls into a cell of a regular grid on (lateral_mm, yaw_rad,
 curvature_1_per_m) with the cell widths :data:`BIN_WIDTHS` centred on zero; while more than ``max_conditions`` cells
-are occupied, all widths are doubled. Each occupied cell becomes one condition: the weight is the sum of its
+are occupied, all widths grow by the factor :data:`GROWTH` (1.25). Each occupied cell becomes one condition: the weight is the sum of its
 samples' weights, every other column the weighted mean of its samples'. Conditions are ordered by cell (lateral,
 then yaw, then curvature).
 """
@@ -49,6 +49,8 @@ OPTIONAL_COLUMNS = ("curvature_1_per_m", "longitudinal_creepage")
 COLUMNS = KEY_COLUMNS + REQUIRED_COLUMNS + OPTIONAL_COLUMNS
 #: Starting cell widths of the merging grid: lateral (mm), yaw (rad), curvature (1/m).
 BIN_WIDTHS = (0.25, 0.5e-3, 0.1e-3)
+#: Factor by which all cell widths grow while too many cells are occupied.
+GROWTH = 1.25
 WEIGHT_BY = ("distance", "time")
 #: Largest number of samples read from one export.
 MAX_SAMPLES = 1_000_000
@@ -134,7 +136,7 @@ def merge_cells(values: dict[str, np.ndarray], weights: np.ndarray, max_conditio
         unique, inverse = np.unique(cells, axis=0, return_inverse=True)
         if len(unique) <= max_conditions:
             break
-        widths = 2.0 * widths
+        widths = GROWTH * widths
     inverse = inverse.ravel()
     out = []
     for k in range(len(unique)):
