@@ -5,8 +5,8 @@ Three forms (exactly one):
 
 - ``[[collective.condition]]`` tables: lateral_mm (0), yaw_rad (0), vertical_load_N and speed_mm_s (the scene's
   ``[load]``), weight, label, pitch_rate_rad_s (traction/braking; default the scene's), vertical_load_right_N /
-  vertical_load_left_N (per wheel; default vertical_load_N) and a steady curve: curve_radius_m (signed, positive to
-  the left), cant_mm or cant_deficiency_mm, cg_height_mm (:class:`contact.wear.curving.CurveSpec`);
+  vertical_load_left_N (per wheel; default vertical_load_N) and a steady curve: curvature_1_per_m (signed, positive
+  to the left), cant_mm or cant_deficiency_mm, cg_height_mm (:class:`contact.wear.curving.CurveSpec`);
 - a sweep: lateral_mm (list or {start, stop, step}), yaw_rad (one number or a list of the same length), weights (a
   list of the same length, or "uniform");
 - ``csv = "export.csv"`` with weight_by ("distance" | "time") and max_conditions (20): a multibody code's export
@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from contact.scenes.scene import SceneKeys
-from contact.wear.collective import MAX_CONDITIONS, Condition
+from contact.wear.collective import MAX_CONDITIONS, MAX_CURVATURE_1_PER_M, Condition
 from contact.wear.curving import CurveSpec
 from contact.wear.mbs_collective import MbsCollective, read_mbs_collective
 from contact.wheel_rail.scene import WheelRailScene
@@ -29,9 +29,9 @@ from wrlayer.csv_input import CsvTable
 from wrlayer.errors import InputError
 
 CONDITION_KEYS = ("lateral_mm", "yaw_rad", "vertical_load_N", "speed_mm_s", "weight", "label", "pitch_rate_rad_s",
-                  "vertical_load_right_N", "vertical_load_left_N", "curve_radius_m", "cant_mm", "cant_deficiency_mm",
+                  "vertical_load_right_N", "vertical_load_left_N", "curvature_1_per_m", "cant_mm", "cant_deficiency_mm",
                   "cg_height_mm")
-CURVE_KEYS = ("curve_radius_m", "cant_mm", "cant_deficiency_mm", "cg_height_mm")
+CURVE_KEYS = ("cant_mm", "cant_deficiency_mm", "cg_height_mm")
 
 
 def parse_collective(col: SceneKeys, wheel_rail: WheelRailScene, base: Path
@@ -41,11 +41,10 @@ def parse_collective(col: SceneKeys, wheel_rail: WheelRailScene, base: Path
         col.check_known(("csv", "weight_by", "max_conditions"))
         try:
             spec = MbsCollective(col.text("csv"), col.text("weight_by", "distance"),
-                                 col.integer("max_conditions", 20, ge=1, le=MAX_CONDITIONS),
-                                 wheel_rail.wheel.nominal_radius_mm)
+                                 col.integer("max_conditions", 20, ge=1, le=MAX_CONDITIONS))
         except InputError as err:
             raise InputError(f"{col.file}: {err.what}", err.problem) from None
-        return read_mbs_collective(spec, base, f"{col.what('csv')} ({spec.csv})")
+        return read_mbs_collective(spec, base, f"{col.what('csv')} ({spec.csv})", wheel_rail.wheel.nominal_radius_mm)
     if "condition" in col.table:
         return _tables(col, wheel_rail), None
     return _sweep(col, wheel_rail), None
@@ -53,20 +52,21 @@ def parse_collective(col: SceneKeys, wheel_rail: WheelRailScene, base: Path
 
 def _curve(keys: SceneKeys, wheel_rail: WheelRailScene, load: float, speed: float) -> dict:
     """The Condition fields of a curve table (curvature, per-side loads); {} on straight track."""
-    if "curve_radius_m" not in keys.table:
+    kappa = keys.number("curvature_1_per_m", 0.0, ge=-MAX_CURVATURE_1_PER_M, le=MAX_CURVATURE_1_PER_M)
+    if kappa == 0.0:
         present = [k for k in CURVE_KEYS if k in keys.table]
         if present:
-            raise keys.error(present[0], "needs curve_radius_m (a curve's cant, cant deficiency and centre of gravity)")
+            raise keys.error(present[0], "needs a curve (curvature_1_per_m != 0)")
         return {}
     try:
-        curve = CurveSpec(keys.number("curve_radius_m"),
-                          keys.number("cant_mm") if "cant_mm" in keys.table else None,
+        curve = CurveSpec(keys.number("cant_mm") if "cant_mm" in keys.table else None,
                           keys.number("cant_deficiency_mm") if "cant_deficiency_mm" in keys.table else None,
                           keys.number("cg_height_mm", 0.0))
-        right, left = curve.side_loads(load, speed, wheel_rail.layout.gauge_mm, wheel_rail.layout.taping_line_mm)
+        right, left = curve.side_loads(kappa, load, speed, wheel_rail.layout.gauge_mm,
+                                       wheel_rail.layout.taping_line_mm)
     except InputError as err:
         raise keys.error(err.what, err.problem) from None
-    out = {"curvature_1_per_m": curve.curvature_1_per_m}
+    out = {"curvature_1_per_m": kappa}
     if curve.cg_height_mm > 0:
         side_given = [k for k in ("vertical_load_right_N", "vertical_load_left_N") if k in keys.table]
         if side_given:

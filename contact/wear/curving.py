@@ -4,11 +4,11 @@ Model (quasi-static curving of one wheelset, Iwnicki (ed.), Handbook of Railway 
 Wickens, Fundamentals of Rail Vehicle Dynamics, 2003, ch. 7; cant and unbalanced acceleration after Esveld, Modern
 Railway Track, 2001, ch. 2 and EN 13803):
 
-- The curve has the signed radius R (``curve_radius_m``, positive for a curve to the LEFT, so that the right rail is
-  the outer, high rail; negative for a curve to the right) and the curvature kappa = 1 / R.
+- The curve has the signed curvature kappa = 1 / R (``curvature_1_per_m`` of the condition, positive for a curve to
+  the LEFT, so that the right rail is the outer, high rail; negative for a curve to the right).
 - Unbalanced lateral acceleration in the track plane, towards the outer rail::
 
-      a_u = V^2 / |R| - g h_t / s0          (cant h_t, ``cant_mm``)
+      a_u = V^2 |kappa| - g h_t / s0        (cant h_t, ``cant_mm``)
       a_u = g I / s0                        (cant deficiency I, ``cant_deficiency_mm``)
 
   with g = 9810 mm/s^2 and s0 = gauge + 65 mm the distance of the rail-head centres (1500 mm for 1435 mm gauge,
@@ -42,29 +42,23 @@ HEAD_CENTRES_OVER_GAUGE_MM = 65.0
 
 @dataclass(frozen=True)
 class CurveSpec:
-    """The curve of a ``[[collective.condition]]`` table.
+    """The cant and load transfer of a curved ``[[collective.condition]]`` (one with ``curvature_1_per_m`` != 0).
 
     Attributes
     ----------
-    curve_radius_m : float
-        Signed curve radius R (m): positive for a curve to the left (right rail outer, high), negative to the right.
     cant_mm : float or None
-        Cant (superelevation) h_t of the outer rail (mm); None: given as ``cant_deficiency_mm`` (default cant 0).
+        Cant (superelevation) h_t of the outer rail (mm); None: 0, or the curve is given by ``cant_deficiency_mm``.
     cant_deficiency_mm : float or None
         Cant deficiency I (mm), instead of ``cant_mm``: a_u = g I / s0.
     cg_height_mm : float
         Height h of the vehicle's centre of gravity above the rail tops (mm) for the load transfer; 0: none.
     """
 
-    curve_radius_m: float
     cant_mm: float | None = None
     cant_deficiency_mm: float | None = None
     cg_height_mm: float = 0.0
 
     def __post_init__(self):
-        if not (math.isfinite(self.curve_radius_m) and abs(self.curve_radius_m) >= 50.0):
-            raise InputError("curve_radius_m", f"must be a radius of at least 50 m in magnitude (positive: curve to "
-                             f"the left), got {self.curve_radius_m!r}")
         if self.cant_mm is not None and self.cant_deficiency_mm is not None:
             raise InputError("cant_deficiency_mm", "give cant_mm or cant_deficiency_mm, not both")
         for key in ("cant_mm", "cant_deficiency_mm"):
@@ -74,28 +68,25 @@ class CurveSpec:
         if not (math.isfinite(self.cg_height_mm) and 0.0 <= self.cg_height_mm <= 5000.0):
             raise InputError("cg_height_mm", f"must lie in [0, 5000] mm, got {self.cg_height_mm!r}")
 
-    @property
-    def curvature_1_per_m(self) -> float:
-        """Signed curvature kappa = 1 / R (1/m)."""
-        return 1.0 / self.curve_radius_m
-
-    def unbalanced_acceleration_mm_s2(self, speed_mm_s: float, gauge_mm: float) -> float:
+    def unbalanced_acceleration_mm_s2(self, curvature_1_per_m: float, speed_mm_s: float, gauge_mm: float) -> float:
         """a_u (mm/s^2) towards the outer rail (negative: cant excess), see the module docstring."""
         s0 = gauge_mm + HEAD_CENTRES_OVER_GAUGE_MM
         if self.cant_deficiency_mm is not None:
             return G_MM_S2 * self.cant_deficiency_mm / s0
         cant = 0.0 if self.cant_mm is None else self.cant_mm
-        return speed_mm_s ** 2 / (abs(self.curve_radius_m) * 1e3) - G_MM_S2 * cant / s0
+        return speed_mm_s ** 2 * abs(curvature_1_per_m) * 1e-3 - G_MM_S2 * cant / s0
 
-    def side_loads(self, load_N: float, speed_mm_s: float, gauge_mm: float, e0_mm: float) -> tuple[float, float]:
+    def side_loads(self, curvature_1_per_m: float, load_N: float, speed_mm_s: float, gauge_mm: float,
+                   e0_mm: float) -> tuple[float, float]:
         """(right, left) vertical wheel loads (N) for the mean wheel load ``load_N``; InputError when the inner
         wheel unloads completely."""
-        shift = self.unbalanced_acceleration_mm_s2(speed_mm_s, gauge_mm) * self.cg_height_mm / (G_MM_S2 * e0_mm)
+        a_u = self.unbalanced_acceleration_mm_s2(curvature_1_per_m, speed_mm_s, gauge_mm)
+        shift = a_u * self.cg_height_mm / (G_MM_S2 * e0_mm)
         if not abs(shift) < 1.0:
             raise InputError("cg_height_mm", f"the load transfer a_u h / (g e0) = {shift:.3g} unloads a wheel "
                              "completely (overturning)")
         outer, inner = load_N * (1.0 + shift), load_N * (1.0 - shift)
-        return (outer, inner) if self.curve_radius_m > 0 else (inner, outer)
+        return (outer, inner) if curvature_1_per_m > 0 else (inner, outer)
 
 
 __all__ = ["CurveSpec", "G_MM_S2", "HEAD_CENTRES_OVER_GAUGE_MM"]

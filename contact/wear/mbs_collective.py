@@ -15,9 +15,9 @@ column                     unit       meaning
 ``vertical_load_right_N``  N          vertical wheel-rail force of the right wheel (> 0)
 ``speed_mm_s``             mm/s       running speed (> 0)
 ``curvature_1_per_m``      1/m        optional: track curvature, positive for a curve to the left; default 0
-``longitudinal_creepage``  \\-         optional: mean longitudinal creepage of the two wheels (traction > 0 means
-                                      the wheel turns faster than it rolls); gives the pitch rate
-                                      omega = V (1 - xi) / r0; default pure rolling
+``longitudinal_creepage``  \\-         optional: mean longitudinal creepage xi of the two wheels (Kalker's sign,
+                                      negative under traction); gives the pitch rate omega = V (1 - xi) / r0;
+                                      default pure rolling
 =========================  =========  ===========================================================================
 
 Weights: sample k stands for the interval between the midpoints to its neighbours (half intervals at the ends).
@@ -26,10 +26,10 @@ interval's distance (from ``time_s``: interval x speed); ``weight_by = "time"`` 
 ``distance_m``: interval / speed). The weights are normalised to sum to one.
 
 Merging (the documented rule): each sample falls into a cell of a regular grid on (lateral_mm, yaw_rad,
-curvature_1_per_m) with the cell widths :data:`BIN_WIDTHS` centred on zero; while more than ``max_conditions`` cells
-are occupied, all widths grow by the factor :data:`GROWTH` (1.25). Each occupied cell becomes one condition: the weight is the sum of its
-samples' weights, every other column the weighted mean of its samples'. Conditions are ordered by cell (lateral,
-then yaw, then curvature).
+curvature_1_per_m) with the cell widths :data:`BIN_WIDTHS` centred on zero; while more than ``max_conditions``
+cells are occupied, all widths grow by the factor :data:`GROWTH` (1.25). Each occupied cell becomes one condition:
+the weight is the sum of its samples' weights, every other column the weighted mean of its samples'. Conditions
+are ordered by cell (lateral, then yaw, then curvature).
 """
 
 from __future__ import annotations
@@ -68,14 +68,11 @@ class MbsCollective:
         ``"distance"`` (default) or ``"time"``: what a sample's weight measures.
     max_conditions : int
         Largest number of merged conditions (default 20).
-    nominal_radius_mm : float
-        Nominal rolling radius r0 (mm) converting ``longitudinal_creepage`` into a pitch rate (the scene's wheel).
     """
 
     csv: str
     weight_by: str = "distance"
     max_conditions: int = 20
-    nominal_radius_mm: float = 460.0
 
     def __post_init__(self):
         if self.weight_by not in WEIGHT_BY:
@@ -147,9 +144,11 @@ def merge_cells(values: dict[str, np.ndarray], weights: np.ndarray, max_conditio
     return out
 
 
-def read_mbs_collective(spec: MbsCollective, base: Path, what: str) -> tuple[list[Condition], CsvTable]:
+def read_mbs_collective(spec: MbsCollective, base: Path, what: str, nominal_radius_mm: float
+                        ) -> tuple[list[Condition], CsvTable]:
     """The merged conditions of the export ``base / spec.csv`` and the table as read (its SHA-256 goes into the
-    result); every problem is an InputError naming ``what`` (the file) and the row."""
+    result); ``nominal_radius_mm``: r0 (mm) converting ``longitudinal_creepage`` into a pitch rate. Every problem
+    is an InputError naming ``what`` (the file) and the row."""
     table = read_numeric_csv(base / spec.csv, COLUMNS, what=what, max_rows=MAX_SAMPLES)
     key_name = _check(table, what)
     values = {c: table.column(c) for c in REQUIRED_COLUMNS}
@@ -160,7 +159,7 @@ def read_mbs_collective(spec: MbsCollective, base: Path, what: str) -> tuple[lis
     for k, (w, m, n) in enumerate(merge_cells(values, weights, spec.max_conditions)):
         load = 0.5 * (m["vertical_load_left_N"] + m["vertical_load_right_N"])
         pitch = None if "longitudinal_creepage" not in table.columns else \
-            m["speed_mm_s"] * (1.0 - m["longitudinal_creepage"]) / spec.nominal_radius_mm
+            m["speed_mm_s"] * (1.0 - m["longitudinal_creepage"]) / nominal_radius_mm
         conditions.append(Condition(m["lateral_mm"], m["yaw_rad"], load, m["speed_mm_s"], w,
                                     f"{Path(spec.csv).name} cell {k} ({n} samples)", pitch,
                                     vertical_load_right_N=m["vertical_load_right_N"],

@@ -59,45 +59,43 @@ def test_pure_rolling_position_and_attack_angle_by_hand():
 def test_unbalanced_acceleration_and_load_transfer_by_hand():
     """V = 100 km/h, R = 1000 m, cant 100 mm, s0 = 1500 mm: a_u = V^2 / R - g h_t / s0 = 771.60 - 654.00 mm/s^2;
     the same curve given by its cant deficiency I = a_u s0 / g; h = 1800 mm, e0 = 750 mm, Q = 60 kN: Q_outer =
-    Q (1 + a_u h / (g e0)); a left curve loads the right wheel, a right curve the left one."""
-    v = 100.0 / 3.6 * 1e3
+    Q (1 + a_u h / (g e0)); a left curve (kappa > 0) loads the right wheel, a right curve the left one."""
+    v, kappa = 100.0 / 3.6 * 1e3, 1e-3
     a_u = v ** 2 / 1e6 - G_MM_S2 * 100.0 / 1500.0
     assert a_u == pytest.approx(117.6049, rel=1e-5)
-    left_curve = CurveSpec(1000.0, cant_mm=100.0, cg_height_mm=1800.0)
-    assert left_curve.unbalanced_acceleration_mm_s2(v, 1435.0) == pytest.approx(a_u, rel=1e-12)
-    deficiency = CurveSpec(1000.0, cant_deficiency_mm=a_u * 1500.0 / G_MM_S2, cg_height_mm=1800.0)
-    assert deficiency.unbalanced_acceleration_mm_s2(1.0, 1435.0) == pytest.approx(a_u, rel=1e-12)
+    curve = CurveSpec(cant_mm=100.0, cg_height_mm=1800.0)
+    assert curve.unbalanced_acceleration_mm_s2(kappa, v, 1435.0) == pytest.approx(a_u, rel=1e-12)
+    deficiency = CurveSpec(cant_deficiency_mm=a_u * 1500.0 / G_MM_S2, cg_height_mm=1800.0)
+    assert deficiency.unbalanced_acceleration_mm_s2(kappa, 1.0, 1435.0) == pytest.approx(a_u, rel=1e-12)
     shift = a_u * 1800.0 / (G_MM_S2 * 750.0)
-    right, left = left_curve.side_loads(60000.0, v, 1435.0, 750.0)
+    right, left = curve.side_loads(kappa, 60000.0, v, 1435.0, 750.0)
     assert (right, left) == pytest.approx((60000.0 * (1 + shift), 60000.0 * (1 - shift)), rel=1e-12)
     assert right + left == pytest.approx(120000.0, rel=1e-12)
-    assert CurveSpec(-1000.0, cant_mm=100.0, cg_height_mm=1800.0).side_loads(60000.0, v, 1435.0, 750.0) == \
-        pytest.approx((left, right), rel=1e-12)
-    assert CurveSpec(1000.0).side_loads(60000.0, v, 1435.0, 750.0) == (60000.0, 60000.0)  # h = 0: no transfer
+    assert curve.side_loads(-kappa, 60000.0, v, 1435.0, 750.0) == pytest.approx((left, right), rel=1e-12)
+    assert CurveSpec().side_loads(kappa, 60000.0, v, 1435.0, 750.0) == (60000.0, 60000.0)  # h = 0: no transfer
 
 
 @pytest.mark.parametrize("spec, match", [
-    (dict(curve_radius_m=20.0), "at least 50 m"),
-    (dict(curve_radius_m=500.0, cant_mm=100.0, cant_deficiency_mm=50.0), "not both"),
-    (dict(curve_radius_m=500.0, cant_mm=400.0), "300 mm"),
-    (dict(curve_radius_m=100.0, cg_height_mm=5000.0), "overturning"),
+    (dict(cant_mm=100.0, cant_deficiency_mm=50.0), "not both"),
+    (dict(cant_mm=400.0), "300 mm"),
+    (dict(cg_height_mm=5000.0), "overturning"),
 ])
 def test_bad_curves_are_input_errors(spec, match):
     with pytest.raises(InputError, match=match):
-        CurveSpec(**spec).side_loads(60000.0, 40000.0, 1435.0, 750.0)
+        CurveSpec(**spec).side_loads(0.01, 60000.0, 40000.0, 1435.0, 750.0)
 
 
 def test_curve_condition_from_a_scene_loads_and_yaw_rate(wear_dict, tmp_path):
     """A [[collective.condition]] with a curve: curvature 1/R, yaw rate -V / R, the outer (right) wheel loaded by
     the transfer; the task of each side gets its own wheel's load (side_inputs)."""
-    curve = {"lateral_mm": 4.0, "yaw_rad": 0.002, "weight": 1.0, "curve_radius_m": 500.0, "cant_mm": 80.0,
+    curve = {"lateral_mm": 4.0, "yaw_rad": 0.002, "weight": 1.0, "curvature_1_per_m": 0.002, "cant_mm": 80.0,
              "cg_height_mm": 1500.0, "speed_mm_s": 20000.0}
     data = wear_dict(wheel={"side": "both"})
     data["collective"] = {"condition": [curve]}
     scene = parse_wear_scene(data, tmp_path / "w.toml")
     (c,) = scene.collective.conditions
-    spec = CurveSpec(500.0, cant_mm=80.0, cg_height_mm=1500.0)
-    right, left = spec.side_loads(40000.0, 20000.0, 1435.0, scene.wheel_rail.layout.taping_line_mm)
+    spec = CurveSpec(cant_mm=80.0, cg_height_mm=1500.0)
+    right, left = spec.side_loads(0.002, 40000.0, 20000.0, 1435.0, scene.wheel_rail.layout.taping_line_mm)
     assert c.curvature_1_per_m == pytest.approx(1 / 500.0) and c.yaw_rate_rad_s == pytest.approx(-20000.0 / 500e3)
     assert (c.vertical_load_right_N, c.vertical_load_left_N) == pytest.approx((right, left)) and right > left
     assert "curve 1/R = 0.002 1/m" in c.describe()
@@ -114,10 +112,11 @@ def test_straight_condition_keeps_its_inputs(make_scene):
 
 
 @pytest.mark.parametrize("row, match", [
-    ({"cant_mm": 50.0}, r"condition\[0\]\.cant_mm: needs curve_radius_m"),
-    ({"curve_radius_m": 10.0}, r"condition\[0\]\.curve_radius_m: must be a radius of at least 50 m"),
-    ({"curve_radius_m": 300.0, "cg_height_mm": 1500.0, "vertical_load_right_N": 5e4}, "not both"),
-    ({"curve_radius_m": 300.0, "bank_mm": 1.0}, "bank_mm"),
+    ({"cant_mm": 50.0}, r"condition\[0\]\.cant_mm: needs a curve"),
+    ({"curvature_1_per_m": 0.05}, r"condition\[0\]\.curvature_1_per_m: "),
+    ({"curvature_1_per_m": 0.003, "cg_height_mm": 1500.0, "vertical_load_right_N": 5e4}, "not both"),
+    ({"curvature_1_per_m": 0.003, "cant_mm": 100.0, "cant_deficiency_mm": 20.0}, r"cant_deficiency_mm: give"),
+    ({"curvature_1_per_m": 0.003, "bank_mm": 1.0}, "bank_mm"),
 ])
 def test_bad_curve_keys_exit_2_with_one_line(row, match, wear_dict, write_scene, tmp_path, capsys):
     path = write_scene(wear_dict(collective=None))

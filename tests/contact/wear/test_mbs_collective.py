@@ -52,7 +52,8 @@ def test_shipped_export_merges_into_at_most_max_conditions():
     right wheel loaded 3 % more) is the heaviest condition: half the distance (15 s of 30 s at constant speed)
     plus the samples of the transition's end in its cell."""
     for n in (1, 3, 6, 20):
-        conds, table = read_mbs_collective(MbsCollective(EXPORT.name, max_conditions=n), EXPORT.parent, "x")
+        conds, table = read_mbs_collective(MbsCollective(EXPORT.name, max_conditions=n), EXPORT.parent, "x",
+                                           460.0)
         assert 1 <= len(conds) <= n and sum(c.weight for c in conds) == pytest.approx(1.0, abs=1e-12)
         assert table.values.shape[0] == 301
     heavy = max(conds, key=lambda c: c.weight)
@@ -66,7 +67,7 @@ def test_longitudinal_creepage_gives_the_pitch_rate(tmp_path):
     """omega = V (1 - xi) / r0: xi = -0.002 (traction) at V = 20000 mm/s, r0 = 460 mm."""
     f = tmp_path / "e.csv"
     f.write_text(f"{HEADER},longitudinal_creepage\n0,0,0,50000,50000,20000,-0.002\n1,0,0,50000,50000,20000,-0.002\n")
-    (c,), _ = read_mbs_collective(MbsCollective(f.name), tmp_path, "e.csv")
+    (c,), _ = read_mbs_collective(MbsCollective(f.name), tmp_path, "e.csv", 460.0)
     assert c.pitch_rate_rad_s == pytest.approx(20000.0 * 1.002 / 460.0)
 
 
