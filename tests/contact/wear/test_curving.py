@@ -126,3 +126,15 @@ def test_bad_curve_keys_exit_2_with_one_line(row, match, wear_dict, write_scene,
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and err.startswith("error: w.toml: collective.condition[0]"), err
     assert re.search(match, err), err
+
+
+def test_per_wheel_loads_on_straight_track(wear_dict, tmp_path):
+    """vertical_load_right_N / vertical_load_left_N of a table reach each side's solver; vertical_load_N stays the
+    mean wheel load of the description."""
+    data = wear_dict(wheel={"side": "both"})
+    data["collective"] = {"condition": [{"lateral_mm": 1.0, "weight": 1.0, "vertical_load_right_N": 45000.0,
+                                         "vertical_load_left_N": 35000.0}]}
+    scene = parse_wear_scene(data, tmp_path / "w.toml")
+    tasks = build_tasks(scene, scene.initial_profiles, 1, 1.0)
+    assert {t.side: side_inputs(t).vertical_load_N for t in tasks} == {"right": 45000.0, "left": 35000.0}
+    assert scene.collective.conditions[0].curvature_1_per_m == 0.0
