@@ -1,8 +1,9 @@
 """Load collective of a wear simulation: running conditions, each with its share of the distance (units mm, N,
 mm/s, rad; distance in km).
 
-A condition is one quasi-static state of the wheelset on straight track: lateral displacement (towards the right
-rail), yaw, vertical load per wheel, speed, and its weight = the share of the running distance spent in it. The
+A condition is one quasi-static state of the wheelset: lateral displacement (towards the right rail), yaw,
+vertical load per wheel (or per side), speed, the track curvature (0 on straight track; a steady curve's terms in
+the creepages, :mod:`contact.wear.curving`), and its weight = the share of the running distance spent in it. The
 weights must sum to one (within 1e-9).
 """
 
@@ -18,6 +19,8 @@ WEIGHT_SUM_TOL = 1e-9
 
 #: Largest number of running conditions of a collective (each is solved on every side in every step).
 MAX_CONDITIONS = 10_000
+#: Largest track curvature (1/m): radius 50 m, below the tightest tramway curves of standard-gauge vehicles.
+MAX_CURVATURE_1_PER_M = 0.02
 
 @dataclass(frozen=True)
 class Condition:
@@ -40,6 +43,13 @@ class Condition:
     pitch_rate_rad_s : float or None
         Angular velocity of the wheelset (rad/s); None = the scene's (default: pure rolling at the nominal radius,
         V / r0). A value different from V / r0 adds a longitudinal creepage (traction or braking).
+    vertical_load_right_N : float or None
+        Vertical load of the right wheel (N); None = ``vertical_load_N``.
+    vertical_load_left_N : float or None
+        Vertical load of the left wheel (N); None = ``vertical_load_N``.
+    curvature_1_per_m : float
+        Track curvature 1/R (1/m), positive for a curve to the left (the right rail is the outer, high rail);
+        0 = straight track. Gives the wheelset's yaw rate -V / R (:mod:`contact.wear.curving`).
     """
 
     lateral_mm: float
@@ -49,10 +59,24 @@ class Condition:
     weight: float
     label: str = ""
     pitch_rate_rad_s: float | None = None
+    vertical_load_right_N: float | None = None
+    vertical_load_left_N: float | None = None
+    curvature_1_per_m: float = 0.0
 
     def describe(self) -> str:
         return (self.label or f"lateral {self.lateral_mm:g} mm, yaw {self.yaw_rad:g} rad, "
-                f"{self.vertical_load_N:g} N, {self.speed_mm_s:g} mm/s")
+                f"{self.vertical_load_N:g} N, {self.speed_mm_s:g} mm/s"
+                + (f", curve 1/R = {self.curvature_1_per_m:g} 1/m" if self.curvature_1_per_m else ""))
+
+    def load_on(self, side: str) -> float:
+        """Vertical load (N) of the ``side`` wheel."""
+        load = self.vertical_load_right_N if side == "right" else self.vertical_load_left_N
+        return self.vertical_load_N if load is None else load
+
+    @property
+    def yaw_rate_rad_s(self) -> float:
+        """The wheelset's yaw rate psi' = -V kappa (rad/s) of a steady curve (0 on straight track)."""
+        return -self.speed_mm_s * self.curvature_1_per_m * 1e-3
 
 
 @dataclass(frozen=True)
@@ -69,12 +93,18 @@ class LoadCollective:
         Nominal number of profile-update steps, ``wear.steps`` (the step control may add some).
     where : str
         The input named in error messages (not a scene key).
+    source_file : str
+        The multibody export the conditions were merged from (``[collective] csv``); empty otherwise.
+    source_sha256 : str
+        SHA-256 of that file's bytes; empty otherwise.
     """
 
     conditions: tuple[Condition, ...]
     distance_km: float
     steps: int
     where: str = "collective"
+    source_file: str = ""
+    source_sha256: str = ""
 
     def __post_init__(self):
         if not self.conditions:
@@ -85,8 +115,14 @@ class LoadCollective:
         for k, c in enumerate(self.conditions):
             if not (math.isfinite(c.weight) and c.weight > 0):
                 raise InputError(f"{self.where}.conditions[{k}].weight", f"must be > 0, got {c.weight!r}")
-            if not (math.isfinite(c.vertical_load_N) and c.vertical_load_N > 0):
-                raise InputError(f"{self.where}.conditions[{k}].vertical_load_N", "must be > 0")
+            for key in ("vertical_load_N", "vertical_load_right_N", "vertical_load_left_N"):
+                q = getattr(c, key)
+                if q is not None and not (math.isfinite(q) and q > 0):
+                    raise InputError(f"{self.where}.conditions[{k}].{key}", f"must be > 0, got {q!r}")
+            if not (math.isfinite(c.curvature_1_per_m) and abs(c.curvature_1_per_m) <= MAX_CURVATURE_1_PER_M):
+                raise InputError(f"{self.where}.conditions[{k}].curvature_1_per_m", "must be finite with |1/R| <= "
+                                 f"{MAX_CURVATURE_1_PER_M:g} 1/m (R >= {1 / MAX_CURVATURE_1_PER_M:g} m), got "
+                                 f"{c.curvature_1_per_m!r}")
             if not (math.isfinite(c.speed_mm_s) and c.speed_mm_s > 0):
                 raise InputError(f"{self.where}.conditions[{k}].speed_mm_s", "must be > 0")
             if not abs(c.yaw_rad) < 0.2:
@@ -104,4 +140,4 @@ class LoadCollective:
         return self.distance_km / self.steps
 
 
-__all__ = ["MAX_CONDITIONS", "WEIGHT_SUM_TOL", "Condition", "LoadCollective"]
+__all__ = ["MAX_CONDITIONS", "MAX_CURVATURE_1_PER_M", "WEIGHT_SUM_TOL", "Condition", "LoadCollective"]

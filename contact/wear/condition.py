@@ -14,6 +14,7 @@ returned is plain arrays, so a task can run in another process or on a Dask work
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 
@@ -97,6 +98,14 @@ class ConditionResult:
     peaks: dict = field(default_factory=dict)
 
 
+def side_inputs(task: ConditionTask) -> WheelRailInputs:
+    """The task's inputs with the condition's values of its side: the vertical load of this wheel
+    (:meth:`Condition.load_on`; a curve loads the outer wheel more) and the wheelset's yaw rate in a curve
+    (:mod:`contact.wear.curving`)."""
+    c = task.condition
+    return dataclasses.replace(task.inputs, vertical_load_N=c.load_on(task.side), yaw_rate_rad_s=c.yaw_rate_rad_s)
+
+
 def solve_condition(task: ConditionTask) -> ConditionResult:
     """Solve the task; a condition without contact or a solver failure is an InputError/ConvergenceError naming
     the step and the condition."""
@@ -104,7 +113,7 @@ def solve_condition(task: ConditionTask) -> ConditionResult:
     where = f"step {task.step}, condition {task.index} ({task.condition.describe()}), {task.side} wheel"
     placed = place_rail(task.rail, task.inputs.layout)
     try:
-        sol = solve_wheel(task.rail, task.wheel, task.inputs, task.layers, placed, case=where)
+        sol = solve_wheel(task.rail, task.wheel, side_inputs(task), task.layers, placed, case=where)
     except InputError as err:
         raise (err if where in err.what else InputError(f"{where}: {err.what}", err.problem)) from None
     except ConvergenceError as err:
@@ -156,4 +165,4 @@ def _result(task: ConditionTask, sol: WheelRailSolution, t0: float) -> Condition
                            time.perf_counter() - t0, sol.merge_mm, peaks)
 
 
-__all__ = ["BODIES", "ConditionResult", "ConditionTask", "solve_condition"]
+__all__ = ["BODIES", "ConditionResult", "ConditionTask", "side_inputs", "solve_condition"]

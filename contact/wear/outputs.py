@@ -37,7 +37,7 @@ UNITS = {"length": "mm", "distance": "km", "force": "N", "stress": "MPa", "speed
          "mass_loss_g_per_m_rail_per_km": "g of rail material per metre of rail per km of wheel running"}
 TABLE_COLUMNS = ("step", "start_km", "length_km", "end_km", "side", "body", "wear_max_mm", "wear_max_y_mm",
                  "worn_area_mm2", "inelastic_max_mm", "inelastic_max_y_mm", "inelastic_area_mm2", "mass_loss",
-                 "mass_loss_unit", "delta_r_mm", "quasi_conicity")
+                 "mass_loss_unit", "delta_r_mm", "quasi_conicity", "equivalent_conicity", "conicity_amplitude_mm")
 
 
 def write_profile_pair(out_dir: Path, stem: str, profile, body: str) -> dict[str, Any]:
@@ -87,7 +87,9 @@ def table_rows(run: WearRun) -> list[dict]:
             rows.append({"step": rec.index, "start_km": rec.start_km, "length_km": rec.length_km,
                          "end_km": rec.end_km, "side": s, "body": b, **{k: st[k] for k in TABLE_COLUMNS if k in st},
                          "mass_loss": mass, "mass_loss_unit": unit, "delta_r_mm": rec.conicity.delta_r_mm,
-                         "quasi_conicity": rec.conicity.quasi_conicity})
+                         "quasi_conicity": rec.conicity.quasi_conicity,
+                         "equivalent_conicity": rec.conicity.equivalent_conicity,
+                         "conicity_amplitude_mm": rec.conicity.amplitude_mm})
     return rows
 
 
@@ -148,6 +150,7 @@ def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any
             "usfd": {b: vars(t) for b, t in sc.law.usfd.items()}, "density_kg_m3": sc.law.density_kg_m3,
             "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": st.to_dict(),
             "conditions": [vars(c) for c in col.conditions],
+            "collective_source": {"file": col.source_file, "sha256": col.source_sha256} if col.source_file else None,
             "passes_cap": sc.wheel_rail.passes.max,
             "layers": None if sc.wheel_rail.solver_layers is None else dict(sc.wheel_rail.solver_layers.names),
             "scene_toml": sc.data},

@@ -112,6 +112,18 @@ def plot_depths(run: WearRun, path: Path) -> Path:
     return path
 
 
+def draw_equivalent_conicity(ax, right_axis, run: WearRun, amp: float) -> None:
+    """The EN 15302 equivalent conicity against distance, drawn in the units of the right (conicity) axis of the
+    rolling-radius-difference picture (a conicity gamma sits at 2 A gamma on the left axis)."""
+    km = [0.0] + [r.end_km for r in run.steps]
+    gamma = [run.initial_conicity.equivalent_conicity] + [r.conicity.equivalent_conicity for r in run.steps]
+    ax.lines[0].set_label(f"rolling-radius difference at {amp:g} mm (left axis)")
+    ax.plot(km, 2.0 * amp * np.asarray(gamma), "s--", color="C3",
+            label=f"equivalent conicity, EN 15302, amplitude {amp:g} mm (right axis)")
+    right_axis.set_ylabel("conicity (-): quasi dr/(2y), equivalent")
+    ax.legend(fontsize=7, loc="best")
+
+
 def plot_conicity(run: WearRun, path: Path) -> Path:
     km = [0.0] + [r.end_km for r in run.steps]
     dr = [run.initial_conicity.delta_r_mm] + [r.conicity.delta_r_mm for r in run.steps]
@@ -123,6 +135,7 @@ def plot_conicity(run: WearRun, path: Path) -> Path:
     ax2 = ax.secondary_yaxis("right", functions=(lambda d: d / (2 * amp), lambda q: q * 2 * amp))
     ax2.set_ylabel("quasi-conicity dr/(2y)")
     ax.grid(alpha=0.3)
+    draw_equivalent_conicity(ax, ax2, run, amp)
     fig.tight_layout()
     save_figure(fig, path)
     return path
@@ -136,5 +149,5 @@ def write_wear_plots(run: WearRun, out_dir: Path) -> list[Path]:
             plot_conicity(run, out_dir / "rolling_radius_difference.png")]
 
 
-__all__ = ["CHANGED_FRACTION", "CHANGED_MARGIN_MM", "changed_range", "depths_figure", "plot_conicity",
-           "plot_depths", "plot_profiles", "write_wear_plots"]
+__all__ = ["CHANGED_FRACTION", "CHANGED_MARGIN_MM", "changed_range", "depths_figure", "draw_equivalent_conicity",
+           "plot_conicity", "plot_depths", "plot_profiles", "write_wear_plots"]

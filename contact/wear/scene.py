@@ -29,10 +29,9 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.parse`: [profiles], [
                                                            @rail_profile@ as [[bodies]] profile or mate)
     [wear.usfd]  wheel = "R8T", rail = "R8T"              a published material, or a table {t1, t2, mild_slope,
                                                            severe_rate, cat_slope, cat_offset}
-    [collective] either [[collective.condition]] tables (lateral_mm, yaw_rad = 0, vertical_load_N and speed_mm_s
-                 defaulting to [load], weight, label, pitch_rate_rad_s (traction/braking; default the scene's)) or a
-                 sweep: lateral_mm (list or {start, stop, step}), yaw_rad (one number or a list of the same length),
-                 weights (a list of the same length, or "uniform"). At most 10 000 conditions.
+    [collective] [[collective.condition]] tables (straight track or a steady curve), a sweep (lateral_mm, yaw_rad,
+                 weights) or a multibody export (csv, weight_by, max_conditions): contact.wear.collective_scene.
+                 At most 10 000 conditions.
 """
 
 from __future__ import annotations
@@ -41,16 +40,14 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from contact.normal.method import NormalMethod
 from contact.scenes.scene import SceneKeys
-from contact.wear.collective import MAX_CONDITIONS, Condition, LoadCollective
+from contact.wear.collective import LoadCollective
+from contact.wear.collective_scene import parse_collective
 from contact.wear.laws import USFD_MATERIALS, ArchardMap, UsfdTable, WearLaw
 from contact.wear.recalibrate import Recalibration, read_template
 from contact.wheel_rail.parse import parse_wheel_rail_scene
 from contact.wheel_rail.scene import WheelRailScene
-from contact.wheel_rail.sweep import sweep_values
 from meshes.profiles import Profile
 from wrlayer.errors import InputError
 from wrlayer.runner import check_scheduler_address
@@ -187,9 +184,11 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     col = top.sub("collective")
     if col is None:
         raise top.error("collective", "a wear scene needs a [collective] (running conditions with weights)")
-    conds = _conditions(col, wheel_rail)
+    conds, export = parse_collective(col, wheel_rail, scene_path.parent)
     try:
-        collective = LoadCollective(tuple(conds), distance, steps, where=f"{file}: collective")
+        collective = LoadCollective(tuple(conds), distance, steps, where=f"{file}: collective",
+                                    source_file=export.file if export else "",
+                                    source_sha256=export.sha256 if export else "")
     except InputError as err:
         raise InputError(err.what if err.what.startswith(file) else f"{file}: {err.what}", err.problem) from None
     return WearScene(scene_path, data, wheel_rail, law, collective, settings)
@@ -280,48 +279,6 @@ def _law(wear: SceneKeys) -> WearLaw:
             except InputError as err:
                 raise InputError(sub.what(body), err.problem) from None
     return WearLaw(name, archard, usfd, wear.number("density_kg_m3", 7850.0, gt=0.0))
-
-
-def _conditions(col: SceneKeys, wheel_rail: WheelRailScene) -> list[Condition]:
-    Q0, V0 = wheel_rail.load.vertical_load_N, wheel_rail.load.speed_mm_s
-    if "condition" in col.table:
-        col.check_known(("condition",))
-        rows = col.table["condition"]
-        if not isinstance(rows, list) or not rows:
-            raise col.error("condition", "must be an array of tables [[collective.condition]]")
-        if len(rows) > MAX_CONDITIONS:
-            raise col.error("condition", f"at most {MAX_CONDITIONS} conditions, got {len(rows)}")
-        out = []
-        for k, row in enumerate(rows):
-            keys = SceneKeys(col.file, f"{col.prefix}.condition[{k}]", row)
-            keys.check_known(("lateral_mm", "yaw_rad", "vertical_load_N", "speed_mm_s", "weight", "label",
-                              "pitch_rate_rad_s"))
-            pitch = keys.number("pitch_rate_rad_s", gt=0.0) if "pitch_rate_rad_s" in keys.table else None
-            out.append(Condition(keys.number("lateral_mm", 0.0), keys.number("yaw_rad", 0.0, gt=-0.2, lt=0.2),
-                                 keys.number("vertical_load_N", Q0, gt=0.0), keys.number("speed_mm_s", V0, gt=0.0),
-                                 keys.number("weight"), keys.text("label", ""), pitch))
-        return out
-    col.check_known(("lateral_mm", "yaw_rad", "weights"))
-    if "lateral_mm" not in col.table:
-        raise col.error("lateral_mm", "give [[collective.condition]] tables or a sweep (lateral_mm, weights)")
-    lat = sweep_values(col, "lateral_mm") if isinstance(col.table["lateral_mm"], dict) else col.array("lateral_mm", 1)
-    if lat.size > MAX_CONDITIONS:
-        raise col.error("lateral_mm", f"at most {MAX_CONDITIONS} conditions, got {lat.size}")
-    yaw_value = col.table.get("yaw_rad", 0.0)
-    yaw = np.full(lat.size, col.number("yaw_rad", 0.0)) if not isinstance(yaw_value, list) \
-        else col.array("yaw_rad", 1)
-    if yaw.size != lat.size:
-        raise col.error("yaw_rad", f"needs {lat.size} values (one per lateral_mm), got {yaw.size}")
-    w_value = col.table.get("weights")
-    if w_value is None:
-        raise col.error("weights", "required: a list (one weight per condition) or \"uniform\"")
-    if w_value == "uniform":
-        weights = np.full(lat.size, 1.0 / lat.size)
-    else:
-        weights = col.array("weights", 1)
-        if weights.size != lat.size:
-            raise col.error("weights", f"needs {lat.size} values (one per lateral_mm), got {weights.size}")
-    return [Condition(float(a), float(b), Q0, V0, float(w)) for a, b, w in zip(lat, yaw, weights)]
 
 
 __all__ = ["WearScene", "WearSettings", "parse_wear_scene"]

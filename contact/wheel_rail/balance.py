@@ -201,7 +201,7 @@ class VerticalBalance:
         point = track_vector(ref.point_mm, self.sign)
         n_track = track_vector(ref.normal, self.sign)
         centre = np.array([0.0, inp.pose.lateral_mm, self.found.wheel_height_mm])   # rigid-contact geometry
-        kin = creepages(point, n_track, centre, self.axle, inp.speed_mm_s, inp.omega_rad_s)
+        kin = creepages(point, n_track, centre, self.axle, inp.speed_mm_s, inp.omega_rad_s, inp.yaw_rate_rad_s)
         tangential = patch_tangential(sol, kin, inp, self.sign * ref.eta_mm, ctx.tangential_guess)
         ctx.tangential_guess = tangential
         return LoadedPatch(ctx, float(force), prob, sol, ref, kin, tangential)

@@ -73,6 +73,9 @@ class WheelRailInputs:
         Rolling speed V (mm/s).
     pitch_rate_rad_s : float | None
         Wheelset pitch rate (rad/s); None: pure rolling at the nominal radius, V / r0.
+    yaw_rate_rad_s : float
+        Wheelset yaw rate (rad/s): -V / R in a steady curve of signed radius R (positive to the left), 0 on
+        straight track (:func:`contact.wheel_rail.kinematics.creepages`).
     friction : float
         Coulomb friction coefficient mu (-); 0: no tangential solution.
     E_MPa : float
@@ -105,6 +108,7 @@ class WheelRailInputs:
     vertical_load_N: float = 10000.0
     speed_mm_s: float = 2000.0
     pitch_rate_rad_s: float | None = None
+    yaw_rate_rad_s: float = 0.0
     friction: float = 0.3
     E_MPa: float = 210000.0
     poisson: float = 0.28
