@@ -74,7 +74,7 @@ class RollingOptions:
     4 the least time); memory: Anderson depth (sweeps mixed); 0: exact block Gauss–Seidel without acceleration.
     """
 
-    tol: float = 1e-5
+    tol: float = 1e-9
     max_sweeps: int = 500
     block_lines: int = 4
     memory: int = 20
