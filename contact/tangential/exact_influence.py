@@ -75,12 +75,11 @@ def cerruti_coefficients(di, dj, dx: float, dy: float, poisson: float) -> tuple[
 
 @functools.lru_cache(maxsize=16)
 def _spectra(ny: int, nx: int, dy: float, dx: float, poisson: float):
-    """rfft2 of the three wrapped kernels (scaled by pi G) on the padded shape, stacked (3, ...), and the kernels
-    themselves on the offsets -(n-1)..(n-1) (read-only; the local solver uses them as its near field)."""
+    """rfft2 of the three wrapped kernels (scaled by pi G) on the padded shape, and the kernels themselves on the offsets -(n-1)..(n-1) (read-only; the local solver uses them as its near field)."""
     shape = (sfft.next_fast_len(2 * ny - 1, real=True), sfft.next_fast_len(2 * nx - 1, real=True))
     dense = np.stack(_combine(*offset_integrals((_asinh_x, _asinh_y, _minus_r), ny, nx, dy, dx), poisson))
-    spec = sfft.rfft2(np.stack([wrapped_kernel(k, shape) for k in dense]), axes=(-2, -1))
-    for a in (spec, dense):
+    spec = tuple(sfft.rfft2(wrapped_kernel(k, shape)) for k in dense)
+    for a in (*spec, dense):
         a.setflags(write=False)
     return spec, shape, dense
 
@@ -97,15 +96,16 @@ class TractionHalfSpace:
         self.ny, self.nx, self.dy, self.dx = int(ny), int(nx), float(dy), float(dx)
         spec, self.shape, dense = _spectra(self.ny, self.nx, self.dy, self.dx, float(poisson))
         scale = 1.0 / (np.pi * G_MPa)
-        self._spec = spec * scale
+        self._spec = tuple(s * scale for s in spec)
         self.near = dense * scale
         self.evaluations = 0
 
     def displacement(self, tx: np.ndarray, ty: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(ux, uy) (mm) of the cell tractions (tx, ty) (MPa); both transforms in one call each way."""
+        """(ux, uy) (mm) of the cell tractions (tx, ty) (MPa)."""
         self.evaluations += 1
-        f = sfft.rfft2(np.stack([tx, ty]), s=self.shape, axes=(-2, -1))
+        fx = sfft.rfft2(tx, s=self.shape)
+        fy = sfft.rfft2(ty, s=self.shape)
         sxx, sxy, syy = self._spec
-        both = np.stack([sxx * f[0] + sxy * f[1], sxy * f[0] + syy * f[1]])
-        u = sfft.irfft2(both, s=self.shape, axes=(-2, -1))[:, : self.ny, : self.nx]
-        return u[0], u[1]
+        ux = sfft.irfft2(sxx * fx + sxy * fy, s=self.shape)[: self.ny, : self.nx]
+        uy = sfft.irfft2(sxy * fx + syy * fy, s=self.shape)[: self.ny, : self.nx]
+        return ux, uy
