@@ -75,7 +75,8 @@ def cerruti_coefficients(di, dj, dx: float, dy: float, poisson: float) -> tuple[
 
 @functools.lru_cache(maxsize=16)
 def _spectra(ny: int, nx: int, dy: float, dx: float, poisson: float):
-    """rfft2 of the three wrapped kernels (scaled by pi G) on the padded shape, and the kernels themselves on the offsets -(n-1)..(n-1) (read-only; the local solver uses them as its near field)."""
+    """rfft2 of the three wrapped kernels (scaled by pi G) on the padded shape, and the kernels themselves on the
+    offsets -(n-1)..(n-1) (read-only; the local solver uses them as its near field)."""
     shape = (sfft.next_fast_len(2 * ny - 1, real=True), sfft.next_fast_len(2 * nx - 1, real=True))
     dense = np.stack(_combine(*offset_integrals((_asinh_x, _asinh_y, _minus_r), ny, nx, dy, dx), poisson))
     spec = tuple(sfft.rfft2(wrapped_kernel(k, shape)) for k in dense)
