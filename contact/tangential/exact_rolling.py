@@ -247,6 +247,20 @@ class _Iteration:
         self.ty[self.on] = ty * fac
 
 
+def _loaded_box(on: np.ndarray) -> tuple[slice, slice]:
+    """(rows, columns) of the loaded cells' bounding box, at least 2 x 2 where the grid has them (the cell size
+    is read from neighbouring centres)."""
+    out = []
+    for axis in (1, 0):
+        idx = np.flatnonzero(on.any(axis=axis))
+        n = on.shape[1 - axis]
+        lo, hi = int(idx[0]), int(idx[-1]) + 1
+        if hi - lo < 2 <= n:
+            lo, hi = (lo, lo + 2) if lo + 2 <= n else (n - 2, n)
+        out.append(slice(lo, hi))
+    return out[0], out[1]
+
+
 def solve_rolling(x_mm: np.ndarray, y_mm: np.ndarray, p_MPa: np.ndarray, wx: np.ndarray, wy: np.ndarray,
                   friction: float, G_MPa: float, poisson: float,
                   options: RollingOptions = RollingOptions(),
@@ -266,6 +280,17 @@ def solve_rolling(x_mm: np.ndarray, y_mm: np.ndarray, p_MPa: np.ndarray, wx: np.
     if scale <= 0.0:
         z = np.zeros((ny, nx))
         return RollingField(z, z.copy(), np.where(on, wx, 0.0), np.where(on, wy, 0.0), on, 0, 0.0, 0)
+    box = _loaded_box(on)
+    if (box[0].stop - box[0].start, box[1].stop - box[1].start) != (ny, nx):
+        # the loaded cells' bounding box only (the free cells around carry no traction and need no slip)
+        start = None if initial_MPa is None else tuple(np.asarray(v)[box] if np.shape(v) == (ny, nx) else v
+                                                     for v in initial_MPa)
+        sub = solve_rolling(x_mm[box[1]], y_mm[box[0]], p_MPa[box], wx[box], wy[box], friction, G_MPa, poisson,
+                            options, start)
+        out = [np.zeros((ny, nx)) for _ in range(4)] + [np.zeros((ny, nx), dtype=bool)]
+        for full, part in zip(out, (sub.tx_MPa, sub.ty_MPa, sub.sx, sub.sy, sub.slip)):
+            full[box] = part
+        return RollingField(*out, sub.iterations, sub.residual, sub.fft_evaluations)
     hs = TractionHalfSpace(ny, nx + 1, dy, dx, G_MPa, poisson)
     it = _Iteration(hs, p_MPa, wx, wy, friction, dx, options, initial_MPa)
     mixer = Anderson(2 * int(it.on.sum()), options.memory)
