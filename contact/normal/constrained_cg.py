@@ -105,24 +105,14 @@ def constrained_cg(displacement, f: np.ndarray, c: np.ndarray | float, b: np.nda
         scale = 1.0
         if force_N is not None:
             scale = force_N / (cell_area * total)
-        # p = scale (p_old - tau t + the clipped and added cells' pressure): its displacement follows from the two
-        # convolutions already done plus those few cells (one FFT pair per iteration)
         since_full += 1
         moved = overlap.copy()                             # cells whose pressure is not p_old - tau t
         moved[s] |= clipped
-        changed = int(moved.sum())
-        if since_full >= 25 or (changed and (cells_displacement is None or changed > LOCAL_CELLS)):
-            p *= scale
-            kp = displacement(p)
-            since_full = 0
-        else:
-            kp = kp - tau * kt
-            if changed:
-                rows, cols = np.nonzero(moved)
-                linear = p_old[rows, cols] - tau * t[rows, cols]
-                kp = kp + cells_displacement(rows, cols, p[rows, cols] - linear)
-            p *= scale
-            kp = scale * kp
+        full = since_full >= 25 or (moved.any() and (cells_displacement is None or moved.sum() > LOCAL_CELLS))
+        kp = _displacement_after_step(displacement, cells_displacement, full, p, scale, kp - tau * kt,
+                                      moved, p_old - tau * t)
+        p *= scale
+        since_full = 0 if full else since_full
         if force_N is not None:
             total = force_N / cell_area
         change = float(np.abs(p - p_old).sum()) / total
@@ -132,6 +122,19 @@ def constrained_cg(displacement, f: np.ndarray, c: np.ndarray | float, b: np.nda
         raise ConvergenceError(f"exact normal solver: constrained CG did not converge in {max_iter} iterations "
                                f"(relative pressure change {change:.3g}, tolerance {tol:g})")
     return _result(p, f + displacement(p) + c * p + b, approach_mm, it, change)
+
+
+def _displacement_after_step(displacement, cells_displacement, full: bool, p: np.ndarray, scale: float,
+                             linear_u: np.ndarray, moved: np.ndarray, linear_p: np.ndarray) -> np.ndarray:
+    """Elastic displacement (mm) of the new pressure scale * p: a convolution when ``full``; else from the linear
+    step's displacement ``linear_u`` (of ``linear_p`` = p_old - tau t, both unscaled) plus the displacement of the
+    ``moved`` cells' difference p - linear_p (clipped to 0, or added from the overlap)."""
+    if full:
+        return displacement(scale * p)
+    if moved.any():
+        rows, cols = np.nonzero(moved)
+        linear_u = linear_u + cells_displacement(rows, cols, p[rows, cols] - linear_p[rows, cols])
+    return scale * linear_u
 
 
 def _start(p_start: np.ndarray, f: np.ndarray, cell_area: float, force_N: float | None) -> np.ndarray:
