@@ -23,7 +23,7 @@ import numpy as np
 from wrlayer.errors import ConvergenceError
 
 
-def _corner_antiderivative(x, y):
+def corner_antiderivative(x, y):
     """Signed F(x, y) = II_{[0,x]x[0,y]} 1/sqrt(s^2 + t^2) ds dt = x asinh(y/x) + y asinh(x/y) (mm); F(0, y) = 0."""
     ax, ay = np.abs(x), np.abs(y)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -34,7 +34,7 @@ def _corner_antiderivative(x, y):
 
 def rectangle_kernel_integral(x1, x2, y1, y2):
     """Exact II_{[x1,x2]x[y1,y2]} 1/sqrt(x^2 + y^2) dx dy (mm), vectorised; finite also around (0, 0)."""
-    f = _corner_antiderivative
+    f = corner_antiderivative
     return f(x2, y2) - f(x1, y2) - f(x2, y1) + f(x1, y1)
 
 

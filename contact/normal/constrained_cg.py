@@ -19,6 +19,8 @@ force follows. Stops when the relative change of the pressure sum |p_new - p_old
 ConvergenceError after ``max_iter`` iterations. When a step clips no cell and adds no overlap cell, the new
 pressure is scale (p - tau t), so its displacement is scale (C*p - tau C*t) from the two convolutions already
 done: one convolution per iteration instead of two on those steps (a full one every 25 steps and at the end).
+With ``cells_displacement`` given, a step that clips or adds at most ``LOCAL_CELLS`` cells is corrected the same
+way: the displacement of the few changed cells' pressure added from the influence coefficients directly.
 """
 
 from __future__ import annotations
@@ -29,7 +31,10 @@ import numpy as np
 
 from wrlayer.errors import ConvergenceError
 
-__all__ = ["CGResult", "constrained_cg"]
+__all__ = ["CGResult", "constrained_cg", "LOCAL_CELLS"]
+
+#: Clipped or added cells up to which a step's displacement is corrected cell by cell instead of by a convolution.
+LOCAL_CELLS = 16
 
 
 @dataclass(frozen=True)
@@ -46,12 +51,13 @@ class CGResult:
 
 def constrained_cg(displacement, f: np.ndarray, c: np.ndarray | float, b: np.ndarray | float, cell_area: float,
                    p_start: np.ndarray, force_N: float | None = None, approach_mm: float | None = None,
-                   tol: float = 1e-8, max_iter: int = 1000) -> CGResult:
+                   tol: float = 1e-8, max_iter: int = 1000, cells_displacement=None) -> CGResult:
     """Solve the contact problem of the module docstring by Polonsky–Keer CG.
 
     displacement: p (ny, nx) -> elastic displacement (mm); f: separation at the cell centres (mm); c, b: layer
     compliance (mm/MPa) and offset (mm) per cell (or scalars); cell_area: dx dy (mm^2); p_start: a starting
-    pressure (its positive cells are the first contact set); exactly one of force_N / approach_mm.
+    pressure (its positive cells are the first contact set); exactly one of force_N / approach_mm;
+    cells_displacement: (rows, cols, values) -> elastic displacement of a pressure on those cells only (optional).
     """
     if (force_N is None) == (approach_mm is None):
         raise ValueError("give exactly one of force_N and approach_mm")
@@ -85,9 +91,9 @@ def constrained_cg(displacement, f: np.ndarray, c: np.ndarray | float, b: np.nda
         rt = float(r[s] @ t[s])
         tau = float(gs @ t[s]) / rt if rt > 0 else 0.0
         p_old = p.copy()
-        p_s = p[s] - tau * t[s]
-        clipped = bool(np.any(p_s < 0))
-        p[s] = np.maximum(p_s, 0.0)
+        p_lin = p[s] - tau * t[s]
+        clipped = p_lin < 0
+        p[s] = np.maximum(p_lin, 0.0)
         overlap = (p == 0) & (g < 0)
         conj = not np.any(overlap)
         p[overlap] -= tau * g[overlap]
@@ -99,16 +105,16 @@ def constrained_cg(displacement, f: np.ndarray, c: np.ndarray | float, b: np.nda
         scale = 1.0
         if force_N is not None:
             scale = force_N / (cell_area * total)
-            p *= scale
-            total = force_N / cell_area
-        # p = scale (p_old - tau t) exactly unless cells were clipped or overlap cells entered: then the
-        # displacement follows linearly from the two convolutions already done (one FFT pair per iteration)
         since_full += 1
-        if clipped or not conj or since_full >= 25:
-            kp = displacement(p)
-            since_full = 0
-        else:
-            kp = scale * (kp - tau * kt)
+        moved = overlap.copy()                             # cells whose pressure is not p_old - tau t
+        moved[s] |= clipped
+        full = since_full >= 25 or (moved.any() and (cells_displacement is None or moved.sum() > LOCAL_CELLS))
+        kp = _displacement_after_step(displacement, cells_displacement, full, p, scale, kp - tau * kt,
+                                      moved, p_old - tau * t)
+        p *= scale
+        since_full = 0 if full else since_full
+        if force_N is not None:
+            total = force_N / cell_area
         change = float(np.abs(p - p_old).sum()) / total
         if change < tol and n_s > 0:
             break
@@ -116,6 +122,19 @@ def constrained_cg(displacement, f: np.ndarray, c: np.ndarray | float, b: np.nda
         raise ConvergenceError(f"exact normal solver: constrained CG did not converge in {max_iter} iterations "
                                f"(relative pressure change {change:.3g}, tolerance {tol:g})")
     return _result(p, f + displacement(p) + c * p + b, approach_mm, it, change)
+
+
+def _displacement_after_step(displacement, cells_displacement, full: bool, p: np.ndarray, scale: float,
+                             linear_u: np.ndarray, moved: np.ndarray, linear_p: np.ndarray) -> np.ndarray:
+    """Elastic displacement (mm) of the new pressure scale * p: a convolution when ``full``; else from the linear
+    step's displacement ``linear_u`` (of ``linear_p`` = p_old - tau t, both unscaled) plus the displacement of the
+    ``moved`` cells' difference p - linear_p (clipped to 0, or added from the overlap)."""
+    if full:
+        return displacement(scale * p)
+    if moved.any():
+        rows, cols = np.nonzero(moved)
+        linear_u = linear_u + cells_displacement(rows, cols, p[rows, cols] - linear_p[rows, cols])
+    return scale * linear_u
 
 
 def _start(p_start: np.ndarray, f: np.ndarray, cell_area: float, force_N: float | None) -> np.ndarray:

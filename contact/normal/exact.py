@@ -224,7 +224,7 @@ def _solve_on_grid(prob: NormalProblem, f_strips: np.ndarray, layer: LayerPair |
     hs = HalfSpace(grid.ny, grid.nx, h, grid.dx, factor)
     cell_area = grid.dx * h
     kw = dict(force_N=None if opts.approach_mm is not None else prob.normal_force_N, approach_mm=opts.approach_mm,
-              tol=opts.cg_tol, max_iter=opts.cg_max_iter)
+              tol=opts.cg_tol, max_iter=opts.cg_max_iter, cells_displacement=hs.cells_displacement)
     cl = CellLayer(layer, prob.strip_y_mm, h, lines, opts.layer_mode)
     if not cl.present:
         res = constrained_cg(hs.displacement, f, 0.0, 0.0, cell_area, p_start, **kw)

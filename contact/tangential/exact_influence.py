@@ -9,11 +9,13 @@ in rolling contact*, section 1.5):
     u_y = 1/(pi G) II [ nu x y/r^3 t_x + ((1 - nu)/r + nu y^2/r^3) t_y ] ds dt
 
 with (x, y) the offset of the field point from the loaded point and r = |(x, y)|. Since (1 - nu)/r + nu x^2/r^3
-= 1/r - nu y^2/r^3, the integrals over a cell need three corner antiderivatives F (dF/dx dy = kernel):
+= 1/r - nu y^2/r^3, the integrals over a cell need three corner antiderivatives F (dF/dx dy = kernel),
+evaluated once per corner of the grid's lattice of cell edges (:func:`contact.normal.halfspace.offset_integrals`):
 
-    1/r      -> x asinh(y/|x|) + y asinh(x/|y|)        (Love 1929; contact.normal.boussinesq)
     y^2/r^3  -> x asinh(y/|x|)
+    x^2/r^3  -> y asinh(x/|y|)
     x y/r^3  -> -r
+    1/r      -> the sum of the first two (Love 1929; contact.normal.boussinesq)
 
 so every coefficient is exact (no quadrature, no epsilon at the singularity). The normal-tangential coupling
 (Cerruti's u_z ~ (1 - 2 nu) x / r^2) vanishes for quasi-identical bodies: the difference of the two bodies'
@@ -30,22 +32,34 @@ from __future__ import annotations
 import functools
 
 import numpy as np
+import scipy.fft as sfft
 
-from contact.normal.boussinesq import rectangle_kernel_integral
+from contact.normal.halfspace import offset_integrals, wrapped_kernel
 
 __all__ = ["TractionHalfSpace", "cerruti_coefficients"]
 
 
-def _asinh_term(a, b):
-    """a asinh(b/|a|), 0 at a = 0 (its limit)."""
-    a = np.asarray(a, dtype=float)
-    b = np.asarray(b, dtype=float)
-    safe = np.where(a != 0.0, np.abs(a), 1.0)
-    return np.where(a != 0.0, a * np.arcsinh(b / safe), 0.0)
+def _asinh_x(x, y):
+    """x asinh(y/|x|), 0 at x = 0 (its limit): the corner antiderivative of y^2/r^3."""
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(x != 0.0, x * np.arcsinh(y / np.abs(x)), 0.0)
 
 
-def _corners(fun, x1, x2, y1, y2):
-    return fun(x2, y2) - fun(x1, y2) - fun(x2, y1) + fun(x1, y1)
+def _asinh_y(x, y):
+    """y asinh(x/|y|): the corner antiderivative of x^2/r^3."""
+    return _asinh_x(y, x)
+
+
+def _minus_r(x, y):
+    """-r: the corner antiderivative of x y/r^3."""
+    return -np.hypot(x, y)
+
+
+def _combine(i_yy, i_xx, i_xy, poisson):
+    """(A_xx, A_xy, A_yy) * pi G from the integrals of y^2/r^3, x^2/r^3 and x y/r^3 (II 1/r = i_xx + i_yy)."""
+    return i_xx + (1.0 - poisson) * i_yy, poisson * i_xy, i_yy + (1.0 - poisson) * i_xx
 
 
 def cerruti_coefficients(di, dj, dx: float, dy: float, poisson: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -55,29 +69,17 @@ def cerruti_coefficients(di, dj, dx: float, dy: float, poisson: float) -> tuple[
     xc = np.asarray(di, dtype=float) * dx
     yc = np.asarray(dj, dtype=float) * dy
     x1, x2, y1, y2 = xc - 0.5 * dx, xc + 0.5 * dx, yc - 0.5 * dy, yc + 0.5 * dy
-    i_r = rectangle_kernel_integral(x1, x2, y1, y2)
-    i_yy = _corners(lambda x, y: _asinh_term(x, y), x1, x2, y1, y2)       # II y^2/r^3
-    i_xx = _corners(lambda x, y: _asinh_term(y, x), x1, x2, y1, y2)       # II x^2/r^3
-    i_xy = _corners(lambda x, y: -np.hypot(x, y), x1, x2, y1, y2)         # II x y/r^3
-    return i_r - poisson * i_yy, poisson * i_xy, i_r - poisson * i_xx
+    corners = lambda f: f(x2, y2) - f(x1, y2) - f(x2, y1) + f(x1, y1)  # noqa: E731
+    return _combine(corners(_asinh_x), corners(_asinh_y), corners(_minus_r), poisson)
 
 
 @functools.lru_cache(maxsize=16)
 def _spectra(ny: int, nx: int, dy: float, dx: float, poisson: float):
     """rfft2 of the three wrapped kernels (scaled by pi G) on the padded shape, and the kernels themselves on the
-    offsets -(n-1)..(n-1) (read-only; the local solver uses the near field)."""
-    import scipy.fft as sfft  # here: scipy.fft takes 0.2-0.4 s to import; only the exact rolling solver needs it
-
+    offsets -(n-1)..(n-1) (read-only; the local solver uses them as its near field)."""
     shape = (sfft.next_fast_len(2 * ny - 1, real=True), sfft.next_fast_len(2 * nx - 1, real=True))
-    oy = np.arange(shape[0])
-    ox = np.arange(shape[1])
-    oy = np.where(oy < ny, oy, oy - shape[0])
-    ox = np.where(ox < nx, ox, ox - shape[1])
-    kernels = cerruti_coefficients(ox[None, :], oy[:, None], dx, dy, poisson)
-    spec = tuple(sfft.rfft2(k) for k in kernels)
-    jj = np.arange(-(ny - 1), ny)
-    ii = np.arange(-(nx - 1), nx)
-    dense = np.stack(cerruti_coefficients(ii[None, :], jj[:, None], dx, dy, poisson))
+    dense = np.stack(_combine(*offset_integrals((_asinh_x, _asinh_y, _minus_r), ny, nx, dy, dx), poisson))
+    spec = tuple(sfft.rfft2(wrapped_kernel(k, shape)) for k in dense)
     for a in (*spec, dense):
         a.setflags(write=False)
     return spec, shape, dense
@@ -101,8 +103,6 @@ class TractionHalfSpace:
 
     def displacement(self, tx: np.ndarray, ty: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ux, uy) (mm) of the cell tractions (tx, ty) (MPa)."""
-        import scipy.fft as sfft  # here, as in _spectra (already imported by then: a dictionary look-up)
-
         self.evaluations += 1
         fx = sfft.rfft2(tx, s=self.shape)
         fy = sfft.rfft2(ty, s=self.shape)

@@ -46,13 +46,12 @@ import numpy as np
 from contact.normal.patch import Patch
 from contact.tangential.exact_rolling import coulomb_cell
 from contact.tangential.fastsim import (
-    W_PER_NMM_S,
     Creepage,
     TangentialResult,
     equivalent_ellipse,
     strip_cells,
 )
-from wrlayer.errors import ConvergenceError, require
+from wrlayer.errors import ConvergenceError
 
 __all__ = ["strip_flexibilities", "solve_fastrip"]
 

@@ -113,28 +113,37 @@ class PressureGrid:
         on = np.flatnonzero(self.p_MPa.max(axis=1) > 0)
         return np.split(on, np.flatnonzero(np.diff(on) > 1) + 1)
 
+    def _line_ends(self, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(first loaded cell's trailing edge, last loaded cell's leading edge (mm), force per unit width (N/mm))
+        of each line in ``rows``."""
+        on = self.p_MPa[rows] > 0
+        dx, nx = self.dx_mm, self.x_mm.size
+        lo = self.x_mm[np.argmax(on, axis=1)] - 0.5 * dx
+        hi = self.x_mm[nx - 1 - np.argmax(on[:, ::-1], axis=1)] + 0.5 * dx
+        return lo, hi, self.p_MPa[rows].sum(axis=1) * dx
+
+    def line_patch(self, rows: np.ndarray) -> tuple[Patch, np.ndarray]:
+        """(Patch, strip centres (ny,)) of the loaded lines ``rows``: each line a strip from its first to its last
+        loaded cell (whole cells), with the semi-ellipse of the line's force as p_peak (eq. 12)."""
+        lo, hi, force = self._line_ends(rows)
+        half = 0.5 * (hi - lo)
+        return Patch(self.dy_mm, self.y_mm[rows], half, force / (0.5 * np.pi * half)), 0.5 * (hi + lo)
+
     def strips(self, rows: np.ndarray, nx: int) -> tuple[Patch, np.ndarray, np.ndarray]:
         """(Patch, cell pressures (ny, nx) from the leading edge, strip centres (ny,)) of the loaded lines ``rows``
-        for the strip methods: a strip spans its line's loaded cells (first to last, whole cells), its nx cell
-        pressures interpolated linearly in the line's pressure (0 at the strip's ends) and scaled to the line's
-        force."""
-        dx = self.dx_mm
-        ends, pn = [], []
+        for the strip methods: the strips of :meth:`line_patch`, each with nx cell pressures interpolated linearly
+        in the line's pressure (0 at the strip's ends) and scaled to the line's force."""
+        pn = []
         frac = (np.arange(nx) + 0.5) / nx
-        for r in rows:
+        for r, lo, hi, force in zip(rows, *self._line_ends(rows)):
             line = self.p_MPa[r]
             on = np.flatnonzero(line > 0)
-            lo, hi = self.x_mm[on[0]] - 0.5 * dx, self.x_mm[on[-1]] + 0.5 * dx
             xs = np.concatenate([[lo], self.x_mm[on[0]:on[-1] + 1], [hi]])
             ps = np.concatenate([[0.0], line[on[0]:on[-1] + 1], [0.0]])
             cells = np.interp(hi - frac * (hi - lo), xs, ps)
-            force = line.sum() * dx
             pn.append(cells * force / (cells.sum() * (hi - lo) / nx))
-            ends.append((lo, hi, force))
-        lo, hi, force = np.array(ends).T
-        half = 0.5 * (hi - lo)                   # p_peak: the semi-ellipse of the line's force (eq. 12)
-        patch = Patch(self.dy_mm, self.y_mm[rows], half, force / (0.5 * np.pi * half))
-        return patch, np.array(pn), 0.5 * (hi + lo)
+        patch, centre = self.line_patch(rows)
+        return patch, np.array(pn), centre
 
 
 def _exact(grid: PressureGrid, creepage: Creepage, G_MPa, poisson, friction, speed_mm_s, options,
@@ -158,7 +167,7 @@ def _exact(grid: PressureGrid, creepage: Creepage, G_MPa, poisson, friction, spe
         slip_speed = np.hypot(sol.sx, sol.sy)[k]
         t_x, t_y, pr = sol.tx_MPa[k], sol.ty_MPa[k], p[k]
         work = np.hypot(t_x, t_y) * slip_speed * dx       # N/mm per cell and pass
-        patch, _, _ = grid.strips(rows, 2)
+        patch, _ = grid.line_patch(rows)
         cells = StripCells(np.ascontiguousarray(X[k]), np.full(rows.size, dx), np.zeros(rows.size), pr, creepage,
                            float(friction), float(speed_mm_s))
         res = cells.result(patch, t_x, t_y, sol.slip[k], slip_speed * speed_mm_s, work,

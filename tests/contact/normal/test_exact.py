@@ -38,6 +38,35 @@ def test_halfspace_convolution_equals_direct_sum():
     np.testing.assert_allclose(hs.displacement(p), direct, rtol=1e-12, atol=1e-15)
 
 
+def test_cells_displacement_equals_the_convolution():
+    """The few-cell displacement the CG uses for clipped and added cells equals the FFT convolution."""
+    hs = HalfSpace(9, 13, 0.1, 0.23, compliance_factor(E, NU))
+    rows, cols, vals = np.array([0, 4, 8, 4]), np.array([12, 6, 0, 7]), np.array([1.0, -2.0, 0.5, 3.0])
+    p = np.zeros((9, 13))
+    p[rows, cols] = vals
+    np.testing.assert_allclose(hs.cells_displacement(rows, cols, vals), hs.displacement(p), rtol=1e-12,
+                               atol=1e-16)
+
+
+def test_cg_with_few_cell_corrections_gives_the_same_pressure():
+    """One convolution per CG step (few-cell corrections) or two: the same pressure to round-off."""
+    from contact.normal.constrained_cg import constrained_cg
+    ny, nx, dy, dx = 31, 41, 0.1, 0.12
+    hs = HalfSpace(ny, nx, dy, dx, compliance_factor(E, NU))
+    y, x = (np.arange(ny) - 15) * dy, (np.arange(nx) - 20) * dx
+    f = (x * x)[None, :] / 200.0 + (y * y)[:, None] / 60.0
+    start = np.where(f < 0.002, 1.0, 0.0)
+    kw = dict(force_N=2000.0, tol=1e-10, max_iter=500)
+    plain = constrained_cg(hs.displacement, f, 0.0, 0.0, dx * dy, start, **kw)
+    n_plain = hs.evaluations
+    local = constrained_cg(hs.displacement, f, 0.0, 0.0, dx * dy, start, cells_displacement=hs.cells_displacement,
+                           **kw)
+    np.testing.assert_allclose(local.p_MPa, plain.p_MPa, rtol=1e-9, atol=1e-9 * plain.p_MPa.max())
+    assert local.delta_mm == pytest.approx(plain.delta_mm, rel=1e-12)
+    assert local.iterations == plain.iterations
+    assert hs.evaluations - n_plain < n_plain - 1              # fewer convolutions with the corrections
+
+
 # a/b from 1 to 10 in both orientations (long axis along x or along y)
 @pytest.mark.parametrize("Rx,Ry", [(100.0, 100.0), (300.0, 80.0), (1600.0, 31.7), (1000.0, 10.0), (80.0, 300.0),
                                    (10.0, 1000.0)])

@@ -55,21 +55,25 @@ def _coefficients(a, b, nx, ny):
     return np.array(out)
 
 
-# (a/b, cells along x, lines along y of the coarse grid; the fine grid has twice as many): square cells, a = 3 mm.
-# rtol: the extrapolated coefficients agree with Table E3 within 0.4 % for a/b = 1 and 0.2; for a/b = 5 they lie
-# 1.0-1.3 % above it (C11, C22, C23), on every pair of grids tried (60x12/120x24, 50x10/100x20).
-LINEAR_CASES = [(1.0, 24, 24, 0.01), (0.2, 12, 60, 0.01), (5.0, 60, 12, 0.015)]
+# (a/b, cells along x, lines along y of the coarse grid; the fine grid has twice as many): square cells, a = 3 mm,
+# 24 cells across the short axis on the coarse grid. Ratios at Table E3's nodes (no interpolation). With 12 cells
+# across the short axis the sampled ellipse edge makes the error erratic rather than first order (a/b = 5: C23
+# -3.2 % at 12, -2.4 % at 16, -0.9 % at 24, -0.9 % at 32, -0.4 % at 48 cells), so an extrapolation from 12 and 24
+# cells landed 1.0-1.3 % above the table; from 24 and 48 cells the extrapolated coefficients agree within 0.6 %
+# (a/b = 0.2, 0.5, 1, 5) and 0.94 % (C23 at a/b = 2).
+LINEAR_CASES = [(0.2, 24, 120), (0.5, 24, 48), (1.0, 24, 24), (2.0, 48, 24), (5.0, 120, 24)]
 
 
-@pytest.mark.parametrize("ab, nx, ny, rtol", LINEAR_CASES)
-def test_linear_theory_matches_kalkers_table(ab, nx, ny, rtol):
-    """C11, C22, C23 of Kalker's Table E3 (nu = 0.25: a column of the table, no interpolation) from two grids,
-    extrapolated to zero cell size (first order: the upwind slip and the sampled ellipse edge)."""
+@pytest.mark.parametrize("ab, nx, ny", LINEAR_CASES)
+def test_linear_theory_matches_kalkers_table(ab, nx, ny):
+    """C11, C22, C23 of Kalker's Table E3 within 1 % (nu = 0.25: a column of the table, a/b at its rows: no
+    interpolation) from two grids, extrapolated to zero cell size (first order: the upwind slip and the sampled
+    ellipse edge)."""
     coarse = _coefficients(3.0, 3.0 / ab, nx, ny)
     fine = _coefficients(3.0, 3.0 / ab, 2 * nx, 2 * ny)
     k = creep_coefficients(ab, NU)
-    np.testing.assert_allclose(2 * fine - coarse, [k.C11, k.C22, k.C23], rtol=rtol)
-    np.testing.assert_allclose(fine, [k.C11, k.C22, k.C23], rtol=0.025)
+    np.testing.assert_allclose(2 * fine - coarse, [k.C11, k.C22, k.C23], rtol=0.01)
+    np.testing.assert_allclose(fine, [k.C11, k.C22, k.C23], rtol=0.02)
 
 
 def test_full_sliding_gives_mu_N():
@@ -105,6 +109,39 @@ def test_grid_convergence():
               for n in (12, 24, 48)]
     assert abs(forces[2] - forces[1]) < 0.6 * abs(forces[1] - forces[0])
     assert abs(forces[2] - forces[1]) < 0.01 * abs(forces[2])
+
+
+def test_anderson_accelerates_a_slow_linear_iteration():
+    """Anderson mixing turns a slowly converging (rate 0.99) linear fixed-point iteration into a fast one."""
+    from contact.tangential.anderson import Anderson
+    rng = np.random.default_rng(3)
+    q, _ = np.linalg.qr(rng.normal(size=(40, 40)))
+    m = q @ np.diag(np.linspace(0.0, 0.99, 40)) @ q.T          # G(x) = m x + c, fixed point (1 - m)^-1 c
+    c = rng.normal(size=40)
+    want = np.linalg.solve(np.eye(40) - m, c)
+    x, mixer = np.zeros(40), Anderson(40, 20)
+    for _ in range(60):
+        x = mixer.mix(x, m @ x + c)
+    assert np.abs(x - want).max() < 1e-8 * np.abs(want).max()
+    plain = np.zeros(40)
+    for _ in range(60):
+        plain = m @ plain + c
+    assert np.abs(plain - want).max() > 0.1 * np.abs(want).max()
+
+
+def test_accelerated_sweeps_equal_plain_gauss_seidel():
+    """The accelerated iteration (Jacobi between line blocks, Anderson mixing) and the exact block Gauss–Seidel
+    (memory 0) give the same partial-slip solution to the tolerance, the accelerated one in fewer FFT pairs."""
+    grid = hertz_grid(4.0, 3.0, 24)
+    X, Y = np.meshgrid(grid.x_mm, grid.y_mm)
+    args = (grid.x_mm, grid.y_mm, grid.p_MPa, 0.001 - 0.0005 * Y, 0.0005 + 0.0005 * X, MU, G_MPa, NU)
+    fast = solve_rolling(*args, RollingOptions(tol=1e-10))
+    plain = solve_rolling(*args, RollingOptions(tol=1e-10, memory=0))
+    scale = MU * grid.p_MPa.max()
+    assert np.abs(fast.tx_MPa - plain.tx_MPa).max() < 1e-6 * scale
+    assert np.abs(fast.ty_MPa - plain.ty_MPa).max() < 1e-6 * scale
+    assert np.array_equal(fast.slip, plain.slip) and 0 < fast.slip.sum() < (grid.p_MPa > 0).sum()
+    assert fast.fft_evaluations < plain.fft_evaluations
 
 
 def test_zero_creepage_and_no_convergence():

@@ -1,0 +1,56 @@
+"""Anderson acceleration of a fixed-point iteration x -> G(x) (Walker & Ni 2011, SIAM J. Numer. Anal. 49, "Anderson
+acceleration for fixed-point iterations", type II with the last m differences).
+
+After each application g = G(x) with residual f = g - x, the next iterate is g - sum_k gamma_k dG_k where dG_k,
+dF_k are the differences of the last m applications and residuals and gamma minimises |f - sum_k gamma_k dF_k|
+(normal equations on the m x m Gram matrix, kept up to date one row per step: O(m n) per step). Dimensionless; the
+caller projects the mixed iterate back onto its constraints.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["Anderson"]
+
+
+class Anderson:
+    """Mixing of the last ``memory`` steps of a fixed-point iteration on vectors of length ``size``."""
+
+    def __init__(self, size: int, memory: int):
+        self.memory = int(memory)
+        self._df = np.zeros((self.memory, size))
+        self._dg = np.zeros((self.memory, size))
+        self._gram = np.zeros((self.memory, self.memory))
+        self._steps = 0
+        self._last: tuple[np.ndarray, np.ndarray] | None = None
+
+    def restart(self) -> None:
+        """Forget the history (e.g. when the residual grew)."""
+        self._steps = 0
+        self._last = None
+
+    def mix(self, x: np.ndarray, g: np.ndarray) -> np.ndarray:
+        """The next iterate from the iterate ``x`` and its image ``g`` = G(x) (g itself until two steps exist)."""
+        f = g - x
+        if self.memory <= 0:
+            return g
+        if self._last is not None:
+            slot = self._steps % self.memory
+            self._df[slot] = f - self._last[0]
+            self._dg[slot] = g - self._last[1]
+            self._gram[slot, :] = self._df @ self._df[slot]
+            self._gram[:, slot] = self._gram[slot, :]
+            self._steps += 1
+        self._last = (f, g)
+        m = min(self._steps, self.memory)
+        if m == 0:
+            return g
+        gram = self._gram[:m, :m]
+        ridge = 1e-12 * np.trace(gram) / m + 1e-300      # keeps nearly dependent differences solvable
+        try:
+            gamma = np.linalg.solve(gram + ridge * np.eye(m), self._df[:m] @ f)
+        except np.linalg.LinAlgError:
+            self.restart()
+            return g
+        return g - gamma @ self._dg[:m]
