@@ -19,11 +19,18 @@ from __future__ import annotations
 import functools
 
 import numpy as np
-import scipy.fft as sfft
 
 from contact.normal.boussinesq import corner_antiderivative, rectangle_kernel_integral
 
-__all__ = ["HalfSpace", "influence_coefficients", "compliance_factor", "offset_integrals", "wrapped_kernel"]
+__all__ = ["HalfSpace", "influence_coefficients", "compliance_factor", "fft_module", "offset_integrals",
+           "wrapped_kernel"]
+
+
+@functools.cache
+def fft_module():
+    """scipy.fft, imported on first use: it takes 0.2-0.4 s to import and the Kik-Piotrowski path never needs it."""
+    import scipy.fft
+    return scipy.fft
 
 
 def compliance_factor(E_MPa: float, poisson: float) -> float:
@@ -69,6 +76,7 @@ def wrapped_kernel(dense: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
 def _kernel_spectrum(ny: int, nx: int, dy: float, dx: float) -> tuple[np.ndarray, tuple[int, int], np.ndarray]:
     """rfft2 of the wrapped kernel on the padded shape (>= 2n - 1 each way, fast FFT length), and the kernel on the
     offsets -(n-1)..(n-1) (:func:`offset_integrals`)."""
+    sfft = fft_module()
     shape = (sfft.next_fast_len(2 * ny - 1, real=True), sfft.next_fast_len(2 * nx - 1, real=True))
     (k,) = offset_integrals((corner_antiderivative,), ny, nx, dy, dx)
     spec = sfft.rfft2(wrapped_kernel(k, shape))
@@ -92,6 +100,7 @@ class HalfSpace:
     def displacement(self, p: np.ndarray) -> np.ndarray:
         """u = C * p (mm) for the cell pressures p (ny, nx) (MPa)."""
         self.evaluations += 1
+        sfft = fft_module()
         ph = sfft.rfft2(p, s=self.shape)
         return sfft.irfft2(ph * self._spec, s=self.shape)[: self.ny, : self.nx]
 

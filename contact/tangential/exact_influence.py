@@ -32,9 +32,8 @@ from __future__ import annotations
 import functools
 
 import numpy as np
-import scipy.fft as sfft
 
-from contact.normal.halfspace import offset_integrals, wrapped_kernel
+from contact.normal.halfspace import fft_module, offset_integrals, wrapped_kernel
 
 __all__ = ["TractionHalfSpace", "cerruti_coefficients"]
 
@@ -77,6 +76,7 @@ def cerruti_coefficients(di, dj, dx: float, dy: float, poisson: float) -> tuple[
 def _spectra(ny: int, nx: int, dy: float, dx: float, poisson: float):
     """rfft2 of the three wrapped kernels (scaled by pi G) on the padded shape, and the kernels themselves on the
     offsets -(n-1)..(n-1) (read-only; the local solver uses them as its near field)."""
+    sfft = fft_module()
     shape = (sfft.next_fast_len(2 * ny - 1, real=True), sfft.next_fast_len(2 * nx - 1, real=True))
     dense = np.stack(_combine(*offset_integrals((_asinh_x, _asinh_y, _minus_r), ny, nx, dy, dx), poisson))
     spec = tuple(sfft.rfft2(wrapped_kernel(k, shape)) for k in dense)
@@ -104,6 +104,7 @@ class TractionHalfSpace:
     def displacement(self, tx: np.ndarray, ty: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ux, uy) (mm) of the cell tractions (tx, ty) (MPa)."""
         self.evaluations += 1
+        sfft = fft_module()
         fx = sfft.rfft2(tx, s=self.shape)
         fy = sfft.rfft2(ty, s=self.shape)
         sxx, sxy, syy = self._spec
