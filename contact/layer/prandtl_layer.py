@@ -30,14 +30,14 @@ import copy
 from dataclasses import dataclass, replace
 from typing import Callable, Sequence
 
-import numba
 import numpy as np
 
 from wrlayer.characteristic import Characteristic
 from wrlayer.errors import InputError
+from wrlayer.jit import kernel
 
 
-@numba.njit(cache=True)
+@kernel()
 def _element_pressure(x, slip, k, e, k_last):
     """p = sum_i k_i clip(x - s_i, -e_i, e_i) + k_N x for one element at displacement x (MPa)."""
     p = k_last * x
@@ -46,7 +46,7 @@ def _element_pressure(x, slip, k, e, k_last):
     return p
 
 
-@numba.njit(cache=True)
+@kernel(size=lambda u, slip, k, e, k_last: slip.size)
 def _pressures(u, slip, k, e, k_last):
     """Current pressure of each element (MPa)."""
     out = np.empty(u.size)
@@ -55,7 +55,7 @@ def _pressures(u, slip, k, e, k_last):
     return out
 
 
-@numba.njit(cache=True)
+@kernel(size=lambda u, slip, k, e, k_last, p_target: 4 * slip.size)
 def move_elements(u, slip, k, e, k_last, p_target):
     """Exact monotonic move of elements (u (n,), slips (n, m)) to p_target (n,): (u, slips, dissipation).
 
@@ -96,7 +96,7 @@ def move_elements(u, slip, k, e, k_last, p_target):
     return u_out, s_out, diss
 
 
-@numba.njit(cache=True)
+@kernel(size=lambda u, slip, k, e, k_last: 2 * slip.size)
 def _yield_pressures(u, slip, k, e, k_last):
     """Pressure of each element when its first stuck slider reaches its threshold on loading (inf: none)."""
     n, m = slip.shape

@@ -17,10 +17,10 @@ from __future__ import annotations
 
 import functools
 
-import numba
 import numpy as np
 
 from wrlayer.errors import ConvergenceError
+from wrlayer.jit import kernel
 
 
 def corner_antiderivative(x, y):
@@ -63,7 +63,7 @@ MAX_TABLE_CELLS = 3e7
 _EDGE_CELLS = 8.0   # cells closer than this many widths to x_l use the exact antiderivative (arcsin)
 
 
-@numba.njit(cache=True)
+@kernel(size=lambda a, dj, table, hx: a.sum() / hx)
 def _weighted_sum(a, dj, table, hx):
     """sum over strips s and cells i of (II_cell sqrt(a_s^2 - x^2) dx) * table[dj_s, i], cells +-i.
 

@@ -22,12 +22,12 @@ that u_L ~ b + c p with b = u_L(p) - c p: the outer iteration of :func:`contact.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer, move_elements
 from contact.normal.layer_at_strip import layer_points
 from wrlayer.errors import InputError
+from wrlayer.jit import kernel
 
 __all__ = ["LAYER_MODES", "CellLayer"]
 
@@ -65,7 +65,7 @@ class _Body:
         return u, c
 
 
-@numba.njit(cache=True)
+@kernel(size=lambda p, *rest: 8 * p.size)
 def _rolling_march(p, u0, slip0, k, e, kl):
     """Steady rolling: move each line's element from the leading edge (last column) to the trailing edge through
     the cell pressures p (ny, nx); returns the displacement from the initial state and the tangent compliance in

@@ -55,12 +55,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
 from contact.tangential.anderson import Anderson
 from contact.tangential.exact_influence import TractionHalfSpace
 from wrlayer.errors import ConvergenceError
+from wrlayer.jit import kernel
 
 __all__ = ["RollingOptions", "RollingField", "coulomb_cell", "solve_rolling"]
 
@@ -101,7 +101,7 @@ class RollingField:
     fft_evaluations: int
 
 
-@numba.njit(cache=True)
+@kernel()
 def coulomb_cell(ssx, ssy, bx, by, bound):  # pragma: no cover - compiled
     """The traction (tx, ty) of one cell and its slip flag, given s* (the cell's slip without its own traction):
     s = s* + diag(bx, by) t. Adhesion when t = -s*/b fits the bound; otherwise t = -bound s/|s| with
@@ -124,7 +124,7 @@ def coulomb_cell(ssx, ssy, bx, by, bound):  # pragma: no cover - compiled
     return -bound * ssx / (sig + bound * bx), -bound * ssy / (sig + bound * by), True
 
 
-@numba.njit(cache=True, fastmath=True)  # vectorised updates: 2x faster, forces unchanged to 1e-10
+@kernel(budget=0, fastmath=True)  # vectorised updates: 2x faster, forces unchanged to 1e-10
 def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, slip):  # pragma: no cover - compiled
     """A Gauss–Seidel sweep over the blocks of lines (j0, j1) in ``blocks``; ux, uy (ny, nx + 1): exact
     displacement at the start, the leading pad column included; returns max |dt|.

@@ -40,7 +40,6 @@ from __future__ import annotations
 import functools
 import math
 
-import numba
 import numpy as np
 
 from contact.normal.patch import Patch
@@ -52,6 +51,7 @@ from contact.tangential.fastsim import (
     strip_cells,
 )
 from wrlayer.errors import ConvergenceError
+from wrlayer.jit import kernel
 
 __all__ = ["strip_flexibilities", "solve_fastrip"]
 
@@ -107,7 +107,7 @@ def strip_flexibilities(a_mm: float, b_mm: float, C11: float, C22: float, C23: f
     return float(cx), float(cy), float(spin)
 
 
-@numba.njit(cache=True)
+@kernel()
 def _warm_start(tx, ty, ux, uy, j, prev, ratio, bound, kappa, cx, cy, h):  # pragma: no cover - compiled
     """Strip j's traction := strip prev's, cell by cell, times ``ratio``, within the bound; ux, uy its
     displacement (index 0: the pad)."""
@@ -127,7 +127,7 @@ def _warm_start(tx, ty, ux, uy, j, prev, ratio, bound, kappa, cx, cy, h):  # pra
             uy[q] += cy * kq * ty[j, k]
 
 
-@numba.njit(cache=True)
+@kernel(size=lambda dx, wx, *rest: 50 * wx.size)
 def _strips(dx, wx, wy, bound, kappa, cx, cy, tol, max_sweeps):  # pragma: no cover - compiled
     """Every strip's rolling problem (kernel table kappa (ny, 2 nx + 3), :func:`strip_kernel`); cells k = 0
     (leading) .. nx-1, the free pad ahead of cell 0.

@@ -54,12 +54,12 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
 from contact.tangential.kalker_coefficients import CreepCoefficients, creep_coefficients
 from contact.normal.patch import Patch
 from wrlayer.errors import require
+from wrlayer.jit import kernel
 
 #: N/mm^2 * mm/s = N mm/(s mm^2) = 1e-3 W/mm^2.
 W_PER_NMM_S = 1e-3
@@ -238,7 +238,7 @@ def simplified_theory_fx_ratio(kappa: float) -> float:
     return (adhesion + slip) / (0.5 * np.pi)
 
 
-@numba.njit(cache=True)
+@kernel(size=lambda x_lead, x_centre, y, pn, *rest: 4 * pn.size)
 def _march(x_lead, x_centre, y, pn, nx, L1, L2, rx, ry, spin, mu):  # pragma: no cover - compiled
     """FASTSIM march on all strips; rx = vx/L1, ry = vy/L2, spin = phi/L3; strip j spans x_centre[j] +- x_lead[j].
 
