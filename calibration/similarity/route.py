@@ -22,6 +22,7 @@ import numpy as np
 from calibration.config import profile_of
 from calibration.hertz.geometry import HERTZ_B_OVER_R_LIMIT, conformity, halfspace_centre_compliance_mm_per_MPa
 from calibration.results import IndentationResult
+from calibration.settings import CalibrationConfig
 from calibration.similarity.master import ASPECTS, MasterCurves
 from calibration.tasks import PositionTask, code_hash, inputs_hash
 
@@ -105,6 +106,21 @@ def similar_indentation(master: MasterCurves, a_mm: float, b_mm: float) -> Inden
                              time.perf_counter() - t0)
 
 
+def served_config(cfg: CalibrationConfig, tasks: list[PositionTask]
+                  ) -> tuple[CalibrationConfig, dict[tuple[str, float], str]]:
+    """``cfg`` with only the positions of ``tasks`` (its :func:`calibration.tasks.make_tasks`) that the full master
+    grid serves, and {(body, y): why the direct FEM} of the others (a body left without positions is dropped):
+    a similarity run of it computes no FEM once the master exists."""
+    routes = {(t.body, t.y_mm): route(t, cfg.reference_load_N) for t in tasks}
+    bodies = []
+    for b in cfg.bodies:
+        ys = tuple(y for y in b.positions_mm if routes.get((b.body, y), Route(METHOD_DIRECT)).method
+                   == METHOD_SIMILARITY)
+        if ys:
+            bodies.append(replace(b, positions_mm=ys))
+    return replace(cfg, bodies=tuple(bodies)), {k: r.note for k, r in routes.items() if r.method == METHOD_DIRECT}
+
+
 def similarity_task(task: PositionTask, master: MasterCurves, code: str | None = None) -> PositionTask:
     """``task`` keyed by the master and its geometry instead of its own FEM inputs (the fit's cache key)."""
     key = inputs_hash({"similarity": master.key, "geometry": task.geometry.to_dict(),
@@ -112,5 +128,5 @@ def similarity_task(task: PositionTask, master: MasterCurves, code: str | None =
     return replace(task, key=key, fields_dir=None)
 
 
-__all__ = ["METHOD_DIRECT", "METHOD_SIMILARITY", "Route", "SAG_LIMIT", "SIMILARITY_SOURCES", "patch_sag", "route",
+__all__ = ["METHOD_DIRECT", "METHOD_SIMILARITY", "Route", "SAG_LIMIT", "SIMILARITY_SOURCES", "patch_sag", "route", "served_config",
            "similar_indentation", "similarity_task"]
