@@ -10,7 +10,12 @@ factors f p_y). Also: the time per position once the master exists (the route an
 Inputs: the direct FEM results of a default run (its cache, ``out/calibration/cache`` after ``make calibrate``
 with ``run.method = "direct"``) and the master's FEM results (``MASTER`` below); in "full" mode missing ones are
 computed (a cold default run: minutes on 2 workers), in "quick" mode the benchmark reports what is missing.
-``python -m benchmarks.bench_similarity DIRECT_OUT MASTER_DIR`` compares two given folders. Units: mm, MPa, s.
+``python -m benchmarks.bench_similarity DIRECT_OUT MASTER_DIR`` compares two given folders.
+
+The wear example with its tables recalibrated by similarity after every step
+(``scenes/wear/s1002_60e1_recalibrated.toml``) is timed against the example without recalibration
+(``scenes/wear/s1002_60e1.toml``), both in this process, the master cached (full mode; ``--wear`` alone). Units: mm,
+MPa, s.
 """
 
 from __future__ import annotations
@@ -27,6 +32,10 @@ ROOT = Path(__file__).resolve().parent.parent
 DIRECT_OUT = ROOT / "out" / "calibration"
 MASTER = ROOT / "out" / "calibration_master"
 CONFIG = ROOT / "calibration" / "configs" / "default.toml"
+WEAR = ROOT / "scenes" / "wear" / "s1002_60e1.toml"
+WEAR_RECALIBRATED = ROOT / "scenes" / "wear" / "s1002_60e1_recalibrated.toml"
+#: The wear run with recalibration at every step may take at most this many times the run without (-).
+WEAR_TARGET = 2.0
 #: The agreement asked of the similarity route before it becomes the default of ``make calibrate`` (-).
 TARGET = 0.02
 
@@ -137,6 +146,30 @@ def compare_runs(direct_out: Path, master_dir: Path, quick: bool = True) -> dict
             "timing": _timing(cfg, master, tasks), "target": TARGET}
 
 
+def wear_timing() -> dict:
+    """Wall times (s) of the wear example with and without recalibration by similarity after every step (the
+    master in ``MASTER``, computed first when missing: its cost is not in the times), the machine's load."""
+    import os
+    import tomllib
+
+    from contact.wear.loop import run_wear
+    from contact.wear.scene import parse_wear_scene
+
+    _master(_config(MASTER), quick=False)  # the master exists before the timed runs
+    times, steps = {}, {}
+    for name, path in (("plain", WEAR), ("recalibrated", WEAR_RECALIBRATED)):
+        load = os.getloadavg()[0]
+        t0 = time.perf_counter()
+        with tempfile.TemporaryDirectory() as tmp:
+            scene = parse_wear_scene(tomllib.loads(path.read_text()), path)
+            run = run_wear(scene, show_progress=False, work_dir=Path(tmp))
+        times[name] = time.perf_counter() - t0
+        steps[name] = {"steps": len(run.steps), "load": load,
+                       "recalibration_s": sum(r.timings.get("recalibration_s", 0.0) for r in run.steps)}
+    return {"plain_s": times["plain"], "recalibrated_s": times["recalibrated"],
+            "ratio": times["recalibrated"] / times["plain"], "target": WEAR_TARGET, "runs": steps}
+
+
 def _markdown(data: dict) -> str:
     if "missing" in data:
         return f"Not measured: {data['missing']} (run the full mode, or `make calibrate` with method direct)."
@@ -160,10 +193,22 @@ def _markdown(data: dict) -> str:
 
 def run(mode: str, out: Path) -> dict:
     data = compare_runs(DIRECT_OUT, MASTER, quick=mode != "full")
+    if mode == "full" and "missing" not in data:
+        data["wear"] = wear_timing()
+        w = data["wear"]
+        data_md = (f"\n\nWear example, 3000 km, tables recalibrated by similarity after every step: "
+                   f"{w['recalibrated_s']:.0f} s ({w['runs']['recalibrated']['steps']} steps, recalibration "
+                   f"{w['runs']['recalibrated']['recalibration_s']:.0f} s) against {w['plain_s']:.0f} s without "
+                   f"recalibration: x{w['ratio']:.2f} (target < x{WEAR_TARGET:g}; load "
+                   f"{w['runs']['plain']['load']:.1f} / {w['runs']['recalibrated']['load']:.1f}).")
+        return {"title": "Calibration by similarity against the direct 3D FEM", "markdown": _markdown(data) + data_md,
+                "figures": [], "data": data}
     return {"title": "Calibration by similarity against the direct 3D FEM", "markdown": _markdown(data),
             "figures": [], "data": data}
 
 
 if __name__ == "__main__":
-    result = compare_runs(Path(sys.argv[1]), Path(sys.argv[2]), quick=True)
-    print(_markdown(result))
+    if sys.argv[1:] == ["--wear"]:
+        print(wear_timing())
+    else:
+        print(_markdown(compare_runs(Path(sys.argv[1]), Path(sys.argv[2]), quick=True)))

@@ -18,6 +18,8 @@ from contact.wear.loop import run_wear
 from wrlayer.layer_table import LayerTable
 
 TABLES = Path(__file__).resolve().parents[3] / "scenes" / "tables"
+#: The template's positions the master serves on the (worn) S1002 tread.
+SERVED = (15.0, 30.0, 37.5)
 
 TEMPLATE = """
 [run]
@@ -42,7 +44,7 @@ body = "wheel"
 profile = "@wheel_profile@"
 mate = "@rail_profile@"
 wheel_radius_mm = 460.0
-positions_mm = [-37.5, 0.0, 15.0, 30.0]
+positions_mm = [-37.5, 0.0, 15.0, 30.0, 37.5]
 """
 
 
@@ -85,13 +87,14 @@ def test_each_step_uses_the_worn_profiles_table_from_the_master(make_scene, tmp_
     by_y = {float(p["y_mm"]): p for p in table.positions}
     worn = tmp_path / "work" / "calibration" / "step_001_right" / "wheel.prw"
     assert Path(table.header["profile_source"]) == worn.resolve()
-    for y in (0.0, 15.0, 30.0):  # served: from the master on the worn wheel, the synthetic material's p_y
+    for y in SERVED:  # served: from the master on the worn wheel, the synthetic material's p_y
         assert by_y[y]["method"] == "similarity"
         assert by_y[y]["first_yield_fem_MPa"] != next(p for p in scene_table.positions
                                                       if p["y_mm"] == y)["first_yield_fem_MPa"]
     for p in scene_table.positions:  # the others: the scene table's entries, marked
         y = float(p["y_mm"])
-        if y not in (0.0, 15.0, 30.0):
+        if y not in SERVED:
             assert by_y[y]["characteristic"] == p["characteristic"]
             assert "not recalibrated on the worn profile" in by_y[y]["warnings"][-1]
     assert "conforming contact" in by_y[-37.5]["warnings"][-1]
+    assert "surface convexity" in by_y[0.0]["warnings"][-1]  # the concave tread: unlike the convex master
