@@ -7,8 +7,9 @@ u_pl at the largest level) and the residual dents after unloading from each peak
 factors f p_y). Also: the time per position once the master exists (the route and the interpolation; and a whole
 ``calibrate`` call per position including the geometry and the fit), and the master's own FEM cost.
 
-Inputs: the direct FEM results of a default run (its cache, ``out/calibration/cache`` after ``make calibrate``
-with ``run.method = "direct"``) and the master's FEM results (``MASTER`` below); in "full" mode missing ones are
+Inputs: the direct FEM results of the default run's positions (``out/calibration_direct/cache``, the default
+configuration with ``run.method = "direct"``) and the master's FEM results (``MASTER`` below, where ``make
+calibrate`` keeps them); in "full" mode missing ones are
 computed (a cold default run: minutes on 2 workers), in "quick" mode the benchmark reports what is missing.
 ``python -m benchmarks.bench_similarity DIRECT_OUT MASTER_DIR`` compares two given folders.
 
@@ -21,6 +22,7 @@ MPa, s.
 from __future__ import annotations
 
 import dataclasses
+import os
 import sys
 import tempfile
 import time
@@ -29,8 +31,8 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-DIRECT_OUT = ROOT / "out" / "calibration"
-MASTER = ROOT / "out" / "calibration_master"
+DIRECT_OUT = ROOT / "out" / "calibration_direct"
+MASTER = ROOT / "out" / "calibration" / "cache"  # where `make calibrate` (similarity) keeps the master
 CONFIG = ROOT / "calibration" / "configs" / "default.toml"
 WEAR = ROOT / "scenes" / "wear" / "s1002_60e1.toml"
 WEAR_RECALIBRATED = ROOT / "scenes" / "wear" / "s1002_60e1_recalibrated.toml"
@@ -101,6 +103,7 @@ def _direct(cfg, direct_out: Path, quick: bool):
 def _timing(cfg, master, tasks) -> dict:
     """Per-position times once the master exists: route + interpolation, and a whole calibrate call."""
     from calibration.pipeline import calibrate
+    from calibration.position_fit import fit_position
     from calibration.similarity.route import route, similar_indentation
 
     served = [t for t in tasks if route(t, cfg.reference_load_N, master.aspect_range).method == "similarity"]
@@ -109,13 +112,19 @@ def _timing(cfg, master, tasks) -> dict:
         for t in served:
             similar_indentation(master, t.geometry.a_mm, t.geometry.b_mm)
     interp_s = (time.perf_counter() - t0) / (20 * max(1, len(served)))
+    t0 = time.perf_counter()
+    for _ in range(5):  # what one more position costs: its route, the interpolation and the Prandtl fit
+        for t in served:
+            route(t, cfg.reference_load_N, master.aspect_range)
+            fit_position(similar_indentation(master, t.geometry.a_mm, t.geometry.b_mm), t.geometry, cfg.fit, t.label)
+    position_s = (time.perf_counter() - t0) / (5 * max(1, len(served)))
     served_cfg = dataclasses.replace(cfg, bodies=tuple(dataclasses.replace(b, positions_mm=tuple(
         t.y_mm for t in served if t.body == b.body)) for b in cfg.bodies))
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
         result = calibrate(served_cfg, tmp, show_progress=False, log=lambda *a: None)
         whole_s = time.perf_counter() - t0
-    return {"served": len(served), "interpolation_s": interp_s,
+    return {"served": len(served), "interpolation_s": interp_s, "position_s": position_s, "load": os.getloadavg()[0],
             "route_s": result.similarity.seconds_per_position if result.similarity else float("nan"),
             "calibrate_s_per_position": whole_s / max(1, len(served)), "calibrate_s": whole_s}
 
@@ -185,9 +194,9 @@ def _markdown(data: dict) -> str:
                f"{100 * w['u_pl']:.2f} %, residual dents {100 * w['residual']:.2f} % (target {100 * TARGET:g} %).",
            f"Master: {data['master_positions']} FEM positions, {data['master_fem_s']:.0f} s of FEM"
            f"{' (substituted: ' + '; '.join(data['substituted']) + ')' if data['substituted'] else ''}. Per position "
-           f"once the master exists: interpolation {1e3 * tm['interpolation_s']:.3f} ms, route and interpolation in "
-           f"calibrate {1e3 * tm['route_s']:.3f} ms, a whole calibrate call (geometry, fit, table) "
-           f"{1e3 * tm['calibrate_s_per_position']:.0f} ms per position."]
+           f"once the master exists (load {tm['load']:.1f} on 2 cores): interpolation {1e3 * tm['interpolation_s']:.3f} "
+           f"ms, route, interpolation and Prandtl fit {1e3 * tm['position_s']:.1f} ms; a whole calibrate call (profiles, "
+           f"geometry, fit, tables) {1e3 * tm['calibrate_s_per_position']:.0f} ms per position."]
     return "\n".join(md)
 
 

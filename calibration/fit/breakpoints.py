@@ -75,21 +75,21 @@ def _candidates(p, rhs, fixed, bounds, rows):
     step = (p[None, None, :] >= up[..., None]) * inside[..., None]
     g = rows.shape[0]
     A = np.concatenate([np.broadcast_to(fixed.T, (g,) + fixed.T.shape), hinge, step], axis=1)  # (G, m, n)
-    norm = np.sqrt(np.einsum("gmn,gmn->gm", A, A))
+    norm = np.sqrt(np.sum(A * A, axis=2))
     empty = norm == 0  # the step column of a break point at a data pressure
     norm[empty] = 1.0
     As = A / norm[..., None]
-    N = np.einsum("gmn,gkn->gmk", As, As)
+    N = As @ As.transpose(0, 2, 1)
     # a tiny ridge keeps the assignments the data cannot tell apart solvable (their solutions are real
     # placements with their real cost, just not unique); the chosen one is solved again exactly
     N[:, np.arange(N.shape[1]), np.arange(N.shape[1])] += empty + RIDGE
-    x = np.linalg.solve(N, np.einsum("gmn,n->gm", As, rhs)[..., None])[..., 0] / norm
+    x = np.linalg.solve(N, (As @ rhs)[..., None])[..., 0] / norm
     nf = fixed.shape[1]
     f = rows.shape[1]
     d, w = x[:, nf:nf + f], x[:, nf + f:]
     with np.errstate(divide="ignore", invalid="ignore"):
         q = np.where(inside, up - w / d, up)
-    return x, q, np.sum((np.einsum("gmn,gm->gn", A, x) - rhs) ** 2, axis=1), low, inside
+    return x, q, np.sum(((x[:, None, :] @ A)[:, 0, :] - rhs) ** 2, axis=1), low, inside
 
 
 def exact_breakpoints(p: np.ndarray, u: np.ndarray, pinned: list[float], n_free: int, c0_fixed: float | None,

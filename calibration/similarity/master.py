@@ -13,9 +13,8 @@ first-yield pressure p_y and divided by L:
 
     p_y(r) / yield_MPa,   u_pl(q p_y; r) / L,   residual(f p_y; r) / L,   c_el(r) E / L
 
-(q: the levels of :func:`calibration.indentation.load_levels` at p_y = 1 and the midpoints between them; f: the
-unloading peaks). The mesh and load settings are the configuration's, so the master answers the same question as
-the direct FEM.
+(q: the load path's points as multiples of p_y, :func:`path_levels`; f: the unloading peaks). The mesh and load
+settings are the configuration's, so the master answers the same question as the direct FEM.
 """
 
 from __future__ import annotations
@@ -29,10 +28,9 @@ from typing import Any
 import numpy as np
 
 from calibration.hertz.geometry import given_geometry
-from calibration.indentation import load_levels
 from calibration.results import IndentationResult
-from calibration.settings import CalibrationConfig, LoadSettings, MaterialSettings
-from calibration.tasks import PositionTask, inputs_hash, position_task
+from calibration.settings import CalibrationConfig, MaterialSettings
+from calibration.tasks import PositionTask, code_hash, inputs_hash, position_task
 from meshes.profiles import get_profile
 from wrlayer import validate
 from wrlayer.atomic_write import atomic_write_text
@@ -56,12 +54,13 @@ def master_tasks(cfg: CalibrationConfig, material: MaterialSettings) -> list[Pos
     """The FEM tasks of ``material``'s master, one per patch size and aspect ratio with a semi-axis of at most
     :data:`MAX_SEMI_AXIS_MM` (no field output), by size."""
     profile = get_profile(MASTER_PROFILE)
+    code = code_hash()  # once: the sources' hash is part of every task's key
     tasks = []
     for length in LENGTHS_MM:
         for r in ASPECTS:
             if length * r ** 0.5 <= MAX_SEMI_AXIS_MM:
                 geo = given_geometry(profile, MASTER_Y_MM, length * r ** 0.5, length / r ** 0.5)
-                tasks.append(position_task(cfg, "rail", MASTER_PROFILE, geo, material))
+                tasks.append(position_task(cfg, "rail", MASTER_PROFILE, geo, material, None, code))
     return tasks
 
 
@@ -84,11 +83,13 @@ def _row(ind: IndentationResult, length: float, q: np.ndarray, material: Materia
             ind.fem_elastic_compliance_mm_per_MPa * material.E_MPa / length)
 
 
-def normalised_levels(load: LoadSettings) -> np.ndarray:
-    """q: the load levels as multiples of p_y, from 0, with the midpoints between them (-)."""
-    levels = np.array([0.0] + load_levels(1.0, load))
-    mids = 0.5 * (levels[1:] + levels[:-1])
-    return np.unique(np.concatenate([levels, mids]))
+def path_levels(results: list[IndentationResult]) -> np.ndarray:
+    """q: the load path's points as multiples of p_y (-), those of the first result: every master position, and
+    every direct position, is loaded along the same multiples of its own p_y (the levels of
+    :func:`calibration.indentation.load_levels` and the solver's increments between them), so a position from the
+    master carries the points its direct FEM would."""
+    first = results[0]
+    return np.asarray(first.p_MPa) / first.first_yield_MPa
 
 
 @dataclass(frozen=True)
@@ -143,12 +144,12 @@ class MasterCurves:
         FEM failed takes the result of the same aspect ratio at the nearest other size (listed in
         ``substituted``); the aspect ratios end before the first one that failed at every size (None: not even
         a/b = 1)."""
-        q = normalised_levels(cfg.load)
         n = len(ASPECTS)
         by_size = [[_task_at(tasks, length, r) for r in ASPECTS] for length in LENGTHS_MM]  # None: not computed
         good = next((k for k in range(n) if all(ts[k] is None or ts[k].key not in results for ts in by_size)), n)
         if good == 0:
             return None
+        q = path_levels([results[t.key] for t in tasks if t.key in results])
         grid, substituted, seconds = [], [], 0.0
         for s, ts in enumerate(by_size):
             rows = []
@@ -205,4 +206,4 @@ class MasterCurves:
 
 
 __all__ = ["ASPECTS", "LENGTHS_MM", "MASTER_PROFILE", "MAX_SEMI_AXIS_MM", "MASTER_Y_MM", "MasterCurves", "master_tasks",
-           "normalised_levels"]
+           "path_levels"]
