@@ -24,7 +24,7 @@ from wrlayer.errors import InputError, require
 #: Allowed numbers of segments.
 N_SEGMENTS_RANGE = (1, 8)
 #: Smallest hinge increment d_i relative to the mean compliance u_max/p_max (keeps slopes strictly decreasing).
-_D_MIN_REL = 1e-6
+D_MIN_REL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -87,7 +87,7 @@ def fit_characteristic(p_MPa, u_mm, n_segments: int, s1_N_per_mm3: float | None 
         require(np.isfinite(p2_MPa) and 0 < p2_MPa < p_max, what,
                 f"p_2 = {p2_MPa!r} MPa must lie inside (0, {p_max:.6g}) MPa, the range of the points")
         pinned = [float(p2_MPa)]
-    d_min = _D_MIN_REL * u_max / p_max
+    d_min = D_MIN_REL * u_max / p_max
     n_free = n_segments - 1 - len(pinned)
     q = best_breakpoints(p, u, pinned, n_free, c0_fixed, d_min, n_starts) if n_free > 0 else np.array(pinned)
     c0, d, r = solve_linear(p, u, q, c0_fixed, d_min)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import calibration.fit.breakpoints as bp
-from calibration.fit.characteristic_fit import _D_MIN_REL, fit_characteristic
+from calibration.fit.characteristic_fit import D_MIN_REL, fit_characteristic
 
 TABLES = Path(__file__).resolve().parents[3] / "scenes" / "tables"
 #: The one shipped 3D position where the former Nelder-Mead search stopped in a worse local minimum (RMS fit error
@@ -48,7 +48,7 @@ def test_never_worse_than_the_nelder_mead_search(y_mm):
     """At wheel y = 0 the search stops in a worse local minimum; at y = -30 mm it needed its random starts."""
     pos, p, u = next(t for t in _positions("wheel_S1002_default.json") if t[0]["y_mm"] == y_mm)
     c0, pin = 1.0 / pos["slopes_N_per_mm3"][0], [pos["first_yield_fem_MPa"]]
-    d_min = _D_MIN_REL * float(np.max(u)) / p[-1]
+    d_min = D_MIN_REL * float(np.max(u)) / p[-1]
     exact = _cost(p, u, bp.exact_breakpoints(p, u, pin, 3, c0, d_min), c0, d_min)
     searched = _cost(p, u, bp.searched_breakpoints(p, u, pin, 3, c0, d_min), c0, d_min)
     assert exact <= searched * (1 + 1e-9)
