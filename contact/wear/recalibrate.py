@@ -162,7 +162,8 @@ def worn_config(cfg: CalibrationConfig, files: dict[str, Path]) -> CalibrationCo
 def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: Path, scheduler: str = "",
                      what: str = "wear.recalibrate") -> dict[str, LayerTable]:
     """Calibrate the bodies of the template on ``profiles[body]`` (the current profiles of one side) in ``work``;
-    returns {body: LayerTable} of the bodies the template calibrates. InputError/ConvergenceError ``what: ...``."""
+    returns {body: LayerTable} of the bodies the template calibrates (by similarity: the positions the master
+    serves, merged into the scene's table by :func:`merged_table`). InputError/ConvergenceError ``what: ...``."""
     work = Path(work)
     files = write_profiles(profiles, work, "worn")
     cfg = worn_config(recal.calibration, files)
@@ -173,7 +174,9 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
                 worn.check_y(y, f"position y = {y:g} mm on the worn {b.body} profile")
         direct: dict[tuple[str, float], str] = {}
         if recal.by_similarity:
-            cfg, direct = served_config(cfg, make_tasks(cfg, work, plots=False)[0])
+            tasks, failed, _ = make_tasks(cfg, work, plots=False)
+            cfg, direct = served_config(cfg, tasks)
+            direct.update({(f.body, f.y_mm): f.message for f in failed})  # no geometry on the worn profile
         result = calibrate(cfg, work / "tables", scheduler=scheduler or None, plots=False, show_progress=False,
                            log=_quiet) if cfg.bodies else None
     except InputError as err:
