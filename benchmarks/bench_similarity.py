@@ -7,15 +7,22 @@ u_pl at the largest level) and the residual dents after unloading from each peak
 factors f p_y). Also: the time per position once the master exists (the route and the interpolation; and a whole
 ``calibrate`` call per position including the geometry and the fit), and the master's own FEM cost.
 
-Inputs: the direct FEM results of a default run (its cache, ``out/calibration/cache`` after ``make calibrate``
-with ``run.method = "direct"``) and the master's FEM results (``MASTER`` below); in "full" mode missing ones are
+Inputs: the direct FEM results of the default run's positions (``out/calibration_direct/cache``, the default
+configuration with ``run.method = "direct"``) and the master's FEM results (``MASTER`` below, where ``make
+calibrate`` keeps them); in "full" mode missing ones are
 computed (a cold default run: minutes on 2 workers), in "quick" mode the benchmark reports what is missing.
-``python -m benchmarks.bench_similarity DIRECT_OUT MASTER_DIR`` compares two given folders. Units: mm, MPa, s.
+``python -m benchmarks.bench_similarity DIRECT_OUT MASTER_DIR`` compares two given folders.
+
+The wear example with its tables recalibrated by similarity after every step
+(``scenes/wear/s1002_60e1_recalibrated.toml``) is timed against the example without recalibration
+(``scenes/wear/s1002_60e1.toml``), both in this process, the master cached (full mode; ``--wear`` alone). Units: mm,
+MPa, s.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import os
 import sys
 import tempfile
 import time
@@ -24,9 +31,13 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-DIRECT_OUT = ROOT / "out" / "calibration"
-MASTER = ROOT / "out" / "calibration_master"
+DIRECT_OUT = ROOT / "out" / "calibration_direct"
+MASTER = ROOT / "out" / "calibration" / "cache"  # where `make calibrate` (similarity) keeps the master
 CONFIG = ROOT / "calibration" / "configs" / "default.toml"
+WEAR = ROOT / "scenes" / "wear" / "s1002_60e1.toml"
+WEAR_RECALIBRATED = ROOT / "scenes" / "wear" / "s1002_60e1_recalibrated.toml"
+#: The wear run with recalibration at every step may take at most this many times the run without (-).
+WEAR_TARGET = 2.0
 #: The agreement asked of the similarity route before it becomes the default of ``make calibrate`` (-).
 TARGET = 0.02
 
@@ -92,6 +103,7 @@ def _direct(cfg, direct_out: Path, quick: bool):
 def _timing(cfg, master, tasks) -> dict:
     """Per-position times once the master exists: route + interpolation, and a whole calibrate call."""
     from calibration.pipeline import calibrate
+    from calibration.position_fit import fit_position
     from calibration.similarity.route import route, similar_indentation
 
     served = [t for t in tasks if route(t, cfg.reference_load_N, master.aspect_range).method == "similarity"]
@@ -100,13 +112,19 @@ def _timing(cfg, master, tasks) -> dict:
         for t in served:
             similar_indentation(master, t.geometry.a_mm, t.geometry.b_mm)
     interp_s = (time.perf_counter() - t0) / (20 * max(1, len(served)))
+    t0 = time.perf_counter()
+    for _ in range(5):  # what one more position costs: its route, the interpolation and the Prandtl fit
+        for t in served:
+            route(t, cfg.reference_load_N, master.aspect_range)
+            fit_position(similar_indentation(master, t.geometry.a_mm, t.geometry.b_mm), t.geometry, cfg.fit, t.label)
+    position_s = (time.perf_counter() - t0) / (5 * max(1, len(served)))
     served_cfg = dataclasses.replace(cfg, bodies=tuple(dataclasses.replace(b, positions_mm=tuple(
         t.y_mm for t in served if t.body == b.body)) for b in cfg.bodies))
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
         result = calibrate(served_cfg, tmp, show_progress=False, log=lambda *a: None)
         whole_s = time.perf_counter() - t0
-    return {"served": len(served), "interpolation_s": interp_s,
+    return {"served": len(served), "interpolation_s": interp_s, "position_s": position_s, "load": os.getloadavg()[0],
             "route_s": result.similarity.seconds_per_position if result.similarity else float("nan"),
             "calibrate_s_per_position": whole_s / max(1, len(served)), "calibrate_s": whole_s}
 
@@ -137,6 +155,30 @@ def compare_runs(direct_out: Path, master_dir: Path, quick: bool = True) -> dict
             "timing": _timing(cfg, master, tasks), "target": TARGET}
 
 
+def wear_timing() -> dict:
+    """Wall times (s) of the wear example with and without recalibration by similarity after every step (the
+    master in ``MASTER``, computed first when missing: its cost is not in the times), the machine's load."""
+    import os
+    import tomllib
+
+    from contact.wear.loop import run_wear
+    from contact.wear.scene import parse_wear_scene
+
+    _master(_config(MASTER), quick=False)  # the master exists before the timed runs
+    times, steps = {}, {}
+    for name, path in (("plain", WEAR), ("recalibrated", WEAR_RECALIBRATED)):
+        load = os.getloadavg()[0]
+        t0 = time.perf_counter()
+        with tempfile.TemporaryDirectory() as tmp:
+            scene = parse_wear_scene(tomllib.loads(path.read_text()), path)
+            run = run_wear(scene, show_progress=False, work_dir=Path(tmp))
+        times[name] = time.perf_counter() - t0
+        steps[name] = {"steps": len(run.steps), "load": load,
+                       "recalibration_s": sum(r.timings.get("recalibration_s", 0.0) for r in run.steps)}
+    return {"plain_s": times["plain"], "recalibrated_s": times["recalibrated"],
+            "ratio": times["recalibrated"] / times["plain"], "target": WEAR_TARGET, "runs": steps}
+
+
 def _markdown(data: dict) -> str:
     if "missing" in data:
         return f"Not measured: {data['missing']} (run the full mode, or `make calibrate` with method direct)."
@@ -152,18 +194,30 @@ def _markdown(data: dict) -> str:
                f"{100 * w['u_pl']:.2f} %, residual dents {100 * w['residual']:.2f} % (target {100 * TARGET:g} %).",
            f"Master: {data['master_positions']} FEM positions, {data['master_fem_s']:.0f} s of FEM"
            f"{' (substituted: ' + '; '.join(data['substituted']) + ')' if data['substituted'] else ''}. Per position "
-           f"once the master exists: interpolation {1e3 * tm['interpolation_s']:.3f} ms, route and interpolation in "
-           f"calibrate {1e3 * tm['route_s']:.3f} ms, a whole calibrate call (geometry, fit, table) "
-           f"{1e3 * tm['calibrate_s_per_position']:.0f} ms per position."]
+           f"once the master exists (load {tm['load']:.1f} on 2 cores): interpolation {1e3 * tm['interpolation_s']:.3f} "
+           f"ms, route, interpolation and Prandtl fit {1e3 * tm['position_s']:.1f} ms; a whole calibrate call (profiles, "
+           f"geometry, fit, tables) {1e3 * tm['calibrate_s_per_position']:.0f} ms per position."]
     return "\n".join(md)
 
 
 def run(mode: str, out: Path) -> dict:
     data = compare_runs(DIRECT_OUT, MASTER, quick=mode != "full")
+    if mode == "full" and "missing" not in data:
+        data["wear"] = wear_timing()
+        w = data["wear"]
+        data_md = (f"\n\nWear example, 3000 km, tables recalibrated by similarity after every step: "
+                   f"{w['recalibrated_s']:.0f} s ({w['runs']['recalibrated']['steps']} steps, recalibration "
+                   f"{w['runs']['recalibrated']['recalibration_s']:.0f} s) against {w['plain_s']:.0f} s without "
+                   f"recalibration: x{w['ratio']:.2f} (target < x{WEAR_TARGET:g}; load "
+                   f"{w['runs']['plain']['load']:.1f} / {w['runs']['recalibrated']['load']:.1f}).")
+        return {"title": "Calibration by similarity against the direct 3D FEM", "markdown": _markdown(data) + data_md,
+                "figures": [], "data": data}
     return {"title": "Calibration by similarity against the direct 3D FEM", "markdown": _markdown(data),
             "figures": [], "data": data}
 
 
 if __name__ == "__main__":
-    result = compare_runs(Path(sys.argv[1]), Path(sys.argv[2]), quick=True)
-    print(_markdown(result))
+    if sys.argv[1:] == ["--wear"]:
+        print(wear_timing())
+    else:
+        print(_markdown(compare_runs(Path(sys.argv[1]), Path(sys.argv[2]), quick=True)))

@@ -13,9 +13,8 @@ first-yield pressure p_y and divided by L:
 
     p_y(r) / yield_MPa,   u_pl(q p_y; r) / L,   residual(f p_y; r) / L,   c_el(r) E / L
 
-(q: the levels of :func:`calibration.indentation.load_levels` at p_y = 1 and the midpoints between them; f: the
-unloading peaks). The mesh and load settings are the configuration's, so the master answers the same question as
-the direct FEM.
+(q: the load path's points as multiples of p_y, :func:`path_levels`; f: the unloading peaks). The mesh and load
+settings are the configuration's, so the master answers the same question as the direct FEM.
 """
 
 from __future__ import annotations
@@ -29,10 +28,9 @@ from typing import Any
 import numpy as np
 
 from calibration.hertz.geometry import given_geometry
-from calibration.indentation import load_levels
 from calibration.results import IndentationResult
-from calibration.settings import CalibrationConfig, LoadSettings, MaterialSettings
-from calibration.tasks import PositionTask, inputs_hash, position_task
+from calibration.settings import CalibrationConfig, MaterialSettings
+from calibration.tasks import PositionTask, code_hash, inputs_hash, position_task
 from meshes.profiles import get_profile
 from wrlayer import validate
 from wrlayer.atomic_write import atomic_write_text
@@ -43,25 +41,38 @@ ASPECTS = tuple(float(20.0 ** (k / 10.0)) for k in range(11))
 #: The master patch sizes sqrt(a b) (mm), spanning the default run's patches (L = 2.9-6.2 mm at 100 kN); at L = 3 mm
 #: and a/b = 20: a = 13.4, b = 0.67 mm, as the default run's elongated patches (a = 9-10 mm, b = 0.7-0.8 mm).
 LENGTHS_MM = (3.0, 6.5)
+#: Longest semi-axis of a master patch (mm): the grid point L = 6.5 mm, a/b = 20 (a = 29 mm, b = 1.45 mm) fails to
+#: mesh ("Gmsh produced a degenerate element") and is not computed but filled from L = 3 mm, listed in
+#: ``substituted`` (a failed point would be retried by every run).
+MAX_SEMI_AXIS_MM = 26.0
 #: Where the master positions stand: the builtin rail's crown.
 MASTER_PROFILE = "60E1"
 MASTER_Y_MM = 0.0
 
 
 def master_tasks(cfg: CalibrationConfig, material: MaterialSettings) -> list[PositionTask]:
-    """The FEM tasks of ``material``'s master, one per patch size and aspect ratio (no field output), by size."""
+    """The FEM tasks of ``material``'s master, one per patch size and aspect ratio with a semi-axis of at most
+    :data:`MAX_SEMI_AXIS_MM` (no field output), by size."""
     profile = get_profile(MASTER_PROFILE)
+    code = code_hash()  # once: the sources' hash is part of every task's key
     tasks = []
     for length in LENGTHS_MM:
         for r in ASPECTS:
-            geo = given_geometry(profile, MASTER_Y_MM, length * r ** 0.5, length / r ** 0.5)
-            tasks.append(position_task(cfg, "rail", MASTER_PROFILE, geo, material))
+            if length * r ** 0.5 <= MAX_SEMI_AXIS_MM:
+                geo = given_geometry(profile, MASTER_Y_MM, length * r ** 0.5, length / r ** 0.5)
+                tasks.append(position_task(cfg, "rail", MASTER_PROFILE, geo, material, None, code))
     return tasks
 
 
 def _length(t: PositionTask) -> float:
     """The patch size sqrt(a b) of a master task (mm)."""
     return round(math.sqrt(t.geometry.a_mm * t.geometry.b_mm), 9)
+
+
+def _task_at(tasks: list[PositionTask], length: float, r: float) -> PositionTask | None:
+    """The master task of patch size ``length`` (mm) and aspect ratio ``r`` (None: not in ``tasks``)."""
+    return next((t for t in tasks if math.isclose(_length(t), length, rel_tol=1e-6)
+                 and math.isclose(t.geometry.a_mm / t.geometry.b_mm, r, rel_tol=1e-6)), None)
 
 
 def _row(ind: IndentationResult, length: float, q: np.ndarray, material: MaterialSettings) -> tuple:
@@ -72,11 +83,13 @@ def _row(ind: IndentationResult, length: float, q: np.ndarray, material: Materia
             ind.fem_elastic_compliance_mm_per_MPa * material.E_MPa / length)
 
 
-def normalised_levels(load: LoadSettings) -> np.ndarray:
-    """q: the load levels as multiples of p_y, from 0, with the midpoints between them (-)."""
-    levels = np.array([0.0] + load_levels(1.0, load))
-    mids = 0.5 * (levels[1:] + levels[:-1])
-    return np.unique(np.concatenate([levels, mids]))
+def path_levels(results: list[IndentationResult]) -> np.ndarray:
+    """q: the load path's points as multiples of p_y (-), those of the first result: every master position, and
+    every direct position, is loaded along the same multiples of its own p_y (the levels of
+    :func:`calibration.indentation.load_levels` and the solver's increments between them), so a position from the
+    master carries the points its direct FEM would."""
+    first = results[0]
+    return np.asarray(first.p_MPa) / first.first_yield_MPa
 
 
 @dataclass(frozen=True)
@@ -131,18 +144,18 @@ class MasterCurves:
         FEM failed takes the result of the same aspect ratio at the nearest other size (listed in
         ``substituted``); the aspect ratios end before the first one that failed at every size (None: not even
         a/b = 1)."""
-        q = normalised_levels(cfg.load)
         n = len(ASPECTS)
-        by_size = [tasks[i:i + n] for i in range(0, len(tasks), n)]
-        good = next((k for k in range(n) if all(ts[k].key not in results for ts in by_size)), n)
+        by_size = [[_task_at(tasks, length, r) for r in ASPECTS] for length in LENGTHS_MM]  # None: not computed
+        good = next((k for k in range(n) if all(ts[k] is None or ts[k].key not in results for ts in by_size)), n)
         if good == 0:
             return None
+        q = path_levels([results[t.key] for t in tasks if t.key in results])
         grid, substituted, seconds = [], [], 0.0
         for s, ts in enumerate(by_size):
             rows = []
             for k, t in enumerate(ts[:good]):
-                if t.key not in results:
-                    t = min((other[k] for other in by_size if other[k].key in results),
+                if t is None or t.key not in results:
+                    t = min((other[k] for other in by_size if other[k] is not None and other[k].key in results),
                             key=lambda o: abs(math.log(_length(o) / LENGTHS_MM[s])))
                     substituted.append(f"L = {LENGTHS_MM[s]:g} mm, a/b = {ASPECTS[k]:.3g}: from L = {_length(t):g} mm")
                 else:
@@ -192,5 +205,5 @@ class MasterCurves:
         return path
 
 
-__all__ = ["ASPECTS", "LENGTHS_MM", "MASTER_PROFILE", "MASTER_Y_MM", "MasterCurves", "master_tasks",
-           "normalised_levels"]
+__all__ = ["ASPECTS", "LENGTHS_MM", "MASTER_PROFILE", "MAX_SEMI_AXIS_MM", "MASTER_Y_MM", "MasterCurves", "master_tasks",
+           "path_levels"]

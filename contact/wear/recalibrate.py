@@ -16,18 +16,26 @@ the step's folder, put in place of the placeholders and the calibration is run i
 layer state (largest load per position) is kept. A failed calibration (its InputError or ConvergenceError) stops
 the loop naming the step; positions that failed inside a table are listed by it and the solver refuses to
 interpolate across them.
+
+With ``[run] method = "similarity"`` in the template (:mod:`calibration.similarity`) the recalibration computes no
+FEM once the template's master exists (``run.master_dir``; the first recalibration computes it when it is
+missing): the positions the master serves on the worn profiles get their characteristic from it, in milliseconds,
+and the positions it does not serve (conforming contact, a curved surface over the patch) keep the entry of the
+scene's table at that position, marked in the entry's ``warnings``. The recalibrated table is the scene's table
+with the served positions replaced (and added where the scene's table has none).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from calibration.config import BodySettings, CalibrationConfig, parse_config
 from calibration.cost import calibration_cost
 from calibration.pipeline import calibrate
+from calibration.similarity.route import METHOD_SIMILARITY, served_config
 from calibration.tasks import make_tasks
 from wrlayer.layer_table import LayerTable
 from meshes.profiles import Profile
@@ -58,12 +66,21 @@ class Recalibration:
         (not a scene key).
     every_steps : int
         Recalibrate after every this many wear steps (>= 1; not after the last step).
+    scene_tables : dict
+        The scene's ``[layers]`` table of each body (LayerTable): under ``run.method = "similarity"`` the positions
+        the master does not serve keep their entries from it (not a scene key).
     """
 
     config: str
     template: str
     calibration: CalibrationConfig
     every_steps: int = 1
+    scene_tables: dict[str, LayerTable] = field(default_factory=dict)
+
+    @property
+    def by_similarity(self) -> bool:
+        """True when the template calibrates by similarity (served positions only, the others kept)."""
+        return self.calibration.run.method == METHOD_SIMILARITY
 
     @property
     def bodies(self) -> tuple[str, ...]:
@@ -145,7 +162,8 @@ def worn_config(cfg: CalibrationConfig, files: dict[str, Path]) -> CalibrationCo
 def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: Path, scheduler: str = "",
                      what: str = "wear.recalibrate") -> dict[str, LayerTable]:
     """Calibrate the bodies of the template on ``profiles[body]`` (the current profiles of one side) in ``work``;
-    returns {body: LayerTable} of the bodies the template calibrates. InputError/ConvergenceError ``what: ...``."""
+    returns {body: LayerTable} of the bodies the template calibrates (by similarity: the positions the master
+    serves, merged into the scene's table by :func:`merged_table`). InputError/ConvergenceError ``what: ...``."""
     work = Path(work)
     files = write_profiles(profiles, work, "worn")
     cfg = worn_config(recal.calibration, files)
@@ -154,17 +172,47 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
             worn = profiles[_placeholder_body(b.profile)] if b.profile in PLACEHOLDERS.values() else None
             for y in b.positions_mm if worn is not None else ():
                 worn.check_y(y, f"position y = {y:g} mm on the worn {b.body} profile")
+        direct: dict[tuple[str, float], str] = {}
+        if recal.by_similarity:
+            tasks, failed, _ = make_tasks(cfg, work, plots=False)
+            cfg, direct = served_config(cfg, tasks)
+            direct.update({(f.body, f.y_mm): f.message for f in failed})  # no geometry on the worn profile
         result = calibrate(cfg, work / "tables", scheduler=scheduler or None, plots=False, show_progress=False,
-                           log=_quiet)
+                           log=_quiet) if cfg.bodies else None
     except InputError as err:
         raise InputError(what, f"calibration of the worn profiles failed: {err}") from None
     except ConvergenceError as err:
         raise ConvergenceError(f"{what}: calibration of the worn profiles failed: {err}") from None
-    tables = {body: LayerTable.read(path) for body, path in result.tables.items()}
+    tables = {body: LayerTable.read(path) for body, path in (result.tables.items() if result else ())}
+    if recal.by_similarity:
+        bodies = {b.body for b in recal.calibration.bodies}
+        tables = {body: merged_table(recal.scene_tables[body], tables.get(body), direct)
+                  if body in recal.scene_tables else tables[body] for body in bodies
+                  if body in recal.scene_tables or body in tables}
     if not tables:
         raise InputError(what, f"the calibration wrote no layer table into {work / 'tables'}: "
-                         f"{'; '.join(f.message for f in result.failed) or 'no position calibrated'}")
+                         f"{'; '.join(f.message for f in result.failed) if result else ''}"
+                         f"{'' if result and result.failed else 'no position calibrated'}")
     return tables
+
+
+def merged_table(scene: LayerTable, new: LayerTable | None, direct: dict[tuple[str, float], str]) -> LayerTable:
+    """The scene's table with the positions of ``new`` (recalibrated by similarity) in place of its own; its other
+    entries kept, each with a warning naming why (``direct[(body, y)]``, the route's reason where known)."""
+    if new is None:
+        new = scene
+    fresh = {float(p["y_mm"]) for p in new.positions}
+    kept = []
+    for p in scene.positions:
+        y = float(p["y_mm"])
+        if y in fresh:
+            continue
+        why = direct.get((scene.body, y), "not a position of the template")
+        kept.append(dict(p, warnings=list(p.get("warnings", [])) + [
+            f"kept from {scene.source}: not recalibrated on the worn profile ({why})"]))
+    positions = sorted(list(new.positions) + kept, key=lambda p: float(p["y_mm"]))
+    failed = [f for f in new.failed if float(f["y_mm"]) not in {float(p["y_mm"]) for p in kept}]
+    return LayerTable(new.header, positions, failed, new.source if new is not scene else f"{scene.source} (kept)")
 
 
 def recalibrate_sides(recal: Recalibration, profiles: dict[str, dict[str, Profile]], step: int,
@@ -184,5 +232,5 @@ def _quiet(message: str) -> None:
     """The calibration's progress lines are not shown inside a wear run (its summary.json records the run)."""
 
 
-__all__ = ["PLACEHOLDERS", "Recalibration", "read_template", "recalibrate_side", "recalibrate_sides", "worn_config",
+__all__ = ["PLACEHOLDERS", "Recalibration", "merged_table", "read_template", "recalibrate_side", "recalibrate_sides", "worn_config",
            "write_profiles"]

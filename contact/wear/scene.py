@@ -238,7 +238,8 @@ def _recalibration(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> R
                               wheel_rail.layout.inclination_rad)
     if layers is None or layers.combined is not None:
         raise sub.error("config", "recalibration needs per-body [layers] tables (rail and/or wheel)")
-    return Recalibration(str(path), text, cfg, every)
+    kept = {b: getattr(layers, b) for b in ("rail", "wheel") if getattr(layers, b) is not None}
+    return Recalibration(str(path), text, cfg, every, kept)
 
 
 def _law(wear: SceneKeys) -> WearLaw:

@@ -93,7 +93,8 @@ def test_similarity_run_with_a_cached_master_computes_no_fem(tmp_path):
     result = calibrate(cfg, tmp_path / "out", show_progress=False, log=lambda *a: None)
     assert result.ok and result.positions_computed == 0 and result.fem_seconds is None
     sim = result.similarity
-    assert sim.served == 2 and sim.direct == 0 and sim.master_positions_cached == len(ASPECTS) * len(LENGTHS_MM)
+    assert sim.served == 2 and sim.direct == 0 and sim.master_positions_cached == len(master_tasks(cfg, cfg.bodies[0].material))
+    assert len(master_tasks(cfg, cfg.bodies[0].material)) == len(ASPECTS) * len(LENGTHS_MM) - 1  # a = 29 mm left out
     assert sim.master_positions_computed == 0 and sim.seconds_per_position < 0.1  # ms warm (benchmark)
     assert Path(sim.master_files[0]).is_file()
     table = LayerTable.read(result.tables["rail"])

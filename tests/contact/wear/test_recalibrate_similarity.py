@@ -1,0 +1,100 @@
+"""Recalibration by similarity in the wear loop: with ``run.method = "similarity"`` in the template every step's
+wheel table is recomputed from the master on the worn profile (no FEM once the master exists), the positions the
+master does not serve keep the scene table's entries, marked. A synthetic master in the master's cache stands in
+for the 3D FEM (benchmarks/bench_similarity.py compares the real one with the direct FEM)."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from calibration.cache import fem_entry, save_entry
+from calibration.indentation import load_levels
+from calibration.results import IndentationResult
+from calibration.similarity.master import master_tasks
+from contact.wear import condition as condition_mod
+from contact.wear.loop import run_wear
+from wrlayer.layer_table import LayerTable
+
+TABLES = Path(__file__).resolve().parents[3] / "scenes" / "tables"
+#: The template's positions the master serves on the (worn) S1002 tread.
+SERVED = (15.0, 30.0, 37.5)
+
+TEMPLATE = """
+[run]
+model = "3d"
+method = "similarity"
+master_dir = "{master}"
+workers = 1
+plots = false
+[load]
+max_factor = 2.0
+n_levels = 3
+unload_factors = [1.5, 2.0]
+max_increment_factor = 0.3
+[mesh]
+elements_per_semi_axis = 2
+h_max_mm = 12.0
+[fit]
+n_segments = 3
+max_relative_error = 0.2
+[[bodies]]
+body = "wheel"
+profile = "@wheel_profile@"
+mate = "@rail_profile@"
+wheel_radius_mm = 460.0
+positions_mm = [-37.5, 0.0, 15.0, 30.0, 37.5]
+"""
+
+
+def _fake_indentation(a_mm, b_mm, load) -> IndentationResult:
+    """A 3D-like indentation whose lengths scale with sqrt(a b) (the similarity the master relies on)."""
+    r, length = a_mm / b_mm, math.sqrt(a_mm * b_mm)
+    p_y = 500.0 * (1.6 + 0.05 * math.log(r))
+    q = np.array([0.0] + load_levels(1.0, load))
+    u_pl = length * 2e-3 * (1 + 0.1 * math.log(r)) * np.maximum(q - 1.0, 0.0) ** 1.5
+    peaks = [f * p_y for f in sorted(load.unload_factors)]
+    res = np.interp(peaks, q * p_y, u_pl)
+    return IndentationResult("3d", (q * p_y).tolist(), (1.4e-5 * length * q * p_y + u_pl).tolist(), u_pl.tolist(),
+                             p_y, p_y, 1.4e-5 * length, 1e-5, peaks, res.tolist(), [0.0] * len(peaks), 100, 10, 5, 1.0)
+
+
+def test_each_step_uses_the_worn_profiles_table_from_the_master(make_scene, tmp_path, monkeypatch):
+    template = tmp_path / "recal.toml"
+    template.write_text(TEMPLATE.format(master=tmp_path / "master"))
+    scene = make_scene(wear={"distance_km": 100.0, "steps": 2, "recalibrate": {"config": str(template)}},
+                       passes={"max": 3})
+    cfg = scene.settings.recalibrate.calibration
+    for t in master_tasks(cfg, cfg.bodies[0].material):
+        save_entry(fem_entry(tmp_path / "master", t.key), _fake_indentation(t.geometry.a_mm, t.geometry.b_mm, cfg.load))
+    seen = []
+    real = condition_mod.solve_condition
+
+    def spy(task):
+        seen.append((task.step, task.layers.wheel.table))
+        return real(task)
+
+    monkeypatch.setattr(condition_mod, "solve_condition", spy)
+    run = run_wear(scene, show_progress=False, work_dir=tmp_path / "work")
+    assert len(run.steps) == 2
+    summary = json.loads((tmp_path / "work" / "calibration" / "step_001_right" / "tables" / "summary.json").read_text())
+    assert summary["positions_computed"] == 0 and summary["similarity"]["master_positions_computed"] == 0  # no FEM
+    (s1, initial), (s2, table) = seen
+    assert (s1, s2) == (1, 2)
+    scene_table = LayerTable.read(TABLES / "wheel_S1002_default.json")
+    assert initial.positions == scene_table.positions
+    by_y = {float(p["y_mm"]): p for p in table.positions}
+    worn = tmp_path / "work" / "calibration" / "step_001_right" / "wheel.prw"
+    assert Path(table.header["profile_source"]) == worn.resolve()
+    for y in SERVED:  # served: from the master on the worn wheel, the synthetic material's p_y
+        assert by_y[y]["method"] == "similarity"
+        assert by_y[y]["first_yield_fem_MPa"] != next(p for p in scene_table.positions
+                                                      if p["y_mm"] == y)["first_yield_fem_MPa"]
+    for p in scene_table.positions:  # the others: the scene table's entries, marked
+        y = float(p["y_mm"])
+        if y not in SERVED:
+            assert by_y[y]["characteristic"] == p["characteristic"]
+            assert "not recalibrated on the worn profile" in by_y[y]["warnings"][-1]
+    assert "conforming contact" in by_y[-37.5]["warnings"][-1]
+    assert "surface convexity" in by_y[0.0]["warnings"][-1]  # the concave tread: unlike the convex master
