@@ -23,6 +23,7 @@ from contact.scenes.contact_convention import write_contact_convention
 from contact.scenes.result_io import UNITS, code_version
 from contact.scenes.vtk_output import sweep_items, write_series
 from contact.tangential.frictional_outputs import write_wheel_rail
+from contact.wheel_rail.contact_table import write_contact_table
 from contact.wheel_rail.result_files import CONVENTIONS, cases_csv, inputs_echo
 from contact.wheel_rail.results import CaseResult, DeformedProfileFile, RailPlacement, SweepResult, WheelResult
 from contact.wheel_rail.scene import WheelRailScene
@@ -85,30 +86,76 @@ def write_deformed_profiles(scene: WheelRailScene, sols: dict[str, WheelRailSolu
     return tuple(written)
 
 
+def failed_record(case: CaseSpec, k: int, err: InputError | ConvergenceError, time_s: float) -> CaseResult:
+    """The record of case ``k`` that failed with ``err`` (its inputs, the error and the failed wheel)."""
+    return CaseResult(*(getattr(case, key) for key in SWEEP_KEYS), error=str(err),
+                      failed_wheel=getattr(err, "wheel", None), case=k, time_s=time_s)
+
+
+def solve_one(task: tuple[WheelRailScene, PlacedRail, int]) -> tuple[CaseResult, dict[str, WheelRailSolution] | None]:
+    """Case k of the scene, ``task`` = (scene, placed rail, k): its record and solutions, or its error's record and
+    None. Writes no file: a task of the runner (:class:`wrlayer.runner.Runner`), also on a remote Dask worker."""
+    scene, placed, k = task
+    case = scene.cases[k]
+    t_case = time.perf_counter()
+    try:
+        record, sols = solve_case(scene, case, placed)
+    except (InputError, ConvergenceError) as err:
+        return failed_record(case, k, err, time.perf_counter() - t_case), None
+    return dataclasses.replace(record, case=k, time_s=time.perf_counter() - t_case), sols
+
+
+def with_deformed_profiles(scene: WheelRailScene, solved: tuple[CaseResult, dict[str, WheelRailSolution] | None],
+                           out_dir: Path) -> tuple[CaseResult, dict[str, WheelRailSolution] | None]:
+    """A solved case with its deformed profiles written into ``out_dir`` (with layers and
+    ``output.deformed_profiles``; a profile that cannot be written fails the case)."""
+    record, sols = solved
+    if sols is None or scene.layers is None or not scene.output.deformed_profiles:
+        return record, sols
+    t0 = time.perf_counter()
+    try:
+        files = write_deformed_profiles(scene, sols, out_dir, f"case{record.case:03d}")
+    except (InputError, ConvergenceError) as err:
+        return failed_record(scene.cases[record.case], record.case, err,
+                             record.time_s + time.perf_counter() - t0), None
+    return dataclasses.replace(record, deformed_profiles=files, time_s=record.time_s + time.perf_counter() - t0), sols
+
+
+def solve_parallel(scene: WheelRailScene, placed: PlacedRail
+                   ) -> list[tuple[CaseResult, dict[str, WheelRailSolution] | None]]:
+    """Every case through the runner (``run.workers`` local processes or the Dask cluster at ``run.scheduler``,
+    one BLAS thread per worker), in case order."""
+    from wrlayer.runner import Runner  # only for a parallel sweep: the runner imports multiprocessing
+
+    tasks = [(scene, placed, k) for k in range(len(scene.cases))]
+    done = {}
+    with Runner(scene.run.workers, scene.run.scheduler, blas_threads=1, what="run.scheduler") as runner:
+        for k, solved in progress(runner.imap(solve_one, tasks), desc=scene.path.stem, total=len(tasks), unit="case",
+                                  leave=False):
+            done[k] = solved
+    return [done[k] for k in range(len(tasks))]
+
+
 def solve_cases(scene: WheelRailScene, placed: PlacedRail, out_dir: Path
                 ) -> Iterator[tuple[CaseResult, dict[str, WheelRailSolution] | None]]:
     """Every case in order: (its record, its solutions or None when it failed); deformed profiles written into
-    ``out_dir`` as the cases are solved."""
-    cases = scene.cases
-    for k, case in enumerate(progress(cases, desc=scene.path.stem, total=len(cases), unit="case", leave=False)):
-        t_case = time.perf_counter()
-        try:
-            record, sols = solve_case(scene, case, placed)
-            if scene.layers is not None and scene.output.deformed_profiles:
-                record = dataclasses.replace(record, deformed_profiles=write_deformed_profiles(
-                    scene, sols, out_dir, f"case{k:03d}"))
-        except (InputError, ConvergenceError) as err:
-            record = CaseResult(*(getattr(case, key) for key in SWEEP_KEYS), error=str(err),
-                                failed_wheel=getattr(err, "wheel", None))
-            sols = None
-        yield dataclasses.replace(record, case=k, time_s=time.perf_counter() - t_case), sols
+    ``out_dir``. One after the other in this process, or through the runner with ``run.workers > 1`` or a
+    ``run.scheduler`` (the same numbers: every case is solved on its own)."""
+    if scene.run.parallel:
+        solved = iter(solve_parallel(scene, placed))
+    else:
+        solved = map(solve_one, progress([(scene, placed, k) for k in range(len(scene.cases))], desc=scene.path.stem,
+                                         total=len(scene.cases), unit="case", leave=False))
+    for one in solved:
+        yield with_deformed_profiles(scene, one, out_dir)
 
 
 def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk: bool | None = None
                          ) -> SweepResult:
     """Run a wheel_rail scene; pictures, deformed profiles, CSV files and (``vtk``, default ``output.vtk``) the
     VTK fields go into ``out_dir`` (result.json is the caller's: ``result.to_json()``); with
-    ``output.convention = "contact"`` also contact_convention.csv."""
+    ``output.convention = "contact"`` also contact_convention.csv, with ``output.contact_table`` the contact table
+    (:mod:`contact.wheel_rail.contact_table`)."""
     t0 = time.perf_counter()
     out_dir = Path(out_dir)
     placed = place_rail(scene.rail_profile, scene.layout)
@@ -132,6 +179,8 @@ def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk:
         write_series(sweep_items(all_sols), out_dir)
     if scene.output.convention == "contact":
         write_contact_convention(result.to_dict(), out_dir)
+    if scene.output.contact_table:
+        write_contact_table(result, scene, out_dir)
     if plots:
         from contact.wheel_rail.plots import write_wheel_rail_plots  # matplotlib only when pictures are asked for
 
@@ -140,4 +189,5 @@ def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk:
     return result
 
 
-__all__ = ["run_wheel_rail_scene", "solve_case", "solve_cases", "write_deformed_profiles"]
+__all__ = ["failed_record", "run_wheel_rail_scene", "solve_case", "solve_cases", "solve_one", "solve_parallel",
+           "with_deformed_profiles", "write_deformed_profiles"]
