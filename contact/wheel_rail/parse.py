@@ -27,7 +27,8 @@
                 (:mod:`contact.wheel_rail.sweep`)
     [output]    deformed_profiles = true (with layers: write each case's deformed rail/wheel profiles as SIMPACK
                 .prr/.prw and CSV and read them back), vtk = true, convention = "wrlayer" | "contact",
-                contact_table = false (true: contact_table.csv for multibody codes, docs/contact-tables.md)
+                contact_table = false (true: contact_table.csv for multibody codes, docs/contact-tables.md),
+                frictional_csv = true (false: no frictional_cells.csv / frictional_strips.csv)
     [run]       workers = 1 (local processes solving the cases), scheduler = "" (a Dask scheduler address)
 
 Validation errors name ``<file>: <section>.<key>``.
@@ -96,7 +97,7 @@ SECTION_KEYS = {
     "method": ("alpha", "grid_mm", "fastsim_cells", "merge_mm", "candidate_gap_mm", "f_cap_mm", "normal",
                "exact_cells", "layer_mode", "contact_point", "balance", "tangential"),
     "sweep": SWEEP_SECTION_KEYS,
-    "output": ("deformed_profiles", "vtk", "convention", "contact_table"),
+    "output": ("deformed_profiles", "vtk", "convention", "contact_table", "frictional_csv"),
     "run": ("workers", "scheduler"),
 }
 #: Largest number of local worker processes of [run] (as the calibration's run.workers).
@@ -155,7 +156,8 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path) -> Whee
     sweep = parse_sweep(sec.get("sweep"), base_case, base, wheelset.roll_auto)
     output = OutputSpec(s("output").boolean("deformed_profiles", True), s("output").boolean("vtk", True),
                         s("output").text("convention", OutputSpec.convention, OUTPUT_CONVENTIONS),
-                        s("output").boolean("contact_table", OutputSpec.contact_table))
+                        s("output").boolean("contact_table", OutputSpec.contact_table),
+                        s("output").boolean("frictional_csv", OutputSpec.frictional_csv))
     run = _run(s("run"))
     return WheelRailScene(path, title, description, profiles, track, wheel, wheelset, load_spec, material, tangential,
                           layers, passes, method, sweep, output, run, data, rail, wheel_profile)

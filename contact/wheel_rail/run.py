@@ -5,6 +5,10 @@ Run by ``python -m contact simulate SCENE --out DIR`` (and ``simulate-all``) wit
 (:func:`contact.wheel_rail.parse.parse_wheel_rail_scene`). A progress bar over the cases goes to stderr when it is a
 terminal (:mod:`wrlayer.progress`; ``WRLAYER_PROGRESS=0/1`` overrides). Conventions: docs/wheel-rail.md.
 
+The cases are solved one after the other in this process, or, with ``run.workers > 1`` or a ``run.scheduler``,
+by :class:`wrlayer.runner.Runner` (local processes or a Dask cluster, one BLAS thread per worker) as independent
+tasks (:func:`solve_one`) whose results come back to this process, which writes every file.
+
 A case that fails (bad geometry: profiles that do not meet, the flange through the rail; or a solver failure) is
 recorded with its error message in ``cases[k].error`` and the other cases are still computed; the scene itself
 fails only when every case fails.
@@ -172,7 +176,7 @@ def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk:
         RailPlacement(placed.dy_mm, placed.dz_mm, placed.angle_rad, placed.gauge_point[0], placed.gauge_point[1],
                       placed.top_q_mm),
         tuple(records), sum(1 for r in records if r.error is not None), {"total": time.perf_counter() - t0},
-        tuple(write_wheel_rail(all_sols, out_dir)))   # wear-ready CSVs beside result.json
+        tuple(write_wheel_rail(all_sols, out_dir)) if scene.output.frictional_csv else ())  # wear-ready CSVs
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / result.cases_csv).write_text(cases_csv(result), encoding="utf-8")
     if scene.output.vtk if vtk is None else vtk:

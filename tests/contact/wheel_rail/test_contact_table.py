@@ -122,11 +122,16 @@ def test_failed_cases_are_listed_beside_the_table(runs):
     assert failed[0]["error"] and failed[0]["wheel"] in ("right", "left", "wheelset")
 
 
-def test_no_failed_list_without_failures(tmp_path):
+def test_no_failed_list_without_failures_and_frictional_csvs_on_request(tmp_path, runs):
     scene = tmp_path / "ok.toml"
-    scene.write_text(SCENE.replace("25.0]", "1.0]"), encoding="utf-8")
-    assert main(["simulate", str(scene), "--out", str(tmp_path / "out")]) == 0
-    assert (tmp_path / "out" / TABLE_FILE).is_file() and not (tmp_path / "out" / FAILED_FILE).exists()
+    scene.write_text(SCENE.replace("25.0]", "1.0]") + "frictional_csv = false\n", encoding="utf-8")
+    out = tmp_path / "out"
+    assert main(["simulate", str(scene), "--out", str(out)]) == 0
+    assert (out / TABLE_FILE).is_file() and not (out / FAILED_FILE).exists()
+    assert not list(out.glob("frictional_*")) and json.loads((out / "result.json").read_text())[
+        "frictional_outputs"] == []
+    assert sorted(p.name for p in runs[1][1].glob("frictional_*")) == ["frictional_cells.csv",
+                                                                       "frictional_strips.csv"]
 
 
 @pytest.mark.parametrize("text, key", [("[run]\nworkers = 0\n", "run.workers"),
