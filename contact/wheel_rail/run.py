@@ -96,17 +96,19 @@ def failed_record(case: CaseSpec, k: int, err: InputError | ConvergenceError, ti
                       failed_wheel=getattr(err, "wheel", None), case=k, time_s=time_s)
 
 
-def solve_one(task: tuple[WheelRailScene, PlacedRail, int]) -> tuple[CaseResult, dict[str, WheelRailSolution] | None]:
-    """Case k of the scene, ``task`` = (scene, placed rail, k): its record and solutions, or its error's record and
-    None. Writes no file: a task of the runner (:class:`wrlayer.runner.Runner`), also on a remote Dask worker."""
-    scene, placed, k = task
+def solve_one(task: tuple[WheelRailScene, PlacedRail, int, bool]
+              ) -> tuple[CaseResult, dict[str, WheelRailSolution] | None]:
+    """Case k of the scene, ``task`` = (scene, placed rail, k, keep): its record and solutions ({} unless ``keep``:
+    no file needs them, and a worker then sends back the record alone instead of about 1 MB), or its error's record
+    and None. Writes no file: a task of the runner (:class:`wrlayer.runner.Runner`), also on a remote Dask worker."""
+    scene, placed, k, keep = task
     case = scene.cases[k]
     t_case = time.perf_counter()
     try:
         record, sols = solve_case(scene, case, placed)
     except (InputError, ConvergenceError) as err:
         return failed_record(case, k, err, time.perf_counter() - t_case), None
-    return dataclasses.replace(record, case=k, time_s=time.perf_counter() - t_case), sols
+    return dataclasses.replace(record, case=k, time_s=time.perf_counter() - t_case), sols if keep else {}
 
 
 def with_deformed_profiles(scene: WheelRailScene, solved: tuple[CaseResult, dict[str, WheelRailSolution] | None],
@@ -125,13 +127,13 @@ def with_deformed_profiles(scene: WheelRailScene, solved: tuple[CaseResult, dict
     return dataclasses.replace(record, deformed_profiles=files, time_s=record.time_s + time.perf_counter() - t0), sols
 
 
-def solve_parallel(scene: WheelRailScene, placed: PlacedRail
+def solve_parallel(scene: WheelRailScene, placed: PlacedRail, keep: bool = True
                    ) -> list[tuple[CaseResult, dict[str, WheelRailSolution] | None]]:
     """Every case through the runner (``run.workers`` local processes or the Dask cluster at ``run.scheduler``,
-    one BLAS thread per worker), in case order."""
+    one BLAS thread per worker), in case order (``keep``: :func:`solve_one`)."""
     from wrlayer.runner import Runner  # only for a parallel sweep: the runner imports multiprocessing
 
-    tasks = [(scene, placed, k) for k in range(len(scene.cases))]
+    tasks = [(scene, placed, k, keep) for k in range(len(scene.cases))]
     done = {}
     with Runner(scene.run.workers, scene.run.scheduler, blas_threads=1, what="run.scheduler") as runner:
         for k, solved in progress(runner.imap(solve_one, tasks), desc=scene.path.stem, total=len(tasks), unit="case",
@@ -140,16 +142,17 @@ def solve_parallel(scene: WheelRailScene, placed: PlacedRail
     return [done[k] for k in range(len(tasks))]
 
 
-def solve_cases(scene: WheelRailScene, placed: PlacedRail, out_dir: Path
+def solve_cases(scene: WheelRailScene, placed: PlacedRail, out_dir: Path, keep: bool = True
                 ) -> Iterator[tuple[CaseResult, dict[str, WheelRailSolution] | None]]:
-    """Every case in order: (its record, its solutions or None when it failed); deformed profiles written into
-    ``out_dir``. One after the other in this process, or through the runner with ``run.workers > 1`` or a
-    ``run.scheduler`` (the same numbers: every case is solved on its own)."""
+    """Every case in order: (its record, its solutions ({} unless ``keep``) or None when it failed); deformed
+    profiles written into ``out_dir``. One after the other in this process, or through the runner with
+    ``run.workers > 1`` or a ``run.scheduler`` (the same numbers: every case is solved on its own)."""
+    keep = keep or (scene.layers is not None and scene.output.deformed_profiles)
     if scene.run.parallel:
-        solved = iter(solve_parallel(scene, placed))
+        solved = iter(solve_parallel(scene, placed, keep))
     else:
-        solved = map(solve_one, progress([(scene, placed, k) for k in range(len(scene.cases))], desc=scene.path.stem,
-                                         total=len(scene.cases), unit="case", leave=False))
+        solved = map(solve_one, progress([(scene, placed, k, keep) for k in range(len(scene.cases))],
+                                         desc=scene.path.stem, total=len(scene.cases), unit="case", leave=False))
     for one in solved:
         yield with_deformed_profiles(scene, one, out_dir)
 
@@ -163,7 +166,8 @@ def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk:
     t0 = time.perf_counter()
     out_dir = Path(out_dir)
     placed = place_rail(scene.rail_profile, scene.layout)
-    solved = list(solve_cases(scene, placed, out_dir))
+    vtk = scene.output.vtk if vtk is None else vtk
+    solved = list(solve_cases(scene, placed, out_dir, keep=plots or vtk or scene.output.frictional_csv))
     records, all_sols = [r for r, _ in solved], [s for _, s in solved]
     if all(s is None for s in all_sols):
         raise InputError(scene.path.name, f"every case failed; first: {records[0].error}")
@@ -179,7 +183,7 @@ def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk:
         tuple(write_wheel_rail(all_sols, out_dir)) if scene.output.frictional_csv else ())  # wear-ready CSVs
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / result.cases_csv).write_text(cases_csv(result), encoding="utf-8")
-    if scene.output.vtk if vtk is None else vtk:
+    if vtk:
         write_series(sweep_items(all_sols), out_dir)
     if scene.output.convention == "contact":
         write_contact_convention(result.to_dict(), out_dir)
