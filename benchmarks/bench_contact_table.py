@@ -81,33 +81,30 @@ def repetition(scene, out: pathlib.Path) -> dict:
 
 
 def plot(results: dict[str, dict], out: pathlib.Path) -> pathlib.Path:
-    """Wall times per sweep and repetition, and the speed-up against the load."""
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
-    x, labels = 0.0, []
+    """Each repetition's 2-worker time against its 1-worker time, and its speed-up against the load."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.4))
     for j, (kind, res) in enumerate(results.items()):
-        for i, r in enumerate(res["runs"]):
-            ax1.bar(x - 0.2, r["serial_s"], 0.4, color="C0", label="1 worker (in-process)" if x == 0 else None)
-            ax1.bar(x + 0.2, r["parallel_s"], 0.4, color="C1", label="2 worker processes" if x == 0 else None)
-            ax1.annotate(f"load {r['load_1min']:.1f}", (x, max(r["serial_s"], r["parallel_s"])), ha="center",
-                         va="bottom", fontsize=7)
-            labels.append(f"{kind}\n{res['n_cases']} cases, {i + 1}")
-            x += 1.0
-        ax2.plot([r["load_1min"] for r in res["runs"]], [r["speedup"] for r in res["runs"]], "os"[j % 2],
-                 color=f"C{j + 2}", label=f"{kind} ({res['n_cases']} cases)")
-    ax1.set_xticks(np.arange(len(labels)), labels, fontsize=7)
-    ax1.set_ylabel("wall time of the sweep (s)")
-    ax1.set_title("sweeps written as contact_table.csv")
-    ax1.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, fontsize=8)
-    ax1.margins(y=0.15)
+        style = {"marker": "os"[j % 2], "color": f"C{j + 2}", "ls": "none", "label": f"{kind} ({res['n_cases']} cases)"}
+        ax1.plot([r["serial_s"] for r in res["runs"]], [r["parallel_s"] for r in res["runs"]], **style)
+        ax2.plot([r["load_1min"] for r in res["runs"]], [r["speedup"] for r in res["runs"]], **style)
+    top = max(max(r["serial_s"], r["parallel_s"]) for res in results.values() for r in res["runs"]) * 1.1
+    ax1.plot([0, top], [0, top], color="0.5", ls=":", label="no gain")
+    ax1.plot([0, top], [0, top / 2], color="0.5", ls="--", label="ideal (2 cores)")
+    ax1.set_xlim(0, top)
+    ax1.set_ylim(0, top)
+    ax1.set_xlabel("1 worker, in-process (s)")
+    ax1.set_ylabel("2 worker processes (s)")
+    ax1.set_title("wall time of each sweep (the table written)")
+    ax1.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, fontsize=8)
     loads = [r["load_1min"] for res in results.values() for r in res["runs"]]
     ax2.axhline(2.0, color="0.5", ls="--", label="ideal (2 cores)")
     ax2.axhline(1.0, color="0.5", ls=":", label="no gain")
-    ax2.set_xlabel("1-minute load average before the runs (2 cores)")
+    ax2.set_xlabel("1-minute load average before the runs (2 cores; this run included)")
     ax2.set_ylabel("speed-up (1 worker / 2 workers)")
     ax2.set_ylim(0.0, 2.3)
     ax2.set_xlim(0.0, max(2.0, *loads) * 1.1)
     ax2.set_title("speed-up against the machine's load")
-    ax2.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, fontsize=8)
+    ax2.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, fontsize=8)
     fig.suptitle("Contact table for multibody codes: sweeps on 1 and 2 workers")
     fig.tight_layout()
     return save_figure(fig, out / "contact_table_speedup.png")
