@@ -26,7 +26,10 @@
     [sweep]     per-case values of lateral_mm, yaw_rad, roll_rad, pitch_rate_rad_s, vertical_load_N, speed_mm_s
                 (:mod:`contact.wheel_rail.sweep`)
     [output]    deformed_profiles = true (with layers: write each case's deformed rail/wheel profiles as SIMPACK
-                .prr/.prw and CSV and read them back)
+                .prr/.prw and CSV and read them back), vtk = true, convention = "wrlayer" | "contact",
+                contact_table = false (true: contact_table.csv for multibody codes, docs/contact-tables.md),
+                frictional_csv = true (false: no frictional_cells.csv / frictional_strips.csv)
+    [run]       workers = 1 (local processes solving the cases), scheduler = "" (a Dask scheduler address)
 
 Validation errors name ``<file>: <section>.<key>``.
 """
@@ -50,6 +53,7 @@ from contact.wheel_rail.scene import (
     OutputSpec,
     PassesSpec,
     ProfilesSpec,
+    RunSpec,
     TangentialSpec,
     TrackSpec,
     WheelRailScene,
@@ -78,7 +82,7 @@ from wrlayer.validate import (
 )
 
 TOP_KEYS = ("title", "description", "type", "profiles", "track", "wheel", "wheelset", "load", "material",
-            "tangential", "layers", "passes", "method", "sweep", "output")
+            "tangential", "layers", "passes", "method", "sweep", "output", "run")
 #: Keys of each section.
 SECTION_KEYS = {
     "profiles": ("rail", "wheel", "accept_unusual_profile"),
@@ -93,8 +97,11 @@ SECTION_KEYS = {
     "method": ("alpha", "grid_mm", "fastsim_cells", "merge_mm", "candidate_gap_mm", "f_cap_mm", "normal",
                "exact_cells", "layer_mode", "contact_point", "balance", "tangential"),
     "sweep": SWEEP_SECTION_KEYS,
-    "output": ("deformed_profiles", "vtk", "convention"),
+    "output": ("deformed_profiles", "vtk", "convention", "contact_table", "frictional_csv"),
+    "run": ("workers", "scheduler"),
 }
+#: Largest number of local worker processes of [run] (as the calibration's run.workers).
+MAX_WORKERS = 64
 SIDES = ("right", "left", "both")
 
 
@@ -148,9 +155,12 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path) -> Whee
                          wheelset.pitch_rate_rad_s, load_spec.vertical_load_N, load_spec.speed_mm_s)
     sweep = parse_sweep(sec.get("sweep"), base_case, base, wheelset.roll_auto)
     output = OutputSpec(s("output").boolean("deformed_profiles", True), s("output").boolean("vtk", True),
-                        s("output").text("convention", OutputSpec.convention, OUTPUT_CONVENTIONS))
+                        s("output").text("convention", OutputSpec.convention, OUTPUT_CONVENTIONS),
+                        s("output").boolean("contact_table", OutputSpec.contact_table),
+                        s("output").boolean("frictional_csv", OutputSpec.frictional_csv))
+    run = _run(s("run"))
     return WheelRailScene(path, title, description, profiles, track, wheel, wheelset, load_spec, material, tangential,
-                          layers, passes, method, sweep, output, data, rail, wheel_profile)
+                          layers, passes, method, sweep, output, run, data, rail, wheel_profile)
 
 
 def _track(track: Keys) -> TrackSpec:
@@ -179,6 +189,16 @@ def _check_layout(track: Keys, spec: TrackSpec, wheel: WheelSpec) -> None:
                     spec.flange_back_y_mm, wheel.nominal_radius_mm)
     except InputError as err:
         raise InputError(track.what(err.what), err.problem) from None
+
+
+def _run(run: Keys) -> RunSpec:
+    """[run]; the scheduler address checked by its form, before any case is solved (no connection)."""
+    workers = run.integer("workers", RunSpec.workers, ge=1, le=MAX_WORKERS)
+    if "scheduler" not in run.table:
+        return RunSpec(workers)
+    from wrlayer.runner import check_scheduler_address  # only with a scheduler: the runner imports multiprocessing
+
+    return RunSpec(workers, check_scheduler_address(run.table["scheduler"], run.what("scheduler")))
 
 
 def _wheelset(ws: Keys) -> WheelsetSpec:
@@ -238,4 +258,4 @@ def _layers(keys: Keys | None, base: Path) -> LayersSpec | None:
     return read_layers(combined, tables, scale, base, f"{keys.file}: layers")
 
 
-__all__ = ["SECTION_KEYS", "TOP_KEYS", "parse_wheel_rail_scene"]
+__all__ = ["MAX_WORKERS", "SECTION_KEYS", "TOP_KEYS", "parse_wheel_rail_scene"]

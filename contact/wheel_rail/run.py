@@ -5,6 +5,10 @@ Run by ``python -m contact simulate SCENE --out DIR`` (and ``simulate-all``) wit
 (:func:`contact.wheel_rail.parse.parse_wheel_rail_scene`). A progress bar over the cases goes to stderr when it is a
 terminal (:mod:`wrlayer.progress`; ``WRLAYER_PROGRESS=0/1`` overrides). Conventions: docs/wheel-rail.md.
 
+The cases are solved one after the other in this process, or, with ``run.workers > 1`` or a ``run.scheduler``,
+by :class:`wrlayer.runner.Runner` (local processes or a Dask cluster, one BLAS thread per worker) as independent
+tasks (:func:`solve_one`) whose results come back to this process, which writes every file.
+
 A case that fails (bad geometry: profiles that do not meet, the flange through the rail; or a solver failure) is
 recorded with its error message in ``cases[k].error`` and the other cases are still computed; the scene itself
 fails only when every case fails.
@@ -23,6 +27,7 @@ from contact.scenes.contact_convention import write_contact_convention
 from contact.scenes.result_io import UNITS, code_version
 from contact.scenes.vtk_output import sweep_items, write_series
 from contact.tangential.frictional_outputs import write_wheel_rail
+from contact.wheel_rail.contact_table import write_contact_table
 from contact.wheel_rail.result_files import CONVENTIONS, cases_csv, inputs_echo
 from contact.wheel_rail.results import CaseResult, DeformedProfileFile, RailPlacement, SweepResult, WheelResult
 from contact.wheel_rail.scene import WheelRailScene
@@ -85,34 +90,84 @@ def write_deformed_profiles(scene: WheelRailScene, sols: dict[str, WheelRailSolu
     return tuple(written)
 
 
-def solve_cases(scene: WheelRailScene, placed: PlacedRail, out_dir: Path
+def failed_record(case: CaseSpec, k: int, err: InputError | ConvergenceError, time_s: float) -> CaseResult:
+    """The record of case ``k`` that failed with ``err`` (its inputs, the error and the failed wheel)."""
+    return CaseResult(*(getattr(case, key) for key in SWEEP_KEYS), error=str(err),
+                      failed_wheel=getattr(err, "wheel", None), case=k, time_s=time_s)
+
+
+def solve_one(task: tuple[WheelRailScene, PlacedRail, int, bool]
+              ) -> tuple[CaseResult, dict[str, WheelRailSolution] | None]:
+    """Case k of the scene, ``task`` = (scene, placed rail, k, keep): its record and solutions ({} unless ``keep``:
+    no file needs them, and a worker then sends back the record alone instead of about 1 MB), or its error's record
+    and None. Writes no file: a task of the runner (:class:`wrlayer.runner.Runner`), also on a remote Dask worker."""
+    scene, placed, k, keep = task
+    case = scene.cases[k]
+    t_case = time.perf_counter()
+    try:
+        record, sols = solve_case(scene, case, placed)
+    except (InputError, ConvergenceError) as err:
+        return failed_record(case, k, err, time.perf_counter() - t_case), None
+    return dataclasses.replace(record, case=k, time_s=time.perf_counter() - t_case), sols if keep else {}
+
+
+def with_deformed_profiles(scene: WheelRailScene, solved: tuple[CaseResult, dict[str, WheelRailSolution] | None],
+                           out_dir: Path) -> tuple[CaseResult, dict[str, WheelRailSolution] | None]:
+    """A solved case with its deformed profiles written into ``out_dir`` (with layers and
+    ``output.deformed_profiles``; a profile that cannot be written fails the case)."""
+    record, sols = solved
+    if sols is None or scene.layers is None or not scene.output.deformed_profiles:
+        return record, sols
+    t0 = time.perf_counter()
+    try:
+        files = write_deformed_profiles(scene, sols, out_dir, f"case{record.case:03d}")
+    except (InputError, ConvergenceError) as err:
+        return failed_record(scene.cases[record.case], record.case, err,
+                             record.time_s + time.perf_counter() - t0), None
+    return dataclasses.replace(record, deformed_profiles=files, time_s=record.time_s + time.perf_counter() - t0), sols
+
+
+def solve_parallel(scene: WheelRailScene, placed: PlacedRail, keep: bool = True
+                   ) -> list[tuple[CaseResult, dict[str, WheelRailSolution] | None]]:
+    """Every case through the runner (``run.workers`` local processes or the Dask cluster at ``run.scheduler``,
+    one BLAS thread per worker), in case order (``keep``: :func:`solve_one`)."""
+    from wrlayer.runner import Runner  # only for a parallel sweep: the runner imports multiprocessing
+
+    tasks = [(scene, placed, k, keep) for k in range(len(scene.cases))]
+    done = {}
+    with Runner(scene.run.workers, scene.run.scheduler, blas_threads=1, what="run.scheduler") as runner:
+        for k, solved in progress(runner.imap(solve_one, tasks), desc=scene.path.stem, total=len(tasks), unit="case",
+                                  leave=False):
+            done[k] = solved
+    return [done[k] for k in range(len(tasks))]
+
+
+def solve_cases(scene: WheelRailScene, placed: PlacedRail, out_dir: Path, keep: bool = True
                 ) -> Iterator[tuple[CaseResult, dict[str, WheelRailSolution] | None]]:
-    """Every case in order: (its record, its solutions or None when it failed); deformed profiles written into
-    ``out_dir`` as the cases are solved."""
-    cases = scene.cases
-    for k, case in enumerate(progress(cases, desc=scene.path.stem, total=len(cases), unit="case", leave=False)):
-        t_case = time.perf_counter()
-        try:
-            record, sols = solve_case(scene, case, placed)
-            if scene.layers is not None and scene.output.deformed_profiles:
-                record = dataclasses.replace(record, deformed_profiles=write_deformed_profiles(
-                    scene, sols, out_dir, f"case{k:03d}"))
-        except (InputError, ConvergenceError) as err:
-            record = CaseResult(*(getattr(case, key) for key in SWEEP_KEYS), error=str(err),
-                                failed_wheel=getattr(err, "wheel", None))
-            sols = None
-        yield dataclasses.replace(record, case=k, time_s=time.perf_counter() - t_case), sols
+    """Every case in order: (its record, its solutions ({} unless ``keep``) or None when it failed); deformed
+    profiles written into ``out_dir``. One after the other in this process, or through the runner with
+    ``run.workers > 1`` or a ``run.scheduler`` (the same numbers: every case is solved on its own)."""
+    keep = keep or (scene.layers is not None and scene.output.deformed_profiles)
+    if scene.run.parallel:
+        solved = iter(solve_parallel(scene, placed, keep))
+    else:
+        solved = map(solve_one, progress([(scene, placed, k, keep) for k in range(len(scene.cases))],
+                                         desc=scene.path.stem, total=len(scene.cases), unit="case", leave=False))
+    for one in solved:
+        yield with_deformed_profiles(scene, one, out_dir)
 
 
 def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk: bool | None = None
                          ) -> SweepResult:
     """Run a wheel_rail scene; pictures, deformed profiles, CSV files and (``vtk``, default ``output.vtk``) the
     VTK fields go into ``out_dir`` (result.json is the caller's: ``result.to_json()``); with
-    ``output.convention = "contact"`` also contact_convention.csv."""
+    ``output.convention = "contact"`` also contact_convention.csv, with ``output.contact_table`` the contact table
+    (:mod:`contact.wheel_rail.contact_table`)."""
     t0 = time.perf_counter()
     out_dir = Path(out_dir)
     placed = place_rail(scene.rail_profile, scene.layout)
-    solved = list(solve_cases(scene, placed, out_dir))
+    vtk = scene.output.vtk if vtk is None else vtk
+    solved = list(solve_cases(scene, placed, out_dir, keep=plots or vtk or scene.output.frictional_csv))
     records, all_sols = [r for r, _ in solved], [s for _, s in solved]
     if all(s is None for s in all_sols):
         raise InputError(scene.path.name, f"every case failed; first: {records[0].error}")
@@ -125,13 +180,15 @@ def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk:
         RailPlacement(placed.dy_mm, placed.dz_mm, placed.angle_rad, placed.gauge_point[0], placed.gauge_point[1],
                       placed.top_q_mm),
         tuple(records), sum(1 for r in records if r.error is not None), {"total": time.perf_counter() - t0},
-        tuple(write_wheel_rail(all_sols, out_dir)))   # wear-ready CSVs beside result.json
+        tuple(write_wheel_rail(all_sols, out_dir)) if scene.output.frictional_csv else ())  # wear-ready CSVs
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / result.cases_csv).write_text(cases_csv(result), encoding="utf-8")
-    if scene.output.vtk if vtk is None else vtk:
+    if vtk:
         write_series(sweep_items(all_sols), out_dir)
     if scene.output.convention == "contact":
         write_contact_convention(result.to_dict(), out_dir)
+    if scene.output.contact_table:
+        write_contact_table(result, scene, out_dir)
     if plots:
         from contact.wheel_rail.plots import write_wheel_rail_plots  # matplotlib only when pictures are asked for
 
@@ -140,4 +197,5 @@ def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk:
     return result
 
 
-__all__ = ["run_wheel_rail_scene", "solve_case", "solve_cases", "write_deformed_profiles"]
+__all__ = ["failed_record", "run_wheel_rail_scene", "solve_case", "solve_cases", "solve_one", "solve_parallel",
+           "with_deformed_profiles", "write_deformed_profiles"]

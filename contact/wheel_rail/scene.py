@@ -236,17 +236,46 @@ class OutputSpec(Record):
     convention : str
         "wrlayer" (default) or "contact": also write every patch in CONTACT's sign convention
         (contact_convention.csv; docs/conventions.md) (-).
+    contact_table : bool
+        Also write the contact table for multibody codes (contact_table.csv, one row per case, wheel and loaded
+        patch; docs/contact-tables.md) (-).
+    frictional_csv : bool
+        Write the wear-ready frictional CSVs (frictional_cells.csv, frictional_strips.csv: every FASTSIM cell and
+        strip; about 0.9 MB and 0.1 s per elastic case of both wheels) (-).
     """
 
     deformed_profiles: bool = True
     vtk: bool = True
     convention: str = "wrlayer"
+    contact_table: bool = False
+    frictional_csv: bool = True
+
+
+@dataclass(frozen=True)
+class RunSpec(Record):
+    """[run]: where the cases are solved (:class:`wrlayer.runner.Runner`; the numbers do not depend on it).
+
+    Attributes
+    ----------
+    workers : int
+        Local worker processes solving the cases, one BLAS thread each (1: one after the other in this process) (-).
+    scheduler : str
+        Dask scheduler address, e.g. "tcp://host:8786" ("": local); with it the cases run on the cluster.
+    """
+
+    workers: int = 1
+    scheduler: str = ""
+
+    @property
+    def parallel(self) -> bool:
+        """True when the cases go through the runner (several workers or a scheduler)."""
+        return self.workers > 1 or bool(self.scheduler)
 
 
 #: The sections of a wheel–rail scene with their dataclasses (the order of :meth:`WheelRailScene.to_dict`).
 SECTIONS = {"profiles": ProfilesSpec, "track": TrackSpec, "wheel": WheelSpec, "wheelset": WheelsetSpec,
             "load": LoadSpec, "material": MaterialSpec, "tangential": TangentialSpec, "layers": LayersSpec,
-            "passes": PassesSpec, "method": MethodSpec, "sweep": SweepSpec, "output": OutputSpec}
+            "passes": PassesSpec, "method": MethodSpec, "sweep": SweepSpec, "output": OutputSpec, "run": RunSpec}
 
 
 @dataclass(frozen=True)
@@ -261,7 +290,7 @@ class WheelRailScene:
         Free text.
     description : str
         Free text.
-    profiles, track, wheel, wheelset, load, material, tangential, passes, method, sweep, output : Record
+    profiles, track, wheel, wheelset, load, material, tangential, passes, method, sweep, output, run : Record
         The sections (see their classes).
     layers : LayersSpec | None
         [layers]; None: elastic bodies.
@@ -288,6 +317,7 @@ class WheelRailScene:
     method: MethodSpec
     sweep: SweepSpec
     output: OutputSpec
+    run: RunSpec = field(default_factory=RunSpec)
     data: dict = field(default_factory=dict)
     rail_profile: Profile | None = field(default=None, compare=False, repr=False)
     wheel_profile: Profile | None = field(default=None, compare=False, repr=False)
@@ -358,5 +388,5 @@ class WheelRailScene:
                    wheel_profile=read_profile(profiles.wheel, path.parent, "wheel", f"{path.name}: profiles.wheel"))
 
 
-__all__ = ["SECTIONS", "LoadSpec", "MaterialSpec", "MethodSpec", "OutputSpec", "PassesSpec", "ProfilesSpec",
+__all__ = ["SECTIONS", "LoadSpec", "MaterialSpec", "MethodSpec", "OutputSpec", "PassesSpec", "ProfilesSpec", "RunSpec",
            "TangentialSpec", "TrackSpec", "WheelRailScene", "WheelSpec", "WheelsetSpec"]
