@@ -34,16 +34,19 @@ from wrlayer import cli
 from wrlayer.atomic_write import atomic_write_text, output_lock, replace_output_dir
 from wrlayer.cost import guard
 from wrlayer.errors import InputError, WrLayerError, cli_guard
+from wrlayer.jit import run_mode
 
 
 def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = False,
-                   force: bool = False, vtk: bool = True) -> dict[str, Any]:
+                   force: bool = False, vtk: bool = True, run: Any = None) -> dict[str, Any]:
     """Run one scene file into ``out_dir`` (result.json + pictures, atomically); returns the result dict.
 
     The run's cost is estimated first (:mod:`contact.scenes.cost`); above :data:`wrlayer.cost.LIMIT_SECONDS` it is
     refused (CostError, exit 2) unless ``force``. VTK fields (:mod:`contact.scenes.vtk_output`) are written when the
     scene's ``output.vtk`` and ``vtk`` (False: ``--no-vtk``) are both true; contact_convention.csv with
-    ``output.convention = "contact"`` (:mod:`contact.scenes.contact_convention`)."""
+    ``output.convention = "contact"`` (:mod:`contact.scenes.contact_convention`). ``run``: a
+    :class:`contact.wheel_rail.scene.RunSpec` in place of a wheel–rail scene's ``[run]`` (``--workers``,
+    ``--scheduler``; the numbers do not depend on it)."""
     from contact.scenes.scene import read_scene_data, scene_type
 
     scene_path, data = read_scene_data(scene_path)
@@ -57,8 +60,10 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
         from contact.wheel_rail.run import run_wheel_rail_scene
 
         scene = parse_wheel_rail_scene(data, scene_path)
-        guard(wheel_rail_cost(scene), force)
-        with replace_output_dir(out_dir) as tmp:
+        if run is not None:
+            scene = dataclasses.replace(scene, run=run)
+        estimate = guard(wheel_rail_cost(scene), force)
+        with run_mode(estimate.seconds), replace_output_dir(out_dir) as tmp:
             result = run_wheel_rail_scene(scene, tmp, plots, vtk=vtk and scene.output.vtk)
             (tmp / "result.json").write_text(result.to_json(), encoding="utf-8")
         return result.to_dict()
@@ -68,10 +73,11 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
     scene = parse_scene(data, scene_path)  # before importing the solvers: a bad scene fails fast
     from contact.scenes.cost import scene_cost
 
-    guard(scene_cost(scene), force)
+    estimate = guard(scene_cost(scene), force)
     from contact.scenes.simulation import simulate
 
-    run = simulate(scene)
+    with run_mode(estimate.seconds):  # a small scene's kernels run as plain Python: no numba start-up
+        run = simulate(scene)
     result = run.result
     result.to_json()  # serialisable before anything is written (a failure leaves no file)
     with replace_output_dir(out_dir) as tmp:
@@ -113,7 +119,14 @@ def report_failed_cases(name: str, result: dict[str, Any]) -> int:
 
 
 def _simulate(args: argparse.Namespace) -> int:
-    result = run_scene_file(args.scene, args.out, plots=args.plots, force=args.force, vtk=not args.no_vtk)
+    run = None
+    if args.workers is not None or args.scheduler is not None:
+        from contact.wheel_rail.scene import RunSpec
+
+        if args.workers is not None and args.workers < 1:
+            raise InputError("--workers", f"must be >= 1, got {args.workers}")
+        run = RunSpec(workers=args.workers or 1, scheduler=args.scheduler or "")
+    result = run_scene_file(args.scene, args.out, plots=args.plots, force=args.force, vtk=not args.no_vtk, run=run)
     if args.json:
         from contact.scenes.result_io import result_text
 
@@ -181,8 +194,13 @@ def build_parser() -> argparse.ArgumentParser:
     one.add_argument("--plots", action="store_true", help="write PNG pictures")
     one.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     one.add_argument("--no-vtk", action="store_true", help="do not write the VTK fields for ParaView (vtk/)")
+    one.add_argument("--workers", type=int, default=None,
+                     help="wheel-rail sweeps: local worker processes for the cases (overrides [run] workers)")
+    one.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                     help="wheel-rail sweeps: Dask scheduler address for the cases (overrides [run] scheduler)")
     one.set_defaults(func=_simulate)
-    many = cli.subparser(sub, "simulate-all", "run every *.toml in a folder and print a summary (full table in OUT/table.md)",
+    many = cli.subparser(sub, "simulate-all",
+                         "run every *.toml in a folder and print a summary (full table in OUT/table.md)",
                          ["wrlayer simulate-all scenes --out out/simulate --plots"])
     many.add_argument("scenes_dir", help="folder of scene TOML files")
     many.add_argument("--out", required=True, help="output folder (one subfolder per scene, table.md, table.csv)")

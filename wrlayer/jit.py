@@ -1,43 +1,61 @@
-"""Loop kernels compiled by numba only when the work pays for the compiler (tiered execution).
+"""Loop kernels compiled by numba, or run as plain Python for a run too small to pay for the compiler.
 
 Importing numba and loading a cached kernel costs about 0.5 s of CPU, more than a small scene's whole solve (a
-Hertz check takes about 0.1 s in plain Python). A kernel decorated with :func:`kernel` therefore runs as plain
-Python until it has processed ``budget`` units of work in this process (the units are what ``size`` returns for a
-call, e.g. the elements it loops over), and from then on as the numba-compiled function (``cache=True``). A
-single call larger than the budget compiles at once. The Python and the compiled function are the same source, so
-the formula is written once; both give the same numbers (no fastmath).
+Hertz check takes about 0.02 s in plain Python). A kernel decorated with :func:`kernel` is compiled by numba
+(``cache=True``) at its first call, unless the kernels run as plain Python: with ``WRLAYER_JIT=never``, or inside
+:func:`run_mode` for a run whose estimated cost (compiled) is below :data:`SMALL_RUN_S`. The Python function and
+the compiled one are the same source, so each formula is written once; they agree to round-off (the last digit
+may differ: libm against LLVM's intrinsics).
 
-``WRLAYER_JIT`` overrides the rule: ``always`` (compile at the first call), ``never`` (plain Python), anything else
-or unset: ``auto``. A kernel that calls another kernel is compiled with the compiled callee (numba needs the
-dispatcher, not this wrapper, among the function's globals).
+The choice is made once per run from its inputs (the cost estimate), never from what the process ran before, so a
+run gives the same numbers alone, in a batch and on worker processes (which inherit the choice through the
+environment). ``WRLAYER_JIT=always`` compiles whatever the cost. A kernel that calls another kernel is compiled
+with the compiled callee (numba needs the dispatcher, not this wrapper, among the function's globals).
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import types
-from typing import Callable
+from typing import Callable, Iterator
 
-#: Default work budget of a kernel in plain Python before it is compiled (units of its ``size``; about 0.05-0.2 s
-#: of interpreted loops for the kernels of this project).
-DEFAULT_BUDGET = 200_000
+#: A run whose estimated cost with compiled kernels is below this runs them as plain Python (s): plain Python
+#: is 30-50 times slower per kernel call, so such a run takes well under numba's 0.5 s start-up.
+SMALL_RUN_S = 0.01
+
+ENV = "WRLAYER_JIT"
 
 
 def jit_mode() -> str:
-    """``always``, ``never`` or ``auto`` from ``WRLAYER_JIT``."""
-    mode = os.environ.get("WRLAYER_JIT", "auto").strip().lower()
+    """``always``, ``never`` or ``auto`` (unset or anything else) from ``WRLAYER_JIT``."""
+    mode = os.environ.get(ENV, "auto").strip().lower()
     return mode if mode in ("always", "never") else "auto"
 
 
-class TieredKernel:
-    """A loop kernel run as plain Python until its work budget is spent, then numba-compiled (see the module)."""
+@contextlib.contextmanager
+def run_mode(estimated_seconds: float) -> Iterator[bool]:
+    """Within the block the kernels run as plain Python when ``WRLAYER_JIT`` is unset (``auto``) and the run's
+    estimated cost is below :data:`SMALL_RUN_S`; yields whether they do. Sets the environment, so worker
+    processes started in the block make the same choice."""
+    python = jit_mode() == "never" or (jit_mode() == "auto" and estimated_seconds < SMALL_RUN_S)
+    before = os.environ.get(ENV)
+    os.environ[ENV] = "never" if python else "always"
+    try:
+        yield python
+    finally:
+        if before is None:
+            os.environ.pop(ENV, None)
+        else:
+            os.environ[ENV] = before
 
-    def __init__(self, func: Callable, size: Callable[..., float] | None, budget: float, options: dict):
+
+class TieredKernel:
+    """A loop kernel: numba-compiled at its first call unless the kernels run as plain Python (see the module)."""
+
+    def __init__(self, func: Callable, options: dict):
         self.py_func = func
         self.options = options
-        self.size = size
-        self.budget = budget
-        self.spent = 0.0
         self._compiled = None
         self.__name__ = func.__name__
         self.__qualname__ = func.__qualname__
@@ -47,7 +65,7 @@ class TieredKernel:
     def compiled(self):
         """The numba dispatcher of the kernel (compiled or loaded from numba's cache on first use)."""
         if self._compiled is None:
-            import numba  # here: importing numba costs about 0.4 s, paid only once the work needs it
+            import numba  # here: importing numba costs about 0.4 s, paid only by a run that compiles
             func = self.py_func
             callees = {name: value.compiled() for name in func.__code__.co_names
                        if isinstance(value := func.__globals__.get(name), TieredKernel)}
@@ -60,26 +78,16 @@ class TieredKernel:
         return self._compiled
 
     def __call__(self, *args):
-        if self._compiled is not None:
-            return self._compiled(*args)
-        mode = jit_mode()
-        if mode == "never":
+        if jit_mode() == "never":
             return self.py_func(*args)
-        work = float(self.size(*args)) if self.size is not None else 0.0
-        if mode == "always" or self.budget <= 0 or self.spent + work > self.budget:
-            return self.compiled()(*args)
-        self.spent += work
-        return self.py_func(*args)
+        return self.compiled()(*args)
 
 
-def kernel(size: Callable[..., float] | None = None, budget: float = DEFAULT_BUDGET, **options) -> Callable:
-    """Decorator: the function as a :class:`TieredKernel`; ``size(*args)`` is a call's work (None: no work of its
-    own, for a helper kernel whose callers count it; it is compiled with its first compiled caller); ``options``
-    go to ``numba.njit`` (a kernel with ``fastmath`` differs from its Python run in the last digits: give it
-    ``budget=0``, compiled at the first call)."""
+def kernel(**options) -> Callable:
+    """Decorator: the function as a :class:`TieredKernel`; ``options`` go to ``numba.njit`` (e.g. fastmath)."""
     def wrap(func: Callable) -> TieredKernel:
-        return TieredKernel(func, size, budget, options)
+        return TieredKernel(func, options)
     return wrap
 
 
-__all__ = ["DEFAULT_BUDGET", "TieredKernel", "jit_mode", "kernel"]
+__all__ = ["ENV", "SMALL_RUN_S", "TieredKernel", "jit_mode", "kernel", "run_mode"]

@@ -46,7 +46,7 @@ def _element_pressure(x, slip, k, e, k_last):
     return p
 
 
-@kernel(size=lambda u, slip, k, e, k_last: slip.size)
+@kernel()
 def _pressures(u, slip, k, e, k_last):
     """Current pressure of each element (MPa)."""
     out = np.empty(u.size)
@@ -55,7 +55,7 @@ def _pressures(u, slip, k, e, k_last):
     return out
 
 
-@kernel(size=lambda u, slip, k, e, k_last, p_target: 4 * slip.size)
+@kernel()
 def move_elements(u, slip, k, e, k_last, p_target):
     """Exact monotonic move of elements (u (n,), slips (n, m)) to p_target (n,): (u, slips, dissipation).
 
@@ -96,7 +96,7 @@ def move_elements(u, slip, k, e, k_last, p_target):
     return u_out, s_out, diss
 
 
-@kernel(size=lambda u, slip, k, e, k_last: 2 * slip.size)
+@kernel()
 def _yield_pressures(u, slip, k, e, k_last):
     """Pressure of each element when its first stuck slider reaches its threshold on loading (inf: none)."""
     n, m = slip.shape

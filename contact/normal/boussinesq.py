@@ -63,7 +63,7 @@ MAX_TABLE_CELLS = 3e7
 _EDGE_CELLS = 8.0   # cells closer than this many widths to x_l use the exact antiderivative (arcsin)
 
 
-@kernel(size=lambda a, dj, table, hx: a.sum() / hx)
+@kernel()
 def _weighted_sum(a, dj, table, hx):
     """sum over strips s and cells i of (II_cell sqrt(a_s^2 - x^2) dx) * table[dj_s, i], cells +-i.
 

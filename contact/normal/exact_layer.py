@@ -65,7 +65,7 @@ class _Body:
         return u, c
 
 
-@kernel(size=lambda p, *rest: 8 * p.size)
+@kernel()
 def _rolling_march(p, u0, slip0, k, e, kl):
     """Steady rolling: move each line's element from the leading edge (last column) to the trailing edge through
     the cell pressures p (ny, nx); returns the displacement from the initial state and the tangent compliance in

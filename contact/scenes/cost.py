@@ -64,8 +64,9 @@ def wheel_rail_cost(scene) -> CostEstimate:
         exact_cells = method.exact_cells or DEFAULT_CELLS
         factors["exact cells"] = exact_cells
         per_strip += exact_cells * EXACT_CELL_S
-    seconds = cases * wheels * (per + passes * strips * per_strip)
-    return CostEstimate(scene.path.name, factors, seconds)
+    workers = max(1, min(scene.run.workers, cases))
+    seconds = cases * wheels * (per + passes * strips * per_strip) / workers
+    return CostEstimate(scene.path.name, factors, seconds, note=f"on {workers} worker(s)" if workers > 1 else "")
 
 
 __all__ = ["scene_cost", "wheel_rail_cost"]

@@ -127,7 +127,7 @@ def _warm_start(tx, ty, ux, uy, j, prev, ratio, bound, kappa, cx, cy, h):  # pra
             uy[q] += cy * kq * ty[j, k]
 
 
-@kernel(size=lambda dx, wx, *rest: 50 * wx.size)
+@kernel()
 def _strips(dx, wx, wy, bound, kappa, cx, cy, tol, max_sweeps):  # pragma: no cover - compiled
     """Every strip's rolling problem (kernel table kappa (ny, 2 nx + 3), :func:`strip_kernel`); cells k = 0
     (leading) .. nx-1, the free pad ahead of cell 0.

@@ -238,7 +238,7 @@ def simplified_theory_fx_ratio(kappa: float) -> float:
     return (adhesion + slip) / (0.5 * np.pi)
 
 
-@kernel(size=lambda x_lead, x_centre, y, pn, *rest: 4 * pn.size)
+@kernel()
 def _march(x_lead, x_centre, y, pn, nx, L1, L2, rx, ry, spin, mu):  # pragma: no cover - compiled
     """FASTSIM march on all strips; rx = vx/L1, ry = vy/L2, spin = phi/L3; strip j spans x_centre[j] +- x_lead[j].
 

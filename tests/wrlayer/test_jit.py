@@ -1,4 +1,4 @@
-"""Tiered kernels: plain Python until the work budget is spent, then numba; the same numbers either way."""
+"""Loop kernels: compiled by numba, or plain Python for a small run (decided from the run's cost estimate)."""
 
 import json
 import os
@@ -6,9 +6,8 @@ import subprocess
 import sys
 
 import numpy as np
-import pytest
 
-from wrlayer.jit import TieredKernel, kernel
+from wrlayer.jit import ENV, SMALL_RUN_S, TieredKernel, jit_mode, kernel, run_mode
 
 
 @kernel()
@@ -16,7 +15,7 @@ def _square(x):
     return x * x
 
 
-@kernel(size=lambda v: v.size, budget=10)
+@kernel()
 def _sum_of_squares(v):
     total = 0.0
     for i in range(v.size):
@@ -24,46 +23,67 @@ def _sum_of_squares(v):
     return total
 
 
-def test_kernel_runs_python_within_the_budget_then_compiled(monkeypatch):
-    monkeypatch.delenv("WRLAYER_JIT", raising=False)
-    k = TieredKernel(_sum_of_squares.py_func, _sum_of_squares.size, 10, {})
-    v = np.arange(4.0)
-    assert k(v) == 14.0 and k._compiled is None and k.spent == 4
-    assert k(np.arange(8.0)) == 140.0 and k._compiled is not None    # 4 + 8 > 10: compiled, callee included
-    assert type(k._compiled).__name__ == "CPUDispatcher"
+def test_a_kernel_compiles_with_its_compiled_callee(monkeypatch):
+    monkeypatch.delenv(ENV, raising=False)
+    k = TieredKernel(_sum_of_squares.py_func, {})
+    assert k(np.arange(4.0)) == 14.0
+    assert type(k._compiled).__name__ == "CPUDispatcher" and _square._compiled is not None
 
 
-def test_modes_and_identical_numbers(monkeypatch):
+def test_never_runs_python_and_gives_the_same_sum(monkeypatch):
     v = np.random.default_rng(1).normal(size=50)
-    monkeypatch.setenv("WRLAYER_JIT", "never")
-    k = TieredKernel(_sum_of_squares.py_func, _sum_of_squares.size, 10, {})
+    monkeypatch.setenv(ENV, "never")
+    k = TieredKernel(_sum_of_squares.py_func, {})
     python = k(v)
     assert k._compiled is None
-    monkeypatch.setenv("WRLAYER_JIT", "always")
-    assert k(v[:1]) == v[0] ** 2 and k._compiled is not None
+    monkeypatch.setenv(ENV, "always")
     assert k(v) == python
 
 
-def test_zero_budget_compiles_at_the_first_call(monkeypatch):
-    monkeypatch.delenv("WRLAYER_JIT", raising=False)
-    k = TieredKernel(_square.py_func, None, 0, {"fastmath": True})
-    assert k(3.0) == 9.0 and k._compiled is not None
+def test_run_mode_decides_from_the_estimate_and_restores_the_environment(monkeypatch):
+    monkeypatch.delenv(ENV, raising=False)
+    with run_mode(SMALL_RUN_S / 2) as python:
+        assert python and jit_mode() == "never" and os.environ[ENV] == "never"   # inherited by workers
+    assert ENV not in os.environ
+    with run_mode(SMALL_RUN_S * 2) as python:
+        assert not python and jit_mode() == "always"
+    monkeypatch.setenv(ENV, "always")
+    with run_mode(0.0) as python:
+        assert not python
+    assert os.environ[ENV] == "always"
 
 
-def scene_numbers(tmp_path, mode: str) -> dict:
-    """result.json of the layered paper scene (Kik-Piotrowski, Prandtl layer, FASTSIM) without its timings."""
+def scene_numbers(tmp_path, scene: str, mode: str) -> tuple[dict, str]:
+    """result.json of a scene without its timings, and the modules the run imported (numba or not)."""
     out = tmp_path / mode
-    subprocess.run([sys.executable, "-m", "contact", "simulate", "scenes/paper_with_layer.toml", "--out", str(out),
-                    "--no-vtk"], check=True, env={**os.environ, "WRLAYER_JIT": mode}, capture_output=True)
+    env = {k: v for k, v in os.environ.items() if k != ENV}
+    if mode != "auto":
+        env[ENV] = mode
+    code = ("import sys; from contact.__main__ import main; rc = main(sys.argv[1:]); "
+            "print('numba' in sys.modules); sys.exit(rc)")
+    done = subprocess.run([sys.executable, "-c", code, "simulate", scene, "--out", str(out), "--no-vtk"],
+                          check=True, env=env, capture_output=True, text=True)
 
     def clean(x):
         if isinstance(x, dict):
             return {k: clean(v) for k, v in x.items() if k not in ("timings", "code_version") and not k.endswith("_s")}
         return [clean(v) for v in x] if isinstance(x, list) else x
-    return clean(json.loads((out / "result.json").read_text()))
+    return clean(json.loads((out / "result.json").read_text())), done.stdout.strip().splitlines()[-1]
 
 
-def test_a_layered_scene_gives_the_same_numbers_in_python_and_compiled(tmp_path):
-    python = scene_numbers(tmp_path, "never")
+def test_a_small_layered_scene_runs_without_numba_and_agrees_with_the_compiled_run(tmp_path):
+    python, numba_loaded = scene_numbers(tmp_path, "scenes/paper_with_layer.toml", "auto")
+    assert numba_loaded == "False"
     assert python["passes"] and python["passes"][-1]["p_max_MPa"] > 0
-    assert python == scene_numbers(tmp_path, "always")
+    compiled, numba_loaded = scene_numbers(tmp_path, "scenes/paper_with_layer.toml", "always")
+    assert numba_loaded == "True"
+
+    def close(a, b):
+        if isinstance(a, dict):
+            return a.keys() == b.keys() and all(close(a[k], b[k]) for k in a)
+        if isinstance(a, list):
+            return len(a) == len(b) and all(close(x, y) for x, y in zip(a, b))
+        if isinstance(a, float):
+            return abs(a - b) <= 1e-12 * max(abs(a), abs(b), 1e-300)
+        return a == b
+    assert close(python, compiled)

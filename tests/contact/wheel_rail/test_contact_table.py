@@ -10,6 +10,7 @@ import math
 import pytest
 
 from contact.__main__ import main
+from contact.scenes.cost import wheel_rail_cost
 from contact.wheel_rail.contact_table import (FAILED_COLUMNS, FAILED_FILE, TABLE_COLUMNS, TABLE_FILE, table_csv,
                                               table_rows)
 from contact.wheel_rail.parse import load_wheel_rail_scene
@@ -160,3 +161,22 @@ def test_a_dask_cluster_gives_the_same_table(runs, tmp_path):
         result = run_wheel_rail_scene(scene, tmp_path, plots=False, vtk=False)
     assert result.n_failed == 1
     assert table_csv(table_rows(result, scene)) == (out1 / TABLE_FILE).read_text()
+
+
+def test_the_cost_estimate_shares_the_cases_among_the_workers():
+    scene = load_wheel_rail_scene("scenes/wheel_rail_sweep_elastic.toml")
+    one = wheel_rail_cost(scene)
+    two = wheel_rail_cost(dataclasses.replace(scene, run=RunSpec(workers=2)))
+    assert two.seconds == pytest.approx(one.seconds / 2) and "on 2 worker(s)" in two.describe()
+
+
+def test_simulate_workers_flag_gives_the_serial_numbers(tmp_path, capsys):
+    serial, parallel = tmp_path / "serial", tmp_path / "parallel"
+    scene = "scenes/wheel_rail_sweep_elastic.toml"
+    assert main(["simulate", scene, "--out", str(serial), "--no-vtk"]) == 0
+    assert main(["simulate", scene, "--out", str(parallel), "--no-vtk", "--workers", "2"]) == 0
+    rows = [[{k: v for k, v in r.items() if k != "time_s"} for r in csv.DictReader(open(d / "cases.csv"))]
+            for d in (serial, parallel)]
+    assert rows[0] and rows[0] == rows[1]
+    assert main(["simulate", scene, "--out", str(tmp_path / "bad"), "--workers", "0"]) == 2
+    assert "error: --workers: must be >= 1" in capsys.readouterr().err
