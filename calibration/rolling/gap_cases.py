@@ -90,12 +90,16 @@ class GapCase:
     level: float
     traction: float
     n_passes: int = N_PASSES
+    elements_per_semi_axis: float = GAP_MESH.elements_per_semi_axis
 
     @property
     def key(self) -> str:
-        return f"{self.position.name.replace(' ', '_')}_c{self.traction:g}_p{self.level:g}"
+        mesh = "" if self.elements_per_semi_axis == GAP_MESH.elements_per_semi_axis else \
+            f"_h{self.elements_per_semi_axis:g}"
+        return f"{self.position.name.replace(' ', '_')}_c{self.traction:g}_p{self.level:g}{mesh}"
 
     def config(self, track: TrackSettings = GAP_TRACK, mesh: TrackMeshSettings = GAP_MESH) -> RollingConfig:
+        mesh = replace(mesh, elements_per_semi_axis=self.elements_per_semi_axis)
         pos = self.position
         contact = ContactSettings(a_mm=pos.a_mm, b_mm=pos.b_mm, levels=(self.level,),
                                   traction_coefficient=self.traction, level_unit="p_y")
@@ -174,12 +178,14 @@ class GapCaseResult:
         return cls(**{k: data[k] for k in cls.__dataclass_fields__ if k in data})
 
 
-def run_case(case: GapCase, out_dir: Path, progress=None) -> GapCaseResult:
-    """The case's result: read from ``out_dir/<key>.json`` when present, else computed and written there."""
+def run_case(case: GapCase, out_dir: Path, progress=None, track: TrackSettings = GAP_TRACK,
+             mesh: TrackMeshSettings = GAP_MESH) -> GapCaseResult:
+    """The case's result: read from ``out_dir/<key>.json`` when present, else computed (on ``track`` and
+    ``mesh``, the gap's by default) and written there."""
     path = Path(out_dir) / f"{case.key}.json"
     if path.exists():
         return GapCaseResult.from_dict(json.loads(path.read_text()))
-    cfg = case.config()
+    cfg = case.config(track, mesh)
     model = build_model(cfg, track_mesh(cfg.contact, cfg.track, cfg.mesh))
     p0 = case.level * model.p_y_MPa
     (curve,) = static_dents(model, cfg, [p0])
@@ -210,16 +216,23 @@ def default_cases(n_passes: int = N_PASSES) -> list[GapCase]:
     return [GapCase(pos, lv, c, n_passes) for pos in default_positions() for c in TRACTIONS for lv in LEVELS]
 
 
+def mesh_check_cases() -> list[GapCase]:
+    """The mesh check: the rail crown at 1.7 p_y, frictionless, 2 passes, h = a/3 and a/4."""
+    crown = table_position(*TABLE_POSITIONS[0])
+    return [GapCase(crown, 1.7, 0.0, 2, n) for n in (3.0, 4.0)]
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m calibration.rolling.gap_cases", description=__doc__.splitlines()[0])
     ap.add_argument("out", type=Path)
     ap.add_argument("--passes", type=int, default=N_PASSES)
     ap.add_argument("--only", default="", help="run only the positions whose name contains this")
+    ap.add_argument("--mesh-check", action="store_true", help="run the mesh check cases instead")
     args = ap.parse_args(argv)
     from threadpoolctl import threadpool_limits  # one BLAS thread on the shared machine
 
     with threadpool_limits(limits=1):
-        for case in default_cases(args.passes):
+        for case in mesh_check_cases() if args.mesh_check else default_cases(args.passes):
             if args.only and args.only not in case.position.name:
                 continue
             t0 = time.perf_counter()
