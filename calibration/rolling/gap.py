@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from calibration.rolling.gap_cases import LEVELS, ROOT, TRACTIONS, GapCaseResult
+from calibration.rolling.gap_cases import LEVELS, ROOT, TRACTIONS, GapCaseResult, default_positions
 from calibration.rolling.layer_prediction import StaticCurve, layer_grooves, masing_residual
 from calibration.rolling.law_fit import PassFit, fit_passes, rolling_law
 from wrlayer.layer_table import LayerTable
@@ -30,8 +30,14 @@ from wrlayer.rolling_law import RollingLaw
 
 #: The passes of the gap table.
 REPORTED_PASSES = (1, 2, 5, 10)
+#: Fewest FEM passes of a case in the gap table (below the reported 10, the case's own fit extrapolates, stated).
+MIN_FEM_PASSES = 5
 #: The target: the layer's accumulated residual within this fraction of the FEM groove.
 TARGET = 0.10
+#: Stand-ins: a position whose own cases are missing is represented by another position's cases of the same
+#: material and patch shape (a/b within 0.3 %), grooves and dents scaled by the ratio of the semi-axes a (at equal
+#: p0 / p_y and a/b the solution has no length of its own: docs/calibration.md).
+STAND_INS = {"wheel tread": "rail crown", "wheel flange root": "rail gauge corner"}
 #: The law groups: name -> the positions whose mean it is fitted to (and the table it is written into).
 GROUPS = {"rail": (("rail crown", "rail gauge corner"), "scenes/tables/rail_60E1_default.json"),
           "wheel": (("wheel flange root", "wheel tread"), "scenes/tables/wheel_S1002_default.json"),
@@ -70,6 +76,10 @@ class GapRow:
         Layer, "rolling": r G_n (mm).
     law_on_block_mm : list of float
         The law on the block's static dent: s G_n (mm).
+    fem_passes : int
+        Passes the FEM computed; the FEM groove of later passes is this case's own law fit extrapolated.
+    key : str
+        The case (with its stand-in, if any).
     """
 
     position: str
@@ -85,6 +95,8 @@ class GapRow:
     state_kept_mm: list[float]
     rolling_mm: list[float]
     law_on_block_mm: list[float]
+    fem_passes: int
+    key: str
 
     def error(self, name: str) -> float:
         """The largest |layer / FEM - 1| over the passes for the layer column ``name`` (-)."""
@@ -100,6 +112,26 @@ class GapRow:
 def load_results(out_dir: Path) -> list[GapCaseResult]:
     """The case files of ``out_dir`` (each ``<key>.json``)."""
     return [GapCaseResult.from_dict(json.loads(p.read_text())) for p in sorted(Path(out_dir).glob("*_c*_p*.json"))]
+
+
+def with_stand_ins(results: list[GapCaseResult]) -> list[GapCaseResult]:
+    """``results`` plus, for every stand-in position without its own case, the stand-in's case scaled to it
+    (key suffixed " (stand-in: <position>)"). The table positions come from
+    :func:`calibration.rolling.gap_cases.default_positions`."""
+    have = {(r.position, r.traction, r.p0_over_py) for r in results if r.complete}
+    targets = {p.name: p for p in default_positions()}
+    out = list(results)
+    for r in results:
+        for name, proxy in STAND_INS.items():
+            if r.position != proxy or (name, r.traction, r.p0_over_py) in have:
+                continue
+            pos = targets[name]
+            k = pos.a_mm / r.a_mm
+            out.append(replace(r, key=f"{r.key} (stand-in: {proxy})", position=name, table=pos.table, y_mm=pos.y_mm,
+                               a_mm=pos.a_mm, b_mm=pos.b_mm, static_dent_mm=k * r.static_dent_mm,
+                               static_u_pl_mm=[k * u for u in r.static_u_pl_mm],
+                               groove_mm=[k * g for g in r.groove_mm], shift_mm=[k * g for g in r.shift_mm]))
+    return out
 
 
 def group_of(position: str) -> str:
@@ -128,7 +160,7 @@ def layer_static_residuals(results: list[GapCaseResult]) -> dict[tuple[str, floa
 def fit_group(results: list[GapCaseResult], group: str) -> tuple[RollingLaw, dict]:
     """The group's law from the mean normalised groove of its positions, and the fits {(c, level): PassFit}."""
     members, _ = GROUPS[group]
-    mine = [r for r in results if r.position in members and not r.failed]
+    mine = [r for r in results if r.position in members and len(r.groove_mm) >= MIN_FEM_PASSES]
     fits: dict[tuple[float, float], PassFit] = {}
     for c in TRACTIONS:
         for lv in LEVELS:
@@ -147,7 +179,7 @@ def fit_group(results: list[GapCaseResult], group: str) -> tuple[RollingLaw, dic
 
 
 def gap_rows(results: list[GapCaseResult]) -> tuple[list[GapRow], dict[str, RollingLaw]]:
-    """The gap table's rows (cases with all reported passes) and the laws of the groups."""
+    """The gap table's rows (cases with at least MIN_FEM_PASSES passes) and the laws of the groups."""
     laws = {}
     for g in GROUPS:
         try:
@@ -156,17 +188,18 @@ def gap_rows(results: list[GapCaseResult]) -> tuple[list[GapRow], dict[str, Roll
             continue
     statics = layer_static_residuals(results)
     rows = []
-    last = max(REPORTED_PASSES)
+    n = np.array(REPORTED_PASSES)
     for r in results:
         g = group_of(r.position)
-        if len(r.groove_mm) < last or g not in laws:
+        if len(r.groove_mm) < MIN_FEM_PASSES or g not in laws:
             continue
-        n = np.array(REPORTED_PASSES)
+        own = fit_passes(r.groove_mm, r.static_dent_mm).factors(int(n.max())) * r.static_dent_mm
+        fem = [r.groove_mm[k - 1] if k <= len(r.groove_mm) else float(own[k - 1]) for k in n]
         rs = statics[(r.position, r.p0_over_py)]
         fac = laws[g].factor(n, r.p0_over_py, r.traction)
         rows.append(GapRow(r.position, g, r.traction, r.p0_over_py, r.p0_over_py * r.p_y_MPa, r.static_dent_mm, rs,
-                           n.tolist(), [r.groove_mm[k - 1] for k in n], (rs * n).tolist(), [rs] * n.size,
-                           (rs * fac).tolist(), (r.static_dent_mm * fac).tolist()))
+                           n.tolist(), fem, (rs * n).tolist(), [rs] * n.size, (rs * fac).tolist(),
+                           (r.static_dent_mm * fac).tolist(), len(r.groove_mm), r.key))
     return rows, laws
 
 
@@ -178,5 +211,6 @@ def write_law(table_rel: str, law: RollingLaw) -> Path:
     return table.write(path)[0]
 
 
-__all__ = ["GROUPS", "GapRow", "REPORTED_PASSES", "TARGET", "fit_group", "gap_rows", "group_of",
+__all__ = ["GROUPS", "GapRow", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS", "TARGET", "fit_group", "gap_rows",
+           "group_of", "with_stand_ins",
            "layer_static_residuals", "load_results", "write_law"]

@@ -149,6 +149,8 @@ class GapCaseResult:
         Degrees of freedom of the block.
     failed : str
         The error that stopped the passes ("": none).
+    n_passes : int
+        Passes requested (the file is rewritten after each pass: fewer grooves when the run was stopped).
     """
 
     key: str
@@ -169,6 +171,12 @@ class GapCaseResult:
     pass_seconds: list[float] = field(default_factory=list)
     n_dofs: int = 0
     failed: str = ""
+    n_passes: int = N_PASSES
+
+    @property
+    def complete(self) -> bool:
+        """All requested passes done, or stopped by a failed step."""
+        return len(self.groove_mm) >= self.n_passes or bool(self.failed)
 
     def to_dict(self) -> dict:
         return {k: getattr(self, k) for k in self.__dataclass_fields__}
@@ -180,11 +188,14 @@ class GapCaseResult:
 
 def run_case(case: GapCase, out_dir: Path, progress=None, track: TrackSettings = GAP_TRACK,
              mesh: TrackMeshSettings = GAP_MESH) -> GapCaseResult:
-    """The case's result: read from ``out_dir/<key>.json`` when present, else computed (on ``track`` and
-    ``mesh``, the gap's by default) and written there."""
+    """The case's result: read from ``out_dir/<key>.json`` when complete there, else computed (on ``track`` and
+    ``mesh``, the gap's by default) and written there after every pass."""
     path = Path(out_dir) / f"{case.key}.json"
     if path.exists():
-        return GapCaseResult.from_dict(json.loads(path.read_text()))
+        done = GapCaseResult.from_dict(json.loads(path.read_text()))
+        if done.complete:
+            return done
+    Path(out_dir).mkdir(parents=True, exist_ok=True)
     cfg = case.config(track, mesh)
     model = build_model(cfg, track_mesh(cfg.contact, cfg.track, cfg.mesh))
     p0 = case.level * model.p_y_MPa
@@ -192,7 +203,7 @@ def run_case(case: GapCase, out_dir: Path, progress=None, track: TrackSettings =
     pos = case.position
     res = GapCaseResult(case.key, pos.name, pos.table, pos.y_mm, pos.a_mm, pos.b_mm, case.traction, case.level,
                         model.p_y_MPa, curve.dent_mm, curve.p_MPa.tolist(), curve.u_pl_mm.tolist(),
-                        n_dofs=int(model.disc.n_dofs))
+                        n_dofs=int(model.disc.n_dofs), n_passes=case.n_passes)
     positions = [x * cfg.contact.a_mm for x in cfg.track.positions_over_a()]
     solver = RollingSolver(model.prob, model.forces, p0)
     try:
@@ -202,11 +213,11 @@ def run_case(case: GapCase, out_dir: Path, progress=None, track: TrackSettings =
                 res = replace(res, groove_mm=res.groove_mm + [prof.groove_mm], shift_mm=res.shift_mm + [prof.shift_mm],
                               max_eq_plastic_strain=res.max_eq_plastic_strain + [prof.max_eq_plastic_strain],
                               pass_seconds=res.pass_seconds + [rec.seconds])
+                atomic_write_text(path, json.dumps(res.to_dict(), indent=1))
                 if progress is not None:
                     progress(f"{case.key}: pass {rec.pass_index} groove {prof.groove_mm:.5g} mm ({rec.seconds:.1f} s)")
     except RollingConvergenceError as err:
         res = replace(res, failed=str(err))
-    Path(out_dir).mkdir(parents=True, exist_ok=True)
     atomic_write_text(path, json.dumps(res.to_dict(), indent=1))
     return res
 
