@@ -131,10 +131,12 @@ def gap_markdown(rows: list[gap.GapRow], laws: dict, fits: dict, statics: list[d
           "| law on the block: worst |", "|---|---|---|---|---|---|---|---|---|"]
     for r in sorted(rows, key=lambda r: (r.group, r.position, r.traction, r.p0_over_py)):
         fem = _f(r.fem_mm) + ("" if r.fem_passes >= 10 else f" (FEM {r.fem_passes} passes, then its fit)")
-        rel = {k: [x / y for x, y in zip(getattr(r, k), r.fem_mm)] for k in ("relaxed_mm", "state_kept_mm", "rolling_mm")}
+        rel = {k: [x / y for x, y in zip(getattr(r, k), r.fem_mm)]
+               for k in ("relaxed_mm", "state_kept_mm", "rolling_mm")}
         md.append(f"| {r.position}{' (stand-in)' if 'stand-in' in r.key else ''} | "
                   f"{r.traction:g} | {r.p0_over_py:g} | {r.static_dent_mm:.4g} / {r.layer_static_mm:.4g} | {fem} | "
-                  f"{_f(rel['relaxed_mm'], '.2f')} | {_f(rel['state_kept_mm'], '.3f')} | {_f(rel['rolling_mm'], '.3f')} "
+                  f"{_f(rel['relaxed_mm'], '.2f')} | {_f(rel['state_kept_mm'], '.3f')} | "
+                  f"{_f(rel['rolling_mm'], '.3f')} "
                   f"| {100 * r.error('law_on_block_mm'):.2f} % |")
     md += ["", "Worst |layer / FEM - 1| over passes 1, 2, 5, 10 and all cases (target 10 %):", "",
            "| rule | worst | case |", "|---|---|---|"]
@@ -241,7 +243,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--full", action="store_const", dest="mode", const="full")
     ap.add_argument("--out", type=pathlib.Path, default=pathlib.Path("out/bench"))
     ap.add_argument("--gap", action="store_true", help="the gap report (cases cached per file)")
-    ap.add_argument("--cases", type=pathlib.Path, default=None, help="folder of the gap cases (default OUT/rolling/gap)")
+    ap.add_argument("--cases", type=pathlib.Path, default=None,
+                    help="folder of the gap cases (default OUT/rolling/gap)")
     ap.add_argument("--write-tables", action="store_true", help="write the rolling laws into the shipped tables")
     ap.add_argument("--report-only", action="store_true", help="report the cases present, compute none")
     args = ap.parse_args(argv)
