@@ -79,7 +79,7 @@ def _markdown(res: RollingResult, rows: list[dict], load: tuple, cfg: RollingCon
           f"p_y = {res.p_y_MPa:.1f} MPa (FEM, analytic 1.61 Y = 805 MPa); machine load average "
           f"{load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} (1 / 5 / 15 min) at the start; wall {wall:.0f} s.", "",
           "| p0 / p_y | static dent (mm) | groove pass 1..n (mm) | groove / static | pass 2 adds | "
-          "later passes add | reference groove / static, pass 2 | s per pass | layer relaxed / state kept "
+          "later passes add | reference groove / static, pass 2 | s per pass | layer relaxed / state kept / rolling "
           "after the last pass (mm) |", "|---|---|---|---|---|---|---|---|---|"]
     for lv in res.levels:
         g = lv.groove_mm
@@ -88,7 +88,8 @@ def _markdown(res: RollingResult, rows: list[dict], load: tuple, cfg: RollingCon
         ref = REFERENCE.get(round(lv.p0_over_py, 2))
         ref_txt = f"{ref[0][0]}-{ref[0][1]}, {ref[1]}" if ref else "-"
         lg = lv.layer_groove_mm
-        layer = f"{lg.relaxed[-1]:.4g} / {lg.state_kept[-1]:.4g}" if lg.relaxed else "-"
+        layer = (f"{lg.relaxed[-1]:.4g} / {lg.state_kept[-1]:.4g} / "
+                 f"{lg.rolling[-1] if lg.rolling else float('nan'):.4g}") if lg.relaxed else "-"
         md.append(f"| {lv.p0_over_py:.2f} | {lv.static_dent_mm:.4g} | {', '.join(f'{x:.4g}' for x in g)} | "
                   f"{g[0] / lv.static_dent_mm:.3f} | {add2} | {later} | {ref_txt} | "
                   f"{sum(lv.pass_seconds) / len(lv.pass_seconds):.0f} | {layer} |")
@@ -162,6 +163,22 @@ def gap_markdown(rows: list[gap.GapRow], laws: dict, fits: dict, statics: list[d
     return md
 
 
+def gap_summary(rows: list[gap.GapRow]) -> list[str]:
+    """The condensed gap table of docs/rolling.md (stand-ins left out: they repeat their position's ratios)."""
+    md = ["| position | c | p0 / p_y | FEM groove / static dent, passes 1, 2, 5, 10 | relaxed / FEM, pass 10 | "
+          "state kept / FEM, passes 1, 10 | rolling law / FEM, passes 1, 10 | law on the block: worst |",
+          "|---|---|---|---|---|---|---|---|"]
+    for r in sorted((r for r in rows if "stand-in" not in r.key),
+                    key=lambda r: (r.group != "half-space", r.position, r.traction, r.p0_over_py)):
+        g = [x / r.static_dent_mm for x in r.fem_mm]
+        extra = "" if r.fem_passes >= 10 else f" (FEM {r.fem_passes}, then fit)"
+        md.append(f"| {r.position} | {r.traction:g} | {r.p0_over_py:g} | {_f(g, '.3f')}{extra} | "
+                  f"{r.relaxed_mm[-1] / r.fem_mm[-1]:.2f} | {r.state_kept_mm[0] / r.fem_mm[0]:.3f}, "
+                  f"{r.state_kept_mm[-1] / r.fem_mm[-1]:.3f} | {r.rolling_mm[0] / r.fem_mm[0]:.3f}, "
+                  f"{r.rolling_mm[-1] / r.fem_mm[-1]:.3f} | {100 * r.error('law_on_block_mm'):.2f} % |")
+    return md
+
+
 def gap_plot(rows: list[gap.GapRow], results: list, laws: dict, path: pathlib.Path) -> pathlib.Path | None:
     """FEM groove / static dent against the pass (markers) and the rolling law (lines), per position and c."""
     try:
@@ -226,6 +243,7 @@ def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = Fal
     statics = gap.layer_static_residuals(results)
     mesh_dir = cases_dir.parent / (cases_dir.name + "_mesh")
     md = gap_markdown(rows, laws, fits, static_checks(results, statics, mesh_dir))
+    md += ["", "Condensed (docs/rolling.md):", ""] + gap_summary(rows)
     fig = gap_plot(rows, results, laws, out / "rolling_gap.png")
     if write_tables:
         for g, law in laws.items():
