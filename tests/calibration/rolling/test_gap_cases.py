@@ -44,3 +44,35 @@ def test_law_fitted_to_the_case_reproduces_it(tiny):
     _, _, res = tiny
     fit = fit_passes(res.groove_mm, res.static_dent_mm)
     np.testing.assert_allclose(fit.factors(2) * res.static_dent_mm, res.groove_mm, rtol=1e-9)
+
+
+def synthetic(position, a_mm, level, truth, static_mm):
+    return GapCaseResult(f"{position}_c0_p{level}", position, "scenes/tables/rail_60E1_default.json", 0.0, a_mm,
+                         0.75 * a_mm, 0.0, level, 790.0, static_mm, [0.0], [0.0],
+                         groove_mm=(truth.factors(10) * static_mm).tolist())
+
+
+def test_gap_rows_fit_the_group_law_and_stand_ins_scale():
+    from calibration.rolling import gap
+    from calibration.rolling.law_fit import PassFit
+    from calibration.rolling.layer_prediction import masing_residual
+    from wrlayer.layer_table import LayerTable
+
+    truth = {1.3: PassFit(0.97, 0.04, 0.3, 0.0, 0.0), 1.7: PassFit(0.95, 0.03, 0.3, 0.0, 0.0),
+             2.1: PassFit(0.9, 0.08, 0.5, 0.02, 0.0)}
+    results = [synthetic("rail crown", 7.161, lv, f, 0.02 * lv) for lv, f in truth.items()]
+    both = gap.with_stand_ins(results)
+    tread = [r for r in both if r.position == "wheel tread"]
+    assert len(tread) == 3 and "stand-in" in tread[0].key
+    k = tread[0].a_mm / 7.161
+    assert tread[0].groove_mm == pytest.approx([k * g for g in results[0].groove_mm])
+    rows, laws = gap.gap_rows(results)
+    assert set(laws) == {"rail"} and laws["rail"].traction_coefficient == [0.0]
+    ch = LayerTable.read(gap_cases.ROOT / "scenes/tables/rail_60E1_default.json").characteristic_at(0.0)
+    for row in rows:
+        assert row.error("law_on_block_mm") < 2e-3
+        r = masing_residual(ch, row.p0_over_py * ch.elastic_limit_MPa)
+        assert row.layer_static_mm == pytest.approx(r)
+        assert row.relaxed_mm == pytest.approx([r * n for n in row.passes])
+        assert row.rolling_mm == pytest.approx(r * truth[row.p0_over_py].factors(10)[np.array(row.passes) - 1],
+                                               rel=2e-3)
