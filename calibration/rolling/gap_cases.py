@@ -228,9 +228,10 @@ def default_cases(n_passes: int = N_PASSES) -> list[GapCase]:
 
 
 def mesh_check_cases() -> list[GapCase]:
-    """The mesh check: the rail crown at 1.7 p_y, frictionless, 2 passes, h = a/3 and a/4."""
-    crown = table_position(*TABLE_POSITIONS[0])
-    return [GapCase(crown, 1.7, 0.0, 2, n) for n in (3.0, 4.0)]
+    """The mesh check, frictionless, 2 passes: the rail crown at 1.7 p_y on h = a/3 and a/4, the rail gauge corner
+    at 2.1 p_y (the largest gap on the coarse mesh) on h = a/4."""
+    crown, corner = (table_position(*t) for t in TABLE_POSITIONS[:2])
+    return [GapCase(crown, 1.7, 0.0, 2, n) for n in (3.0, 4.0)] + [GapCase(corner, 2.1, 0.0, 2, 4.0)]
 
 
 def main(argv: list[str] | None = None) -> int:
