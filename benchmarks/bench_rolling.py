@@ -6,7 +6,10 @@ E 210 GPa, nu 0.3, Y 500 MPa, frictionless): first-pass groove 0.8-0.9 of the st
 2.1 p_y; the second pass adds 0-3 % of the first at 1.3 and 1.7 p_y (shakedown), about 12 % at 2.1 p_y
 (ratcheting). Quick mode: the coarse mesh, two passes and the study at one level (a few minutes on 2 busy cores);
 full mode: the shipped ``calibration/configs/rolling_halfspace.toml`` and the study around it. One BLAS thread.
-``python benchmarks/bench_rolling.py [--quick|--full] --out DIR`` runs it alone.
+``python benchmarks/bench_rolling.py [--quick|--full] --out DIR`` runs it alone; ``--gap`` (with ``--cases DIR``,
+default ``DIR/rolling/gap``: one JSON per case, completed cases are read, not recomputed) the gap between the
+layer's memory rules and the rolling FEM at the half-space and the calibration positions, the rolling laws, and
+with ``--write-tables`` the laws into the shipped default tables.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ import pathlib
 import sys
 import time
 
+from calibration.rolling import gap, gap_cases
 from calibration.rolling.config import RollingConfig, load_rolling_config
 from calibration.rolling.run import RollingResult, run_rolling
 
@@ -75,7 +79,7 @@ def _markdown(res: RollingResult, rows: list[dict], load: tuple, cfg: RollingCon
           f"p_y = {res.p_y_MPa:.1f} MPa (FEM, analytic 1.61 Y = 805 MPa); machine load average "
           f"{load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} (1 / 5 / 15 min) at the start; wall {wall:.0f} s.", "",
           "| p0 / p_y | static dent (mm) | groove pass 1..n (mm) | groove / static | pass 2 adds | "
-          "later passes add | reference groove / static, pass 2 | s per pass | layer relaxed / state kept "
+          "later passes add | reference groove / static, pass 2 | s per pass | layer relaxed / state kept / rolling "
           "after the last pass (mm) |", "|---|---|---|---|---|---|---|---|---|"]
     for lv in res.levels:
         g = lv.groove_mm
@@ -84,7 +88,8 @@ def _markdown(res: RollingResult, rows: list[dict], load: tuple, cfg: RollingCon
         ref = REFERENCE.get(round(lv.p0_over_py, 2))
         ref_txt = f"{ref[0][0]}-{ref[0][1]}, {ref[1]}" if ref else "-"
         lg = lv.layer_groove_mm
-        layer = f"{lg.relaxed[-1]:.4g} / {lg.state_kept[-1]:.4g}" if lg.relaxed else "-"
+        layer = (f"{lg.relaxed[-1]:.4g} / {lg.state_kept[-1]:.4g} / "
+                 f"{lg.rolling[-1] if lg.rolling else float('nan'):.4g}") if lg.relaxed else "-"
         md.append(f"| {lv.p0_over_py:.2f} | {lv.static_dent_mm:.4g} | {', '.join(f'{x:.4g}' for x in g)} | "
                   f"{g[0] / lv.static_dent_mm:.3f} | {add2} | {later} | {ref_txt} | "
                   f"{sum(lv.pass_seconds) / len(lv.pass_seconds):.0f} | {layer} |")
@@ -116,12 +121,159 @@ def run(mode: str, out: pathlib.Path) -> dict:
             "figures": [], "data": data}
 
 
+def _f(values, fmt=".4g") -> str:
+    return ", ".join(f"{v:{fmt}}" for v in values)
+
+
+def gap_markdown(rows: list[gap.GapRow], laws: dict, fits: dict, statics: list[dict]) -> list[str]:
+    """The gap table, the 10 % check, the laws and the static check (markdown lines)."""
+    md = ["| position | c | p0 / p_y | static dent: block / layer (mm) | FEM groove after 1, 2, 5, 10 (mm) | "
+          "relaxed / FEM after 1, 2, 5, 10 | state kept / FEM after 1, 2, 5, 10 | rolling law / FEM after 1, 2, 5, 10 "
+          "| law on the block: worst |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in sorted(rows, key=lambda r: (r.group, r.position, r.traction, r.p0_over_py)):
+        fem = _f(r.fem_mm) + ("" if r.fem_passes >= 10 else f" (FEM {r.fem_passes} passes, then its fit)")
+        rel = {k: [x / y for x, y in zip(getattr(r, k), r.fem_mm)]
+               for k in ("relaxed_mm", "state_kept_mm", "rolling_mm")}
+        md.append(f"| {r.position}{' (stand-in)' if 'stand-in' in r.key else ''} | "
+                  f"{r.traction:g} | {r.p0_over_py:g} | {r.static_dent_mm:.4g} / {r.layer_static_mm:.4g} | {fem} | "
+                  f"{_f(rel['relaxed_mm'], '.2f')} | {_f(rel['state_kept_mm'], '.3f')} | "
+                  f"{_f(rel['rolling_mm'], '.3f')} "
+                  f"| {100 * r.error('law_on_block_mm'):.2f} % |")
+    md += ["", "Worst |layer / FEM - 1| over passes 1, 2, 5, 10 and all cases (target 10 %):", "",
+           "| rule | worst | case |", "|---|---|---|"]
+    for name, label in (("relaxed_mm", "relaxed (paper)"), ("state_kept_mm", "state kept"),
+                        ("rolling_mm", "rolling law on the layer's static residual"),
+                        ("law_on_block_mm", "rolling law on the block's static dent")):
+        worst = max(rows, key=lambda r: r.error(name))
+        md.append(f"| {label} | {100 * worst.error(name):.1f} % | {worst.key} |")
+    md += ["", "Rolling laws (G_n = rho (1 + A (1 - q^(n-1)) / (1 - q) + B (n - 1)); fit error: largest over the "
+           "group's mean groove series):", "", "| group | c | p0 / p_2 | rho | A | q | B | fit error |",
+           "|---|---|---|---|---|---|---|---|"]
+    for g, per in fits.items():
+        for (c, lv), f in sorted(per.items()):
+            md.append(f"| {g} | {c:g} | {lv:g} | {f.first_pass_ratio:.4f} | {f.shakedown_increment:.4f} | "
+                      f"{f.shakedown_decay:.2f} | {f.ratchet_increment:.5f} | {100 * f.max_relative_error:.2f} % |")
+    md += ["", "Static check (frictionless): the block's static dent against the table's residual at the same "
+           "p0 / p_y, and the rail crown block on finer meshes (1.7 p_y):", "",
+           "| case | dofs | p_y (MPa) | block static dent (mm) | layer static residual (mm) | block / layer | "
+           "FEM groove pass 1 / static dent |", "|---|---|---|---|---|---|---|"]
+    for st in statics:
+        md.append(f"| {st['key']} | {st['n_dofs']} | {st['p_y_MPa']:.1f} | {st['static_dent_mm']:.4g} | "
+                  f"{st['layer_mm']:.4g} | {st['static_dent_mm'] / st['layer_mm']:.3f} | {st['ratio1']:.3f} |")
+    return md
+
+
+def gap_summary(rows: list[gap.GapRow]) -> list[str]:
+    """The condensed gap table of docs/rolling.md (stand-ins left out: they repeat their position's ratios)."""
+    md = ["| position | c | p0 / p_y | FEM groove / static dent, passes 1, 2, 5, 10 | relaxed / FEM, pass 10 | "
+          "state kept / FEM, passes 1, 10 | rolling law / FEM, passes 1, 10 | law on the block: worst |",
+          "|---|---|---|---|---|---|---|---|"]
+    for r in sorted((r for r in rows if "stand-in" not in r.key),
+                    key=lambda r: (r.group != "half-space", r.position, r.traction, r.p0_over_py)):
+        g = [x / r.static_dent_mm for x in r.fem_mm]
+        extra = "" if r.fem_passes >= 10 else f" (FEM {r.fem_passes}, then fit)"
+        md.append(f"| {r.position} | {r.traction:g} | {r.p0_over_py:g} | {_f(g, '.3f')}{extra} | "
+                  f"{r.relaxed_mm[-1] / r.fem_mm[-1]:.2f} | {r.state_kept_mm[0] / r.fem_mm[0]:.3f}, "
+                  f"{r.state_kept_mm[-1] / r.fem_mm[-1]:.3f} | {r.rolling_mm[0] / r.fem_mm[0]:.3f}, "
+                  f"{r.rolling_mm[-1] / r.fem_mm[-1]:.3f} | {100 * r.error('law_on_block_mm'):.2f} % |")
+    return md
+
+
+def gap_plot(rows: list[gap.GapRow], results: list, laws: dict, path: pathlib.Path) -> pathlib.Path | None:
+    """FEM groove / static dent against the pass (markers) and the rolling law (lines), per position and c."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:  # pictures are optional in the report
+        return None
+    positions = sorted({r.position for r in rows})
+    fig, axes = plt.subplots(len(gap_cases.TRACTIONS), len(positions), figsize=(3.0 * len(positions), 5.2),
+                             sharey=True, squeeze=False)
+    n = list(range(1, 11))
+    for i, c in enumerate(gap_cases.TRACTIONS):
+        for j, pos in enumerate(positions):
+            ax = axes[i][j]
+            for k, lv in enumerate(gap_cases.LEVELS):
+                case = next((r for r in results if r.position == pos and r.traction == c and r.p0_over_py == lv), None)
+                if case is None or not case.groove_mm:
+                    continue
+                col = f"C{k}"
+                g = [x / case.static_dent_mm for x in case.groove_mm]
+                ax.plot(range(1, len(g) + 1), g, "o", color=col, ms=3, label=f"FEM {lv:g} p_y")
+                ax.plot(n, laws[gap.group_of(pos)].factor(n, lv, c), "-", color=col, lw=1)
+            ax.axhline(1.0, color="k", ls=":", lw=0.8)
+            ax.set_title(f"{pos}, c = {c:g}", fontsize=8)
+            ax.set_xlabel("pass")
+            if j == 0:
+                ax.set_ylabel("groove / static dent")
+    axes[0][0].legend(fontsize=6)
+    fig.suptitle("rolling FEM (markers), rolling law (lines); state kept = 1 (dotted), relaxed = n", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
+def static_checks(results: list, statics: dict, mesh_dir: pathlib.Path) -> list[dict]:
+    """The static check rows: each frictionless case of a table position, and the mesh check cases."""
+    mesh = gap.load_results(mesh_dir) if mesh_dir.exists() else []
+    rows = []
+    for r in [r for r in results if r.traction == 0.0 and r.table and "stand-in" not in r.key] + mesh:
+        rows.append({"key": r.key, "n_dofs": r.n_dofs, "p_y_MPa": r.p_y_MPa, "static_dent_mm": r.static_dent_mm,
+                     "layer_mm": statics[(r.position, r.p0_over_py)],
+                     "ratio1": r.groove_mm[0] / r.static_dent_mm if r.groove_mm else float("nan")})
+    return rows
+
+
+def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = False, compute: bool = True) -> dict:
+    """The gap: every default case (computed where its file is missing or incomplete, unless ``compute`` is
+    False), the report and (optionally) the laws written into the shipped default tables."""
+    from threadpoolctl import threadpool_limits
+
+    load = os.getloadavg()
+    with threadpool_limits(limits=1):
+        for case in gap_cases.default_cases() if compute else []:
+            if case.position.name not in gap.STAND_INS:  # the wheel's positions: their stand-ins unless computed
+                gap_cases.run_case(case, cases_dir)
+    results = gap.with_stand_ins(gap.load_results(cases_dir))
+    rows, laws = gap.gap_rows(results)
+    fits = {g: gap.fit_group(results, g)[1] for g in laws}
+    statics = gap.layer_static_residuals(results)
+    mesh_dir = cases_dir.parent / (cases_dir.name + "_mesh")
+    md = gap_markdown(rows, laws, fits, static_checks(results, statics, mesh_dir))
+    md += ["", "Condensed (docs/rolling.md):", ""] + gap_summary(rows)
+    fig = gap_plot(rows, results, laws, out / "rolling_gap.png")
+    if write_tables:
+        for g, law in laws.items():
+            if gap.GROUPS[g][1]:
+                gap.write_law(gap.GROUPS[g][1], law)
+    data = {"rows": [r.to_dict() for r in rows], "laws": {g: lw.to_dict() for g, lw in laws.items()},
+            "load_average": list(load)}
+    return {"title": "Rolling: the gap between the layer's passes and the rolling FEM", "markdown": "\n".join(md),
+            "figures": [str(fig)] if fig else [], "data": data}
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python benchmarks/bench_rolling.py", description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_const", dest="mode", const="quick", default="full")
     ap.add_argument("--full", action="store_const", dest="mode", const="full")
     ap.add_argument("--out", type=pathlib.Path, default=pathlib.Path("out/bench"))
+    ap.add_argument("--gap", action="store_true", help="the gap report (cases cached per file)")
+    ap.add_argument("--cases", type=pathlib.Path, default=None,
+                    help="folder of the gap cases (default OUT/rolling/gap)")
+    ap.add_argument("--write-tables", action="store_true", help="write the rolling laws into the shipped tables")
+    ap.add_argument("--report-only", action="store_true", help="report the cases present, compute none")
     args = ap.parse_args(argv)
+    if args.gap:
+        (args.out / "rolling").mkdir(parents=True, exist_ok=True)
+        res = run_gap(args.out / "rolling", args.cases or args.out / "rolling" / "gap", args.write_tables,
+                      not args.report_only)
+        (args.out / "rolling" / "gap_report.md").write_text(f"# {res['title']}\n\n{res['markdown']}\n")
+        (args.out / "rolling" / "gap_report.json").write_text(json.dumps(res["data"], indent=1, default=float))
+        print(res["markdown"])
+        return 0
     res = run(args.mode, args.out)
     (args.out / "rolling").mkdir(parents=True, exist_ok=True)
     (args.out / "rolling" / "report.md").write_text(f"# {res['title']}\n\n{res['markdown']}\n")

@@ -1,8 +1,9 @@
 """Per-position layer tables: the calibrated Prandtl characteristic along a profile (units mm, MPa, N/mm^3).
 
-File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 2``; version 1 is read too)::
+File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 3`` with a rolling law, else 2; versions
+1 and 2 are read too)::
 
-    {"format": ..., "format_version": 2,
+    {"format": ..., "format_version": 3,
      "header": {"body": "rail"|"wheel", "profile": name, "material": {...}, "model": "2d"|"3d",
                 "mesh": {...}, "load": {...}, "fit": {...}, "software": {...}, "code_version": ...,
                 "inputs_hash": sha256 of all inputs, ...},
@@ -10,14 +11,17 @@ File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 2``; v
                     "k_N_per_mm3": [...], "T0_MPa": [...], "max_error_mm": ..., "rms_error_mm": ...,
                     "geometry": {"a_mm", "b_mm", ...}, "fem": {...}, "warnings": [...] (v2), ...}, ...],
                                                                      # y_mm strictly increasing
-     "failed": [{"y_mm": y, "error": message}, ...]}
+     "failed": [{"y_mm": y, "error": message}, ...],
+     "rolling_law": {...}}                                           # v3, optional (wrlayer.rolling_law)
 
 ``positions`` are the calibrated positions (profile coordinate y in mm, frames as in :mod:`meshes.profiles`);
 ``failed`` lists positions whose calibration failed; they are never interpolated over: a y between the two
 calibrated neighbours of a failed position (or at it) is an InputError naming the failed position and its cause.
 Between positions the characteristic is interpolated linearly in y with :meth:`Characteristic.interpolate`
 (p(u) blended, concave by construction); outside the calibrated range :meth:`LayerTable.characteristic_at` raises
-InputError. This module only reads/writes tables; it does not import the FEM code.
+InputError. ``rolling_law`` (version 3, :class:`~wrlayer.rolling_law.RollingLaw`): what a rolling pass leaves
+relative to the static residual, calibrated by the rolling FEM (docs/rolling.md); None in older tables. A table
+without it is written as version 2. This module only reads/writes tables; it does not import the FEM code.
 """
 
 from __future__ import annotations
@@ -36,12 +40,16 @@ from wrlayer.characteristic import Characteristic
 from wrlayer import input_files, validate
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import InputError
+from wrlayer.rolling_law import RollingLaw
 
 FORMAT = "wrlayer-layer-table"
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
+#: The version of a table without a rolling law (written as before the law existed).
+FORMAT_VERSION_NO_ROLLING_LAW = 2
 #: Versions this reader accepts. 2: positions may carry "warnings" (conforming contact) and the
 #: characteristic can be scaled to a patch size (``characteristic_at(y, patch_mm)``, needs geometry a_mm, b_mm).
-SUPPORTED_VERSIONS = (1, 2)
+#: 3: an optional ``rolling_law``.
+SUPPORTED_VERSIONS = (1, 2, 3)
 BODIES = ("rail", "wheel")
 #: Relative tolerance between stored (k_i, T_0i) and those re-derived from the stored characteristic.
 PARAMETER_RTOL = 1e-6
@@ -54,12 +62,14 @@ SEMI_AXIS_RANGE_MM = (1e-3, 1e3)
 @dataclass
 class LayerTable:
     """A validated layer table. ``positions``: list of dicts (see module docstring) sorted by y_mm;
-    ``characteristics``: the parsed Characteristic of each position."""
+    ``characteristics``: the parsed Characteristic of each position; ``rolling_law``: the rolling law (None: the
+    table has none)."""
 
     header: dict[str, Any]
     positions: list[dict[str, Any]]
     failed: list[dict[str, Any]] = field(default_factory=list)
     source: str = "layer table"
+    rolling_law: RollingLaw | None = None
 
     def __post_init__(self):
         self.characteristics = _validate(self.header, self.positions, self.failed, self.source)
@@ -95,11 +105,19 @@ class LayerTable:
         failed = data.get("failed", [])
         if not isinstance(failed, list):
             raise InputError(source, "'failed' must be a list")
-        return cls(data["header"], data["positions"], failed, source)
+        law = None
+        if "rolling_law" in data:
+            if data["format_version"] < 3:
+                raise InputError(source, f"'rolling_law' needs format_version 3, got {data['format_version']}")
+            law = RollingLaw.from_dict(data["rolling_law"], f"{source}: rolling_law")
+        return cls(data["header"], data["positions"], failed, source, law)
 
     def to_dict(self) -> dict[str, Any]:
-        return {"format": FORMAT, "format_version": FORMAT_VERSION, "header": self.header,
-                "positions": self.positions, "failed": self.failed}
+        out = {"format": FORMAT, "format_version": FORMAT_VERSION_NO_ROLLING_LAW, "header": self.header,
+               "positions": self.positions, "failed": self.failed}
+        if self.rolling_law is not None:
+            out.update(format_version=FORMAT_VERSION, rolling_law=self.rolling_law.to_dict())
+        return out
 
     def to_json(self) -> str:
         return json.dumps(_plain(self.to_dict()), indent=1, allow_nan=False) + "\n"

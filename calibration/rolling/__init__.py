@@ -12,7 +12,13 @@ p0 and with the calibrated layer's prediction under both memory rules (docs/roll
 - :mod:`~calibration.rolling.groove`: the residual surface displacement (groove) along and across the track.
 - :mod:`~calibration.rolling.layer_prediction`: the static dent, the fitted characteristic and the layer's groove.
 - :mod:`~calibration.rolling.run`: ``run_rolling(config, out_dir)`` writing ``rolling.json`` and ParaView series.
+- :mod:`~calibration.rolling.law_fit`: the rolling law (first-pass ratio, shakedown and ratcheting increments)
+  fitted to the grooves of the passes (:class:`wrlayer.rolling_law.RollingLaw`).
+- :mod:`~calibration.rolling.gap_cases`: the rolling FEM at the half-space and the calibration positions, one
+  JSON file per case.
+- :mod:`~calibration.rolling.gap`: the gap between the layer's memory rules and the FEM, the laws of the tables.
 
 Depends on: wrlayer, calibration.fem, calibration.hertz, calibration.fit, calibration.position_fit (the layer's
-elastic slope S_1), calibration.settings (the fit defaults).
+elastic slope S_1), calibration.settings (the fit defaults), wrlayer.rolling_law and wrlayer.layer_table (the
+rolling law and the tables).
 """

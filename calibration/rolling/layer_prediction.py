@@ -17,7 +17,7 @@ peak retraces the unloading branch, no new slip) r. Units mm, MPa, N/mm^3.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -48,13 +48,17 @@ class LayerGroove:
         Groove after passes 1..n with the "relaxed" memory rule (mm).
     state_kept : list of float
         Groove after passes 1..n with the "state kept" memory rule (mm).
+    rolling : list of float
+        Groove after passes 1..n with the "rolling" memory rule: the static residual times the rolling law
+        fitted to this run's passes (mm; empty without passes).
     """
 
     relaxed: list[float]
     state_kept: list[float]
+    rolling: list[float] = field(default_factory=list)
 
     def to_dict(self) -> dict:
-        return {"relaxed": self.relaxed, "state_kept": self.state_kept}
+        return {"relaxed": self.relaxed, "state_kept": self.state_kept, "rolling": self.rolling}
 
 
 def static_curve(path: LoadPath, depth_at, compliance_mm_per_MPa: float) -> StaticCurve:

@@ -27,6 +27,7 @@ from calibration.hertz.load import HertzLoad
 from calibration.rolling.config import RollingConfig
 from calibration.rolling.cost import rolling_cost
 from calibration.rolling.groove import GrooveProfile, SurfaceProbe
+from calibration.rolling.law_fit import fit_passes, rolling_law
 from calibration.rolling.layer_prediction import LayerGroove, StaticCurve, layer_grooves, static_curve
 from calibration.rolling.moving_load import MovingHertzLoad, SurfaceForces
 from calibration.rolling.passes import PassRecord, RollingConvergenceError, RollingSolver, roll
@@ -35,8 +36,8 @@ from wrlayer.atomic_write import atomic_write_text
 from wrlayer.cost import guard
 from wrlayer.errors import InputError
 
-#: Version of the rolling.json layout.
-FORMAT_VERSION = 1
+#: Version of the rolling.json layout (2: ``rolling_law`` and ``layer_groove_mm.rolling``).
+FORMAT_VERSION = 2
 
 
 @dataclass(frozen=True)
@@ -119,6 +120,9 @@ class RollingResult:
         Wall time of the run (s).
     files : list of str
         Files written (rolling.json, the .pvd series).
+    rolling_law : dict
+        The rolling law fitted to the passes (:class:`wrlayer.rolling_law.RollingLaw`, levels in p0 / p_y, the
+        run's traction coefficient; {} when no level has passes above p_y): the ``rolling_law`` of a layer table.
     """
 
     format_version: int
@@ -130,11 +134,33 @@ class RollingResult:
     failed: str = ""
     seconds: float = 0.0
     files: list[str] = field(default_factory=list)
+    rolling_law: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         out = {k: getattr(self, k) for k in self.__dataclass_fields__}
         out["levels"] = [lv.to_dict() for lv in self.levels]
         return out
+
+    def with_rolling_law(self, traction: float) -> RollingResult:
+        """This result with the rolling law fitted to its completed passes (levels above p_y with a positive
+        groove and static dent, one per level) and each level's ``layer_groove_mm.rolling``: the layer's static
+        residual times the law's G_n (docs/rolling.md)."""
+        done = sorted((lv for lv in self.levels if lv.groove_mm and lv.groove_mm[0] > 0 and lv.static_dent_mm > 0
+                       and lv.p0_over_py > 1.0), key=lambda lv: lv.p0_over_py)
+        xs = [lv.p0_over_py for lv in done]
+        if not done or np.any(np.diff(xs) <= 0):
+            return self
+        c = abs(traction)
+        law = rolling_law(xs, [c], {(c, lv.p0_over_py): fit_passes(lv.groove_mm, lv.static_dent_mm) for lv in done},
+                          f"this run: {len(done)} level(s), passes 1..{max(len(lv.groove_mm) for lv in done)}")
+        levels = []
+        for lv in self.levels:
+            lg = lv.layer_groove_mm
+            if lg.relaxed and lv.p0_over_py > 1.0:
+                n = np.arange(1, len(lg.relaxed) + 1)
+                lg = replace(lg, rolling=(lg.relaxed[0] * law.factor(n, lv.p0_over_py, c)).tolist())
+            levels.append(replace(lv, layer_groove_mm=lg))
+        return replace(self, levels=levels, rolling_law=law.to_dict())
 
 
 @dataclass(frozen=True)
@@ -234,13 +260,14 @@ def run_rolling(config: RollingConfig, out_dir: str | Path, force: bool = False,
                                  f"({rec.seconds:.1f} s)")
         except RollingConvergenceError as err:
             failed = replace(base, levels=results, failed=str(err), seconds=time.perf_counter() - t0, files=files)
-            _write(out_dir, failed)
+            _write(out_dir, failed.with_rolling_law(config.contact.traction_coefficient))
             raise
         finally:
             if series is not None and series.steps:
                 files.append(str(series.write_pvd()))
         model.prob.reset_to_elastic()
     result = replace(base, levels=results, seconds=time.perf_counter() - t0, files=files)
+    result = result.with_rolling_law(config.contact.traction_coefficient)
     files.insert(0, str(_write(out_dir, result)))
     return result
 

@@ -35,6 +35,7 @@ import numpy as np
 from wrlayer.characteristic import Characteristic
 from wrlayer.errors import InputError
 from wrlayer.jit import kernel
+from wrlayer.rolling_law import RollingLaw
 
 
 @kernel()
@@ -118,6 +119,8 @@ class PrandtlLayer:
     Parameters: ``k_N_per_mm3`` (n, M) slider-branch stiffnesses k_i, ``half_width_mm`` (n, M) e_i = T_0i/k_i,
     ``k_last_N_per_mm3`` (n,) the spring without slider (k_N). State: ``u_mm`` (n,) displacement (positive into the
     body), ``slip_mm`` (n, M) slider slips, ``dissipated_energy_N_per_mm`` (n,) accumulated friction work.
+    ``rolling_law``: what a rolling pass leaves relative to the static residual (:mod:`wrlayer.rolling_law`, from
+    the layer table; None: none), used by the passes' "rolling" memory rule (:mod:`contact.passes.passes`).
     """
 
     y_mm: np.ndarray
@@ -128,6 +131,7 @@ class PrandtlLayer:
     slip_mm: np.ndarray = None
     dissipated_energy_N_per_mm: np.ndarray = None
     name: str = "layer"
+    rolling_law: RollingLaw | None = None
 
     def __post_init__(self):
         self.y_mm = np.atleast_1d(np.asarray(self.y_mm, dtype=float))
@@ -150,7 +154,8 @@ class PrandtlLayer:
 
     # ------------------------------------------------------------------ construction
     @classmethod
-    def from_characteristics(cls, characteristics: Sequence[Characteristic], y_mm, name: str = "layer"):
+    def from_characteristics(cls, characteristics: Sequence[Characteristic], y_mm, name: str = "layer",
+                             rolling_law: RollingLaw | None = None):
         """One characteristic per point (padded to a common number of sliders with zero branches)."""
         y = np.atleast_1d(np.asarray(y_mm, dtype=float))
         if len(characteristics) != y.size:
@@ -165,22 +170,25 @@ class PrandtlLayer:
             k[j, :ns] = par.k_N_per_mm3[:-1]
             e[j, :ns] = par.break_displacements_mm
             k_last[j] = par.k_N_per_mm3[-1]
-        return cls(y, k, e, k_last, name=name)
+        return cls(y, k, e, k_last, name=name, rolling_law=rolling_law)
 
     @classmethod
-    def uniform(cls, characteristic: Characteristic, y_mm, name: str = "layer") -> "PrandtlLayer":
+    def uniform(cls, characteristic: Characteristic, y_mm, name: str = "layer",
+                rolling_law: RollingLaw | None = None) -> "PrandtlLayer":
         """The same characteristic at every point ``y_mm``."""
         y = np.atleast_1d(np.asarray(y_mm, dtype=float))
         par = characteristic.to_parameters()
         k = np.broadcast_to(par.k_N_per_mm3[:-1], (y.size, par.n_segments - 1))
         e = np.broadcast_to(par.break_displacements_mm, k.shape)
-        return cls(y, k, e, np.full(y.size, par.k_N_per_mm3[-1]), name=name)
+        return cls(y, k, e, np.full(y.size, par.k_N_per_mm3[-1]), name=name, rolling_law=rolling_law)
 
     @classmethod
-    def along(cls, characteristic_at: Callable[[float], Characteristic], y_mm, name: str = "layer"):
+    def along(cls, characteristic_at: Callable[[float], Characteristic], y_mm, name: str = "layer",
+              rolling_law: RollingLaw | None = None):
         """Per-point characteristics from a function of y (e.g. ``LayerTable.characteristic_at``)."""
         y = np.atleast_1d(np.asarray(y_mm, dtype=float))
-        return cls.from_characteristics([characteristic_at(float(v)) for v in y], y, name=name)
+        return cls.from_characteristics([characteristic_at(float(v)) for v in y], y, name=name,
+                                        rolling_law=rolling_law)
 
     def _with(self, u_mm, slip_mm, energy) -> "PrandtlLayer":
         """A shallow copy (parameters shared, they are never modified) with the given state arrays."""

@@ -12,9 +12,14 @@ Masing residual stops growing with p, so the dent is stable while the sliders st
 pass (energy is dissipated; ``dissipated_energy_N_per_mm`` of the record shows it) and the peak may stay above
 p_2. The stress tests count such cases (benchmarks/stress_contact.py).
 
-Modes: ``hardening=False`` relaxes the sliders before each pass (the paper's example: the residual deformation is
-moved into the profile, the element starts virgin); ``hardening=True`` keeps the spring/slider state, so an element
-does not move inelastically until the load exceeds what its stuck sliders hold. Units: mm, N, MPa.
+Memory rules (``memory``): "relaxed" relaxes the sliders before each pass (the paper's example: the residual
+deformation is moved into the profile, the element starts virgin, the same pressure adds the same residual again);
+"state_kept" keeps the spring/slider state, so an element does not move inelastically until the load exceeds what
+its stuck sliders hold; "rolling" (the default) relaxes the sliders as "relaxed" does but adds the residual the
+rolling FEM leaves, from the layer's rolling law (:mod:`contact.passes.rolling_memory`): the first pass a fraction
+of the static residual, later passes geometrically decaying (shakedown) or constant (ratcheting) increments. A
+layer without a rolling law (the paper's characteristic, tables before the law) falls back to "relaxed" under
+"rolling". ``hardening=True`` is "state_kept" whatever ``memory`` says (the older key). Units: mm, N, MPa.
 """
 
 from __future__ import annotations
@@ -29,6 +34,7 @@ from contact.normal.method import NormalMethod, solve_normal_with
 from contact.normal.problem import NormalProblem
 from contact.normal.solution import NormalSolution
 from contact.layer.prandtl_layer import LayerPair
+from contact.passes.rolling_memory import MEMORY_RULES, RollingMemory
 from wrlayer.errors import require
 
 __all__ = ["PassesOptions", "PassRecord", "run_passes"]
@@ -45,14 +51,31 @@ class PassesOptions:
     tolerance_mm : float
         Shakedown when a pass adds at most this residual displacement anywhere (mm).
     hardening : bool
-        Keep the sliders' state between passes (strain hardening); False: relax them (the paper's mode).
+        Keep the sliders' state between passes (strain hardening): the memory rule "state_kept" whatever
+        ``memory`` says.
+    memory : str
+        The memory rule: "rolling" (the layer's rolling law; "relaxed" for a layer without one), "relaxed" (the
+        paper's model) or "state_kept".
+    traction_coefficient : float
+        Traction coefficient c = q / p of the rolling law (-, in [-1, 1]; its magnitude is used).
     """
 
     max_passes: int = 50
     tolerance_mm: float = 1e-6
     hardening: bool = False
+    memory: str = "rolling"
+    traction_coefficient: float = 0.0
+
+    @property
+    def rule(self) -> str:
+        """The memory rule in effect ("state_kept" with ``hardening``)."""
+        return "state_kept" if self.hardening else self.memory
 
     def __post_init__(self):
+        require(self.memory in MEMORY_RULES, "memory", f"must be one of {', '.join(MEMORY_RULES)}, got "
+                                                       f"{self.memory!r}")
+        require(bool(np.isfinite(self.traction_coefficient) and abs(self.traction_coefficient) <= 1.0),
+                "traction_coefficient", f"must be in [-1, 1], got {self.traction_coefficient!r}")
         require(int(self.max_passes) >= 1, "max_passes", f"must be >= 1, got {self.max_passes!r}")
         require(bool(np.isfinite(self.tolerance_mm) and self.tolerance_mm >= 0), "tolerance_mm",
                 f"must be >= 0, got {self.tolerance_mm!r}")
@@ -177,6 +200,8 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
     bodies = {} if layers is None else layers.bodies()
     cumulative = {name: np.zeros_like(y) for name in bodies}
     points = {name: layer_points(lay, y, h) for name, lay in bodies.items()}
+    rolling = {name: RollingMemory(lay, options.traction_coefficient) for name, lay in bodies.items()
+               if options.rule == "rolling" and lay.rolling_law is not None}
     records: list[PassRecord] = []
     deltas: list[float] = []
     slope = None
@@ -197,9 +222,11 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
             p_points[ix[on]] = sol.p_peak_MPa[on]
             before = body_layer.u_mm.copy()
             loaded = body_layer.load_to(p_points)
-            residual = body_layer.unload()
+            residual = body_layer.unload() - before
+            if name in rolling:  # the relaxed element's static residual -> the rolling law's increment
+                residual = rolling[name].advance(p_points, residual)
             inc = np.zeros_like(y)
-            inc[on] = (residual - before)[ix[on]]
+            inc[on] = residual[ix[on]]
             cumulative[name] = cumulative[name] + inc
             added += inc
             if ix[ref] >= 0:
@@ -219,7 +246,7 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
         offset = offset + added
         if on_pass is not None:
             on_pass(rec, sol)
-        if layers is not None and not options.hardening:
+        if layers is not None and options.rule != "state_kept":
             layers = layers.relaxed()
             bodies = layers.bodies()
         if shakedown:

@@ -1,0 +1,216 @@
+"""The gap between the layer's passes and the rolling FEM, and the rolling law that closes it (units mm, MPa).
+
+Input: the cases of :mod:`calibration.rolling.gap_cases` (the FEM groove after every pass at constant p0). For
+each case the layer's static residual r is the Masing residual (paper eq. 8) of the calibrated characteristic at
+the same p0 / p_2: the shipped table's characteristic at the position (p_2 its FEM first yield), or, for the
+half-space, the characteristic fitted to the block's static indentation at the highest level
+(:func:`calibration.rolling.layer_prediction.layer_grooves`). The layer's groove after pass n is then
+n r ("relaxed"), r ("state kept") and r G_n ("rolling", :class:`wrlayer.rolling_law.RollingLaw`).
+
+The law of a group of positions (the rail table's, the wheel table's, the half-space's) is fitted
+(:mod:`calibration.rolling.law_fit`) to the mean over the group's positions of the FEM groove over the block's
+static dent, per level and traction. Two errors are reported per case: the law on the block's own static dent
+(s G_n against the FEM groove: what the law reproduces) and the law on the layer (r G_n: what the contact code
+gets, including the difference between the coarse block's static dent and the calibrated residual).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from calibration.rolling.gap_cases import LEVELS, ROOT, TRACTIONS, GapCaseResult, default_positions
+from calibration.rolling.layer_prediction import StaticCurve, layer_grooves, masing_residual
+from calibration.rolling.law_fit import PassFit, fit_passes, rolling_law
+from wrlayer.layer_table import LayerTable
+from wrlayer.rolling_law import RollingLaw
+
+#: The passes of the gap table.
+REPORTED_PASSES = (1, 2, 5, 10)
+#: Fewest FEM passes of a case in the gap table (below the reported 10, the case's own fit extrapolates, stated).
+MIN_FEM_PASSES = 5
+#: The target: the layer's accumulated residual within this fraction of the FEM groove.
+TARGET = 0.10
+#: Stand-ins: a position whose own cases are missing is represented by another position's cases of the same
+#: material and patch shape (a/b within 0.3 %), grooves and dents scaled by the ratio of the semi-axes a (at equal
+#: p0 / p_y and a/b the solution has no length of its own: docs/calibration.md).
+STAND_INS = {"wheel tread": "rail crown", "wheel flange root": "rail gauge corner"}
+#: The law groups: name -> the positions whose mean it is fitted to (and the table it is written into).
+GROUPS = {"rail": (("rail crown", "rail gauge corner"), "scenes/tables/rail_60E1_default.json"),
+          "wheel": (("wheel flange root", "wheel tread"), "scenes/tables/wheel_S1002_default.json"),
+          "half-space": (("half-space",), "")}
+
+
+@dataclass(frozen=True)
+class GapRow:
+    """One case of the gap table (lists: one entry per pass of ``passes``).
+
+    Attributes
+    ----------
+    position : str
+        Name of the position.
+    group : str
+        The law's group (rail, wheel, half-space).
+    traction : float
+        Traction coefficient c (-).
+    p0_over_py : float
+        Peak pressure over p_y (-; the block's p_y for the FEM, the table's p_2 for the layer).
+    p0_MPa : float
+        Peak pressure of the FEM (MPa).
+    static_dent_mm : float
+        The block's static dent (mm).
+    layer_static_mm : float
+        The layer's static (Masing) residual r at the same p0 / p_2 (mm).
+    passes : list of int
+        The passes reported.
+    fem_mm : list of float
+        FEM groove after those passes (mm).
+    relaxed_mm : list of float
+        Layer, "relaxed": n r (mm).
+    state_kept_mm : list of float
+        Layer, "state kept": r (mm).
+    rolling_mm : list of float
+        Layer, "rolling": r G_n (mm).
+    law_on_block_mm : list of float
+        The law on the block's static dent: s G_n (mm).
+    fem_passes : int
+        Passes the FEM computed; the FEM groove of later passes is this case's own law fit extrapolated.
+    key : str
+        The case (with its stand-in, if any).
+    """
+
+    position: str
+    group: str
+    traction: float
+    p0_over_py: float
+    p0_MPa: float
+    static_dent_mm: float
+    layer_static_mm: float
+    passes: list[int]
+    fem_mm: list[float]
+    relaxed_mm: list[float]
+    state_kept_mm: list[float]
+    rolling_mm: list[float]
+    law_on_block_mm: list[float]
+    fem_passes: int
+    key: str
+
+    def error(self, name: str) -> float:
+        """The largest |layer / FEM - 1| over the passes for the layer column ``name`` (-)."""
+        return float(np.max(np.abs(np.asarray(getattr(self, name)) / np.asarray(self.fem_mm) - 1.0)))
+
+    def to_dict(self) -> dict:
+        out = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        out.update({f"error_{k}": self.error(k) for k in ("relaxed_mm", "state_kept_mm", "rolling_mm",
+                                                          "law_on_block_mm")})
+        return out
+
+
+def load_results(out_dir: Path) -> list[GapCaseResult]:
+    """The case files of ``out_dir`` (each ``<key>.json``)."""
+    return [GapCaseResult.from_dict(json.loads(p.read_text())) for p in sorted(Path(out_dir).glob("*_c*_p*.json"))]
+
+
+def with_stand_ins(results: list[GapCaseResult]) -> list[GapCaseResult]:
+    """``results`` plus, for every stand-in position without its own case, the stand-in's case scaled to it
+    (key suffixed " (stand-in: <position>)"). The table positions come from
+    :func:`calibration.rolling.gap_cases.default_positions`."""
+    have = {(r.position, r.traction, r.p0_over_py) for r in results if r.complete}
+    targets = {p.name: p for p in default_positions()}
+    out = list(results)
+    for r in results:
+        for name, proxy in STAND_INS.items():
+            if r.position != proxy or (name, r.traction, r.p0_over_py) in have:
+                continue
+            pos = targets[name]
+            k = pos.a_mm / r.a_mm
+            out.append(replace(r, key=f"{r.key} (stand-in: {proxy})", position=name, table=pos.table, y_mm=pos.y_mm,
+                               a_mm=pos.a_mm, b_mm=pos.b_mm, static_dent_mm=k * r.static_dent_mm,
+                               static_u_pl_mm=[k * u for u in r.static_u_pl_mm],
+                               groove_mm=[k * g for g in r.groove_mm], shift_mm=[k * g for g in r.shift_mm]))
+    return out
+
+
+def group_of(position: str) -> str:
+    return next(name for name, (members, _) in GROUPS.items() if position in members)
+
+
+def layer_static_residuals(results: list[GapCaseResult]) -> dict[tuple[str, float], float]:
+    """The layer's static residual r (mm) per (position, p0 / p_y): the table's characteristic at the position
+    (p0 = level x its p_2), or for the half-space the characteristic fitted to the block's top static curve."""
+    out = {}
+    for pos in {r.position for r in results}:
+        mine = [r for r in results if r.position == pos]
+        if mine[0].table:
+            ch = LayerTable.read(ROOT / mine[0].table).characteristic_at(mine[0].y_mm)
+            for lv in {r.p0_over_py for r in mine}:
+                out[(pos, lv)] = masing_residual(ch, lv * ch.elastic_limit_MPa)
+            continue
+        top = max(mine, key=lambda r: r.p0_over_py)
+        curve = StaticCurve(np.array(top.static_p_MPa), np.array(top.static_u_pl_mm), top.static_dent_mm)
+        levels = sorted({r.p0_over_py for r in mine})
+        grooves = layer_grooves(curve, top.p_y_MPa, [lv * top.p_y_MPa for lv in levels], 1, 4)
+        out.update({(pos, lv): g.relaxed[0] for lv, g in zip(levels, grooves)})
+    return out
+
+
+def fit_group(results: list[GapCaseResult], group: str) -> tuple[RollingLaw, dict]:
+    """The group's law from the mean normalised groove of its positions, and the fits {(c, level): PassFit}."""
+    members, _ = GROUPS[group]
+    mine = [r for r in results if r.position in members and len(r.groove_mm) >= MIN_FEM_PASSES]
+    fits: dict[tuple[float, float], PassFit] = {}
+    for c in TRACTIONS:
+        for lv in LEVELS:
+            cases = [r for r in mine if r.traction == c and r.p0_over_py == lv]
+            if not cases:
+                continue
+            n = min(len(r.groove_mm) for r in cases)
+            mean = np.mean([np.asarray(r.groove_mm[:n]) / r.static_dent_mm for r in cases], axis=0)
+            fits[(c, lv)] = fit_passes(mean, 1.0)
+    tractions = [c for c in TRACTIONS if all((c, lv) in fits for lv in LEVELS)]
+    if not tractions:
+        raise KeyError(f"{group}: no traction with all levels computed")
+    source = (f"rolling FEM of {', '.join(members)} (calibration.rolling.gap_cases: h = a/2 quadratic tetrahedra, "
+              f"step a/4, track 1.5 contact lengths, {max(REPORTED_PASSES)} passes at constant p0)")
+    return rolling_law(list(LEVELS), tractions, fits, source), fits
+
+
+def gap_rows(results: list[GapCaseResult]) -> tuple[list[GapRow], dict[str, RollingLaw]]:
+    """The gap table's rows (cases with at least MIN_FEM_PASSES passes) and the laws of the groups."""
+    laws = {}
+    for g in GROUPS:
+        try:
+            laws[g] = fit_group(results, g)[0]
+        except (KeyError, ValueError, IndexError):  # a group without a complete grid yet: no law
+            continue
+    statics = layer_static_residuals(results)
+    rows = []
+    n = np.array(REPORTED_PASSES)
+    for r in results:
+        g = group_of(r.position)
+        if len(r.groove_mm) < MIN_FEM_PASSES or g not in laws:
+            continue
+        own = fit_passes(r.groove_mm, r.static_dent_mm).factors(int(n.max())) * r.static_dent_mm
+        fem = [r.groove_mm[k - 1] if k <= len(r.groove_mm) else float(own[k - 1]) for k in n]
+        rs = statics[(r.position, r.p0_over_py)]
+        fac = laws[g].factor(n, r.p0_over_py, r.traction)
+        rows.append(GapRow(r.position, g, r.traction, r.p0_over_py, r.p0_over_py * r.p_y_MPa, r.static_dent_mm, rs,
+                           n.tolist(), fem, (rs * n).tolist(), [rs] * n.size, (rs * fac).tolist(),
+                           (r.static_dent_mm * fac).tolist(), len(r.groove_mm), r.key))
+    return rows, laws
+
+
+def write_law(table_rel: str, law: RollingLaw) -> Path:
+    """Write ``law`` into the shipped table ``table_rel`` (format version 3; its CSV is unchanged)."""
+    path = ROOT / table_rel
+    table = LayerTable.read(path)
+    table = replace(table, rolling_law=law)
+    return table.write(path)[0]
+
+
+__all__ = ["GROUPS", "GapRow", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS", "TARGET", "fit_group", "gap_rows",
+           "group_of", "with_stand_ins",
+           "layer_static_residuals", "load_results", "write_law"]

@@ -1,0 +1,45 @@
+"""The "rolling" memory rule of the passes: residual increments from the layer table's rolling law (mm, MPa).
+
+A pass loads a virgin element to its strip's peak pressure p and unloads it; its static (Masing) residual r(p)
+(paper eq. 8) is what the "relaxed" rule adds every pass. Under the rolling rule each element carries its
+accumulated rolling residual U and the pass adds ``law.next_residual(U, r, p / p_2, c) - U``
+(:class:`wrlayer.rolling_law.RollingLaw`: the first-pass groove over the static dent and the per-pass increment
+law calibrated by the rolling FEM, docs/rolling.md), p_2 being the element's elastic limit (its first slider
+threshold) and c the traction coefficient of the passes. The layer itself is relaxed before each pass (the
+residual is moved into the profile, as in the "relaxed" rule), so the normal solve sees the virgin element.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from contact.layer.prandtl_layer import PrandtlLayer
+
+__all__ = ["MEMORY_RULES", "RollingMemory"]
+
+#: The memory rules of the passes (``PassesOptions.memory``): "rolling" (the rolling law; a layer without one
+#: falls back to "relaxed"), "relaxed" (the paper's model: a virgin element each pass) and "state_kept" (the
+#: sliders keep their slip between passes).
+MEMORY_RULES = ("rolling", "relaxed", "state_kept")
+
+
+class RollingMemory:
+    """The accumulated rolling residual of one body's layer points (mm). ``layer``: the body's layer (its rolling
+    law and elastic limits are read; it is not modified); ``traction_coefficient``: c of the law (-)."""
+
+    def __init__(self, layer: PrandtlLayer, traction_coefficient: float):
+        if layer.rolling_law is None:
+            raise ValueError(f"{layer.name} has no rolling law")
+        self.law = layer.rolling_law
+        self.p2_MPa = layer.relaxed().yield_pressure_MPa()
+        self.c = float(traction_coefficient)
+        self.accumulated_mm = np.zeros(layer.n_points)
+
+    def advance(self, p_peak_MPa: np.ndarray, static_residual_mm: np.ndarray) -> np.ndarray:
+        """One pass at the points' peak pressures (MPa) with their static residuals r(p) (mm): the residual
+        added by the pass (mm, per point)."""
+        x = np.divide(p_peak_MPa, self.p2_MPa, out=np.zeros(self.p2_MPa.shape), where=np.isfinite(self.p2_MPa))
+        new = self.law.next_residual(self.accumulated_mm, np.maximum(static_residual_mm, 0.0), x, self.c)
+        added = new - self.accumulated_mm
+        self.accumulated_mm = new
+        return added

@@ -1,0 +1,78 @@
+"""One tiny 3D gap case: the rolling FEM of an elliptic patch with mixed hardening and traction, its case file
+(read back instead of recomputed), the law fitted to it and the gap row against the layer."""
+
+import json
+
+import numpy as np
+import pytest
+
+import calibration.rolling.gap_cases as gap_cases
+from calibration.rolling.config import RollingMaterial, TrackMeshSettings, TrackSettings
+from calibration.rolling.gap_cases import GapCase, GapCaseResult, GapPosition, run_case
+from calibration.rolling.law_fit import fit_passes
+
+TRACK = TrackSettings(length_factor=1.0, step_factor=0.5, n_passes=2, ramp_steps=1)
+MESH = TrackMeshSettings(elements_per_semi_axis=1.5, order=1, size_factor=3.0, fine_depth_factor=1.0,
+                         fine_width_factor=1.0)
+MIXED = RollingMaterial(H_iso_MPa=10000.0, H_kin_MPa=10000.0)
+
+
+@pytest.fixture(scope="module")
+def tiny(tmp_path_factory):
+    out = tmp_path_factory.mktemp("gap")
+    case = GapCase(GapPosition("tiny", "", 0.0, 1.3, 1.0, MIXED), 2.1, 0.2, n_passes=2)
+    return case, out, run_case(case, out, track=TRACK, mesh=MESH)
+
+
+def test_tiny_case_rolls_and_is_written(tiny):
+    case, out, res = tiny
+    assert res.failed == "" and len(res.groove_mm) == 2 and res.n_dofs < 3000
+    assert 0.5 < res.groove_mm[0] / res.static_dent_mm < 1.5       # a groove of the static dent's order
+    assert res.groove_mm[1] >= res.groove_mm[0] > 0
+    assert res.static_p_MPa[-1] == pytest.approx(2.1 * res.p_y_MPa)
+    data = json.loads((out / f"{case.key}.json").read_text())
+    assert GapCaseResult.from_dict(data) == res
+
+
+def test_a_present_case_is_read_not_recomputed(tiny, monkeypatch):
+    case, out, res = tiny
+    monkeypatch.setattr(gap_cases, "build_model", lambda *a: pytest.fail("recomputed"))
+    assert run_case(case, out, track=TRACK, mesh=MESH) == res
+
+
+def test_law_fitted_to_the_case_reproduces_it(tiny):
+    _, _, res = tiny
+    fit = fit_passes(res.groove_mm, res.static_dent_mm)
+    np.testing.assert_allclose(fit.factors(2) * res.static_dent_mm, res.groove_mm, rtol=1e-9)
+
+
+def synthetic(position, a_mm, level, truth, static_mm):
+    return GapCaseResult(f"{position}_c0_p{level}", position, "scenes/tables/rail_60E1_default.json", 0.0, a_mm,
+                         0.75 * a_mm, 0.0, level, 790.0, static_mm, [0.0], [0.0],
+                         groove_mm=(truth.factors(10) * static_mm).tolist())
+
+
+def test_gap_rows_fit_the_group_law_and_stand_ins_scale():
+    from calibration.rolling import gap
+    from calibration.rolling.law_fit import PassFit
+    from calibration.rolling.layer_prediction import masing_residual
+    from wrlayer.layer_table import LayerTable
+
+    truth = {1.3: PassFit(0.97, 0.04, 0.3, 0.0, 0.0), 1.7: PassFit(0.95, 0.03, 0.3, 0.0, 0.0),
+             2.1: PassFit(0.9, 0.08, 0.5, 0.02, 0.0)}
+    results = [synthetic("rail crown", 7.161, lv, f, 0.02 * lv) for lv, f in truth.items()]
+    both = gap.with_stand_ins(results)
+    tread = [r for r in both if r.position == "wheel tread"]
+    assert len(tread) == 3 and "stand-in" in tread[0].key
+    k = tread[0].a_mm / 7.161
+    assert tread[0].groove_mm == pytest.approx([k * g for g in results[0].groove_mm])
+    rows, laws = gap.gap_rows(results)
+    assert set(laws) == {"rail"} and laws["rail"].traction_coefficient == [0.0]
+    ch = LayerTable.read(gap_cases.ROOT / "scenes/tables/rail_60E1_default.json").characteristic_at(0.0)
+    for row in rows:
+        assert row.error("law_on_block_mm") < 2e-3
+        r = masing_residual(ch, row.p0_over_py * ch.elastic_limit_MPa)
+        assert row.layer_static_mm == pytest.approx(r)
+        assert row.relaxed_mm == pytest.approx([r * n for n in row.passes])
+        assert row.rolling_mm == pytest.approx(r * truth[row.p0_over_py].factors(10)[np.array(row.passes) - 1],
+                                               rel=2e-3)
