@@ -1,0 +1,144 @@
+"""The cases of the rolling verification (benchmarks/bench_rolling_verification.py), each run once and cached.
+
+A case is one load level on one block, rolled pass after pass with plain steps (substeps = 1) or with material
+sub-steps along the load's path (:mod:`calibration.rolling.substeps`). Its result (groove, surface shift and
+largest plastic strain per pass, time per pass, the static dent when asked) is written to ``DIR/<name>.json``
+as soon as it is complete, and read back instead of being run again: a killed run keeps its completed cases.
+Cases on the same block share one model (mesh, kept factorisation, unit responses). Units mm, MPa, s.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from calibration.fem.solver_state import SolverState
+from calibration.rolling.config import (ContactSettings, RollingConfig, RollingMaterial, RollingRunSettings,
+                                        TrackMeshSettings, TrackSettings)
+from calibration.rolling.passes import PassRecord, roll
+from calibration.rolling.run import RollingModel, build_model, level_pressures, static_dents
+from calibration.rolling.substeps import SubstepSolver, UnitResponses
+from calibration.rolling.track_mesh import track_mesh
+from wrlayer.atomic_write import atomic_write_text
+
+
+@dataclass(frozen=True)
+class Case:
+    """One rolling run: block (model "2d"/"3d", elements per semi-axis n, block size in a, track length in
+    contact lengths), load (level in ``unit``: "p_y" or "k"), steps (step in a, material sub-steps), passes,
+    isotropic hardening (MPa) and whether the static dent is measured. a = 1 mm, E 210 GPa, nu 0.3, Y 500 MPa."""
+
+    name: str
+    model: str
+    level: float
+    unit: str = "p_y"
+    n: float = 3.0
+    size: float = 5.0
+    length: float = 2.0
+    step: float = 0.25
+    substeps: int = 1
+    passes: int = 1
+    H_iso_MPa: float = 0.0
+    static: bool = False
+
+    def config(self) -> RollingConfig:
+        return RollingConfig(material=RollingMaterial(H_iso_MPa=self.H_iso_MPa),
+                             contact=ContactSettings(a_mm=1.0, levels=(self.level,), model=self.model,
+                                                     level_unit=self.unit),
+                             track=TrackSettings(length_factor=self.length, step_factor=self.step,
+                                                 n_passes=self.passes, ramp_steps=4),
+                             mesh=TrackMeshSettings(elements_per_semi_axis=self.n, size_factor=self.size),
+                             run=RollingRunSettings(plots=False, linear_solver="auto"))
+
+    def block_key(self) -> tuple:
+        return (self.model, self.n, self.size, self.length, self.H_iso_MPa)
+
+
+@dataclass(frozen=True)
+class CaseResult:
+    """What a case measured: p_y and p0 (MPa), dofs, static dent (mm; 0 when not measured), per pass the groove,
+    surface shift (mm), largest equivalent plastic strain (-), wall time (s) and Newton iterations; the machine's
+    load average (1 / 5 / 15 min) at the start."""
+
+    case: Case
+    p_y_MPa: float
+    p0_MPa: float
+    n_dofs: int
+    static_dent_mm: float = 0.0
+    groove_mm: list[float] = field(default_factory=list)
+    shift_mm: list[float] = field(default_factory=list)
+    max_eq_plastic_strain: list[float] = field(default_factory=list)
+    pass_seconds: list[float] = field(default_factory=list)
+    newton_iterations: list[int] = field(default_factory=list)
+    load_average: list[float] = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, d: dict) -> CaseResult:
+        return cls(**{**d, "case": Case(**d["case"])})
+
+
+class CaseRunner:
+    """Runs cases into ``out_dir`` (cached per case); keeps the model of the last block."""
+
+    def __init__(self, out_dir: Path, progress=print):
+        self.out_dir = Path(out_dir)
+        self.out_dir.mkdir(parents=True, exist_ok=True)
+        self.progress = progress
+        self.key, self.model, self.responses = None, None, None
+        self.dents: dict[tuple, float] = {}
+
+    def block(self, case: Case) -> RollingModel:
+        if case.block_key() != self.key:
+            cfg = case.config()
+            self.model = build_model(cfg, track_mesh(cfg.contact, cfg.track, cfg.mesh))
+            self.responses = UnitResponses(self.model.prob, self.model.forces)
+            self.key = case.block_key()
+        return self.model
+
+    def __call__(self, case: Case) -> CaseResult:
+        path = self.out_dir / f"{case.name}.json"
+        if path.exists():
+            res = CaseResult.from_dict(json.loads(path.read_text()))
+            if res.case == case:
+                return res
+        res = self.run(case)
+        atomic_write_text(path, json.dumps(res.to_dict(), indent=1))
+        return res
+
+    def run(self, case: Case) -> CaseResult:
+        load = list(os.getloadavg())
+        cfg = case.config()
+        model = self.block(case)
+        p0 = level_pressures(cfg, model.p_y_MPa)[0]
+        dent = 0.0
+        if case.static:
+            key = (case.block_key(), round(p0, 6))
+            if key not in self.dents:
+                self.dents[key] = static_dents(model, cfg, [p0])[0].dent_mm
+            dent = self.dents[key]
+        res = CaseResult(case, model.p_y_MPa, p0, int(model.disc.n_dofs), dent, load_average=load)
+        solver = SubstepSolver(model.prob, model.forces, p0, case.substeps, responses=self.responses)
+        positions = [x * cfg.contact.a_mm for x in cfg.track.positions_over_a()]
+        t0 = time.perf_counter()
+        for rec in roll(solver, SolverState.virgin(model.disc), positions, case.passes, cfg.track.ramp_steps):
+            if isinstance(rec, PassRecord):
+                prof = model.probe.profile(rec.state)
+                res.groove_mm.append(prof.groove_mm)
+                res.shift_mm.append(prof.shift_mm)
+                res.max_eq_plastic_strain.append(prof.max_eq_plastic_strain)
+                res.pass_seconds.append(rec.seconds)
+                res.newton_iterations.append(rec.newton_iters)
+                self.progress(f"[{case.name}] pass {rec.pass_index}: groove {prof.groove_mm:.6g} mm, shift "
+                              f"{prof.shift_mm:.4g} mm, eq {prof.max_eq_plastic_strain:.4g}, {rec.seconds:.1f} s")
+        model.prob.reset_to_elastic()
+        self.progress(f"[{case.name}] done in {time.perf_counter() - t0:.0f} s")
+        return res
+
+
+__all__ = ["Case", "CaseResult", "CaseRunner"]
