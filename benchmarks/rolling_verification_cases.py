@@ -15,6 +15,8 @@ import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.config import (ContactSettings, RollingConfig, RollingMaterial, RollingRunSettings,
                                         TrackMeshSettings, TrackSettings)
@@ -60,8 +62,10 @@ class Case:
 @dataclass(frozen=True)
 class CaseResult:
     """What a case measured: p_y and p0 (MPa), dofs, static dent (mm; 0 when not measured), per pass the groove,
-    surface shift (mm), largest equivalent plastic strain (-), wall time (s) and Newton iterations; the machine's
-    load average (1 / 5 / 15 min) at the start."""
+    surface shift (mm), largest equivalent plastic strain (-), the largest NET plastic strain change of the pass
+    (-, the equivalent measure sqrt(2/3 de:de) of the plastic strain tensor's change below |x| <= a: zero for a
+    closed plastic cycle, the ratchet strain otherwise), wall time (s) and Newton iterations; the machine's load
+    average (1 / 5 / 15 min) at the start."""
 
     case: Case
     p_y_MPa: float
@@ -71,6 +75,7 @@ class CaseResult:
     groove_mm: list[float] = field(default_factory=list)
     shift_mm: list[float] = field(default_factory=list)
     max_eq_plastic_strain: list[float] = field(default_factory=list)
+    net_plastic_increment: list[float] = field(default_factory=list)
     pass_seconds: list[float] = field(default_factory=list)
     newton_iterations: list[int] = field(default_factory=list)
     load_average: list[float] = field(default_factory=list)
@@ -126,12 +131,17 @@ class CaseRunner:
         solver = SubstepSolver(model.prob, model.forces, p0, case.substeps, responses=self.responses)
         positions = [x * cfg.contact.a_mm for x in cfg.track.positions_over_a()]
         t0 = time.perf_counter()
+        below = model.probe.below
+        previous = SolverState.virgin(model.disc).plastic_strain[below]
         for rec in roll(solver, SolverState.virgin(model.disc), positions, case.passes, cfg.track.ramp_steps):
             if isinstance(rec, PassRecord):
                 prof = model.probe.profile(rec.state)
                 res.groove_mm.append(prof.groove_mm)
                 res.shift_mm.append(prof.shift_mm)
                 res.max_eq_plastic_strain.append(prof.max_eq_plastic_strain)
+                change = rec.state.plastic_strain[below] - previous
+                res.net_plastic_increment.append(float(np.sqrt(2.0 / 3.0 * (change ** 2).sum(axis=-1)).max()))
+                previous = rec.state.plastic_strain[below]
                 res.pass_seconds.append(rec.seconds)
                 res.newton_iterations.append(rec.newton_iters)
                 self.progress(f"[{case.name}] pass {rec.pass_index}: groove {prof.groove_mm:.6g} mm, shift "

@@ -22,9 +22,8 @@ plastic correction.
 Cost: no factorisation of its own. The unit responses K_e^-1 F(x) are computed once per load position on the
 sub-step grid and kept (back-substitutions with the kept elastic factorisation, or CG preconditioned by the kept
 tangent one) and shared by all passes and levels (the response is linear in p0); each Newton iteration runs the
-return mapping m times instead of once. The Newton tangent is the last sub-step's consistent tangent (the
-dependence of the earlier sub-steps on u_b is left out), so points that unload elastically in the last sub-step
-after yielding in an earlier one make the iteration converge linearly instead of quadratically.
+return mapping m times instead of once. The Newton tangent is carried through the sub-steps
+(:meth:`SubstepSolver.material_path`), so the iteration keeps the engine's convergence.
 """
 
 from __future__ import annotations
@@ -41,8 +40,8 @@ from calibration.rolling.moving_load import SurfaceForces
 from calibration.rolling.passes import PREDICTOR_RTOL, RollingSolver, Target
 from wrlayer.errors import ConvergenceError, require
 
-#: Newton iterations allowed per step with sub-steps (the approximate tangent converges linearly near unloading).
-MAX_NEWTON = 25
+#: Newton iterations allowed per step with sub-steps.
+MAX_NEWTON = 15
 
 
 class UnitResponses:
@@ -81,6 +80,7 @@ class SubstepSolver(RollingSolver):
         super().__init__(prob, forces, p0_MPa, max_newton)
         self.substeps = substeps
         self.responses = responses if responses is not None else UnitResponses(prob, forces)
+        self.C_inv = np.linalg.inv(prob.C)
 
     def elastic_path(self, a: Target, b: Target) -> list[np.ndarray]:
         """w(t_k) - w(0) (mm) for k = 1..m: the elastic response of the load change up to each sub-position."""
@@ -92,15 +92,30 @@ class SubstepSolver(RollingSolver):
         return out
 
     def material_path(self, state: SolverState, eps_a: np.ndarray, eps_path: list[np.ndarray], u: np.ndarray):
-        """Return mapping through the sub-steps for the end displacement u; the last sub-step's ReturnResult."""
+        """Return mapping through the sub-steps for the end displacement u: (the last sub-step's ReturnResult,
+        the tangent d sigma_m / d eps_b through all sub-steps (MPa; symmetrised), points plastic in any sub-step).
+
+        Tangent: the trial stress of sub-step k is sigma_k-1 + C (eps_k - eps_k-1) and eps_k depends on eps_b with
+        weight t_k, so T_k = R_k (T_k-1 + C (t_k - t_k-1)), T_0 = 0, with R_k = C_ep,k C^-1 the return's
+        derivative with respect to its trial stress (exact for perfect plasticity; the hardening variables' own
+        dependence on eps_b is left out). T_m is the consistent tangent C_ep for m = 1."""
         disc, mat, m = self.prob.disc, self.prob.material, self.substeps
+        C = self.prob.C
         eps_b = disc.strain(u)
         rest = eps_b - eps_a - eps_path[-1]          # strain of the linearly interpolated correction D
         ps, bs, eq = state.plastic_strain, state.back_stress_MPa, state.eq_plastic_strain
-        for k in range(1, m):
-            r = radial_return(mat, eps_a + eps_path[k - 1] + (k / m) * rest, ps, bs, eq, with_tangent=False)
+        tangent = np.zeros(eps_b.shape[:-1] + (6, 6))
+        yielded = np.zeros(eps_b.shape[:-1], dtype=bool)
+        for k in range(1, m + 1):
+            eps_k = eps_b if k == m else eps_a + eps_path[k - 1] + (k / m) * rest
+            r = radial_return(mat, eps_k, ps, bs, eq, with_tangent=True)
             ps, bs, eq = r.plastic_strain, r.back_stress_MPa, r.eq_plastic_strain
-        return radial_return(mat, eps_b, ps, bs, eq, with_tangent=True)
+            tangent += C / m
+            if r.plastic.any():
+                tangent[r.plastic] = r.tangent_MPa[r.plastic] @ self.C_inv @ tangent[r.plastic]
+            yielded |= r.plastic
+        tangent[yielded] = 0.5 * (tangent[yielded] + np.swapaxes(tangent[yielded], -1, -2))
+        return r, tangent, yielded
 
     def increment(self, state: SolverState, a: Target, b: Target) -> tuple[SolverState, dict]:
         """Newton iteration for the state at ``b`` from ``state`` at ``a`` with the sub-stepped material;
@@ -119,7 +134,7 @@ class SubstepSolver(RollingSolver):
         e0 = None
         cg_total = 0
         for it in range(self.max_newton + 1):
-            res = self.material_path(state, eps_a, eps_path, u)
+            res, tangent, yielded = self.material_path(state, eps_a, eps_path, u)
             f_int = disc.internal_force(res.stress_MPa)
             r = f_ext - f_int
             r[prob.fixed] = 0.0
@@ -135,8 +150,8 @@ class SubstepSolver(RollingSolver):
                     return self._converged(u, res, b, it, cg_total)
             if it == self.max_newton or rnorm > 1e6 or (it >= 4 and rnorm > 10 * residuals[0]):
                 break
-            plastic_elems = np.nonzero(res.plastic.any(axis=1))[0]
-            du, ncg, rz0 = prob.solve_correction(r, res.tangent_MPa, plastic_elems,
+            plastic_elems = np.nonzero(yielded.any(axis=1))[0]
+            du, ncg, rz0 = prob.solve_correction(r, tangent, plastic_elems,
                                                  cg_tolerance(opts, it, rnorm, residuals))
             cg_total += ncg
             if e0 is None and rz0 is not None:
