@@ -64,7 +64,7 @@ class CaseResult:
     """What a case measured: p_y and p0 (MPa), dofs, static dent (mm; 0 when not measured), per pass the groove,
     surface shift (mm), largest equivalent plastic strain (-), the largest NET plastic strain change of the pass
     (-, the equivalent measure sqrt(2/3 de:de) of the plastic strain tensor's change below |x| <= a: zero for a
-    closed plastic cycle, the ratchet strain otherwise), wall time (s) and Newton iterations; the machine's load
+    closed plastic cycle, the ratchet strain otherwise), wall and process CPU time (s) and Newton iterations; the machine's load
     average (1 / 5 / 15 min) at the start."""
 
     case: Case
@@ -77,6 +77,7 @@ class CaseResult:
     max_eq_plastic_strain: list[float] = field(default_factory=list)
     net_plastic_increment: list[float] = field(default_factory=list)
     pass_seconds: list[float] = field(default_factory=list)
+    pass_cpu_seconds: list[float] = field(default_factory=list)
     newton_iterations: list[int] = field(default_factory=list)
     load_average: list[float] = field(default_factory=list)
 
@@ -133,6 +134,7 @@ class CaseRunner:
         t0 = time.perf_counter()
         below = model.probe.below
         previous = SolverState.virgin(model.disc).plastic_strain[below]
+        cpu = time.process_time()
         for rec in roll(solver, SolverState.virgin(model.disc), positions, case.passes, cfg.track.ramp_steps):
             if isinstance(rec, PassRecord):
                 prof = model.probe.profile(rec.state)
@@ -143,6 +145,8 @@ class CaseRunner:
                 res.net_plastic_increment.append(float(np.sqrt(2.0 / 3.0 * (change ** 2).sum(axis=-1)).max()))
                 previous = rec.state.plastic_strain[below]
                 res.pass_seconds.append(rec.seconds)
+                res.pass_cpu_seconds.append(time.process_time() - cpu)
+                cpu = time.process_time()
                 res.newton_iterations.append(rec.newton_iters)
                 self.progress(f"[{case.name}] pass {rec.pass_index}: groove {prof.groove_mm:.6g} mm, shift "
                               f"{prof.shift_mm:.4g} mm, eq {prof.max_eq_plastic_strain:.4g}, {rec.seconds:.1f} s")

@@ -47,7 +47,6 @@ def test_substeps_converge_faster_than_plain_steps(block):
     fine, _ = one_pass(block, p0, 1 / 16, 1)
     plain, _ = one_pass(block, p0, 1 / 2, 1)
     sub, _ = one_pass(block, p0, 1 / 2, 4)
-    print(fine, plain, sub)
     assert plain < fine  # the plain step cuts the stress path short: too little plastic flow
     assert abs(sub - fine) < 0.5 * abs(plain - fine)
 
