@@ -40,6 +40,7 @@ def study_cases(mode: str) -> list[Case]:
                      step=s, substeps=m) for s, m in STEPS["quick"]]
     out = [Case(f"3d_L{STUDY_LEVEL_3D}_s{round(1 / s)}_m{m}", "3d", STUDY_LEVEL_3D, step=s, substeps=m,
                 static=(s, m) == (0.25, 1)) for s, m in STEPS["full_3d"]]
+    out.append(Case(f"3d_L{STUDY_LEVEL_3D}_s4_m1_r16", "3d", STUDY_LEVEL_3D, substeps=1, ramp=16))
     return out + [Case(f"2d_L{STUDY_LEVEL_2D}_s{round(1 / s)}_m{m}", "2d", STUDY_LEVEL_2D, unit="k", n=4.0,
                        size=15.0, step=s, substeps=m) for s, m in STEPS["full_2d"]]
 
@@ -49,8 +50,10 @@ def line_contact_cases(mode: str) -> list[Case]:
     if mode == "quick":
         return [Case(f"q2d_bhw_{lv}k", "2d", lv, unit="k", n=3.0, size=15.0, length=2.0, step=0.5, substeps=4,
                      passes=4) for lv in BHW_LEVELS]
-    return [Case(f"2d_bhw_{lv}k_{p}p", "2d", lv, unit="k", n=4.0, size=40.0, length=2.5, step=step, substeps=m,
-                 passes=p) for lv, p in BHW_LEVELS.items()]
+    out = [Case(f"2d_bhw_{lv}k_{p}p", "2d", lv, unit="k", n=4.0, size=40.0, length=2.5, step=step, substeps=m,
+                passes=p) for lv, p in BHW_LEVELS.items()]
+    return out + [Case("2d_bhw_4.35k_s8", "2d", 4.35, unit="k", n=4.0, size=40.0, length=2.5, step=step / 2,
+                       substeps=m, passes=6)]
 
 
 def shipped_cases(mode: str) -> list[Case]:
@@ -68,7 +71,8 @@ def _pct(a: float, b: float) -> float:
 def limits(rows: list[CaseResult]) -> dict[str, float]:
     """ds -> 0 limits of the first-pass groove, first order from the two finest steps of each method (mm)."""
     out = {}
-    for label, pick in (("plain", lambda r: r.case.substeps == 1), ("sub-steps", lambda r: r.case.substeps == 4)):
+    for label, m in (("plain", 1), ("sub-steps", 4)):
+        pick = lambda r, m=m: r.case.substeps == m and r.case.ramp == 4  # noqa: E731 - the ramp study apart
         seq = sorted((r for r in rows if pick(r)), key=lambda r: r.case.step)
         if len(seq) >= 2 and abs(seq[1].case.step - 2 * seq[0].case.step) < 1e-12:
             out[label] = 2.0 * seq[0].groove_mm[0] - seq[1].groove_mm[0]
@@ -81,14 +85,16 @@ def study_markdown(rows: list[CaseResult], title: str) -> list[str]:
     dent = next((r.static_dent_mm for r in rows if r.static_dent_mm > 0), 0.0)
     lims = "; ".join(f"{k}: {v:.5g} mm" for k, v in lim.items())
     md = [f"{title} ({rows[0].n_dofs} dofs). Limits ds -> 0 (first order from the two finest steps): {lims}.", "",
-          "| sub-steps | step | groove pass 1 (mm) | vs plain limit | vs sub-step limit | groove / static | "
-          "s per pass | Newton iterations | load average |", "|---|---|---|---|---|---|---|---|---|"]
-    for r in sorted(rows, key=lambda r: (r.case.substeps, -r.case.step)):
+          "| sub-steps | step | ramp steps | groove pass 1 (mm) | vs plain limit | vs sub-step limit | "
+          "groove / static | wall s per pass | Newton iterations | load average |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in sorted(rows, key=lambda r: (r.case.substeps, r.case.ramp, -r.case.step)):
         g = r.groove_mm[0]
         sub = f"{_pct(g, lim['sub-steps']):+.1f} %" if "sub-steps" in lim else "-"
         ratio = f"{g / dent:.3f}" if dent > 0 else "-"
-        md.append(f"| {r.case.substeps} | a/{1 / r.case.step:g} | {g:.5g} | {_pct(g, ref):+.1f} % | {sub} | {ratio} "
-                  f"| {r.pass_seconds[0]:.0f} | {r.newton_iterations[0]} | {r.load_average[0]:.1f} |")
+        md.append(f"| {r.case.substeps} | a/{1 / r.case.step:g} | {r.case.ramp} | {g:.5g} | {_pct(g, ref):+.1f} % "
+                  f"| {sub} | {ratio} | {r.pass_seconds[0]:.0f} | {r.newton_iterations[0]} | "
+                  f"{r.load_average[0]:.1f} |")
     return md
 
 

@@ -30,7 +30,8 @@ from wrlayer.atomic_write import atomic_write_text
 @dataclass(frozen=True)
 class Case:
     """One rolling run: block (model "2d"/"3d", elements per semi-axis n, block size in a, track length in
-    contact lengths), load (level in ``unit``: "p_y" or "k"), steps (step in a, material sub-steps), passes,
+    contact lengths), load (level in ``unit``: "p_y" or "k"), steps (step in a, material sub-steps, the load
+    steps ``ramp`` in which p0 is applied at the track's start), passes,
     isotropic hardening (MPa) and whether the static dent is measured. a = 1 mm, E 210 GPa, nu 0.3, Y 500 MPa."""
 
     name: str
@@ -42,6 +43,7 @@ class Case:
     length: float = 2.0
     step: float = 0.25
     substeps: int = 1
+    ramp: int = 4
     passes: int = 1
     H_iso_MPa: float = 0.0
     static: bool = False
@@ -51,7 +53,7 @@ class Case:
                              contact=ContactSettings(a_mm=1.0, levels=(self.level,), model=self.model,
                                                      level_unit=self.unit),
                              track=TrackSettings(length_factor=self.length, step_factor=self.step,
-                                                 n_passes=self.passes, ramp_steps=4),
+                                                 n_passes=self.passes, ramp_steps=self.ramp),
                              mesh=TrackMeshSettings(elements_per_semi_axis=self.n, size_factor=self.size),
                              run=RollingRunSettings(plots=False, linear_solver="auto"))
 
@@ -64,8 +66,8 @@ class CaseResult:
     """What a case measured: p_y and p0 (MPa), dofs, static dent (mm; 0 when not measured), per pass the groove,
     surface shift (mm), largest equivalent plastic strain (-), the largest NET plastic strain change of the pass
     (-, the equivalent measure sqrt(2/3 de:de) of the plastic strain tensor's change below |x| <= a: zero for a
-    closed plastic cycle, the ratchet strain otherwise), wall and process CPU time (s) and Newton iterations; the machine's load
-    average (1 / 5 / 15 min) at the start."""
+    closed plastic cycle, the ratchet strain otherwise), wall and process CPU time (s) and Newton iterations; the
+    machine's load average (1 / 5 / 15 min) at the start."""
 
     case: Case
     p_y_MPa: float
