@@ -1,12 +1,12 @@
 """Rolling FEM verification: step-length convergence of the first-pass groove with plain steps and with material
 sub-steps along the load's path (:mod:`calibration.rolling.substeps`), the 2D frictionless EPP line contact at
 p0/k = 3.5, 4.35 and 5.0 against Bhargava, Hahn & Wert (1985) (shakedown below Johnson's limit 4 k, continued
-plastic strain above), and the 3D half-space levels of the shipped configuration with the recommended step.
+plastic strain above), and the 3D half-space levels of the shipped configuration with sub-steps.
 
 Quick mode: 2D only (a small block, a few minutes on 2 busy cores). Full mode: the 3D study on the shipped mesh
 (h = a/3, track 2 contact lengths, 45,951 dofs) at p0 = 1.7 p_y, the 2D study at 4.35 k, the 2D line contact on a
-40 a block, the shipped levels with the recommended step: about two hours on 2 busy cores. Every case is cached in
-``OUT/rolling_verification/cases/<case>.json`` (delete to rerun). One BLAS thread.
+40 a block, the shipped levels with sub-steps (a/4; a/8 at 1.7 and 2.1 p_y): about two hours of CPU. Every case
+is cached in ``OUT/rolling_verification/cases/<case>.json`` (delete to rerun). One BLAS thread.
 ``python benchmarks/bench_rolling_verification.py [--quick|--full] --out DIR`` runs it alone.
 """
 
