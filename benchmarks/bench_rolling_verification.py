@@ -27,7 +27,8 @@ STUDY_LEVEL_3D, STUDY_LEVEL_2D = 1.7, 4.35
 STEPS = {"quick": [(0.5, 1), (0.25, 1), (0.125, 1), (0.0625, 1), (0.5, 4), (0.25, 4), (0.125, 4)],
          "full_2d": [(0.5, 1), (0.25, 1), (0.125, 1), (0.0625, 1), (0.03125, 1), (0.015625, 1),
                      (0.5, 4), (0.25, 4), (0.125, 4), (0.0625, 4)],
-         "full_3d": [(0.25, 1), (0.125, 1), (0.0625, 1), (0.03125, 1), (0.5, 4), (0.25, 4), (0.125, 4), (0.25, 2)]}
+         "full_3d": [(0.25, 1), (0.125, 1), (0.0625, 1), (0.03125, 1), (0.5, 4), (0.25, 4), (0.125, 4), (0.0625, 4),
+                     (0.25, 2)]}
 #: The recommended step of the shipped configuration (step / a, sub-steps).
 RECOMMENDED = (0.125, 4)
 #: 2D line contact levels (p0 / k) and passes.
@@ -58,14 +59,15 @@ def line_contact_cases(mode: str) -> list[Case]:
 
 def shipped_cases(mode: str) -> list[Case]:
     """The shipped levels with the cheap step (a/4, 4 sub-steps), and the recommended step (a/8, 4 sub-steps)
-    at 1.7 p_y (3 passes) and 2.1 p_y (first pass: the step error grows with p0)."""
+    at 1.7 p_y (3 passes) and 2.1 p_y (first pass, and a/16: the step error grows with p0)."""
     if mode == "quick":
         return []
     step, m = RECOMMENDED
     out = [Case(f"3d_ship_L{lv}_s4_m{m}", "3d", lv, substeps=m, passes=3, static=True) for lv in (1.3, 1.7, 2.1)]
     return out + [Case(f"3d_ship_L1.7_s{round(1 / step)}_m{m}", "3d", 1.7, step=step, substeps=m, passes=3,
                        static=True),
-                  Case(f"3d_L2.1_s{round(1 / step)}_m{m}", "3d", 2.1, step=step, substeps=m)]
+                  Case(f"3d_L2.1_s{round(1 / step)}_m{m}", "3d", 2.1, step=step, substeps=m),
+                  Case(f"3d_L2.1_s{round(2 / step)}_m{m}", "3d", 2.1, step=step / 2, substeps=m)]
 
 
 def _pct(a: float, b: float) -> float:
