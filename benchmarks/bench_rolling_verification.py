@@ -42,8 +42,10 @@ def study_cases(mode: str) -> list[Case]:
     out = [Case(f"3d_L{STUDY_LEVEL_3D}_s{round(1 / s)}_m{m}", "3d", STUDY_LEVEL_3D, step=s, substeps=m,
                 static=(s, m) == (0.25, 1)) for s, m in STEPS["full_3d"]]
     out.append(Case(f"3d_L{STUDY_LEVEL_3D}_s4_m1_r16", "3d", STUDY_LEVEL_3D, substeps=1, ramp=16))
-    return out + [Case(f"2d_L{STUDY_LEVEL_2D}_s{round(1 / s)}_m{m}", "2d", STUDY_LEVEL_2D, unit="k", n=4.0,
-                       size=15.0, step=s, substeps=m) for s, m in STEPS["full_2d"]]
+    out += [Case(f"2d_L{STUDY_LEVEL_2D}_s{round(1 / s)}_m{m}", "2d", STUDY_LEVEL_2D, unit="k", n=4.0, size=15.0,
+                 step=s, substeps=m) for s, m in STEPS["full_2d"]]
+    return out + [Case(f"2d_L{STUDY_LEVEL_2D}_s{round(1 / s)}_m1_r16", "2d", STUDY_LEVEL_2D, unit="k", n=4.0,
+                       size=15.0, step=s, ramp=16) for s in (0.125, 0.0625)]
 
 
 def line_contact_cases(mode: str) -> list[Case]:
