@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import os
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +20,7 @@ import numpy as np
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.config import (ContactSettings, RollingConfig, RollingMaterial, RollingRunSettings,
                                         TrackMeshSettings, TrackSettings)
+from calibration.rolling.groove import GrooveProfile
 from calibration.rolling.passes import PassRecord, roll
 from calibration.rolling.run import RollingModel, build_model, level_pressures, static_dents
 from calibration.rolling.substeps import SubstepSolver, UnitResponses
@@ -83,6 +84,15 @@ class CaseResult:
     newton_iterations: list[int] = field(default_factory=list)
     load_average: list[float] = field(default_factory=list)
 
+    def with_pass(self, prof: GrooveProfile, net: float, rec: PassRecord, cpu_s: float) -> CaseResult:
+        """This result with one more pass: its groove profile, net plastic change (-) and record, CPU time (s)."""
+        return replace(self, groove_mm=self.groove_mm + [prof.groove_mm], shift_mm=self.shift_mm + [prof.shift_mm],
+                       max_eq_plastic_strain=self.max_eq_plastic_strain + [prof.max_eq_plastic_strain],
+                       net_plastic_increment=self.net_plastic_increment + [net],
+                       pass_seconds=self.pass_seconds + [rec.seconds],
+                       pass_cpu_seconds=self.pass_cpu_seconds + [cpu_s],
+                       newton_iterations=self.newton_iterations + [rec.newton_iters])
+
     def to_dict(self) -> dict:
         return asdict(self)
 
@@ -140,16 +150,10 @@ class CaseRunner:
         for rec in roll(solver, SolverState.virgin(model.disc), positions, case.passes, cfg.track.ramp_steps):
             if isinstance(rec, PassRecord):
                 prof = model.probe.profile(rec.state)
-                res.groove_mm.append(prof.groove_mm)
-                res.shift_mm.append(prof.shift_mm)
-                res.max_eq_plastic_strain.append(prof.max_eq_plastic_strain)
                 change = rec.state.plastic_strain[below] - previous
-                res.net_plastic_increment.append(float(np.sqrt(2.0 / 3.0 * (change ** 2).sum(axis=-1)).max()))
-                previous = rec.state.plastic_strain[below]
-                res.pass_seconds.append(rec.seconds)
-                res.pass_cpu_seconds.append(time.process_time() - cpu)
-                cpu = time.process_time()
-                res.newton_iterations.append(rec.newton_iters)
+                net = float(np.sqrt(2.0 / 3.0 * (change ** 2).sum(axis=-1)).max())
+                res = res.with_pass(prof, net, rec, time.process_time() - cpu)
+                previous, cpu = rec.state.plastic_strain[below], time.process_time()
                 self.progress(f"[{case.name}] pass {rec.pass_index}: groove {prof.groove_mm:.6g} mm, shift "
                               f"{prof.shift_mm:.4g} mm, eq {prof.max_eq_plastic_strain:.4g}, {rec.seconds:.1f} s")
         model.prob.reset_to_elastic()
