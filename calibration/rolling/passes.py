@@ -101,7 +101,7 @@ class RollingSolver:
         while pending:
             a, b, depth = pending.pop()
             try:
-                done, info = self._increment(done, a, b)
+                done, info = self.increment(done, a, b)
             except ConvergenceError:
                 self.prob.reset_to_elastic()
                 if depth >= MAX_CUTS:
@@ -115,7 +115,8 @@ class RollingSolver:
             totals["cuts"] += 1
         return done, totals
 
-    def _increment(self, state: SolverState, a: Target, b: Target) -> tuple[SolverState, dict]:
+    def increment(self, state: SolverState, a: Target, b: Target) -> tuple[SolverState, dict]:
+        """One Newton increment from ``state`` at ``a`` to ``b`` (no cut); ConvergenceError when it fails."""
         prob = self.prob
         f_b = self.load_vector(b)
         df = b.fraction * f_b - a.fraction * self.load_vector(a)
