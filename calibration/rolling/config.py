@@ -4,7 +4,7 @@ Layout of a file (every key optional except ``contact.a_mm`` and ``contact.level
 
     [material]  E_MPa, poisson, yield_MPa, H_iso_MPa, H_kin_MPa
     [contact]   model, a_mm, b_mm, traction_coefficient, levels, level_unit
-    [track]     length_factor, step_factor, n_passes, ramp_steps
+    [track]     length_factor, step_factor, n_passes, ramp_steps, substeps
     [mesh]      elements_per_semi_axis, order, fine_width_factor, fine_depth_factor, size_factor, growth
     [run]       linear_solver, plots, layer_segments
 
@@ -110,12 +110,16 @@ class TrackSettings:
         Passes per level (1..50).
     ramp_steps : int
         Load steps in which p0 is applied at x_start (1..50; removal at x_end: one step, cut on failure).
+    substeps : int
+        Material sub-steps per step along the load's path (-, 1..16; 1: plain backward-Euler steps;
+        :mod:`calibration.rolling.substeps`, docs/rolling-verification.md).
     """
 
     length_factor: float = 3.0
     step_factor: float = 0.25
     n_passes: int = 3
     ramp_steps: int = 4
+    substeps: int = 1
 
     def positions_over_a(self) -> list[float]:
         """Load-centre positions x_c / a of one pass (from -L/2 to +L/2; the last step lands on +L/2)."""
@@ -223,7 +227,7 @@ def _contact(k: Keys) -> ContactSettings:
 def _track(k: Keys) -> TrackSettings:
     kw = _numbers(k, TrackSettings, {"length_factor": dict(ge=1.0, le=MAX_TRACK_FACTOR),
                                      "step_factor": dict(ge=0.02, le=1.0)})
-    for name, hi in (("n_passes", MAX_PASSES), ("ramp_steps", 50)):
+    for name, hi in (("n_passes", MAX_PASSES), ("ramp_steps", 50), ("substeps", 16)):
         if name in k.table:
             kw[name] = k.integer(name, None, ge=1, le=hi)
     return TrackSettings(**kw)

@@ -6,6 +6,8 @@ machine under load with one BLAS thread (benchmarks/bench_rolling.py): the shipp
 quadratic tetrahedra, EPP steel at 1.3, 1.7, 2.1 p_y, 3 passes + the static dents, 21 steps per pass, 45,951 dofs)
 took 345 s at a load average of about 5 on 2 cores, 3.0e-5 s per step and dof (the 2.1 p_y passes 3-4 times
 the 1.3 p_y ones); the figures below keep a margin. 2D: the same per dof, halved (fewer quadrature points per dof).
+Material sub-steps (``track.substeps`` = m) cost about 1 + 0.2 (m - 1) times a plain step (more Newton iterations,
+docs/rolling-verification.md).
 """
 
 from __future__ import annotations
@@ -19,6 +21,9 @@ from wrlayer.cost import CostEstimate
 
 #: Measured wall seconds per rolling step and degree of freedom (2D, 3D).
 STEP_S_PER_DOF = {"2d": 2.0e-5, "3d": 4.0e-5}
+
+#: Extra cost of one material sub-step, as a fraction of a plain step (measured: 4 sub-steps ~ 1.4-1.6 x).
+SUBSTEP_COST = 0.2
 
 
 def dof_count(config: RollingConfig) -> int:
@@ -35,9 +40,11 @@ def rolling_cost(config: RollingConfig) -> CostEstimate:
     levels = len(config.contact.levels)
     dofs = dof_count(config)
     rate = STEP_S_PER_DOF[config.contact.model]
-    seconds = levels * (config.track.n_passes + 1) * steps * dofs * rate
+    substep_factor = 1.0 + SUBSTEP_COST * (config.track.substeps - 1)
+    seconds = levels * (config.track.n_passes + 1) * steps * dofs * rate * substep_factor
     return CostEstimate(config.source, {"levels": levels, "passes (+1 static)": config.track.n_passes + 1,
-                                        "steps": steps, "dofs": dofs}, seconds)
+                                        "steps": steps, "dofs": dofs}, seconds,
+                        note=f"with {config.track.substeps} material sub-steps" if config.track.substeps > 1 else "")
 
 
-__all__ = ["STEP_S_PER_DOF", "dof_count", "rolling_cost"]
+__all__ = ["STEP_S_PER_DOF", "SUBSTEP_COST", "dof_count", "rolling_cost"]

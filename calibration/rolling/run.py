@@ -30,7 +30,8 @@ from calibration.rolling.groove import GrooveProfile, SurfaceProbe
 from calibration.rolling.law_fit import fit_passes, rolling_law
 from calibration.rolling.layer_prediction import LayerGroove, StaticCurve, layer_grooves, static_curve
 from calibration.rolling.moving_load import MovingHertzLoad, SurfaceForces
-from calibration.rolling.passes import PassRecord, RollingConvergenceError, RollingSolver, roll
+from calibration.rolling.passes import PassRecord, RollingConvergenceError, roll
+from calibration.rolling.substeps import SubstepSolver, UnitResponses
 from calibration.rolling.track_mesh import TrackMesh, track_mesh
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.cost import guard
@@ -245,9 +246,10 @@ def run_rolling(config: RollingConfig, out_dir: str | Path, force: bool = False,
     base = RollingResult(FORMAT_VERSION, config.to_dict(), model.p_y_MPa, int(model.disc.n_dofs),
                          int(tm.mesh.t.shape[1]), results)
     positions = [x * config.contact.a_mm for x in config.track.positions_over_a()]
+    responses = UnitResponses(model.prob, model.forces)   # per mesh: shared by all levels and passes
     for k, p0 in enumerate(levels_MPa):
         series = _series(config, out_dir, k, model)
-        solver = RollingSolver(model.prob, model.forces, p0)
+        solver = SubstepSolver(model.prob, model.forces, p0, config.track.substeps, responses=responses)
         try:
             for rec in roll(solver, SolverState.virgin(model.disc), positions, n_passes, config.track.ramp_steps, k):
                 if isinstance(rec, PassRecord):

@@ -39,6 +39,7 @@ def test_shipped_configuration_parses():
     assert cfg.contact.model == "3d" and cfg.contact.traction_coefficient == 0.0
     assert list(cfg.contact.levels) == [1.3, 1.7, 2.1] and cfg.contact.level_unit == "p_y"
     assert cfg.track.n_passes >= 3
+    assert cfg.track.substeps == 4 and cfg.track.step_factor == 0.125   # within 2 % of the step-converged groove
     assert (cfg.material.E_MPa, cfg.material.poisson, cfg.material.yield_MPa) == (210000.0, 0.3, 500.0)
     assert cfg.material.H_iso_MPa == cfg.material.H_kin_MPa == 0.0
 
@@ -47,7 +48,8 @@ def test_shipped_configuration_parses():
     ("contact", "a_mm", -1.0), ("contact", "levels", []), ("contact", "model", "1d"),
     ("contact", "traction_coefficient", 2.0), ("track", "n_passes", 0), ("track", "n_passes", 51),
     ("track", "length_factor", 100.0), ("track", "step_factor", 0.0), ("mesh", "order", 3),
-    ("material", "poisson", 0.5), ("run", "bogus", 1), ("track", "steps", 3)])
+    ("material", "poisson", 0.5), ("run", "bogus", 1), ("track", "steps", 3), ("track", "substeps", 0),
+    ("track", "substeps", 17), ("track", "substeps", 2.5)])
 def test_bad_values_name_the_key(table, key, value):
     data = {"contact": {"a_mm": 1.0, "levels": [1.3]}}
     data.setdefault(table, {})[key] = value
@@ -75,6 +77,9 @@ def test_cost_grows_with_passes_and_steps():
     more = parse_rolling_config({"contact": {"a_mm": 1.0, "levels": [1.3]}, "track": {"n_passes": 6,
                                                                                      "step_factor": 0.125}}, "c")
     assert rolling_cost(more).seconds > 3 * rolling_cost(base).seconds
+    sub = parse_rolling_config({"contact": {"a_mm": 1.0, "levels": [1.3]}, "track": {"substeps": 4}}, "c")
+    assert sub.track.substeps == 4 and base.track.substeps == 1
+    assert rolling_cost(sub).seconds == pytest.approx(1.6 * rolling_cost(base).seconds)
 
 
 @pytest.mark.parametrize("model,order", [("2d", 1), ("2d", 2), ("3d", 1), ("3d", 2)])
