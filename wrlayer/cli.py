@@ -53,7 +53,7 @@ def exit_codes_text() -> str:
 #: wrlayer sub-command -> (module whose ``main(argv)`` runs it, arguments put before the user's, help).
 COMMANDS = {
     "simulate": ("contact.__main__", ["simulate"], "run one contact scene (Kik-Piotrowski or wheel-rail)"),
-    "simulate-all": ("contact.__main__", ["simulate-all"], "run every scene of a folder and print a Table 1"),
+    "simulate-all": ("contact.__main__", ["simulate-all"], "run every scene of a folder and print a summary"),
     "wear": ("contact.__main__", ["wear"], "wear simulation: profiles evolving by wear and inelastic displacement"),
     "calibrate": ("calibration.__main__", ["run"], "FEM calibration of layer tables from a TOML configuration"),
     "rolling": ("calibration.__main__", ["rolling"], "moving-load elastoplastic FEM, pass after pass (rolling)"),
