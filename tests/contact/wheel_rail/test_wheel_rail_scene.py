@@ -100,8 +100,9 @@ def test_shipped_calibrated_tables_cover_the_shipped_layered_sweep(tmp_path):
             for values, baseline in zip(got, patches):
                 assert values == pytest.approx(baseline, rel=1e-6, abs=1e-6)
     flange = result.cases[2].wheels["right"].patches[0].passes[-1]
-    assert flange.max_cumulative_residual_mm["rail"] == pytest.approx(0.010695227066957537, rel=1e-6)
-    assert flange.max_cumulative_residual_mm["wheel"] == pytest.approx(0.004903310523882927, rel=1e-6)
+    # the dents of the tables' rolling law (the relaxed rule gave 0.0106952 / 0.0049033 mm: x 0.945)
+    assert flange.max_cumulative_residual_mm["rail"] == pytest.approx(0.010108156608203378, rel=1e-6)
+    assert flange.max_cumulative_residual_mm["wheel"] == pytest.approx(0.004634831926626195, rel=1e-6)
     assert len(result.cases[2].deformed_profiles) > 0
     tables = [json.loads((path.parent / "tables" / f).read_text()) for f in
               ("rail_60E1_default.json", "wheel_S1002_default.json")]
