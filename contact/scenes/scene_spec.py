@@ -197,7 +197,7 @@ class PassesSpec(Record):
     max : int
         Largest number of passes (-).
     hardening : bool
-        Keep the sliders' state between passes (strain hardening): the same as ``memory = "state_kept"`` (-).
+        Keep the sliders' state between passes (strain hardening): the same as `memory = "state_kept"` (-).
     tolerance_mm : float
         Residual displacement below which a pass counts as elastic (shakedown) (mm).
     memory : str
