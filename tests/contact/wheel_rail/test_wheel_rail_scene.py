@@ -33,10 +33,22 @@ def _scene(**sections):
     (_scene(sweep={"lateral_mm": [0.0, 1.0], "yaw_rad": [0.0]}), r"s.toml: sweep.mode: 'zip' needs"),
     (_scene(layers={"rail": "none.json"}), r"s.toml: layers.rail: no such calibration table"),
     (_scene(material={"E_MPa": 2e5, "G_MPa": 8e4}), r"s.toml: material.G_MPa: give either"),
+    (_scene(passes={"memory": "sticky"}), r"s.toml: passes.memory: must be one of rolling, relaxed, state_kept"),
+    (_scene(passes={"memory": "relaxed", "hardening": True}), r"s.toml: passes.memory: 'relaxed' contradicts"),
+    (_scene(passes={"traction_coefficient": -2.0}), r"s.toml: passes.traction_coefficient: must be >= -1"),
 ])
 def test_validation_names_the_key(tmp_path, data, match):
     with pytest.raises(InputError, match=match):
         parse_wheel_rail_scene(data, tmp_path / "s.toml")
+
+
+@pytest.mark.parametrize("passes, rule", [({}, "rolling"), ({"memory": "relaxed"}, "relaxed"),
+                                         ({"hardening": True}, "state_kept")])
+def test_passes_memory_reaches_the_solver_inputs(tmp_path, passes, rule):
+    scene = parse_wheel_rail_scene(_scene(passes={"max": 4, "traction_coefficient": 0.2, **passes}),
+                                   tmp_path / "s.toml")
+    opts = scene.inputs("right").passes
+    assert (opts.rule, opts.traction_coefficient, opts.max_passes) == (rule, 0.2, 4)
 
 
 def test_sweep_with_bad_case_computes_the_others(tmp_path):
