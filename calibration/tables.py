@@ -6,7 +6,7 @@ its inputs changed, and the body's line of the run summary. Units mm, N, MPa, N/
 from __future__ import annotations
 
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -115,6 +115,24 @@ def table_header(cfg: CalibrationConfig, b: BodySettings) -> dict[str, Any]:
             "config": cfg.source, "created_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
 
 
+def previous_table(json_path: Path) -> LayerTable | None:
+    """The valid table at ``json_path`` (None: no file, or not a valid table)."""
+    try:
+        return LayerTable.read(json_path) if json_path.is_file() else None
+    except (WrLayerError, OSError, UnicodeDecodeError):
+        return None
+
+
+def with_rolling_law(table: LayerTable, previous: LayerTable | None) -> LayerTable:
+    """``table`` carrying the rolling law of ``previous`` (the table it replaces, or the template it was
+    recalibrated from) when it has none of its own. The law is fitted to the rolling FEM once (calibration.rolling,
+    docs/rolling.md) and is in terms of p0/p_2 and the traction coefficient, so it holds for a table recalibrated
+    on the same material; without it a regenerated table would silently fall back to the relaxed passes."""
+    if table.rolling_law is not None or previous is None or previous.rolling_law is None:
+        return table
+    return replace(table, rolling_law=previous.rolling_law)
+
+
 def same_inputs(json_path: Path, inputs: str) -> bool:
     """True when ``json_path`` is a valid table made from the inputs hashed ``inputs`` AND the CSV beside it is
     exactly the one written from that table (a CSV of another run, e.g. of a second run into the same folder, is
@@ -173,8 +191,9 @@ def write_body_table(cfg: CalibrationConfig, b: BodySettings, fits: list[tuple[s
     if unchanged:
         table = LayerTable.read(json_path)
     else:
-        table = LayerTable(header, entries, [{"y_mm": f.y_mm, "error": f.message} for f in body_failed],
-                           f"{b.body} layer table")
+        table = with_rolling_law(LayerTable(header, entries, [{"y_mm": f.y_mm, "error": f.message}
+                                                             for f in body_failed], f"{b.body} layer table"),
+                                 previous_table(json_path))
         written += table.write(json_path, csv_path)
     rel = [f.max_error_mm / max(f.fem_points["u_mm"]) for _, f in fits]
     summary = BodySummary(**n, table=str(json_path), max_fit_error_mm=max(f.max_error_mm for _, f in fits),
@@ -188,4 +207,5 @@ def write_body_table(cfg: CalibrationConfig, b: BodySettings, fits: list[tuple[s
     return summary, table, written
 
 
-__all__ = ["BodySummary", "DEFINITION", "FIT_SOURCES", "PositionReport", "position_report", "same_inputs", "table_header", "write_body_table"]
+__all__ = ["BodySummary", "DEFINITION", "FIT_SOURCES", "PositionReport", "position_report", "previous_table", "same_inputs", "table_header",
+           "with_rolling_law", "write_body_table"]

@@ -16,7 +16,8 @@ creepages for FASTSIM and optional repeated passes (section 5). Keys (all carry 
     [tangential] creepage_x, creepage_y (-), spin_per_mm (1/mm), friction (>= 0), speed_mm_s (> 0, default 1000),
                  flexibility ("three" (default), "single", "blended": FASTSIM flexibility rule, contact.tangential.fastsim);
                  creepages about the scene's origin, |creepage| <= 0.1, |spin| <= 0.01 1/mm, friction > 0 with creepages
-    [passes]     max (>= 1, default 1), hardening (bool, default false), tolerance_mm (> 0, default 1e-6)
+    [passes]     max (>= 1, default 1), hardening (bool, default false), tolerance_mm (> 0, default 1e-6),
+                 memory ("rolling" default | "relaxed" | "state_kept"), traction_coefficient (-1..1, default 0)
     [method]     alpha (0 < alpha <= 1, default 0.55), grid_mm (> 0, default 0.1), fastsim_cells (>= 2, default 60),
                  normal ("kik_piotrowski" (default, the paper's) or "exact": FFT half-space, docs/exact-solver.md),
                  exact_cells (exact solver: cells along x over the KP patch length, 8..1024, default 48),
@@ -50,7 +51,9 @@ from contact.scenes.scene_spec import (
     MethodSpec,
     OUTPUT_CONVENTIONS,
     OutputSpec,
+    PASSES_KEYS,
     PassesSpec,
+    parse_passes_memory,
     Scene,
     SeparationSpec,
     TangentialSpec,
@@ -155,9 +158,11 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
 
     passes = PassesSpec()
     if (keys := top.sub("passes")) is not None:
-        keys.check_known(("max", "hardening", "tolerance_mm"))
-        passes = PassesSpec(max=keys.integer("max", 1, ge=1, le=MAX_PASSES), hardening=keys.boolean("hardening", False),
-                            tolerance_mm=keys.number("tolerance_mm", 1e-6, gt=0.0))
+        keys.check_known(PASSES_KEYS)
+        hardening, memory, traction = parse_passes_memory(keys)
+        passes = PassesSpec(max=keys.integer("max", 1, ge=1, le=MAX_PASSES), hardening=hardening,
+                            tolerance_mm=keys.number("tolerance_mm", 1e-6, gt=0.0), memory=memory,
+                            traction_coefficient=traction)
         if passes.max > 1 and layer is None:
             raise keys.error("max", f"repeated passes ({passes.max}) need a [layer] (without a layer every pass "
                              "is the same elastic contact)")

@@ -54,7 +54,8 @@ def build_layers(scene: Scene, strip_y_mm: np.ndarray, patch_mm: tuple[float, fl
         else:
             chars, _ = clamped_characteristics(b.table, b.position_mm + strip_y_mm, f"{what}.table",
                                                patch_mm if b.scale_to_patch else None)
-            layers[body] = PrandtlLayer.from_characteristics(chars, strip_y_mm, name=what)
+            layers[body] = PrandtlLayer.from_characteristics(chars, strip_y_mm, name=what,
+                                                             rolling_law=b.table.rolling_law)
     return LayerPair(**layers)
 
 

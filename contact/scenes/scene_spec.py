@@ -14,11 +14,14 @@ from wrlayer.characteristic import Characteristic
 from wrlayer.layer_table import LayerTable
 from contact.normal.method import NormalMethod
 from contact.passes.passes import PassesOptions
+from contact.passes.rolling_memory import MEMORY_RULES
 from contact.scenes.result_io import Record
 from wrlayer.elastic import shear_modulus_MPa
 from wrlayer.errors import InputError
 
 BODIES = ("wheel", "rail")
+#: The keys of [passes] (the contact and the wheel–rail scenes).
+PASSES_KEYS = ("max", "hardening", "tolerance_mm", "memory", "traction_coefficient")
 
 
 @dataclass(frozen=True)
@@ -194,19 +197,41 @@ class PassesSpec(Record):
     max : int
         Largest number of passes (-).
     hardening : bool
-        Harden the sliders to the largest pressure of each pass (-).
+        Keep the sliders' state between passes (strain hardening): the same as `memory = "state_kept"` (-).
     tolerance_mm : float
         Residual displacement below which a pass counts as elastic (shakedown) (mm).
+    memory : str
+        What a pass leaves for the next (-): "rolling" (the layer table's rolling law, docs/rolling.md; "relaxed"
+        for a layer without one), "relaxed" (the paper's model: sliders relaxed before each pass, section 5) or
+        "state_kept" (= ``hardening = true``).
+    traction_coefficient : float
+        Traction coefficient c = q / p of the rolling law (-, in [-1, 1]; its magnitude is used; 0: free rolling).
     """
 
     max: int = 1
     hardening: bool = False
     tolerance_mm: float = 1e-6
+    memory: str = "rolling"
+    traction_coefficient: float = 0.0
 
     @property
     def options(self) -> PassesOptions:
         """The passes' options of :func:`contact.passes.passes.run_passes`."""
-        return PassesOptions(max_passes=self.max, tolerance_mm=self.tolerance_mm, hardening=self.hardening)
+        return PassesOptions(max_passes=self.max, tolerance_mm=self.tolerance_mm, hardening=self.hardening,
+                             memory=self.memory, traction_coefficient=self.traction_coefficient)
+
+
+def parse_passes_memory(keys) -> tuple[bool, str, float]:
+    """(hardening, memory, traction_coefficient) of a [passes] table (a :class:`wrlayer.validate.Keys`).
+    ``hardening = true`` is ``memory = "state_kept"``; a table setting both so that they disagree is an
+    InputError naming ``memory``."""
+    hardening = keys.boolean("hardening", False)
+    memory = keys.text("memory", "state_kept" if hardening else "rolling", MEMORY_RULES)
+    if "hardening" in keys.table and "memory" in keys.table and hardening != (memory == "state_kept"):
+        raise keys.error("memory", f"{memory!r} contradicts hardening = {str(hardening).lower()} (hardening = true "
+                                   "is memory = 'state_kept'; set one of them)")
+    traction = keys.number("traction_coefficient", 0.0, ge=-1.0, le=1.0)
+    return memory == "state_kept", memory, traction
 
 
 @dataclass(frozen=True)

@@ -32,7 +32,7 @@ import numpy as np
 from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
 from contact.normal.method import solve_normal_with
 from contact.normal.patch import Patch
-from contact.passes.passes import PassesOptions, PassRecord, run_passes
+from contact.passes.passes import PassRecord, run_passes
 from contact.scenes.result_io import UNITS, code_version
 from contact.scenes.run_result import (
     MethodDescription,
@@ -193,8 +193,7 @@ def _layered_passes(scene: Scene, prob: NormalProblem, layers) -> tuple[list[tup
         check_table_coverage(scene, solution)
         solved.append((record, solution, stamps[-1] - stamps[-2]))
 
-    opts = PassesOptions(max_passes=scene.passes.max, tolerance_mm=scene.passes.tolerance_mm,
-                         hardening=scene.passes.hardening)
+    opts = scene.passes.options
     try:
         records, f_after = run_passes(prob, layers, opts, on_pass=on_pass, method=scene.method.normal_method())
     finally:

@@ -74,6 +74,11 @@ class HardenedTable:
     def body(self) -> str:
         return self.table.body
 
+    @property
+    def rolling_law(self):
+        """The table's rolling law (None: none), unchanged by the hardening."""
+        return self.table.rolling_law
+
     def characteristic_at(self, y_mm: float, patch_mm: tuple[float, float] | None = None) -> Characteristic:
         """The table's characteristic at y (scaled to ``patch_mm`` = (a, b) mm when given, ``scale_to_patch``),
         hardened to the peak pressure its element has carried."""

@@ -18,7 +18,6 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from contact.passes.passes import PassesOptions
 from contact.wear.collective import LoadCollective
 from contact.wear.condition import ConditionTask
 from contact.wear.layer_state import History, side_layers
@@ -106,7 +105,7 @@ def build_tasks(scene: WearScene, profiles: dict[str, dict[str, Profile]], step:
         for side in profiles:
             inputs = dataclasses.replace(wheel_rail.inputs(side, pose), pitch_rate_rad_s=pitch,
                                          vertical_load_N=c.vertical_load_N, speed_mm_s=c.speed_mm_s,
-                                         passes=PassesOptions(n_pass, opts.tolerance_mm, opts.hardening))
+                                         passes=dataclasses.replace(opts.options, max_passes=n_pass))
             tasks.append(ConditionTask(k, side, c, profiles[side]["rail"], profiles[side]["wheel"], inputs,
                                        side_layers(layers, hardening, side, tables), scene.law, step))
     return tasks

@@ -22,7 +22,8 @@ FEM once the template's master exists (``run.master_dir``; the first recalibrati
 missing): the positions the master serves on the worn profiles get their characteristic from it, in milliseconds,
 and the positions it does not serve (conforming contact, a curved surface over the patch) keep the entry of the
 scene's table at that position, marked in the entry's ``warnings``. The recalibrated table is the scene's table
-with the served positions replaced (and added where the scene's table has none).
+with the served positions replaced (and added where the scene's table has none). Every recalibrated table carries
+the scene table's rolling law (:func:`calibration.tables.with_rolling_law`), so the passes keep the rolling memory.
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ from calibration.config import BodySettings, CalibrationConfig, parse_config
 from calibration.cost import calibration_cost
 from calibration.pipeline import calibrate
 from calibration.similarity.route import METHOD_SIMILARITY, served_config
+from calibration.tables import with_rolling_law
 from calibration.tasks import make_tasks
 from wrlayer.layer_table import LayerTable
 from meshes.profiles import Profile
@@ -193,7 +195,7 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
         raise InputError(what, f"the calibration wrote no layer table into {work / 'tables'}: "
                          f"{'; '.join(f.message for f in result.failed) if result else ''}"
                          f"{'' if result and result.failed else 'no position calibrated'}")
-    return tables
+    return {body: with_rolling_law(table, recal.scene_tables.get(body)) for body, table in tables.items()}
 
 
 def merged_table(scene: LayerTable, new: LayerTable | None, direct: dict[tuple[str, float], str]) -> LayerTable:

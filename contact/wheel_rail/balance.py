@@ -89,7 +89,8 @@ def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, lay
     """Per-strip layers of a candidate's patch: (pair, profile coordinate per body on the strips). Each table is read
     at the strip's profile coordinate on that body (the point of the body's profile on the strip's normal line in
     the contact plane; :func:`contact.layer.strip_lookup.clamped_characteristics`); only strips with a separation
-    below ``f_cap_mm`` get an element. ``patch_mm`` = (a, b): table characteristics scaled to that patch."""
+    below ``f_cap_mm`` get an element. ``patch_mm`` = (a, b): table characteristics scaled to that patch. The layers
+    carry the table's rolling law (a lookup without one: none, the passes fall back to "relaxed")."""
     if layers is None or layers.empty:
         return None, {}
     strips = prob.strip_y_mm
@@ -104,7 +105,8 @@ def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, lay
         if table is not None:
             name = layers.name(body)
             chars, _ = clamped_characteristics(table, coords[body][near], f"layers.{body} ({name})", patch_mm)
-            built[body] = PrandtlLayer.from_characteristics(chars, strips[near], name=f"{body} layer ({name})")
+            built[body] = PrandtlLayer.from_characteristics(chars, strips[near], name=f"{body} layer ({name})",
+                                                            rolling_law=getattr(table, "rolling_law", None))
     return LayerPair(**built), coords
 
 

@@ -17,7 +17,7 @@
                 [layers.combined] u_mm, p_MPa (one characteristic for both bodies, the paper's eq. 13 layer);
                 scale_to_patch = false (true: each patch's table characteristics scaled to its own solved
                 semi-axes, displacements x sqrt(ab)/sqrt(a_c b_c); docs/calibration.md)
-    [passes]    max = 1, hardening = false, tolerance_mm = 1e-6
+    [passes]    max = 1, hardening = false, tolerance_mm = 1e-6, memory = "rolling", traction_coefficient = 0
     [method]    alpha = 0.55, grid_mm = 0.1, fastsim_cells = 60, merge_mm, candidate_gap_mm, f_cap_mm,
                 normal = "kik_piotrowski" | "exact" (the normal solver), exact_cells (exact solver grid: cells
                 along x over the patch length, 8..1024, default 48), layer_mode ("indentation" | "rolling"),
@@ -46,6 +46,7 @@ from contact.tangential.method import TANGENTIAL_METHODS
 from contact.wheel_rail.inputs import BALANCES
 from contact.wheel_rail.reference_point import CONTACT_POINTS
 from contact.wheel_rail.layers_spec import CombinedLayerSpec, LayersSpec, read_layers
+from contact.scenes.scene_spec import PASSES_KEYS, parse_passes_memory
 from contact.wheel_rail.scene import (
     LoadSpec,
     MaterialSpec,
@@ -93,7 +94,7 @@ SECTION_KEYS = {
     "material": ("E_MPa", "G_MPa", "poisson"),
     "tangential": ("friction",),
     "layers": ("rail", "wheel", "combined", "scale_to_patch"),
-    "passes": ("max", "hardening", "tolerance_mm"),
+    "passes": PASSES_KEYS,
     "method": ("alpha", "grid_mm", "fastsim_cells", "merge_mm", "candidate_gap_mm", "f_cap_mm", "normal",
                "exact_cells", "layer_mode", "contact_point", "balance", "tangential"),
     "sweep": SWEEP_SECTION_KEYS,
@@ -142,8 +143,9 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path) -> Whee
     load = s("load")
     material = _material(s("material"))
     method = _method(s("method"))
-    passes = PassesSpec(s("passes").integer("max", 1, ge=1, le=MAX_PASSES), s("passes").boolean("hardening", False),
-                        s("passes").number("tolerance_mm", 1e-6, ge=0.0))
+    hardening, memory, traction = parse_passes_memory(s("passes"))
+    passes = PassesSpec(s("passes").integer("max", 1, ge=1, le=MAX_PASSES), hardening,
+                        s("passes").number("tolerance_mm", 1e-6, ge=0.0), memory, traction)
     load_spec = LoadSpec(load.number("vertical_load_N", 10000.0, ge=MIN_FORCE_N),
                          load.number("speed_mm_s", 2000.0, gt=0.0))
     tangential = TangentialSpec(s("tangential").number("friction", 0.3, ge=0.0))

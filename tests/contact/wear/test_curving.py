@@ -158,3 +158,17 @@ def test_wear_condition_in_a_curve_gets_the_yaw_rate_terms(make_scene):
     sin_gamma = -straight["spin_per_mm"] * scene.wheel_rail.wheel.nominal_radius_mm  # phi = -sin(gamma) / r0
     assert curved["spin_per_mm"] - straight["spin_per_mm"] == pytest.approx(-2e-6 * math.sqrt(1 - sin_gamma ** 2),
                                                                              rel=1e-9)
+
+
+@pytest.mark.parametrize("passes, memory, traction", [({}, "rolling", 0.0),
+                                                      ({"memory": "relaxed"}, "relaxed", 0.0),
+                                                      ({"traction_coefficient": 0.2}, "rolling", 0.2),
+                                                      ({"hardening": True}, "state_kept", 0.0)])
+def test_wear_tasks_carry_the_passes_memory(make_scene, passes, memory, traction):
+    """The wear loop's passes keep the scene's memory rule and traction coefficient (only their number is the
+    condition's)."""
+    scene = make_scene(passes={"max": 8, **passes})
+    (task,) = build_tasks(scene, scene.initial_profiles, 1, 1.0)
+    opts = task.inputs.passes
+    assert (opts.rule, opts.traction_coefficient) == (memory, traction)
+    assert 1 <= opts.max_passes <= 8 and opts.tolerance_mm == scene.wheel_rail.passes.tolerance_mm

@@ -10,6 +10,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from calibration.tables import previous_table, with_rolling_law
 from calibration.tasks import PositionNote
 from contact.__main__ import main
 from contact.wear import condition as condition_mod
@@ -18,6 +19,7 @@ from contact.wear.loop import run_wear
 from contact.wear.recalibrate import PLACEHOLDERS, recalibrate_side, worn_config
 from contact.wear.records import WearStopped
 from meshes.profiles.io import read_profile
+from wrlayer.layer_table import LayerTable
 from wrlayer.errors import ConvergenceError, InputError
 
 REPO = Path(__file__).resolve().parents[3]
@@ -247,3 +249,49 @@ def test_coarse_3d_template_on_one_rail_position(make_scene, tmp_path):
     tables = recalibrate_side(scene.settings.recalibrate, profiles, tmp_path / "side")
     assert list(tables) == ["rail"] and tables["rail"].y_range_mm == (0.0, 0.0)
     assert tables["rail"].characteristic_at(0.0).elastic_limit_MPa > 0
+
+
+def _fake_lawless_calibration(out_tables):
+    """A calibration writing the shipped tables without their rolling law (as a fresh calibration does)."""
+    def fake(cfg, out_dir, scheduler=None, plots=None, show_progress=True, log=print, force=False):
+        Path(out_dir).mkdir(parents=True, exist_ok=True)
+        written = {}
+        for body in out_tables:
+            data = json.loads((TABLES / ("wheel_S1002_default.json" if body == "wheel" else
+                                         "rail_60E1_default.json")).read_text())
+            data.pop("rolling_law")
+            data["format_version"] = 2
+            written[body] = Path(out_dir) / f"{body}_layer_table.json"
+            written[body].write_text(json.dumps(data))
+        return SimpleNamespace(tables=written, failed=[])
+
+    return fake
+
+
+def test_recalibrated_tables_keep_the_scene_tables_rolling_law(make_scene, tmp_path, monkeypatch):
+    """A table recalibrated on the worn profiles carries the scene table's rolling law (else its passes would
+    silently fall back to the relaxed rule)."""
+    monkeypatch.setattr(recal_mod, "calibrate", _fake_lawless_calibration(("wheel", "rail")))
+    scene = _recal_scene(make_scene, _template(tmp_path))
+    recal = scene.settings.recalibrate
+    assert all(t.rolling_law is not None for t in recal.scene_tables.values())
+    profiles = {"wheel": scene.wheel_rail.wheel_profile, "rail": scene.wheel_rail.rail_profile}
+    tables = recalibrate_side(recal, profiles, tmp_path / "side")
+    assert LayerTable.read(tmp_path / "side" / "tables" / "rail_layer_table.json").rolling_law is None
+    for body, table in tables.items():
+        assert table.rolling_law is recal.scene_tables[body].rolling_law
+
+
+def test_with_rolling_law_keeps_a_tables_own_law(tmp_path):
+    shipped = LayerTable.read(TABLES / "rail_60E1_default.json")
+    data = json.loads((TABLES / "rail_60E1_default.json").read_text())
+    data.pop("rolling_law")
+    data["format_version"] = 2
+    (tmp_path / "t.json").write_text(json.dumps(data))
+    lawless = previous_table(tmp_path / "t.json")
+    assert lawless is not None and lawless.rolling_law is None
+    assert previous_table(tmp_path / "missing.json") is None
+    carried = with_rolling_law(lawless, shipped)
+    assert carried.rolling_law is shipped.rolling_law and carried.positions == lawless.positions
+    assert with_rolling_law(lawless, None) is lawless
+    assert with_rolling_law(shipped, lawless) is shipped

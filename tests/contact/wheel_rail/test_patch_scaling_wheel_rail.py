@@ -32,6 +32,10 @@ class _Recording:
     def y_range_mm(self):
         return self.table.y_range_mm
 
+    @property
+    def rolling_law(self):
+        return self.table.rolling_law
+
     def characteristic_at(self, y_mm, patch_mm=None):
         self.asked.append(patch_mm)
         return self.table.characteristic_at(y_mm, patch_mm=patch_mm)

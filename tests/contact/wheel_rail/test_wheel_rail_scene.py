@@ -33,10 +33,22 @@ def _scene(**sections):
     (_scene(sweep={"lateral_mm": [0.0, 1.0], "yaw_rad": [0.0]}), r"s.toml: sweep.mode: 'zip' needs"),
     (_scene(layers={"rail": "none.json"}), r"s.toml: layers.rail: no such calibration table"),
     (_scene(material={"E_MPa": 2e5, "G_MPa": 8e4}), r"s.toml: material.G_MPa: give either"),
+    (_scene(passes={"memory": "sticky"}), r"s.toml: passes.memory: must be one of rolling, relaxed, state_kept"),
+    (_scene(passes={"memory": "relaxed", "hardening": True}), r"s.toml: passes.memory: 'relaxed' contradicts"),
+    (_scene(passes={"traction_coefficient": -2.0}), r"s.toml: passes.traction_coefficient: must be >= -1"),
 ])
 def test_validation_names_the_key(tmp_path, data, match):
     with pytest.raises(InputError, match=match):
         parse_wheel_rail_scene(data, tmp_path / "s.toml")
+
+
+@pytest.mark.parametrize("passes, rule", [({}, "rolling"), ({"memory": "relaxed"}, "relaxed"),
+                                         ({"hardening": True}, "state_kept")])
+def test_passes_memory_reaches_the_solver_inputs(tmp_path, passes, rule):
+    scene = parse_wheel_rail_scene(_scene(passes={"max": 4, "traction_coefficient": 0.2, **passes}),
+                                   tmp_path / "s.toml")
+    opts = scene.inputs("right").passes
+    assert (opts.rule, opts.traction_coefficient, opts.max_passes) == (rule, 0.2, 4)
 
 
 def test_sweep_with_bad_case_computes_the_others(tmp_path):
@@ -100,8 +112,9 @@ def test_shipped_calibrated_tables_cover_the_shipped_layered_sweep(tmp_path):
             for values, baseline in zip(got, patches):
                 assert values == pytest.approx(baseline, rel=1e-6, abs=1e-6)
     flange = result.cases[2].wheels["right"].patches[0].passes[-1]
-    assert flange.max_cumulative_residual_mm["rail"] == pytest.approx(0.010695227066957537, rel=1e-6)
-    assert flange.max_cumulative_residual_mm["wheel"] == pytest.approx(0.004903310523882927, rel=1e-6)
+    # the dents of the tables' rolling law (the relaxed rule gave 0.0106952 / 0.0049033 mm: x 0.945)
+    assert flange.max_cumulative_residual_mm["rail"] == pytest.approx(0.010108156608203378, rel=1e-6)
+    assert flange.max_cumulative_residual_mm["wheel"] == pytest.approx(0.004634831926626195, rel=1e-6)
     assert len(result.cases[2].deformed_profiles) > 0
     tables = [json.loads((path.parent / "tables" / f).read_text()) for f in
               ("rail_60E1_default.json", "wheel_S1002_default.json")]
