@@ -202,7 +202,8 @@ def plot_shakedown(run, path: Path) -> Path:
         axes[0].text(sd, axes[0].get_ylim()[0], f"shakedown: pass {sd} ", fontsize=8, va="bottom", ha="right")
     axes[-1].set_xlabel("pass")
     axes[-1].xaxis.set_major_locator(MaxNLocator(integer=True))
-    mode = "state kept (hardening)" if run.scene.passes.hardening else "sliders relaxed before each pass"
+    mode = {"state_kept": "state kept (hardening)", "relaxed": "sliders relaxed before each pass",
+            "rolling": "the layers' rolling law (relaxed where a layer has none)"}[run.scene.passes.options.rule]
     fig.suptitle(f"{run.scene.title}\nshakedown history ({mode})", fontsize=10)
     save_figure(fig, path)
     return path
