@@ -82,7 +82,10 @@ def test_installed_command_runs_a_shipped_scene_outside_the_repository(wheel, tm
     source = json.loads((tmp_path / "src" / "result.json").read_text(encoding="utf-8"))["passes"][0]
     for key in ("length_mm", "width_mm", "area_mm2", "delta_mm", "p_max_MPa"):
         assert installed[key] == source[key], key
-    # numba's compiled code in the user's cache, never beside the installed sources
+    # numba's compiled code in the user's cache, never beside the installed sources (a run that compiles: the small
+    # scene above runs its kernels as plain Python)
+    _run([*wrlayer, "simulate", "work/hertz_check.toml", "--out", "out_compiled", "--no-vtk"], work,
+         {**env, "WRLAYER_JIT": "always"})
     assert list((tmp_path / "cache" / "wrlayer" / "numba").rglob("*.nbi"))
     assert not list(site.rglob("*.nbi"))
     # no folder beside a repository: the reference folder comes from $WRLAYER_REFERENCE only, and says so
