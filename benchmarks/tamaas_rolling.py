@@ -237,15 +237,16 @@ def _pct(a: float, b: float) -> str:
 def markdown(results: list[dict]) -> list[str]:
     """The table of the docs: grid, static dent, grooves after each pass, ratio and per-pass increments."""
     md = ["| p0 / p_y | H_iso (MPa) | grid dx | step | static dent (mm) | groove after each pass (mm) | "
-          "groove / static | pass 2 adds | pass 3 adds | s per pass |", "|" + "---|" * 10]
+          "groove / static | pass 2 adds | pass 3 adds | last pass adds | plastic zone bottom | s per pass |",
+          "|" + "---|" * 12]
     for r in results:
         c, g = r["case"], r["rolling"]["groove_mm"]
         dent = r["static"]["dent_mm"]
         ratio = f"{g[0] / dent:.3f}" if dent > 0 else "-"
-        adds = [_pct(g[k], g[k - 1]) if len(g) > k else "-" for k in (1, 2)]
+        adds = [_pct(g[k], g[k - 1]) if len(g) > k else "-" for k in (1, 2, len(g) - 1)]
         md.append(f"| {c['level_py']:g} | {c['hardening_MPa']:g} | a/{1 / c['dx_a']:g} | a/{1 / c['step_a']:g} | "
                   f"{dent:.4g} | {', '.join(f'{x:.4g}' for x in g)} | {ratio} | {adds[0]} | {adds[1]} | "
-                  f"{np.mean(r['rolling']['pass_seconds']):.0f} |")
+                  f"{adds[2]} | {r['rolling']['zone_bottom_a']:g} a | {np.mean(r['rolling']['pass_seconds']):.0f} |")
     return md
 
 
