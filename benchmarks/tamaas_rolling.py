@@ -217,15 +217,15 @@ def run_case(case: RollingCase, folder: pathlib.Path, progress=None) -> dict:
 
 def cases(mode: str) -> list[RollingCase]:
     """tiny: a/2 grid and step, 2 passes (pipeline check); coarse: a/4 grid, step a/8, 5 passes, the three EPP
-    levels and 2.1 p_y with H_iso = 10 GPa; fine: also a plastic layer 3 a deep and the step a/16 at 2.1 p_y, the
-    a/8 grid at 1.7 and 2.1 p_y, 3 passes (convergence checks)."""
+    levels and 2.1 p_y with H_iso = 10 GPa; fine: also a plastic layer 3 a deep at 2.1 p_y, the step a/16 at 1.7 and
+    2.1 p_y (2 passes), the a/8 grid at 1.7 and 2.1 p_y, 3 passes (convergence checks)."""
     if mode == "tiny":
         return [RollingCase(f"tiny_L{lv}", lv, dx_a=0.5, step_a=0.5, passes=2) for lv in (0.9, 1.7)]
     out = [RollingCase(f"coarse_L{lv}", lv, step_a=0.125, passes=5) for lv in LEVELS]
     out.append(RollingCase("coarse_L2.1_H10000", 2.1, hardening_MPa=10000.0, step_a=0.125, passes=5))
     if mode == "fine":
         out += [RollingCase("coarse_L2.1_Lz3", 2.1, depth_a=3.0, step_a=0.125),
-                RollingCase("coarse_L2.1_s16", 2.1, step_a=0.0625),
+                *(RollingCase(f"coarse_L{lv}_s16", lv, step_a=0.0625, passes=2) for lv in (1.7, 2.1)),
                 RollingCase("fine_L1.7", 1.7, dx_a=0.125, step_a=0.125),
                 RollingCase("fine_L2.1", 2.1, dx_a=0.125, step_a=0.125)]
     return out
