@@ -6,8 +6,11 @@ plastic strain above), and the 3D half-space levels of the shipped configuration
 Quick mode: 2D only (a small block, a few minutes on 2 busy cores). Full mode: the 3D study on the shipped mesh
 (h = a/3, track 2 contact lengths, 45,951 dofs) at p0 = 1.7 p_y, the 2D study at 4.35 k, the 2D line contact on a
 40 a block, the shipped levels with sub-steps (a/4; a/8 at 1.7 and 2.1 p_y): about two hours of CPU. Every case
-is cached in ``OUT/rolling_verification/cases/<case>.json`` (delete to rerun). One BLAS thread.
-``python benchmarks/bench_rolling_verification.py [--quick|--full] --out DIR`` runs it alone.
+is cached in ``OUT/rolling_verification/cases/<case>.json`` (delete to rerun). One BLAS thread. Full mode also
+runs the Tamaas rolling reference (``benchmarks/tamaas_rolling.py``: coarse grid, the three EPP levels and 2.1 p_y
+with isotropic hardening, about 15 minutes) when Tamaas is importable, cached in
+``OUT/rolling_verification/tamaas/``; ``--tamaas`` runs only that part.
+``python benchmarks/bench_rolling_verification.py [--quick|--full|--tamaas] --out DIR`` runs it alone.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ import os
 import pathlib
 import sys
 
+from benchmarks import tamaas_rolling
 from benchmarks.rolling_verification_cases import Case, CaseResult, CaseRunner
 from benchmarks.tamaas_reference import tamaas_version
 
@@ -145,17 +149,31 @@ def shipped_markdown(rows: list[CaseResult]) -> list[str]:
     return md
 
 
+def tamaas_markdown(mode: str, out: pathlib.Path) -> tuple[list[str], list[dict]]:
+    """The Tamaas rolling reference's table (full and tamaas modes, when Tamaas is importable) and its cases."""
+    version = tamaas_version()
+    if version is None or mode == "quick":
+        return [f"Tamaas rolling reference: {'not run in quick mode' if version else 'not importable here'}."], []
+    res = [tamaas_rolling.run_case(c, out / "tamaas", progress=lambda s: print(s, flush=True))
+           for c in tamaas_rolling.cases("coarse")]
+    return [f"Tamaas {version} rolling reference (periodic cell 8 a, plastic layer 2 a, p_y = "
+            f"{tamaas_rolling.PY_OVER_Y} Y):", ""] + tamaas_rolling.markdown(res), res
+
+
 def run(mode: str, out: pathlib.Path) -> dict:
-    """Benchmark entry point (``python -m benchmarks --only rolling_verification``), one BLAS/MKL thread."""
+    """Benchmark entry point (``python -m benchmarks --only rolling_verification``), one BLAS/MKL thread; mode
+    "tamaas" runs only the Tamaas rolling reference."""
     from threadpoolctl import threadpool_limits
 
     out = pathlib.Path(out) / "rolling_verification"
     runner = CaseRunner(out / "cases", progress=lambda s: print(s, flush=True))
     load = os.getloadavg()
+    fem = mode != "tamaas"
     with threadpool_limits(limits=1):
-        study = [runner(c) for c in study_cases(mode)]
-        line = [runner(c) for c in line_contact_cases(mode)]
-        shipped = [runner(c) for c in shipped_cases(mode)]
+        study = [runner(c) for c in study_cases(mode)] if fem else []
+        line = [runner(c) for c in line_contact_cases(mode)] if fem else []
+        shipped = [runner(c) for c in shipped_cases(mode)] if fem else []
+        tam_md, tam = tamaas_markdown(mode, out)
     md = [f"Machine load average {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} (1 / 5 / 15 min) at the start; "
           "each case's own in its row or JSON.", ""]
     for dim, title in (("3d", f"3D half-space, circular contact, p0 = {STUDY_LEVEL_3D} p_y"),
@@ -163,11 +181,11 @@ def run(mode: str, out: pathlib.Path) -> dict:
         rows = [r for r in study if r.case.model == dim]
         if rows:
             md += study_markdown(rows, title) + [""]
-    md += line_contact_markdown(line) + [""] + shipped_markdown(shipped)
-    version = tamaas_version()
-    md += ["", f"Tamaas rolling reference: {'Tamaas ' + version if version else 'not importable here'}."]
+    if fem:
+        md += line_contact_markdown(line) + [""] + shipped_markdown(shipped) + [""]
+    md += tam_md
     data = {"cases": [r.to_dict() for r in study + line + shipped], "load_average": list(load),
-            "tamaas": version}
+            "tamaas": tamaas_version(), "tamaas_cases": tam}
     return {"title": "Rolling FEM verification: step length, line contact, shipped levels",
             "markdown": "\n".join(md), "figures": [], "data": data}
 
@@ -177,6 +195,8 @@ def main(argv: list[str] | None = None) -> int:
                                  description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_const", dest="mode", const="quick", default="full")
     ap.add_argument("--full", action="store_const", dest="mode", const="full")
+    ap.add_argument("--tamaas", action="store_const", dest="mode", const="tamaas",
+                    help="only the Tamaas rolling reference")
     ap.add_argument("--out", type=pathlib.Path, default=pathlib.Path("out/bench"))
     args = ap.parse_args(argv)
     res = run(args.mode, args.out)
