@@ -63,12 +63,26 @@ def test_blas_threads_set_in_workers():
 
 
 def test_task_error_reaches_the_caller():
-    with pytest.raises(ValueError, match="three"):
-        with Runner(2) as runner:
-            runner.map(fail_on_three, [1, 2, 3, 4])
-    with pytest.raises(ValueError, match="three"):
-        with Runner(1) as runner:
-            runner.map(fail_on_three, [3])
+    """The first failing task's exception reaches the caller (in-process and from the workers), the workers are
+    ended and the caller goes on. Run in a fresh interpreter: the pool is started from a process whose signal
+    handlers no other test has touched."""
+    code = textwrap.dedent("""
+        import sys
+        from wrlayer.runner import Runner
+        sys.path.insert(0, sys.argv[1])
+        from test_runner import fail_on_three
+        for workers, tasks in ((2, [1, 2, 3, 4]), (1, [3])):
+            try:
+                with Runner(workers) as runner:
+                    runner.map(fail_on_three, tasks)
+            except ValueError as err:
+                print(workers, err)
+        print("done")
+    """)
+    done = subprocess.run([sys.executable, "-c", code, os.path.dirname(__file__)], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[:3] == ["2 three", "1 three", "done"], done.stdout
 
 
 PARENT = textwrap.dedent("""
