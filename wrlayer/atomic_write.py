@@ -33,7 +33,7 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-from wrlayer.errors import InputError, check_terminated
+from wrlayer.errors import InputError, Terminated, check_terminated, termination_deferred
 
 #: Files by which an earlier output folder of the tool is recognised (such a folder may be replaced as a whole).
 OUTPUT_FILES = ("result.json",)
@@ -109,14 +109,30 @@ def _pid_alive(pid: int) -> bool:
 
 
 def _staging_dir(path: Path, kind: str = "staging") -> Path:
-    """A new run-unique hidden sibling of ``path``: ``.<name>.<kind>-<pid>-<random>`` (user permissions)."""
+    """A new run-unique hidden sibling of ``path``: ``.<name>.<kind>-<pid>-<random>`` (user permissions).
+
+    A SIGTERM while it is made is raised once the folder is removed again, so the caller either gets the folder
+    (and removes it in its ``finally``) or no folder exists."""
+    tmp = None
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.{kind}-{os.getpid()}-", dir=path.parent))
+        with termination_deferred():
+            path.parent.mkdir(parents=True, exist_ok=True)
+            tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.{kind}-{os.getpid()}-", dir=path.parent))
+            _user_mode(tmp, directory=True)
     except OSError as err:
         raise InputError(str(path), f"cannot create the output folder here ({err.strerror or err})") from None
-    _user_mode(tmp, directory=True)
+    except Terminated:
+        if tmp is not None:
+            remove_tree(tmp)
+        raise
     return tmp
+
+
+def remove_tree(path: Path) -> None:
+    """Remove the folder ``path`` (errors ignored) to the end, even if a SIGTERM arrives meanwhile (it is raised
+    afterwards): a staging folder is gone or untouched, never half removed."""
+    with termination_deferred():
+        shutil.rmtree(path, ignore_errors=True)
 
 
 def clean_stale_staging(path: str | os.PathLike) -> list[Path]:
@@ -163,7 +179,7 @@ def atomic_output_dir(path: str | os.PathLike) -> Iterator[Path]:
                 dest.parent.mkdir(parents=True, exist_ok=True)
                 os.replace(item, dest)
     finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+        remove_tree(tmp)
 
 
 # ------------------------------------------------------------------------------------------------ lock
@@ -278,7 +294,7 @@ def _swap_in(new: Path, path: Path) -> None:
         old = _staging_dir(path, "old")
         os.replace(path, old / path.name)
         os.replace(new, path)
-        shutil.rmtree(old, ignore_errors=True)
+        remove_tree(old)
     else:
         os.replace(new, path)
 
@@ -306,7 +322,7 @@ def replace_output_dir(path: str | os.PathLike, what: str | None = None,
                 _carry_over(path, tmp, owned)
             _swap_in(tmp, path)
         finally:
-            shutil.rmtree(tmp, ignore_errors=True)
+            remove_tree(tmp)
 
 
 # ------------------------------------------------------------------------------------------------ publish
@@ -344,7 +360,7 @@ class StagedOutput:
         except OSError as err:
             raise output_error(err, self.path) from None
         finally:
-            shutil.rmtree(snap, ignore_errors=True)  # the previous output, or a snapshot not swapped in
+            remove_tree(snap)  # the previous output, or a snapshot not swapped in
 
 
 @contextlib.contextmanager
@@ -362,9 +378,9 @@ def staged_output_dir(path: str | os.PathLike, what: str | None = None,
         try:
             yield StagedOutput(path, tmp, owned)
         finally:
-            shutil.rmtree(tmp, ignore_errors=True)
+            remove_tree(tmp)
 
 
 __all__ = ["OUTPUT_FILES", "OWNED_PATTERNS", "OutputError", "StagedOutput", "atomic_output_dir",
            "atomic_write_bytes", "atomic_write_text", "check_replaceable", "clean_stale_staging", "output_error",
-           "output_lock", "replace_output_dir", "staged_output_dir"]
+           "output_lock", "remove_tree", "replace_output_dir", "staged_output_dir"]

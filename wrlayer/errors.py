@@ -19,11 +19,12 @@ docs/inputs-and-errors.md):
 from __future__ import annotations
 
 import argparse
+import contextlib
 import functools
 import signal
 import sys
 import threading
-from typing import Callable
+from typing import Callable, Iterator
 
 
 class WrLayerError(Exception):
@@ -144,10 +145,35 @@ class Terminated(BaseException):
 _terminated = False
 
 
+#: Depth of :func:`termination_deferred` blocks and whether a SIGTERM arrived inside one (raised at its end).
+_deferring = 0
+_pending = False
+
+
 def _raise_terminated(signum, frame):
-    global _terminated
+    global _terminated, _pending
     _terminated = True
+    if _deferring:
+        _pending = True
+        return
     raise Terminated()
+
+
+@contextlib.contextmanager
+def termination_deferred() -> Iterator[None]:
+    """Hold back a SIGTERM that arrives during the block and raise it as :class:`Terminated` when the block ends.
+
+    For the few steps that must not be cut in two: creating a staging folder and handing it to the ``try`` that
+    removes it, and removing it (an interrupted removal would leave half a folder behind)."""
+    global _deferring, _pending
+    _deferring += 1
+    try:
+        yield
+    finally:
+        _deferring -= 1
+    if not _deferring and _pending:
+        _pending = False
+        raise Terminated()
 
 
 def _unraisable(info) -> None:

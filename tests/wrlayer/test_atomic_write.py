@@ -249,3 +249,70 @@ def test_an_interrupted_swap_is_undone_by_the_next_run(tmp_path):
     (old / "out" / "result.json").write_text("{}")
     clean_stale_staging(out)
     assert (out / "result.json").read_text() == "{}" and not old.exists()
+
+
+def test_sigterm_while_a_snapshot_is_removed_leaves_no_staging(tmp_path, monkeypatch, capsys):
+    """A SIGTERM that arrives while a publish removes its snapshot (the previous output after the swap) cuts the
+    removal short no more: the folder is removed to the end, then the run ends with 143 and keeps what it
+    published. (Before, the half-removed snapshot stayed beside --out.)"""
+    import shutil
+
+    import wrlayer.atomic_write as aw
+    from wrlayer.errors import cli_guard
+
+    out = tmp_path / "out"
+    real_rmtree = shutil.rmtree
+    removals = []
+
+    def rmtree_killed_halfway(path, ignore_errors=False):
+        removals.append(Path(path))
+        first = next((p for p in Path(path).rglob("*") if p.is_file()), None)
+        if first is not None and len(removals) == 2:  # the snapshot of the second publish: the first output
+            first.unlink()
+            os.kill(os.getpid(), signal.SIGTERM)  # the handler runs at once; here it must not raise
+        real_rmtree(path, ignore_errors=ignore_errors)
+
+    monkeypatch.setattr(aw.shutil, "rmtree", rmtree_killed_halfway)
+
+    @cli_guard
+    def main():
+        with staged_output_dir(out) as staged:
+            for step in (1, 2, 3):
+                for k in range(20):
+                    atomic_write_text(staged.dir / f"step_{step}_{k}.txt", str(k))
+                atomic_write_text(staged.dir / "result.json", json.dumps({"steps": step}))
+                staged.publish()
+        return 0
+
+    assert main() == 143
+    assert capsys.readouterr().err.strip() == "error: terminated (SIGTERM); nothing written"
+    assert len(removals) >= 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # no staging, snapshot or lock left
+    assert json.loads((out / "result.json").read_text()) == {"steps": 2}
+
+
+def test_sigterm_while_a_staging_folder_is_made_leaves_none(tmp_path, monkeypatch, capsys):
+    """A SIGTERM between the creation of a staging folder and its hand-over: the folder is removed, exit 143."""
+    import tempfile
+
+    import wrlayer.atomic_write as aw
+    from wrlayer.errors import cli_guard
+
+    real_mkdtemp = tempfile.mkdtemp
+
+    def mkdtemp_then_killed(*args, **kwargs):
+        made = real_mkdtemp(*args, **kwargs)
+        os.kill(os.getpid(), signal.SIGTERM)
+        return made
+
+    monkeypatch.setattr(aw.tempfile, "mkdtemp", mkdtemp_then_killed)
+
+    @cli_guard
+    def main():
+        with atomic_output_dir(tmp_path / "out") as tmp:
+            (tmp / "result.json").write_text("{}")
+        return 0
+
+    assert main() == 143
+    capsys.readouterr()
+    assert list(tmp_path.iterdir()) == []
