@@ -29,19 +29,15 @@ def _parser() -> argparse.ArgumentParser:
                         ["wrlayer calibrate calibration/configs/test_coarse.toml --out out/cal --no-plots",
                          "wrlayer calibrate my.toml --out out/cal --scheduler tcp://host:8786"])
     run.add_argument("config", help="TOML configuration file")
-    run.add_argument("--out", required=True, help="output folder (tables, cache, plots, fields)")
+    cli.add_run_options(run, "output folder (tables, cache, plots, fields)")
     run.add_argument("--scheduler", default=None, help="Dask scheduler address (default: local processes)")
     run.add_argument("--workers", type=int, default=None, help="local worker processes (default: config)")
     run.add_argument("--plots", action=argparse.BooleanOptionalAction, default=None,
                      help="write PNG/VTK pictures (default: config run.plots)")
-    run.add_argument("--quiet", action="store_true", help="no progress bars")
-    run.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     roll = cli.subparser(sub, "rolling", "moving Hertz load pass after pass on an elastic-plastic half-space",
                          ["wrlayer rolling calibration/configs/rolling_halfspace.toml --out out/rolling"])
     roll.add_argument("config", help="TOML rolling configuration file")
-    roll.add_argument("--out", required=True, help="output folder (rolling.json, fields/)")
-    roll.add_argument("--quiet", action="store_true", help="no progress lines")
-    roll.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
+    cli.add_run_options(roll, "output folder (rolling.json, fields/)")
     return ap
 
 

@@ -189,10 +189,9 @@ def build_parser() -> argparse.ArgumentParser:
     one = cli.subparser(sub, "simulate", "run one scene file",
                         ["wrlayer simulate scenes/calibrated_layers.toml --out out/one --plots"])
     one.add_argument("scene", help="scene TOML file")
-    one.add_argument("--out", required=True, help="output folder (result.json, pictures)")
+    cli.add_run_options(one, "output folder (result.json, pictures)", quiet=False)
     one.add_argument("--json", action="store_true", help="also print the result JSON")
     one.add_argument("--plots", action="store_true", help="write PNG pictures")
-    one.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     one.add_argument("--no-vtk", action="store_true", help="do not write the VTK fields for ParaView (vtk/)")
     one.add_argument("--workers", type=int, default=None,
                      help="wheel-rail sweeps: local worker processes for the cases (overrides [run] workers)")
@@ -203,9 +202,8 @@ def build_parser() -> argparse.ArgumentParser:
                          "run every *.toml in a folder and print a summary (full table in OUT/table.md)",
                          ["wrlayer simulate-all scenes --out out/simulate --plots"])
     many.add_argument("scenes_dir", help="folder of scene TOML files")
-    many.add_argument("--out", required=True, help="output folder (one subfolder per scene, table.md, table.csv)")
+    cli.add_run_options(many, "output folder (one subfolder per scene, table.md, table.csv)", quiet=False)
     many.add_argument("--plots", action="store_true", help="write PNG pictures")
-    many.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     many.add_argument("--no-vtk", action="store_true", help="do not write the VTK fields for ParaView (vtk/)")
     many.set_defaults(func=_simulate_all)
     from contact.wear.cli import add_parser as add_wear_parser

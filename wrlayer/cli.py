@@ -123,6 +123,15 @@ def subparser(sub, name: str, help: str, examples: Sequence[str]) -> argparse.Ar
                           epilog=epilog(examples, command), formatter_class=argparse.RawDescriptionHelpFormatter)
 
 
+def add_run_options(command: argparse.ArgumentParser, out_help: str, quiet: bool = True) -> None:
+    """The options every run command shares: ``--out DIR`` (required), ``--force`` (past the cost guard) and,
+    for a command that reports progress, ``--quiet``."""
+    command.add_argument("--out", required=True, help=out_help)
+    command.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
+    if quiet:
+        command.add_argument("--quiet", action="store_true", help="no progress lines")
+
+
 def _top_parser() -> argparse.ArgumentParser:
     ap = parser("wrlayer", "FEM-calibrated Prandtl surface layers for wheel/rail contact (units mm, N, MPa, s).",
                 ["wrlayer example --list",

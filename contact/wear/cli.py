@@ -131,12 +131,10 @@ def add_parser(sub) -> None:
                       ["wrlayer wear scenes/wear/s1002_60e1.toml --out out/wear",
                        "wrlayer wear scenes/wear/s1002_60e1.toml --out out/wear --workers 2 --no-plots"])
     p.add_argument("scene", help="wear scene TOML file")
-    p.add_argument("--out", required=True, help="output folder (profiles/, depth/, steps.csv, result.json, PNGs)")
+    cli.add_run_options(p, "output folder (profiles/, depth/, steps.csv, result.json, PNGs)")
     p.add_argument("--no-plots", action="store_true", help="do not write PNG pictures")
     p.add_argument("--workers", type=int, default=None, help="local processes per step (default: the scene's)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address (default: the scene's; none = local)")
-    p.add_argument("--quiet", action="store_true", help="no progress bars")
-    p.add_argument("--force", action="store_true", help="run even when the estimated cost exceeds the limit")
     p.set_defaults(func=wear_command)
 
 
