@@ -36,7 +36,8 @@ from scipy.optimize import brentq
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.layer.strip_lookup import clamped_characteristics
 from contact.normal.kik_piotrowski import NormalForceEvaluator, NormalProblem, NormalSolution, solve_normal
-from contact.normal.method import solve_normal_with
+from contact.normal.exact_field import ExactField
+from contact.normal.method import NormalMethod, solve_normal_with
 from contact.tangential.fastsim import Creepage, TangentialResult
 from contact.tangential.on_patch import TangentialSettings, solve_regions
 from contact.wheel_rail.contact_search import ContactCandidate, SearchResult
@@ -49,7 +50,13 @@ from meshes.profiles import Profile
 from wrlayer.errors import ConvergenceError, InputError, PatchTruncated, require, typed_input_error
 
 #: The balance iteration stops at |sum F_Z - Q| <= BALANCE_ITER_RTOL Q.
-BALANCE_ITER_RTOL = 1e-10
+BALANCE_ITER_RTOL = 1e-8
+#: Inversion of a normal method's force-approach relation (:meth:`VerticalBalance.force_at_approach`): secant on
+#: log N stopped at a step below INVERSION_XTOL or |delta(N) - delta| <= INVERSION_RTOL delta; its second point
+#: INVERSION_STEP above the first once an earlier inversion gave the start.
+INVERSION_XTOL = 1e-12
+INVERSION_RTOL = 1e-9
+INVERSION_STEP = 1e-4
 #: Layers are built only on strips whose separation is below the first of these caps (mm) (the virtual penetration
 #: alpha delta stays far below 0.3 mm at wheel loads); if a strip in contact has no element, the case is solved again
 #: with the next cap (:mod:`contact.wheel_rail.solve`).
@@ -113,8 +120,10 @@ def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, lay
 @dataclass(eq=False)
 class BalanceCandidate:
     """A contact candidate prepared for the balance: layers, angle, the Kik–Piotrowski approach -> force evaluator;
-    ``delta_guess`` the last approach (mm) solved and ``tangential_guess`` its tangential solution (the next
-    solve's start)."""
+    ``delta_guess`` the last approach (mm) solved, ``field_guess`` its exact pressure field (None with
+    Kik–Piotrowski) and ``tangential_guess`` its tangential solution (the next solve's start);
+    ``log_force_ratio``: log(N / N_KP) at the approach of the last inversion of another normal method's force
+    (:meth:`VerticalBalance.force_at_approach`; 0 before the first)."""
 
     cand: ContactCandidate
     pair: LayerPair | None
@@ -126,6 +135,20 @@ class BalanceCandidate:
     delta_guess: float | None = None
     layer_patch_mm: tuple[float, float] | None = None
     tangential_guess: list[TangentialResult] | None = None
+    field_guess: ExactField | None = None
+    log_force_ratio: float = 0.0
+
+    def normal_start(self, method: NormalMethod) -> dict:
+        """The keywords that start a normal solve of this candidate from its last one (KP: the approach; the
+        exact solver: also the pressure field)."""
+        if method.name == "exact":
+            return {"delta_guess_mm": self.delta_guess, "start": self.field_guess}
+        return {"delta_guess_mm": self.delta_guess}
+
+    def remember(self, sol: NormalSolution) -> None:
+        """Keep ``sol`` as the start of the next normal solve."""
+        self.delta_guess = sol.delta_mm
+        self.field_guess = sol.field
 
 
 @dataclass(eq=False)
@@ -196,8 +219,8 @@ class VerticalBalance:
         self.evaluations += 1
         inp = self.inputs
         prob = normal_problem(ctx.cand, self.sign, inp, force)
-        sol = solve_normal_with(prob, ctx.pair, method=inp.normal_method, delta_guess_mm=ctx.delta_guess)
-        ctx.delta_guess = sol.delta_mm
+        sol = solve_normal_with(prob, ctx.pair, method=inp.normal_method, **ctx.normal_start(inp.normal_method))
+        ctx.remember(sol)
         ref = reference_point(inp.contact_point, ctx.cand, sol.delta_mm, self.wheel, inp.layout, self.pose_side,
                               self.rail)
         point = track_vector(ref.point_mm, self.sign)
@@ -209,18 +232,28 @@ class VerticalBalance:
         return LoadedPatch(ctx, float(force), prob, sol, ref, kin, tangential)
 
     def force_at_approach(self, ctx: BalanceCandidate, delta: float) -> float:
-        """Normal force (N) of a candidate at the normal approach ``delta`` (mm); 0 when it does not touch."""
+        """Normal force (N) of a candidate at the normal approach ``delta`` (mm); 0 when it does not touch. Another
+        normal method than KP: KP's force-approach relation inverted for that method by a secant on log N,
+        started at KP's force times the ratio the last inversion found (it varies slowly with the approach). Its
+        solves start cold (from KP): a warm-started CG stops within its tolerance wherever it started, and that
+        noise (about 1e-7 of the approach) would stall the secant; the last one starts the next load."""
         if delta <= 0:
             return 0.0
         n_kp = ctx.evaluator.force_at(delta)
-        if self.inputs.normal_method.name == "kik_piotrowski" or n_kp <= 0:
+        method = self.inputs.normal_method
+        if method.name == "kik_piotrowski" or n_kp <= 0:
             return n_kp
 
-        def miss(log_n: float) -> float:  # another normal method: invert its force -> approach relation from KP's
+        def miss(log_n: float) -> float:
             prob = normal_problem(ctx.cand, self.sign, self.inputs, math.exp(log_n))
-            return solve_normal_with(prob, ctx.pair, method=self.inputs.normal_method).delta_mm - delta
+            sol = solve_normal_with(prob, ctx.pair, method=method)
+            ctx.remember(sol)
+            return sol.delta_mm - delta
 
-        x = secant(miss, math.log(n_kp), math.log(n_kp) + 0.05, 1e-12, 40, "approach of a patch")
+        x0 = math.log(n_kp) + ctx.log_force_ratio
+        step = 0.05 if ctx.log_force_ratio == 0.0 else INVERSION_STEP
+        x = secant(miss, x0, x0 + step, INVERSION_XTOL, 40, "approach of a patch", ftol=INVERSION_RTOL * delta)
+        ctx.log_force_ratio = x - math.log(n_kp)
         return math.exp(x)
 
     def solve(self) -> tuple[list[LoadedPatch], float, int]:
