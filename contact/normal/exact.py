@@ -41,7 +41,7 @@ extents times h) are reported as for KP.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -265,17 +265,20 @@ def _solve_on_grid(prob: NormalProblem, f_strips: np.ndarray, layer: LayerPair |
 
 
 def solve_exact(prob: NormalProblem, layer: LayerPair | None = None, options: ExactOptions = ExactOptions(),
-                start: ExactField | None = None, **kp_kwargs) -> NormalSolution:
+                start: ExactField | None = None, cg_tol: float | None = None, **kp_kwargs) -> NormalSolution:
     """Solve the normal contact exactly on the half-space with the layer (module docstring); layers unchanged.
 
     ``start``: the field of an earlier solve of a nearby problem (e.g. the previous step of the wheel-rail load
     balance): the CG starts from its pressure on this grid instead of KP's (the grid is placed by KP either way),
-    the same solution to the CG tolerance in fewer iterations.
+    the same solution to the CG tolerance in fewer iterations. ``cg_tol``: replaces ``options.cg_tol`` (a loose
+    first estimate, e.g. the first point of an iteration over the load).
     ``kp_kwargs`` (delta_guess_mm, loglog_slope_guess, rtol_N) go to the KP solve that places the grid.
     Raises InputError (patch reaching the end of the separation table, layer not covering the patch) and
     ConvergenceError (CG, layer iteration or grid placement not converged).
     """
     kp = solve_normal(prob, layer, **kp_kwargs)
+    if cg_tol is not None:
+        options = replace(options, cg_tol=cg_tol)
     factor = compliance_factor(prob.E_MPa, prob.poisson)
     f_strips = prob.separation_on_grid_mm
     n_strips = f_strips.size
