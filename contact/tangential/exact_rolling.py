@@ -44,10 +44,11 @@ but it is a fixed-point map t -> G(t) whose error is dominated by a few smooth m
 friction discs |t| <= mu p. Every sweep ends with the Gauss–Seidel update itself, so the stop test is the same
 as for plain Gauss–Seidel: the largest traction change of a sweep below ``tol`` times min(mu max(p), max |t|).
 On a flange patch of 159 x 61 cells from rest this takes 35 sweeps of one FFT pair each to the tolerance 1e-5
-(about 55 to the default 1e-8: the wheel-rail load balance, stopped at 1e-8 of the load, needs forces free of solver noise),
-where the exact block Gauss–Seidel (the displacement recomputed by FFT before every block of max(8, lines / 8)
-lines) takes 51 sweeps of 8 FFT pairs to 1e-5. ``memory = 0``, or an accelerated iteration not converged after half of ``max_sweeps``,
-runs that exact block Gauss–Seidel (from the current tractions); ConvergenceError after ``max_sweeps`` in all.
+(about 55 to the default 1e-8: the wheel-rail load balance, stopped at 1e-8 of the load, needs forces free of
+solver noise), where the exact block Gauss–Seidel (the displacement recomputed by FFT before every block of
+max(8, lines / 8) lines) takes 51 sweeps of 8 FFT pairs to 1e-5. ``memory = 0``, or an accelerated iteration not
+converged after half of ``max_sweeps``, runs that exact block Gauss–Seidel (from the current tractions);
+ConvergenceError after ``max_sweeps`` in all.
 """
 
 from __future__ import annotations
