@@ -151,9 +151,10 @@ class BalanceCandidate:
 
     def normal_start(self, method: NormalMethod, rough: bool = False) -> dict:
         """The keywords that start a normal solve of this candidate from its last one (KP: the approach; the
-        exact solver: also the pressure field, and with ``rough`` the CG tolerance :data:`ROUGH_CG_TOL`)."""
+        exact solver: with ``rough`` the CG tolerance :data:`ROUGH_CG_TOL`, and without a layer the pressure field:
+        with a layer the warm-started solve's noise, set by the layer tolerance, would stall the balance)."""
         if method.name == "exact":
-            return {"delta_guess_mm": self.delta_guess, "start": self.field_guess,
+            return {"delta_guess_mm": self.delta_guess, "start": self.field_guess if self.pair is None else None,
                     "cg_tol": ROUGH_CG_TOL if rough else None}
         return {"delta_guess_mm": self.delta_guess}
 
