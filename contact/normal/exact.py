@@ -27,7 +27,9 @@ x extent plus ``margin`` (relative, at least 2 cells each side); dx = KP patch l
 a grid border that carries pressure is moved out (x: by 30 %; y: by the margin), and strips outside the grid
 where the separation plus the elastic displacement of the solved pressure lies below delta (a further valley
 touching) are added; the solve is repeated until neither happens. All contact regions share one grid (their
-elastic interaction is exact). InputError when the patch reaches the end of the separation table.
+elastic interaction is exact). InputError when the patch reaches the end of the separation table. A warm start
+(``start``: a nearby solution's field) grows KP's grid by the same border rule until its pressure fits, then
+starts the CG from that pressure (:func:`solve_exact`).
 
 Outputs per line y_j: p_peak = max_x p (the loading the passes apply to the strip's element), the contact
 extent along x with each end refined by linear extrapolation to zero of p^2 without a layer (the half-space's
