@@ -17,12 +17,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from benchmarks.harness import machine_info, median_time
+from benchmarks.harness import interleaved_medians, machine_info, median_time
 from contact.normal.exact import ExactOptions, fastsim_pressure, solve_exact, strip_centres
 from contact.normal.patch import Patch
 from contact.scenes.scene import parse_scene
 from contact.scenes.simulation import normal_problem, simulate
 from contact.tangential.fastsim import Creepage
+from contact.tangential.exact_rolling import RollingOptions
 from contact.tangential.method import TANGENTIAL_METHODS, PressureGrid, solve_on_grid
 from contact.tangential.spin_centre import solve_about_centroid
 from wrlayer.plotting import save_figure
@@ -126,22 +127,40 @@ def _defects(quick: bool) -> list[dict]:
     return rows
 
 
+#: Tolerances of the exact tangential solve timed against the normal solve: the default, and one whose force error
+#: (about 1e-7) is still below the normal CG's pressure error at its default tolerance.
+ROLLING_TOLS = (RollingOptions().tol, 1e-5)
+
+
 def _normal_vs_tangential(quick: bool) -> list[dict]:
-    """Median time of the exact normal solve and of the exact tangential solve on its grid (ms)."""
+    """Time against error of the exact normal solve and of the exact tangential solve on its grid: median wall
+    times (ms, runs interleaved), the normal pressure's error (largest cell |p - p_ref| / p_max against a CG to
+    1e-10) and the tangential force error (|F - F_ref| / |F_ref| against a solve to 1e-12)."""
     rows = []
+    cr = Creepage(0.002, 0.0, 0.0012)
     for name, (sep, normal_N) in SCENES.items():
         for cells in (24, 48) if quick else (24, 48, 96):
             sc = _scene(sep, normal_N, "exact", cells)
             prob, opts = normal_problem(sc), ExactOptions(cells=cells)
             sol = solve_exact(prob, None, opts)
+            ref_p = solve_exact(prob, None, ExactOptions(cells=cells, cg_tol=1e-10)).field.p_MPa
             grid = PressureGrid.from_exact(sol)
-            t_n, _ = median_time(lambda: solve_exact(prob, None, opts), repeat=3)
-            cr = Creepage(0.002, 0.0, 0.0012)
-            times = {m: median_time(lambda: solve_on_grid(grid, cr, MU, G_MPA, NU, m), repeat=3)[0]
-                     for m in TANGENTIAL_METHODS}
-            sweeps = solve_on_grid(grid, cr, MU, G_MPA, NU, "exact")[0].iterations
-            rows.append({"scene": name, "cells": cells, "grid": list(grid.p_MPa.shape), "normal_ms": 1e3 * t_n,
-                         **{m + "_ms": 1e3 * t for m, t in times.items()}, "exact_sweeps": sweeps})
+            ref = _forces(solve_on_grid(grid, cr, MU, G_MPA, NU, "exact", options=RollingOptions(tol=1e-12)))
+            fns = {"normal": lambda: solve_exact(prob, None, opts)}
+            for tol in ROLLING_TOLS:
+                fns[tol] = lambda o=RollingOptions(tol=tol): solve_on_grid(grid, cr, MU, G_MPA, NU, "exact", options=o)
+            for m in ("fastsim", "fastrip"):
+                fns[m] = lambda m=m: solve_on_grid(grid, cr, MU, G_MPA, NU, m)
+            times = interleaved_medians(fns, repeat=5)
+            row = {"scene": name, "cells": cells, "grid": list(grid.p_MPa.shape), "normal_ms": 1e3 * times["normal"],
+                   "normal_p_error": float(np.abs(sol.field.p_MPa - ref_p).max() / ref_p.max()),
+                   "fastsim_ms": 1e3 * times["fastsim"], "fastrip_ms": 1e3 * times["fastrip"], "exact": []}
+            for tol in ROLLING_TOLS:
+                res = solve_on_grid(grid, cr, MU, G_MPA, NU, "exact", options=RollingOptions(tol=tol))
+                err = np.abs(_forces(res) - ref)
+                row["exact"].append({"tol": tol, "ms": 1e3 * times[tol], "sweeps": res[0].iterations,
+                                     "F_error": float(np.hypot(err[0], err[1]) / np.hypot(ref[0], ref[1]))})
+            rows.append(row)
     return rows
 
 
@@ -172,16 +191,20 @@ def _markdown(rows, defects, nt) -> str:
     d += [f"| {r['scene']} | {r['normal']} | {r['cells']} | {', '.join(f'{v:.2f}' for v in r['y_ref_mm'])} | "
           f"{kn(r['as_run'])} | {kn(r['fastsim_fixed'])} | {kn(r.get('fastrip'))} | {kn(r.get('exact'))} |"
           for r in defects]
-    n = ["| scene | cells | grid (lines x cells) | normal (ms) | FASTSIM (ms) | FaStrip (ms) | exact (ms) | "
-         "exact / normal | sweeps |", "|---" * 9 + "|"]
+    n = ["| scene | cells | grid (lines x cells) | normal (ms) | normal p error | FASTSIM (ms) | FaStrip (ms) | "
+         + " | ".join(f"exact tol {t:g} (ms) | sweeps | F error | exact / normal" for t in ROLLING_TOLS) + " |",
+         "|---" * (6 + 4 * len(ROLLING_TOLS)) + "|"]
     n += [f"| {r['scene']} | {r['cells']} | {r['grid'][0]} x {r['grid'][1]} | {r['normal_ms']:.0f} | "
-          f"{r['fastsim_ms']:.0f} | {r['fastrip_ms']:.0f} | {r['exact_ms']:.0f} | "
-          f"{r['exact_ms'] / r['normal_ms']:.1f} | {r['exact_sweeps']} |" for r in nt]
+          f"{r['normal_p_error']:.1e} | {r['fastsim_ms']:.0f} | {r['fastrip_ms']:.0f} | "
+          + " | ".join(f"{e['ms']:.0f} | {e['sweeps']} | {e['F_error']:.0e} | {e['ms'] / r['normal_ms']:.1f}"
+                       for e in r["exact"]) + " |" for r in nt]
     return "\n\n".join([
         __doc__.split("\n\n", 1)[1].strip(),
         "**Time against error** (F error: |(Fx, Fy) - reference| / |reference|; reference: exact theory on the "
         "finest grid):\n\n" + "\n".join(t),
-        "**Exact tangential against exact normal solve** (same grid; paper creepages):\n\n" + "\n".join(n),
+        "**Exact tangential against exact normal solve** (same grid; paper creepages; median wall times of runs "
+        "interleaved; normal p error: largest cell |p - p_ref| / p_max against a CG to 1e-10; F error against the "
+        "exact solve to 1e-12):\n\n" + "\n".join(n),
         "**FASTSIM spin-centre defects** (scene creepages vx = 0.002, phi = 0.0012 1/mm about the scene origin; "
         "'as run': contact.scenes.simulation today, spin about each patch's reference strip y_ref; 'fixed': "
         "contact.tangential.spin_centre.solve_about_centroid):\n\n" + "\n".join(d),

@@ -19,8 +19,10 @@ import numpy as np
 
 from benchmarks.bench_manchester import MU, TWO_POINT_CASES, contact_reference, run_scene, to_contact
 
-#: (method.normal, method.tangential) pairs measured.
-VARIANTS = (("kik_piotrowski", "fastsim"), ("exact", "fastsim"), ("exact", "fastrip"), ("exact", "exact"))
+#: (method.normal, method.tangential) pairs measured, and how: "" as ``wrlayer simulate`` runs the scene (output
+#: files included, one process), "no VTK" without the VTK files, "2 workers" the cases on 2 worker processes.
+VARIANTS = (("kik_piotrowski", "fastsim", ""), ("exact", "fastsim", ""), ("exact", "fastrip", ""),
+            ("exact", "exact", ""), ("exact", "exact", "no VTK"), ("exact", "exact", "2 workers"))
 
 
 def deviations(result: dict, ref: dict, side: str) -> dict[str, np.ndarray]:
@@ -47,10 +49,12 @@ def run(mode: str, out: pathlib.Path) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     ref = contact_reference()
     rows, data = [], {}
-    for normal, tangential in VARIANTS:
+    for normal, tangential, how in VARIANTS:
         load = os.getloadavg()[0]
-        res, wall, cpu, err = run_scene(out / f"{normal}_{tangential}", normal=normal, tangential=tangential)
-        name = f"{normal}/{tangential}"
+        kw = {"vtk": False} if how == "no VTK" else {"workers": 2} if how == "2 workers" else {}
+        res, wall, cpu, err = run_scene(out / f"{normal}_{tangential}{how.replace(' ', '_')}", normal=normal,
+                                        tangential=tangential, **kw)
+        name = f"{normal}/{tangential}" + (f" ({how})" if how else "")
         if res is None:
             rows.append(f"| {name} | — | — | — | failed: {err[:100]} |")
             continue
@@ -63,8 +67,9 @@ def run(mode: str, out: pathlib.Path) -> dict:
                            f"{rec[s]['fs_N_max']:.1%} / {rec[s]['fs_N_mean']:.1%}" for s in ("right", "left"))
         rows.append(f"| {name} | {cells} | {wall:.2f} | {cpu:.2f} | {load:.2f} | {res['n_failed']} |")
     md = ["Deviation from CONTACT's full theory, |ours - CONTACT| / (mu FN), largest / mean over the cases "
-          f"(without case {', '.join(map(str, TWO_POINT_CASES))}); time of the 21-case sweep (both wheels), "
-          "with the 1-min load average of the 2 shared cores when it started:\n",
+          f"(without case {', '.join(map(str, TWO_POINT_CASES))}); time of the 21-case sweep (both wheels; CPU: "
+          "this process only, so not the workers'), with the 1-min load average of the 2 shared cores when it "
+          "started:\n",
           "| method.normal / method.tangential | right FX | right FS | left FX | left FS | wall [s] | CPU [s] | "
           "load | failed |", "|---|---|---|---|---|---|---|---|---|", *rows]
     return {"title": "Manchester A-2.2: tangential methods vs CONTACT", "markdown": "\n".join(md), "figures": [],

@@ -27,7 +27,9 @@ x extent plus ``margin`` (relative, at least 2 cells each side); dx = KP patch l
 a grid border that carries pressure is moved out (x: by 30 %; y: by the margin), and strips outside the grid
 where the separation plus the elastic displacement of the solved pressure lies below delta (a further valley
 touching) are added; the solve is repeated until neither happens. All contact regions share one grid (their
-elastic interaction is exact). InputError when the patch reaches the end of the separation table.
+elastic interaction is exact). InputError when the patch reaches the end of the separation table. A warm start
+(``start``: a nearby solution's field) grows KP's grid by the same border rule until its pressure fits, then
+starts the CG from that pressure (:func:`solve_exact`).
 
 Outputs per line y_j: p_peak = max_x p (the loading the passes apply to the strip's element), the contact
 extent along x with each end refined by linear extrapolation to zero of p^2 without a layer (the half-space's
@@ -41,7 +43,7 @@ extents times h) are reported as for KP.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -173,6 +175,19 @@ def _start_pressure(prob: NormalProblem, kp: NormalSolution, grid: _Grid) -> np.
     return p
 
 
+def _field_pressure(start: ExactField, grid: _Grid) -> np.ndarray:
+    """An earlier solution's pressure (``start``: e.g. the previous step of an iteration over the load) on the
+    grid: each line the grid shares with it interpolated linearly in x (0 beyond its cells); the CG's warm start
+    (the CG scales it to the force)."""
+    p = np.zeros((grid.ny, grid.nx))
+    rows = np.searchsorted(start.lines, grid.lines())
+    ok = (rows < start.lines.size) & (start.lines[np.minimum(rows, start.lines.size - 1)] == grid.lines())
+    x = grid.x()
+    for j in np.flatnonzero(ok):
+        p[j] = np.interp(x, start.x_mm, start.p_MPa[rows[j]], left=0.0, right=0.0)
+    return p
+
+
 def _regrid_pressure(p: np.ndarray, old: _Grid, new: _Grid) -> np.ndarray:
     """The pressure of the old grid on the new one (same dx, same centre in x; lines shifted)."""
     out = np.zeros((new.ny, new.nx))
@@ -180,6 +195,34 @@ def _regrid_pressure(p: np.ndarray, old: _Grid, new: _Grid) -> np.ndarray:
     c0 = (new.nx - old.nx) // 2
     out[r0:r0 + old.ny, c0:c0 + old.nx] = p
     return out
+
+
+def _border_growth(grid: _Grid, p: np.ndarray, margin: float) -> tuple[_Grid, int]:
+    """The grid grown where the pressure ``p`` on it reaches a border (x: both ends, by 30 % of nx; y: the
+    touched end, by the margin), and that y margin (lines)."""
+    new = _Grid(grid.j0, grid.ny, grid.nx, grid.dx)
+    if np.any(p[:, 0] > 0) or np.any(p[:, -1] > 0):
+        new.nx = 2 * int(math.ceil(0.65 * grid.nx)) + 1
+    rows = np.flatnonzero(np.any(p > 0, axis=1))
+    my = max(2, int(math.ceil(margin * grid.ny)))
+    if rows.size and rows[0] == 0:
+        new.j0, new.ny = grid.j0 - my, new.ny + my
+    if rows.size and rows[-1] == grid.ny - 1:
+        new.ny += my
+    return new, my
+
+
+def _warm_grid(start: ExactField, grid: _Grid, margin: float, n_strips: int, changes: int) -> tuple[_Grid, int]:
+    """KP's grid grown by the solver's own border rule (:func:`_border_growth`) until ``start``'s pressure fits
+    (within the separation table), as the cold solve would grow it after its first CG: (grid, growth steps)."""
+    for k in range(changes):
+        new, _ = _border_growth(grid, _field_pressure(start, grid), margin)
+        lo, hi = max(new.j0, 0), min(new.j0 + new.ny - 1, n_strips - 1)
+        new.j0, new.ny = lo, hi - lo + 1
+        if (new.j0, new.ny, new.nx) == (grid.j0, grid.ny, grid.nx):
+            return grid, k
+        grid = new
+    return grid, changes
 
 
 def _offgrid_contact(prob: NormalProblem, f_strips: np.ndarray, grid: _Grid, p: np.ndarray, delta: float,
@@ -252,33 +295,39 @@ def _solve_on_grid(prob: NormalProblem, f_strips: np.ndarray, layer: LayerPair |
 
 
 def solve_exact(prob: NormalProblem, layer: LayerPair | None = None, options: ExactOptions = ExactOptions(),
-                **kp_kwargs) -> NormalSolution:
+                start: ExactField | None = None, cg_tol: float | None = None, **kp_kwargs) -> NormalSolution:
     """Solve the normal contact exactly on the half-space with the layer (module docstring); layers unchanged.
 
+    ``start``: the field of an earlier solve of a nearby problem (e.g. the previous step of the wheel-rail load
+    balance): the CG starts from its pressure on this grid instead of KP's (the grid is placed by KP either way),
+    the same solution to the CG tolerance in fewer iterations. ``cg_tol``: replaces ``options.cg_tol`` (a loose
+    first estimate, e.g. the first point of an iteration over the load).
     ``kp_kwargs`` (delta_guess_mm, loglog_slope_guess, rtol_N) go to the KP solve that places the grid.
     Raises InputError (patch reaching the end of the separation table, layer not covering the patch) and
     ConvergenceError (CG, layer iteration or grid placement not converged).
     """
+    if start is not None and start.kp_delta_mm is not None:   # KP from the start's own KP solve
+        kp_kwargs = {**kp_kwargs, "delta_guess_mm": start.kp_delta_mm, "loglog_slope_guess": start.kp_slope}
     kp = solve_normal(prob, layer, **kp_kwargs)
+    if cg_tol is not None:
+        options = replace(options, cg_tol=cg_tol)
     factor = compliance_factor(prob.E_MPa, prob.poisson)
     f_strips = prob.separation_on_grid_mm
     n_strips = f_strips.size
     grid = _initial_grid(prob, kp, options)
-    p_start = _start_pressure(prob, kp, grid)
     stats = {"cg_iterations": 0, "layer_iterations": 0, "grid_changes": 0, "layer_mismatch_mm": 0.0}
+    p_start = None
+    if start is not None:
+        warm, stats["grid_changes"] = _warm_grid(start, grid, options.margin, n_strips, options.max_grid_changes)
+        p_start = _field_pressure(start, warm)
+        grid = warm if np.any(p_start > 0) else grid
+    if p_start is None or not np.any(p_start > 0):           # no start, or an unrelated one: KP's pressure
+        p_start = _start_pressure(prob, kp, grid)
     for _ in range(options.max_grid_changes + 1):
         res, f, u_l, cl = _solve_on_grid(prob, f_strips, layer, grid, p_start, options, factor, stats)
         p = res.p_MPa
-        new = _Grid(grid.j0, grid.ny, grid.nx, grid.dx)
-        if np.any(p[:, 0] > 0) or np.any(p[:, -1] > 0):
-            new.nx = 2 * int(math.ceil(0.65 * grid.nx)) + 1
-        rows = np.flatnonzero(np.any(p > 0, axis=1))
-        my = max(2, int(math.ceil(options.margin * grid.ny)))
-        lo, hi = grid.j0, grid.j0 + grid.ny - 1
-        if rows.size and rows[0] == 0:
-            lo = grid.j0 - my
-        if rows.size and rows[-1] == grid.ny - 1:
-            hi = hi + my
+        new, my = _border_growth(grid, p, options.margin)
+        lo, hi = new.j0, new.j0 + new.ny - 1
         extra = _offgrid_contact(prob, f_strips, grid, p, res.delta_mm, factor)
         if extra.size:
             lo, hi = min(lo, int(extra[0]) - my), max(hi, int(extra[-1]) + my)
@@ -350,7 +399,8 @@ def _solution(prob, layer, kp, grid, res, f, u_l, stats, opts_force) -> NormalSo
                   "cg_change": float(res.change), "gap_error_mm": float(res.gap_error_mm),
                   "layer_mismatch_mm": float(stats["layer_mismatch_mm"])}
     target = prob.normal_force_N
-    fieldv = ExactField(x, y[lines], lines, p, u_l, f, float(dx), float(h), extents)
+    fieldv = ExactField(x, y[lines], lines, p, u_l, f, float(dx), float(h), extents, float(kp.delta_mm),
+                        float(kp.iterations["loglog_slope"]))
     return NormalSolution(
         patches=patches, regions=regions, delta_mm=float(res.delta_mm), delta0_mm=float(prob.alpha * res.delta_mm),
         p_max_MPa=float(p.max()), length_mm=max(lengths), width_mm=float(sum(widths)), area_mm2=float(sum(areas)),

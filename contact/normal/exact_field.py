@@ -21,7 +21,8 @@ class ExactField:
     """The exact solution on its grid: x_mm (nx,) cell centres, y_mm (ny,) lines (= strips ``lines`` of the
     problem's strip grid), p_MPa (ny, nx), u_layer_mm (ny, nx) layer displacement under load, separation_mm
     (ny, nx) f(x, y), dx_mm, dy_mm; x_extent_mm (ny, 2): refined trailing and leading contact ends of each line
-    (NaN where unloaded)."""
+    (NaN where unloaded); kp_delta_mm, kp_slope: approach (mm) and d log N / d log delta of the Kik–Piotrowski solve
+    that placed the grid (a later solve started from this one starts its KP solve there)."""
 
     x_mm: np.ndarray
     y_mm: np.ndarray
@@ -32,6 +33,8 @@ class ExactField:
     dx_mm: float
     dy_mm: float
     x_extent_mm: np.ndarray = None
+    kp_delta_mm: float | None = None
+    kp_slope: float | None = None
 
     def __repr__(self) -> str:
         return (f"ExactField({self.y_mm.size} lines x {self.x_mm.size} cells, dx={self.dx_mm:.4g} mm, "

@@ -24,7 +24,8 @@ per body, and Kalker's difference parameter K = ((1 - 2 nu_1)/G_1 - (1 - 2 nu_2)
 tangential problems (an outer Panagiotopoulos iteration would then alternate normal and tangential solves).
 
 The coefficients depend only on the cell offsets, so u = A * t is a 2-D linear convolution evaluated exactly by a
-zero-padded real FFT; the kernels' transforms are cached per grid (ny, nx, dy, dx, nu).
+zero-padded real FFT (both components in one call of :func:`contact.normal.halfspace.padded_rfft2` and of
+:func:`contact.normal.halfspace.cropped_irfft2`); the kernels' transforms are cached per grid (ny, nx, dy, dx, nu).
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ import functools
 
 import numpy as np
 
-from contact.normal.halfspace import fft_module, offset_integrals, wrapped_kernel
+from contact.normal.halfspace import cropped_irfft2, fft_module, offset_integrals, padded_rfft2, wrapped_kernel
 
 __all__ = ["TractionHalfSpace", "cerruti_coefficients"]
 
@@ -104,10 +105,7 @@ class TractionHalfSpace:
     def displacement(self, tx: np.ndarray, ty: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ux, uy) (mm) of the cell tractions (tx, ty) (MPa)."""
         self.evaluations += 1
-        sfft = fft_module()
-        fx = sfft.rfft2(tx, s=self.shape)
-        fy = sfft.rfft2(ty, s=self.shape)
+        fx, fy = padded_rfft2(np.stack((tx, ty)), self.shape)       # both components in one call
         sxx, sxy, syy = self._spec
-        ux = sfft.irfft2(sxx * fx + sxy * fy, s=self.shape)[: self.ny, : self.nx]
-        uy = sfft.irfft2(sxy * fx + syy * fy, s=self.shape)[: self.ny, : self.nx]
-        return ux, uy
+        u = cropped_irfft2(np.stack((sxx * fx + sxy * fy, sxy * fx + syy * fy)), self.shape, self.ny, self.nx)
+        return u[0], u[1]

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 from contact.normal.kik_piotrowski import NormalSolution
 from contact.tangential.fastsim import Creepage, TangentialResult
+from contact.tangential.exact_rolling import RollingOptions
 from contact.tangential.method import TANGENTIAL_METHODS, solve_for_normal_solution
 from wrlayer.elastic import shear_modulus_MPa
 from wrlayer.errors import require
@@ -56,14 +57,16 @@ class TangentialSettings:
 
 
 def solve_regions(solution: NormalSolution, creepage: Creepage, settings: TangentialSettings,
-                  origin_y_mm: float = 0.0, start: list[TangentialResult] | None = None) -> list[TangentialResult]:
+                  origin_y_mm: float = 0.0, start: list[TangentialResult] | None = None,
+                  rolling: RollingOptions = RollingOptions()) -> list[TangentialResult]:
     """The tangential solution of every region of ``solution`` with ``creepage`` holding at ``origin_y_mm`` (mm,
     the solution's strip coordinate); results' strip y and Mz about that point. ``start``: an earlier result to
-    start the exact theory from (:func:`contact.tangential.method.solve_for_normal_solution`)."""
+    start the exact theory from (:func:`contact.tangential.method.solve_for_normal_solution`); ``rolling``: the
+    exact theory's iteration options (e.g. a loose tolerance for a first estimate)."""
     return solve_for_normal_solution(solution, creepage, settings.friction,
                                      shear_modulus_MPa(settings.E_MPa, settings.poisson), settings.poisson,
                                      settings.method, settings.speed_mm_s, settings.cells, settings.flexibility,
-                                     origin_y_mm=origin_y_mm, start=start)
+                                     options=rolling, origin_y_mm=origin_y_mm, start=start)
 
 
 __all__ = ["TangentialSettings", "solve_regions"]

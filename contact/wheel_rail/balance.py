@@ -15,7 +15,10 @@ solved together inside the iteration: one loaded candidate: secant iteration on 
 the reference point, the creepages there and FASTSIM), kept inside [Q / (cos + mu |sin|), Q / (cos - mu |sin|)];
 cos(gamma) <= mu |sin(gamma)| (flange climbing limit) is a ConvergenceError. Several candidates: secant iteration
 on the common Delta (started at the normal-only balance found by Brent's method), every candidate's N_i(delta_i)
-from its force-approach relation. Converged to |sum F_Z - Q| <= 1e-10 Q. ``balance = "normal"``:
+from its force-approach relation. Converged to |sum F_Z - Q| <= 1e-8 Q (the exact solvers' results are determined
+to about 1e-7 of the approach by their own tolerances; the balance stops below that). With the exact solvers each
+solve starts from the candidate's previous one (pressure field, tractions), and the first point of the iteration is
+solved to loose tolerances only (:data:`ROUGH_ROLLING`, :data:`ROUGH_CG_TOL`). ``balance = "normal"``:
 sum N_i cos(gamma_i) = Q (the earlier model, kept for comparison; on the flange it overestimates N by 25-60 %).
 
 Each patch is a separate normal problem in its own contact plane (no elastic interaction between patches), solved
@@ -36,7 +39,9 @@ from scipy.optimize import brentq
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.layer.strip_lookup import clamped_characteristics
 from contact.normal.kik_piotrowski import NormalForceEvaluator, NormalProblem, NormalSolution, solve_normal
-from contact.normal.method import solve_normal_with
+from contact.normal.exact_field import ExactField
+from contact.normal.method import NormalMethod, solve_normal_with
+from contact.tangential.exact_rolling import RollingOptions
 from contact.tangential.fastsim import Creepage, TangentialResult
 from contact.tangential.on_patch import TangentialSettings, solve_regions
 from contact.wheel_rail.contact_search import ContactCandidate, SearchResult
@@ -49,7 +54,18 @@ from meshes.profiles import Profile
 from wrlayer.errors import ConvergenceError, InputError, PatchTruncated, require, typed_input_error
 
 #: The balance iteration stops at |sum F_Z - Q| <= BALANCE_ITER_RTOL Q.
-BALANCE_ITER_RTOL = 1e-10
+BALANCE_ITER_RTOL = 1e-8
+#: Inversion of a normal method's force-approach relation (:meth:`VerticalBalance.force_at_approach`): secant on
+#: log N stopped at a step below INVERSION_XTOL or |delta(N) - delta| <= INVERSION_RTOL delta; its second point
+#: INVERSION_STEP above the first once an earlier inversion gave the start.
+#: The exact tangential iteration at the balance's first point: its forces only start the secant (their error,
+#: about 1e-4 of mu N, moves its second step by far less than the tolerance) and its tractions the next solve.
+ROUGH_ROLLING = RollingOptions(tol=1e-4)
+#: The exact normal CG's tolerance at the balance's first point (the same reasoning).
+ROUGH_CG_TOL = 1e-3
+INVERSION_XTOL = 1e-12
+INVERSION_RTOL = 1e-9
+INVERSION_STEP = 1e-4
 #: Layers are built only on strips whose separation is below the first of these caps (mm) (the virtual penetration
 #: alpha delta stays far below 0.3 mm at wheel loads); if a strip in contact has no element, the case is solved again
 #: with the next cap (:mod:`contact.wheel_rail.solve`).
@@ -70,17 +86,19 @@ def normal_problem(cand: ContactCandidate, sign: int, inputs: WheelRailInputs, f
 
 
 def patch_tangential(normal: NormalSolution, kin: PatchKinematics, inputs: WheelRailInputs,
-                     eta_ref_mm: float, start: list[TangentialResult] | None = None) -> list[TangentialResult]:
+                     eta_ref_mm: float, start: list[TangentialResult] | None = None,
+                     rolling: RollingOptions = RollingOptions()) -> list[TangentialResult]:
     """The tangential solution (``method.tangential``) of every region of a patch's normal solution with the
     creepages ``kin`` evaluated at the reference point ``eta_ref_mm`` (mm, problem orientation; the origin of the
     results' strip coordinate and Mz); FASTSIM takes the spin about each region's force centroid with the
     creepages moved there from the reference point (:mod:`contact.tangential.spin_centre`). [] without friction.
-    ``start``: the previous solve of the balance iteration (the exact theory starts from its tractions)."""
+    ``start``: the previous solve of the balance iteration (the exact theory starts from its tractions);
+    ``rolling``: the exact theory's iteration options."""
     if inputs.friction == 0:
         return []
     settings = TangentialSettings(inputs.E_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
                                   inputs.fastsim_cells, method=inputs.tangential_method)
-    return solve_regions(normal, Creepage(kin.vx, kin.vy, kin.phi_per_mm), settings, eta_ref_mm, start)
+    return solve_regions(normal, Creepage(kin.vx, kin.vy, kin.phi_per_mm), settings, eta_ref_mm, start, rolling)
 
 
 def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, layers: WheelRailLayers | None,
@@ -113,8 +131,10 @@ def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, lay
 @dataclass(eq=False)
 class BalanceCandidate:
     """A contact candidate prepared for the balance: layers, angle, the Kik–Piotrowski approach -> force evaluator;
-    ``delta_guess`` the last approach (mm) solved and ``tangential_guess`` its tangential solution (the next
-    solve's start)."""
+    ``delta_guess`` the last approach (mm) solved, ``field_guess`` its exact pressure field (None with
+    Kik–Piotrowski) and ``tangential_guess`` its tangential solution (the next solve's start);
+    ``log_force_ratio``: log(N / N_KP) at the approach of the last inversion of another normal method's force
+    (:meth:`VerticalBalance.force_at_approach`; 0 before the first)."""
 
     cand: ContactCandidate
     pair: LayerPair | None
@@ -126,6 +146,22 @@ class BalanceCandidate:
     delta_guess: float | None = None
     layer_patch_mm: tuple[float, float] | None = None
     tangential_guess: list[TangentialResult] | None = None
+    field_guess: ExactField | None = None
+    log_force_ratio: float = 0.0
+
+    def normal_start(self, method: NormalMethod, rough: bool = False) -> dict:
+        """The keywords that start a normal solve of this candidate from its last one (KP: the approach; the
+        exact solver: with ``rough`` the CG tolerance :data:`ROUGH_CG_TOL`, and without a layer the pressure field:
+        with a layer the warm-started solve's noise, set by the layer tolerance, would stall the balance)."""
+        if method.name == "exact":
+            return {"delta_guess_mm": self.delta_guess, "start": self.field_guess if self.pair is None else None,
+                    "cg_tol": ROUGH_CG_TOL if rough else None}
+        return {"delta_guess_mm": self.delta_guess}
+
+    def remember(self, sol: NormalSolution) -> None:
+        """Keep ``sol`` as the start of the next normal solve."""
+        self.delta_guess = sol.delta_mm
+        self.field_guess = sol.field
 
 
 @dataclass(eq=False)
@@ -190,37 +226,50 @@ class VerticalBalance:
             self.ctx.append(BalanceCandidate(c, pair, coords, cg, sg, NormalForceEvaluator(prob, pair), sign,
                                              layer_patch_mm=patch_mm.get(k)))
 
-    def load(self, ctx: BalanceCandidate, force: float) -> LoadedPatch:
+    def load(self, ctx: BalanceCandidate, force: float, rough: bool = False) -> LoadedPatch:
         """Solve ``ctx`` at the normal force ``force`` (N): normal solution, reference point, creepages there,
-        FASTSIM about it."""
+        the tangential solution about it. ``rough``: the exact tangential theory only to :data:`ROUGH_ROLLING`'s
+        tolerance (the first point of the balance iteration, never its result)."""
         self.evaluations += 1
         inp = self.inputs
         prob = normal_problem(ctx.cand, self.sign, inp, force)
-        sol = solve_normal_with(prob, ctx.pair, method=inp.normal_method, delta_guess_mm=ctx.delta_guess)
-        ctx.delta_guess = sol.delta_mm
+        sol = solve_normal_with(prob, ctx.pair, method=inp.normal_method,
+                                **ctx.normal_start(inp.normal_method, rough))
+        ctx.remember(sol)
         ref = reference_point(inp.contact_point, ctx.cand, sol.delta_mm, self.wheel, inp.layout, self.pose_side,
                               self.rail)
         point = track_vector(ref.point_mm, self.sign)
         n_track = track_vector(ref.normal, self.sign)
         centre = np.array([0.0, inp.pose.lateral_mm, self.found.wheel_height_mm])   # rigid-contact geometry
         kin = creepages(point, n_track, centre, self.axle, inp.speed_mm_s, inp.omega_rad_s, inp.yaw_rate_rad_s)
-        tangential = patch_tangential(sol, kin, inp, self.sign * ref.eta_mm, ctx.tangential_guess)
+        tangential = patch_tangential(sol, kin, inp, self.sign * ref.eta_mm, ctx.tangential_guess,
+                                      ROUGH_ROLLING if rough else RollingOptions())
         ctx.tangential_guess = tangential
         return LoadedPatch(ctx, float(force), prob, sol, ref, kin, tangential)
 
     def force_at_approach(self, ctx: BalanceCandidate, delta: float) -> float:
-        """Normal force (N) of a candidate at the normal approach ``delta`` (mm); 0 when it does not touch."""
+        """Normal force (N) of a candidate at the normal approach ``delta`` (mm); 0 when it does not touch. Another
+        normal method than KP: KP's force-approach relation inverted for that method by a secant on log N,
+        started at KP's force times the ratio the last inversion found (it varies slowly with the approach). Its
+        solves start cold (from KP): a warm-started CG stops within its tolerance wherever it started, and that
+        noise (about 1e-7 of the approach) would stall the secant; the last one starts the next load."""
         if delta <= 0:
             return 0.0
         n_kp = ctx.evaluator.force_at(delta)
-        if self.inputs.normal_method.name == "kik_piotrowski" or n_kp <= 0:
+        method = self.inputs.normal_method
+        if method.name == "kik_piotrowski" or n_kp <= 0:
             return n_kp
 
-        def miss(log_n: float) -> float:  # another normal method: invert its force -> approach relation from KP's
+        def miss(log_n: float) -> float:
             prob = normal_problem(ctx.cand, self.sign, self.inputs, math.exp(log_n))
-            return solve_normal_with(prob, ctx.pair, method=self.inputs.normal_method).delta_mm - delta
+            sol = solve_normal_with(prob, ctx.pair, method=method)
+            ctx.remember(sol)
+            return sol.delta_mm - delta
 
-        x = secant(miss, math.log(n_kp), math.log(n_kp) + 0.05, 1e-12, 40, "approach of a patch")
+        x0 = math.log(n_kp) + ctx.log_force_ratio
+        step = 0.05 if ctx.log_force_ratio == 0.0 else INVERSION_STEP
+        x = secant(miss, x0, x0 + step, INVERSION_XTOL, 40, "approach of a patch", ftol=INVERSION_RTOL * delta)
+        ctx.log_force_ratio = x - math.log(n_kp)
         return math.exp(x)
 
     def solve(self) -> tuple[list[LoadedPatch], float, int]:
@@ -264,8 +313,7 @@ class VerticalBalance:
             cache[n] = self.load(ctx, n)
             return cache[n].vertical_N - Q
 
-        first = self.load(ctx, n0)
-        cache[n0] = first
+        first = self.load(ctx, n0, rough=True)             # not cached: only a full solve can be the result
         n_z = float(first.frame[0][2])
         n1 = (Q - (first.vertical_N - n0 * n_z)) / n_z                    # one fixed-point step
         # steps kept within the friction bounds (widened: the reference point's angle may differ slightly)

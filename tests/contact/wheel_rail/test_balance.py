@@ -187,3 +187,25 @@ def test_every_pass_is_kept(rail60, s1002, placed):
                       layers, placed_rail=placed)
     p = sol.patches[0]
     assert len(p.pass_normals) == len(p.passes) == 3
+
+
+def test_warm_started_exact_balance_gives_the_cold_forces(rail60, s1002, placed, monkeypatch):
+    """The exact/exact balance with its warm starts and rough first point gives the forces of cold solves to full
+    tolerance everywhere, within the solvers' tolerances."""
+    from contact.normal.method import NormalMethod
+    from contact.tangential.exact_rolling import RollingOptions
+    from contact.wheel_rail import balance
+
+    inputs = WheelRailInputs(pose=WheelsetPose(2.0, yaw_rad=0.002), normal_method=NormalMethod("exact"),
+                             tangential_method="exact")
+    warm = solve_wheel(rail60, s1002, inputs, placed_rail=placed).patches[0]
+    monkeypatch.setattr(balance, "ROUGH_ROLLING", RollingOptions())
+    monkeypatch.setattr(balance.BalanceCandidate, "normal_start",
+                        lambda self, method, rough=False: {"delta_guess_mm": self.delta_guess})
+    cold = solve_wheel(rail60, s1002, inputs, placed_rail=placed).patches[0]
+    scale = 0.3 * cold.normal_force_N
+    assert warm.normal_force_N == pytest.approx(cold.normal_force_N, rel=1e-7)
+    for key in ("Fx_N", "Fy_N"):
+        assert sum(getattr(t, key) for t in warm.tangential) == pytest.approx(
+            sum(getattr(t, key) for t in cold.tangential), abs=1e-5 * scale)
+    assert warm.normal.p_max_MPa == pytest.approx(cold.normal.p_max_MPa, rel=1e-4)
