@@ -24,7 +24,7 @@ import scipy.sparse as sp
 import skfem
 
 from calibration.fem.assembly import Discretisation
-from calibration.hertz.load import HertzLoad, PreparedLoad
+from calibration.hertz.load import PreparedLoad, probe_operator
 from calibration.position_mesh import add_support_boundary
 from calibration.rolling.config import RollingConfig
 from calibration.rolling.moving_load import SurfaceForces
@@ -79,13 +79,27 @@ def section_dof_count(config: RollingConfig) -> int:
 
 
 def point_probes(disc: Discretisation, profile, x_mm: np.ndarray, y_mm: np.ndarray) -> list[sp.csr_matrix]:
-    """Sparse (3, n_dofs) per surface point (x, y): its displacement, at the point of the boundary "surface" above
-    (x, y) nearest the profile's z(y) (the engine's load centre, :meth:`calibration.hertz.load.HertzLoad.
-    centre_only`: on the chordal facet, O(h^2) from the curved surface)."""
+    """Sparse (3, n_dofs) per surface point (x, y, z(y)): its displacement, evaluated at the point's projection
+    onto the nearest facet of the boundary "surface" (a chordal facet, O(h^2) from the curved surface;
+    :func:`calibration.hertz.load.probe_operator`)."""
+    mesh = disc.mesh
+    facets = np.asarray(mesh.boundaries["surface"])
+    v = mesh.p[:, mesh.facets[:3, facets]]                       # (3, 3 vertices, n_facets)
+    mid = v.mean(axis=1)
     out = []
     for x, y in zip(np.ravel(x_mm), np.ravel(y_mm)):
-        where = HertzLoad(float(y), 1.0, 1.0, centre_x_mm=float(x), z0_mm=float(profile.z(y))).centre_only(disc.basis)
-        out.append(where.centre_probe.tocsr())
+        pt = np.array([x, y, float(profile.z(y))])
+        best = None
+        for k in np.argsort(np.linalg.norm(mid.T - pt, axis=1))[:12]:
+            e1, e2 = v[:, 1, k] - v[:, 0, k], v[:, 2, k] - v[:, 0, k]
+            lam = np.linalg.lstsq(np.column_stack([e1, e2]), pt - v[:, 0, k], rcond=None)[0]
+            outside = max(0.0, -lam[0], -lam[1], lam.sum() - 1.0)
+            if best is None or outside < best[0]:
+                best = (outside, k, lam)
+        _, k, lam = best
+        lam = np.clip(lam, 0.0, 1.0) / max(1.0, float(np.clip(lam, 0.0, 1.0).sum()))
+        on = v[:, 0, k] + lam[0] * (v[:, 1, k] - v[:, 0, k]) + lam[1] * (v[:, 2, k] - v[:, 0, k])
+        out.append(probe_operator(disc.basis, on, int(mesh.f2t[0, facets[k]])).tocsr())
     return out
 
 
