@@ -78,9 +78,9 @@ class ContactSettings:
     model : str
         "3d" (half model about the track centreline y = 0) or "2d" (plane-strain line contact).
     a_mm : float
-        Contact semi-axis along the rolling direction x (mm, > 0).
+        Contact semi-axis along the rolling direction x (mm, > 0; from the table with ``contact.table``).
     b_mm : float
-        Lateral semi-axis (mm, > 0; 3D only; 0: circular, b = a).
+        Lateral semi-axis (mm, > 0; 3D only; 0: circular, b = a; from the table with ``contact.table``).
     traction_coefficient : float
         c of the surface traction q = c p in the rolling direction (-, in [-1, 1]; 0: frictionless).
     levels : tuple of float

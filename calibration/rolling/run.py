@@ -55,7 +55,8 @@ class LevelResult:
     p0_MPa : float
         Peak Hertz pressure p0 (MPa).
     static_dent_mm : float
-        Residual depth of the static indentation at mid-track (mm, relative to the far field).
+        Residual depth of the static indentation at mid-track (mm, relative to the far field; section: to the
+        support).
     groove_mm : list of float
         Groove depth after each completed pass (mm, cumulative, :class:`~calibration.rolling.groove.GrooveProfile`).
     layer_groove_mm : LayerGroove
