@@ -30,8 +30,9 @@ from calibration.rolling.config import RollingConfig
 from calibration.rolling.moving_load import SurfaceForces
 from calibration.rolling.track_mesh import TrackMesh, track_axes
 from calibration.settings import MeshSettings
-from meshes.meshing.extruded_mesh import extruded_local_mesh
+from meshes.meshing.extruded_mesh import MAX_LAYERS, extruded_local_mesh
 from meshes.profiles import load_profile
+from wrlayer.errors import InputError
 
 #: The calibration's section meshing (size growth, far size, depth, rail support).
 SECTION_MESH = MeshSettings()
@@ -69,6 +70,10 @@ def section_dof_count(config: RollingConfig) -> int:
     of nodes per layer)."""
     c, k = config.contact, config.mesh.order
     ax_x = track_axes(c, config.track, config.mesh)[0]
+    if len(ax_x) - 1 > MAX_LAYERS:
+        raise InputError(f"{config.source}: mesh.elements_per_semi_axis",
+                         f"gives {len(ax_x) - 1} element layers along the section's track (at most {MAX_LAYERS}: "
+                         f"fewer elements per semi-axis or a shorter track.length_factor)")
     h, h_max, box = section_sizes(config)
     h_x = c.a_mm / config.mesh.elements_per_semi_axis
     one = extruded_local_mesh(load_profile(c.profile), c.y_mm, h, h_x, max(h_max, h_x), 0.0, 0.0,

@@ -69,3 +69,11 @@ def test_dof_count_is_the_section_mesh():
                                                                           "size_factor": 3}}, "c")
     mesh = section_track_mesh(cfg).mesh
     assert dof_count(cfg) == 3 * mesh.p.shape[1]
+
+
+def test_too_many_layers_is_refused_before_meshing():
+    cfg = parse_rolling_config({**section(profile="60E1", y_mm=0.0, a_mm=6.0, b_mm=4.5),
+                                "track": {"length_factor": 20.0}, "mesh": {"elements_per_semi_axis": 10}}, "c")
+    with pytest.raises(InputError) as err:
+        dof_count(cfg)
+    assert err.value.what == "c: mesh.elements_per_semi_axis" and "at most 200" in err.value.problem
