@@ -62,7 +62,7 @@ def test_load_that_does_not_move_is_the_static_indentation():
 
 
 def test_tiny_section_pass(tmp_path):
-    cfg = config(0.0, levels=(1.7,))
+    cfg = config(0.0, levels=(1.5,), step=1.0)
     res = run_rolling(cfg, tmp_path)
     lv = res.levels[0]
     assert res.n_dofs == dof_count(cfg)
