@@ -46,16 +46,21 @@ def section_sizes(config: RollingConfig) -> tuple[float, float, tuple[float, flo
     return h, max(SECTION_MESH.h_max_mm, h), (m.fine_width_factor * c.lateral_mm, m.fine_depth_factor * c.a_mm)
 
 
+def section_extrusion(config: RollingConfig, x_layers) -> skfem.Mesh:
+    """The position's section meshed as in the module docstring and extruded in layers at ``x_layers`` (mm)."""
+    c = config.contact
+    h, h_max, box = section_sizes(config)
+    h_x = c.a_mm / config.mesh.elements_per_semi_axis
+    return extruded_local_mesh(load_profile(c.profile), c.y_mm, h, h_x, max(h_max, h_x), 0.0, 0.0,
+                               depth_mm=SECTION_MESH.depth_mm, order=config.mesh.order, refine_box_yz=box,
+                               grading=SECTION_MESH.grading, x_layers=x_layers)
+
+
 def section_track_mesh(config: RollingConfig) -> TrackMesh:
     """The section track mesh of ``config`` (``contact.body = "section"``; see the module docstring)."""
     c = config.contact
     profile = load_profile(c.profile)
-    ax_x = track_axes(c, config.track, config.mesh)[0]
-    h, h_max, box = section_sizes(config)
-    h_x = c.a_mm / config.mesh.elements_per_semi_axis
-    mesh = extruded_local_mesh(profile, c.y_mm, h, h_x, max(h_max, h_x), 0.0, 0.0, depth_mm=SECTION_MESH.depth_mm,
-                               order=config.mesh.order, refine_box_yz=box, grading=SECTION_MESH.grading,
-                               x_layers=ax_x)
+    mesh = section_extrusion(config, track_axes(c, config.track, config.mesh)[0])
     dirichlet = {"fixed": [0, 1, 2]}
     if profile.body == "rail" and SECTION_MESH.rail_support_below_mm is not None:
         dirichlet = add_support_boundary(mesh, SECTION_MESH.rail_support_below_mm)
@@ -74,11 +79,7 @@ def section_dof_count(config: RollingConfig) -> int:
         raise InputError(f"{config.source}: mesh.elements_per_semi_axis",
                          f"gives {len(ax_x) - 1} element layers along the section's track (at most {MAX_LAYERS}: "
                          f"fewer elements per semi-axis or a shorter track.length_factor)")
-    h, h_max, box = section_sizes(config)
-    h_x = c.a_mm / config.mesh.elements_per_semi_axis
-    one = extruded_local_mesh(load_profile(c.profile), c.y_mm, h, h_x, max(h_max, h_x), 0.0, 0.0,
-                              depth_mm=SECTION_MESH.depth_mm, order=k, refine_box_yz=box,
-                              grading=SECTION_MESH.grading, x_layers=[0.0, h_x])
+    one = section_extrusion(config, [0.0, c.a_mm / config.mesh.elements_per_semi_axis])
     section_nodes = one.p.shape[1] // (k + 1)
     return 3 * section_nodes * (k * (len(ax_x) - 1) + 1)
 
@@ -139,5 +140,5 @@ def section_static_load(disc: Discretisation, forces: SurfaceForces, profile, y0
                              (0.0, float(n[0]), float(n[1])))
 
 
-__all__ = ["SECTION_MESH", "SectionStaticLoad", "normal_probe", "section_dof_count", "section_sizes", "section_static_load",
+__all__ = ["SECTION_MESH", "SectionStaticLoad", "normal_probe", "section_dof_count", "section_extrusion", "section_sizes", "section_static_load",
            "section_track_mesh", "point_probes"]
