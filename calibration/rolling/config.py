@@ -91,8 +91,8 @@ class ContactSettings:
     body : str
         "block" (the half-space block) or "section" (the profile section at y_mm extruded along x; 3D only).
     table : str
-        Section: a shipped layer table (path relative to the project's root) giving the profile, a_mm, b_mm and the
-        material at y_mm ("": give profile, a_mm and b_mm).
+        Section: a layer table giving the profile, a_mm, b_mm and the material at y_mm: a path, or a shipped
+        table as "scenes/tables/NAME.json" ("": give profile, a_mm and b_mm).
     profile : str
         Section without a table: the profile's name (e.g. "60E1", "S1002") or file.
     y_mm : float

@@ -14,9 +14,8 @@ from pathlib import Path
 from calibration.settings import MaterialSettings
 from wrlayer.errors import InputError
 from wrlayer.layer_table import LayerTable
+from wrlayer.shipped import scenes_dir
 
-#: The project's root: shipped tables are given relative to it (e.g. "scenes/tables/rail_60E1_default.json").
-ROOT = Path(__file__).resolve().parents[2]
 
 
 @dataclass(frozen=True)
@@ -34,13 +33,16 @@ class TablePosition:
 
 
 def table_path(table: str | Path) -> Path:
-    """A table given absolute or relative to the project's root."""
+    """A table given absolute, relative to the working folder, or as a shipped one, ``scenes/tables/NAME.json``
+    (the shipped scenes folder of the source tree or the installed package, :func:`wrlayer.shipped.scenes_dir`)."""
     path = Path(table)
-    return path if path.is_absolute() else ROOT / path
+    if path.is_absolute() or path.is_file() or not path.parts or path.parts[0] != "scenes":
+        return path
+    return scenes_dir().joinpath(*path.parts[1:])
 
 
 def table_position(table: str | Path, y_mm: float) -> TablePosition:
-    """The position ``y_mm`` (mm) of the layer table ``table`` (absolute or relative to the project's root).
+    """The position ``y_mm`` (mm) of the layer table ``table`` (:func:`table_path`).
     InputError naming "table" when there is no such file, "y_mm" when the table has no position there."""
     path = table_path(table)
     if not path.is_file():
@@ -57,4 +59,4 @@ def table_position(table: str | Path, y_mm: float) -> TablePosition:
                          float(pos["geometry"]["a_mm"]), float(pos["geometry"]["b_mm"]), mat)
 
 
-__all__ = ["ROOT", "TablePosition", "table_path", "table_position"]
+__all__ = ["TablePosition", "table_path", "table_position"]

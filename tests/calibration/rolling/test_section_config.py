@@ -77,3 +77,9 @@ def test_too_many_layers_is_refused_before_meshing():
     with pytest.raises(InputError) as err:
         dof_count(cfg)
     assert err.value.what == "c: mesh.elements_per_semi_axis" and "at most 200" in err.value.problem
+
+
+def test_shipped_table_is_found_from_any_folder(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    cfg = parse_rolling_config(section(table=TABLE, y_mm=0.0), "c")
+    assert cfg.contact.a_mm == pytest.approx(7.161, abs=1e-3) and cfg.contact.profile == "60E1"
