@@ -3,10 +3,14 @@
 Layout of a file (every key optional except ``contact.a_mm`` and ``contact.levels``)::
 
     [material]  E_MPa, poisson, yield_MPa, H_iso_MPa, H_kin_MPa
-    [contact]   model, a_mm, b_mm, traction_coefficient, levels, level_unit
+    [contact]   model, a_mm, b_mm, traction_coefficient, levels, level_unit, body, table, profile, y_mm
     [track]     length_factor, step_factor, n_passes, ramp_steps, substeps
     [mesh]      elements_per_semi_axis, order, fine_width_factor, fine_depth_factor, size_factor, growth
     [run]       linear_solver, plots, layer_segments
+
+``body = "section"``: the profile section at a calibration position instead of the block, given as a shipped
+layer ``table`` + ``y_mm`` (a, b and the material from the table's position; no ``a_mm``, ``b_mm`` or
+``[material]`` then) or as ``profile`` + ``y_mm`` + ``a_mm`` + ``b_mm``.
 
 Bad values are InputError naming ``<file>: <table>.<key>`` (:mod:`wrlayer.validate`).
 """
@@ -14,11 +18,13 @@ Bad values are InputError naming ``<file>: <table>.<key>`` (:mod:`wrlayer.valida
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass, fields
+from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
 from calibration.fem.material import J2Material
+from calibration.rolling.section_position import table_position
 from calibration.settings import MaterialSettings
+from meshes.profiles import load_profile
 from wrlayer.errors import InputError
 from wrlayer.validate import Keys
 
@@ -26,6 +32,8 @@ from wrlayer.validate import Keys
 MODELS = ("2d", "3d")
 #: The units of ContactSettings.levels: multiples of the FEM first-yield pressure p_y, of k = Y / sqrt(3), or MPa.
 LEVEL_UNITS = ("p_y", "k", "MPa")
+#: The bodies of ContactSettings.body: the half-space block or the profile section at a position.
+BODIES = ("block", "section")
 #: Hard bounds (the cost guard refuses long runs below them unless forced).
 MAX_PASSES = 50
 MAX_LEVELS = 10
@@ -70,9 +78,9 @@ class ContactSettings:
     model : str
         "3d" (half model about the track centreline y = 0) or "2d" (plane-strain line contact).
     a_mm : float
-        Contact semi-axis along the rolling direction x (mm, > 0).
+        Contact semi-axis along the rolling direction x (mm, > 0; from the table with ``contact.table``).
     b_mm : float
-        Lateral semi-axis (mm, > 0; 3D only; 0: circular, b = a).
+        Lateral semi-axis (mm, > 0; 3D only; 0: circular, b = a; from the table with ``contact.table``).
     traction_coefficient : float
         c of the surface traction q = c p in the rolling direction (-, in [-1, 1]; 0: frictionless).
     levels : tuple of float
@@ -80,6 +88,15 @@ class ContactSettings:
     level_unit : str
         "p_y" (multiples of the FEM first-yield pressure of the static load, frictionless), "k" (multiples of the
         shear yield stress k = Y / sqrt(3)) or "MPa".
+    body : str
+        "block" (the half-space block) or "section" (the profile section at y_mm extruded along x; 3D only).
+    table : str
+        Section: a layer table giving the profile, a_mm, b_mm and the material at y_mm: a path, or a shipped
+        table as "scenes/tables/NAME.json" ("": give profile, a_mm and b_mm).
+    profile : str
+        Section without a table: the profile's name (e.g. "60E1", "S1002") or file.
+    y_mm : float
+        Section: the profile coordinate y0 of the track centreline (mm).
     """
 
     a_mm: float
@@ -88,6 +105,10 @@ class ContactSettings:
     b_mm: float = 0.0
     traction_coefficient: float = 0.0
     level_unit: str = "p_y"
+    body: str = "block"
+    table: str = ""
+    profile: str = ""
+    y_mm: float = 0.0
 
     @property
     def lateral_mm(self) -> float:
@@ -211,17 +232,53 @@ def _material(k: Keys) -> RollingMaterial:
         "H_iso_MPa": dict(ge=0.0), "H_kin_MPa": dict(ge=0.0)}))
 
 
-def _contact(k: Keys) -> ContactSettings:
+def _contact(k: Keys) -> tuple[ContactSettings, RollingMaterial | None]:
+    """The contact table and, for a section given by a table, the table's material."""
     kw = _numbers(k, ContactSettings, {"a_mm": dict(gt=0.0, le=1000.0), "b_mm": dict(ge=0.0, le=1000.0),
-                                       "traction_coefficient": dict(ge=-1.0, le=1.0)})
+                                       "traction_coefficient": dict(ge=-1.0, le=1.0), "y_mm": dict()})
+    for name, choices in (("model", MODELS), ("level_unit", LEVEL_UNITS), ("body", BODIES), ("table", None),
+                          ("profile", None)):
+        if name in k.table:
+            kw[name] = k.text(name, choices=choices)
+    material = None
+    if kw.get("body", "block") == "section":
+        kw, material = _section(k, kw)
+    else:
+        for name in ("table", "profile", "y_mm"):
+            if name in k.table:
+                raise k.error(name, 'only with body = "section"')
     if "a_mm" not in kw:
         raise k.error("a_mm", "missing (required)")
     kw["levels"] = tuple(float(x) for x in k.array("levels", min_len=1, max_len=MAX_LEVELS, gt=0.0))
-    if "model" in k.table:
-        kw["model"] = k.text("model", choices=MODELS)
-    if "level_unit" in k.table:
-        kw["level_unit"] = k.text("level_unit", choices=LEVEL_UNITS)
-    return ContactSettings(**kw)
+    return ContactSettings(**kw), material
+
+
+def _section(k: Keys, kw: dict) -> tuple[dict, RollingMaterial | None]:
+    """The section's position: from ``table`` + ``y_mm`` or ``profile`` + ``y_mm`` + ``a_mm`` + ``b_mm``."""
+    if kw.get("model", "3d") != "3d":
+        raise k.error("model", 'must be "3d" with body = "section"')
+    if "y_mm" not in kw:
+        raise k.error("y_mm", 'missing (required with body = "section")')
+    material = None
+    if kw.get("table"):
+        for name in ("a_mm", "b_mm", "profile"):
+            if name in kw:
+                raise k.error(name, "given by the table (remove it)")
+        try:
+            pos = table_position(kw["table"], kw["y_mm"])
+        except InputError as err:
+            raise k.error(err.what, err.problem) from None
+        kw.update(a_mm=pos.a_mm, b_mm=pos.b_mm, profile=pos.profile)
+        material = RollingMaterial(**asdict(pos.material))
+    else:
+        for name in ("profile", "a_mm", "b_mm"):
+            if not kw.get(name):
+                raise k.error(name, 'missing (required with body = "section" and no table)')
+    try:
+        load_profile(kw["profile"]).check_y(kw["y_mm"], "y_mm")
+    except InputError as err:
+        raise k.error("profile" if err.what != "y_mm" else "y_mm", err.problem) from None
+    return kw, material
 
 
 def _track(k: Keys) -> TrackSettings:
@@ -262,11 +319,16 @@ def parse_rolling_config(data: dict, source: str = "rolling") -> RollingConfig:
     contact = top.sub("contact")
     if contact is None:
         raise top.error("contact", "missing (required table)")
-    kw = {"contact": _contact(contact)}
+    kw: dict = {}
+    kw["contact"], table_material = _contact(contact)
     for name, reader in (("material", _material), ("track", _track), ("mesh", _mesh), ("run", _run)):
         sub = top.sub(name)
         if sub is not None:
             kw[name] = reader(sub)
+    if table_material is not None:
+        if "material" in kw:
+            raise top.error("material", "given by contact.table (remove the table [material])")
+        kw["material"] = table_material
     return RollingConfig(source=source, **kw)
 
 
@@ -282,6 +344,6 @@ def load_rolling_config(path: str | Path) -> RollingConfig:
     return parse_rolling_config(data, str(path))
 
 
-__all__ = ["ContactSettings", "LEVEL_UNITS", "MAX_LEVELS", "MAX_PASSES", "MAX_TRACK_FACTOR", "MODELS",
+__all__ = ["BODIES", "ContactSettings", "LEVEL_UNITS", "MAX_LEVELS", "MAX_PASSES", "MAX_TRACK_FACTOR", "MODELS",
            "RollingConfig", "RollingMaterial", "RollingRunSettings", "TrackMeshSettings", "TrackSettings",
            "load_rolling_config", "parse_rolling_config"]

@@ -6,6 +6,8 @@ machine under load with one BLAS thread (benchmarks/bench_rolling.py): the shipp
 quadratic tetrahedra, EPP steel at 1.3, 1.7, 2.1 p_y, 3 passes + the static dents, 21 steps per pass, 45,951 dofs)
 took 345 s at a load average of about 5 on 2 cores, 3.0e-5 s per step and dof (the 2.1 p_y passes 3-4 times
 the 1.3 p_y ones); the figures below keep a margin. 2D: the same per dof, halved (fewer quadrature points per dof).
+The section (``contact.body = "section"``): its dofs from the section meshed once (one layer,
+:func:`calibration.rolling.section_track.section_dof_count`), the same rate per dof.
 Material sub-steps (``track.substeps`` = m) cost about 1 + 0.2 (m - 1) times a plain step (more Newton iterations,
 docs/rolling-verification.md).
 """
@@ -16,6 +18,7 @@ import numpy as np
 
 from calibration.rolling.config import RollingConfig
 from calibration.rolling.passes import pass_targets
+from calibration.rolling.section_track import section_dof_count
 from calibration.rolling.track_mesh import track_axes
 from wrlayer.cost import CostEstimate
 
@@ -28,7 +31,10 @@ SUBSTEP_COST = 0.2
 
 def dof_count(config: RollingConfig) -> int:
     """Degrees of freedom of the displacement field on the track mesh, from its grid lines (no mesh built):
-    dim x nodes, the nodes of a quadratic simplex grid being those of the grid with every cell halved."""
+    dim x nodes, the nodes of a quadratic simplex grid being those of the grid with every cell halved. The
+    section's: :func:`~calibration.rolling.section_track.section_dof_count`."""
+    if config.contact.body == "section":
+        return section_dof_count(config)
     axes = track_axes(config.contact, config.track, config.mesh)
     k = config.mesh.order
     return int(len(axes) * np.prod([k * (len(ax) - 1) + 1 for ax in axes]))

@@ -26,11 +26,11 @@ class GrooveProfile:
     Attributes
     ----------
     x_mm : list of float
-        Positions along the centreline y = 0 (mm).
+        Positions along the centreline y = 0 (section: y = y0) (mm).
     depth_along_mm : list of float
-        Residual depth d along the centreline (mm, positive into the body).
+        Residual depth d along the centreline (mm, positive into the body; section: along the inward normal).
     y_mm : list of float
-        Positions across the track at mid-track x = 0 (mm; 3D only, empty in 2D).
+        Positions across the track at mid-track x = 0 (mm; section: profile coordinates; 3D only, empty in 2D).
     depth_across_mm : list of float
         Residual depth d across the track at mid-track (mm; 3D only).
     groove_mm : float

@@ -32,7 +32,10 @@ from calibration.rolling.layer_prediction import LayerGroove, StaticCurve, layer
 from calibration.rolling.moving_load import MovingHertzLoad, SurfaceForces
 from calibration.rolling.passes import PassRecord, RollingConvergenceError, roll
 from calibration.rolling.substeps import SubstepSolver, UnitResponses
-from calibration.rolling.track_mesh import TrackMesh, track_mesh
+from calibration.rolling.section_groove import SectionProbe
+from calibration.rolling.section_track import SectionStaticLoad, section_static_load, section_track_mesh
+from calibration.rolling.track_mesh import TrackMesh, track_axes, track_mesh
+from meshes.profiles import load_profile
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.cost import guard
 from wrlayer.errors import InputError
@@ -52,7 +55,8 @@ class LevelResult:
     p0_MPa : float
         Peak Hertz pressure p0 (MPa).
     static_dent_mm : float
-        Residual depth of the static indentation at mid-track (mm, relative to the far field).
+        Residual depth of the static indentation at mid-track (mm, relative to the far field; section: to the
+        support).
     groove_mm : list of float
         Groove depth after each completed pass (mm, cumulative, :class:`~calibration.rolling.groove.GrooveProfile`).
     layer_groove_mm : LayerGroove
@@ -167,32 +171,49 @@ class RollingResult:
 @dataclass(frozen=True)
 class RollingModel:
     """The discretised block with its kept problem: track mesh, discretisation, solver options, static load,
-    moving load forces, surface probe, p_y (MPa), elastic centre compliance c_el (mm/MPa) and the tangent problem."""
+    moving load forces, surface probe (block or section), p_y (MPa), elastic centre compliance c_el (mm/MPa) and the tangent problem."""
 
     tm: TrackMesh
     disc: object
     opts: SolverOptions
-    static_load: HertzLoad
+    static_load: HertzLoad | SectionStaticLoad
     forces: SurfaceForces
-    probe: SurfaceProbe
+    probe: SurfaceProbe | SectionProbe
     p_y_MPa: float
     compliance_mm_per_MPa: float
     prob: object
 
 
+def body_mesh(config: RollingConfig) -> TrackMesh:
+    """The track mesh of ``contact.body``: the block or the profile section."""
+    if config.contact.body == "section":
+        return section_track_mesh(config)
+    return track_mesh(config.contact, config.track, config.mesh)
+
+
 def build_model(config: RollingConfig, tm: TrackMesh) -> RollingModel:
-    """Discretise, factorise once and solve the unit static load elastically (p_y and c_el)."""
+    """Discretise, factorise once and solve the unit static load elastically (p_y and c_el). The block's static
+    load is the engine's HertzLoad at mid-track, the section's the moving load held there
+    (:class:`calibration.rolling.section_track.SectionStaticLoad`)."""
     c = config.contact
     disc = discretise(tm.mesh, config.mesh.order)
     b = None if c.model == "2d" else c.lateral_mm
-    static = HertzLoad(0.0, c.a_mm) if b is None else HertzLoad(0.0, b, c.a_mm, centre_x_mm=0.0)
+    window = (-tm.track_half_mm, tm.track_half_mm)
+    if c.body == "section":
+        profile = load_profile(c.profile)
+        forces = SurfaceForces(disc.basis, MovingHertzLoad(c.a_mm, b, c.traction_coefficient, profile, c.y_mm),
+                               window)
+        static = section_static_load(disc, forces, profile, c.y_mm)
+        probe = SectionProbe(disc, profile, c.y_mm, c.a_mm, b, track_axes(c, config.track, config.mesh)[0])
+    else:
+        static = HertzLoad(0.0, c.a_mm) if b is None else HertzLoad(0.0, b, c.a_mm, centre_x_mm=0.0)
+        probe = SurfaceProbe(disc, c.a_mm)
     opts = SolverOptions(rtol=1e-6, etol=1e-8, dirichlet=tm.dirichlet, linear_solver=config.run.linear_solver)
     path = LoadPath(tm.mesh, config.material.j2(), static, [0.0], opts, disc=disc)
-    probe = SurfaceProbe(disc, c.a_mm)
     u1 = path.u_unit
     c_el = path.prepared.centre_displacement_mm(u1) + probe.far_field(u1)
-    forces = SurfaceForces(disc.basis, MovingHertzLoad(c.a_mm, b, c.traction_coefficient),
-                           (-tm.track_half_mm, tm.track_half_mm))
+    if c.body != "section":
+        forces = SurfaceForces(disc.basis, MovingHertzLoad(c.a_mm, b, c.traction_coefficient), window)
     return RollingModel(tm, disc, opts, static, forces, probe, float(path.first_yield_p0_MPa), float(c_el),
                         path.prob)
 
@@ -226,7 +247,7 @@ def run_rolling(config: RollingConfig, out_dir: str | Path, force: bool = False,
     t0 = time.perf_counter()
     out_dir = Path(out_dir)
     guard(rolling_cost(config), force)
-    tm = track_mesh(config.contact, config.track, config.mesh)
+    tm = body_mesh(config)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as err:
@@ -285,5 +306,5 @@ def _series(config: RollingConfig, out_dir: Path, level: int, model: RollingMode
     return series
 
 
-__all__ = ["FORMAT_VERSION", "LevelResult", "RollingModel", "RollingResult", "build_model", "level_pressures",
+__all__ = ["FORMAT_VERSION", "LevelResult", "RollingModel", "RollingResult", "body_mesh", "build_model", "level_pressures",
            "run_rolling", "static_dents"]

@@ -10,12 +10,18 @@ face, of size h_yz + grading * (distance from the core's refinement box), up to 
 
 Boundaries as in the isotropic local mesh: "surface", "side", "fixed" (the far cut, extruded), "symmetry" (x = 0)
 and "end" (x = length_mm).
+
+With ``x_layers`` (layer coordinates along x) the whole body is one structured extrusion instead, from x_layers[0]
+to x_layers[-1] with a layer between each pair of coordinates (graded layers for a track along x); its end faces
+are "start" (x = x_layers[0]) and "end".
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
+import numpy as np
 import skfem
 
 from wrlayer.errors import require
@@ -41,24 +47,29 @@ def core_layers(h_x: float, core_length_mm: float) -> int:
 def extruded_local_mesh(profile, y0: float, h_yz: float, h_x: float, h_max: float, length_mm: float,
                         core_length_mm: float, depth_mm: float | None = None, order: int = 1,
                         refine_box_yz: tuple[float, float] = (0.0, 0.0),
-                        grading: float = DEFAULT_GRADING) -> skfem.Mesh:
+                        grading: float = DEFAULT_GRADING, x_layers: Sequence[float] | None = None) -> skfem.Mesh:
     """Tetrahedral mesh (mm) of the section over 0 <= x <= length_mm with a structured core (module docstring).
 
     h_yz: triangle size (mm) of the section in the box of half-sizes ``refine_box_yz`` (by, bz) around the load
-    point; h_x: largest layer thickness (mm) over 0 <= x <= core_length_mm (< length_mm). Returns ``MeshTet1``
-    (order 1) or ``MeshTet2`` (order 2).
+    point; h_x: largest layer thickness (mm) over 0 <= x <= core_length_mm (< length_mm). x_layers: increasing
+    layer coordinates (mm) of a fully structured extrusion (module docstring; length_mm and core_length_mm are then
+    not used). Returns ``MeshTet1`` (order 1) or ``MeshTet2`` (order 2).
     """
     depth_mm = default_depth_mm(profile) if depth_mm is None else depth_mm
     z0 = check_mesh_inputs(profile, y0, h_yz, h_max, depth_mm, order, grading)
-    h_x, length, core = float(h_x), float(length_mm), float(core_length_mm)
+    h_x = float(h_x)
     require(math.isfinite(h_x) and 1e-3 <= h_x <= float(h_max), "h_x",
             f"must lie in [0.001 mm, h_max], got {h_x!r}")
-    require(math.isfinite(core) and core > 0, "core_length_mm", f"must be > 0 mm, got {core_length_mm!r}")
-    require(math.isfinite(length) and length > core + h_x, "length_mm",
-            f"must exceed core_length_mm + h_x = {core + h_x:.3g} mm, got {length_mm!r}")
     box = tuple(float(b) for b in refine_box_yz)
     require(len(box) == 2 and all(math.isfinite(b) and b >= 0 for b in box), "refine_box_yz",
             f"must be two half-sizes >= 0 mm (by, bz), got {refine_box_yz!r}")
+    if x_layers is not None:
+        return check_quality(_structured_track(profile, y0, z0, float(h_yz), h_x, float(h_max), float(depth_mm),
+                                               order, box, float(grading), x_layers))
+    length, core = float(length_mm), float(core_length_mm)
+    require(math.isfinite(core) and core > 0, "core_length_mm", f"must be > 0 mm, got {core_length_mm!r}")
+    require(math.isfinite(length) and length > core + h_x, "length_mm",
+            f"must exceed core_length_mm + h_x = {core + h_x:.3g} mm, got {length_mm!r}")
     n_layers = core_layers(h_x, core)
     # one field for the section (x = 0: the core's box reaches it) and the unstructured rest
     size = GradedSize(float(h_yz), float(h_max), float(grading), (0.0, float(y0), z0), half_box=(core, *box))
@@ -80,3 +91,29 @@ def extruded_local_mesh(profile, y0: float, h_yz: float, h_x: float, h_max: floa
         groups.update(symmetry=[section.surface], end=[second[0][1]])
         mesh = gmsh_to_skfem(3, groups, axes=[2, 0, 1])
     return check_quality(mesh)
+
+
+def _structured_track(profile, y0: float, z0: float, h_yz: float, h_x: float, h_max: float, depth_mm: float,
+                      order: int, box: tuple[float, float], grading: float, x_layers) -> skfem.Mesh:
+    """The section meshed as by :func:`extruded_local_mesh` and extruded in one structured layer per interval of
+    ``x_layers`` (mm): boundaries "surface", "side", "fixed", "start" and "end"."""
+    xs = np.asarray(x_layers, dtype=float)
+    require(xs.ndim == 1 and xs.size >= 2 and bool(np.all(np.isfinite(xs))) and bool(np.all(np.diff(xs) > 0)),
+            "x_layers", "must be at least two increasing finite coordinates (mm)")
+    require(xs.size - 1 <= MAX_LAYERS, "x_layers", f"gives {xs.size - 1} layers (at most {MAX_LAYERS})")
+    length = float(xs[-1] - xs[0])
+    size = GradedSize(h_yz, h_max, grading, (0.0, float(y0), z0), half_box=(h_x, *box))
+    with gmsh_session("extruded") as gmsh:
+        section = add_section(profile.section_outline(depth_mm))
+        heights = ((xs[1:] - xs[0]) / length).tolist()
+        ext = gmsh.model.geo.extrude([(2, section.surface)], 0.0, 0.0, length, numElements=[1] * len(heights),
+                                     heights=heights)
+        gmsh.model.geo.synchronize()
+        size.apply(GMSH_AXES_3D, [(r, "CurvesList", [c]) for r, c in zip(section.curve_radii, section.curves)])
+        gmsh.option.setNumber("Mesh.Algorithm", 6)
+        generate(3, order)
+        lateral = [t for _, t in ext[2:]]
+        groups = {n: [s for s, c in zip(lateral, section.curve_names) if c == n] for n in ("surface", "side", "fixed")}
+        groups.update(start=[section.surface], end=[ext[0][1]])
+        mesh = gmsh_to_skfem(3, groups, axes=[2, 0, 1])
+    return mesh.translated((float(xs[0]), 0.0, 0.0))
