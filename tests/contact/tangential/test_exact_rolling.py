@@ -129,13 +129,15 @@ def test_anderson_accelerates_a_slow_linear_iteration():
     assert np.abs(plain - want).max() > 0.1 * np.abs(want).max()
 
 
-def test_accelerated_sweeps_equal_plain_gauss_seidel():
-    """The accelerated iteration (Jacobi between line blocks, Anderson mixing) and the exact block Gauss–Seidel
-    (memory 0) give the same partial-slip solution to the tolerance, the accelerated one in fewer FFT pairs."""
+@pytest.mark.parametrize("memory", [RollingOptions().memory, 20])
+def test_accelerated_sweeps_equal_plain_gauss_seidel(memory):
+    """The accelerated iteration (Jacobi between line blocks, Anderson mixing of the default depth and of 20) and
+    the exact block Gauss–Seidel (memory 0) give the same partial-slip solution to the tolerance, the accelerated
+    one in fewer FFT pairs."""
     grid = hertz_grid(4.0, 3.0, 24)
     X, Y = np.meshgrid(grid.x_mm, grid.y_mm)
     args = (grid.x_mm, grid.y_mm, grid.p_MPa, 0.001 - 0.0005 * Y, 0.0005 + 0.0005 * X, MU, G_MPa, NU)
-    fast = solve_rolling(*args, RollingOptions(tol=1e-10))
+    fast = solve_rolling(*args, RollingOptions(tol=1e-10, memory=memory))
     plain = solve_rolling(*args, RollingOptions(tol=1e-10, memory=0))
     scale = MU * grid.p_MPa.max()
     assert np.abs(fast.tx_MPa - plain.tx_MPa).max() < 1e-6 * scale
