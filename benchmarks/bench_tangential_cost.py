@@ -14,6 +14,7 @@ tolerances' and solver's runs in between), which a shared machine disturbs less 
 
 from __future__ import annotations
 
+import os
 import statistics
 import time
 
@@ -144,7 +145,7 @@ def normal_vs_tangential(quick: bool) -> list[dict]:
     rows = []
     for name, (sep, normal_N) in SCENES.items():
         for cells in (24, 48) if quick else (24, 48, 96):
-            rows.append({"scene": name, "cells": cells, "load_1min": float(open("/proc/loadavg").read().split()[0]),
+            rows.append({"scene": name, "cells": cells, "load_1min": os.getloadavg()[0],
                          **_case(sep, normal_N, cells)})
     return rows
 
