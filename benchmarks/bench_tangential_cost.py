@@ -1,7 +1,7 @@
 """The exact tangential solve against the exact normal solve on the same grid: time against error at several
 tolerances, the grid's discretisation error beside it, and the ratio of times at equal error.
 
-Units: ms (CPU time), mm, N, MPa. Scenes: bench_tangential's separations (:data:`benchmarks.bench_tangential.SCENES`)
+Units: ms (CPU time), mm, N, MPa. Scenes: the separations of :data:`SCENES`
 at the paper's creepages vx = 0.002, phi = 0.0012 1/mm, E = 210 GPa, nu = 0.28, mu = 0.3, on the exact normal
 solver's grid (0.1 mm lines, ``exact_cells`` cells across the patch). Each solver's error is measured against its
 own tightly converged solution on the same grid (normal: CG to 1e-10; tangential: Gauss–Seidel to 1e-12, on the

@@ -8,8 +8,8 @@ from contact.normal.exact import fastsim_pressure, strip_centres
 from contact.normal.patch import Patch
 from contact.scenes.scene import parse_scene
 from contact.scenes.simulation import simulate
-from contact.tangential.fastrip import solve_fastrip
 from contact.tangential.exact_rolling import RollingOptions
+from contact.tangential.fastrip import solve_fastrip
 from contact.tangential.fastsim import Creepage, solve_tangential
 from contact.tangential.kalker_coefficients import creep_coefficients
 from contact.tangential.method import TANGENTIAL_METHODS, PressureGrid, solve_for_normal_solution, solve_on_grid
