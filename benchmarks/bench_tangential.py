@@ -17,19 +17,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from benchmarks.harness import interleaved_medians, machine_info, median_time
-from contact.normal.exact import ExactOptions, fastsim_pressure, solve_exact, strip_centres
+from benchmarks.bench_tangential_cost import G_MPA, MU, NU, SCENES, normal_vs_tangential, scene
+from benchmarks.bench_tangential_cost import markdown as cost_markdown
+from benchmarks.harness import machine_info, median_time
+from contact.normal.exact import fastsim_pressure, strip_centres
 from contact.normal.patch import Patch
-from contact.scenes.scene import parse_scene
-from contact.scenes.simulation import normal_problem, simulate
+from contact.scenes.simulation import simulate
 from contact.tangential.fastsim import Creepage
-from contact.tangential.exact_rolling import RollingOptions
 from contact.tangential.method import TANGENTIAL_METHODS, PressureGrid, solve_on_grid
 from contact.tangential.spin_centre import solve_about_centroid
 from wrlayer.plotting import save_figure
 
-E_MPA, NU, MU = 210000.0, 0.28, 0.3
-G_MPA = E_MPA / (2 * (1 + NU))
 NORMAL_N = 1.0e5
 CREEPAGES = {"paper (vx 0.002, phi 0.0012)": Creepage(0.002, 0.0, 0.0012), "vx 0.002": Creepage(0.002, 0.0, 0.0),
              "vy 0.002": Creepage(0.0, 0.002, 0.0)}
@@ -80,22 +78,6 @@ def _time_error(quick: bool) -> list[dict]:
     return rows
 
 
-def _scene(sep, normal_N: float, normal: str, cells: int = 48):
-    y = np.round(np.arange(-14.0, 14.0001, 0.05), 4)
-    data = {"title": "tangential benchmark", "load": {"normal_force_N": normal_N, "rolling_radius_mm": 460.0},
-            "material": {"E_MPa": E_MPA, "poisson": NU}, "separation": {"y_mm": y.tolist(), "f_mm": sep(y).tolist()},
-            "tangential": {"creepage_x": 0.002, "creepage_y": 0.0, "spin_per_mm": 0.0012, "friction": MU},
-            "method": {"normal": normal, "grid_mm": 0.1}}
-    if normal == "exact":
-        data["method"]["exact_cells"] = cells
-    return parse_scene(data, "benchmark.toml")
-
-
-SCENES = {"quartic f = y^4/8000, 100 kN": (lambda y: y ** 4 / (4 * 2000.0), 1e5),
-          "two patches f = min((y+5)^2/80, 0.005+(y-5)^2/80), 60 kN":
-              (lambda y: np.minimum((y + 5) ** 2 / 80, 0.005 + (y - 5) ** 2 / 80), 6e4)}
-
-
 def _defects(quick: bool) -> list[dict]:
     """Fx, Fy (N) as the scene runner computes them (FASTSIM, spin about each patch's reference strip), FASTSIM with
     the spin about each patch's force centroid and the creepages about the scene origin (the fix), FaStrip and
@@ -103,7 +85,7 @@ def _defects(quick: bool) -> list[dict]:
     rows = []
     for name, (sep, normal_N) in SCENES.items():
         for normal, cells in [("kik_piotrowski", 48)] + [("exact", c) for c in ((48,) if quick else (24, 48, 96))]:
-            sc = _scene(sep, normal_N, normal, cells)
+            sc = scene(sep, normal_N, normal, cells)
             snap = simulate(sc).first
             sol = snap.solution
             cr = Creepage(0.002, 0.0, 0.0012)
@@ -123,43 +105,6 @@ def _defects(quick: bool) -> list[dict]:
                     res = solve_on_grid(grid, cr, MU, G_MPA, NU, method)
                     row[method] = [sum(r.Fx_N for r in res), sum(r.Fy_N for r in res)]
                     row[method + "_ms"] = 1e3 * (time.perf_counter() - t0)
-            rows.append(row)
-    return rows
-
-
-#: Tolerances of the exact tangential solve timed against the normal solve: the default, and one whose force error
-#: (about 1e-7) is still below the normal CG's pressure error at its default tolerance.
-ROLLING_TOLS = (RollingOptions().tol, 1e-5)
-
-
-def _normal_vs_tangential(quick: bool) -> list[dict]:
-    """Time against error of the exact normal solve and of the exact tangential solve on its grid: median wall
-    times (ms, runs interleaved), the normal pressure's error (largest cell |p - p_ref| / p_max against a CG to
-    1e-10) and the tangential force error (|F - F_ref| / |F_ref| against a solve to 1e-12)."""
-    rows = []
-    cr = Creepage(0.002, 0.0, 0.0012)
-    for name, (sep, normal_N) in SCENES.items():
-        for cells in (24, 48) if quick else (24, 48, 96):
-            sc = _scene(sep, normal_N, "exact", cells)
-            prob, opts = normal_problem(sc), ExactOptions(cells=cells)
-            sol = solve_exact(prob, None, opts)
-            ref_p = solve_exact(prob, None, ExactOptions(cells=cells, cg_tol=1e-10)).field.p_MPa
-            grid = PressureGrid.from_exact(sol)
-            ref = _forces(solve_on_grid(grid, cr, MU, G_MPA, NU, "exact", options=RollingOptions(tol=1e-12)))
-            fns = {"normal": lambda: solve_exact(prob, None, opts)}
-            for tol in ROLLING_TOLS:
-                fns[tol] = lambda o=RollingOptions(tol=tol): solve_on_grid(grid, cr, MU, G_MPA, NU, "exact", options=o)
-            for m in ("fastsim", "fastrip"):
-                fns[m] = lambda m=m: solve_on_grid(grid, cr, MU, G_MPA, NU, m)
-            times = interleaved_medians(fns, repeat=5)
-            row = {"scene": name, "cells": cells, "grid": list(grid.p_MPa.shape), "normal_ms": 1e3 * times["normal"],
-                   "normal_p_error": float(np.abs(sol.field.p_MPa - ref_p).max() / ref_p.max()),
-                   "fastsim_ms": 1e3 * times["fastsim"], "fastrip_ms": 1e3 * times["fastrip"], "exact": []}
-            for tol in ROLLING_TOLS:
-                res = solve_on_grid(grid, cr, MU, G_MPA, NU, "exact", options=RollingOptions(tol=tol))
-                err = np.abs(_forces(res) - ref)
-                row["exact"].append({"tol": tol, "ms": 1e3 * times[tol], "sweeps": res[0].iterations,
-                                     "F_error": float(np.hypot(err[0], err[1]) / np.hypot(ref[0], ref[1]))})
             rows.append(row)
     return rows
 
@@ -191,20 +136,11 @@ def _markdown(rows, defects, nt) -> str:
     d += [f"| {r['scene']} | {r['normal']} | {r['cells']} | {', '.join(f'{v:.2f}' for v in r['y_ref_mm'])} | "
           f"{kn(r['as_run'])} | {kn(r['fastsim_fixed'])} | {kn(r.get('fastrip'))} | {kn(r.get('exact'))} |"
           for r in defects]
-    n = ["| scene | cells | grid (lines x cells) | normal (ms) | normal p error | FASTSIM (ms) | FaStrip (ms) | "
-         + " | ".join(f"exact tol {t:g} (ms) | sweeps | F error | exact / normal" for t in ROLLING_TOLS) + " |",
-         "|---" * (6 + 4 * len(ROLLING_TOLS)) + "|"]
-    n += [f"| {r['scene']} | {r['cells']} | {r['grid'][0]} x {r['grid'][1]} | {r['normal_ms']:.0f} | "
-          f"{r['normal_p_error']:.1e} | {r['fastsim_ms']:.0f} | {r['fastrip_ms']:.0f} | "
-          + " | ".join(f"{e['ms']:.0f} | {e['sweeps']} | {e['F_error']:.0e} | {e['ms'] / r['normal_ms']:.1f}"
-                       for e in r["exact"]) + " |" for r in nt]
     return "\n\n".join([
         __doc__.split("\n\n", 1)[1].strip(),
         "**Time against error** (F error: |(Fx, Fy) - reference| / |reference|; reference: exact theory on the "
         "finest grid):\n\n" + "\n".join(t),
-        "**Exact tangential against exact normal solve** (same grid; paper creepages; median wall times of runs "
-        "interleaved; normal p error: largest cell |p - p_ref| / p_max against a CG to 1e-10; F error against the "
-        "exact solve to 1e-12):\n\n" + "\n".join(n),
+        "**Exact tangential against exact normal solve** (benchmarks.bench_tangential_cost). " + cost_markdown(nt),
         "**FASTSIM spin-centre defects** (scene creepages vx = 0.002, phi = 0.0012 1/mm about the scene origin; "
         "'as run': contact.scenes.simulation today, spin about each patch's reference strip y_ref; 'fixed': "
         "contact.tangential.spin_centre.solve_about_centroid):\n\n" + "\n".join(d),
@@ -218,7 +154,7 @@ def run(mode: str, out: pathlib.Path) -> dict:
     for m in TANGENTIAL_METHODS:                                   # compile / load the numba caches
         solve_on_grid(hertz_grid(6.0, 4.0, 8), CREEPAGES["vx 0.002"], MU, G_MPA, NU, m)
     rows = _time_error(quick)
-    nt = _normal_vs_tangential(quick)
+    nt = normal_vs_tangential(quick)
     defects = _defects(quick)
     png = _figure(rows, out)
     return {"title": "Tangential methods: FASTSIM, FaStrip, exact (Kalker's full theory)",

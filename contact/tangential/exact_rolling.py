@@ -44,8 +44,7 @@ but it is a fixed-point map t -> G(t) whose error is dominated by a few smooth m
 friction discs |t| <= mu p. Every sweep ends with the Gauss–Seidel update itself, so the stop test is the same
 as for plain Gauss–Seidel: the largest traction change of a sweep below ``tol`` times min(mu max(p), max |t|).
 On a flange patch of 159 x 61 cells from rest this takes 35 sweeps of one FFT pair each to the tolerance 1e-5
-(about 55 to the default 1e-8: the wheel-rail load balance, stopped at 1e-8 of the load, needs forces free of
-solver noise), where the exact block Gauss–Seidel (the displacement recomputed by FFT before every block of
+(about 55 to 1e-8), where the exact block Gauss–Seidel (the displacement recomputed by FFT before every block of
 max(8, lines / 8) lines) takes 51 sweeps of 8 FFT pairs to 1e-5. ``memory = 0``, or an accelerated iteration not
 converged after half of ``max_sweeps``, runs that exact block Gauss–Seidel (from the current tractions);
 ConvergenceError after ``max_sweeps`` in all.
@@ -65,10 +64,11 @@ from wrlayer.jit import kernel
 
 __all__ = ["BLOCK_NEAR_COLUMNS", "RollingOptions", "RollingField", "coulomb_cell", "solve_rolling"]
 
-#: A traction change in the accelerated sweep updates the displacement of its block's other lines within this many
-#: columns of it only (its own line behind it in full): the farther, weaker influence waits for the next sweep's FFT.
-#: The fixed point is the same; on the benchmark patches (bench_tangential) the sweeps are the same as with the
-#: whole lines updated, at 25-40 % less kernel time per sweep.
+#: A traction change in the accelerated sweep updates the displacement within this many columns of it only (on its
+#: own line the cells behind it, on its block's other lines both sides): the farther, weaker influence waits for the
+#: next sweep's FFT. The fixed point is the same; on the benchmark patches (bench_tangential) the sweeps are the
+#: same as with the whole lines updated, at 25-40 % less kernel time per sweep (the block's other lines) and 0-8 %
+#: less time per solve (its own line).
 BLOCK_NEAR_COLUMNS = 4
 
 
@@ -77,16 +77,20 @@ class RollingOptions:
     """Options of the exact rolling solver.
 
     tol: stop when the largest traction change of a sweep is below tol times the traction scale
-    min(mu max(p), max |t|) (-); max_sweeps: limit; block_lines: lines per Gauss–Seidel block of the accelerated
-    sweep (Jacobi between blocks; with the near-column updates (:data:`BLOCK_NEAR_COLUMNS`) 8 took 10-20 % fewer
-    sweeps than 4 on the bench_tangential patches, 16 no fewer than 8); memory: Anderson depth (sweeps mixed); 0:
-    exact block Gauss–Seidel without acceleration.
+    min(mu max(p), max |t|) (-): 1e-4 leaves a traction error max |dq| of 1e-5 to 6e-5 of mu max(p), below the
+    exact normal solve's pressure error at its default (1e-4 to 2e-4 of max(p)), and a force error below 1e-6 of
+    mu F_N, three to four orders below the grid's discretisation error (benchmarks.bench_tangential_cost);
+    max_sweeps: limit; block_lines: lines per Gauss–Seidel block of the accelerated sweep (Jacobi between blocks;
+    with the near-column updates (:data:`BLOCK_NEAR_COLUMNS`) 8 took 10-20 % fewer sweeps than 4 on the
+    bench_tangential patches, 16 no fewer than 8); memory: Anderson depth (sweeps mixed; to 1e-4 depths 10, 20 and
+    40 took the same sweeps there, 5 up to 5 % more; 10 halves 20's mixing work); 0: exact block Gauss–Seidel
+    without acceleration.
     """
 
-    tol: float = 1e-8
+    tol: float = 1e-4
     max_sweeps: int = 500
     block_lines: int = 8
-    memory: int = 20
+    memory: int = 10
 
 
 @dataclass(frozen=True)
@@ -139,9 +143,9 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, slip):  # 
 
     Each cell solves the summed slip equation u_I = u_pad + sum_{K >= I} (s_K - w_K) dx for its own traction
     (coefficient A(0): the symmetric half-space operator's diagonal), with the slips s_K of the cells ahead of it
-    from this sweep. A traction change updates the displacement where this sweep still reads it: on its own line
-    behind the cell and on the block's lines not yet swept, within :data:`BLOCK_NEAR_COLUMNS` of it and each line's
-    columns cols[j, 0] <= i < cols[j, 1] (its loaded cells and the free cell or pad ahead of them)."""
+    from this sweep. A traction change updates the displacement where this sweep still reads it, within
+    :data:`BLOCK_NEAR_COLUMNS` of it: on its own line behind the cell and on the block's lines not yet swept, each
+    line's columns cols[j, 0] <= i < cols[j, 1] (its loaded cells and the free cell or pad ahead of them)."""
     ny, nx = tx.shape
     cy = near.shape[1] // 2
     cx = near.shape[2] // 2
@@ -178,10 +182,9 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, slip):  # 
                 ty[j, i] = nyv
                 for jj in range(j, j1):
                     oy = jj - j + cy
-                    lo = cols[jj, 0]
-                    hi = i
-                    if jj > j:                 # the block's other lines: the near columns only
-                        lo = max(lo, i - BLOCK_NEAR_COLUMNS)
+                    lo = max(cols[jj, 0], i - BLOCK_NEAR_COLUMNS)
+                    hi = i                     # its own line: the cells behind it
+                    if jj > j:                 # the block's other lines: both sides
                         hi = min(cols[jj, 1], i + BLOCK_NEAR_COLUMNS + 1)
                     for ii in range(lo, hi):
                         ox = ii - i + cx

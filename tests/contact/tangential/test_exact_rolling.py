@@ -129,19 +129,39 @@ def test_anderson_accelerates_a_slow_linear_iteration():
     assert np.abs(plain - want).max() > 0.1 * np.abs(want).max()
 
 
-def test_accelerated_sweeps_equal_plain_gauss_seidel():
-    """The accelerated iteration (Jacobi between line blocks, Anderson mixing) and the exact block Gauss–Seidel
-    (memory 0) give the same partial-slip solution to the tolerance, the accelerated one in fewer FFT pairs."""
+@pytest.mark.parametrize("memory", [RollingOptions().memory, 20])
+def test_accelerated_sweeps_equal_plain_gauss_seidel(memory):
+    """The accelerated iteration (Jacobi between line blocks, Anderson mixing of the default depth and of 20) and
+    the exact block Gauss–Seidel (memory 0) give the same partial-slip solution to the tolerance, the accelerated
+    one in fewer FFT pairs."""
     grid = hertz_grid(4.0, 3.0, 24)
     X, Y = np.meshgrid(grid.x_mm, grid.y_mm)
     args = (grid.x_mm, grid.y_mm, grid.p_MPa, 0.001 - 0.0005 * Y, 0.0005 + 0.0005 * X, MU, G_MPa, NU)
-    fast = solve_rolling(*args, RollingOptions(tol=1e-10))
+    fast = solve_rolling(*args, RollingOptions(tol=1e-10, memory=memory))
     plain = solve_rolling(*args, RollingOptions(tol=1e-10, memory=0))
     scale = MU * grid.p_MPa.max()
     assert np.abs(fast.tx_MPa - plain.tx_MPa).max() < 1e-6 * scale
     assert np.abs(fast.ty_MPa - plain.ty_MPa).max() < 1e-6 * scale
     assert np.array_equal(fast.slip, plain.slip) and 0 < fast.slip.sum() < (grid.p_MPa > 0).sum()
     assert fast.fft_evaluations < plain.fft_evaluations
+
+
+@pytest.mark.parametrize("a, b, vx, vy, phi", [(4.0, 3.0, 0.001, 0.0005, 0.0005), (8.0, 1.5, 0.002, 0.0, 0.0012)])
+def test_default_tolerance_error_is_below_the_normal_solves(a, b, vx, vy, phi):
+    """At the default tolerance the tractions are within 2e-4 of mu max(p) of a solve to 1e-12 (the exact normal
+    solve's pressure error at its default CG tolerance, 1e-4 to 2e-4 of max(p)) and the force within 1e-6 of
+    mu F_N (the grid's discretisation error is about 1e-3 of mu F_N): partial slip and a long, spin-dominated
+    nearly full-slip patch."""
+    grid = hertz_grid(a, b, 24, ny=max(8, 2 * round(12 * b / a)))
+    X, Y = np.meshgrid(grid.x_mm, grid.y_mm)
+    args = (grid.x_mm, grid.y_mm, grid.p_MPa, vx - phi * Y, vy + phi * X, MU, G_MPa, NU)
+    default = solve_rolling(*args)
+    tight = solve_rolling(*args, RollingOptions(tol=1e-12))
+    scale = MU * grid.p_MPa.max()
+    assert np.hypot(default.tx_MPa - tight.tx_MPa, default.ty_MPa - tight.ty_MPa).max() < 2e-4 * scale
+    force = np.array([(default.tx_MPa - tight.tx_MPa).sum(), (default.ty_MPa - tight.ty_MPa).sum()])
+    assert np.hypot(*force) < 1e-6 * MU * grid.p_MPa.sum()
+    assert default.iterations < tight.iterations and tight.slip.any()
 
 
 def test_zero_creepage_and_no_convergence():
