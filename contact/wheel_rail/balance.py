@@ -17,8 +17,8 @@ cos(gamma) <= mu |sin(gamma)| (flange climbing limit) is a ConvergenceError. Sev
 on the common Delta (started at the normal-only balance found by Brent's method), every candidate's N_i(delta_i)
 from its force-approach relation. Converged to |sum F_Z - Q| <= 1e-8 Q (the exact solvers' results are determined
 to about 1e-7 of the approach by their own tolerances; the balance stops below that). With the exact solvers each
-solve starts from the candidate's previous one (pressure field, tractions), and the first point of the iteration is
-solved to loose tolerances only (:data:`ROUGH_ROLLING`, :data:`ROUGH_CG_TOL`). ``balance = "normal"``:
+solve starts from the candidate's previous one (pressure field, tractions), and the exact normal solve at the first
+point of the iteration is solved to a loose tolerance only (:data:`ROUGH_CG_TOL`). ``balance = "normal"``:
 sum N_i cos(gamma_i) = Q (the earlier model, kept for comparison; on the flange it overestimates N by 25-60 %).
 
 Each patch is a separate normal problem in its own contact plane (no elastic interaction between patches), solved
@@ -41,7 +41,6 @@ from contact.layer.strip_lookup import clamped_characteristics
 from contact.normal.kik_piotrowski import NormalForceEvaluator, NormalProblem, NormalSolution, solve_normal
 from contact.normal.exact_field import ExactField
 from contact.normal.method import NormalMethod, solve_normal_with
-from contact.tangential.exact_rolling import RollingOptions
 from contact.tangential.fastsim import Creepage, TangentialResult
 from contact.tangential.on_patch import TangentialSettings, solve_regions
 from contact.wheel_rail.contact_search import ContactCandidate, SearchResult
@@ -58,10 +57,8 @@ BALANCE_ITER_RTOL = 1e-8
 #: Inversion of a normal method's force-approach relation (:meth:`VerticalBalance.force_at_approach`): secant on
 #: log N stopped at a step below INVERSION_XTOL or |delta(N) - delta| <= INVERSION_RTOL delta; its second point
 #: INVERSION_STEP above the first once an earlier inversion gave the start.
-#: The exact tangential iteration at the balance's first point: its forces only start the secant (their error,
-#: about 1e-4 of mu N, moves its second step by far less than the tolerance) and its tractions the next solve.
-ROUGH_ROLLING = RollingOptions(tol=1e-4)
-#: The exact normal CG's tolerance at the balance's first point (the same reasoning).
+#: The exact normal CG's tolerance at the balance's first point: its force only starts the secant (its error moves
+#: the secant's second step by far less than the tolerance) and its pressure the next solve.
 ROUGH_CG_TOL = 1e-3
 INVERSION_XTOL = 1e-12
 INVERSION_RTOL = 1e-9
@@ -86,19 +83,17 @@ def normal_problem(cand: ContactCandidate, sign: int, inputs: WheelRailInputs, f
 
 
 def patch_tangential(normal: NormalSolution, kin: PatchKinematics, inputs: WheelRailInputs,
-                     eta_ref_mm: float, start: list[TangentialResult] | None = None,
-                     rolling: RollingOptions = RollingOptions()) -> list[TangentialResult]:
+                     eta_ref_mm: float, start: list[TangentialResult] | None = None) -> list[TangentialResult]:
     """The tangential solution (``method.tangential``) of every region of a patch's normal solution with the
     creepages ``kin`` evaluated at the reference point ``eta_ref_mm`` (mm, problem orientation; the origin of the
     results' strip coordinate and Mz); FASTSIM takes the spin about each region's force centroid with the
     creepages moved there from the reference point (:mod:`contact.tangential.spin_centre`). [] without friction.
-    ``start``: the previous solve of the balance iteration (the exact theory starts from its tractions);
-    ``rolling``: the exact theory's iteration options."""
+    ``start``: the previous solve of the balance iteration (the exact theory starts from its tractions)."""
     if inputs.friction == 0:
         return []
     settings = TangentialSettings(inputs.E_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
                                   inputs.fastsim_cells, method=inputs.tangential_method)
-    return solve_regions(normal, Creepage(kin.vx, kin.vy, kin.phi_per_mm), settings, eta_ref_mm, start, rolling)
+    return solve_regions(normal, Creepage(kin.vx, kin.vy, kin.phi_per_mm), settings, eta_ref_mm, start)
 
 
 def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, layers: WheelRailLayers | None,
@@ -124,7 +119,7 @@ def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, lay
             name = layers.name(body)
             chars, _ = clamped_characteristics(table, coords[body][near], f"layers.{body} ({name})", patch_mm)
             built[body] = PrandtlLayer.from_characteristics(chars, strips[near], name=f"{body} layer ({name})",
-                                                            rolling_law=getattr(table, "rolling_law", None))
+                                                            rolling_law=table.rolling_law)
     return LayerPair(**built), coords
 
 
@@ -228,8 +223,8 @@ class VerticalBalance:
 
     def load(self, ctx: BalanceCandidate, force: float, rough: bool = False) -> LoadedPatch:
         """Solve ``ctx`` at the normal force ``force`` (N): normal solution, reference point, creepages there,
-        the tangential solution about it. ``rough``: the exact tangential theory only to :data:`ROUGH_ROLLING`'s
-        tolerance (the first point of the balance iteration, never its result)."""
+        the tangential solution about it. ``rough``: the exact normal solve only to :data:`ROUGH_CG_TOL` (the
+        first point of the balance iteration, never its result)."""
         self.evaluations += 1
         inp = self.inputs
         prob = normal_problem(ctx.cand, self.sign, inp, force)
@@ -242,8 +237,7 @@ class VerticalBalance:
         n_track = track_vector(ref.normal, self.sign)
         centre = np.array([0.0, inp.pose.lateral_mm, self.found.wheel_height_mm])   # rigid-contact geometry
         kin = creepages(point, n_track, centre, self.axle, inp.speed_mm_s, inp.omega_rad_s, inp.yaw_rate_rad_s)
-        tangential = patch_tangential(sol, kin, inp, self.sign * ref.eta_mm, ctx.tangential_guess,
-                                      ROUGH_ROLLING if rough else RollingOptions())
+        tangential = patch_tangential(sol, kin, inp, self.sign * ref.eta_mm, ctx.tangential_guess)
         ctx.tangential_guess = tangential
         return LoadedPatch(ctx, float(force), prob, sol, ref, kin, tangential)
 

@@ -193,13 +193,11 @@ def test_warm_started_exact_balance_gives_the_cold_forces(rail60, s1002, placed,
     """The exact/exact balance with its warm starts and rough first point gives the forces of cold solves to full
     tolerance everywhere, within the solvers' tolerances."""
     from contact.normal.method import NormalMethod
-    from contact.tangential.exact_rolling import RollingOptions
     from contact.wheel_rail import balance
 
     inputs = WheelRailInputs(pose=WheelsetPose(2.0, yaw_rad=0.002), normal_method=NormalMethod("exact"),
                              tangential_method="exact")
     warm = solve_wheel(rail60, s1002, inputs, placed_rail=placed).patches[0]
-    monkeypatch.setattr(balance, "ROUGH_ROLLING", RollingOptions())
     monkeypatch.setattr(balance.BalanceCandidate, "normal_start",
                         lambda self, method, rough=False: {"delta_guess_mm": self.delta_guess})
     cold = solve_wheel(rail60, s1002, inputs, placed_rail=placed).patches[0]

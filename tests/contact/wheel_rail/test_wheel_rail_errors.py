@@ -49,6 +49,7 @@ class NarrowTable:
     """A rail table covering only y in [5, 6] mm: the tread contact near y = 0 lies outside."""
 
     y_range_mm = (5.0, 6.0)
+    rolling_law = None
 
     def characteristic_at(self, y_mm, patch_mm=None):
         return Characteristic(np.array([0.0, 0.01, 0.05]), np.array([0.0, 300.0, 900.0]))
