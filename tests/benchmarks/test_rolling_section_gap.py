@@ -1,0 +1,39 @@
+"""The section gap's bookkeeping: the layer's groove from a table (Masing residual times the rolling law) against a
+rolling.json, and the configurations it runs (parsed by the rolling reader)."""
+
+import tomllib
+
+import pytest
+
+from benchmarks import bench_rolling_section_gap as sg
+from calibration.rolling.config import parse_rolling_config
+from calibration.rolling.layer_prediction import masing_residual
+from wrlayer.layer_table import LayerTable
+
+
+def test_every_configuration_is_a_valid_section_run():
+    for _, table, y_mm, _ in sg.POSITIONS:
+        for c in sg.TRACTIONS:
+            cfg = parse_rolling_config(tomllib.loads(sg.config_text(table, y_mm, c)), "case")
+            assert cfg.contact.body == "section" and cfg.contact.y_mm == y_mm
+            assert cfg.track.n_passes == sg.N_PASSES and tuple(cfg.contact.levels) == sg.LEVELS
+
+
+def test_layer_groove_is_the_tables_residual_times_its_law():
+    name, table_rel, y_mm, label = sg.POSITIONS[0]
+    table = LayerTable.read(sg.ROOT / table_rel)
+    ch = table.characteristic_at(y_mm)
+    run = {"p_y_MPa": 800.0, "levels": [
+        {"p0_over_py": 1.7, "static_dent_mm": 0.02, "groove_mm": [0.019, 0.020, 0.0203, 0.0204, 0.0205]},
+        {"p0_over_py": 2.1, "static_dent_mm": 0.03, "groove_mm": [0.03]}]}  # too few passes: left out
+    rows = sg.rows_of(run, table_rel, y_mm, label, 0.2)
+    assert len(rows) == 1
+    r = masing_residual(ch, 1.7 * ch.elastic_limit_MPa)
+    row = rows[0]
+    assert row.table_residual_mm == pytest.approx(r)
+    assert row.fem_mm == (0.019, 0.020, 0.0205)
+    for n, law in zip(sg.COMPARED, row.law_mm):
+        assert law == pytest.approx(r * float(table.rolling_law.factor(n, 1.7, 0.2)))
+    assert row.relaxed_mm == pytest.approx(tuple(n * r for n in sg.COMPARED))
+    text = sg.table_markdown(rows)
+    assert f"| {label} | 0.2 | 1.7 |" in text and "of 1 cases" in text
