@@ -22,7 +22,8 @@ p0 and with the calibrated layer's prediction under both memory rules (docs/roll
   JSON file per case.
 - :mod:`~calibration.rolling.gap`: the gap between the layer's memory rules and the FEM, the laws of the tables.
 
-Depends on: wrlayer, calibration.fem, calibration.hertz, calibration.fit, calibration.position_fit (the layer's
-elastic slope S_1), calibration.settings (the fit defaults), wrlayer.rolling_law and wrlayer.layer_table (the
-rolling law and the tables).
+Depends on: wrlayer, meshes (the profiles and the section extrusion), calibration.fem, calibration.hertz,
+calibration.fit, calibration.position_fit (the layer's elastic slope S_1), calibration.position_mesh (the rail's
+support), calibration.settings (the fit, mesh and material defaults), wrlayer.rolling_law and wrlayer.layer_table
+(the rolling law and the tables).
 """
