@@ -189,15 +189,17 @@ def fit_group(results: list[GapCaseResult], group: str) -> tuple[RollingLaw, dic
     return rolling_law(list(LEVELS), tractions, fits, source), fits
 
 
-def gap_rows(results: list[GapCaseResult]) -> tuple[list[GapRow], dict[str, RollingLaw]]:
-    """The gap table's rows (cases with at least MIN_FEM_PASSES passes) and the laws of the groups."""
+def gap_rows(results: list[GapCaseResult], halfspace_curve: StaticCurve | None = None,
+             halfspace_p_y_MPa: float = 0.0) -> tuple[list[GapRow], dict[str, RollingLaw]]:
+    """The gap table's rows (cases with at least MIN_FEM_PASSES passes) and the laws of the groups; the half-space
+    layer as in :func:`layer_static_residuals`."""
     laws = {}
     for g in GROUPS:
         try:
             laws[g] = fit_group(results, g)[0]
         except (KeyError, ValueError, IndexError):  # a group without a complete grid yet: no law
             continue
-    statics = layer_static_residuals(results)
+    statics = layer_static_residuals(results, halfspace_curve, halfspace_p_y_MPa)
     rows = []
     n = np.array(REPORTED_PASSES)
     for r in results:

@@ -33,8 +33,9 @@ import numpy as np
 from scipy.optimize import brentq
 
 from calibration.rolling.config import TrackMeshSettings, TrackSettings
-from calibration.rolling.gap_cases import GAP_MESH, GAP_TRACK, LEVELS, GapCase, GapPosition, default_positions
-from calibration.rolling.gap import GapRow
+from calibration.rolling.gap_cases import (GAP_MESH, GAP_TRACK, LEVELS, GapCase, GapCaseResult, GapPosition,
+                                          default_positions)
+from calibration.rolling.gap import TARGET, GapRow
 from calibration.rolling.layer_prediction import StaticCurve
 from calibration.rolling.run import build_model, static_dents
 from calibration.rolling.track_mesh import track_mesh
@@ -198,6 +199,58 @@ def corrected_rows(rows: list[GapRow], converged: dict[tuple[str, float], Extrap
     return out
 
 
+@dataclass(frozen=True)
+class RatioCheck:
+    """The groove over the static dent of one case on the gap's mesh and on a finer one, after ``passes``.
+
+    Attributes
+    ----------
+    key : str
+        The case (position, traction coefficient, level).
+    coarse_dofs : int
+        Degrees of freedom of the gap's block.
+    fine_dofs : int
+        Degrees of freedom of the finer block.
+    passes : list of int
+        The passes compared.
+    coarse_ratio : list of float
+        FEM groove over the block's static dent on the gap's mesh (-).
+    fine_ratio : list of float
+        The same on the finer mesh (-).
+    """
+
+    key: str
+    coarse_dofs: int
+    fine_dofs: int
+    passes: list[int]
+    coarse_ratio: list[float]
+    fine_ratio: list[float]
+
+    def change(self) -> list[float]:
+        """fine / coarse - 1 per pass (-)."""
+        return [f / c - 1.0 for f, c in zip(self.fine_ratio, self.coarse_ratio)]
+
+
+def ratio_checks(coarse: list[GapCaseResult], fine: list[GapCaseResult]) -> list[RatioCheck]:
+    """The ratio checks of every finer case with a coarse case of the same position, level and traction (the
+    passes both computed)."""
+    out = []
+    for f in fine:
+        c = next((r for r in coarse if (r.position, r.traction, r.p0_over_py) == (f.position, f.traction,
+                                                                                 f.p0_over_py)), None)
+        n = min(len(f.groove_mm), len(c.groove_mm)) if c is not None else 0
+        if n == 0:
+            continue
+        out.append(RatioCheck(c.key, c.n_dofs, f.n_dofs, list(range(1, n + 1)), [g / c.static_dent_mm for g in c.groove_mm[:n]],
+                              [g / f.static_dent_mm for g in f.groove_mm[:n]]))
+    return out
+
+
+def within_target(rows: list[GapRow], column: str = "rolling_mm", target: float = TARGET) -> list[GapRow]:
+    """The rows whose ``column`` is within ``target`` of the FEM groove at every reported pass."""
+    return [r for r in rows if r.error(column) <= target]
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m calibration.rolling.gap_static", description=__doc__.splitlines()[0])
     ap.add_argument("out", type=Path)
@@ -223,6 +276,6 @@ if __name__ == "__main__":
     sys.exit(main())
 
 
-__all__ = ["Extrapolation", "MAX_ORDER", "MESHES", "MIN_ORDER", "StaticPoint", "converged_dents",
+__all__ = ["Extrapolation", "MAX_ORDER", "MESHES", "MIN_ORDER", "RatioCheck", "StaticPoint", "converged_dents",
            "corrected_groove", "corrected_rows", "extrapolate", "load_points", "observed_order",
-           "static_point"]
+           "ratio_checks", "static_point", "within_target"]

@@ -3,6 +3,7 @@ path), the mesh correction of a gap row and the half-space layer's fit."""
 
 import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -11,7 +12,7 @@ from calibration.rolling import gap
 from calibration.rolling.gap_cases import GapCase, GapCaseResult, GapPosition, run_case
 from calibration.rolling.gap_static import (MAX_ORDER, Extrapolation, StaticPoint, converged_dents, corrected_groove,
                                             corrected_rows, extrapolate, load_points, observed_order, point_path,
-                                            static_point)
+                                            ratio_checks, static_point, within_target)
 from calibration.rolling.layer_prediction import StaticCurve
 from test_gap_cases import MESH, MIXED, TRACK
 
@@ -84,3 +85,17 @@ def test_halfspace_layer_uses_the_given_curve_with_the_default_fit():
     assert own == same and own[("half-space", 2.1)] > 0
     assert double[("half-space", 2.1)] == pytest.approx(2.0 * own[("half-space", 2.1)], rel=1e-3)
     assert gap.LAYER_FIT.n_segments == 5
+
+
+def test_ratio_checks_pair_cases_and_count_the_target():
+    def res(key, static, grooves, dofs):
+        return GapCaseResult(key, "rail crown", "", 0.0, 1.0, 1.0, 0.0, 1.7, 800.0, static, [0.0], [0.0],
+                             groove_mm=grooves, n_dofs=dofs)
+
+    coarse = [res("rail_crown_c0_p1.7", 1.0, [0.9, 0.95, 0.97], 100)]
+    fine = [res("rail_crown_c0_p1.7_h4", 2.0, [1.86, 1.9], 800), replace(coarse[0], position="other")]
+    (chk,) = ratio_checks(coarse, fine)
+    assert (chk.key, chk.coarse_dofs, chk.fine_dofs, chk.passes) == ("rail_crown_c0_p1.7", 100, 800, [1, 2])
+    np.testing.assert_allclose(chk.change(), [0.93 / 0.9 - 1.0, 0.0], atol=1e-12)
+    rows = [replace(row(), rolling_mm=[1.0, 1.05]), row()]   # worst 5.3 %, 10.5 %
+    assert within_target(rows) == [rows[0]]
