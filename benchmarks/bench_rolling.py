@@ -145,7 +145,9 @@ def gap_markdown(rows: list[gap.GapRow], laws: dict, fits: dict) -> list[str]:
     for name, label in (("relaxed_mm", "relaxed (paper)"), ("state_kept_mm", "state kept"),
                         ("rolling_mm", "rolling law on the layer's static residual"),
                         ("law_on_block_mm", "rolling law on the block's static dent")):
-        worst = max(rows, key=lambda r: r.error(name))
+        worst = max(rows, key=lambda r: r.error(name), default=None)
+        if worst is None:
+            continue
         md.append(f"| {label} | {100 * worst.error(name):.1f} % | {worst.key} |")
     md += ["", "Rolling laws (G_n = rho (1 + A (1 - q^(n-1)) / (1 - q) + B (n - 1)); fit error: largest over the "
            "group's mean groove series):", "", "| group | c | p0 / p_2 | rho | A | q | B | fit error |",
@@ -228,13 +230,19 @@ def static_study_markdown(points: list, conv: dict, statics: dict) -> list[str]:
     return md
 
 
-def ratio_check_markdown(checks: list) -> list[str]:
-    """The groove / static dent ratio on the gap's mesh and on the finer one."""
-    md = ["| case | dofs (gap, fine) | pass | groove / static dent, gap mesh | fine mesh | change |",
-          "|---|---|---|---|---|---|"]
+def ratio_check_markdown(checks: list, rows: list[gap.GapRow]) -> list[str]:
+    """The groove / static dent ratio on the gap's mesh and on the finer one, and the law on the layer against
+    the finer mesh's groove at the reported passes."""
+    md = ["| case | dofs (gap, fine) | pass | groove / static dent, gap mesh | fine mesh | change | "
+          "law on the layer / fine FEM |", "|---|---|---|---|---|---|---|"]
+    by_key = {r.key: r for r in rows}
     for ch in checks:
-        for k, c, f, d in zip(ch.passes, ch.coarse_ratio, ch.fine_ratio, ch.change()):
-            md.append(f"| {ch.key} | {ch.coarse_dofs}, {ch.fine_dofs} | {k} | {c:.4f} | {f:.4f} | {100 * d:+.2f} % |")
+        row = by_key.get(ch.key)
+        law = dict(zip(row.passes, row.rolling_mm)) if row is not None else {}
+        for k, c, f, d, g in zip(ch.passes, ch.coarse_ratio, ch.fine_ratio, ch.change(), ch.fine_groove_mm):
+            vs = f"{law[k] / g:.3f}" if k in law else "-"
+            md.append(f"| {ch.key} | {ch.coarse_dofs}, {ch.fine_dofs} | {k} | {c:.4f} | {f:.4f} | {100 * d:+.2f} % | "
+                      f"{vs} |")
     return md
 
 
@@ -283,7 +291,7 @@ def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = Fal
     md += ["", "Condensed (docs/rolling-gap.md):", ""] + gap_summary(rows)
     md += ["", f"Static dents under mesh refinement ({static_dir.name}; the half-space's r: the default fit to the "
                "finest mesh):", ""] + static_study_markdown(points, conv, statics)
-    md += ["", f"Groove / static dent on a finer mesh ({mesh_dir.name}):", ""] + ratio_check_markdown(checks)
+    md += ["", f"Groove / static dent on a finer mesh ({mesh_dir.name}):", ""] + ratio_check_markdown(checks, rows)
     md += ["", "Mesh-corrected FEM groove = (a/2 groove / a/2 static dent) x mesh-limit static dent:", ""]
     md += corrected_markdown(rows, gap_static.corrected_rows(rows, conv))
     fig = gap_plot(rows, results, laws, out / "rolling_gap.png")

@@ -217,6 +217,8 @@ class RatioCheck:
         FEM groove over the block's static dent on the gap's mesh (-).
     fine_ratio : list of float
         The same on the finer mesh (-).
+    fine_groove_mm : list of float
+        FEM groove on the finer mesh after ``passes`` (mm).
     """
 
     key: str
@@ -225,6 +227,7 @@ class RatioCheck:
     passes: list[int]
     coarse_ratio: list[float]
     fine_ratio: list[float]
+    fine_groove_mm: list[float]
 
     def change(self) -> list[float]:
         """fine / coarse - 1 per pass (-)."""
@@ -242,7 +245,7 @@ def ratio_checks(coarse: list[GapCaseResult], fine: list[GapCaseResult]) -> list
         if n == 0:
             continue
         out.append(RatioCheck(c.key, c.n_dofs, f.n_dofs, list(range(1, n + 1)), [g / c.static_dent_mm for g in c.groove_mm[:n]],
-                              [g / f.static_dent_mm for g in f.groove_mm[:n]]))
+                              [g / f.static_dent_mm for g in f.groove_mm[:n]], list(f.groove_mm[:n])))
     return out
 
 

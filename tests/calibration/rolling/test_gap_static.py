@@ -97,5 +97,6 @@ def test_ratio_checks_pair_cases_and_count_the_target():
     (chk,) = ratio_checks(coarse, fine)
     assert (chk.key, chk.coarse_dofs, chk.fine_dofs, chk.passes) == ("rail_crown_c0_p1.7", 100, 800, [1, 2])
     np.testing.assert_allclose(chk.change(), [0.93 / 0.9 - 1.0, 0.0], atol=1e-12)
+    assert chk.fine_groove_mm == [1.86, 1.9]
     rows = [replace(row(), rolling_mm=[1.0, 1.05]), row()]   # worst 5.3 %, 10.5 %
     assert within_target(rows) == [rows[0]]
