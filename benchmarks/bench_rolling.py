@@ -212,21 +212,27 @@ def gap_plot(rows: list[gap.GapRow], results: list, laws: dict, path: pathlib.Pa
     return path
 
 
+def _ext(ext, scale: float = 1.0) -> str:
+    order = f", p = {ext.order:.2f}" if math.isfinite(ext.order) else ""
+    return f"{ext.value / scale:.3f} ({ext.method}{order})"
+
+
 def static_study_markdown(points: list, conv: dict, statics: dict) -> list[str]:
-    """The static dents of the gap positions under mesh refinement over the layer's static residual r."""
+    """The static dents of the gap positions under mesh refinement over the layer's static residual r, and at a
+    common peak pressure the mesh limit over the finest mesh."""
     meshes = sorted({p.elements_per_semi_axis for p in points})
+    common = gap_static.common_pressure_dents(points)
     md = ["| position | p0 / p_y | p_y (MPa) on " + ", ".join(f"a/{n:g}" for n in meshes) + " | static dent / r on "
-          + ", ".join(f"a/{n:g}" for n in meshes) + " | mesh limit / r (method, order) | r (mm) |",
-          "|---|---|---|---|---|---|"]
+          + ", ".join(f"a/{n:g}" for n in meshes) + " | mesh limit / r | r (mm) | common p0: limit / finest |",
+          "|---|---|---|---|---|---|---|"]
     for (pos, lv), ext in sorted(conv.items()):
         r = statics.get((pos, lv))
         if r is None:
             continue
         mine = sorted((p for p in points if p.position == pos), key=lambda p: p.elements_per_semi_axis)
-        order = f", p = {ext.order:.2f}" if math.isfinite(ext.order) else ""
         md.append(f"| {pos} | {lv:g} | {_f([p.p_y_MPa for p in mine], '.1f')} | "
-                  f"{_f([p.dent_at(lv) / r for p in mine], '.3f')} | {ext.value / r:.3f} ({ext.method}{order}) | "
-                  f"{r:.4g} |")
+                  f"{_f([p.dent_at(lv) / r for p in mine], '.3f')} | {_ext(ext, r)} | {r:.4g} | "
+                  f"{_ext(common[(pos, lv)])} |")
     return md
 
 

@@ -230,10 +230,10 @@ def default_cases(n_passes: int = N_PASSES) -> list[GapCase]:
 def mesh_check_cases(n_passes: int = 5) -> list[GapCase]:
     """The direct check of the mesh correction (:mod:`calibration.rolling.gap_static`) at h = a/4: the rail gauge
     corner at 2.1 p_y (the largest gap on the coarse mesh) frictionless and at 1.7 p_y with c = 0.2, and the
-    ratcheting half-space at 2.1 p_y."""
+    ratcheting half-space at 2.1 p_y frictionless and at 1.7 p_y with c = 0.2."""
     corner = table_position(*TABLE_POSITIONS[1])
     return [GapCase(corner, 2.1, 0.0, n_passes, 4.0), GapCase(corner, 1.7, 0.2, n_passes, 4.0),
-            GapCase(HALF_SPACE, 2.1, 0.0, n_passes, 4.0)]
+            GapCase(HALF_SPACE, 2.1, 0.0, n_passes, 4.0), GapCase(HALF_SPACE, 1.7, 0.2, n_passes, 4.0)]
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -184,6 +184,24 @@ def converged_dents(points: list[StaticPoint]) -> dict[tuple[str, float], Extrap
     return out
 
 
+def common_pressure_dents(points: list[StaticPoint]) -> dict[tuple[str, float], Extrapolation]:
+    """The mesh limit per (position, level) of the inelastic displacement at a common peak p0 = level x the
+    smallest p_y(h) of the meshes, relative to the finest mesh's value there (-): each mesh's highest-level loading
+    curve read at p0 (equal to the residual dent after unloading from p0 within 0.2 % on these blocks). This
+    removes the scatter of each mesh's own first-yield estimate p_y(h), the unit of :func:`converged_dents`, and
+    estimates the finest mesh's remaining error."""
+    out = {}
+    for pos in sorted({p.position for p in points}):
+        mine = [p for p in points if p.position == pos]
+        p_ref = min(p.p_y_MPa for p in mine)
+        for lv in mine[0].levels:
+            u = np.array([np.interp(lv * p_ref, p.top_p_MPa, p.top_u_pl_mm) for p in mine])
+            h = [p.h_over_a for p in mine]
+            ext = extrapolate(h, u / u[int(np.argmin(h))])
+            out[(pos, lv)] = ext
+    return out
+
+
 def corrected_rows(rows: list[GapRow], converged: dict[tuple[str, float], Extrapolation]) -> list[GapRow]:
     """The gap rows against the mesh-corrected FEM: FEM groove and the law on the block scaled by s_inf / s(a/2)
     (the block's static dent replaced by its mesh limit); the layer's columns unchanged. Rows without a converged
@@ -279,6 +297,7 @@ if __name__ == "__main__":
     sys.exit(main())
 
 
-__all__ = ["Extrapolation", "MAX_ORDER", "MESHES", "MIN_ORDER", "RatioCheck", "StaticPoint", "converged_dents",
+__all__ = ["Extrapolation", "MAX_ORDER", "MESHES", "MIN_ORDER", "RatioCheck", "StaticPoint", "common_pressure_dents",
+           "converged_dents",
            "corrected_groove", "corrected_rows", "extrapolate", "load_points", "observed_order",
            "ratio_checks", "static_point", "within_target"]

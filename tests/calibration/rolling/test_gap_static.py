@@ -10,7 +10,8 @@ import pytest
 
 from calibration.rolling import gap
 from calibration.rolling.gap_cases import GapCase, GapCaseResult, GapPosition, run_case
-from calibration.rolling.gap_static import (MAX_ORDER, Extrapolation, StaticPoint, converged_dents, corrected_groove,
+from calibration.rolling.gap_static import (MAX_ORDER, Extrapolation, StaticPoint, common_pressure_dents,
+                                            converged_dents, corrected_groove,
                                             corrected_rows, extrapolate, load_points, observed_order, point_path,
                                             ratio_checks, static_point, within_target)
 from calibration.rolling.layer_prediction import StaticCurve
@@ -100,3 +101,15 @@ def test_ratio_checks_pair_cases_and_count_the_target():
     assert chk.fine_groove_mm == [1.86, 1.9]
     rows = [replace(row(), rolling_mm=[1.0, 1.05]), row()]   # worst 5.3 %, 10.5 %
     assert within_target(rows) == [rows[0]]
+
+
+def test_common_pressure_dents_read_every_curve_at_one_pressure():
+    def point(n, p_y, k):   # u_pl = k (p / 800 - 1) above 800 MPa on every mesh, loaded to 2.1 p_y
+        p = np.linspace(0.0, 2.1 * p_y, 43)
+        u = k * np.maximum(p / 800.0 - 1.0, 0.0)
+        return StaticPoint("x", n, 0, p_y, [1.3, 2.1], [0.0, 0.0], p.tolist(), u.tolist())
+
+    pts = [point(2.0, 790.0, 1.0 - 0.2 / 4), point(3.0, 800.0, 1.0 - 0.2 / 9), point(4.0, 795.0, 1.0 - 0.2 / 16)]
+    ext = common_pressure_dents(pts)[("x", 2.1)]
+    assert ext.method == "richardson" and ext.order == pytest.approx(2.0, rel=1e-6)
+    assert ext.value == pytest.approx(1.0 / (1.0 - 0.2 / 16), rel=1e-9)   # the limit over the finest mesh
