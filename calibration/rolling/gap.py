@@ -3,8 +3,8 @@
 Input: the cases of :mod:`calibration.rolling.gap_cases` (the FEM groove after every pass at constant p0). For
 each case the layer's static residual r is the Masing residual (paper eq. 8) of the calibrated characteristic at
 the same p0 / p_2: the shipped table's characteristic at the position (p_2 its FEM first yield), or, for the
-half-space, the characteristic fitted with the calibration's default fit to the block's static indentation at the highest
-level (:func:`calibration.rolling.layer_prediction.layer_grooves`; on the finest mesh of
+half-space, the characteristic fitted with the calibration's default fit to the block's static indentation at
+the highest level (:func:`calibration.rolling.layer_prediction.layer_grooves`; on the finest mesh of
 :mod:`calibration.rolling.gap_static` when given). The layer's groove after pass n is then
 n r ("relaxed"), r ("state kept") and r G_n ("rolling", :class:`wrlayer.rolling_law.RollingLaw`).
 
@@ -224,6 +224,7 @@ def write_law(table_rel: str, law: RollingLaw) -> Path:
     return table.write(path)[0]
 
 
-__all__ = ["GROUPS", "GapRow", "LAYER_FIT", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS", "TARGET", "fit_group", "gap_rows",
+__all__ = ["GROUPS", "GapRow", "LAYER_FIT", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS", "TARGET", "fit_group",
+           "gap_rows",
            "group_of", "with_stand_ins",
            "layer_static_residuals", "load_results", "write_law"]

@@ -262,7 +262,8 @@ def ratio_checks(coarse: list[GapCaseResult], fine: list[GapCaseResult]) -> list
         n = min(len(f.groove_mm), len(c.groove_mm)) if c is not None else 0
         if n == 0:
             continue
-        out.append(RatioCheck(c.key, c.n_dofs, f.n_dofs, list(range(1, n + 1)), [g / c.static_dent_mm for g in c.groove_mm[:n]],
+        out.append(RatioCheck(c.key, c.n_dofs, f.n_dofs, list(range(1, n + 1)),
+                              [g / c.static_dent_mm for g in c.groove_mm[:n]],
                               [g / f.static_dent_mm for g in f.groove_mm[:n]], list(f.groove_mm[:n])))
     return out
 
