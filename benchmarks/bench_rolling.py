@@ -160,7 +160,7 @@ def gap_markdown(rows: list[gap.GapRow], laws: dict, fits: dict) -> list[str]:
 
 
 def gap_summary(rows: list[gap.GapRow]) -> list[str]:
-    """The condensed gap table of docs/rolling.md (stand-ins left out: they repeat their position's ratios)."""
+    """The condensed gap table of docs/rolling-gap.md (stand-ins left out: they repeat their position's ratios)."""
     md = ["| position | c | p0 / p_y | FEM groove / static dent, passes 1, 2, 5, 10 | relaxed / FEM, pass 10 | "
           "state kept / FEM, passes 1, 10 | rolling law / FEM, passes 1, 10 | law on the block: worst |",
           "|---|---|---|---|---|---|---|---|"]

@@ -5,7 +5,7 @@ x) and b (lateral) of its patch and the calibration's material (mixed hardening)
 half-space block of :mod:`calibration.rolling.track_mesh` with that elliptic patch and material, not the profile
 section: the static 3D characteristic does not depend on the support or the section depth (within 0.13 %,
 docs/calibration-method.md), and the block's static dent is checked against the table's residual
-(docs/rolling.md, "The gap"). The half-space case is the rolling reference's circular patch, elastic-perfectly
+(docs/rolling-gap.md). The half-space case is the rolling reference's circular patch, elastic-perfectly
 plastic. A case is (position, p0 / p_y, traction coefficient c) with ``n_passes`` passes at constant p0; p_y is
 the block's own FEM first-yield pressure. Each case is written to ``<out>/<position>_c<c>_p<level>.json`` as
 soon as it is done (a killed run keeps its completed cases; a present file is read, not recomputed).
