@@ -17,12 +17,13 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import os
 import pathlib
 import sys
 import time
 
-from calibration.rolling import gap, gap_cases
+from calibration.rolling import gap, gap_cases, gap_static
 from calibration.rolling.config import RollingConfig, load_rolling_config
 from calibration.rolling.run import RollingResult, run_rolling
 
@@ -125,8 +126,8 @@ def _f(values, fmt=".4g") -> str:
     return ", ".join(f"{v:{fmt}}" for v in values)
 
 
-def gap_markdown(rows: list[gap.GapRow], laws: dict, fits: dict, statics: list[dict]) -> list[str]:
-    """The gap table, the 10 % check, the laws and the static check (markdown lines)."""
+def gap_markdown(rows: list[gap.GapRow], laws: dict, fits: dict) -> list[str]:
+    """The gap table, the 10 % check and the laws (markdown lines)."""
     md = ["| position | c | p0 / p_y | static dent: block / layer (mm) | FEM groove after 1, 2, 5, 10 (mm) | "
           "relaxed / FEM after 1, 2, 5, 10 | state kept / FEM after 1, 2, 5, 10 | rolling law / FEM after 1, 2, 5, 10 "
           "| law on the block: worst |", "|---|---|---|---|---|---|---|---|---|"]
@@ -144,7 +145,9 @@ def gap_markdown(rows: list[gap.GapRow], laws: dict, fits: dict, statics: list[d
     for name, label in (("relaxed_mm", "relaxed (paper)"), ("state_kept_mm", "state kept"),
                         ("rolling_mm", "rolling law on the layer's static residual"),
                         ("law_on_block_mm", "rolling law on the block's static dent")):
-        worst = max(rows, key=lambda r: r.error(name))
+        worst = max(rows, key=lambda r: r.error(name), default=None)
+        if worst is None:
+            continue
         md.append(f"| {label} | {100 * worst.error(name):.1f} % | {worst.key} |")
     md += ["", "Rolling laws (G_n = rho (1 + A (1 - q^(n-1)) / (1 - q) + B (n - 1)); fit error: largest over the "
            "group's mean groove series):", "", "| group | c | p0 / p_2 | rho | A | q | B | fit error |",
@@ -153,18 +156,11 @@ def gap_markdown(rows: list[gap.GapRow], laws: dict, fits: dict, statics: list[d
         for (c, lv), f in sorted(per.items()):
             md.append(f"| {g} | {c:g} | {lv:g} | {f.first_pass_ratio:.4f} | {f.shakedown_increment:.4f} | "
                       f"{f.shakedown_decay:.2f} | {f.ratchet_increment:.5f} | {100 * f.max_relative_error:.2f} % |")
-    md += ["", "Static check (frictionless): the block's static dent against the table's residual at the same "
-           "p0 / p_y, and the rail crown block on finer meshes (1.7 p_y):", "",
-           "| case | dofs | p_y (MPa) | block static dent (mm) | layer static residual (mm) | block / layer | "
-           "FEM groove pass 1 / static dent |", "|---|---|---|---|---|---|---|"]
-    for st in statics:
-        md.append(f"| {st['key']} | {st['n_dofs']} | {st['p_y_MPa']:.1f} | {st['static_dent_mm']:.4g} | "
-                  f"{st['layer_mm']:.4g} | {st['static_dent_mm'] / st['layer_mm']:.3f} | {st['ratio1']:.3f} |")
     return md
 
 
 def gap_summary(rows: list[gap.GapRow]) -> list[str]:
-    """The condensed gap table of docs/rolling.md (stand-ins left out: they repeat their position's ratios)."""
+    """The condensed gap table of docs/rolling-gap.md (stand-ins left out: they repeat their position's ratios)."""
     md = ["| position | c | p0 / p_y | FEM groove / static dent, passes 1, 2, 5, 10 | relaxed / FEM, pass 10 | "
           "state kept / FEM, passes 1, 10 | rolling law / FEM, passes 1, 10 | law on the block: worst |",
           "|---|---|---|---|---|---|---|---|"]
@@ -216,15 +212,63 @@ def gap_plot(rows: list[gap.GapRow], results: list, laws: dict, path: pathlib.Pa
     return path
 
 
-def static_checks(results: list, statics: dict, mesh_dir: pathlib.Path) -> list[dict]:
-    """The static check rows: each frictionless case of a table position, and the mesh check cases."""
-    mesh = gap.load_results(mesh_dir) if mesh_dir.exists() else []
-    rows = []
-    for r in [r for r in results if r.traction == 0.0 and r.table and "stand-in" not in r.key] + mesh:
-        rows.append({"key": r.key, "n_dofs": r.n_dofs, "p_y_MPa": r.p_y_MPa, "static_dent_mm": r.static_dent_mm,
-                     "layer_mm": statics[(r.position, r.p0_over_py)],
-                     "ratio1": r.groove_mm[0] / r.static_dent_mm if r.groove_mm else float("nan")})
-    return rows
+def _ext(ext, scale: float = 1.0) -> str:
+    order = f", p = {ext.order:.2f}" if math.isfinite(ext.order) else ""
+    return f"{ext.value / scale:.3f} ({ext.method}{order})"
+
+
+def static_study_markdown(points: list, conv: dict, statics: dict) -> list[str]:
+    """The static dents of the gap positions under mesh refinement over the layer's static residual r, and at a
+    common peak pressure the mesh limit over the finest mesh."""
+    meshes = sorted({p.elements_per_semi_axis for p in points})
+    common = gap_static.common_pressure_dents(points)
+    md = ["| position | p0 / p_y | p_y (MPa) on " + ", ".join(f"a/{n:g}" for n in meshes) + " | static dent / r on "
+          + ", ".join(f"a/{n:g}" for n in meshes) + " | mesh limit / r | r (mm) | common p0: limit / finest |",
+          "|---|---|---|---|---|---|---|"]
+    for (pos, lv), ext in sorted(conv.items()):
+        r = statics.get((pos, lv))
+        if r is None:
+            continue
+        mine = sorted((p for p in points if p.position == pos), key=lambda p: p.elements_per_semi_axis)
+        md.append(f"| {pos} | {lv:g} | {_f([p.p_y_MPa for p in mine], '.1f')} | "
+                  f"{_f([p.dent_at(lv) / r for p in mine], '.3f')} | {_ext(ext, r)} | {r:.4g} | "
+                  f"{_ext(common[(pos, lv)])} |")
+    return md
+
+
+def ratio_check_markdown(checks: list, rows: list[gap.GapRow]) -> list[str]:
+    """The groove / static dent ratio on the gap's mesh and on the finer one, and the law on the layer against
+    the finer mesh's groove at the reported passes."""
+    md = ["| case | dofs (gap, fine) | pass | groove / static dent, gap mesh | fine mesh | change | "
+          "law on the layer / fine FEM |", "|---|---|---|---|---|---|---|"]
+    by_key = {r.key: r for r in rows}
+    for ch in checks:
+        row = by_key.get(ch.key)
+        law = dict(zip(row.passes, row.rolling_mm)) if row is not None else {}
+        for k, c, f, d, g in zip(ch.passes, ch.coarse_ratio, ch.fine_ratio, ch.change(), ch.fine_groove_mm):
+            vs = f"{law[k] / g:.3f}" if k in law else "-"
+            md.append(f"| {ch.key} | {ch.coarse_dofs}, {ch.fine_dofs} | {k} | {c:.4f} | {f:.4f} | {100 * d:+.2f} % | "
+                      f"{vs} |")
+    return md
+
+
+def corrected_markdown(rows: list[gap.GapRow], corrected: list[gap.GapRow]) -> list[str]:
+    """The rolling law on the layer against the coarse and the mesh-corrected FEM, and the count within target."""
+    md = ["| position | c | p0 / p_y | static dent / r: a/2, mesh limit | law / FEM (a/2), passes 1, 2, 5, 10 | "
+          "law / FEM (mesh-corrected), passes 1, 2, 5, 10 |", "|---|---|---|---|---|---|"]
+    fine = {r.key: r for r in corrected}
+    for r in sorted(rows, key=lambda r: (r.group != "half-space", r.position, r.traction, r.p0_over_py)):
+        c = fine.get(r.key)
+        if c is None:
+            continue
+        md.append(f"| {r.position} | {r.traction:g} | {r.p0_over_py:g} | {r.static_dent_mm / r.layer_static_mm:.3f}, "
+                  f"{c.static_dent_mm / c.layer_static_mm:.3f} | "
+                  f"{_f([x / y for x, y in zip(r.rolling_mm, r.fem_mm)], '.3f')} | "
+                  f"{_f([x / y for x, y in zip(c.rolling_mm, c.fem_mm)], '.3f')} |")
+    n_a = len(gap_static.within_target([r for r in rows if r.key in fine]))
+    md += ["", f"Within {100 * gap.TARGET:g} % at passes 1, 2, 5, 10: {n_a} of {len(fine)} against the a/2 FEM, "
+               f"{len(gap_static.within_target(corrected))} of {len(corrected)} against the mesh-corrected FEM."]
+    return md
 
 
 def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = False, compute: bool = True) -> dict:
@@ -238,19 +282,33 @@ def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = Fal
             if case.position.name not in gap.STAND_INS:  # the wheel's positions: their stand-ins unless computed
                 gap_cases.run_case(case, cases_dir)
     results = gap.with_stand_ins(gap.load_results(cases_dir))
-    rows, laws = gap.gap_rows(results)
+    static_dir = cases_dir.parent / (cases_dir.name + "_static")
+    points = gap_static.load_points(static_dir) if static_dir.exists() else []
+    hs = max((p for p in points if p.position == gap_cases.HALF_SPACE.name), default=None,
+             key=lambda p: p.elements_per_semi_axis)
+    halfspace = (hs.top_curve(), hs.p_y_MPa) if hs is not None else ()
+    rows, laws = gap.gap_rows(results, *halfspace)
     fits = {g: gap.fit_group(results, g)[1] for g in laws}
-    statics = gap.layer_static_residuals(results)
+    statics = gap.layer_static_residuals(results, *halfspace)
+    conv = gap_static.converged_dents(points)
     mesh_dir = cases_dir.parent / (cases_dir.name + "_mesh")
-    md = gap_markdown(rows, laws, fits, static_checks(results, statics, mesh_dir))
-    md += ["", "Condensed (docs/rolling.md):", ""] + gap_summary(rows)
+    checks = gap_static.ratio_checks(results, gap.load_results(mesh_dir) if mesh_dir.exists() else [])
+    md = gap_markdown(rows, laws, fits)
+    md += ["", "Condensed (docs/rolling-gap.md):", ""] + gap_summary(rows)
+    md += ["", f"Static dents under mesh refinement ({static_dir.name}; the half-space's r: the default fit to the "
+               "finest mesh):", ""] + static_study_markdown(points, conv, statics)
+    md += ["", f"Groove / static dent on a finer mesh ({mesh_dir.name}):", ""] + ratio_check_markdown(checks, rows)
+    md += ["", "Mesh-corrected FEM groove = (a/2 groove / a/2 static dent) x mesh-limit static dent:", ""]
+    md += corrected_markdown(rows, gap_static.corrected_rows(rows, conv))
     fig = gap_plot(rows, results, laws, out / "rolling_gap.png")
     if write_tables:
         for g, law in laws.items():
             if gap.GROUPS[g][1]:
                 gap.write_law(gap.GROUPS[g][1], law)
     data = {"rows": [r.to_dict() for r in rows], "laws": {g: lw.to_dict() for g, lw in laws.items()},
-            "load_average": list(load)}
+            "corrected_rows": [r.to_dict() for r in gap_static.corrected_rows(rows, conv)],
+            "static_study": [p.to_dict() for p in points],
+            "ratio_checks": [dataclasses.asdict(c) for c in checks], "load_average": list(load)}
     return {"title": "Rolling: the gap between the layer's passes and the rolling FEM", "markdown": "\n".join(md),
             "figures": [str(fig)] if fig else [], "data": data}
 

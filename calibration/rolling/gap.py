@@ -3,8 +3,9 @@
 Input: the cases of :mod:`calibration.rolling.gap_cases` (the FEM groove after every pass at constant p0). For
 each case the layer's static residual r is the Masing residual (paper eq. 8) of the calibrated characteristic at
 the same p0 / p_2: the shipped table's characteristic at the position (p_2 its FEM first yield), or, for the
-half-space, the characteristic fitted to the block's static indentation at the highest level
-(:func:`calibration.rolling.layer_prediction.layer_grooves`). The layer's groove after pass n is then
+half-space, the characteristic fitted with the calibration's default fit to the block's static indentation at
+the highest level (:func:`calibration.rolling.layer_prediction.layer_grooves`; on the finest mesh of
+:mod:`calibration.rolling.gap_static` when given). The layer's groove after pass n is then
 n r ("relaxed"), r ("state kept") and r G_n ("rolling", :class:`wrlayer.rolling_law.RollingLaw`).
 
 The law of a group of positions (the rail table's, the wheel table's, the half-space's) is fitted
@@ -25,6 +26,7 @@ import numpy as np
 from calibration.rolling.gap_cases import LEVELS, ROOT, TRACTIONS, GapCaseResult, default_positions
 from calibration.rolling.layer_prediction import StaticCurve, layer_grooves, masing_residual
 from calibration.rolling.law_fit import PassFit, fit_passes, rolling_law
+from calibration.settings import FitSettings
 from wrlayer.layer_table import LayerTable
 from wrlayer.rolling_law import RollingLaw
 
@@ -42,6 +44,8 @@ STAND_INS = {"wheel tread": "rail crown", "wheel flange root": "rail gauge corne
 GROUPS = {"rail": (("rail crown", "rail gauge corner"), "scenes/tables/rail_60E1_default.json"),
           "wheel": (("wheel flange root", "wheel tread"), "scenes/tables/wheel_S1002_default.json"),
           "half-space": (("half-space",), "")}
+#: The half-space layer's fit: the calibration's default (its number of segments; p_2 = the block's p_y).
+LAYER_FIT = FitSettings()
 
 
 @dataclass(frozen=True)
@@ -138,9 +142,13 @@ def group_of(position: str) -> str:
     return next(name for name, (members, _) in GROUPS.items() if position in members)
 
 
-def layer_static_residuals(results: list[GapCaseResult]) -> dict[tuple[str, float], float]:
+def layer_static_residuals(results: list[GapCaseResult], halfspace_curve: StaticCurve | None = None,
+                           halfspace_p_y_MPa: float = 0.0) -> dict[tuple[str, float], float]:
     """The layer's static residual r (mm) per (position, p0 / p_y): the table's characteristic at the position
-    (p0 = level x its p_2), or for the half-space the characteristic fitted to the block's top static curve."""
+    (p0 = level x its p_2), or for the half-space the characteristic fitted with the calibration's default fit
+    (``LAYER_FIT``) to the block's highest-level static curve: ``halfspace_curve`` with its first yield
+    ``halfspace_p_y_MPa`` (the finest mesh of :mod:`calibration.rolling.gap_static`) when given, else the cases'
+    own (coarse) curve."""
     out = {}
     for pos in {r.position for r in results}:
         mine = [r for r in results if r.position == pos]
@@ -150,9 +158,12 @@ def layer_static_residuals(results: list[GapCaseResult]) -> dict[tuple[str, floa
                 out[(pos, lv)] = masing_residual(ch, lv * ch.elastic_limit_MPa)
             continue
         top = max(mine, key=lambda r: r.p0_over_py)
-        curve = StaticCurve(np.array(top.static_p_MPa), np.array(top.static_u_pl_mm), top.static_dent_mm)
+        curve, p_y = halfspace_curve, halfspace_p_y_MPa
+        if curve is None:
+            curve = StaticCurve(np.array(top.static_p_MPa), np.array(top.static_u_pl_mm), top.static_dent_mm)
+            p_y = top.p_y_MPa
         levels = sorted({r.p0_over_py for r in mine})
-        grooves = layer_grooves(curve, top.p_y_MPa, [lv * top.p_y_MPa for lv in levels], 1, 4)
+        grooves = layer_grooves(curve, p_y, [lv * p_y for lv in levels], 1, LAYER_FIT.n_segments)
         out.update({(pos, lv): g.relaxed[0] for lv, g in zip(levels, grooves)})
     return out
 
@@ -178,15 +189,17 @@ def fit_group(results: list[GapCaseResult], group: str) -> tuple[RollingLaw, dic
     return rolling_law(list(LEVELS), tractions, fits, source), fits
 
 
-def gap_rows(results: list[GapCaseResult]) -> tuple[list[GapRow], dict[str, RollingLaw]]:
-    """The gap table's rows (cases with at least MIN_FEM_PASSES passes) and the laws of the groups."""
+def gap_rows(results: list[GapCaseResult], halfspace_curve: StaticCurve | None = None,
+             halfspace_p_y_MPa: float = 0.0) -> tuple[list[GapRow], dict[str, RollingLaw]]:
+    """The gap table's rows (cases with at least MIN_FEM_PASSES passes) and the laws of the groups; the half-space
+    layer as in :func:`layer_static_residuals`."""
     laws = {}
     for g in GROUPS:
         try:
             laws[g] = fit_group(results, g)[0]
         except (KeyError, ValueError, IndexError):  # a group without a complete grid yet: no law
             continue
-    statics = layer_static_residuals(results)
+    statics = layer_static_residuals(results, halfspace_curve, halfspace_p_y_MPa)
     rows = []
     n = np.array(REPORTED_PASSES)
     for r in results:
@@ -211,6 +224,7 @@ def write_law(table_rel: str, law: RollingLaw) -> Path:
     return table.write(path)[0]
 
 
-__all__ = ["GROUPS", "GapRow", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS", "TARGET", "fit_group", "gap_rows",
+__all__ = ["GROUPS", "GapRow", "LAYER_FIT", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS", "TARGET", "fit_group",
+           "gap_rows",
            "group_of", "with_stand_ins",
            "layer_static_residuals", "load_results", "write_law"]

@@ -5,7 +5,7 @@ x) and b (lateral) of its patch and the calibration's material (mixed hardening)
 half-space block of :mod:`calibration.rolling.track_mesh` with that elliptic patch and material, not the profile
 section: the static 3D characteristic does not depend on the support or the section depth (within 0.13 %,
 docs/calibration-method.md), and the block's static dent is checked against the table's residual
-(docs/rolling.md, "The gap"). The half-space case is the rolling reference's circular patch, elastic-perfectly
+(docs/rolling-gap.md). The half-space case is the rolling reference's circular patch, elastic-perfectly
 plastic. A case is (position, p0 / p_y, traction coefficient c) with ``n_passes`` passes at constant p0; p_y is
 the block's own FEM first-yield pressure. Each case is written to ``<out>/<position>_c<c>_p<level>.json`` as
 soon as it is done (a killed run keeps its completed cases; a present file is read, not recomputed).
@@ -227,11 +227,13 @@ def default_cases(n_passes: int = N_PASSES) -> list[GapCase]:
     return [GapCase(pos, lv, c, n_passes) for pos in default_positions() for c in TRACTIONS for lv in LEVELS]
 
 
-def mesh_check_cases() -> list[GapCase]:
-    """The mesh check, frictionless, 2 passes: the rail crown at 1.7 p_y on h = a/3 and a/4, the rail gauge corner
-    at 2.1 p_y (the largest gap on the coarse mesh) on h = a/4."""
-    crown, corner = (table_position(*t) for t in TABLE_POSITIONS[:2])
-    return [GapCase(crown, 1.7, 0.0, 2, n) for n in (3.0, 4.0)] + [GapCase(corner, 2.1, 0.0, 2, 4.0)]
+def mesh_check_cases(n_passes: int = 5) -> list[GapCase]:
+    """The direct check of the mesh correction (:mod:`calibration.rolling.gap_static`) at h = a/4: the rail gauge
+    corner at 2.1 p_y (the largest gap on the coarse mesh) frictionless and at 1.7 p_y with c = 0.2, and the
+    ratcheting half-space at 2.1 p_y frictionless and at 1.7 p_y with c = 0.2."""
+    corner = table_position(*TABLE_POSITIONS[1])
+    return [GapCase(corner, 2.1, 0.0, n_passes, 4.0), GapCase(corner, 1.7, 0.2, n_passes, 4.0),
+            GapCase(HALF_SPACE, 2.1, 0.0, n_passes, 4.0), GapCase(HALF_SPACE, 1.7, 0.2, n_passes, 4.0)]
 
 
 def main(argv: list[str] | None = None) -> int:
