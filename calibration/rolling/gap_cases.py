@@ -20,17 +20,17 @@ import argparse
 import json
 import sys
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 from calibration.rolling.config import (ContactSettings, RollingConfig, RollingMaterial, RollingRunSettings,
                                         TrackMeshSettings, TrackSettings)
 from calibration.rolling.passes import PassRecord, RollingConvergenceError, RollingSolver, roll
 from calibration.rolling.run import build_model, static_dents
+from calibration.rolling.section_position import table_position as position_in_table
 from calibration.rolling.track_mesh import track_mesh
 from calibration.fem.solver_state import SolverState
 from wrlayer.atomic_write import atomic_write_text
-from wrlayer.layer_table import LayerTable
 
 ROOT = Path(__file__).resolve().parents[2]
 #: The levels p0 / p_y and traction coefficients of the gap.
@@ -68,12 +68,8 @@ TABLE_POSITIONS = (("scenes/tables/rail_60E1_default.json", 0.0, "rail crown"),
 
 def table_position(table_rel: str, y_mm: float, name: str) -> GapPosition:
     """The position ``y_mm`` of a shipped table: its patch semi-axes and the table's material."""
-    table = LayerTable.read(ROOT / table_rel)
-    pos = next(p for p in table.positions if abs(float(p["y_mm"]) - y_mm) < 1e-9)
-    m = table.header["material"]
-    mat = RollingMaterial(E_MPa=m["E_MPa"], poisson=m["poisson"], yield_MPa=m["yield_MPa"],
-                          H_iso_MPa=m["H_iso_MPa"], H_kin_MPa=m["H_kin_MPa"])
-    return GapPosition(name, table_rel, y_mm, float(pos["geometry"]["a_mm"]), float(pos["geometry"]["b_mm"]), mat)
+    pos = position_in_table(table_rel, y_mm)
+    return GapPosition(name, table_rel, y_mm, pos.a_mm, pos.b_mm, RollingMaterial(**asdict(pos.material)))
 
 
 def default_positions() -> list[GapPosition]:
