@@ -113,31 +113,54 @@ class RollingField:
     fft_evaluations: int
 
 
+#: Newton on sigma stops after a step below this fraction of sigma + mu p min(b): the root's error after it is below
+#: 1.5 times its square (h''/(2|h'|) <= 1.5/(sigma + mu p min(b))), i.e. at round-off (2e-16 of the traction).
+NEWTON_STEP = 1e-8
+
+
 @kernel()
-def coulomb_cell(ssx, ssy, bx, by, bound):  # pragma: no cover - compiled
-    """The traction (tx, ty) of one cell and its slip flag, given s* (the cell's slip without its own traction):
-    s = s* + diag(bx, by) t. Adhesion when t = -s*/b fits the bound; otherwise t = -bound s/|s| with
-    s_k = s*_k sigma/(sigma + bound b_k), sigma = |s| the root of sum s*_k^2/(sigma + bound b_k)^2 = 1 (decreasing
-    and convex in sigma: Newton from a point left of the root converges monotonically)."""
+def coulomb_slip(ssx, ssy, bx, by, bound, start):  # pragma: no cover - compiled
+    """The traction (tx, ty) of one cell and sigma = |s| (0 in adhesion), given s* (the cell's slip without its own
+    traction): s = s* + diag(bx, by) t. Adhesion when t = -s*/b fits the bound; otherwise t = -bound s/|s| with
+    s_k = s*_k sigma/(sigma + bound b_k), sigma the root of h = sum s*_k^2/(sigma + bound b_k)^2 - 1 (decreasing
+    and convex: Newton from a point left of the root converges monotonically, and a Newton step from a point right
+    of it lands left of it). ``start``: a guess of sigma (e.g. the cell's sigma of the previous sweep; <= 0: none):
+    one Newton step from it, kept if right of the cold start |s*| - bound max(b) (left of the root)."""
     ax = -ssx / bx
     ay = -ssy / by
     if ax * ax + ay * ay <= bound * bound:
-        return ax, ay, False
-    sig = max(math.sqrt(ssx * ssx + ssy * ssy) - bound * max(bx, by), 0.0)
-    for _ in range(60):
-        dxx = sig + bound * bx
-        dyy = sig + bound * by
-        h = ssx * ssx / (dxx * dxx) + ssy * ssy / (dyy * dyy) - 1.0
-        dh = -2.0 * (ssx * ssx / (dxx * dxx * dxx) + ssy * ssy / (dyy * dyy * dyy))
-        step = -h / dh
+        return ax, ay, 0.0
+    cx = bound * bx
+    cy = bound * by
+    sig = max(math.sqrt(ssx * ssx + ssy * ssy) - max(cx, cy), 0.0)
+    warm = start > sig
+    if warm:
+        sig, sig_cold = start, sig
+    for k in range(60):
+        dxx = sig + cx
+        dyy = sig + cy
+        qx = ssx * ssx / (dxx * dxx)
+        qy = ssy * ssy / (dyy * dyy)
+        step = (qx + qy - 1.0) / (2.0 * (qx / dxx + qy / dyy))
         sig += step
-        if abs(step) <= 1e-14 * (sig + bound * bx):
+        if k == 0 and warm:
+            sig = max(sig, sig_cold)    # left of the root from here (a cold start left of it is no worse)
+        if abs(step) <= NEWTON_STEP * (sig + min(cx, cy)):
             break
-    return -bound * ssx / (sig + bound * bx), -bound * ssy / (sig + bound * by), True
+    return -ssx * bound / (sig + cx), -ssy * bound / (sig + cy), sig
+
+
+@kernel()
+def coulomb_cell(ssx, ssy, bx, by, bound):  # pragma: no cover - compiled
+    """The traction (tx, ty) of one cell and its slip flag from s* (:func:`coulomb_slip` without a start)."""
+    tx, ty, sig = coulomb_slip(ssx, ssy, bx, by, bound, 0.0)
+    ax = -ssx / bx
+    ay = -ssy / by
+    return tx, ty, not ax * ax + ay * ay <= bound * bound
 
 
 @kernel(fastmath=True)  # vectorised updates: 2x faster, forces unchanged to 1e-10
-def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, slip):  # pragma: no cover - compiled
+def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, sigma):  # pragma: no cover - compiled
     """A Gauss–Seidel sweep over the blocks of lines (j0, j1) in ``blocks``; ux, uy (ny, nx + 1): exact
     displacement at the start, the leading pad column included; returns max |dt|.
 
@@ -167,8 +190,9 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, slip):  # 
                     continue
                 ssx = wx[j, i] + (ux[j, i] - acc_x) * inv_dx - bx * tx[j, i]
                 ssy = wy[j, i] + (uy[j, i] - acc_y) * inv_dx - by * ty[j, i]
-                nxv, nyv, sl = coulomb_cell(ssx, ssy, bx, by, g)
-                slip[j, i] = sl
+                nxv, nyv, sg = coulomb_slip(ssx, ssy, bx, by, g, sigma[j, i])
+                sigma[j, i] = sg
+                sl = sg > 0.0
                 sx = ssx + bx * nxv if sl else 0.0
                 sy = ssy + by * nyv if sl else 0.0
                 acc_x += (sx - wx[j, i]) * dx
@@ -221,11 +245,12 @@ class _Iteration:
         self.bound = np.ascontiguousarray(friction * np.maximum(p_MPa, 0.0))
         self.on = self.bound > 0
         self.wx, self.wy = np.ascontiguousarray(wx, dtype=float), np.ascontiguousarray(wy, dtype=float)
-        self.tx, self.ty = np.zeros((ny, nx)), np.zeros((ny, nx))
+        self.t = np.zeros((2, ny, nx))            # (tx, ty): one array, so the FFT takes both without a copy
+        self.tx, self.ty = self.t[0], self.t[1]   # views, updated in place
         if initial_MPa is not None and np.shape(initial_MPa[0]) == (ny, nx) == np.shape(initial_MPa[1]):
-            self.tx = np.where(self.on, np.asarray(initial_MPa[0], dtype=float), 0.0)
-            self.ty = np.where(self.on, np.asarray(initial_MPa[1], dtype=float), 0.0)
-        self.slip = np.zeros((ny, nx), dtype=np.bool_)
+            self.tx[...] = np.where(self.on, np.asarray(initial_MPa[0], dtype=float), 0.0)
+            self.ty[...] = np.where(self.on, np.asarray(initial_MPa[1], dtype=float), 0.0)
+        self.sigma = np.zeros((ny, nx))          # |s| per cell (0: adhesion), the next sweep's Newton start
         loaded = np.flatnonzero(self.on.any(axis=1))
         self.cols = _line_columns(self.on)
         self.fast_blocks = _blocks(loaded, max(1, int(options.block_lines)))
@@ -233,34 +258,36 @@ class _Iteration:
 
     def displacement(self) -> tuple[np.ndarray, np.ndarray]:
         """Exact (ux, uy) of the current tractions with the traction-free pad column (ny, nx + 1)."""
-        zero = np.zeros((self.tx.shape[0], 1))
-        ux, uy = self.hs.displacement(np.hstack([self.tx, zero]), np.hstack([self.ty, zero]))
-        return np.ascontiguousarray(ux), np.ascontiguousarray(uy)
+        u = self.hs.displacement_pair(self.t)     # the pad column: zero-padded by the FFT
+        return np.ascontiguousarray(u[0]), np.ascontiguousarray(u[1])
+
+    @property
+    def slip(self) -> np.ndarray:
+        """Cells in slip (ny, nx) after the last sweep."""
+        return self.sigma > 0.0
 
     def sweep(self, exact: bool) -> float:
         """One sweep (exact block Gauss–Seidel or the accelerated one's Gauss–Seidel step); max |dt| (MPa)."""
         args = (self.wx, self.wy, self.bound, self.near, 1.0 / self.dx)
         if not exact:
             ux, uy = self.displacement()
-            return _sweep(self.tx, self.ty, ux, uy, *args, self.fast_blocks, self.cols, self.slip)
+            return _sweep(self.tx, self.ty, ux, uy, *args, self.fast_blocks, self.cols, self.sigma)
         change = 0.0
         for k in range(self.exact_blocks.shape[0]):
             ux, uy = self.displacement()
             change = max(change, _sweep(self.tx, self.ty, ux, uy, *args, self.exact_blocks[k:k + 1], self.cols,
-                                        self.slip))
+                                        self.sigma))
         return change
 
     def packed(self) -> np.ndarray:
-        return np.concatenate([self.tx[self.on], self.ty[self.on]])
+        return self.t[:, self.on].ravel()
 
     def set_projected(self, v: np.ndarray) -> None:
         """Tractions from a packed vector, each cell's projected onto its friction disc |t| <= mu p."""
-        n = v.size // 2
-        tx, ty, bound = v[:n], v[n:], self.bound[self.on]
-        mag = np.hypot(tx, ty)
-        fac = np.where(mag > bound, bound / np.maximum(mag, 1e-300), 1.0)
-        self.tx[self.on] = tx * fac
-        self.ty[self.on] = ty * fac
+        t = v.reshape(2, -1)
+        mag = np.hypot(t[0], t[1])
+        bound = self.bound[self.on]
+        self.t[:, self.on] = t * np.where(mag > bound, bound / np.maximum(mag, 1e-300), 1.0)
 
 
 def _loaded_box(on: np.ndarray) -> tuple[slice, slice]:
@@ -317,7 +344,7 @@ def solve_rolling(x_mm: np.ndarray, y_mm: np.ndarray, p_MPa: np.ndarray, wx: np.
             exact = True                  # the accelerated iteration stalled: plain Gauss-Seidel from here
         before = None if exact else it.packed()
         change = it.sweep(exact)
-        change /= min(scale, max(float(np.abs(it.tx).max()), float(np.abs(it.ty).max()), 1e-300))
+        change /= min(scale, max(float(np.abs(it.t).max()), 1e-300))
         if change < options.tol:
             break
         if before is not None:
