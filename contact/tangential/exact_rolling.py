@@ -124,15 +124,19 @@ def coulomb_slip(ssx, ssy, bx, by, bound, start):  # pragma: no cover - compiled
     traction): s = s* + diag(bx, by) t. Adhesion when t = -s*/b fits the bound; otherwise t = -bound s/|s| with
     s_k = s*_k sigma/(sigma + bound b_k), sigma the root of h = sum s*_k^2/(sigma + bound b_k)^2 - 1 (decreasing
     and convex: Newton from a point left of the root converges monotonically, and a Newton step from a point right
-    of it lands left of it). ``start``: a guess of sigma (e.g. the cell's sigma of the previous sweep; <= 0: none):
-    one Newton step from it, kept if right of the cold start |s*| - bound max(b) (left of the root)."""
+    of it lands left of it). ``start``: a guess of sigma (the cell's sigma of the previous sweep; <= 0: none, then
+    the isotropic closed form with the direction-weighted b, exact when bx = by): one Newton step from it, kept if
+    right of the cold start |s*| - bound max(b) (left of the root), then Newton to :data:`NEWTON_STEP`."""
     ax = -ssx / bx
     ay = -ssy / by
     if ax * ax + ay * ay <= bound * bound:
         return ax, ay, 0.0
     cx = bound * bx
     cy = bound * by
-    sig = max(math.sqrt(ssx * ssx + ssy * ssy) - max(cx, cy), 0.0)
+    s2 = ssx * ssx + ssy * ssy
+    sig = max(math.sqrt(s2) - max(cx, cy), 0.0)
+    if start <= 0.0:       # the isotropic closed form |s*| - bound b with b weighted by the slip's direction
+        start = math.sqrt(s2) - (ssx * ssx * cx + ssy * ssy * cy) / s2
     warm = start > sig
     if warm:
         sig, sig_cold = start, sig
@@ -244,6 +248,8 @@ class _Iteration:
         self.near = np.ascontiguousarray(hs.near)
         self.bound = np.ascontiguousarray(friction * np.maximum(p_MPa, 0.0))
         self.on = self.bound > 0
+        self.cells = np.flatnonzero(self.on)      # the loaded cells (flat indices), the mixed vector's order
+        self.cell_bound = self.bound.ravel()[self.cells]
         self.wx, self.wy = np.ascontiguousarray(wx, dtype=float), np.ascontiguousarray(wy, dtype=float)
         self.t = np.zeros((2, ny, nx))            # (tx, ty): one array, so the FFT takes both without a copy
         self.tx, self.ty = self.t[0], self.t[1]   # views, updated in place
@@ -280,14 +286,14 @@ class _Iteration:
         return change
 
     def packed(self) -> np.ndarray:
-        return self.t[:, self.on].ravel()
+        return np.take(self.t.reshape(2, -1), self.cells, axis=1).ravel()
 
     def set_projected(self, v: np.ndarray) -> None:
         """Tractions from a packed vector, each cell's projected onto its friction disc |t| <= mu p."""
         t = v.reshape(2, -1)
         mag = np.hypot(t[0], t[1])
-        bound = self.bound[self.on]
-        self.t[:, self.on] = t * np.where(mag > bound, bound / np.maximum(mag, 1e-300), 1.0)
+        fac = np.minimum(self.cell_bound / np.maximum(mag, 1e-300), 1.0)
+        self.t.reshape(2, -1)[:, self.cells] = t * fac
 
 
 def _loaded_box(on: np.ndarray) -> tuple[slice, slice]:
