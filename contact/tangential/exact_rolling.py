@@ -286,14 +286,36 @@ class _Iteration:
         return change
 
     def packed(self) -> np.ndarray:
-        return np.take(self.t.reshape(2, -1), self.cells, axis=1).ravel()
+        """The loaded cells' tractions (tx..., ty...) (the mixed vector)."""
+        return _pack(self.t.reshape(2, -1), self.cells)
 
     def set_projected(self, v: np.ndarray) -> None:
         """Tractions from a packed vector, each cell's projected onto its friction disc |t| <= mu p."""
-        t = v.reshape(2, -1)
-        mag = np.hypot(t[0], t[1])
-        fac = np.minimum(self.cell_bound / np.maximum(mag, 1e-300), 1.0)
-        self.t.reshape(2, -1)[:, self.cells] = t * fac
+        _unpack_projected(v, self.cells, self.cell_bound, self.t.reshape(2, -1))
+
+
+@kernel()
+def _pack(t, cells):  # pragma: no cover - compiled
+    """(t[0, cells], t[1, cells]) as one vector of length 2 len(cells)."""
+    n = cells.size
+    out = np.empty(2 * n)
+    for k in range(n):
+        out[k] = t[0, cells[k]]
+        out[n + k] = t[1, cells[k]]
+    return out
+
+
+@kernel()
+def _unpack_projected(v, cells, bound, t):  # pragma: no cover - compiled
+    """t[:, cells] = the packed v's (tx, ty) of each cell, scaled onto the disc of radius ``bound`` if beyond it."""
+    n = cells.size
+    for k in range(n):
+        vx = v[k]
+        vy = v[n + k]
+        mag = math.sqrt(vx * vx + vy * vy)
+        fac = bound[k] / mag if mag > bound[k] else 1.0
+        t[0, cells[k]] = vx * fac
+        t[1, cells[k]] = vy * fac
 
 
 def _loaded_box(on: np.ndarray) -> tuple[slice, slice]:
