@@ -208,13 +208,14 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, sigma):  #
                 biggest = max(biggest, math.sqrt(dtx * dtx + dty * dty))
                 tx[j, i] = nxv
                 ty[j, i] = nyv
-                for jj in range(j, j1):
+                for ii in range(max(cols[j, 0], i - BLOCK_NEAR_COLUMNS), i):  # its own line: the cells behind it
+                    ox = ii - i + cx
+                    ux[j, ii] += near[0, cy, ox] * dtx      # A_xy vanishes on a cell's own line
+                    uy[j, ii] += near[2, cy, ox] * dty
+                for jj in range(j + 1, j1):                 # the block's other lines: both sides
                     oy = jj - j + cy
-                    lo = max(cols[jj, 0], i - BLOCK_NEAR_COLUMNS)
-                    hi = i                     # its own line: the cells behind it
-                    if jj > j:                 # the block's other lines: both sides
-                        hi = min(cols[jj, 1], i + BLOCK_NEAR_COLUMNS + 1)
-                    for ii in range(lo, hi):
+                    for ii in range(max(cols[jj, 0], i - BLOCK_NEAR_COLUMNS),
+                                    min(cols[jj, 1], i + BLOCK_NEAR_COLUMNS + 1)):
                         ox = ii - i + cx
                         axy = near[1, oy, ox]
                         ux[jj, ii] += near[0, oy, ox] * dtx + axy * dty
