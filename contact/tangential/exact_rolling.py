@@ -171,8 +171,9 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, sigma):  #
     Each cell solves the summed slip equation u_I = u_pad + sum_{K >= I} (s_K - w_K) dx for its own traction
     (coefficient A(0): the symmetric half-space operator's diagonal), with the slips s_K of the cells ahead of it
     from this sweep. A traction change updates the displacement where this sweep still reads it, within
-    :data:`BLOCK_NEAR_COLUMNS` of it: on its own line behind the cell and on the block's lines not yet swept, each
-    line's columns cols[j, 0] <= i < cols[j, 1] (its loaded cells and the free cell or pad ahead of them)."""
+    :data:`BLOCK_NEAR_COLUMNS` of it: on its own line behind the cell at once, on the block's lines not yet swept
+    when its line is done (:func:`_update_lines`), each line's columns cols[j, 0] <= i < cols[j, 1] (its loaded
+    cells and the free cell or pad ahead of them)."""
     ny, nx = tx.shape
     cy = near.shape[1] // 2
     cx = near.shape[2] // 2
@@ -180,10 +181,12 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, sigma):  #
     by = near[2, cy, cx] * inv_dx
     dx = 1.0 / inv_dx
     biggest = 0.0
+    dline = np.zeros((2, nx))              # the traction changes of the line being swept
     for b in range(blocks.shape[0]):
         j0 = blocks[b, 0]
         j1 = blocks[b, 1]
         for j in range(j0, j1):
+            dline[:, :] = 0.0
             acc_x = ux[j, nx]
             acc_y = uy[j, nx]
             for i in range(nx - 1, -1, -1):
@@ -208,19 +211,37 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, sigma):  #
                 biggest = max(biggest, math.sqrt(dtx * dtx + dty * dty))
                 tx[j, i] = nxv
                 ty[j, i] = nyv
+                dline[0, i] = dtx
+                dline[1, i] = dty
                 for ii in range(max(cols[j, 0], i - BLOCK_NEAR_COLUMNS), i):  # its own line: the cells behind it
                     ox = ii - i + cx
                     ux[j, ii] += near[0, cy, ox] * dtx      # A_xy vanishes on a cell's own line
                     uy[j, ii] += near[2, cy, ox] * dty
-                for jj in range(j + 1, j1):                 # the block's other lines: both sides
-                    oy = jj - j + cy
-                    for ii in range(max(cols[jj, 0], i - BLOCK_NEAR_COLUMNS),
-                                    min(cols[jj, 1], i + BLOCK_NEAR_COLUMNS + 1)):
-                        ox = ii - i + cx
-                        axy = near[1, oy, ox]
-                        ux[jj, ii] += near[0, oy, ox] * dtx + axy * dty
-                        uy[jj, ii] += axy * dtx + near[2, oy, ox] * dty
+            _update_lines(ux, uy, near, dline, j, j1, cols)
     return biggest
+
+
+@kernel(fastmath=True)
+def _update_lines(ux, uy, near, dline, j, j1, cols):  # pragma: no cover - compiled
+    """Add the influence of line j's traction changes dline (2, nx) on the displacement of the block's lines
+    j + 1 .. j1 - 1 (not read before line j is swept, so after it in one pass), within
+    :data:`BLOCK_NEAR_COLUMNS` of each change, in each line's columns cols[jj, 0] <= ii < cols[jj, 1]: per column
+    offset k one long loop over the line (the sums of the cell-by-cell updates, in another order)."""
+    cy = near.shape[1] // 2
+    cx = near.shape[2] // 2
+    s_lo = cols[j, 0]
+    s_hi = min(cols[j, 1], dline.shape[1])
+    for jj in range(j + 1, j1):
+        oy = jj - j + cy
+        for k in range(-BLOCK_NEAR_COLUMNS, BLOCK_NEAR_COLUMNS + 1):     # field minus source column
+            axx = near[0, oy, cx + k]
+            axy = near[1, oy, cx + k]
+            ayy = near[2, oy, cx + k]
+            for ii in range(max(cols[jj, 0], s_lo + k), min(cols[jj, 1], s_hi + k)):
+                dtx = dline[0, ii - k]
+                dty = dline[1, ii - k]
+                ux[jj, ii] += axx * dtx + axy * dty
+                uy[jj, ii] += axy * dtx + ayy * dty
 
 
 def _line_columns(on: np.ndarray) -> np.ndarray:
