@@ -113,8 +113,9 @@ class RollingField:
     fft_evaluations: int
 
 
-#: Newton on sigma stops after a step below this fraction of sigma + mu p min(b): the root's error after it is below
-#: 1.5 times its square (h''/(2|h'|) <= 1.5/(sigma + mu p min(b))), i.e. at round-off (2e-16 of the traction).
+#: Newton on sigma stops after a step below this fraction of sigma + mu p min(b); from a step of that size the
+#: next one (the error left) is of the order of its square: round-off (checked against Newton on the plain residual
+#: to 1e-12 of mu p on random anisotropic cells, tests/contact/tangential/test_coulomb_cell.py).
 NEWTON_STEP = 1e-8
 
 
@@ -122,11 +123,13 @@ NEWTON_STEP = 1e-8
 def coulomb_slip(ssx, ssy, bx, by, bound, start):  # pragma: no cover - compiled
     """The traction (tx, ty) of one cell and sigma = |s| (0 in adhesion), given s* (the cell's slip without its own
     traction): s = s* + diag(bx, by) t. Adhesion when t = -s*/b fits the bound; otherwise t = -bound s/|s| with
-    s_k = s*_k sigma/(sigma + bound b_k), sigma the root of h = sum s*_k^2/(sigma + bound b_k)^2 - 1 (decreasing
-    and convex: Newton from a point left of the root converges monotonically, and a Newton step from a point right
-    of it lands left of it). ``start``: a guess of sigma (the cell's sigma of the previous sweep; <= 0: none, then
-    the isotropic closed form with the direction-weighted b, exact when bx = by): one Newton step from it, kept if
-    right of the cold start |s*| - bound max(b) (left of the root), then Newton to :data:`NEWTON_STEP`."""
+    s_k = s*_k sigma/(sigma + c_k), c_k = bound b_k, sigma the root of phi(sigma) = 1 with
+    phi = (sum s*_k^2/(sigma + c_k)^2)^(-1/2), a weighted power mean (exponent -2) of the sigma + c_k over |s*|:
+    increasing, concave and linear when bx = by, so Newton from any start lands left of the root (exactly on it
+    when bx = by) and then climbs to it monotonically, in about two steps on any anisotropy. ``start``: a guess of
+    sigma (the cell's sigma of the previous sweep; <= 0: none, then the isotropic closed form |s*| - c with c
+    weighted by the slip's direction); the first step's result is kept if right of the cold start |s*| - max(c)
+    (left of the root)."""
     ax = -ssx / bx
     ay = -ssy / by
     if ax * ax + ay * ay <= bound * bound:
@@ -141,11 +144,12 @@ def coulomb_slip(ssx, ssy, bx, by, bound, start):  # pragma: no cover - compiled
     if warm:
         sig, sig_cold = start, sig
     for k in range(60):
-        dxx = sig + cx
-        dyy = sig + cy
-        qx = ssx * ssx / (dxx * dxx)
-        qy = ssy * ssy / (dyy * dyy)
-        step = (qx + qy - 1.0) / (2.0 * (qx / dxx + qy / dyy))
+        rx = 1.0 / (sig + cx)
+        ry = 1.0 / (sig + cy)
+        qx = ssx * ssx * rx * rx
+        qy = ssy * ssy * ry * ry
+        q = qx + qy
+        step = q * (math.sqrt(q) - 1.0) / (qx * rx + qy * ry)
         sig += step
         if k == 0 and warm:
             sig = max(sig, sig_cold)    # left of the root from here (a cold start left of it is no worse)
