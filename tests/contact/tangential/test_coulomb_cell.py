@@ -1,7 +1,6 @@
 """The per-cell Coulomb problem of the exact rolling solver (warm-started Newton on sigma = |s| in the power-mean
-parametrisation) against a
-reference Newton iterated to round-off, and the two-component FFT displacement against the direct sum (units mm,
-MPa; slips dimensionless)."""
+parametrisation) against a reference Newton iterated to round-off, and the two-component FFT displacement against
+the direct sum (units mm, MPa; slips dimensionless)."""
 
 import math
 
