@@ -32,25 +32,26 @@ class Anderson:
 
     def mix(self, x: np.ndarray, g: np.ndarray) -> np.ndarray:
         """The next iterate from the iterate ``x`` and its image ``g`` = G(x) (g itself until two steps exist)."""
-        f = g - x
         if self.memory <= 0:
             return g
+        f = g - x
         if self._last is not None:
             slot = self._steps % self.memory
-            self._df[slot] = f - self._last[0]
-            self._dg[slot] = g - self._last[1]
-            self._gram[slot, :] = self._df @ self._df[slot]
-            self._gram[:, slot] = self._gram[slot, :]
+            np.subtract(f, self._last[0], out=self._df[slot])       # in place: no temporaries of length size
+            np.subtract(g, self._last[1], out=self._dg[slot])
+            m = min(self._steps + 1, self.memory)
+            np.dot(self._df[:m], self._df[slot], out=self._gram[slot, :m])
+            self._gram[:m, slot] = self._gram[slot, :m]
             self._steps += 1
         self._last = (f, g)
         m = min(self._steps, self.memory)
         if m == 0:
             return g
-        gram = self._gram[:m, :m]
-        ridge = 1e-12 * np.trace(gram) / m + 1e-300      # keeps nearly dependent differences solvable
-        try:
-            gamma = np.linalg.solve(gram + ridge * np.eye(m), self._df[:m] @ f)
+        gram = self._gram[:m, :m] + np.diag(np.full(m, 1e-12 * np.trace(self._gram[:m, :m]) / m + 1e-300))
+        try:                                             # the ridge keeps nearly dependent differences solvable
+            gamma = np.linalg.solve(gram, self._df[:m] @ f)
         except np.linalg.LinAlgError:
             self.restart()
             return g
-        return g - gamma @ self._dg[:m]
+        out = gamma @ self._dg[:m]
+        return np.subtract(g, out, out=out)

@@ -35,6 +35,7 @@ import functools
 import numpy as np
 
 from contact.normal.halfspace import cropped_irfft2, fft_module, offset_integrals, padded_rfft2, wrapped_kernel
+from wrlayer.jit import kernel
 
 __all__ = ["TractionHalfSpace", "cerruti_coefficients"]
 
@@ -98,14 +99,30 @@ class TractionHalfSpace:
         self.ny, self.nx, self.dy, self.dx = int(ny), int(nx), float(dy), float(dx)
         spec, self.shape, dense = _spectra(self.ny, self.nx, self.dy, self.dx, float(poisson))
         scale = 1.0 / (np.pi * G_MPa)
-        self._spec = tuple(s * scale for s in spec)
+        self._spec = tuple(np.ascontiguousarray(s * scale) for s in spec)
         self.near = dense * scale
         self.evaluations = 0
 
     def displacement(self, tx: np.ndarray, ty: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ux, uy) (mm) of the cell tractions (tx, ty) (MPa)."""
-        self.evaluations += 1
-        fx, fy = padded_rfft2(np.stack((tx, ty)), self.shape)       # both components in one call
-        sxx, sxy, syy = self._spec
-        u = cropped_irfft2(np.stack((sxx * fx + sxy * fy, sxy * fx + syy * fy)), self.shape, self.ny, self.nx)
+        u = self.displacement_pair(np.stack((tx, ty)))
         return u[0], u[1]
+
+    def displacement_pair(self, t: np.ndarray) -> np.ndarray:
+        """(ux, uy) (2, ny, nx) (mm) of the tractions (tx, ty) (2, ny, m) (MPa), m <= nx: the columns from m on
+        carry no traction (zero-padded, as the FFT's own padding)."""
+        self.evaluations += 1
+        f = padded_rfft2(t, self.shape)                      # both components in one call
+        _spectral_product(*self._spec, f)                     # in place: no complex temporaries
+        return cropped_irfft2(f, self.shape, self.ny, self.nx)
+
+
+@kernel()
+def _spectral_product(sxx, sxy, syy, f):  # pragma: no cover - compiled
+    """f = (sxx fx + sxy fy, sxy fx + syy fy) in place on the spectra f (2, ky, kx)."""
+    for a in range(f.shape[1]):
+        for b in range(f.shape[2]):
+            fx = f[0, a, b]
+            fy = f[1, a, b]
+            f[0, a, b] = sxx[a, b] * fx + sxy[a, b] * fy
+            f[1, a, b] = sxy[a, b] * fx + syy[a, b] * fy

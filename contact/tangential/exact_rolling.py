@@ -113,39 +113,71 @@ class RollingField:
     fft_evaluations: int
 
 
+#: Newton on sigma stops after a step below this fraction of sigma + mu p min(b); from a step of that size the
+#: next one (the error left) is of the order of its square: round-off (checked against Newton on the plain residual
+#: to 1e-12 of mu p on random anisotropic cells, tests/contact/tangential/test_coulomb_cell.py).
+NEWTON_STEP = 1e-8
+
+
 @kernel()
-def coulomb_cell(ssx, ssy, bx, by, bound):  # pragma: no cover - compiled
-    """The traction (tx, ty) of one cell and its slip flag, given s* (the cell's slip without its own traction):
-    s = s* + diag(bx, by) t. Adhesion when t = -s*/b fits the bound; otherwise t = -bound s/|s| with
-    s_k = s*_k sigma/(sigma + bound b_k), sigma = |s| the root of sum s*_k^2/(sigma + bound b_k)^2 = 1 (decreasing
-    and convex in sigma: Newton from a point left of the root converges monotonically)."""
+def coulomb_slip(ssx, ssy, bx, by, bound, start):  # pragma: no cover - compiled
+    """The traction (tx, ty) of one cell and sigma = |s| (0 in adhesion), given s* (the cell's slip without its own
+    traction): s = s* + diag(bx, by) t. Adhesion when t = -s*/b fits the bound; otherwise t = -bound s/|s| with
+    s_k = s*_k sigma/(sigma + c_k), c_k = bound b_k, sigma the root of phi(sigma) = 1 with
+    phi = (sum s*_k^2/(sigma + c_k)^2)^(-1/2), a weighted power mean (exponent -2) of the sigma + c_k over |s*|:
+    increasing, concave and linear when bx = by, so Newton from any start lands left of the root (exactly on it
+    when bx = by) and then climbs to it monotonically, in about two steps on any anisotropy. ``start``: a guess of
+    sigma (the cell's sigma of the previous sweep; <= 0: none, then the isotropic closed form |s*| - c with c
+    weighted by the slip's direction); the first step's result is kept if right of the cold start |s*| - max(c)
+    (left of the root)."""
     ax = -ssx / bx
     ay = -ssy / by
     if ax * ax + ay * ay <= bound * bound:
-        return ax, ay, False
-    sig = max(math.sqrt(ssx * ssx + ssy * ssy) - bound * max(bx, by), 0.0)
-    for _ in range(60):
-        dxx = sig + bound * bx
-        dyy = sig + bound * by
-        h = ssx * ssx / (dxx * dxx) + ssy * ssy / (dyy * dyy) - 1.0
-        dh = -2.0 * (ssx * ssx / (dxx * dxx * dxx) + ssy * ssy / (dyy * dyy * dyy))
-        step = -h / dh
+        return ax, ay, 0.0
+    cx = bound * bx
+    cy = bound * by
+    s2 = ssx * ssx + ssy * ssy
+    sig = max(math.sqrt(s2) - max(cx, cy), 0.0)
+    if start <= 0.0:       # the isotropic closed form |s*| - bound b with b weighted by the slip's direction
+        start = math.sqrt(s2) - (ssx * ssx * cx + ssy * ssy * cy) / s2
+    warm = start > sig
+    if warm:
+        sig, sig_cold = start, sig
+    for k in range(60):
+        rx = 1.0 / (sig + cx)
+        ry = 1.0 / (sig + cy)
+        qx = ssx * ssx * rx * rx
+        qy = ssy * ssy * ry * ry
+        q = qx + qy
+        step = q * (math.sqrt(q) - 1.0) / (qx * rx + qy * ry)
         sig += step
-        if abs(step) <= 1e-14 * (sig + bound * bx):
+        if k == 0 and warm:
+            sig = max(sig, sig_cold)    # left of the root from here (a cold start left of it is no worse)
+        if abs(step) <= NEWTON_STEP * (sig + min(cx, cy)):
             break
-    return -bound * ssx / (sig + bound * bx), -bound * ssy / (sig + bound * by), True
+    return -ssx * bound / (sig + cx), -ssy * bound / (sig + cy), sig
+
+
+@kernel()
+def coulomb_cell(ssx, ssy, bx, by, bound):  # pragma: no cover - compiled
+    """The traction (tx, ty) of one cell and its slip flag from s* (:func:`coulomb_slip` without a start)."""
+    tx, ty, sig = coulomb_slip(ssx, ssy, bx, by, bound, 0.0)
+    ax = -ssx / bx
+    ay = -ssy / by
+    return tx, ty, not ax * ax + ay * ay <= bound * bound
 
 
 @kernel(fastmath=True)  # vectorised updates: 2x faster, forces unchanged to 1e-10
-def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, slip):  # pragma: no cover - compiled
+def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, sigma):  # pragma: no cover - compiled
     """A Gauss–Seidel sweep over the blocks of lines (j0, j1) in ``blocks``; ux, uy (ny, nx + 1): exact
     displacement at the start, the leading pad column included; returns max |dt|.
 
     Each cell solves the summed slip equation u_I = u_pad + sum_{K >= I} (s_K - w_K) dx for its own traction
     (coefficient A(0): the symmetric half-space operator's diagonal), with the slips s_K of the cells ahead of it
     from this sweep. A traction change updates the displacement where this sweep still reads it, within
-    :data:`BLOCK_NEAR_COLUMNS` of it: on its own line behind the cell and on the block's lines not yet swept, each
-    line's columns cols[j, 0] <= i < cols[j, 1] (its loaded cells and the free cell or pad ahead of them)."""
+    :data:`BLOCK_NEAR_COLUMNS` of it: on its own line behind the cell at once, on the block's lines not yet swept
+    when its line is done (:func:`_update_lines`), each line's columns cols[j, 0] <= i < cols[j, 1] (its loaded
+    cells and the free cell or pad ahead of them)."""
     ny, nx = tx.shape
     cy = near.shape[1] // 2
     cx = near.shape[2] // 2
@@ -153,10 +185,12 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, slip):  # 
     by = near[2, cy, cx] * inv_dx
     dx = 1.0 / inv_dx
     biggest = 0.0
+    dline = np.zeros((2, nx))              # the traction changes of the line being swept
     for b in range(blocks.shape[0]):
         j0 = blocks[b, 0]
         j1 = blocks[b, 1]
         for j in range(j0, j1):
+            dline[:, :] = 0.0
             acc_x = ux[j, nx]
             acc_y = uy[j, nx]
             for i in range(nx - 1, -1, -1):
@@ -167,8 +201,9 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, slip):  # 
                     continue
                 ssx = wx[j, i] + (ux[j, i] - acc_x) * inv_dx - bx * tx[j, i]
                 ssy = wy[j, i] + (uy[j, i] - acc_y) * inv_dx - by * ty[j, i]
-                nxv, nyv, sl = coulomb_cell(ssx, ssy, bx, by, g)
-                slip[j, i] = sl
+                nxv, nyv, sg = coulomb_slip(ssx, ssy, bx, by, g, sigma[j, i])
+                sigma[j, i] = sg
+                sl = sg > 0.0
                 sx = ssx + bx * nxv if sl else 0.0
                 sy = ssy + by * nyv if sl else 0.0
                 acc_x += (sx - wx[j, i]) * dx
@@ -180,18 +215,37 @@ def _sweep(tx, ty, ux, uy, wx, wy, bound, near, inv_dx, blocks, cols, slip):  # 
                 biggest = max(biggest, math.sqrt(dtx * dtx + dty * dty))
                 tx[j, i] = nxv
                 ty[j, i] = nyv
-                for jj in range(j, j1):
-                    oy = jj - j + cy
-                    lo = max(cols[jj, 0], i - BLOCK_NEAR_COLUMNS)
-                    hi = i                     # its own line: the cells behind it
-                    if jj > j:                 # the block's other lines: both sides
-                        hi = min(cols[jj, 1], i + BLOCK_NEAR_COLUMNS + 1)
-                    for ii in range(lo, hi):
-                        ox = ii - i + cx
-                        axy = near[1, oy, ox]
-                        ux[jj, ii] += near[0, oy, ox] * dtx + axy * dty
-                        uy[jj, ii] += axy * dtx + near[2, oy, ox] * dty
+                dline[0, i] = dtx
+                dline[1, i] = dty
+                for ii in range(max(cols[j, 0], i - BLOCK_NEAR_COLUMNS), i):  # its own line: the cells behind it
+                    ox = ii - i + cx
+                    ux[j, ii] += near[0, cy, ox] * dtx      # A_xy vanishes on a cell's own line
+                    uy[j, ii] += near[2, cy, ox] * dty
+            _update_lines(ux, uy, near, dline, j, j1, cols)
     return biggest
+
+
+@kernel(fastmath=True)
+def _update_lines(ux, uy, near, dline, j, j1, cols):  # pragma: no cover - compiled
+    """Add the influence of line j's traction changes dline (2, nx) on the displacement of the block's lines
+    j + 1 .. j1 - 1 (not read before line j is swept, so after it in one pass), within
+    :data:`BLOCK_NEAR_COLUMNS` of each change, in each line's columns cols[jj, 0] <= ii < cols[jj, 1]: per column
+    offset k one long loop over the line (the sums of the cell-by-cell updates, in another order)."""
+    cy = near.shape[1] // 2
+    cx = near.shape[2] // 2
+    s_lo = cols[j, 0]
+    s_hi = min(cols[j, 1], dline.shape[1])
+    for jj in range(j + 1, j1):
+        oy = jj - j + cy
+        for k in range(-BLOCK_NEAR_COLUMNS, BLOCK_NEAR_COLUMNS + 1):     # field minus source column
+            axx = near[0, oy, cx + k]
+            axy = near[1, oy, cx + k]
+            ayy = near[2, oy, cx + k]
+            for ii in range(max(cols[jj, 0], s_lo + k), min(cols[jj, 1], s_hi + k)):
+                dtx = dline[0, ii - k]
+                dty = dline[1, ii - k]
+                ux[jj, ii] += axx * dtx + axy * dty
+                uy[jj, ii] += axy * dtx + ayy * dty
 
 
 def _line_columns(on: np.ndarray) -> np.ndarray:
@@ -220,12 +274,15 @@ class _Iteration:
         self.near = np.ascontiguousarray(hs.near)
         self.bound = np.ascontiguousarray(friction * np.maximum(p_MPa, 0.0))
         self.on = self.bound > 0
+        self.cells = np.flatnonzero(self.on)      # the loaded cells (flat indices), the mixed vector's order
+        self.cell_bound = self.bound.ravel()[self.cells]
         self.wx, self.wy = np.ascontiguousarray(wx, dtype=float), np.ascontiguousarray(wy, dtype=float)
-        self.tx, self.ty = np.zeros((ny, nx)), np.zeros((ny, nx))
+        self.t = np.zeros((2, ny, nx))            # (tx, ty): one array, so the FFT takes both without a copy
+        self.tx, self.ty = self.t[0], self.t[1]   # views, updated in place
         if initial_MPa is not None and np.shape(initial_MPa[0]) == (ny, nx) == np.shape(initial_MPa[1]):
-            self.tx = np.where(self.on, np.asarray(initial_MPa[0], dtype=float), 0.0)
-            self.ty = np.where(self.on, np.asarray(initial_MPa[1], dtype=float), 0.0)
-        self.slip = np.zeros((ny, nx), dtype=np.bool_)
+            self.tx[...] = np.where(self.on, np.asarray(initial_MPa[0], dtype=float), 0.0)
+            self.ty[...] = np.where(self.on, np.asarray(initial_MPa[1], dtype=float), 0.0)
+        self.sigma = np.zeros((ny, nx))          # |s| per cell (0: adhesion), the next sweep's Newton start
         loaded = np.flatnonzero(self.on.any(axis=1))
         self.cols = _line_columns(self.on)
         self.fast_blocks = _blocks(loaded, max(1, int(options.block_lines)))
@@ -233,34 +290,58 @@ class _Iteration:
 
     def displacement(self) -> tuple[np.ndarray, np.ndarray]:
         """Exact (ux, uy) of the current tractions with the traction-free pad column (ny, nx + 1)."""
-        zero = np.zeros((self.tx.shape[0], 1))
-        ux, uy = self.hs.displacement(np.hstack([self.tx, zero]), np.hstack([self.ty, zero]))
-        return np.ascontiguousarray(ux), np.ascontiguousarray(uy)
+        u = self.hs.displacement_pair(self.t)     # the pad column: zero-padded by the FFT
+        return np.ascontiguousarray(u[0]), np.ascontiguousarray(u[1])
+
+    @property
+    def slip(self) -> np.ndarray:
+        """Cells in slip (ny, nx) after the last sweep."""
+        return self.sigma > 0.0
 
     def sweep(self, exact: bool) -> float:
         """One sweep (exact block Gauss–Seidel or the accelerated one's Gauss–Seidel step); max |dt| (MPa)."""
         args = (self.wx, self.wy, self.bound, self.near, 1.0 / self.dx)
         if not exact:
             ux, uy = self.displacement()
-            return _sweep(self.tx, self.ty, ux, uy, *args, self.fast_blocks, self.cols, self.slip)
+            return _sweep(self.tx, self.ty, ux, uy, *args, self.fast_blocks, self.cols, self.sigma)
         change = 0.0
         for k in range(self.exact_blocks.shape[0]):
             ux, uy = self.displacement()
             change = max(change, _sweep(self.tx, self.ty, ux, uy, *args, self.exact_blocks[k:k + 1], self.cols,
-                                        self.slip))
+                                        self.sigma))
         return change
 
     def packed(self) -> np.ndarray:
-        return np.concatenate([self.tx[self.on], self.ty[self.on]])
+        """The loaded cells' tractions (tx..., ty...) (the mixed vector)."""
+        return _pack(self.t.reshape(2, -1), self.cells)
 
     def set_projected(self, v: np.ndarray) -> None:
         """Tractions from a packed vector, each cell's projected onto its friction disc |t| <= mu p."""
-        n = v.size // 2
-        tx, ty, bound = v[:n], v[n:], self.bound[self.on]
-        mag = np.hypot(tx, ty)
-        fac = np.where(mag > bound, bound / np.maximum(mag, 1e-300), 1.0)
-        self.tx[self.on] = tx * fac
-        self.ty[self.on] = ty * fac
+        _unpack_projected(v, self.cells, self.cell_bound, self.t.reshape(2, -1))
+
+
+@kernel()
+def _pack(t, cells):  # pragma: no cover - compiled
+    """(t[0, cells], t[1, cells]) as one vector of length 2 len(cells)."""
+    n = cells.size
+    out = np.empty(2 * n)
+    for k in range(n):
+        out[k] = t[0, cells[k]]
+        out[n + k] = t[1, cells[k]]
+    return out
+
+
+@kernel()
+def _unpack_projected(v, cells, bound, t):  # pragma: no cover - compiled
+    """t[:, cells] = the packed v's (tx, ty) of each cell, scaled onto the disc of radius ``bound`` if beyond it."""
+    n = cells.size
+    for k in range(n):
+        vx = v[k]
+        vy = v[n + k]
+        mag = math.sqrt(vx * vx + vy * vy)
+        fac = bound[k] / mag if mag > bound[k] else 1.0
+        t[0, cells[k]] = vx * fac
+        t[1, cells[k]] = vy * fac
 
 
 def _loaded_box(on: np.ndarray) -> tuple[slice, slice]:
@@ -317,7 +398,7 @@ def solve_rolling(x_mm: np.ndarray, y_mm: np.ndarray, p_MPa: np.ndarray, wx: np.
             exact = True                  # the accelerated iteration stalled: plain Gauss-Seidel from here
         before = None if exact else it.packed()
         change = it.sweep(exact)
-        change /= min(scale, max(float(np.abs(it.tx).max()), float(np.abs(it.ty).max()), 1e-300))
+        change /= min(scale, max(float(np.abs(it.t).max()), 1e-300))
         if change < options.tol:
             break
         if before is not None:
