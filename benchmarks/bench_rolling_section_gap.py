@@ -10,7 +10,7 @@ p0, and the FEM groove after passes 1, 2 and 5 is compared with what the contact
 residual r at p0 = level x p_2 (Masing, :func:`calibration.rolling.layer_prediction.masing_residual`) times the
 table's rolling law G_n (:class:`wrlayer.rolling_law.RollingLaw`), and the two static memory rules.
 
-``python -m benchmarks.bench_rolling_section_gap --runs DIR [--run]``: ``--run`` runs the configurations that have
+``python -m benchmarks.bench_rolling_section_gap --runs DIR [--run]``: ``--run`` runs the configurations (:func:`section_config`) that have
 no ``DIR/<case>/rolling.json`` yet (one per position and traction; about 15 minutes each on the project's busy
 2-core machine), then the table is printed and written to ``DIR/section_gap.md``.
 """
@@ -21,20 +21,22 @@ import argparse
 import json
 import pathlib
 import sys
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass, replace
 
-from calibration.rolling.config import load_rolling_config
+from calibration.rolling import gap_cases
+from calibration.rolling.config import RollingConfig, parse_rolling_config
 from calibration.rolling.layer_prediction import masing_residual
 from calibration.rolling.run import run_rolling
 from wrlayer.layer_table import LayerTable
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-#: (case name, table, y in mm, label) of the three positions.
-POSITIONS = (("crown", "scenes/tables/rail_60E1_default.json", 0.0, "rail crown"),
-             ("corner", "scenes/tables/rail_60E1_default.json", -35.0, "rail gauge corner"),
-             ("flange", "scenes/tables/wheel_S1002_default.json", -37.5, "wheel flange root"))
-TRACTIONS = (0.0, 0.2)
-LEVELS = (1.3, 1.7, 2.1)
+#: The three positions rolled on their sections: (case name, label) of the gap's table positions.
+NAMES = {"rail crown": "crown", "rail gauge corner": "corner", "wheel flange root": "flange"}
+#: (case name, table, y in mm, label) of the three positions (gap_cases.TABLE_POSITIONS).
+POSITIONS = tuple((NAMES[label], table, y_mm, label) for table, y_mm, label in gap_cases.TABLE_POSITIONS
+                  if label in NAMES)
+TRACTIONS = gap_cases.TRACTIONS
+LEVELS = gap_cases.LEVELS
 N_PASSES = 5
 #: The passes compared (1-based).
 COMPARED = (1, 2, 5)
@@ -42,32 +44,14 @@ COMPARED = (1, 2, 5)
 TARGET = 0.10
 
 
-def config_text(table: str, y_mm: float, c: float) -> str:
-    """The rolling configuration (TOML) of one position and traction: the gap's coarse discretisation."""
-    return f"""[contact]
-body = "section"
-table = "{table}"
-y_mm = {y_mm}
-traction_coefficient = {c}
-levels = {list(LEVELS)}
-level_unit = "p_y"
-
-[track]
-length_factor = 1.5
-step_factor = 0.25
-n_passes = {N_PASSES}
-ramp_steps = 2
-
-[mesh]
-elements_per_semi_axis = 2
-order = 2
-size_factor = 4.0
-
-[run]
-linear_solver = "auto"
-plots = false
-layer_segments = 4
-"""
+def section_config(table: str, y_mm: float, c: float) -> RollingConfig:
+    """The rolling configuration of one position and traction on its section: the gap's coarse discretisation
+    (:data:`calibration.rolling.gap_cases.GAP_TRACK`, ``GAP_MESH``) with :data:`N_PASSES` passes."""
+    data = {"contact": {"body": "section", "table": table, "y_mm": y_mm, "traction_coefficient": c,
+                        "levels": list(LEVELS), "level_unit": "p_y"},
+            "track": asdict(replace(gap_cases.GAP_TRACK, n_passes=N_PASSES)),
+            "mesh": asdict(gap_cases.GAP_MESH), "run": {"plots": False}}
+    return parse_rolling_config(data, f"section gap {table} y = {y_mm:g} mm, c = {c:g}")
 
 
 @dataclass(frozen=True)
@@ -124,9 +108,7 @@ def collect(runs: pathlib.Path, run_missing: bool) -> list[SectionGapRow]:
             case = runs / case_name(name, c)
             result = case / "rolling.json"
             if not result.is_file() and run_missing:
-                cfg_path = runs / f"{case_name(name, c)}.toml"
-                cfg_path.write_text(config_text(table_rel, y_mm, c))
-                run_rolling(load_rolling_config(cfg_path), case)
+                run_rolling(section_config(table_rel, y_mm, c), case)
             if result.is_file():
                 rows += rows_of(json.loads(result.read_text()), table_rel, y_mm, label, c)
     return rows

@@ -1,12 +1,9 @@
 """The section gap's bookkeeping: the layer's groove from a table (Masing residual times the rolling law) against a
 rolling.json, and the configurations it runs (parsed by the rolling reader)."""
 
-import tomllib
-
 import pytest
 
 from benchmarks import bench_rolling_section_gap as sg
-from calibration.rolling.config import parse_rolling_config
 from calibration.rolling.layer_prediction import masing_residual
 from wrlayer.layer_table import LayerTable
 
@@ -14,7 +11,7 @@ from wrlayer.layer_table import LayerTable
 def test_every_configuration_is_a_valid_section_run():
     for _, table, y_mm, _ in sg.POSITIONS:
         for c in sg.TRACTIONS:
-            cfg = parse_rolling_config(tomllib.loads(sg.config_text(table, y_mm, c)), "case")
+            cfg = sg.section_config(table, y_mm, c)
             assert cfg.contact.body == "section" and cfg.contact.y_mm == y_mm
             assert cfg.track.n_passes == sg.N_PASSES and tuple(cfg.contact.levels) == sg.LEVELS
 
