@@ -54,12 +54,12 @@ from wrlayer.errors import ConvergenceError, InputError, PatchTruncated, require
 
 #: The balance iteration stops at |sum F_Z - Q| <= BALANCE_ITER_RTOL Q.
 BALANCE_ITER_RTOL = 1e-8
-#: Inversion of a normal method's force-approach relation (:meth:`VerticalBalance.force_at_approach`): secant on
-#: log N stopped at a step below INVERSION_XTOL or |delta(N) - delta| <= INVERSION_RTOL delta; its second point
-#: INVERSION_STEP above the first once an earlier inversion gave the start.
 #: The exact normal CG's tolerance at the balance's first point: its force only starts the secant (its error moves
 #: the secant's second step by far less than the tolerance) and its pressure the next solve.
 ROUGH_CG_TOL = 1e-3
+#: Inversion of a normal method's force-approach relation (:meth:`VerticalBalance.force_at_approach`): secant on
+#: log N stopped at a step below INVERSION_XTOL or |delta(N) - delta| <= INVERSION_RTOL delta; its second point
+#: INVERSION_STEP above the first once an earlier inversion gave the start.
 INVERSION_XTOL = 1e-12
 INVERSION_RTOL = 1e-9
 INVERSION_STEP = 1e-4
