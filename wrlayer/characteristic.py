@@ -9,6 +9,13 @@ slider break stresses T_0i (MPa):
     (4) k_N = S_N      (5) k_i = S_i - S_{i+1}      (6) T_0i = k_i u_{i+1}      (i = 1..N-1)
 
 Residual displacement of a virgin element unloaded from the peak p_0 (eq. 8): u_p = u(p_0) - p_0 / S_1.
+
+Unloading branch. The paper's sliders are symmetric (Masing): slider i slips back at -T_0i, so an element unloaded
+from p_0 follows twice the backbone at half the drop, and eq. (8) holds only up to p_0 = 2 p_2. A slider may slip
+back at -rho T_0i instead (``reverse_factor`` rho > 0; rho = 1 is the paper's element): the unloading drop of a
+virgin element then follows (1 + rho) u(Delta p / (1 + rho)), so eq. (8) holds up to p_0 = (1 + rho) p_2 and the
+exact residual is u(p_0) - (1 + rho) u(p_0 / (1 + rho)) (:meth:`Characteristic.unloading_residual`). The
+calibration fits rho to the FEM's residual dents (docs/calibration-method.md, "Unloading").
 """
 
 from __future__ import annotations
@@ -21,6 +28,8 @@ import numpy as np
 from wrlayer.errors import InputError
 
 _REL_TOL = 1e-12
+#: Bounds of the reverse threshold factor rho (-): the reverse slider threshold over the forward one.
+REVERSE_FACTOR_RANGE = (0.1, 1000.0)
 
 
 @dataclass(frozen=True)
@@ -42,11 +51,14 @@ class PrandtlParameters:
 
 @dataclass(frozen=True)
 class Characteristic:
-    """Piecewise-linear concave p(u) through (u_mm[i], p_MPa[i]); u_mm[0] = p_MPa[0] = 0. Units mm, MPa."""
+    """Piecewise-linear concave p(u) through (u_mm[i], p_MPa[i]); u_mm[0] = p_MPa[0] = 0. Units mm, MPa.
+    ``reverse_factor``: the element's reverse slider threshold over the forward one (rho, -; 1: the paper's
+    symmetric, Masing element; see the module docstring)."""
 
     u_mm: np.ndarray
     p_MPa: np.ndarray
     name: str = "layer characteristic"
+    reverse_factor: float = 1.0
 
     def __post_init__(self):
         u = np.asarray(self.u_mm, dtype=float).ravel()
@@ -54,6 +66,11 @@ class Characteristic:
         object.__setattr__(self, "u_mm", u)
         object.__setattr__(self, "p_MPa", p)
         what = self.name
+        rho = self.reverse_factor
+        lo, hi = REVERSE_FACTOR_RANGE
+        if isinstance(rho, bool) or not isinstance(rho, (int, float, np.floating)) or not lo <= float(rho) <= hi:
+            raise InputError(what, f"reverse_factor must be a number in [{lo:g}, {hi:g}], got {rho!r}")
+        object.__setattr__(self, "reverse_factor", float(rho))
         if u.size != p.size:
             raise InputError(what, f"u_mm has {u.size} points but p_MPa has {p.size}")
         if u.size < 2:
@@ -123,10 +140,22 @@ class Characteristic:
         # flat lists of finite real numbers (no strings, booleans or nested lists)
         u = validate.number_list(data["u_mm"], f"{name}: u_mm", min_len=2)
         p = validate.number_list(data["p_MPa"], f"{name}: p_MPa", min_len=2)
-        return cls(u, p, name)
+        rho = 1.0
+        if "reverse_factor" in data:
+            lo, hi = REVERSE_FACTOR_RANGE
+            rho = validate.number(data["reverse_factor"], f"{name}: reverse_factor", ge=lo, le=hi)
+        return cls(u, p, name, rho)
 
-    def to_dict(self) -> dict[str, list[float]]:
-        return {"u_mm": self.u_mm.tolist(), "p_MPa": self.p_MPa.tolist()}
+    def to_dict(self) -> dict[str, Any]:
+        """``{"u_mm", "p_MPa"}`` and, for an element that is not the paper's, ``reverse_factor``."""
+        out: dict[str, Any] = {"u_mm": self.u_mm.tolist(), "p_MPa": self.p_MPa.tolist()}
+        if self.reverse_factor != 1.0:
+            out["reverse_factor"] = self.reverse_factor
+        return out
+
+    def with_points(self, u_mm, p_MPa, name: str | None = None) -> "Characteristic":
+        """A characteristic through other points with this one's element (its reverse factor)."""
+        return Characteristic(u_mm, p_MPa, self.name if name is None else name, self.reverse_factor)
 
     # ------------------------------------------------------------------ properties
     @property
@@ -180,6 +209,14 @@ class Characteristic:
         p0 = np.asarray(p0_MPa, dtype=float)
         return np.maximum(self.displacement(p0) - p0 / self.initial_stiffness, 0.0)
 
+    def unloading_residual(self, p0_MPa) -> np.ndarray:
+        """The exact residual of a virgin element loaded to p_0 and fully unloaded (mm, >= 0): the unloading drop
+        follows (1 + rho) times the backbone at Delta p / (1 + rho), so u_p = u(p_0) - (1 + rho) u(p_0 / (1 + rho));
+        eq. (8) up to p_0 = (1 + rho) p_2 (module docstring)."""
+        p0 = np.asarray(p0_MPa, dtype=float)
+        f = 1.0 + self.reverse_factor
+        return np.maximum(self.displacement(p0) - f * self.displacement(p0 / f), 0.0)
+
     # ------------------------------------------------------------------ combinations
     def series(self, other: "Characteristic", name: str | None = None) -> "Characteristic":
         """Two layers in series (same pressure, displacements add): wheel + rail -> combined layer."""
@@ -187,7 +224,10 @@ class Characteristic:
         p = np.unique(np.concatenate([self.p_MPa, other.p_MPa]))
         p = p[p <= p_end]
         u = self.displacement(p) + other.displacement(p)
-        return _merged(u, p, name or f"{self.name} + {other.name}")
+        # elements in series unload as one when their sliders' reverse factors agree; otherwise the smaller one
+        # (the earlier reverse slip) is kept, a stated approximation
+        rho = min(self.reverse_factor, other.reverse_factor)
+        return _merged(u, p, name or f"{self.name} + {other.name}", rho)
 
     @staticmethod
     def interpolate(a: "Characteristic", b: "Characteristic", t: float, name: str | None = None) -> "Characteristic":
@@ -198,10 +238,11 @@ class Characteristic:
         u = np.unique(np.concatenate([a.u_mm, b.u_mm]))
         u = u[u <= u_end]
         p = (1.0 - t) * a.pressure(u) + t * b.pressure(u)
-        return _merged(u, p, name or a.name)
+        rho = (1.0 - t) * a.reverse_factor + t * b.reverse_factor
+        return _merged(u, p, name or a.name, rho)
 
 
-def _merged(u: np.ndarray, p: np.ndarray, name: str) -> Characteristic:
+def _merged(u: np.ndarray, p: np.ndarray, name: str, reverse_factor: float = 1.0) -> Characteristic:
     """A characteristic through (u, p) with collinear interior points removed (keeps slopes strictly decreasing)."""
     u = np.asarray(u, dtype=float)
     p = np.asarray(p, dtype=float)
@@ -214,4 +255,4 @@ def _merged(u: np.ndarray, p: np.ndarray, name: str) -> Characteristic:
         if s_out < s_in * (1.0 - 1e-9):
             keep.append(i)
     keep.append(u.size - 1)
-    return Characteristic(u[keep], p[keep], name)
+    return Characteristic(u[keep], p[keep], name, reverse_factor)

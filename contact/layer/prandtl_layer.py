@@ -5,16 +5,18 @@ N alone. With the slip s_i of slider i (mm) and the element displacement u (mm) 
 
     p = sum_{i<N} k_i (u - s_i) + k_N u,     |k_i (u - s_i)| <= T_0i      (eqs. 1–3)
 
-so the force in branch i is k_i * clip(u - s_i, -e_i, e_i) with the elastic half-width e_i = T_0i / k_i (mm).
+so the force in branch i is k_i * clip(u - s_i, -rho e_i, e_i) with the elastic half-width e_i = T_0i / k_i (mm) and
+the element's reverse factor rho (the reverse threshold over the forward one; 1: the paper's symmetric slider).
 A monotonic move from the current state to a target pressure is therefore piecewise linear in u with break points
 at s_i +- e_i: :meth:`PrandtlLayer.move_to` finds the segment and solves it exactly (no iteration), then updates
-the slips; this gives the EXACT element behaviour for any load history (Masing: an unloading drop larger than
-2 T_0i/... makes slider i slip backwards). The dissipated energy per unit area, sum T_0i |delta s_i| (N/mm =
+the slips; this gives the EXACT element behaviour for any load history (rho = 1, Masing: an unloading drop that moves branch i by more
+than 2 e_i makes slider i slip backwards; in general (1 + rho) e_i). The dissipated energy per unit area, sum T_0i |delta s_i| (N/mm =
 N mm/mm^2), is accumulated per point.
 
 Eq. (8) (unloading parallel to the first segment) is exact only while no slider slips backwards on unloading, i.e.
-for a virgin element loaded to p_0 <= 2 p_2 (Masing: unloading by Delta p retraces twice the backbone at Delta p/2);
-for larger p_0 the exact residual is u(p_0) - 2 u(p_0/2) < eq. (8). See ``tests/contact/test_prandtl_layer.py``.
+for a virgin element loaded to p_0 <= (1 + rho) p_2 (unloading by Delta p retraces (1 + rho) times the backbone at
+Delta p/(1 + rho)); for larger p_0 the exact residual is u(p_0) - (1 + rho) u(p_0/(1 + rho)) < eq. (8)
+(:meth:`wrlayer.characteristic.Characteristic.unloading_residual`). See ``tests/contact/test_prandtl_layer.py``.
 
 Representation: arrays (n_points, M) with M = the largest number of sliders over the points. Points whose
 characteristic has fewer segments are padded with branches of ZERO stiffness and zero half-width: such a branch
@@ -39,38 +41,40 @@ from wrlayer.rolling_law import RollingLaw
 
 
 @kernel()
-def _element_pressure(x, slip, k, e, k_last):
-    """p = sum_i k_i clip(x - s_i, -e_i, e_i) + k_N x for one element at displacement x (MPa)."""
+def _element_pressure(x, slip, k, e, k_last, rho):
+    """p = sum_i k_i clip(x - s_i, -rho e_i, e_i) + k_N x for one element at displacement x (MPa)."""
     p = k_last * x
     for i in range(slip.size):
-        p += k[i] * min(max(x - slip[i], -e[i]), e[i])
+        p += k[i] * min(max(x - slip[i], -rho * e[i]), e[i])
     return p
 
 
 @kernel()
-def _pressures(u, slip, k, e, k_last):
+def _pressures(u, slip, k, e, k_last, rho):
     """Current pressure of each element (MPa)."""
     out = np.empty(u.size)
     for j in range(u.size):
-        out[j] = _element_pressure(u[j], slip[j], k[j], e[j], k_last[j])
+        out[j] = _element_pressure(u[j], slip[j], k[j], e[j], k_last[j], rho[j])
     return out
 
 
 @kernel()
-def move_elements(u, slip, k, e, k_last, p_target):
+def move_elements(u, slip, k, e, k_last, p_target, rho):
     """Exact monotonic move of elements (u (n,), slips (n, m)) to p_target (n,): (u, slips, dissipation).
 
-    Unloading is loading of the mirrored element (u, s, p) -> (-u, -s, -p). On loading, branch i carries
-    k_i min(u - s_i, e_i) once u - s_i >= -e_i, so p(u) is piecewise linear with break points s_i + e_i: walk
-    the break points in order until the target pressure is reached, then slip the sliders passed.
+    Unloading is loading of the mirrored element (u, s, p) -> (-u, -s, -p), whose forward half-widths are the
+    reverse ones rho e_i. On loading, branch i carries k_i min(u - s_i, f_i) (f_i the forward half-width), so p(u)
+    is piecewise linear with break points s_i + f_i: walk the break points in order until the target pressure is
+    reached, then slip the sliders passed.
     """
     n, m = slip.shape
     u_out = np.empty(n)
     s_out = np.empty((n, m))
     diss = np.zeros(n)
     for j in range(n):
-        p_cur = _element_pressure(u[j], slip[j], k[j], e[j], k_last[j])
+        p_cur = _element_pressure(u[j], slip[j], k[j], e[j], k_last[j], rho[j])
         sign = 1.0 if p_target[j] >= p_cur else -1.0
+        scale = 1.0 if sign > 0.0 else rho[j]  # forward half-width over e_i in this direction
         x = sign * u[j]
         pt = sign * p_target[j]
         p = sign * p_cur
@@ -78,7 +82,7 @@ def move_elements(u, slip, k, e, k_last, p_target):
             slope = k_last[j]
             b_next = np.inf
             for i in range(m):
-                b = sign * slip[j, i] + e[j, i]
+                b = sign * slip[j, i] + scale * e[j, i]
                 if b > x and k[j, i] > 0.0:
                     slope += k[j, i]
                     if b < b_next:
@@ -91,14 +95,14 @@ def move_elements(u, slip, k, e, k_last, p_target):
         u_out[j] = sign * x
         for i in range(m):
             sp = sign * slip[j, i]
-            sn = max(sp, x - e[j, i])
-            diss[j] += k[j, i] * e[j, i] * (sn - sp)
+            sn = max(sp, x - scale * e[j, i])
+            diss[j] += k[j, i] * scale * e[j, i] * (sn - sp)
             s_out[j, i] = sign * sn
     return u_out, s_out, diss
 
 
 @kernel()
-def _yield_pressures(u, slip, k, e, k_last):
+def _yield_pressures(u, slip, k, e, k_last, rho):
     """Pressure of each element when its first stuck slider reaches its threshold on loading (inf: none)."""
     n, m = slip.shape
     out = np.full(n, np.inf)
@@ -108,7 +112,7 @@ def _yield_pressures(u, slip, k, e, k_last):
             if k[j, i] > 0.0:
                 first = min(first, max(slip[j, i] + e[j, i], u[j]))
         if first < np.inf:
-            out[j] = _element_pressure(first, slip[j], k[j], e[j], k_last[j])
+            out[j] = _element_pressure(first, slip[j], k[j], e[j], k_last[j], rho[j])
     return out
 
 
@@ -121,6 +125,8 @@ class PrandtlLayer:
     body), ``slip_mm`` (n, M) slider slips, ``dissipated_energy_N_per_mm`` (n,) accumulated friction work.
     ``rolling_law``: what a rolling pass leaves relative to the static residual (:mod:`wrlayer.rolling_law`, from
     the layer table; None: none), used by the passes' "rolling" memory rule (:mod:`contact.passes.passes`).
+    ``reverse_factor`` (n,): each element's reverse slider threshold over the forward one (-; default 1, the paper's
+    element).
     """
 
     y_mm: np.ndarray
@@ -132,6 +138,7 @@ class PrandtlLayer:
     dissipated_energy_N_per_mm: np.ndarray = None
     name: str = "layer"
     rolling_law: RollingLaw | None = None
+    reverse_factor: np.ndarray = None
 
     def __post_init__(self):
         self.y_mm = np.atleast_1d(np.asarray(self.y_mm, dtype=float))
@@ -151,12 +158,17 @@ class PrandtlLayer:
                         else np.asarray(self.slip_mm, dtype=float).reshape(self.k_N_per_mm3.shape).copy())
         self.dissipated_energy_N_per_mm = (np.zeros(n) if self.dissipated_energy_N_per_mm is None else
                                            np.asarray(self.dissipated_energy_N_per_mm, dtype=float).reshape(n).copy())
+        self.reverse_factor = np.ascontiguousarray(np.broadcast_to(
+            np.asarray(1.0 if self.reverse_factor is None else self.reverse_factor, dtype=float), (n,)))
+        if not (np.all(np.isfinite(self.reverse_factor)) and np.all(self.reverse_factor > 0)):
+            raise InputError(self.name, "reverse factors must be finite and > 0")
 
     # ------------------------------------------------------------------ construction
     @classmethod
     def from_characteristics(cls, characteristics: Sequence[Characteristic], y_mm, name: str = "layer",
                              rolling_law: RollingLaw | None = None):
-        """One characteristic per point (padded to a common number of sliders with zero branches)."""
+        """One characteristic per point (padded to a common number of sliders with zero branches), each with its
+        reverse factor."""
         y = np.atleast_1d(np.asarray(y_mm, dtype=float))
         if len(characteristics) != y.size:
             raise InputError(name, f"{len(characteristics)} characteristics for {y.size} points")
@@ -170,7 +182,8 @@ class PrandtlLayer:
             k[j, :ns] = par.k_N_per_mm3[:-1]
             e[j, :ns] = par.break_displacements_mm
             k_last[j] = par.k_N_per_mm3[-1]
-        return cls(y, k, e, k_last, name=name, rolling_law=rolling_law)
+        rho = np.array([c.reverse_factor for c in characteristics], dtype=float)
+        return cls(y, k, e, k_last, name=name, rolling_law=rolling_law, reverse_factor=rho)
 
     @classmethod
     def uniform(cls, characteristic: Characteristic, y_mm, name: str = "layer",
@@ -180,7 +193,8 @@ class PrandtlLayer:
         par = characteristic.to_parameters()
         k = np.broadcast_to(par.k_N_per_mm3[:-1], (y.size, par.n_segments - 1))
         e = np.broadcast_to(par.break_displacements_mm, k.shape)
-        return cls(y, k, e, np.full(y.size, par.k_N_per_mm3[-1]), name=name, rolling_law=rolling_law)
+        return cls(y, k, e, np.full(y.size, par.k_N_per_mm3[-1]), name=name, rolling_law=rolling_law,
+                   reverse_factor=characteristic.reverse_factor)
 
     @classmethod
     def along(cls, characteristic_at: Callable[[float], Characteristic], y_mm, name: str = "layer",
@@ -227,7 +241,8 @@ class PrandtlLayer:
     @property
     def pressure_MPa(self) -> np.ndarray:
         """Current normal stress of each element (MPa)."""
-        return _pressures(self.u_mm, self.slip_mm, self.k_N_per_mm3, self.half_width_mm, self.k_last_N_per_mm3)
+        return _pressures(self.u_mm, self.slip_mm, self.k_N_per_mm3, self.half_width_mm, self.k_last_N_per_mm3,
+                          self.reverse_factor)
 
     def pressure_roundoff_MPa(self) -> np.ndarray:
         """Size of the rounding error of :attr:`pressure_MPa` per element (MPa): the pressure is a sum of branch
@@ -246,19 +261,19 @@ class PrandtlLayer:
     def _solve(self, p_target, index=None):
         """Exact monotonic move of points ``index`` to ``p_target``: (u, new slips, dissipation increment)."""
         sl = slice(None) if index is None else index
-        k, e, kl = self.k_N_per_mm3[sl], self.half_width_mm[sl], self.k_last_N_per_mm3[sl]
+        k, e, kl, rho = self.k_N_per_mm3[sl], self.half_width_mm[sl], self.k_last_N_per_mm3[sl], self.reverse_factor[sl]
         u0, s0 = self.u_mm[sl], self.slip_mm[sl]
         p_target = np.asarray(p_target, dtype=float)
         if not np.all(np.isfinite(p_target)):
             raise InputError(f"{self.name} target pressure", "must be finite")
         if index is None and p_target.shape == u0.shape:       # the common case: one target per element
-            return move_elements(u0, s0, k, e, kl, np.ascontiguousarray(p_target))
+            return move_elements(u0, s0, k, e, kl, np.ascontiguousarray(p_target), rho)
         shape = np.broadcast_shapes(np.shape(u0), p_target.shape)
         m = k.shape[-1]
-        flat = [np.ascontiguousarray(np.broadcast_to(a, shape).reshape(-1)) for a in (u0, kl, p_target)]
+        flat = [np.ascontiguousarray(np.broadcast_to(a, shape).reshape(-1)) for a in (u0, kl, p_target, rho)]
         size = int(np.prod(shape))
         mats = [np.ascontiguousarray(np.broadcast_to(a, shape + (m,)).reshape(size, m)) for a in (s0, k, e)]
-        u, s, d = move_elements(flat[0], mats[0], mats[1], mats[2], flat[1], flat[2])
+        u, s, d = move_elements(flat[0], mats[0], mats[1], mats[2], flat[1], flat[2], flat[3])
         return u.reshape(shape), s.reshape(shape + (m,)), d.reshape(shape)
 
     def displacement_at(self, p_MPa, index=None) -> np.ndarray:
@@ -284,7 +299,7 @@ class PrandtlLayer:
         """Pressure at which the first stuck slider starts to slip on further loading from the current state
         (inf for elements without sliders)."""
         return _yield_pressures(self.u_mm, self.slip_mm, self.k_N_per_mm3, self.half_width_mm,
-                                self.k_last_N_per_mm3)
+                                self.k_last_N_per_mm3, self.reverse_factor)
 
     def loading_curve(self, index: int) -> tuple[np.ndarray, np.ndarray, float]:
         """Monotonic loading curve of element ``index`` from its current state.
@@ -295,7 +310,7 @@ class PrandtlLayer:
         k, e = self.k_N_per_mm3[index], self.half_width_mm[index]
         u0, s0, kl = self.u_mm[index], self.slip_mm[index], self.k_last_N_per_mm3[index]
         knots = np.concatenate([[u0], np.sort(np.maximum(s0 + e, u0))])
-        p = np.sum(k * np.clip(knots[:, None] - s0, -e, e), axis=-1) + kl * knots
+        p = np.sum(k * np.clip(knots[:, None] - s0, -self.reverse_factor[index] * e, e), axis=-1) + kl * knots
         return p, knots, float(kl)
 
     def stiffness_at(self, p_MPa, index=None) -> np.ndarray:

@@ -48,25 +48,26 @@ class _Body:
         self.k = np.ascontiguousarray(layer.k_N_per_mm3[ix])
         self.e = np.ascontiguousarray(layer.half_width_mm[ix])
         self.kl = np.ascontiguousarray(layer.k_last_N_per_mm3[ix])
+        self.rho = np.ascontiguousarray(layer.reverse_factor[ix])
 
     def indentation(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         ny, nx = p.shape
         m = self.k.shape[1]
         rep = (lambda a: np.ascontiguousarray(np.repeat(a, nx, axis=0)))
-        u0, kl = rep(self.u), rep(self.kl)
+        u0, kl, rho = rep(self.u), rep(self.kl), rep(self.rho)
         s0, k, e = (rep(a).reshape(ny * nx, m) for a in (self.slip, self.k, self.e))
         flat = np.ascontiguousarray(p.reshape(-1))
-        u1 = move_elements(u0, s0, k, e, kl, flat)[0]
-        u2 = move_elements(u0, s0, k, e, kl, flat + _DP)[0]
+        u1 = move_elements(u0, s0, k, e, kl, flat, rho)[0]
+        u2 = move_elements(u0, s0, k, e, kl, flat + _DP, rho)[0]
         return (u1 - u0).reshape(ny, nx), ((u2 - u1) / _DP).reshape(ny, nx)
 
     def rolling(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        u, c = _rolling_march(np.ascontiguousarray(p), self.u, self.slip, self.k, self.e, self.kl)
+        u, c = _rolling_march(np.ascontiguousarray(p), self.u, self.slip, self.k, self.e, self.kl, self.rho)
         return u, c
 
 
 @kernel()
-def _rolling_march(p, u0, slip0, k, e, kl):
+def _rolling_march(p, u0, slip0, k, e, kl, rho):
     """Steady rolling: move each line's element from the leading edge (last column) to the trailing edge through
     the cell pressures p (ny, nx); returns the displacement from the initial state and the tangent compliance in
     the direction of each move (a move to an equal pressure counts as loading)."""
@@ -79,10 +80,10 @@ def _rolling_march(p, u0, slip0, k, e, kl):
     step = np.empty(ny)
     for i in range(nx - 1, -1, -1):
         col = np.ascontiguousarray(p[:, i])
-        u_new, s_new, _ = move_elements(u, s, k, e, kl, col)
+        u_new, s_new, _ = move_elements(u, s, k, e, kl, col, rho)
         for j in range(ny):
             step[j] = _DP if col[j] >= p_prev[j] else -_DP
-        u_pert = move_elements(u, s, k, e, kl, col + step)[0]
+        u_pert = move_elements(u, s, k, e, kl, col + step, rho)[0]
         for j in range(ny):
             u_out[j, i] = u_new[j] - u0[j]
             c_out[j, i] = (u_pert[j] - u_new[j]) / step[j]

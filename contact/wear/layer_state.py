@@ -54,7 +54,7 @@ def hardened(char: Characteristic, p_hist_MPa: float) -> Characteristic:
         slope = float(char.slopes[-1])
         u.append(u[-1] + 0.01)
         p.append(p_hist + slope * 0.01)
-    return Characteristic(np.array(u), np.array(p), name=f"{char.name}, hardened to {p_hist:.6g} MPa")
+    return char.with_points(np.array(u), np.array(p), name=f"{char.name}, hardened to {p_hist:.6g} MPa")
 
 
 @dataclass(frozen=True)
@@ -78,6 +78,10 @@ class HardenedTable:
     def rolling_law(self):
         """The table's rolling law (None: none), unchanged by the hardening."""
         return self.table.rolling_law
+
+    def calibrated_max_MPa(self, y_mm: float) -> float | None:
+        """The table's calibrated pressure range at y (MPa), unchanged by the hardening."""
+        return self.table.calibrated_max_MPa(y_mm)
 
     def characteristic_at(self, y_mm: float, patch_mm: tuple[float, float] | None = None) -> Characteristic:
         """The table's characteristic at y (scaled to ``patch_mm`` = (a, b) mm when given, ``scale_to_patch``),

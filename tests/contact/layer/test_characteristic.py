@@ -91,3 +91,18 @@ def test_series_adds_displacements_and_interpolation_stays_physical(a, b, t):
     # residual never decreasing with peak pressure, never negative
     r = c.residual_displacement(np.linspace(0, 2 * c.p_MPa[-1], 40))
     assert np.all(r >= 0) and np.all(np.diff(r) >= -1e-15)
+
+
+def test_reverse_factor_round_trip_interpolation_and_bounds():
+    from wrlayer.characteristic import Characteristic as C
+
+    a = C([0.0, 0.02, 0.03, 0.06], [0.0, 1190.0, 1456.0, 1900.0], "a", 2.0)
+    assert C.from_dict(a.to_dict()).reverse_factor == 2.0
+    assert "reverse_factor" not in C(a.u_mm, a.p_MPa).to_dict()  # the paper's element is written as before
+    b = C(a.u_mm, a.p_MPa, "b")
+    assert C.interpolate(a, b, 0.25).reverse_factor == pytest.approx(1.75)
+    assert a.series(b).reverse_factor == 1.0
+    assert a.with_points(a.u_mm * 2, a.p_MPa).reverse_factor == 2.0
+    for bad in (0.0, -1.0, float("nan"), True, 1e4):
+        with pytest.raises(InputError, match="reverse_factor"):
+            C(a.u_mm, a.p_MPa, "x", bad)

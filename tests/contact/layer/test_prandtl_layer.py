@@ -199,3 +199,41 @@ def test_unloaded_test_scales_with_the_branch_stresses():
     shifted = lay.copy()
     shifted.u_mm = shifted.u_mm + 1e-9   # 1e-9 mm more: p = 6e-3 MPa, a real load
     assert not shifted.is_unloaded()
+
+
+@pytest.mark.parametrize("rho", [1.0, 1.5, 2.0, 4.0])
+def test_reverse_factor_unloading_follows_the_scaled_backbone(rho):
+    """A slider that slips back at -rho T_0i: the unloading drop follows (1 + rho) u(Delta p / (1 + rho)), so eq. (8)
+    holds up to p_0 = (1 + rho) p_2 and the element's residual is Characteristic.unloading_residual."""
+    c = Characteristic(PAPER.u_mm, PAPER.p_MPa, "paper", rho)
+    p2 = c.elastic_limit_MPa
+    p0 = np.array([1000.0, 1300.0, 1456.0, 2 * p2, 2.5 * p2, (1 + rho) * p2, 4000.0])
+    layer = PrandtlLayer.uniform(c, np.arange(p0.size, dtype=float))
+    layer.load_to(p0)
+    res = layer.unload()
+    np.testing.assert_allclose(res, c.unloading_residual(p0), rtol=1e-12, atol=1e-15)
+    ok = p0 <= (1 + rho) * p2 * (1 + 1e-12)
+    np.testing.assert_allclose(res[ok], c.residual_displacement(p0[ok]), rtol=1e-12, atol=1e-15)
+    assert np.all(res[~ok] < c.residual_displacement(p0[~ok]) - 1e-7)
+    if rho == 1.0:  # the paper's element: Masing
+        np.testing.assert_allclose(res, PAPER.displacement(p0) - 2.0 * PAPER.displacement(p0 / 2.0), atol=1e-15)
+
+
+def test_reverse_factor_energy_balance_and_per_point_factors():
+    """Per-point reverse factors (from_characteristics) and the loop's energy: work = dissipation + stored."""
+    chars = [Characteristic(PAPER.u_mm, PAPER.p_MPa, "c", r) for r in (1.0, 3.0)]
+    layer = PrandtlLayer.from_characteristics(chars, [0.0, 1.0])
+    np.testing.assert_array_equal(layer.reverse_factor, [1.0, 3.0])
+    layer.load_to(np.full(2, 3000.0))
+    u_r = layer.unload()
+    assert u_r[1] > u_r[0]  # the later reverse slip keeps more of the dent
+    k, e, rho = layer.k_N_per_mm3[1], layer.half_width_mm[1], 3.0
+    assert np.all(k * (u_r[1] - layer.slip_mm[1]) >= -rho * k * e * (1 + 1e-12))
+    p_unload = np.linspace(3000.0, 0.0, 20001)
+    probe = PrandtlLayer.uniform(chars[1], np.arange(p_unload.size, dtype=float))
+    probe.load_to(3000.0)
+    u_unload = probe.move_to(p_unload)
+    u_load = np.linspace(0.0, float(PAPER.displacement(3000.0)), 20001)
+    work = np.trapezoid(PAPER.pressure(u_load), u_load) + np.trapezoid(p_unload, u_unload)
+    stored = 0.5 * np.sum(k * (u_r[1] - layer.slip_mm[1]) ** 2) + 0.5 * layer.k_last_N_per_mm3[1] * u_r[1] ** 2
+    assert layer.dissipated_energy_N_per_mm[1] + stored == pytest.approx(work, rel=1e-6)
