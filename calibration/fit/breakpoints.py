@@ -15,18 +15,24 @@ d > d_min) is the least-squares solution of its own assignment, so it is the bes
 assignments: no local minima, no starting points. Assignments the data cannot tell apart are left out (an
 interval together with one of its end points, the last interval that holds only p_max, the first one beside a
 fixed kink at its lower end).
+
+Optional weights w_j (> 0) make every problem a weighted least-squares problem (rows and right-hand side times
+w_j): the same argument holds, the optimum is that of the weighted cost sum_j (w_j r_j)^2.
 """
 
 from __future__ import annotations
 
 import itertools
+import math
 from functools import lru_cache
 
 import numpy as np
 from scipy.optimize import minimize, nnls
 
 #: Largest number of assignments enumerated; beyond it (many segments on many points) the Nelder-Mead search runs.
-MAX_ASSIGNMENTS = 20000
+MAX_ASSIGNMENTS = 150000
+#: Assignments solved at once (bounds the batch's memory to some 50 MB on 25 points and 8 segments).
+CHUNK = 20000
 #: Ridge added to the assignments' normal matrices (columns scaled to unit length) (-).
 RIDGE = 1e-13
 #: Nelder-Mead restarts from the best start's result (at most; they stop when the cost no longer falls).
@@ -41,15 +47,17 @@ def hinge_matrix(p: np.ndarray, q: np.ndarray, with_c0: bool) -> np.ndarray:
     return np.column_stack(cols) if cols else np.zeros((p.size, 0))
 
 
-def solve_linear(p, u, q, c0_fixed, d_min):
-    """Best (c0, d) >= d_min for break points q (bounded least squares): (c0, d, residual vector)."""
+def solve_linear(p, u, q, c0_fixed, d_min, weights=None):
+    """Best (c0, d) >= d_min for break points q (bounded least squares, rows weighted by ``weights`` when given):
+    (c0, d, unweighted residual vector)."""
     with_c0 = c0_fixed is None
     A = hinge_matrix(p, q, with_c0)
     rhs = u - (0.0 if with_c0 else c0_fixed * p)
     if A.shape[1] == 0:
         return c0_fixed, np.zeros(0), -rhs
+    w = np.ones_like(p) if weights is None else np.asarray(weights, dtype=float)
     lb = np.full(A.shape[1], d_min)
-    y, _ = nnls(A, rhs - A @ lb)
+    y, _ = nnls(A * w[:, None], (rhs - A @ lb) * w)
     x = lb + y
     c0 = x[0] if with_c0 else c0_fixed
     d = x[1:] if with_c0 else x
@@ -65,16 +73,26 @@ def _assignments(n_options: int, n_free: int, first: int) -> np.ndarray:
     return np.array(rows, dtype=int).reshape(len(rows), n_free)
 
 
-def _candidates(p, rhs, fixed, bounds, rows):
-    """Least-squares solution of every assignment in ``rows``: (coefficients, break points, cost, lower interval
-    ends, in-interval flags)."""
+@lru_cache(maxsize=64)
+def _point_assignments(n_options: int, n_free: int, first: int) -> np.ndarray:
+    """Index rows of ``n_free`` data pressures (the odd options 2k + 1) out of ``first..n_options-1``, neighbours
+    allowed (break points at the data pressures only)."""
+    points = [o for o in range(first, n_options) if o % 2 == 1]
+    rows = list(itertools.combinations(points, n_free))
+    return np.array(rows, dtype=int).reshape(len(rows), n_free)
+
+
+def _candidates(p, rhs, fixed, bounds, rows, w):
+    """Weighted least-squares solution of every assignment in ``rows``: (coefficients, break points, cost, lower
+    interval ends, in-interval flags)."""
     up = bounds[rows // 2 + 1]  # (G, f): the upper end of each interval / the data pressure itself
     low = bounds[rows // 2]
     inside = rows % 2 == 0
     hinge = np.maximum(p[None, None, :] - up[..., None], 0.0)
     step = (p[None, None, :] >= up[..., None]) * inside[..., None]
     g = rows.shape[0]
-    A = np.concatenate([np.broadcast_to(fixed.T, (g,) + fixed.T.shape), hinge, step], axis=1)  # (G, m, n)
+    A = np.concatenate([np.broadcast_to(fixed.T, (g,) + fixed.T.shape), hinge, step], axis=1) * w  # (G, m, n)
+    rhs = rhs * w
     norm = np.sqrt(np.sum(A * A, axis=2))
     empty = norm == 0  # the step column of a break point at a data pressure
     norm[empty] = 1.0
@@ -93,32 +111,46 @@ def _candidates(p, rhs, fixed, bounds, rows):
 
 
 def exact_breakpoints(p: np.ndarray, u: np.ndarray, pinned: list[float], n_free: int, c0_fixed: float | None,
-                      d_min: float) -> np.ndarray | None:
+                      d_min: float, weights=None, at_points: bool = False) -> np.ndarray | None:
     """The optimal break points (MPa; the pinned ones first, then the free ones ascending) by enumeration; None
-    when there are more than :data:`MAX_ASSIGNMENTS` assignments or none is admissible."""
+    when there are more than :data:`MAX_ASSIGNMENTS` assignments or none is admissible. ``at_points``: the free
+    break points only at data pressures (the optimum over those placements; far fewer assignments)."""
     p_max = float(p[-1])
     lo = pinned[0] if pinned else 0.0
     bounds = np.unique(np.concatenate([[lo], p[(p > lo) & (p < p_max)], [p_max]]))
     n_options = 2 * (bounds.size - 1) - 2  # without the last interval (it holds p_max alone)
     # the first interval cannot be told from a fixed kink at lo (the pinned hinge, or c_0 p with a free c_0)
     first = 1 if (pinned or c0_fixed is None) else 0
-    if n_options - first < n_free or _count(n_options - first, n_free) > MAX_ASSIGNMENTS:
+    if at_points:
+        n_points = len([o for o in range(first, n_options) if o % 2 == 1])
+        if n_points < n_free or math.comb(n_points, n_free) > MAX_ASSIGNMENTS:
+            return None
+        rows = _point_assignments(n_options, n_free, first)
+    elif n_options - first < n_free or _count(n_options - first, n_free) > MAX_ASSIGNMENTS:
         return None
-    rows = _assignments(n_options, n_free, first)
+    else:
+        rows = _assignments(n_options, n_free, first)
     if rows.shape[0] == 0:
         return None
     fixed = hinge_matrix(p, np.asarray(pinned, dtype=float), c0_fixed is None)
     rhs = u - (0.0 if c0_fixed is None else c0_fixed * p)
-    x, q, cost, low, inside = _candidates(p, rhs, fixed, bounds, rows)
+    w = np.ones_like(p) if weights is None else np.asarray(weights, dtype=float)
     nf = fixed.shape[1]
-    ok = np.all(x[:, :nf + n_free] >= d_min, axis=1)
-    ok &= np.all(~inside | ((q >= low) & (q <= bounds[rows // 2 + 1])), axis=1)
-    if not np.any(ok):
+    best_cost, best_row, best_q = np.inf, None, None
+    for start in range(0, rows.shape[0], CHUNK):
+        chunk = rows[start:start + CHUNK]
+        x, q, cost, low, inside = _candidates(p, rhs, fixed, bounds, chunk, w)
+        ok = np.all(x[:, :nf + n_free] >= d_min, axis=1)
+        ok &= np.all(~inside | ((q >= low) & (q <= bounds[chunk // 2 + 1])), axis=1)
+        cost = np.where(ok, cost, np.inf)
+        i = int(np.argmin(cost))
+        if cost[i] < best_cost:
+            best_cost, best_row, best_q = float(cost[i]), chunk[i], q[i]
+    if best_row is None:
         return None
-    best = int(np.argmin(np.where(ok, cost, np.inf)))
-    q_best = _polished(p, rhs, fixed, bounds, rows[best])
+    q_best = _polished(p, rhs, fixed, bounds, best_row, w)
     if q_best is None:  # an assignment the data cannot tell apart: its ridge solution
-        q_best = q[best]
+        q_best = best_q
     return np.array(list(pinned) + sorted(q_best.tolist()))
 
 
@@ -127,15 +159,15 @@ def _count(n: int, k: int) -> int:
     return 0 if n - k + 1 < k else int(np.prod([(n - k + 1 - i) / (i + 1) for i in range(k)]).round())
 
 
-def _polished(p, rhs, fixed, bounds, row) -> np.ndarray | None:
+def _polished(p, rhs, fixed, bounds, row, w) -> np.ndarray | None:
     """The free break points of one assignment, solved again by orthogonal least squares (the batched normal
     equations lose digits on close columns); None when its columns are linearly dependent."""
     up = bounds[row // 2 + 1]
     inside = row % 2 == 0
     cols = [fixed] + [np.maximum(p - b, 0.0)[:, None] for b in up]
     cols += [(p >= b).astype(float)[:, None] for b in up[inside]]
-    A = np.hstack(cols)
-    x, _, rank, _ = np.linalg.lstsq(A, rhs, rcond=None)
+    A = np.hstack(cols) * w[:, None]
+    x, _, rank, _ = np.linalg.lstsq(A, rhs * w, rcond=None)
     if rank < A.shape[1]:
         return None
     nf, f = fixed.shape[1], row.size
@@ -145,7 +177,8 @@ def _polished(p, rhs, fixed, bounds, row) -> np.ndarray | None:
 
 
 def searched_breakpoints(p: np.ndarray, u: np.ndarray, pinned: list[float], n_free: int,
-                         c0_fixed: float | None, d_min: float, n_starts: int = 6) -> np.ndarray:
+                         c0_fixed: float | None, d_min: float, n_starts: int = 6, weights=None,
+                         starts: list[np.ndarray] | None = None) -> np.ndarray:
     """The break points (MPa; the pinned ones first) minimising the squared fit error: bounded Nelder-Mead from
     systematic and seeded random starts, the best one polished by restarts (a local search: used where
     :func:`exact_breakpoints` has too many assignments)."""
@@ -165,13 +198,15 @@ def searched_breakpoints(p: np.ndarray, u: np.ndarray, pinned: list[float], n_fr
         w = np.maximum(gaps / span - gap_min, 1e-12)
         return np.log(w[:-1] / w[-1])
 
-    def cost(z):
-        return float(np.sum(solve_linear(p, u, breakpoints(z), c0_fixed, d_min)[2] ** 2))
+    w = np.ones_like(p) if weights is None else np.asarray(weights, dtype=float)
 
-    options = dict(xatol=1e-9, fatol=1e-24 * float(np.sum(u ** 2)), maxiter=300 * n_free, maxfev=400 * n_free,
+    def cost(z):
+        return float(np.sum((w * solve_linear(p, u, breakpoints(z), c0_fixed, d_min, w)[2]) ** 2))
+
+    options = dict(xatol=1e-9, fatol=1e-24 * float(np.sum((w * u) ** 2)), maxiter=300 * n_free, maxfev=400 * n_free,
                    adaptive=n_free > 2)
     best = None
-    for q0 in _starts(p, u, lo, span, n_free, n_starts):
+    for q0 in (_starts(p, u, lo, span, n_free, n_starts) if starts is None else starts):
         res = minimize(cost, to_z(np.asarray(q0, dtype=float)), method="Nelder-Mead", options=options)
         if best is None or res.fun < best.fun:
             best = res
@@ -203,10 +238,17 @@ def _starts(p, u, lo, span, n_free, n_starts) -> list[np.ndarray]:
 
 
 def best_breakpoints(p: np.ndarray, u: np.ndarray, pinned: list[float], n_free: int, c0_fixed: float | None,
-                     d_min: float, n_starts: int = 6) -> np.ndarray:
-    """The least-squares break points: exact by enumeration, else by the Nelder-Mead search."""
-    q = exact_breakpoints(p, u, pinned, n_free, c0_fixed, d_min)
-    return q if q is not None else searched_breakpoints(p, u, pinned, n_free, c0_fixed, d_min, n_starts)
+                     d_min: float, n_starts: int = 6, weights=None, at_points: bool = False) -> np.ndarray:
+    """The (weighted) least-squares break points: exact by enumeration (``at_points``: among the data pressures),
+    else by the Nelder-Mead search."""
+    q = exact_breakpoints(p, u, pinned, n_free, c0_fixed, d_min, weights, at_points)
+    if q is not None:
+        return q
+    # too many placements: the optimum among the data pressures, polished between them (a local search), when
+    # those are few enough, else the Nelder-Mead search from its systematic starts
+    q = None if at_points else exact_breakpoints(p, u, pinned, n_free, c0_fixed, d_min, weights, True)
+    starts = None if q is None else [q[len(pinned):]]
+    return searched_breakpoints(p, u, pinned, n_free, c0_fixed, d_min, n_starts, weights, starts)
 
 
 __all__ = ["MAX_ASSIGNMENTS", "best_breakpoints", "exact_breakpoints", "hinge_matrix", "searched_breakpoints",

@@ -68,13 +68,23 @@ def _checked_points(p_MPa, u_mm, n_segments, what: str, max_relative_error: floa
 
 def fit_characteristic(p_MPa, u_mm, n_segments: int, s1_N_per_mm3: float | None = None,
                        p2_MPa: float | None = None, what: str = "characteristic",
-                       max_relative_error: float = 0.05, n_starts: int = 6) -> CharacteristicFit:
+                       max_relative_error: float = 0.05, n_starts: int = 6, weights=None,
+                       reverse_factor: float = 1.0) -> CharacteristicFit:
     """Fit N segments to the points (p_MPa, u_mm) (u at pressure p on monotonic loading).
+
+    weights: per point (> 0, same order as the points; None: all 1), the least-squares weights of the fit.
+    reverse_factor: the element's reverse slider threshold factor rho carried by the fitted characteristic.
 
     s1_N_per_mm3: fix the first slope S_1; p2_MPa: pin the first break point (elastic limit; needs N >= 2).
     InputError naming ``what`` if the points are unusable (non-finite, not increasing) or if no concave
     characteristic with positive decreasing slopes fits them within ``max_relative_error`` of max(u).
     """
+    w = None
+    if weights is not None:
+        w = np.asarray(weights, dtype=float).ravel()
+        require(w.size == np.size(p_MPa) and bool(np.all(np.isfinite(w) & (w > 0))), what,
+                "weights must be positive and finite, one per point")
+        w = w[np.argsort(np.asarray(p_MPa, dtype=float).ravel())]
     p, u = _checked_points(p_MPa, u_mm, n_segments, what, max_relative_error)
     p_max, u_max = float(p[-1]), float(np.max(np.abs(u)))
     c0_fixed = None
@@ -89,8 +99,8 @@ def fit_characteristic(p_MPa, u_mm, n_segments: int, s1_N_per_mm3: float | None 
         pinned = [float(p2_MPa)]
     d_min = D_MIN_REL * u_max / p_max
     n_free = n_segments - 1 - len(pinned)
-    q = best_breakpoints(p, u, pinned, n_free, c0_fixed, d_min, n_starts) if n_free > 0 else np.array(pinned)
-    c0, d, r = solve_linear(p, u, q, c0_fixed, d_min)
+    q = best_breakpoints(p, u, pinned, n_free, c0_fixed, d_min, n_starts, w) if n_free > 0 else np.array(pinned)
+    c0, d, r = solve_linear(p, u, q, c0_fixed, d_min, w)
     # drop break points that coincide or fall outside the data (degenerate segments)
     p_pts = np.concatenate([[0.0], q, [p_max]])
     if np.any(np.diff(p_pts) <= 1e-9 * p_max):
@@ -102,5 +112,5 @@ def fit_characteristic(p_MPa, u_mm, n_segments: int, s1_N_per_mm3: float | None 
         raise InputError(what, f"no concave characteristic with positive decreasing slopes fits the points: "
                                f"max error {max_err:.3g} mm > {max_relative_error:g} of max u = {u_max:.3g} mm "
                                f"(wrong curvature, or too few segments: N = {n_segments})")
-    ch = Characteristic(u_pts, p_pts, what)
+    ch = Characteristic(u_pts, p_pts, what, reverse_factor)
     return CharacteristicFit(ch, ch.to_parameters(), int(n_segments), max_err, rms_err)

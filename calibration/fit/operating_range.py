@@ -1,0 +1,160 @@
+"""The operating-range fit of a position's layer: the Prandtl element (paper eqs. 4-6) fitted to the FEM's loaded
+inelastic displacement u_pl at every load level and to its residual dents, over the range of levels where wheels run
+(docs/calibration-method.md, "Fit over the operating range"). Units mm, MPa, N/mm^3.
+
+Error measure. Both u_pl and the residual vanish at first yield, so a relative error means nothing there; the error
+at a level is taken relative to
+
+    scale(p) = max(v(p), v(1.5 p_2) / 3)        (v: the FEM's u_pl or residual)
+
+i.e. 3 % of the value or 1 % of the value at 1.5 p_2, whichever is larger, is a scaled error of 0.03.
+
+Loaded branch. The points u(p) = p / S_1 + u_pl(p) are fitted by weighted least squares (weights 1 / scale(p) on
+the levels inside ``weight_range`` times p_2, ``OUTSIDE_WEIGHT`` times that outside), with p_2 pinned to the FEM first
+yield and S_1 fixed (as the paper's fit); the number of segments grows from 2 until the largest scaled error over
+the levels inside the range is at most ``target_error`` (else the best number up to ``max_segments`` is kept and
+its error reported).
+
+Unloading branch. The element's sliders slip back at -rho T_0i (:mod:`wrlayer.characteristic`); rho is the smallest
+value in [1, ``MAX_REVERSE_FACTOR``] whose exact element residuals at the FEM's unloading peaks are as close to the
+FEM's dents as any rho gets (within ``RHO_SLACK`` of the best scaled error). The paper's element is rho = 1 (Masing).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from calibration.fit.characteristic_fit import N_SEGMENTS_RANGE, CharacteristicFit, fit_characteristic
+from wrlayer.characteristic import Characteristic
+from wrlayer.errors import InputError
+
+#: Weight of the levels outside the operating range relative to those inside (-).
+OUTSIDE_WEIGHT = 0.1
+#: Largest reverse factor tried (-): the element then unloads elastically from up to 1 + this times p_2.
+MAX_REVERSE_FACTOR = 10.0
+#: Step of the reverse factors tried (-).
+RHO_STEP = 0.01
+#: Slack on the best residual error within which the smallest reverse factor is taken (scaled error, -).
+RHO_SLACK = 1e-3
+#: The reference level of the error scale (p0 / p_2, -).
+SCALE_LEVEL = 1.5
+
+
+def error_scale_mm(p_MPa: np.ndarray, value_mm: np.ndarray, p2_MPa: float, at_p: np.ndarray) -> np.ndarray:
+    """scale(p) = max(|v(p)|, v(1.5 p_2) / 3) at the pressures ``at_p`` (mm), v given at ``p_MPa`` (module
+    docstring); v(1.5 p_2) is the value at the largest point when the points end below 1.5 p_2."""
+    ref = float(np.interp(min(SCALE_LEVEL * p2_MPa, float(np.max(p_MPa))), p_MPa, value_mm))
+    v = np.interp(at_p, p_MPa, value_mm)
+    return np.maximum(np.abs(v), abs(ref) / 3.0)
+
+
+@dataclass(frozen=True)
+class OperatingRangeFit:
+    """The fitted element of one position and its errors.
+
+    Attributes
+    ----------
+    fit : CharacteristicFit
+        The loaded branch (characteristic with its reverse factor, parameters, least-squares errors in mm).
+    levels_over_p2 : tuple of float
+        The FEM loading levels p0 / p_2 at and above first yield (-).
+    u_pl_error : tuple of float
+        (fit - FEM) u_pl at those levels over scale(p) (-; the module docstring).
+    residual_error : tuple of float
+        (element - FEM) residual dent at the unloading peaks over scale(p) (-).
+    residual_fit_mm : tuple of float
+        The element's exact residual dents at the unloading peaks (mm).
+    """
+
+    fit: CharacteristicFit
+    levels_over_p2: tuple[float, ...]
+    u_pl_error: tuple[float, ...]
+    residual_error: tuple[float, ...]
+    residual_fit_mm: tuple[float, ...]
+
+    @property
+    def characteristic(self) -> Characteristic:
+        return self.fit.characteristic
+
+
+def level_weights(p_MPa: np.ndarray, u_pl_mm: np.ndarray, p2_MPa: float,
+                  weight_range: tuple[float, float]) -> np.ndarray:
+    """Least-squares weight of every point: 1 / scale(p) (1/mm), times OUTSIDE_WEIGHT outside the range."""
+    w = 1.0 / error_scale_mm(p_MPa, u_pl_mm, p2_MPa, p_MPa)
+    x = p_MPa / p2_MPa
+    inside = (x >= weight_range[0] - 1e-9) & (x <= weight_range[1] + 1e-9)
+    return np.where(inside | (x < 1.0), w, OUTSIDE_WEIGHT * w)
+
+
+def _loaded_errors(ch: Characteristic, p: np.ndarray, u_pl: np.ndarray, s1: float, p2: float) -> np.ndarray:
+    """(fit - FEM) u_pl over scale(p) at every point (-)."""
+    fitted = ch.displacement(p) - p / s1
+    return (fitted - u_pl) / error_scale_mm(p, u_pl, p2, p)
+
+
+def fit_loaded_branch(p: np.ndarray, u_pl: np.ndarray, s1: float, p2: float, weight_range: tuple[float, float],
+                      target_error: float, max_segments: int, max_relative_error: float, what: str
+                      ) -> CharacteristicFit:
+    """The fewest segments (2..max_segments) whose largest scaled u_pl error inside ``weight_range`` is at most
+    ``target_error``, else the best of them; InputError naming ``what`` when none fits at all."""
+    u = p / s1 + u_pl
+    w = level_weights(p, u_pl, p2, weight_range)
+    x = p / p2
+    inside = (x >= max(1.0, weight_range[0]) - 1e-9) & (x <= weight_range[1] + 1e-9)
+    best, best_err, last_error = None, np.inf, None
+    for n in range(2, min(max_segments, N_SEGMENTS_RANGE[1]) + 1):
+        try:
+            res = fit_characteristic(p, u, n, s1_N_per_mm3=s1, p2_MPa=p2, what=what,
+                                     max_relative_error=max_relative_error, weights=w)
+        except InputError as err:  # too few segments, or a degenerate placement: try more
+            last_error = err
+            continue
+        err = float(np.max(np.abs(_loaded_errors(res.characteristic, p, u_pl, s1, p2)[inside]), initial=0.0))
+        if err < best_err:
+            best, best_err = res, err
+        if err <= target_error:
+            break
+    if best is None:
+        raise last_error if last_error is not None else InputError(what, "no characteristic fits the points")
+    return best
+
+
+def fitted_reverse_factor(ch: Characteristic, peaks: np.ndarray, residual_fem: np.ndarray, p2: float) -> float:
+    """The smallest rho in [1, MAX_REVERSE_FACTOR] whose element residuals at ``peaks`` (MPa) are within RHO_SLACK
+    of the best scaled error against the FEM's ``residual_fem`` (mm); 1 without peaks."""
+    if peaks.size == 0:
+        return 1.0
+    scale = error_scale_mm(peaks, residual_fem, p2, peaks)
+    rhos = np.arange(1.0, MAX_REVERSE_FACTOR + RHO_STEP / 2, RHO_STEP)
+    errors = np.array([np.max(np.abs(Characteristic(ch.u_mm, ch.p_MPa, ch.name, float(r)).unloading_residual(peaks)
+                                     - residual_fem) / scale) for r in rhos])
+    return float(rhos[int(np.argmax(errors <= errors.min() + RHO_SLACK))])
+
+
+def fit_operating_range(p_MPa, u_pl_mm, s1: float, p2: float, peaks_MPa, residual_fem_mm,
+                        weight_range: tuple[float, float], target_error: float, max_segments: int,
+                        max_relative_error: float, what: str) -> OperatingRangeFit:
+    """Fit the loaded branch, then the unloading branch (module docstring) of one position (MPa, mm, N/mm^3)."""
+    order = np.argsort(np.asarray(p_MPa, dtype=float))
+    p = np.asarray(p_MPa, dtype=float)[order]
+    u_pl = np.asarray(u_pl_mm, dtype=float)[order]
+    loaded = fit_loaded_branch(p, u_pl, s1, p2, weight_range, target_error, max_segments, max_relative_error,
+                               what)
+    ch0 = loaded.characteristic
+    peaks = np.asarray(peaks_MPa, dtype=float)
+    res_fem = np.asarray(residual_fem_mm, dtype=float)
+    rho = fitted_reverse_factor(ch0, peaks, res_fem, p2)
+    ch = Characteristic(ch0.u_mm, ch0.p_MPa, ch0.name, rho)
+    fit = CharacteristicFit(ch, ch.to_parameters(), loaded.n_segments, loaded.max_error_mm, loaded.rms_error_mm)
+    above = p >= p2 * (1.0 - 1e-9)
+    res_fit = ch.unloading_residual(peaks) if peaks.size else np.zeros(0)
+    res_err = ((res_fit - res_fem) / error_scale_mm(peaks, res_fem, p2, peaks)) if peaks.size else np.zeros(0)
+    return OperatingRangeFit(fit, tuple((p[above] / p2).tolist()),
+                             tuple(_loaded_errors(ch, p, u_pl, s1, p2)[above].tolist()), tuple(res_err.tolist()),
+                             tuple(np.asarray(res_fit).tolist()))
+
+
+__all__ = ["MAX_REVERSE_FACTOR", "OperatingRangeFit", "error_scale_mm", "fit_loaded_branch", "fit_operating_range",
+           "fitted_reverse_factor", "level_weights"]

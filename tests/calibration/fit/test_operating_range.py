@@ -1,0 +1,64 @@
+"""The operating-range fit (calibration.fit.operating_range) on synthetic FEM curves: u_pl within the target over
+the range, the number of segments chosen by the error it reaches, the reverse factor fitted to the residuals."""
+
+import numpy as np
+import pytest
+
+from calibration.fit.operating_range import error_scale_mm, fit_operating_range, level_weights
+from wrlayer.characteristic import Characteristic
+
+P_Y = 800.0
+#: A load path like the default calibration's (0.5 p_y, p_y, the unloading peaks, steps up to 3 p_y), thinned.
+LEVELS = np.array([0.0, 0.5, 1.0, 1.05, 1.1, 1.2, 1.3, 1.5, 1.7, 2.0, 2.25, 2.5, 2.75, 3.0])
+PEAKS = np.array([1.05, 1.1, 1.2, 1.3, 1.5, 1.7, 2.0, 2.5, 3.0])
+
+
+def u_pl(x):
+    """An FEM-like inelastic displacement (mm): zero up to first yield, then growing as (x - 1)^1.8."""
+    return 0.012 * np.maximum(x - 1.0, 0.0) ** 1.8
+
+
+def _fit(residual, target=0.02, max_segments=7):
+    p = LEVELS * P_Y
+    u = u_pl(LEVELS)
+    s1 = p[-1] / (0.01 * u[-1])
+    return fit_operating_range(p, u, s1, P_Y, PEAKS * P_Y, residual, (1.0, 3.0), target, max_segments, 0.1, "t")
+
+
+def test_loaded_branch_meets_the_target_with_the_fewest_segments():
+    loose, tight = _fit(u_pl(PEAKS), target=0.05), _fit(u_pl(PEAKS), target=0.01)
+    assert loose.fit.n_segments < tight.fit.n_segments <= 7
+    for fit, target in ((loose, 0.05), (tight, 0.01)):
+        assert max(map(abs, fit.u_pl_error)) <= target
+    # the errors are those of the stored characteristic against the points
+    ch = tight.characteristic
+    s1 = ch.initial_stiffness
+    x = np.asarray(tight.levels_over_p2)
+    expected = (ch.displacement(x * P_Y) - x * P_Y / s1 - u_pl(x)) / error_scale_mm(LEVELS * P_Y, u_pl(LEVELS), P_Y,
+                                                                                     x * P_Y)
+    np.testing.assert_allclose(tight.u_pl_error, expected, atol=1e-12)
+    assert ch.elastic_limit_MPa == pytest.approx(P_Y)
+
+
+def test_elastic_unloading_fits_the_reverse_factor_to_the_highest_peak():
+    """An FEM that unloads elastically (residual = u_pl): the smallest rho whose element unloads without reverse slip
+    up to the highest peak, about 3 p_y / p_2 - 1 = 2; its residuals are the loaded branch's."""
+    fit = _fit(u_pl(PEAKS))
+    assert 1.6 <= fit.characteristic.reverse_factor <= 2.0 + 1e-9
+    assert max(map(abs, fit.residual_error)) <= 0.02
+
+
+def test_masing_unloading_fits_the_paper_element():
+    """An FEM whose dents are those of the paper's (Masing) element: rho = 1."""
+    ch = _fit(u_pl(PEAKS)).characteristic
+    masing = Characteristic(ch.u_mm, ch.p_MPa).unloading_residual(PEAKS * P_Y)
+    assert _fit(masing).characteristic.reverse_factor == pytest.approx(1.0)
+
+
+def test_weights_relative_inside_the_range_a_tenth_outside():
+    p = LEVELS * P_Y
+    w = level_weights(p, u_pl(LEVELS), P_Y, (1.0, 2.0))
+    ref = u_pl(1.5) / 3
+    assert w[LEVELS == 2.5][0] == pytest.approx(0.1 / u_pl(2.5))
+    assert w[LEVELS == 1.05][0] == pytest.approx(1.0 / ref)
+    assert w[LEVELS == 1.7][0] == pytest.approx(1.0 / u_pl(1.7))
