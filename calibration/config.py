@@ -14,9 +14,9 @@ from typing import Any
 
 from calibration.fit.characteristic_fit import N_SEGMENTS_RANGE
 from calibration.placement import MIN_INCLINATION_RATIO, cant_rad
-from calibration.settings import (LINEAR_SOLVERS, MESH_STYLES, METHODS, MODELS, REFERENCE_LOAD_N, BodySettings,
-                                  CalibrationConfig, FitSettings, LoadSettings, MaterialSettings, MeshSettings,
-                                  RunSettings)
+from calibration.settings import (FIT_MODES, LINEAR_SOLVERS, MESH_STYLES, METHODS, MODELS, REFERENCE_LOAD_N,
+                                  BodySettings, CalibrationConfig, FitSettings, LoadSettings, MaterialSettings,
+                                  MeshSettings, RunSettings)
 from meshes.profiles import PROFILE_FILE_SUFFIXES, Profile, get_profile
 from wrlayer import validate
 from wrlayer.errors import InputError
@@ -116,12 +116,21 @@ def _fit(k: Keys) -> FitSettings:
     kw: dict[str, Any] = _numbers(k, {"elastic_tolerance": dict(gt=0.0, le=1.0),
                                       "elastic_fraction": dict(gt=0.0, le=1.0),
                                       "max_relative_error": dict(gt=0.0, le=10.0)})
-    if "n_segments" in k.table:
-        kw["n_segments"] = k.integer("n_segments", None, ge=N_SEGMENTS_RANGE[0], le=N_SEGMENTS_RANGE[1])
-    fit = FitSettings(**kw)
-    if fit.n_segments < 2:
-        raise k.error("n_segments", "must be >= 2 for the calibration (p_2 is pinned to the FEM first yield)")
-    return fit
+    for name in ("n_segments", "max_segments"):
+        if name in k.table:
+            kw[name] = k.integer(name, None, ge=N_SEGMENTS_RANGE[0], le=N_SEGMENTS_RANGE[1])
+            if kw[name] < 2:
+                raise k.error(name, "must be >= 2 for the calibration (p_2 is pinned to the FEM first yield)")
+    if "mode" in k.table:
+        kw["mode"] = k.text("mode", choices=FIT_MODES)
+    if "target_error" in k.table:
+        kw["target_error"] = k.number("target_error", gt=0.0, lt=1.0)
+    if "weight_range" in k.table:
+        low, high = k.array("weight_range", min_len=2, max_len=2, ge=1.0, le=10.0)
+        if not high > low:
+            raise k.error("weight_range", f"must be [low, high] with high > low, got [{low:g}, {high:g}]")
+        kw["weight_range"] = (float(low), float(high))
+    return FitSettings(**kw)
 
 
 def resolve_profile(spec: Any, what: str, base: Path, accept_unusual: bool = False) -> tuple[Any, Profile]:

@@ -262,6 +262,17 @@ class PositionFit:
         The FEM data of the position.
     fem_points : dict
         The fitted points ``{"p_MPa": [...], "u_mm": [...]}``, u = p / S_1 + u_pl (MPa, mm).
+    fit_mode : str
+        "operating_range" or "paper" (:class:`calibration.settings.FitSettings`).
+    calibrated_max_MPa : float or None
+        The largest pressure of the FEM load path (MPa): the table's calibrated range at this position.
+    levels_over_p2 : list of float
+        The FEM loading levels p0 / p_2 at and above first yield (-; "operating_range").
+    u_pl_error : list of float
+        (fit - FEM) u_pl at those levels over max(u_pl, u_pl(1.5 p_2) / 3) (-; "operating_range").
+    residual_error : list of float
+        (element - FEM) residual dent at the unloading peaks over max(dent, dent(1.5 p_2) / 3) (-;
+        "operating_range").
     """
 
     y_mm: float
@@ -281,6 +292,11 @@ class PositionFit:
     geometry: LocalGeometry
     fem: FemSummary
     fem_points: dict[str, list[float]]
+    fit_mode: str = "paper"
+    calibrated_max_MPa: float | None = None
+    levels_over_p2: list[float] = field(default_factory=list)
+    u_pl_error: list[float] = field(default_factory=list)
+    residual_error: list[float] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -294,8 +310,13 @@ class PositionFit:
             validate.number(data[name], validate.join(what, name))
         validate.integer(data["n_segments"], validate.join(what, "n_segments"), ge=1)
         for name in ("k_N_per_mm3", "T0_MPa", "slopes_N_per_mm3", "residual_peaks_MPa", "residual_fit_mm",
-                     "residual_fem_mm", "residual_error_mm"):
-            validate.number_list(data[name], validate.join(what, name), min_len=0)
+                     "residual_fem_mm", "residual_error_mm", "levels_over_p2", "u_pl_error", "residual_error"):
+            if name in data:
+                validate.number_list(data[name], validate.join(what, name), min_len=0)
+        if "fit_mode" in data:
+            validate.text(data["fit_mode"], validate.join(what, "fit_mode"), ("operating_range", "paper"))
+        if data.get("calibrated_max_MPa") is not None:
+            validate.number(data["calibrated_max_MPa"], validate.join(what, "calibrated_max_MPa"), gt=0.0)
         points = validate.table(data["fem_points"], validate.join(what, "fem_points"))
         for name in ("p_MPa", "u_mm"):
             validate.number_list(points.get(name), validate.join(what, f"fem_points.{name}"), min_len=1)

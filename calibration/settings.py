@@ -104,9 +104,9 @@ class LoadSettings:
         Largest solver load step as a multiple of p_y (-, in (0, 1]).
     """
 
-    max_factor: float = 2.5
-    n_levels: int = 12
-    unload_factors: tuple[float, ...] = (1.5, 2.0, 2.5)
+    max_factor: float = 3.0
+    n_levels: int = 8
+    unload_factors: tuple[float, ...] = (1.05, 1.1, 1.2, 1.3, 1.5, 1.7, 2.0, 2.5, 3.0)
     max_increment_factor: float = 0.125
 
 
@@ -164,14 +164,31 @@ class MeshSettings:
     yield_zone_refinement: float = 1.0
 
 
+#: The fit modes of FitSettings.mode.
+FIT_MODES = ("operating_range", "paper")
+
+
 @dataclass(frozen=True)
 class FitSettings:
-    """The Prandtl element fit of each position (TOML table ``[fit]``; paper eqs. 4-8, docs/calibration.md).
+    """The Prandtl element fit of each position (TOML table ``[fit]``; paper eqs. 4-8, docs/calibration-method.md).
 
     Attributes
     ----------
+    mode : str
+        "operating_range" (default): u_pl fitted in relative terms over ``weight_range``, the number of segments
+        chosen by ``target_error`` (up to ``max_segments``), the element's reverse slider threshold fitted to the
+        FEM's residual dents; "paper": ``n_segments`` segments fitted in absolute terms over the whole path, the
+        paper's symmetric (Masing) element (the tables of earlier versions).
     n_segments : int
-        Segments N of the fitted characteristic (2..8; p_2 is pinned to the FEM first yield).
+        Segments N of the "paper" fit (2..8; p_2 is pinned to the FEM first yield).
+    max_segments : int
+        Most segments of the "operating_range" fit (2..8).
+    target_error : float
+        "operating_range": the fewest segments whose u_pl error at every level inside ``weight_range`` is at most
+        this, relative to max(u_pl, u_pl(1.5 p_2) / 3) (-, in (0, 1)).
+    weight_range : tuple of float
+        "operating_range": the levels p0 / p_2 fitted with full weight, [low, high] (-, 1 <= low < high); levels
+        above it count a tenth.
     elastic_tolerance : float
         t in S_1 = p_max / (t u_pl(p_max)): the layer's elastic displacement at the largest calibrated pressure
         is t times its inelastic one (-, in (0, 1]; the layer has no elasticity of its own, the half-space
@@ -183,7 +200,11 @@ class FitSettings:
         Largest accepted fit error relative to max u (-, in (0, 10]).
     """
 
+    mode: str = "operating_range"
     n_segments: int = 5
+    max_segments: int = 8
+    target_error: float = 0.02
+    weight_range: tuple[float, float] = (1.0, 3.0)
     elastic_tolerance: float = 0.01
     elastic_fraction: float | None = None
     max_relative_error: float = 0.1
@@ -274,5 +295,5 @@ class CalibrationConfig:
         return d
 
 
-__all__ = ["BodySettings", "CalibrationConfig", "FitSettings", "LINEAR_SOLVERS", "LoadSettings", "MESH_STYLES",
+__all__ = ["BodySettings", "CalibrationConfig", "FIT_MODES", "FitSettings", "LINEAR_SOLVERS", "LoadSettings", "MESH_STYLES",
            "METHODS", "MODELS", "MaterialSettings", "MeshSettings", "REFERENCE_LOAD_N", "RunSettings"]

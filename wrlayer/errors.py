@@ -66,6 +66,11 @@ class LayerElementMissing(LayerNotCovered):
     names the layer); the wheel–rail solver answers it by building the layer on more strips."""
 
 
+class LayerRangeExceeded(InputError):
+    """A strip's peak pressure lies above the largest pressure its calibration table was calibrated to (``what``
+    names the table and the position): the layer would be extrapolated. Exit code 2 like every InputError."""
+
+
 def typed_input_error(err: InputError) -> InputError:
     """``err`` as :class:`PatchTruncated` or :class:`LayerElementMissing` when it is one of those raised as a plain
     InputError by the normal solvers of contact.normal (a separation problem found while solving is named

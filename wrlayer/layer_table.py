@@ -1,15 +1,17 @@
 """Per-position layer tables: the calibrated Prandtl characteristic along a profile (units mm, MPa, N/mm^3).
 
-File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 3`` with a rolling law, else 2; versions
-1 and 2 are read too)::
+File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 4`` for the operating-range calibration,
+else 3 with a rolling law, else 2; versions 1 to 3 are read too and give their numbers as before)::
 
-    {"format": ..., "format_version": 3,
+    {"format": ..., "format_version": 4,
      "header": {"body": "rail"|"wheel", "profile": name, "material": {...}, "model": "2d"|"3d",
                 "mesh": {...}, "load": {...}, "fit": {...}, "software": {...}, "code_version": ...,
                 "inputs_hash": sha256 of all inputs, ...},
      "positions": [{"y_mm": y, "characteristic": {"u_mm": [...], "p_MPa": [...]}, "n_segments": N,
                     "k_N_per_mm3": [...], "T0_MPa": [...], "max_error_mm": ..., "rms_error_mm": ...,
-                    "geometry": {"a_mm", "b_mm", ...}, "fem": {...}, "warnings": [...] (v2), ...}, ...],
+                    "geometry": {"a_mm", "b_mm", ...}, "fem": {...}, "warnings": [...] (v2),
+                    "fit_mode", "calibrated_max_MPa", "levels_over_p2", "u_pl_error", "residual_error" (v4),
+                    ...}, ...],                                      # characteristic: "reverse_factor" (v4)
                                                                      # y_mm strictly increasing
      "failed": [{"y_mm": y, "error": message}, ...],
      "rolling_law": {...}}                                           # v3, optional (wrlayer.rolling_law)
@@ -43,13 +45,18 @@ from wrlayer.errors import InputError
 from wrlayer.rolling_law import RollingLaw
 
 FORMAT = "wrlayer-layer-table"
-FORMAT_VERSION = 3
-#: The version of a table without a rolling law (written as before the law existed).
+FORMAT_VERSION = 4
+#: The version of a table of the earlier (paper) calibration with a rolling law.
+FORMAT_VERSION_ROLLING_LAW = 3
+#: The version of a table of the earlier calibration without a rolling law (written as before the law existed).
 FORMAT_VERSION_NO_ROLLING_LAW = 2
+#: The position keys that make a table version 4: the operating-range calibration's residual levels and errors,
+#: its calibrated range, and the element's reverse factor (in ``characteristic``).
+VERSION_4_KEYS = ("fit_mode", "calibrated_max_MPa", "levels_over_p2", "u_pl_error", "residual_error")
 #: Versions this reader accepts. 2: positions may carry "warnings" (conforming contact) and the
 #: characteristic can be scaled to a patch size (``characteristic_at(y, patch_mm)``, needs geometry a_mm, b_mm).
-#: 3: an optional ``rolling_law``.
-SUPPORTED_VERSIONS = (1, 2, 3)
+#: 3: an optional ``rolling_law``. 4: the keys of :data:`VERSION_4_KEYS` and the characteristics' reverse factors.
+SUPPORTED_VERSIONS = (1, 2, 3, 4)
 BODIES = ("rail", "wheel")
 #: Relative tolerance between stored (k_i, T_0i) and those re-derived from the stored characteristic.
 PARAMETER_RTOL = 1e-6
@@ -105,6 +112,10 @@ class LayerTable:
         failed = data.get("failed", [])
         if not isinstance(failed, list):
             raise InputError(source, "'failed' must be a list")
+        version = data["format_version"]
+        if version < FORMAT_VERSION and _has_version_4_keys(data["positions"]):
+            raise InputError(source, f"positions carry keys of format_version {FORMAT_VERSION} "
+                                     f"({', '.join(VERSION_4_KEYS)} or reverse_factor), the file says {version}")
         law = None
         if "rolling_law" in data:
             if data["format_version"] < 3:
@@ -116,21 +127,29 @@ class LayerTable:
         out = {"format": FORMAT, "format_version": FORMAT_VERSION_NO_ROLLING_LAW, "header": self.header,
                "positions": self.positions, "failed": self.failed}
         if self.rolling_law is not None:
-            out.update(format_version=FORMAT_VERSION, rolling_law=self.rolling_law.to_dict())
+            out.update(format_version=FORMAT_VERSION_ROLLING_LAW, rolling_law=self.rolling_law.to_dict())
+        if self.is_version_4:
+            out["format_version"] = FORMAT_VERSION
         return out
+
+    @property
+    def is_version_4(self) -> bool:
+        """True when a position carries a key of format version 4 (:data:`VERSION_4_KEYS`, a reverse factor)."""
+        return _has_version_4_keys(self.positions)
 
     def to_json(self) -> str:
         return json.dumps(_plain(self.to_dict()), indent=1, allow_nan=False) + "\n"
 
     def to_csv(self) -> str:
         """One row per calibrated position: geometry, N, S_i, k_i, T_0i, the points, fit errors (units in names),
-        warnings (e.g. a conforming position calibrated at a lower load)."""
+        warnings (e.g. a conforming position calibrated at a lower load); format 4 adds the element's reverse factor
+        and the calibrated range."""
         cols = (["body", "profile", "y_mm", "n_segments", "p2_MPa", "max_error_mm", "rms_error_mm", "a_mm", "b_mm"]
                 + [f"S{i}_N_per_mm3" for i in range(1, MAX_SEGMENTS + 1)]
                 + [f"k{i}_N_per_mm3" for i in range(1, MAX_SEGMENTS + 1)]
                 + [f"T0{i}_MPa" for i in range(1, MAX_SEGMENTS)]
                 + [f"u{i}_mm" for i in range(1, MAX_SEGMENTS + 2)] + [f"p{i}_MPa" for i in range(1, MAX_SEGMENTS + 2)]
-                + ["warnings"])
+                + ["warnings"] + (["reverse_factor", "calibrated_max_MPa"] if self.is_version_4 else []))
         buf = io.StringIO()
         w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
         w.writeheader()
@@ -140,6 +159,8 @@ class LayerTable:
                    "n_segments": ch.n_segments, "p2_MPa": ch.elastic_limit_MPa,
                    "max_error_mm": pos.get("max_error_mm"), "rms_error_mm": pos.get("rms_error_mm"),
                    "a_mm": geo.get("a_mm"), "b_mm": geo.get("b_mm"), "warnings": "; ".join(pos.get("warnings", []))}
+            if self.is_version_4:
+                row.update(reverse_factor=repr(ch.reverse_factor), calibrated_max_MPa=pos.get("calibrated_max_MPa"))
             par = ch.to_parameters()
             for i, v in enumerate(ch.slopes, 1):
                 row[f"S{i}_N_per_mm3"] = repr(float(v))
@@ -189,6 +210,22 @@ class LayerTable:
             lengths.append(math.sqrt(a * b))
         return float(np.interp(float(y_mm), self.y_mm, lengths))
 
+    def calibrated_max_MPa(self, y_mm: float) -> float | None:
+        """The largest pressure the characteristic at y was calibrated to (MPa, linear in y between positions): a
+        position's ``calibrated_max_MPa`` (format 4), else the largest of its ``fem_points.p_MPa``; None when a
+        position records neither (an assumed characteristic has no calibrated range)."""
+        limits = []
+        for pos in self.positions:
+            value = pos.get("calibrated_max_MPa")
+            if value is None:
+                points = pos.get("fem_points") or {}
+                p = points.get("p_MPa") if isinstance(points, dict) else None
+                value = max(p) if isinstance(p, list) and p else None
+            if not isinstance(value, (int, float)) or isinstance(value, bool) or not value > 0:
+                return None
+            limits.append(float(value))
+        return float(np.interp(float(y_mm), self.y_mm, limits))
+
     def characteristic_at(self, y_mm: float, patch_mm: tuple[float, float] | None = None) -> Characteristic:
         """The characteristic at profile coordinate y (mm): linear in y between calibrated positions (exact at
         them); InputError outside the calibrated range.
@@ -212,7 +249,7 @@ class LayerTable:
         if not (math.isfinite(scale) and scale > 0):
             raise InputError("patch_mm", f"semi-axes {a:g} x {b:g} mm are too small or too large to scale the "
                                          f"characteristic of the {self.body} table ({self.source}) to")
-        return Characteristic(np.asarray(ch.u_mm) * scale, np.asarray(ch.p_MPa),
+        return ch.with_points(np.asarray(ch.u_mm) * scale, np.asarray(ch.p_MPa),
                               f"{ch.name} scaled to the patch {a:.3g} x {b:.3g} mm (x{scale:.3g})")
 
     def _characteristic_at(self, y_mm: float) -> Characteristic:
@@ -256,6 +293,13 @@ def read_body_table(rel: str, base: Path, body: str, what: str) -> tuple[Path, L
     return path, table
 
 
+def _has_version_4_keys(positions: list) -> bool:
+    """True when a position (a dict) carries a key of :data:`VERSION_4_KEYS` or a characteristic reverse factor."""
+    return any(isinstance(pos, dict) and (any(k in pos for k in VERSION_4_KEYS) or (
+        isinstance(pos.get("characteristic"), dict) and "reverse_factor" in pos["characteristic"]))
+        for pos in positions)
+
+
 def _plain(obj):
     """numpy scalars/arrays -> JSON-able Python objects."""
     if isinstance(obj, dict):
@@ -278,6 +322,11 @@ def _check_extras(pos: dict, what: str) -> None:
         for key in ("a_mm", "b_mm"):
             if key in geo:
                 validate.number(geo[key], f"{what}: geometry.{key}", ge=lo, le=hi)
+    if pos.get("calibrated_max_MPa") is not None:
+        validate.number(pos["calibrated_max_MPa"], f"{what}: calibrated_max_MPa", gt=0.0)
+    for key in ("levels_over_p2", "u_pl_error", "residual_error"):
+        if key in pos:
+            validate.number_list(pos[key], f"{what}: {key}", min_len=0)
     if "warnings" in pos:
         items = pos["warnings"]
         if not isinstance(items, list):

@@ -60,15 +60,17 @@ def build_layers(scene: Scene, strip_y_mm: np.ndarray, patch_mm: tuple[float, fl
 
 
 def check_table_coverage(scene: Scene, solution: NormalSolution) -> None:
-    """LayerNotCovered when a strip in contact lies outside a body's calibration table."""
+    """LayerNotCovered when a strip in contact lies outside a body's calibration table, LayerRangeExceeded when its
+    peak pressure lies above the table's calibrated range."""
     if scene.layer is None:
         return
-    in_contact = solution.strip_y_mm[solution.p_peak_MPa > 0]
+    loaded = solution.p_peak_MPa > 0
+    in_contact = solution.strip_y_mm[loaded]
     for body in BODIES:
         b = getattr(scene.layer, body)
         if b is not None and b.table is not None:
             check_coverage(b.table, b.position_mm + in_contact, f"{scene.path.name}: layer.{body}.table", body,
-                           b.table_path.name, tolerance_mm=1e-9)
+                           b.table_path.name, tolerance_mm=1e-9, p_peak_MPa=solution.p_peak_MPa[loaded])
 
 
 def scale_layers_to_patch(scene: Scene, prob: NormalProblem, layers: LayerPair):

@@ -160,7 +160,7 @@ def _patch(lp: LoadedPatch, inputs: WheelRailInputs, layers: WheelRailLayers | N
             table = getattr(layers, body)
             if table is not None:
                 check_coverage(table, coords[body][in_contact], f"layers.{body} ({layers.name(body)})", body,
-                               layers.name(body))
+                               layers.name(body), p_peak_MPa=patch.normal.p_peak_MPa[in_contact])
     return patch
 
 

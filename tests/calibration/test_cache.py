@@ -32,7 +32,7 @@ def indentation(**kw) -> IndentationResult:
 @pytest.fixture(scope="module")
 def fit() -> PositionFit:
     geo = given_geometry(get_profile("60E1"), 0.0, 7.0, 5.0)
-    return fit_position(indentation(), geo, FitSettings(n_segments=3, max_relative_error=0.2), "test")
+    return fit_position(indentation(), geo, FitSettings(mode="paper", n_segments=3, max_relative_error=0.2), "test")
 
 
 def test_valid_entries_round_trip(tmp_path, fit):

@@ -45,7 +45,13 @@ def test_coarse_rail_position_writes_a_valid_table(coarse_run):
     assert table.body == "rail" and table.profile_name == "60E1" and table.y_range_mm == (0.0, 0.0)
     pos = table.positions[0]
     ch = table.characteristic_at(0.0)
-    assert ch.n_segments == cfg.fit.n_segments
+    # the operating-range fit: the fewest segments that reach the target (or the most allowed), the element's
+    # reverse threshold fitted to the FEM residuals, the errors per level stored (format 4)
+    assert 2 <= ch.n_segments <= cfg.fit.max_segments and table.is_version_4
+    assert pos["fit_mode"] == "operating_range" and ch.reverse_factor >= 1.0
+    assert len(pos["levels_over_p2"]) == len(pos["u_pl_error"]) and len(pos["residual_error"]) == 2
+    assert ch.n_segments == cfg.fit.max_segments or max(map(abs, pos["u_pl_error"])) <= cfg.fit.target_error
+    assert pos["calibrated_max_MPa"] == pytest.approx(max(pos["fem_points"]["p_MPa"]))
     par = ch.to_parameters()
     assert np.all(par.k_N_per_mm3 > 0) and np.all(par.T0_MPa > 0)
     # the elastic limit of the fit is the FEM first-yield pressure (within 3 %)
@@ -85,7 +91,7 @@ def test_second_run_uses_the_cache_and_fit_changes_need_no_fem(coarse_run, tmp_p
     assert (work / "rail_layer_table.json").read_text() == before  # nothing changed: nothing rewritten
     assert (work / "summary.json").read_text() == cold  # the warm run keeps the cold run's record
     assert json.loads((work / "summary_cached.json").read_text())["positions_cached"] == 1
-    cfg2 = dataclasses.replace(cfg, fit=dataclasses.replace(cfg.fit, n_segments=2, max_relative_error=1.0))
+    cfg2 = dataclasses.replace(cfg, fit=dataclasses.replace(cfg.fit, max_segments=2, max_relative_error=1.0))
     refit = run_calibration(cfg2, work, show_progress=False, log=_quiet)
     assert refit["positions_computed"] == 0
     assert LayerTable.read(work / "rail_layer_table.json").characteristic_at(0.0).n_segments == 2

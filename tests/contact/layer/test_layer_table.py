@@ -149,3 +149,55 @@ def test_version_1_tables_are_read_and_unscalable_without_semi_axes(tmp_path):
     np.testing.assert_allclose(old.characteristic_at(0.0).u_mm, t.characteristics[1].u_mm)
     with pytest.raises(InputError, match="no calibrated semi-axes"):
         old.characteristic_at(0.0, patch_mm=(7.0, 5.0))
+
+
+def _v4_table(rho=2.0, p_max=2400.0):
+    from wrlayer.layer_table import LayerTable
+
+    ch = {"u_mm": [0.0, 0.001, 0.01, 0.05], "p_MPa": [0.0, 800.0, 1400.0, 2400.0], "reverse_factor": rho}
+    pos = [{"y_mm": y, "characteristic": ch, "fit_mode": "operating_range", "calibrated_max_MPa": p_max + y,
+            "levels_over_p2": [1.0, 2.0], "u_pl_error": [0.0, 0.01], "residual_error": [0.01]} for y in (0.0, 10.0)]
+    return LayerTable({"body": "rail", "profile": "60E1"}, pos, [], "t.json")
+
+
+def test_version_4_round_trip_reverse_factor_and_calibrated_range(tmp_path):
+    from wrlayer.layer_table import LayerTable
+
+    table = _v4_table()
+    assert table.is_version_4 and table.to_dict()["format_version"] == 4
+    back = LayerTable.read(table.write(tmp_path / "t.json", tmp_path / "t.csv")[0])
+    assert back.characteristic_at(5.0).reverse_factor == pytest.approx(2.0)
+    assert back.characteristic_at(5.0, patch_mm=(1.0, 1.0)).reverse_factor == pytest.approx(2.0)
+    assert back.calibrated_max_MPa(5.0) == pytest.approx(2405.0)
+    assert "reverse_factor" in (tmp_path / "t.csv").read_text().splitlines()[0]
+
+
+def test_older_version_with_version_4_keys_is_refused():
+    from wrlayer.layer_table import LayerTable
+
+    data = _v4_table().to_dict()
+    data["format_version"] = 3
+    with pytest.raises(InputError, match="keys of format_version 4"):
+        LayerTable.from_dict(data, "old.json")
+
+
+def test_calibrated_range_of_an_older_table_is_its_largest_fem_point():
+    from wrlayer.layer_table import LayerTable
+
+    ch = {"u_mm": [0.0, 0.001, 0.01], "p_MPa": [0.0, 800.0, 1400.0]}
+    pos = [{"y_mm": 0.0, "characteristic": ch, "fem_points": {"p_MPa": [0.0, 900.0, 2000.0], "u_mm": [0, 0, 0]}}]
+    assert LayerTable({"body": "rail", "profile": "x"}, pos).calibrated_max_MPa(0.0) == 2000.0
+    assert LayerTable({"body": "rail", "profile": "x"}, [{"y_mm": 0.0, "characteristic": ch}]).calibrated_max_MPa(
+        0.0) is None
+
+
+def test_a_contact_above_the_calibrated_range_is_an_error():
+    from contact.layer.strip_lookup import check_coverage
+    from wrlayer.errors import LayerRangeExceeded
+
+    table = _v4_table(p_max=1500.0)
+    check_coverage(table, np.array([1.0, 2.0]), "layers.rail", "rail", "t.json", p_peak_MPa=np.array([900.0, 1500.0]))
+    with pytest.raises(LayerRangeExceeded, match=r"layers.rail: the rail table t.json at y = 2 mm is calibrated up "
+                                                 r"to 1502 MPa; the contact's peak pressure there is 1700 MPa"):
+        check_coverage(table, np.array([1.0, 2.0]), "layers.rail", "rail", "t.json",
+                       p_peak_MPa=np.array([900.0, 1700.0]))
