@@ -7,7 +7,7 @@ y = 0 and gauge corner y = -35 mm, S1002 wheel flange root y = -37.5 mm) are rol
 coarse discretisation (h = a/2 quadratic tetrahedra, step a/4, track 1.5 contact lengths, run-out 4 a), levels
 1.3, 1.7, 2.1 p_y (p_y: the section's FEM first yield), traction coefficients 0 and 0.2, five passes at constant
 p0, and the FEM groove after passes 1, 2 and 5 is compared with what the contact code applies: the table's
-residual r at p0 = level x p_2 (Masing, :func:`calibration.rolling.layer_prediction.masing_residual`) times the
+residual r at p0 = level x p_2 (the element's exact unloading, ``Characteristic.unloading_residual``) times the
 table's rolling law G_n (:class:`wrlayer.rolling_law.RollingLaw`), and the two static memory rules.
 
 ``python -m benchmarks.bench_rolling_section_gap --runs DIR [--run]``: ``--run`` runs the configurations (:func:`section_config`) that have
@@ -25,7 +25,6 @@ from dataclasses import asdict, dataclass, replace
 
 from calibration.rolling import gap_cases
 from calibration.rolling.config import RollingConfig, parse_rolling_config
-from calibration.rolling.layer_prediction import masing_residual
 from calibration.rolling.run import run_rolling
 from wrlayer.layer_table import LayerTable
 
@@ -92,7 +91,7 @@ def rows_of(run: dict, table_rel: str, y_mm: float, label: str, c: float) -> lis
         if len(grooves) < max(COMPARED):
             continue
         x = lv["p0_over_py"]
-        r = masing_residual(ch, x * p_2)
+        r = float(ch.unloading_residual(x * p_2))
         law_g = [float(r * law.factor(n, x, c)) for n in COMPARED]
         rows.append(SectionGapRow(label, c, x, run["p_y_MPa"], p_2, lv["static_dent_mm"], r,
                                   tuple(grooves[n - 1] for n in COMPARED), tuple(law_g),

@@ -188,12 +188,13 @@ class RollingRunSettings:
     plots : bool
         Write the ParaView series (plastic strain and residual stress after each pass, .pvd).
     layer_segments : int
-        Segments N of the layer characteristic fitted to the static indentation (2..8).
+        Most segments N of the layer characteristic fitted to the static indentation as the calibration fits
+        (2..8).
     """
 
     linear_solver: str = "auto"
     plots: bool = True
-    layer_segments: int = 4
+    layer_segments: int = 8
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """The gap between the layer's passes and the rolling FEM, and the rolling law that closes it (units mm, MPa).
 
 Input: the cases of :mod:`calibration.rolling.gap_cases` (the FEM groove after every pass at constant p0). For
-each case the layer's static residual r is the Masing residual (paper eq. 8) of the calibrated characteristic at
+each case the layer's static residual r is the element's exact residual (paper eq. 8) of the calibrated characteristic at
 the same p0 / p_2: the shipped table's characteristic at the position (p_2 its FEM first yield), or, for the
 half-space, the characteristic fitted with the calibration's default fit to the block's static indentation at
 the highest level (:func:`calibration.rolling.layer_prediction.layer_grooves`; on the finest mesh of
@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from calibration.rolling.gap_cases import LEVELS, ROOT, TRACTIONS, GapCaseResult, default_positions
-from calibration.rolling.layer_prediction import StaticCurve, layer_grooves, masing_residual
+from calibration.rolling.layer_prediction import StaticCurve, layer_grooves
 from calibration.rolling.law_fit import PassFit, fit_passes, rolling_law
 from calibration.settings import FitSettings
 from wrlayer.layer_table import LayerTable
@@ -67,7 +67,7 @@ class GapRow:
     static_dent_mm : float
         The block's static dent (mm).
     layer_static_mm : float
-        The layer's static (Masing) residual r at the same p0 / p_2 (mm).
+        The layer's static residual r (the element's exact unloading) at the same p0 / p_2 (mm).
     passes : list of int
         The passes reported.
     fem_mm : list of float
@@ -155,7 +155,7 @@ def layer_static_residuals(results: list[GapCaseResult], halfspace_curve: Static
         if mine[0].table:
             ch = LayerTable.read(ROOT / mine[0].table).characteristic_at(mine[0].y_mm)
             for lv in {r.p0_over_py for r in mine}:
-                out[(pos, lv)] = masing_residual(ch, lv * ch.elastic_limit_MPa)
+                out[(pos, lv)] = float(ch.unloading_residual(lv * ch.elastic_limit_MPa))
             continue
         top = max(mine, key=lambda r: r.p0_over_py)
         curve, p_y = halfspace_curve, halfspace_p_y_MPa
@@ -163,7 +163,7 @@ def layer_static_residuals(results: list[GapCaseResult], halfspace_curve: Static
             curve = StaticCurve(np.array(top.static_p_MPa), np.array(top.static_u_pl_mm), top.static_dent_mm)
             p_y = top.p_y_MPa
         levels = sorted({r.p0_over_py for r in mine})
-        grooves = layer_grooves(curve, p_y, [lv * p_y for lv in levels], 1, LAYER_FIT.n_segments)
+        grooves = layer_grooves(curve, p_y, [lv * p_y for lv in levels], 1, LAYER_FIT.max_segments)
         out.update({(pos, lv): g.relaxed[0] for lv, g in zip(levels, grooves)})
     return out
 

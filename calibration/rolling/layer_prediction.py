@@ -5,14 +5,15 @@ Static dent: the same Hertz pressure, not moving, at mid-track x = 0 (the engine
 same discretisation and kept factorisation), loaded to p0 and unloaded; its residual depth relative to the far
 field (:mod:`calibration.rolling.groove`).
 
-Layer: the characteristic is fitted, as the calibration does (:mod:`calibration.position_fit`), to the loading
-curve of the static indentation at the highest level: u(p) = p / S_1 + u_pl(p), u_pl = u_rel - c_el p (c_el: the
-elastic compliance of the same mesh, u_rel: the centre's depth relative to the far field), first break point at
-the FEM first-yield pressure p_y (paper eqs. 4-8). Under the same constant peak p0 each pass, the element's exact
-(Masing) residual after load and unload from the virgin state is r = u(p0) - 2 u(p0/2) (eq. 8, u(p0) - p0/S_1,
-while p0 <= 2 p_2). The two memory rules of :mod:`contact.passes.passes` then give, after pass n:
-"relaxed" (a virgin element every pass) n r; "state kept" (the sliders keep their slip: reloading to the same
-peak retraces the unloading branch, no new slip) r. Units mm, MPa, N/mm^3.
+Layer: the characteristic is fitted as the calibration fits it (:mod:`calibration.fit.operating_range`) to the
+loading curve of the static indentation at the highest level, u(p) = p / S_1 + u_pl(p), u_pl = u_rel - c_el p (c_el:
+the elastic compliance of the same mesh, u_rel: the centre's depth relative to the far field), first break point at
+the FEM first-yield pressure p_y (paper eqs. 4-8), and its reverse factor to the static dents of all levels. Under
+the same constant peak p0 each pass, the element's exact residual after load and unload from the virgin state is
+r = u(p0) - (1 + rho) u(p0 / (1 + rho)) (eq. 8 while p0 <= (1 + rho) p_2). The two memory rules of
+:mod:`contact.passes.passes` then give, after pass n: "relaxed" (a virgin element every pass) n r; "state kept"
+(the sliders keep their slip: reloading to the same peak retraces the unloading branch, no new slip) r. Units mm,
+MPa, N/mm^3.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from calibration.fem.elastoplastic_solver import LoadPath
-from calibration.fit.characteristic_fit import fit_characteristic
+from calibration.fit.operating_range import fit_operating_range
 from calibration.position_fit import first_slope_N_per_mm3
 from calibration.settings import FitSettings
 
@@ -71,27 +72,30 @@ def static_curve(path: LoadPath, depth_at, compliance_mm_per_MPa: float) -> Stat
     return StaticCurve(p, u_rel - compliance_mm_per_MPa * p, float(depth_at(records[-1].state.u_mm)))
 
 
-def masing_residual(characteristic, p0_MPa: float) -> float:
-    """Residual (mm) of a virgin element loaded to p0 and unloaded: u(p0) - 2 u(p0/2) (Masing; = eq. 8 while
-    p0 <= 2 p_2)."""
-    u = characteristic.displacement(np.array([p0_MPa, 0.5 * p0_MPa]))
-    return float(max(u[0] - 2.0 * u[1], 0.0))
-
-
-def layer_grooves(top: StaticCurve, p_y_MPa: float, levels_MPa: list[float], n_passes: int,
-                  n_segments: int) -> list[LayerGroove]:
-    """The layer fitted to the highest level's static curve ``top``; its groove per level and pass."""
-    fit = FitSettings(n_segments=n_segments)
+def layer_grooves(top: StaticCurve, p_y_MPa: float, levels_MPa: list[float], n_passes: int, max_segments: int,
+                  dents_mm: list[float] | None = None) -> list[LayerGroove]:
+    """The layer fitted, as the calibration fits (at most ``max_segments`` segments), to the highest level's
+    static curve ``top`` and to the static dents ``dents_mm`` at ``levels_MPa`` (None: ``top``'s own dent at the
+    highest level); its groove per level and pass."""
+    fit = FitSettings(max_segments=max_segments)
     u_pl = np.where(top.p_MPa <= p_y_MPa, np.maximum(top.u_pl_mm, 0.0), top.u_pl_mm)
     curve = replace(top, u_pl_mm=u_pl)
     s1 = first_slope_N_per_mm3(curve, fit)
-    res = fit_characteristic(curve.p_MPa, curve.p_MPa / s1 + u_pl, n_segments, s1_N_per_mm3=s1, p2_MPa=p_y_MPa,
-                             what="rolling: static characteristic", max_relative_error=fit.max_relative_error)
+    if dents_mm is None:
+        peaks, dents = np.array([float(np.max(top.p_MPa))]), np.array([top.dent_mm])
+    else:
+        order = np.argsort(levels_MPa)
+        peaks = np.asarray(levels_MPa, dtype=float)[order]
+        dents = np.asarray(dents_mm, dtype=float)[order]
+    above = peaks > p_y_MPa
+    res = fit_operating_range(curve.p_MPa, u_pl, s1, p_y_MPa, peaks[above], dents[above], fit.weight_range,
+                              fit.target_error, fit.max_segments, fit.max_relative_error,
+                              "rolling: static characteristic")
     out = []
     for p0 in levels_MPa:
-        r = masing_residual(res.characteristic, p0)
+        r = float(res.characteristic.unloading_residual(p0))
         out.append(LayerGroove([r * n for n in range(1, n_passes + 1)], [r] * n_passes))
     return out
 
 
-__all__ = ["LayerGroove", "StaticCurve", "layer_grooves", "masing_residual", "static_curve"]
+__all__ = ["LayerGroove", "StaticCurve", "layer_grooves", "static_curve"]

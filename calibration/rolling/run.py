@@ -258,7 +258,7 @@ def run_rolling(config: RollingConfig, out_dir: str | Path, force: bool = False,
     n_passes = config.track.n_passes
     try:
         layer = layer_grooves(curves[int(np.argmax(levels_MPa))], model.p_y_MPa, levels_MPa, n_passes,
-                              config.run.layer_segments)
+                              config.run.layer_segments, [c.dent_mm for c in curves])
     except InputError:  # no inelastic static curve to fit (all levels elastic): no layer prediction
         layer = [LayerGroove([], [])] * len(levels_MPa)
     results = [LevelResult(p0 / model.p_y_MPa, p0, c.dent_mm, layer_groove_mm=lg)

@@ -4,7 +4,6 @@ rolling.json, and the configurations it runs (parsed by the rolling reader)."""
 import pytest
 
 from benchmarks import bench_rolling_section_gap as sg
-from calibration.rolling.layer_prediction import masing_residual
 from wrlayer.layer_table import LayerTable
 
 
@@ -25,7 +24,7 @@ def test_layer_groove_is_the_tables_residual_times_its_law():
         {"p0_over_py": 2.1, "static_dent_mm": 0.03, "groove_mm": [0.03]}]}  # too few passes: left out
     rows = sg.rows_of(run, table_rel, y_mm, label, 0.2)
     assert len(rows) == 1
-    r = masing_residual(ch, 1.7 * ch.elastic_limit_MPa)
+    r = float(ch.unloading_residual(1.7 * ch.elastic_limit_MPa))
     row = rows[0]
     assert row.table_residual_mm == pytest.approx(r)
     assert row.fem_mm == (0.019, 0.020, 0.0205)

@@ -85,7 +85,7 @@ def test_halfspace_layer_uses_the_given_curve_with_the_default_fit():
     double = gap.layer_static_residuals([case], StaticCurve(p, 2.0 * u_pl, 2e-5), p_y)
     assert own == same and own[("half-space", 2.1)] > 0
     assert double[("half-space", 2.1)] == pytest.approx(2.0 * own[("half-space", 2.1)], rel=1e-3)
-    assert gap.LAYER_FIT.n_segments == 5
+    assert gap.LAYER_FIT.mode == "operating_range"
 
 
 def test_ratio_checks_pair_cases_and_count_the_target():

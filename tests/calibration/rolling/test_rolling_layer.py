@@ -4,7 +4,7 @@ contact.passes ("relaxed": a virgin element each pass, the residual moved into t
 import numpy as np
 import pytest
 
-from calibration.rolling.layer_prediction import StaticCurve, layer_grooves, masing_residual
+from calibration.rolling.layer_prediction import StaticCurve, layer_grooves
 from wrlayer.characteristic import Characteristic
 from contact.layer.prandtl_layer import PrandtlLayer
 
@@ -26,13 +26,13 @@ def layer_passes(p0, n, keep_state):
 
 
 @pytest.mark.parametrize("p0", [1000.0, 1500.0, 1750.0])
-def test_masing_residual_is_the_prandtl_element(p0):
-    assert masing_residual(CH, p0) == pytest.approx(layer_passes(p0, 1, True)[0], rel=1e-9, abs=1e-12)
+def test_unloading_residual_is_the_prandtl_element(p0):
+    assert float(CH.unloading_residual(p0)) == pytest.approx(layer_passes(p0, 1, True)[0], rel=1e-9, abs=1e-12)
 
 
 def test_layer_grooves_follow_both_memory_rules():
     p = np.linspace(0.0, 1800.0, 37)
-    curve = StaticCurve(p, CH.displacement(p) - p / CH.initial_stiffness, 0.0)
+    curve = StaticCurve(p, CH.displacement(p) - p / CH.initial_stiffness, float(CH.unloading_residual(1800.0)))
     (lg,) = layer_grooves(curve, 800.0, [1500.0], 4, 3)
     assert lg.relaxed == pytest.approx(layer_passes(1500.0, 4, False), rel=0.05)
     assert lg.state_kept == pytest.approx(layer_passes(1500.0, 4, True), rel=0.05)
