@@ -1,0 +1,385 @@
+"""The exact half-space normal contact on a coarse grid: the fast normal solver (``method.normal = "coarse_exact"``).
+
+Units: mm, N, MPa. The same problem as :mod:`contact.normal.exact` (Boussinesq half-space of both bodies, Love's
+influence coefficients, the Prandtl layer in series cell by cell in ``indentation`` mode, force prescribed), solved
+on a grid of ``cells`` x ``cells`` cells instead of the strip grid:
+
+Box. Contact can only occur where the undeformed separation f(x, y) = f(y) + x^2 / (2 R) lies below the approach
+delta (the elastic and layer displacements are >= 0). The grid covers that region's bounding box, {f(y) < delta}
+in y (plus one strip each side) and |x| < sqrt(2 R delta), with ``cells`` lines and ``cells`` cells; its lines
+need not be strips (f between strips is interpolated linearly). delta starts from a Hertz-like estimate; after
+each solve the box is rebuilt from the solved delta (grown while the solved delta exceeds the box's), so that the
+final grid has about cells / sqrt(2) cells across a Hertzian patch along each axis, whatever its aspect ratio.
+
+Solve. Dense Polonsky–Keer CG in one compiled kernel (:mod:`contact.normal.coarse_cg`); with a layer, the outer
+iteration of the exact solver (each cell's loading curve linearised on its current segment, paper eq. 7, until the
+mismatch is below ``layer_rtol`` delta). The layer of a line is the element of the nearest strip.
+
+Outputs. As the exact solver (its refined line extents and area, :func:`contact.normal.exact.line_extent`); the
+lines' peak pressure, contact extent and force are interpolated linearly onto the problem's strips inside the
+refined y extent of each run of loaded lines (each strip a semi-ellipse carrying its share of the run's force, for
+the passes and FASTSIM). With ``extrapolate`` the scalar outputs (p_max, delta, area, length, width) are
+Richardson-extrapolated from the final box solved with cells/2 and cells (error ~ cell^2):
+Q = Q_n + (Q_n - Q_{n/2}) / 3. ConvergenceError when the CG, the layer iteration or the box does not converge;
+InputError when the patch reaches the end of the separation table or a layer does not cover it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from contact.layer.prandtl_layer import LayerPair
+from contact.normal.coarse_cg import dense_cg
+from contact.normal.exact import layer_is_elastic, line_area, line_extent
+from contact.normal.halfspace import compliance_factor
+from contact.normal.boussinesq import corner_antiderivative
+from contact.normal.kik_piotrowski import hertz_like_guess
+from contact.normal.layer_at_strip import LayerAtReference, layer_points
+from contact.normal.patch import Patch
+from contact.normal.problem import NormalProblem
+from contact.normal.solution import NormalSolution, RegionSolution
+from wrlayer.errors import ConvergenceError, InputError, require
+
+__all__ = ["DEFAULT_CELLS", "CoarseOptions", "solve_coarse_exact"]
+
+#: Default lines and cells of the coarse grid (``method.coarse_cells``), from the time-error study of
+#: ``benchmarks/bench_fast_normal.py``.
+DEFAULT_CELLS = 16
+CELLS_RANGE = (6, 128)
+#: Margin of the fitted grid around the loaded cells of the locating solve (relative to their extent).
+MARGIN = 0.12
+
+
+@dataclass(frozen=True)
+class CoarseOptions:
+    """Options of the coarse-grid solver (key ``method.coarse_cells``).
+
+    cells: lines and cells of the grid over the box (even); extrapolate: Richardson extrapolation from cells/2 and
+    cells; tol / max_iter: CG stop (relative pressure change) and limit; layer_rtol / layer_max_iter: outer layer
+    iteration; max_boxes: box rebuilds allowed.
+    """
+
+    cells: int = DEFAULT_CELLS
+    extrapolate: bool = False
+    tol: float = 1e-6
+    max_iter: int = 2000
+    layer_rtol: float = 1e-6
+    layer_max_iter: int = 60
+    max_boxes: int = 10
+
+    def __post_init__(self):
+        lo, hi = CELLS_RANGE
+        require(isinstance(self.cells, (int, np.integer)) and lo <= self.cells <= hi and self.cells % 2 == 0,
+                "method.coarse_cells", f"must be an even integer in [{lo}, {hi}], got {self.cells!r}")
+
+
+@dataclass
+class _Grid:
+    """The coarse grid: line centres y (ny,), cell centres x (nx,), spacings (mm)."""
+
+    y: np.ndarray
+    x: np.ndarray
+    dy: float
+    dx: float
+    box_delta: float
+    clipped: tuple = (False, False)
+
+    @classmethod
+    def over_box(cls, prob: NormalProblem, delta: float, n: int) -> "_Grid":
+        """n x n cells over {f < delta} (one strip more each side, within the table)."""
+        f = prob.separation_on_grid_mm
+        ys = prob.strip_y_mm
+        on = np.flatnonzero(f < delta)
+        y_lo, y_hi = ys[max(on[0] - 1, 0)], ys[min(on[-1] + 1, ys.size - 1)]   # f is linear between strips
+        x_hi = math.sqrt(2.0 * prob.rolling_radius_mm * delta)
+        return cls.between(prob, np.array([y_lo, -x_hi]), np.array([y_hi, x_hi]), n, delta)
+
+    @classmethod
+    def between(cls, prob: NormalProblem, lo: np.ndarray, hi: np.ndarray, n: int, box_delta: float) -> "_Grid":
+        """n x n cells over [lo, hi] ((y, x), mm), y clipped to the strip grid (``clipped``: which y ends are)."""
+        ys = prob.strip_y_mm
+        lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
+        clipped = (bool(lo[0] <= ys[0]), bool(hi[0] >= ys[-1]))
+        lo[0], hi[0] = max(lo[0], ys[0]), min(hi[0], ys[-1])
+        step = (hi - lo) / n
+        centres = np.arange(n) + 0.5
+        return cls(lo[0] + centres * step[0], lo[1] + centres * step[1], float(step[0]), float(step[1]),
+                   box_delta, clipped)
+
+
+class _Layer:
+    """The layers' loading curves (from their current state) at the strip nearest each line, linearised per cell."""
+
+    def __init__(self, layer: LayerPair | None, prob: NormalProblem):
+        self.bodies = []
+        if layer is not None:
+            for lay in layer.bodies().values():
+                if np.any(np.abs(lay.pressure_MPa) > 1e-9 * max(1.0, float(np.abs(lay.pressure_MPa).max()))):
+                    raise InputError(lay.name, "layer must be unloaded (p = 0) before a normal solve")
+                self.bodies.append((lay, layer_points(lay, prob.strip_y_mm, prob.grid_mm)))
+        self.ys = prob.strip_y_mm
+        self.h = prob.grid_mm
+        self._curves: dict[int, LayerAtReference | None] = {}
+        self._states: dict[tuple, LayerAtReference] = {}
+        self._segments: dict[int, tuple] = {}
+
+    @property
+    def present(self) -> bool:
+        return bool(self.bodies)
+
+    def _curve(self, strip: int) -> LayerAtReference | None:
+        """The loading curve at a strip; strips whose elements are in the same state share it (a virgin uniform
+        layer has one curve)."""
+        if strip not in self._curves:
+            pts = [(lay, int(ix[strip])) for lay, ix in self.bodies]
+            if any(i < 0 for _, i in pts):
+                self._curves[strip] = None
+            else:
+                key = tuple(a[i].tobytes() for lay, i in pts for a in (lay.k_N_per_mm3, lay.half_width_mm, lay.u_mm,
+                                                                        lay.slip_mm, lay.k_last_N_per_mm3))
+                if key not in self._states:
+                    self._states[key] = LayerAtReference(pts)
+                self._curves[strip] = self._states[key]
+        return self._curves[strip]
+
+    def strips(self, y: np.ndarray) -> np.ndarray:
+        return np.clip(np.rint((y - self.ys[0]) / self.h).astype(int), 0, self.ys.size - 1)
+
+    def _arrays(self, cur: LayerAtReference) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(knots, displacements, compliance of the segment from each knot on; the last: beyond it) of a curve."""
+        if id(cur) not in self._segments:
+            dp = np.diff(cur.p)
+            slope = np.append(np.where(dp > 0, np.diff(cur.u) / np.where(dp > 0, dp, 1.0), 0.0),
+                              cur.final_compliance)
+            self._segments[id(cur)] = (cur.p, cur.u, slope)
+        return self._segments[id(cur)]
+
+    def on_lines(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Knots (ny, K) of the loading curves at the lines y (padded with +inf), the displacement there and the
+        compliance of the segment from each knot on (mm/MPa; the last: beyond the last knot); a line without a
+        curve has the knot 0 only and compliance 0."""
+        curves = [self._curve(int(j)) for j in self.strips(y)]
+        size = max((c.p.size for c in curves if c is not None), default=1)
+        knots = np.full((y.size, size), np.inf)
+        disp = np.zeros((y.size, size))
+        slope = np.zeros((y.size, size))
+        for k, cur in enumerate(curves):
+            if cur is None:
+                knots[k, 0] = 0.0
+                continue
+            m = cur.p.size
+            knots[k, :m], disp[k, :m], slope[k, :m] = self._arrays(cur)
+        return knots, disp, slope
+
+    @staticmethod
+    def linearise(p: np.ndarray, curves) -> tuple[np.ndarray, np.ndarray]:
+        """(u_L (mm), c (mm/MPa)) of each cell (ny, nx) at the pressure p: the displacement on the line's loading
+        curve (:meth:`on_lines`) and the compliance of the segment p lies on (the segment above at a knot)."""
+        knots, disp, slope = curves
+        seg = np.sum(p[:, :, None] >= knots[:, None, :], axis=2) - 1           # 0..K-1
+        rows = np.arange(p.shape[0])[:, None]
+        c = slope[rows, seg]
+        return disp[rows, seg] + c * (p - knots[rows, seg]), c
+
+    def check_coverage(self, p: np.ndarray, y: np.ndarray) -> None:
+        for k, j in enumerate(self.strips(y)):
+            if np.any(p[k] > 0) and self._curve(int(j)) is None:
+                raise InputError("layer", f"has no element at strip y = {self.ys[j]:.6g} mm (contact there): the "
+                                 "layer does not cover the contact patch")
+
+
+def _influence_table(grid: _Grid, factor: float) -> np.ndarray:
+    """(ny, nx) displacement at the centre of a cell (mm/MPa) per unit pressure on the cell at the offset (dj, di)
+    >= 0 (Love's closed form, :mod:`contact.normal.halfspace`; symmetric in the signs of the offsets)."""
+    ny, nx = grid.y.size, grid.x.size
+    xe = (np.arange(nx + 1) - 0.5) * grid.dx
+    ye = (np.arange(ny + 1) - 0.5) * grid.dy
+    f = corner_antiderivative(xe[None, :], ye[:, None])
+    return factor * (f[1:, 1:] - f[:-1, 1:] - f[1:, :-1] + f[:-1, :-1])
+
+
+def _resample(p: np.ndarray, old: _Grid, new: _Grid) -> np.ndarray:
+    """A pressure of ``old`` on ``new``: bilinear in the cell centres, 0 outside (the CG's warm start)."""
+    along_x = np.array([np.interp(new.x, old.x, row, left=0.0, right=0.0) for row in p])
+    return np.array([np.interp(new.y, old.y, col, left=0.0, right=0.0) for col in along_x.T]).T
+
+
+def _solve_on(prob: NormalProblem, grid: _Grid, layer: _Layer, p_start: np.ndarray, opts: CoarseOptions,
+              factor: float, stats: dict):
+    """(p (ny, nx), delta (mm), u_L (ny, nx), f (ny, nx)) on the grid."""
+    f = np.interp(grid.y, prob.strip_y_mm, prob.separation_on_grid_mm)[:, None] \
+        + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
+    k = _influence_table(grid, factor)
+    area = grid.dx * grid.dy
+    p = np.array(p_start, dtype=float)
+    if not np.any(p > 0):
+        p = np.where(f <= f.min() + 1e-12, 1.0, 0.0)
+    N = prob.normal_force_N
+    if not layer.present:
+        zero = np.zeros(f.size)
+        p, delta, its, change = dense_cg(k, f.ravel(), zero, zero, area, p.ravel(), N, opts.tol, opts.max_iter)
+        stats["cg_iterations"] += its
+        if change >= opts.tol:
+            raise ConvergenceError(f"coarse exact normal solver: CG did not converge in {opts.max_iter} iterations")
+        return p.reshape(f.shape), delta, np.zeros_like(f), f
+    curves = layer.on_lines(grid.y)
+    for _ in range(opts.layer_max_iter):
+        u_l, c = layer.linearise(p, curves)
+        b = u_l - c * p
+        p, delta, its, change = dense_cg(k, f.ravel(), c.ravel(), b.ravel(), area, p.ravel(), N, opts.tol,
+                                         opts.max_iter)
+        stats["cg_iterations"] += its
+        stats["layer_iterations"] += 1
+        if change >= opts.tol:
+            raise ConvergenceError(f"coarse exact normal solver: CG did not converge in {opts.max_iter} iterations")
+        p = p.reshape(f.shape)
+        u_new, _ = layer.linearise(p, curves)
+        if float(np.abs(u_new - (b + c * p)).max()) <= opts.layer_rtol * max(delta, 1e-12):
+            return p, delta, u_new, f
+    raise ConvergenceError(f"coarse exact normal solver: the layer iteration did not converge in "
+                           f"{opts.layer_max_iter} iterations")
+
+
+def _located(prob, layer, opts, factor, stats, n, delta_box):
+    """Solve on the box of ``delta_box`` with n cells, rebuilt until the solved delta lies within it:
+    (grid, p, delta)."""
+    p, old = np.zeros((n, n)), None
+    for _ in range(opts.max_boxes):
+        grid = _Grid.over_box(prob, delta_box, n)
+        start = _resample(p, old, grid) if old is not None else p
+        p, delta, _, _ = _solve_on(prob, grid, layer, start, opts, factor, stats)
+        stats["boxes"] += 1
+        if delta <= delta_box:
+            return grid, p, delta
+        # a box that cuts the patch squeezes the pressure (delta overshoots, more with a yielding layer)
+        delta_box, old = min(1.02 * max(delta, 1.2 * delta_box), 2.0 * delta_box), grid
+    raise ConvergenceError(f"coarse exact normal solver: the box still had to grow after {opts.max_boxes} "
+                           "rebuilds")
+
+
+def _loaded_box(grid: _Grid, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(lo, hi) ((y, x), mm) of the loaded cells of ``p`` plus :data:`MARGIN` of their extent each side."""
+    rows, cols = np.flatnonzero(p.max(axis=1) > 0), np.flatnonzero(p.max(axis=0) > 0)
+    lo = np.array([grid.y[rows[0]] - 0.5 * grid.dy, grid.x[cols[0]] - 0.5 * grid.dx])
+    hi = np.array([grid.y[rows[-1]] + 0.5 * grid.dy, grid.x[cols[-1]] + 0.5 * grid.dx])
+    size = hi - lo
+    return lo - MARGIN * size, hi + MARGIN * size
+
+
+def _fitted(prob, layer, opts, factor, stats, n, grid, p):
+    """Solve on n x n cells over the loaded cells of ``p`` on ``grid`` plus :data:`MARGIN` (:func:`_loaded_box`),
+    refitted to the new solution's loaded cells until it moves by less than a cell; a side the pressure reaches is
+    moved out by half the box: (grid, p, delta, u_L, f)."""
+    lo, hi = _loaded_box(grid, p)
+    for _ in range(opts.max_boxes):
+        new = _Grid.between(prob, lo, hi, n, grid.box_delta)
+        p, delta, u_l, f = _solve_on(prob, new, layer, _resample(p, grid, new), opts, factor, stats)
+        stats["boxes"] += 1
+        grid = new
+        step = np.array([grid.dy, grid.dx])
+        edges = np.array([p[0].any(), p[:, 0].any(), p[-1].any(), p[:, -1].any()])
+        for side, row in ((0, 0), (1, 2)):
+            if grid.clipped[side] and edges[row]:
+                end = prob.strip_y_mm[-side]
+                raise InputError("separation.y_mm", f"the contact patch reaches the end of the separation table at "
+                                 f"y = {end:.4g} mm (N = {prob.normal_force_N:g} N, coarse exact solver): extend "
+                                 f"the table (it covers {prob.y_mm[0]:.4g}..{prob.y_mm[-1]:.4g} mm)")
+        want_lo, want_hi = _loaded_box(grid, p)
+        want_lo = np.where(edges[:2], lo - 0.5 * (hi - lo), want_lo)
+        want_hi = np.where(edges[2:], hi + 0.5 * (hi - lo), want_hi)
+        if not edges.any() and np.all(np.abs(want_lo - lo) <= step) and np.all(np.abs(want_hi - hi) <= step):
+            return grid, p, delta, u_l, f
+        lo, hi = want_lo, want_hi
+    raise ConvergenceError(f"coarse exact normal solver: the grid still moved after {opts.max_boxes} "
+                           "refits (contact at the grid border)")
+
+
+def solve_coarse_exact(prob: NormalProblem, layer: LayerPair | None = None,
+                       options: CoarseOptions = CoarseOptions()) -> NormalSolution:
+    """Solve the normal contact on the coarse grid (module docstring); the layers are not modified."""
+    factor = compliance_factor(prob.E_MPa, prob.poisson)
+    lay = _Layer(layer, prob)
+    stats = {"cg_iterations": 0, "layer_iterations": 0, "boxes": 0}
+    half = options.cells // 2
+    grid, p, _ = _located(prob, lay, options, factor, stats, half, 1.2 * hertz_like_guess(prob))
+    grid, p, delta, u_l, f = _fitted(prob, lay, options, factor, stats, options.cells, grid, p)
+    sol = _outputs(prob, lay, grid, p, delta, u_l, f)
+    if options.extrapolate:
+        coarse = _Grid.between(prob, np.array([grid.y[0], grid.x[0]]) - 0.5 * np.array([grid.dy, grid.dx]),
+                               np.array([grid.y[-1], grid.x[-1]]) + 0.5 * np.array([grid.dy, grid.dx]), half,
+                               grid.box_delta)
+        ph, dh, uh, fh = _solve_on(prob, coarse, lay, _resample(p, grid, coarse), options, factor, stats)
+        sol = sol[:1] + tuple(_richardson(a, b) for a, b in zip(_outputs(prob, lay, coarse, ph, dh, uh, fh)[1:],
+                                                                 sol[1:]))
+    return _solution(prob, layer, sol, stats, options)
+
+
+def _richardson(q_half, q_full):
+    if isinstance(q_full, float):
+        return q_full + (q_full - q_half) / 3.0
+    return q_full
+
+
+def _outputs(prob, lay: _Layer, grid: _Grid, p, delta, u_l, f):
+    """(grid, p_max, delta, area, length, width, strip data) of a grid solution."""
+    if not np.any(p > 0):
+        raise ConvergenceError("coarse exact normal solver: no contact (zero pressure everywhere)")
+    lay.check_coverage(p, grid.y)
+    power = 1 if lay.present else 2
+    line_max = p.max(axis=1)
+    on = np.flatnonzero(line_max > 0)
+    runs = np.split(on, np.flatnonzero(np.diff(on) > 1) + 1)
+    area = length = width = 0.0
+    strips = []
+    for run in runs:
+        ext = np.array([line_extent(p[k], grid.x, grid.dx, power) for k in run])
+        half = 0.5 * (ext[:, 1] - ext[:, 0])
+        y_lo, y_hi = line_extent(np.concatenate([[0.0], line_max[run], [0.0]]),
+                                 np.concatenate([[grid.y[run[0]] - grid.dy], grid.y[run], [grid.y[run[-1]] + grid.dy]]),
+                                 grid.dy, power)
+        area += line_area(2.0 * half, grid.y[run], y_lo, y_hi, grid.dy)
+        length = max(length, float(2.0 * half.max()))
+        width += float(y_hi - y_lo)
+        kr = int(run[np.argmax(line_max[run])])
+        ir = int(np.argmax(p[kr]))
+        strips.append((grid.y[run], line_max[run], half, p[run].sum(axis=1) * grid.dx, y_lo, y_hi,
+                       float(u_l[kr, ir]), float(delta - f[kr, ir])))
+    return grid, float(p.max()), float(delta), float(area), length, width, strips
+
+
+def _solution(prob: NormalProblem, layer, out, stats, options) -> NormalSolution:
+    grid, p_max, delta, area, length, width, runs = out
+    ys, h = prob.strip_y_mm, prob.grid_mm
+    p_peak = np.zeros(ys.size)
+    patches, regions = [], []
+    for y_lines, line_max, half, force, y_lo, y_hi, u_ref, approach in runs:
+        idx = np.flatnonzero((ys > y_lo) & (ys < y_hi))
+        if idx.size == 0:                                  # narrower than a strip: the strip nearest its peak
+            idx = np.array([int(np.argmin(np.abs(ys - y_lines[np.argmax(line_max)])))])
+        yy = np.concatenate([[y_lo], y_lines, [y_hi]])
+        at = (lambda v: np.interp(ys[idx], yy, np.concatenate([[0.0], v, [0.0]])))  # noqa: E731
+        peak, x_lead, w = at(line_max), np.maximum(at(half), 1e-9 * length), at(force)
+        if not np.any(w > 0):
+            peak, x_lead, w = line_max.max() + 0 * idx, half.max() + 0 * idx, force.max() + 0 * idx
+        run_force = float(force.sum() * grid.dy)
+        strip_force = w * h * run_force / float(w.sum() * h)     # the run's force shared in proportion to w
+        p_peak[idx] = peak
+        patches.append(Patch(h, ys[idx], x_lead, strip_force / (0.5 * np.pi * x_lead * h)))
+        ref = int(idx[np.argmax(peak)])
+        regions.append(RegionSolution(
+            strips=idx, reference=ref, x_lead_mm=x_lead, p0_MPa=float(line_max.max()), I1_mm3=float("nan"),
+            I2_mm2=float("nan"), u_layer_mm=u_ref, normal_force_N=run_force, layer_segments=0,
+            approach_mm=approach, interaction_mm=0.0))
+    main = max(regions, key=lambda r: r.p0_MPa)
+    iterations = {"cg_iterations": stats["cg_iterations"], "layer_iterations": stats["layer_iterations"],
+                  "boxes": stats["boxes"], "grid_cells": [int(grid.y.size), int(grid.x.size)],
+                  "cell_mm": [float(grid.dx), float(grid.dy)], "extrapolated": bool(options.extrapolate)}
+    n_total = float(sum(r.normal_force_N for r in regions))
+    return NormalSolution(
+        patches=patches, regions=regions, delta_mm=delta, delta0_mm=float(prob.alpha * delta), p_max_MPa=p_max,
+        length_mm=length, width_mm=width, area_mm2=area, u0_mm=float(main.u_layer_mm), strip_y_mm=ys,
+        p_peak_MPa=p_peak, iterations=iterations, residual_N=n_total - prob.normal_force_N,
+        elastic=layer_is_elastic(layer, ys, h, p_peak), normal_force_N=n_total, method="coarse_exact", field=None)
