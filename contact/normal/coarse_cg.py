@@ -1,7 +1,7 @@
 """Dense constrained conjugate gradients for the small grids of the coarse-grid normal solver (compiled kernel).
 
 Units: mm, MPa, N. The same Polonsky–Keer problem as :mod:`contact.normal.constrained_cg` (force prescribed):
-cell pressures p >= 0 of a grid of ny x nx cells flattened line by line, gap g = f + M p + c p + b - delta,
+cell pressures p >= 0 of a grid of ny lines (on a lattice, possibly with gaps) x nx cells flattened line by line, gap g = f + M p + c p + b - delta,
 p g = 0, sum p dA = N, where M is the matrix of the half-space's influence coefficients (both bodies), read from
 the table k[|dj|, |di|] of the cell offsets (it depends on them only), and c p + b the linearised layer of each
 cell. On the few hundred cells of :mod:`contact.normal.coarse_exact` a dense
@@ -23,12 +23,13 @@ FULL_EVERY = 25
 
 
 @kernel()
-def _add_column(k, nx, j, qj, out):
-    """out += M[:, j] qj: the displacement of pressure qj on cell j (k: offset table (ny, nx), mm/MPa)."""
-    ny = k.shape[0]
-    jr, jc = j // nx, j % nx
+def _add_column(k, rows, nx, j, qj, out):
+    """out += M[:, j] qj: the displacement of pressure qj on cell j (k: offset table (lattice rows, nx), mm/MPa;
+    rows: the lattice row of each line)."""
+    ny = rows.size
+    jr, jc = rows[j // nx], j % nx
     for ir in range(ny):
-        dr = ir - jr if ir >= jr else jr - ir
+        dr = rows[ir] - jr if rows[ir] >= jr else jr - rows[ir]
         base = ir * nx
         for ic in range(jc):
             out[base + ic] += k[dr, jc - ic] * qj
@@ -37,21 +38,22 @@ def _add_column(k, nx, j, qj, out):
 
 
 @kernel()
-def _product(k, nx, q, out):
+def _product(k, rows, nx, q, out):
     """out = M q over the cells where q != 0."""
     n = q.size
     for i in range(n):
         out[i] = 0.0
     for j in range(n):
         if q[j] != 0.0:
-            _add_column(k, nx, j, q[j], out)
+            _add_column(k, rows, nx, j, q[j], out)
 
 
 @kernel()
-def dense_cg(k, f, c, b, cell_area, p, force, tol, max_iter):
+def dense_cg(k, rows, f, c, b, cell_area, p, force, tol, max_iter):
     """Polonsky–Keer CG with the force prescribed on the flattened grid (module docstring).
 
-    k (ny, nx) influence coefficients of the cell offsets (|dj|, |di|) (mm/MPa); f, c, b (n = ny nx,) separation (mm), layer compliance (mm/MPa) and offset (mm);
+    k influence coefficients of the cell offsets (|dj|, |di|) (mm/MPa) on the lattice; rows (ny,) the lattice row
+    of each line; f, c, b (n = ny nx,) separation (mm), layer compliance (mm/MPa) and offset (mm);
     cell_area (mm^2); p (n,) starting pressure (MPa, positive somewhere; modified in place and returned);
     force (N); tol: relative change of the pressure sum that stops; max_iter. Returns (p, delta (mm), iterations,
     last relative change); the caller checks the change against ``tol`` (not converged when above it).
@@ -70,7 +72,7 @@ def dense_cg(k, f, c, b, cell_area, p, force, tol, max_iter):
     g = np.empty(n)
     t = np.zeros(n)
     p_old = np.empty(n)
-    _product(k, nx, p, u)
+    _product(k, rows, nx, p, u)
     g_old = 1.0
     conj = False
     change = np.inf
@@ -95,7 +97,7 @@ def dense_cg(k, f, c, b, cell_area, p, force, tol, max_iter):
         for i in range(n):
             t[i] = g[i] + ratio * t[i] if p[i] > 0.0 else 0.0
         g_old = g_norm
-        _product(k, nx, t, ut)
+        _product(k, rows, nx, t, ut)
         rsum = 0.0
         for i in range(n):
             if p[i] > 0.0:
@@ -124,7 +126,7 @@ def dense_cg(k, f, c, b, cell_area, p, force, tol, max_iter):
         if since_full >= FULL_EVERY:
             for i in range(n):
                 p[i] *= scale
-            _product(k, nx, p, u)
+            _product(k, rows, nx, p, u)
             since_full = 0
         else:
             for i in range(n):
@@ -132,7 +134,7 @@ def dense_cg(k, f, c, b, cell_area, p, force, tol, max_iter):
             for j in range(n):                  # cells whose pressure is not p_old - tau t (clipped, entered)
                 d = p[j] - (p_old[j] - tau * t[j])
                 if d != 0.0:
-                    _add_column(k, nx, j, d, u)
+                    _add_column(k, rows, nx, j, d, u)
             for i in range(n):
                 p[i] *= scale
                 u[i] *= scale
@@ -142,7 +144,7 @@ def dense_cg(k, f, c, b, cell_area, p, force, tol, max_iter):
         change /= force / cell_area
         if change < tol and ns > 0:
             break
-    _product(k, nx, p, u)
+    _product(k, rows, nx, p, u)
     ns = 0
     gsum = 0.0
     for i in range(n):

@@ -39,7 +39,7 @@ from contact.normal.boussinesq import corner_antiderivative
 from contact.normal.kik_piotrowski import hertz_like_guess
 from contact.normal.layer_at_strip import LayerAtReference, layer_points
 from contact.normal.patch import Patch
-from contact.normal.problem import NormalProblem
+from contact.normal.problem import NormalProblem, on_grid
 from contact.normal.solution import NormalSolution, RegionSolution
 from wrlayer.errors import ConvergenceError, InputError, require
 
@@ -48,6 +48,9 @@ __all__ = ["DEFAULT_CELLS", "CoarseOptions", "solve_coarse_exact"]
 #: Default lines and cells of the coarse grid (``method.coarse_cells``), from the time-error study of
 #: ``benchmarks/bench_fast_normal.py``.
 DEFAULT_CELLS = 16
+#: Default cells along x (rolling direction): the separation is x^2 / (2 R) along x on every line, so the pressure
+#: is nearly semi-elliptic along x and needs fewer cells than the profile-shaped y direction.
+DEFAULT_X_CELLS = 16
 CELLS_RANGE = (6, 128)
 #: Margin of the fitted grid around the loaded cells of the locating solve (relative to their extent).
 MARGIN = 0.12
@@ -63,6 +66,7 @@ class CoarseOptions:
     """
 
     cells: int = DEFAULT_CELLS
+    x_cells: int = DEFAULT_X_CELLS
     extrapolate: bool = False
     tol: float = 1e-6
     max_iter: int = 2000
@@ -72,15 +76,20 @@ class CoarseOptions:
 
     def __post_init__(self):
         lo, hi = CELLS_RANGE
-        require(isinstance(self.cells, (int, np.integer)) and lo <= self.cells <= hi and self.cells % 2 == 0,
-                "method.coarse_cells", f"must be an even integer in [{lo}, {hi}], got {self.cells!r}")
+        for name in ("cells", "x_cells"):
+            v = getattr(self, name)
+            require(isinstance(v, (int, np.integer)) and lo <= v <= hi and v % 2 == 0,
+                    f"method.coarse_{name}", f"must be an even integer in [{lo}, {hi}], got {v!r}")
 
 
 @dataclass
 class _Grid:
-    """The coarse grid: line centres y (ny,), cell centres x (nx,), spacings (mm)."""
+    """The coarse grid: lines y (ny,) on a lattice of spacing dy (``rows``: their lattice indices, increasing; gaps
+    between contact regions carry no lines), cell centres x (nx,) spacing dx (mm); ``clipped``: whether the first /
+    last line interval ends at the strip grid's end."""
 
     y: np.ndarray
+    rows: np.ndarray
     x: np.ndarray
     dy: float
     dx: float
@@ -88,26 +97,36 @@ class _Grid:
     clipped: tuple = (False, False)
 
     @classmethod
-    def over_box(cls, prob: NormalProblem, delta: float, n: int) -> "_Grid":
-        """n x n cells over {f < delta} (one strip more each side, within the table)."""
+    def over_box(cls, prob: NormalProblem, delta: float, shape: tuple) -> "_Grid":
+        """shape = (lines, cells) over {f < delta} (one strip more each side, within the table)."""
         f = prob.separation_on_grid_mm
         ys = prob.strip_y_mm
         on = np.flatnonzero(f < delta)
         y_lo, y_hi = ys[max(on[0] - 1, 0)], ys[min(on[-1] + 1, ys.size - 1)]   # f is linear between strips
         x_hi = math.sqrt(2.0 * prob.rolling_radius_mm * delta)
-        return cls.between(prob, np.array([y_lo, -x_hi]), np.array([y_hi, x_hi]), n, delta)
+        return cls.over(prob, [(y_lo, y_hi)], (-x_hi, x_hi), shape, delta)
 
     @classmethod
-    def between(cls, prob: NormalProblem, lo: np.ndarray, hi: np.ndarray, n: int, box_delta: float) -> "_Grid":
-        """n x n cells over [lo, hi] ((y, x), mm), y clipped to the strip grid (``clipped``: which y ends are)."""
+    def over(cls, prob: NormalProblem, spans: list, x_span: tuple, shape: tuple, box_delta: float) -> "_Grid":
+        """About shape[0] lines over the y intervals ``spans`` (sorted, disjoint; clipped to the strip grid) on one
+        lattice, shape[1] cells over ``x_span`` (mm)."""
+        n, nx = shape
         ys = prob.strip_y_mm
-        lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
-        clipped = (bool(lo[0] <= ys[0]), bool(hi[0] >= ys[-1]))
-        lo[0], hi[0] = max(lo[0], ys[0]), min(hi[0], ys[-1])
-        step = (hi - lo) / n
-        centres = np.arange(n) + 0.5
-        return cls(lo[0] + centres * step[0], lo[1] + centres * step[1], float(step[0]), float(step[1]),
+        clipped = (bool(spans[0][0] <= ys[0]), bool(spans[-1][1] >= ys[-1]))
+        spans = [(max(lo, ys[0]), min(hi, ys[-1])) for lo, hi in spans]
+        dy = sum(hi - lo for lo, hi in spans) / n
+        y0 = spans[0][0]
+        rows = np.unique(np.concatenate([np.arange(int(math.floor((lo - y0) / dy + 1e-9)),
+                                                   int(math.ceil((hi - y0) / dy - 1e-9))) for lo, hi in spans]))
+        dx = (x_span[1] - x_span[0]) / nx
+        return cls(y0 + (rows + 0.5) * dy, rows, x_span[0] + (np.arange(nx) + 0.5) * dx, float(dy), float(dx),
                    box_delta, clipped)
+
+    def spans(self) -> list[tuple[np.ndarray, float, float]]:
+        """(line indices, y_lo, y_hi) of each interval of consecutive lattice lines."""
+        cut = np.flatnonzero(np.diff(self.rows) > 1) + 1
+        return [(k, self.y[k[0]] - 0.5 * self.dy, self.y[k[-1]] + 0.5 * self.dy)
+                for k in np.split(np.arange(self.y.size), cut)]
 
 
 class _Layer:
@@ -192,9 +211,9 @@ class _Layer:
 
 
 def _influence_table(grid: _Grid, factor: float) -> np.ndarray:
-    """(ny, nx) displacement at the centre of a cell (mm/MPa) per unit pressure on the cell at the offset (dj, di)
-    >= 0 (Love's closed form, :mod:`contact.normal.halfspace`; symmetric in the signs of the offsets)."""
-    ny, nx = grid.y.size, grid.x.size
+    """(lattice rows spanned, nx) displacement at the centre of a cell (mm/MPa) per unit pressure on the cell at the
+    offset (dj, di) >= 0 (Love's closed form, :mod:`contact.normal.halfspace`; symmetric in the signs of the offsets)."""
+    ny, nx = int(grid.rows[-1] - grid.rows[0]) + 1, grid.x.size
     xe = (np.arange(nx + 1) - 0.5) * grid.dx
     ye = (np.arange(ny + 1) - 0.5) * grid.dy
     f = corner_antiderivative(xe[None, :], ye[:, None])
@@ -207,11 +226,20 @@ def _resample(p: np.ndarray, old: _Grid, new: _Grid) -> np.ndarray:
     return np.array([np.interp(new.y, old.y, col, left=0.0, right=0.0) for col in along_x.T]).T
 
 
+def _separation_at(prob: NormalProblem, y: np.ndarray) -> np.ndarray:
+    """f(y) at the lines (mm): the separation table interpolated as the problem does onto its strips (linear or
+    PCHIP; straight from the table, so that lines between strips see no kinks), plus the strips' offset (dents,
+    linear between strips), shifted as the strip grid (its minimum 0)."""
+    f = on_grid(prob.y_mm, prob.f_mm, y, prob.interpolation)
+    if prob.f_offset_mm is not None:
+        f = f + np.interp(y, prob.strip_y_mm, prob.f_offset_mm)
+    return f - prob.separation_unshifted_on_grid_mm.min()
+
+
 def _solve_on(prob: NormalProblem, grid: _Grid, layer: _Layer, p_start: np.ndarray, opts: CoarseOptions,
               factor: float, stats: dict):
     """(p (ny, nx), delta (mm), u_L (ny, nx), f (ny, nx)) on the grid."""
-    f = np.interp(grid.y, prob.strip_y_mm, prob.separation_on_grid_mm)[:, None] \
-        + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
+    f = _separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
     k = _influence_table(grid, factor)
     area = grid.dx * grid.dy
     p = np.array(p_start, dtype=float)
@@ -220,7 +248,7 @@ def _solve_on(prob: NormalProblem, grid: _Grid, layer: _Layer, p_start: np.ndarr
     N = prob.normal_force_N
     if not layer.present:
         zero = np.zeros(f.size)
-        p, delta, its, change = dense_cg(k, f.ravel(), zero, zero, area, p.ravel(), N, opts.tol, opts.max_iter)
+        p, delta, its, change = dense_cg(k, grid.rows, f.ravel(), zero, zero, area, p.ravel(), N, opts.tol, opts.max_iter)
         stats["cg_iterations"] += its
         if change >= opts.tol:
             raise ConvergenceError(f"coarse exact normal solver: CG did not converge in {opts.max_iter} iterations")
@@ -229,7 +257,7 @@ def _solve_on(prob: NormalProblem, grid: _Grid, layer: _Layer, p_start: np.ndarr
     for _ in range(opts.layer_max_iter):
         u_l, c = layer.linearise(p, curves)
         b = u_l - c * p
-        p, delta, its, change = dense_cg(k, f.ravel(), c.ravel(), b.ravel(), area, p.ravel(), N, opts.tol,
+        p, delta, its, change = dense_cg(k, grid.rows, f.ravel(), c.ravel(), b.ravel(), area, p.ravel(), N, opts.tol,
                                          opts.max_iter)
         stats["cg_iterations"] += its
         stats["layer_iterations"] += 1
@@ -243,13 +271,13 @@ def _solve_on(prob: NormalProblem, grid: _Grid, layer: _Layer, p_start: np.ndarr
                            f"{opts.layer_max_iter} iterations")
 
 
-def _located(prob, layer, opts, factor, stats, n, delta_box):
-    """Solve on the box of ``delta_box`` with n cells, rebuilt until the solved delta lies within it:
+def _located(prob, layer, opts, factor, stats, shape, delta_box):
+    """Solve on the box of ``delta_box`` with shape = (lines, cells), rebuilt until the solved delta lies within it:
     (grid, p, delta)."""
-    p, old = np.zeros((n, n)), None
+    p, old = None, None
     for _ in range(opts.max_boxes):
-        grid = _Grid.over_box(prob, delta_box, n)
-        start = _resample(p, old, grid) if old is not None else p
+        grid = _Grid.over_box(prob, delta_box, shape)
+        start = _resample(p, old, grid) if old is not None else np.zeros((grid.y.size, grid.x.size))
         p, delta, _, _ = _solve_on(prob, grid, layer, start, opts, factor, stats)
         stats["boxes"] += 1
         if delta <= delta_box:
@@ -260,57 +288,91 @@ def _located(prob, layer, opts, factor, stats, n, delta_box):
                            "rebuilds")
 
 
-def _loaded_box(grid: _Grid, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(lo, hi) ((y, x), mm) of the loaded cells of ``p`` plus :data:`MARGIN` of their extent each side."""
-    rows, cols = np.flatnonzero(p.max(axis=1) > 0), np.flatnonzero(p.max(axis=0) > 0)
-    lo = np.array([grid.y[rows[0]] - 0.5 * grid.dy, grid.x[cols[0]] - 0.5 * grid.dx])
-    hi = np.array([grid.y[rows[-1]] + 0.5 * grid.dy, grid.x[cols[-1]] + 0.5 * grid.dx])
-    size = hi - lo
-    return lo - MARGIN * size, hi + MARGIN * size
+def _loaded_spans(grid: _Grid, p: np.ndarray) -> tuple[list, tuple]:
+    """The y intervals of the runs of loaded lattice lines and the x interval of the loaded cells, each with
+    :data:`MARGIN` of its extent added each side (overlapping intervals merged): (y spans, x span) (mm)."""
+    on = np.flatnonzero(p.max(axis=1) > 0)
+    runs = np.split(on, np.flatnonzero(np.diff(grid.rows[on]) > 1) + 1)
+    spans = []
+    for run in runs:
+        lo, hi = grid.y[run[0]] - 0.5 * grid.dy, grid.y[run[-1]] + 0.5 * grid.dy
+        lo, hi = lo - MARGIN * (hi - lo), hi + MARGIN * (hi - lo)
+        if spans and lo <= spans[-1][1]:
+            spans[-1] = (spans[-1][0], hi)
+        else:
+            spans.append((lo, hi))
+    cols = np.flatnonzero(p.max(axis=0) > 0)
+    lo, hi = grid.x[cols[0]] - 0.5 * grid.dx, grid.x[cols[-1]] + 0.5 * grid.dx
+    return spans, (lo - MARGIN * (hi - lo), hi + MARGIN * (hi - lo))
 
 
-def _fitted(prob, layer, opts, factor, stats, n, grid, p):
-    """Solve on n x n cells over the loaded cells of ``p`` on ``grid`` plus :data:`MARGIN` (:func:`_loaded_box`),
-    refitted to the new solution's loaded cells until it moves by less than a cell; a side the pressure reaches is
-    moved out by half the box: (grid, p, delta, u_L, f)."""
-    lo, hi = _loaded_box(grid, p)
+def _fitted(prob, layer, opts, factor, stats, shape, grid, p):
+    """Solve with about shape[0] lines over the runs of loaded lines of ``p`` on ``grid`` and shape[1] cells over
+    its loaded cells, plus :data:`MARGIN` (:func:`_loaded_spans`), refitted to the new solution until no end moves by more
+    than a cell; an interval end (or x end) the pressure reaches is moved out by half the interval: (grid, p,
+    delta, u_L, f)."""
+    spans, x_span = _loaded_spans(grid, p)
     for _ in range(opts.max_boxes):
-        new = _Grid.between(prob, lo, hi, n, grid.box_delta)
+        new = _Grid.over(prob, spans, x_span, shape, grid.box_delta)
         p, delta, u_l, f = _solve_on(prob, new, layer, _resample(p, grid, new), opts, factor, stats)
         stats["boxes"] += 1
         grid = new
-        step = np.array([grid.dy, grid.dx])
-        edges = np.array([p[0].any(), p[:, 0].any(), p[-1].any(), p[:, -1].any()])
-        for side, row in ((0, 0), (1, 2)):
-            if grid.clipped[side] and edges[row]:
+        loaded = p.max(axis=1) > 0
+        for side, k in ((0, 0), (1, -1)):
+            if grid.clipped[side] and loaded[k]:
                 end = prob.strip_y_mm[-side]
                 raise InputError("separation.y_mm", f"the contact patch reaches the end of the separation table at "
                                  f"y = {end:.4g} mm (N = {prob.normal_force_N:g} N, coarse exact solver): extend "
                                  f"the table (it covers {prob.y_mm[0]:.4g}..{prob.y_mm[-1]:.4g} mm)")
-        want_lo, want_hi = _loaded_box(grid, p)
-        want_lo = np.where(edges[:2], lo - 0.5 * (hi - lo), want_lo)
-        want_hi = np.where(edges[2:], hi + 0.5 * (hi - lo), want_hi)
-        if not edges.any() and np.all(np.abs(want_lo - lo) <= step) and np.all(np.abs(want_hi - hi) <= step):
+        grown, moved = [], False
+        for lines, lo, hi in grid.spans():
+            size = hi - lo
+            a, b = lo - 0.5 * size if loaded[lines[0]] else lo, hi + 0.5 * size if loaded[lines[-1]] else hi
+            moved |= (a, b) != (lo, hi)
+            grown.append((a, b))
+        cols = p.max(axis=0) > 0
+        width = x_span[1] - x_span[0]
+        x_grown = (x_span[0] - 0.5 * width if cols[0] else x_span[0], x_span[1] + 0.5 * width if cols[-1] else x_span[1])
+        if moved or x_grown != x_span:
+            spans, x_span = _merged(grown), x_grown
+            continue
+        want, want_x = _loaded_spans(grid, p)
+        if len(want) == len(spans) and all(abs(a - c) <= grid.dy and abs(b - d) <= grid.dy
+                                           for (a, b), (c, d) in zip(want, spans)) \
+                and abs(want_x[0] - x_span[0]) <= grid.dx and abs(want_x[1] - x_span[1]) <= grid.dx:
             return grid, p, delta, u_l, f
-        lo, hi = want_lo, want_hi
+        spans, x_span = want, want_x
     raise ConvergenceError(f"coarse exact normal solver: the grid still moved after {opts.max_boxes} "
                            "refits (contact at the grid border)")
 
 
-def solve_coarse_exact(prob: NormalProblem, layer: LayerPair | None = None,
-                       options: CoarseOptions = CoarseOptions()) -> NormalSolution:
-    """Solve the normal contact on the coarse grid (module docstring); the layers are not modified."""
+def _merged(spans: list) -> list:
+    out = []
+    for lo, hi in sorted(spans):
+        if out and lo <= out[-1][1]:
+            out[-1] = (out[-1][0], max(hi, out[-1][1]))
+        else:
+            out.append((lo, hi))
+    return out
+
+
+def solve_coarse_exact(prob: NormalProblem, layer: LayerPair | None = None, options: CoarseOptions = CoarseOptions(),
+                       delta_guess_mm: float | None = None) -> NormalSolution:
+    """Solve the normal contact on the coarse grid (module docstring); the layers are not modified.
+    ``delta_guess_mm``: the approach of a nearby solve (mm; e.g. the previous step of the wheel-rail balance), the
+    first box instead of the Hertz-like estimate."""
     factor = compliance_factor(prob.E_MPa, prob.poisson)
     lay = _Layer(layer, prob)
     stats = {"cg_iterations": 0, "layer_iterations": 0, "boxes": 0}
-    half = options.cells // 2
-    grid, p, _ = _located(prob, lay, options, factor, stats, half, 1.2 * hertz_like_guess(prob))
-    grid, p, delta, u_l, f = _fitted(prob, lay, options, factor, stats, options.cells, grid, p)
+    shape = (options.cells, options.x_cells)
+    half = (options.cells // 2, max(options.x_cells // 2, 4))
+    guess = delta_guess_mm if delta_guess_mm is not None and delta_guess_mm > 0 else hertz_like_guess(prob)
+    grid, p, _ = _located(prob, lay, options, factor, stats, half, 1.2 * guess)
+    grid, p, delta, u_l, f = _fitted(prob, lay, options, factor, stats, shape, grid, p)
     sol = _outputs(prob, lay, grid, p, delta, u_l, f)
     if options.extrapolate:
-        coarse = _Grid.between(prob, np.array([grid.y[0], grid.x[0]]) - 0.5 * np.array([grid.dy, grid.dx]),
-                               np.array([grid.y[-1], grid.x[-1]]) + 0.5 * np.array([grid.dy, grid.dx]), half,
-                               grid.box_delta)
+        coarse = _Grid.over(prob, [(lo, hi) for _, lo, hi in grid.spans()],
+                            (grid.x[0] - 0.5 * grid.dx, grid.x[-1] + 0.5 * grid.dx), half, grid.box_delta)
         ph, dh, uh, fh = _solve_on(prob, coarse, lay, _resample(p, grid, coarse), options, factor, stats)
         sol = sol[:1] + tuple(_richardson(a, b) for a, b in zip(_outputs(prob, lay, coarse, ph, dh, uh, fh)[1:],
                                                                  sol[1:]))
@@ -323,6 +385,27 @@ def _richardson(q_half, q_full):
     return q_full
 
 
+def _ends(values: np.ndarray, coords: np.ndarray, step: float, power: int) -> tuple[float, float]:
+    """(low end, high end) of the positive run of ``values`` along ``coords`` (mm): at each end the parabola through
+    the outer three values^power (Hertz: p^2 is exactly quadratic; with a layer p is linear near the edge) meets
+    zero within 1.5 cells beyond the outer cell; else (fewer cells, no such root) the exact solver's rule
+    (:func:`contact.normal.exact.line_extent`) at that end."""
+    on = np.flatnonzero(values > 0)
+    fallback = line_extent(values, coords, step, power)
+    if on.size < 3:
+        return fallback
+    q = values ** power
+    out = []
+    for idx, sign, other in ((on[:3], -1.0, fallback[0]), (on[-1:-4:-1], 1.0, fallback[1])):
+        outer = coords[idx[0]]
+        t = (coords[idx] - outer) * sign / step                     # 0, -1, -2 (cells inward)
+        c2, c1, c0 = np.polyfit(t, q[idx], 2)
+        roots = np.roots([c2, c1, c0]) if abs(c2) > 0 else np.array([-c0 / c1])
+        ok = [r.real for r in roots if abs(r.imag) < 1e-12 and 0.0 <= r.real <= 1.5]
+        out.append(outer + sign * step * min(ok) if ok else other)
+    return out[0], out[1]
+
+
 def _outputs(prob, lay: _Layer, grid: _Grid, p, delta, u_l, f):
     """(grid, p_max, delta, area, length, width, strip data) of a grid solution."""
     if not np.any(p > 0):
@@ -331,13 +414,13 @@ def _outputs(prob, lay: _Layer, grid: _Grid, p, delta, u_l, f):
     power = 1 if lay.present else 2
     line_max = p.max(axis=1)
     on = np.flatnonzero(line_max > 0)
-    runs = np.split(on, np.flatnonzero(np.diff(on) > 1) + 1)
+    runs = np.split(on, np.flatnonzero(np.diff(grid.rows[on]) > 1) + 1)
     area = length = width = 0.0
     strips = []
     for run in runs:
-        ext = np.array([line_extent(p[k], grid.x, grid.dx, power) for k in run])
+        ext = np.array([_ends(p[k], grid.x, grid.dx, power) for k in run])
         half = 0.5 * (ext[:, 1] - ext[:, 0])
-        y_lo, y_hi = line_extent(np.concatenate([[0.0], line_max[run], [0.0]]),
+        y_lo, y_hi = _ends(np.concatenate([[0.0], line_max[run], [0.0]]),
                                  np.concatenate([[grid.y[run[0]] - grid.dy], grid.y[run], [grid.y[run[-1]] + grid.dy]]),
                                  grid.dy, power)
         area += line_area(2.0 * half, grid.y[run], y_lo, y_hi, grid.dy)

@@ -61,6 +61,8 @@ _NORMAL_METHOD_TEXT = {
     "kik_piotrowski": "Kik-Piotrowski virtual penetration with the Prandtl-body layer (paper eqs. 9-15)",
     "exact": "exact half-space (FFT boundary elements, Polonsky-Keer CG) with the Prandtl-body layer cell by cell "
              "(layer_mode {m.layer_mode}, exact_cells {cells})",
+    "coarse_exact": "exact half-space on a coarse grid fitted to the patch (Polonsky-Keer CG) with the Prandtl-body "
+                    "layer cell by cell (indentation)",
 }
 
 #: The result's ``method.tangential`` text per ``method.tangential`` key.
