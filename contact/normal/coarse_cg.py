@@ -3,7 +3,7 @@
 Units: mm, MPa, N. The same Polonsky–Keer problem as :mod:`contact.normal.constrained_cg` (force prescribed):
 cell pressures p >= 0 of a grid of ny lines (on a lattice, possibly with gaps) x nx cells flattened line by line, gap g = f + M p + c p + b - delta,
 p g = 0, sum p dA = N, where M is the matrix of the half-space's influence coefficients (both bodies), read from
-the table k[|dj|, |di|] of the cell offsets (it depends on them only), and c p + b the linearised layer of each
+the table k[|dj|, di] of the cell offsets (it depends on them only), and c p + b the linearised layer of each
 cell. On the few hundred cells of :mod:`contact.normal.coarse_exact` a dense
 product restricted to the loaded cells is cheaper than an FFT pair, and the whole iteration runs in one kernel
 (no per-step interpreter cost). The displacement M p is updated from the step (M t, plus the cells that were
@@ -24,17 +24,16 @@ FULL_EVERY = 25
 
 @kernel()
 def _add_column(k, rows, nx, j, qj, out):
-    """out += M[:, j] qj: the displacement of pressure qj on cell j (k: offset table (lattice rows, nx), mm/MPa;
-    rows: the lattice row of each line)."""
+    """out += M[:, j] qj: the displacement of pressure qj on cell j (k: offset table (lattice rows, 2 nx - 1) with
+    the x offset d at column nx - 1 + d, mm/MPa; rows: the lattice row of each line)."""
     ny = rows.size
     jr, jc = rows[j // nx], j % nx
+    shift = nx - 1 - jc
     for ir in range(ny):
         dr = rows[ir] - jr if rows[ir] >= jr else jr - rows[ir]
         base = ir * nx
-        for ic in range(jc):
-            out[base + ic] += k[dr, jc - ic] * qj
-        for ic in range(jc, nx):
-            out[base + ic] += k[dr, ic - jc] * qj
+        for ic in range(nx):
+            out[base + ic] += k[dr, shift + ic] * qj
 
 
 @kernel()
@@ -52,14 +51,14 @@ def _product(k, rows, nx, q, out):
 def dense_cg(k, rows, f, c, b, cell_area, p, force, tol, max_iter):
     """Polonsky–Keer CG with the force prescribed on the flattened grid (module docstring).
 
-    k influence coefficients of the cell offsets (|dj|, |di|) (mm/MPa) on the lattice; rows (ny,) the lattice row
+    k influence coefficients of the cell offsets (|dj|, di) (mm/MPa) on the lattice (:func:`_add_column`); rows (ny,) the lattice row
     of each line; f, c, b (n = ny nx,) separation (mm), layer compliance (mm/MPa) and offset (mm);
     cell_area (mm^2); p (n,) starting pressure (MPa, positive somewhere; modified in place and returned);
     force (N); tol: relative change of the pressure sum that stops; max_iter. Returns (p, delta (mm), iterations,
     last relative change); the caller checks the change against ``tol`` (not converged when above it).
     """
     n = f.size
-    nx = k.shape[1]
+    nx = (k.shape[1] + 1) // 2
     total = 0.0
     for i in range(n):
         if p[i] < 0.0:

@@ -1,26 +1,33 @@
-"""The exact half-space normal contact on a coarse grid: the fast normal solver (``method.normal = "coarse_exact"``).
+"""The exact half-space normal contact on a coarse grid fitted to the patch (``method.normal = "coarse_exact"``).
 
 Units: mm, N, MPa. The same problem as :mod:`contact.normal.exact` (Boussinesq half-space of both bodies, Love's
 influence coefficients, the Prandtl layer in series cell by cell in ``indentation`` mode, force prescribed), solved
-on a grid of ``cells`` x ``cells`` cells instead of the strip grid:
+on about ``cells`` lines (y) by ``x_cells`` cells (x) placed over the contact regions instead of the strip grid.
+Along x every line's separation is f(y) + x^2 / (2 R), so the pressure is nearly semi-elliptic there and needs
+fewer cells than the profile-shaped y direction (defaults 32 x 12, chosen on ``benchmarks/bench_fast_normal.py``).
 
-Box. Contact can only occur where the undeformed separation f(x, y) = f(y) + x^2 / (2 R) lies below the approach
-delta (the elastic and layer displacements are >= 0). The grid covers that region's bounding box, {f(y) < delta}
-in y (plus one strip each side) and |x| < sqrt(2 R delta), with ``cells`` lines and ``cells`` cells; its lines
-need not be strips (f between strips is interpolated linearly). delta starts from a Hertz-like estimate; after
-each solve the box is rebuilt from the solved delta (grown while the solved delta exceeds the box's), so that the
-final grid has about cells / sqrt(2) cells across a Hertzian patch along each axis, whatever its aspect ratio.
+Placing the grid. Contact can only occur where f(x, y) = f(y) + x^2 / (2 R) lies below the approach delta (the
+elastic and layer displacements are >= 0). A first solve on half the lines and cells covers that region's bounding
+box for a Hertz-like delta (or ``delta_guess_mm``), rebuilt until the solved delta lies within it. The grid is then
+fitted to the loaded cells plus :data:`MARGIN` of their extent: one line interval per run of loaded lines (one
+lattice of spacing dy, no lines in the gaps between separated regions, whose elastic interaction stays exact),
+moved out where the pressure reaches an end and refitted until no end moves by more than a cell. These solves
+stop at :data:`ROUGH_TOL`; the last one is solved again to ``tol``. Lines need not be strips: f is interpolated
+from the separation table as the problem does (no kinks between strips).
 
-Solve. Dense Polonsky–Keer CG in one compiled kernel (:mod:`contact.normal.coarse_cg`); with a layer, the outer
-iteration of the exact solver (each cell's loading curve linearised on its current segment, paper eq. 7, until the
-mismatch is below ``layer_rtol`` delta). The layer of a line is the element of the nearest strip.
+Solve. Polonsky–Keer CG with the influence matrix applied from its table of cell offsets, in one compiled kernel
+(:mod:`contact.normal.coarse_cg`); with a layer, the exact solver's outer iteration (each cell's loading curve
+linearised on its current segment, paper eq. 7, until the mismatch is below ``layer_rtol`` delta). The layer of a
+line is the element of the nearest strip.
 
-Outputs. As the exact solver (its refined line extents and area, :func:`contact.normal.exact.line_extent`); the
-lines' peak pressure, contact extent and force are interpolated linearly onto the problem's strips inside the
-refined y extent of each run of loaded lines (each strip a semi-ellipse carrying its share of the run's force, for
-the passes and FASTSIM). With ``extrapolate`` the scalar outputs (p_max, delta, area, length, width) are
-Richardson-extrapolated from the final box solved with cells/2 and cells (error ~ cell^2):
-Q = Q_n + (Q_n - Q_{n/2}) / 3. ConvergenceError when the CG, the layer iteration or the box does not converge;
+Outputs. Each loaded line's contact ends along x, and each run's ends along y (from the lines' peak pressure),
+where the parabola through the outer three cells' p^2 (p with a layer: linear near the edge) meets zero; the area
+from these extents as the exact solver's (:func:`contact.normal.exact.line_area`). The lines' peak pressure,
+half-length and force per width are interpolated linearly onto the problem's strips inside each run's y extent
+(each strip a semi-ellipse carrying its share of the run's force, for the passes and FASTSIM; ``field`` is None).
+With ``extrapolate`` the scalar outputs (p_max, delta, area, length, width) are Richardson-extrapolated from the
+final grid solved with half the lines and cells (Q = Q_n + (Q_n - Q_{n/2}) / 3; measured worse on the benchmark
+set, not the default). ConvergenceError when the CG, the layer iteration or the grid placement does not converge;
 InputError when the patch reaches the end of the separation table or a layer does not cover it.
 """
 
@@ -39,7 +46,7 @@ from contact.normal.boussinesq import corner_antiderivative
 from contact.normal.kik_piotrowski import hertz_like_guess
 from contact.normal.layer_at_strip import LayerAtReference, layer_points
 from contact.normal.patch import Patch
-from contact.normal.problem import NormalProblem, on_grid
+from contact.normal.problem import NormalProblem
 from contact.normal.solution import NormalSolution, RegionSolution
 from wrlayer.errors import ConvergenceError, InputError, require
 
@@ -47,11 +54,13 @@ __all__ = ["DEFAULT_CELLS", "CoarseOptions", "solve_coarse_exact"]
 
 #: Default lines and cells of the coarse grid (``method.coarse_cells``), from the time-error study of
 #: ``benchmarks/bench_fast_normal.py``.
-DEFAULT_CELLS = 16
+DEFAULT_CELLS = 32
 #: Default cells along x (rolling direction): the separation is x^2 / (2 R) along x on every line, so the pressure
 #: is nearly semi-elliptic along x and needs fewer cells than the profile-shaped y direction.
-DEFAULT_X_CELLS = 16
+DEFAULT_X_CELLS = 12
 CELLS_RANGE = (6, 128)
+#: CG and layer tolerance of the solves that only place the grid (the last solve uses ``tol``, ``layer_rtol``).
+ROUGH_TOL = 1e-3
 #: Margin of the fitted grid around the loaded cells of the locating solve (relative to their extent).
 MARGIN = 0.12
 
@@ -68,9 +77,9 @@ class CoarseOptions:
     cells: int = DEFAULT_CELLS
     x_cells: int = DEFAULT_X_CELLS
     extrapolate: bool = False
-    tol: float = 1e-6
+    tol: float = 1e-5
     max_iter: int = 2000
-    layer_rtol: float = 1e-6
+    layer_rtol: float = 1e-5
     layer_max_iter: int = 60
     max_boxes: int = 10
 
@@ -211,13 +220,14 @@ class _Layer:
 
 
 def _influence_table(grid: _Grid, factor: float) -> np.ndarray:
-    """(lattice rows spanned, nx) displacement at the centre of a cell (mm/MPa) per unit pressure on the cell at the
-    offset (dj, di) >= 0 (Love's closed form, :mod:`contact.normal.halfspace`; symmetric in the signs of the offsets)."""
+    """(lattice rows spanned, 2 nx - 1) displacement at the centre of a cell (mm/MPa) per unit pressure on the cell
+    at the offset (dj >= 0, di; column nx - 1 + di) (Love's closed form, :mod:`contact.normal.halfspace`; symmetric in the signs of the offsets)."""
     ny, nx = int(grid.rows[-1] - grid.rows[0]) + 1, grid.x.size
     xe = (np.arange(nx + 1) - 0.5) * grid.dx
     ye = (np.arange(ny + 1) - 0.5) * grid.dy
     f = corner_antiderivative(xe[None, :], ye[:, None])
-    return factor * (f[1:, 1:] - f[:-1, 1:] - f[1:, :-1] + f[:-1, :-1])
+    k = factor * (f[1:, 1:] - f[:-1, 1:] - f[1:, :-1] + f[:-1, :-1])
+    return np.ascontiguousarray(np.concatenate([k[:, :0:-1], k], axis=1))     # x offsets -(nx-1)..(nx-1)
 
 
 def _resample(p: np.ndarray, old: _Grid, new: _Grid) -> np.ndarray:
@@ -229,15 +239,25 @@ def _resample(p: np.ndarray, old: _Grid, new: _Grid) -> np.ndarray:
 def _separation_at(prob: NormalProblem, y: np.ndarray) -> np.ndarray:
     """f(y) at the lines (mm): the separation table interpolated as the problem does onto its strips (linear or
     PCHIP; straight from the table, so that lines between strips see no kinks), plus the strips' offset (dents,
-    linear between strips), shifted as the strip grid (its minimum 0)."""
-    f = on_grid(prob.y_mm, prob.f_mm, y, prob.interpolation)
+    linear between strips), shifted as the strip grid (its minimum 0). The PCHIP interpolant of the last problem
+    is kept (a solve evaluates it on every grid)."""
+    if prob.interpolation == "linear":
+        f = np.interp(y, prob.y_mm, prob.f_mm)
+    else:
+        if _LAST_PCHIP[0] is not prob:
+            from scipy.interpolate import PchipInterpolator   # here: slow to import, only "pchip" needs it
+            _LAST_PCHIP[:] = [prob, PchipInterpolator(prob.y_mm, prob.f_mm)]
+        f = _LAST_PCHIP[1](y)
     if prob.f_offset_mm is not None:
         f = f + np.interp(y, prob.strip_y_mm, prob.f_offset_mm)
     return f - prob.separation_unshifted_on_grid_mm.min()
 
 
+_LAST_PCHIP: list = [None, None]
+
+
 def _solve_on(prob: NormalProblem, grid: _Grid, layer: _Layer, p_start: np.ndarray, opts: CoarseOptions,
-              factor: float, stats: dict):
+              factor: float, stats: dict, rough: bool = False):
     """(p (ny, nx), delta (mm), u_L (ny, nx), f (ny, nx)) on the grid."""
     f = _separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
     k = _influence_table(grid, factor)
@@ -246,26 +266,28 @@ def _solve_on(prob: NormalProblem, grid: _Grid, layer: _Layer, p_start: np.ndarr
     if not np.any(p > 0):
         p = np.where(f <= f.min() + 1e-12, 1.0, 0.0)
     N = prob.normal_force_N
+    tol = ROUGH_TOL if rough else opts.tol
+    layer_rtol = ROUGH_TOL if rough else opts.layer_rtol
     if not layer.present:
         zero = np.zeros(f.size)
-        p, delta, its, change = dense_cg(k, grid.rows, f.ravel(), zero, zero, area, p.ravel(), N, opts.tol, opts.max_iter)
+        p, delta, its, change = dense_cg(k, grid.rows, f.ravel(), zero, zero, area, p.ravel(), N, tol, opts.max_iter)
         stats["cg_iterations"] += its
-        if change >= opts.tol:
+        if change >= tol:
             raise ConvergenceError(f"coarse exact normal solver: CG did not converge in {opts.max_iter} iterations")
         return p.reshape(f.shape), delta, np.zeros_like(f), f
     curves = layer.on_lines(grid.y)
     for _ in range(opts.layer_max_iter):
         u_l, c = layer.linearise(p, curves)
         b = u_l - c * p
-        p, delta, its, change = dense_cg(k, grid.rows, f.ravel(), c.ravel(), b.ravel(), area, p.ravel(), N, opts.tol,
+        p, delta, its, change = dense_cg(k, grid.rows, f.ravel(), c.ravel(), b.ravel(), area, p.ravel(), N, tol,
                                          opts.max_iter)
         stats["cg_iterations"] += its
         stats["layer_iterations"] += 1
-        if change >= opts.tol:
+        if change >= tol:
             raise ConvergenceError(f"coarse exact normal solver: CG did not converge in {opts.max_iter} iterations")
         p = p.reshape(f.shape)
         u_new, _ = layer.linearise(p, curves)
-        if float(np.abs(u_new - (b + c * p)).max()) <= opts.layer_rtol * max(delta, 1e-12):
+        if float(np.abs(u_new - (b + c * p)).max()) <= layer_rtol * max(delta, 1e-12):
             return p, delta, u_new, f
     raise ConvergenceError(f"coarse exact normal solver: the layer iteration did not converge in "
                            f"{opts.layer_max_iter} iterations")
@@ -278,7 +300,7 @@ def _located(prob, layer, opts, factor, stats, shape, delta_box):
     for _ in range(opts.max_boxes):
         grid = _Grid.over_box(prob, delta_box, shape)
         start = _resample(p, old, grid) if old is not None else np.zeros((grid.y.size, grid.x.size))
-        p, delta, _, _ = _solve_on(prob, grid, layer, start, opts, factor, stats)
+        p, delta, _, _ = _solve_on(prob, grid, layer, start, opts, factor, stats, rough=True)
         stats["boxes"] += 1
         if delta <= delta_box:
             return grid, p, delta
@@ -314,7 +336,7 @@ def _fitted(prob, layer, opts, factor, stats, shape, grid, p):
     spans, x_span = _loaded_spans(grid, p)
     for _ in range(opts.max_boxes):
         new = _Grid.over(prob, spans, x_span, shape, grid.box_delta)
-        p, delta, u_l, f = _solve_on(prob, new, layer, _resample(p, grid, new), opts, factor, stats)
+        p, delta, u_l, f = _solve_on(prob, new, layer, _resample(p, grid, new), opts, factor, stats, rough=True)
         stats["boxes"] += 1
         grid = new
         loaded = p.max(axis=1) > 0
@@ -340,6 +362,7 @@ def _fitted(prob, layer, opts, factor, stats, shape, grid, p):
         if len(want) == len(spans) and all(abs(a - c) <= grid.dy and abs(b - d) <= grid.dy
                                            for (a, b), (c, d) in zip(want, spans)) \
                 and abs(want_x[0] - x_span[0]) <= grid.dx and abs(want_x[1] - x_span[1]) <= grid.dx:
+            p, delta, u_l, f = _solve_on(prob, grid, layer, p, opts, factor, stats)      # to the full tolerance
             return grid, p, delta, u_l, f
         spans, x_span = want, want_x
     raise ConvergenceError(f"coarse exact normal solver: the grid still moved after {opts.max_boxes} "
@@ -385,25 +408,39 @@ def _richardson(q_half, q_full):
     return q_full
 
 
-def _ends(values: np.ndarray, coords: np.ndarray, step: float, power: int) -> tuple[float, float]:
-    """(low end, high end) of the positive run of ``values`` along ``coords`` (mm): at each end the parabola through
-    the outer three values^power (Hertz: p^2 is exactly quadratic; with a layer p is linear near the edge) meets
-    zero within 1.5 cells beyond the outer cell; else (fewer cells, no such root) the exact solver's rule
-    (:func:`contact.normal.exact.line_extent`) at that end."""
-    on = np.flatnonzero(values > 0)
-    fallback = line_extent(values, coords, step, power)
-    if on.size < 3:
-        return fallback
+def _ends(values: np.ndarray, coords: np.ndarray, step: float, power: int) -> tuple[np.ndarray, np.ndarray]:
+    """(low ends, high ends) (mm) of the positive run of each row of ``values`` (rows, cells at ``coords``): at each
+    end the parabola through the outer three values^power (Hertz: p^2 is exactly quadratic; with a layer p is
+    linear near the edge) meets zero within 1.5 cells beyond the outer cell; else (fewer cells, no such root) the
+    exact solver's rule (:func:`contact.normal.exact.line_extent`) at that end."""
+    rows = np.arange(values.shape[0])
+    on = values > 0
+    first = np.argmax(on, axis=1)
+    last = values.shape[1] - 1 - np.argmax(on[:, ::-1], axis=1)
     q = values ** power
     out = []
-    for idx, sign, other in ((on[:3], -1.0, fallback[0]), (on[-1:-4:-1], 1.0, fallback[1])):
-        outer = coords[idx[0]]
-        t = (coords[idx] - outer) * sign / step                     # 0, -1, -2 (cells inward)
-        c2, c1, c0 = np.polyfit(t, q[idx], 2)
-        roots = np.roots([c2, c1, c0]) if abs(c2) > 0 else np.array([-c0 / c1])
-        ok = [r.real for r in roots if abs(r.imag) < 1e-12 and 0.0 <= r.real <= 1.5]
-        out.append(outer + sign * step * min(ok) if ok else other)
-    return out[0], out[1]
+    for outer, sign in ((first, -1.0), (last, 1.0)):
+        inward = np.clip(outer - int(sign) * np.arange(3)[:, None], 0, values.shape[1] - 1)
+        q0, q1, q2 = q[rows, inward[0]], q[rows, inward[1]], q[rows, inward[2]]
+        c = 0.5 * (q0 - 2.0 * q1 + q2)            # q(t) = q0 + b t + c t^2 through t = 0, -1, -2 (t outward)
+        b = q0 - q1 + c
+        disc = b * b - 4.0 * c * q0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sq = np.sqrt(np.maximum(disc, 0.0))
+            roots = np.stack([(-b - sq) / (2 * c), (-b + sq) / (2 * c), -q0 / b])
+        roots[:2, (c == 0) | (disc < 0)] = np.nan
+        roots[2, c != 0] = np.nan
+        roots[(roots < 0) | (roots > 1.5) | ~np.isfinite(roots)] = np.nan
+        t = np.nanmin(np.where(np.isnan(roots), np.inf, roots), axis=0)
+        end = coords[outer] + sign * step * t
+        out.append(end)
+    lo, hi = out
+    need = ~np.isfinite(lo) | ~np.isfinite(hi) | (last - first < 2)
+    for k in np.flatnonzero(need):
+        flo, fhi = line_extent(values[k], coords, step, power)
+        lo[k] = flo if not np.isfinite(lo[k]) or last[k] - first[k] < 2 else lo[k]
+        hi[k] = fhi if not np.isfinite(hi[k]) or last[k] - first[k] < 2 else hi[k]
+    return lo, hi
 
 
 def _outputs(prob, lay: _Layer, grid: _Grid, p, delta, u_l, f):
@@ -418,11 +455,12 @@ def _outputs(prob, lay: _Layer, grid: _Grid, p, delta, u_l, f):
     area = length = width = 0.0
     strips = []
     for run in runs:
-        ext = np.array([_ends(p[k], grid.x, grid.dx, power) for k in run])
-        half = 0.5 * (ext[:, 1] - ext[:, 0])
-        y_lo, y_hi = _ends(np.concatenate([[0.0], line_max[run], [0.0]]),
-                                 np.concatenate([[grid.y[run[0]] - grid.dy], grid.y[run], [grid.y[run[-1]] + grid.dy]]),
-                                 grid.dy, power)
+        x_lo, x_hi = _ends(p[run], grid.x, grid.dx, power)
+        half = 0.5 * (x_hi - x_lo)
+        y_ends = _ends(np.concatenate([[0.0], line_max[run], [0.0]])[None, :],
+                       np.concatenate([[grid.y[run[0]] - grid.dy], grid.y[run], [grid.y[run[-1]] + grid.dy]]),
+                       grid.dy, power)
+        y_lo, y_hi = float(y_ends[0][0]), float(y_ends[1][0])
         area += line_area(2.0 * half, grid.y[run], y_lo, y_hi, grid.dy)
         length = max(length, float(2.0 * half.max()))
         width += float(y_hi - y_lo)
