@@ -30,6 +30,8 @@ from contact.normal.coarse_exact import CoarseOptions, solve_coarse_exact
 from contact.normal.exact import ExactOptions, solve_exact
 from contact.normal.kik_piotrowski import solve_normal
 from contact.scenes.paper_example import paper_characteristic
+from contact.tangential.fastsim import Creepage
+from contact.tangential.method import solve_for_normal_solution
 
 COMMAND = "python -m benchmarks --only fast_normal --out out/bench"
 #: Strips across the narrowest patch of the reference solve (at least).
@@ -48,6 +50,20 @@ METHODS = (
 )
 QUICK_METHODS = ("kik_piotrowski", "exact (default, 48 cells)", "coarse_exact 32 x 12")
 ERRORS = ("p_max", "area", "delta", "centre")
+#: Tangential check: creepages (vx, vy, phi 1/mm) and friction of every patch (no layer).
+CREEPAGE, FRICTION = Creepage(0.001, 0.001, 0.0005), 0.3
+#: (row name, normal solve(problem), tangential method) of the tangential check; the reference is exact/exact.
+TANGENTIAL = (
+    ("kik_piotrowski + fastsim", lambda prob: solve_normal(prob), "fastsim"),
+    ("exact + fastsim", lambda prob: solve_exact(prob), "fastsim"),
+    ("exact + fastrip", lambda prob: solve_exact(prob), "fastrip"),
+    ("coarse_exact + fastsim", lambda prob: solve_coarse_exact(prob), "fastsim"),
+    ("coarse_exact + fastrip", lambda prob: solve_coarse_exact(prob), "fastrip"),
+    ("coarse_exact + exact", lambda prob: solve_coarse_exact(prob), "exact"),
+)
+TANGENTIAL_ERRORS = ("Fx", "Fy", "Mz")
+ERROR_TITLES = {"p_max": "p_max [%]", "area": "area [%]", "delta": "delta [%]", "centre": "centre [% width]",
+                "Fx": "F_x [% mu N]", "Fy": "F_y [% mu N]", "Mz": "M_z [% mu N a]"}
 
 
 def reference(prob, with_layer: bool):
@@ -111,10 +127,39 @@ def measure(methods=METHODS, repeat: int = 3) -> list[dict]:
     return rows
 
 
-def table(rows: list[dict]) -> str:
+def _forces(sol, prob, method: str) -> np.ndarray:
+    """(Fx N, Fy N, Mz N mm) summed over the patches of ``sol`` (about the strip origin)."""
+    G = prob.E_MPa / (2.0 * (1.0 + prob.poisson))
+    res = solve_for_normal_solution(sol, CREEPAGE, FRICTION, G, prob.poisson, method)
+    return np.array([sum(r.Fx_N for r in res), sum(r.Fy_N for r in res), sum(r.Mz_Nmm for r in res)])
+
+
+def measure_tangential(methods=TANGENTIAL, repeat: int = 3) -> list[dict]:
+    """One record per (patch, method) without layer: Fx, Fy error / (mu N), Mz error / (mu N a_eq) (a_eq =
+    sqrt(area / pi) of the exact patch), against the exact normal + exact tangential solution; time (ms) of the
+    normal and tangential solve together."""
+    rows = []
+    for bp in patch_set():
+        prob = bp.problem
+        ref_n = solve_exact(prob)
+        ref = _forces(ref_n, prob, "exact")
+        scale = FRICTION * prob.normal_force_N * np.array([1.0, 1.0, np.sqrt(ref_n.area_mm2 / np.pi)])
+        for name, normal, method in methods:
+            rec = {"kind": bp.kind, "patch": bp.name, "layer": False, "method": name}
+            try:
+                got = _forces(normal(prob), prob, method)
+                rec.update(dict(zip(TANGENTIAL_ERRORS, (100.0 * (got - ref) / scale).tolist())),
+                           ms=cpu_ms(lambda: _forces(normal(prob), prob, method), repeat))
+            except Exception as err:  # a failed solve is a row of the table, not the end of the benchmark
+                rec["failed"] = f"{type(err).__name__}: {err}"
+            rows.append(rec)
+    return rows
+
+
+def table(rows: list[dict], errors=ERRORS) -> str:
     """Markdown: one row per method, class and layer; worst |error| of the class (%), median time (ms)."""
-    head = ["method", "patch class", "layer", "patches", "p_max [%]", "area [%]", "delta [%]", "centre [% width]",
-            "median CPU [ms]", "max CPU [ms]"]
+    head = ["method", "patch class", "layer", "patches", *(ERROR_TITLES[k] for k in errors), "median CPU [ms]",
+            "max CPU [ms]"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     names = list(dict.fromkeys(r["method"] for r in rows))
     for name in names:
@@ -125,7 +170,7 @@ def table(rows: list[dict]) -> str:
                     continue
                 ok = [r for r in sel if "failed" not in r]
                 cells = [name, kind, "yes" if with_layer else "no", f"{len(ok)}/{len(sel)}"]
-                for key in ERRORS:
+                for key in errors:
                     v = [r[key] for r in ok]
                     cells.append(f"{max(v, key=abs):+.2f}" if v else "—")
                 t = [r["ms"] for r in ok]
@@ -134,14 +179,14 @@ def table(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
-def summary(rows: list[dict]) -> str:
+def summary(rows: list[dict], errors=ERRORS) -> str:
     """Markdown: per method, worst |error| over the whole set and the median / max time."""
-    lines = ["| method | solves ok | worst p_max [%] | worst area [%] | worst delta [%] | worst centre [% width] | "
-             "median CPU [ms] | max CPU [ms] |", "|---|---|---|---|---|---|---|---|"]
+    lines = ["| method | solves ok | " + " | ".join(f"worst {ERROR_TITLES[k]}" for k in errors)
+             + " | median CPU [ms] | max CPU [ms] |", "|---|---|" + "---|" * len(errors) + "---|---|"]
     for name in dict.fromkeys(r["method"] for r in rows):
         sel = [r for r in rows if r["method"] == name]
         ok = [r for r in sel if "failed" not in r]
-        worst = [f"{max((abs(r[k]) for r in ok), default=float('nan')):.2f}" for k in ERRORS]
+        worst = [f"{max((abs(r[k]) for r in ok), default=float('nan')):.2f}" for k in errors]
         t = [r["ms"] for r in ok]
         lines.append(f"| {name} | {len(ok)}/{len(sel)} | " + " | ".join(worst)
                      + f" | {np.median(t):.2f} | {max(t):.2f} |")
@@ -152,11 +197,17 @@ def run(mode: str, out: pathlib.Path) -> dict:
     methods = METHODS if mode == "full" else tuple(m for m in METHODS if m[0] in QUICK_METHODS)
     load0 = os.getloadavg()[0]
     rows = measure(methods, repeat=5 if mode == "full" else 3)
+    trows = measure_tangential(repeat=5 if mode == "full" else 3)
     load1 = os.getloadavg()[0]
-    failed = [f"{r['method']} on {r['kind']} {r['patch']} (layer {r['layer']}): {r['failed']}" for r in rows
+    failed = [f"{r['method']} on {r['kind']} {r['patch']} (layer {r['layer']}): {r['failed']}" for r in rows + trows
               if "failed" in r]
-    md = (f"Reference: the exact solver converged on each patch (96 cells, >= {REFERENCE_STRIPS} strips across). Load average {load0:.1f} -> {load1:.1f} (2 cores shared). "
+    md = (f"Reference: the exact solver converged on each patch (96 cells, >= {REFERENCE_STRIPS} strips across). "
+          f"Load average {load0:.1f} -> {load1:.1f} (2 cores shared). "
           f"Regenerate: `{COMMAND}` (`--full` for every method).\n\n" + summary(rows) + "\n\n" + table(rows) + "\n"
+          + f"\nTangential (no layer; vx = {CREEPAGE.vx:g}, vy = {CREEPAGE.vy:g}, phi = {CREEPAGE.phi_per_mm:g} 1/mm, "
+          f"mu = {FRICTION:g}) against the exact normal + exact tangential solution (defaults); F_x, F_y error / "
+          "(mu N), M_z error / (mu N a), a = sqrt(area / pi); time: normal + tangential solve:\n\n"
+          + summary(trows, TANGENTIAL_ERRORS) + "\n\n" + table(trows, TANGENTIAL_ERRORS) + "\n"
           + ("\nFailed solves:\n\n" + "\n".join(f"- {f}" for f in failed) + "\n" if failed else ""))
     return {"title": "Fast normal methods: time against error on the 30-patch set", "markdown": md,
-            "figures": [], "data": {"rows": rows, "load": [load0, load1], "command": COMMAND}}
+            "figures": [], "data": {"rows": rows, "tangential": trows, "load": [load0, load1], "command": COMMAND}}

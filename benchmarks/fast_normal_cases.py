@@ -70,7 +70,8 @@ def synthetic_patches() -> list[BenchPatch]:
         out.append(BenchPatch("two close patches", f"{2 * d:g} mm apart, +{lift * 1e3:g} um",
                               _problem(*_table(14.0, f), 2.0e4)))
     for n in (5e3, 2e4, 8e4):
-        out.append(BenchPatch("quartic", f"{n / 1e3:g} kN", _problem(*_table(12.0, lambda y: y ** 4 / (4 * 6.0 ** 3)), n)))
+        quartic = _table(12.0, lambda y: y ** 4 / (4 * 6.0 ** 3))
+        out.append(BenchPatch("quartic", f"{n / 1e3:g} kN", _problem(*quartic, n)))
     for w, r in ((1.5, 40.0), (3.0, 80.0), (2.0, 15.0)):
         f = (lambda y, w=w, r=r: np.maximum(np.abs(y) - w, 0.0) ** 2 / (2 * r))
         out.append(BenchPatch("flat-topped", f"w {w:g} mm, R {r:g} mm", _problem(*_table(12.0, f), 2.0e4)))

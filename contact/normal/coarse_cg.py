@@ -1,13 +1,14 @@
 """Dense constrained conjugate gradients for the small grids of the coarse-grid normal solver (compiled kernel).
 
 Units: mm, MPa, N. The same Polonsky–Keer problem as :mod:`contact.normal.constrained_cg` (force prescribed):
-cell pressures p >= 0 of a grid of ny lines (on a lattice, possibly with gaps) x nx cells flattened line by line, gap g = f + M p + c p + b - delta,
-p g = 0, sum p dA = N, where M is the matrix of the half-space's influence coefficients (both bodies), read from
-the table k[|dj|, di] of the cell offsets (it depends on them only), and c p + b the linearised layer of each
-cell. On the few hundred cells of :mod:`contact.normal.coarse_exact` a dense
-product restricted to the loaded cells is cheaper than an FFT pair, and the whole iteration runs in one kernel
-(no per-step interpreter cost). The displacement M p is updated from the step (M t, plus the cells that were
-clipped or entered the contact set) and recomputed in full every :data:`FULL_EVERY` steps and at the end.
+cell pressures p >= 0 of a grid of ny lines (on a lattice, possibly with gaps) x nx cells flattened line by
+line, gap g = f + M p + c p + b - delta, p g = 0, sum p dA = N, where M is the matrix of the half-space's
+influence coefficients (both bodies), read from the table k[|dj|, di] of the cell offsets (it depends on them
+only), and c p + b the linearised layer of each cell. On the few hundred cells of
+:mod:`contact.normal.coarse_exact` the product restricted to the loaded cells costs less than an FFT pair, and the
+whole iteration runs in one kernel (no per-step interpreter cost). The displacement M p is updated from the step
+(M t, plus the cells that were clipped or entered the contact set) and recomputed in full every
+:data:`FULL_EVERY` steps and at the end.
 """
 
 from __future__ import annotations
@@ -51,9 +52,9 @@ def _product(k, rows, nx, q, out):
 def dense_cg(k, rows, f, c, b, cell_area, p, force, tol, max_iter):
     """Polonsky–Keer CG with the force prescribed on the flattened grid (module docstring).
 
-    k influence coefficients of the cell offsets (|dj|, di) (mm/MPa) on the lattice (:func:`_add_column`); rows (ny,) the lattice row
-    of each line; f, c, b (n = ny nx,) separation (mm), layer compliance (mm/MPa) and offset (mm);
-    cell_area (mm^2); p (n,) starting pressure (MPa, positive somewhere; modified in place and returned);
+    k influence coefficients of the cell offsets (|dj|, di) (mm/MPa) on the lattice (:func:`_add_column`);
+    rows (ny,) the lattice row of each line; f, c, b (n = ny nx,) separation (mm), layer compliance (mm/MPa) and
+    offset (mm); cell_area (mm^2); p (n,) starting pressure (MPa, positive somewhere; modified in place and returned);
     force (N); tol: relative change of the pressure sum that stops; max_iter. Returns (p, delta (mm), iterations,
     last relative change); the caller checks the change against ``tol`` (not converged when above it).
     """

@@ -221,7 +221,8 @@ class _Layer:
 
 def _influence_table(grid: _Grid, factor: float) -> np.ndarray:
     """(lattice rows spanned, 2 nx - 1) displacement at the centre of a cell (mm/MPa) per unit pressure on the cell
-    at the offset (dj >= 0, di; column nx - 1 + di) (Love's closed form, :mod:`contact.normal.halfspace`; symmetric in the signs of the offsets)."""
+    at the offset (dj >= 0, di; column nx - 1 + di) (Love's closed form, :mod:`contact.normal.halfspace`;
+    symmetric in the sign of dj)."""
     ny, nx = int(grid.rows[-1] - grid.rows[0]) + 1, grid.x.size
     xe = (np.arange(nx + 1) - 0.5) * grid.dx
     ye = (np.arange(ny + 1) - 0.5) * grid.dy
@@ -330,9 +331,9 @@ def _loaded_spans(grid: _Grid, p: np.ndarray) -> tuple[list, tuple]:
 
 def _fitted(prob, layer, opts, factor, stats, shape, grid, p):
     """Solve with about shape[0] lines over the runs of loaded lines of ``p`` on ``grid`` and shape[1] cells over
-    its loaded cells, plus :data:`MARGIN` (:func:`_loaded_spans`), refitted to the new solution until no end moves by more
-    than a cell; an interval end (or x end) the pressure reaches is moved out by half the interval: (grid, p,
-    delta, u_L, f)."""
+    its loaded cells, plus :data:`MARGIN` (:func:`_loaded_spans`), refitted to the new solution until no end moves
+    by more than a cell; an interval end (or x end) the pressure reaches is moved out by half the interval: (grid,
+    p, delta, u_L, f)."""
     spans, x_span = _loaded_spans(grid, p)
     for _ in range(opts.max_boxes):
         new = _Grid.over(prob, spans, x_span, shape, grid.box_delta)
@@ -354,7 +355,8 @@ def _fitted(prob, layer, opts, factor, stats, shape, grid, p):
             grown.append((a, b))
         cols = p.max(axis=0) > 0
         width = x_span[1] - x_span[0]
-        x_grown = (x_span[0] - 0.5 * width if cols[0] else x_span[0], x_span[1] + 0.5 * width if cols[-1] else x_span[1])
+        x_grown = (x_span[0] - 0.5 * width if cols[0] else x_span[0],
+                   x_span[1] + 0.5 * width if cols[-1] else x_span[1])
         if moved or x_grown != x_span:
             spans, x_span = _merged(grown), x_grown
             continue

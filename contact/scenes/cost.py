@@ -4,7 +4,8 @@ Model (per-unit times measured in-process on the project's 2-core machine under 
 docs/inputs-and-errors.md): a Kik–Piotrowski scene costs passes × strips × (STRIP_S + cells × CELL_S) with
 cells = ``method.fastsim_cells`` when there is a tangential solve (else 0) and strips = separation table width /
 ``method.grid_mm``; ``method.normal = "exact"`` adds strips × ``exact_cells`` × EXACT_CELL_S per pass,
-``"coarse_exact"`` COARSE_SOLVE_S per pass (and per wheel and case). A wheel–rail scene costs cases × wheels × (CASE_WHEEL_S [+ LAYER_CASE_WHEEL_S with layers] +
+``"coarse_exact"`` COARSE_SOLVE_S per pass (and per wheel and case).
+A wheel–rail scene costs cases × wheels × (CASE_WHEEL_S [+ LAYER_CASE_WHEEL_S with layers] +
 passes × strips × (STRIP_S + cells × CELL_S)), strips = WHEEL_RAIL_WINDOW_MM / grid_mm. ``passes`` is the
 ``passes.max`` asked for (a run may stop earlier at shakedown; the guard assumes it does not).
 """
