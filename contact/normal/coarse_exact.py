@@ -8,7 +8,8 @@ fewer cells than the profile-shaped y direction (defaults 32 x 12, chosen on ``b
 
 Placing the grid. Contact can only occur where f(x, y) = f(y) + x^2 / (2 R) lies below the approach delta (the
 elastic and layer displacements are >= 0). A first solve on half the lines and cells covers that region's bounding
-box for a Hertz-like delta (or ``delta_guess_mm``), rebuilt until the solved delta lies within it. The grid is then
+box for a Hertz-like delta, rebuilt until the solved delta lies within it; with ``delta_guess_mm`` (a nearby
+solve's approach) the region {f < delta_guess / 2} (:data:`GUESS_REGION`) stands for that solve's loaded cells. The grid is then
 fitted to the loaded cells plus :data:`MARGIN` of their extent: one line interval per run of loaded lines (one
 lattice of spacing dy, no lines in the gaps between separated regions, whose elastic interaction stays exact),
 moved out where the pressure reaches an end and refitted until no end moves by more than a cell. These solves
@@ -61,6 +62,8 @@ DEFAULT_X_CELLS = 12
 CELLS_RANGE = (6, 128)
 #: CG and layer tolerance of the solves that only place the grid (the last solve uses ``tol``, ``layer_rtol``).
 ROUGH_TOL = 1e-3
+#: With an approach guess delta, the first loaded region is {f < GUESS_REGION delta}.
+GUESS_REGION = 0.5
 #: Margin of the fitted grid around the loaded cells of the locating solve (relative to their extent).
 MARGIN = 0.12
 
@@ -384,15 +387,21 @@ def _merged(spans: list) -> list:
 def solve_coarse_exact(prob: NormalProblem, layer: LayerPair | None = None, options: CoarseOptions = CoarseOptions(),
                        delta_guess_mm: float | None = None) -> NormalSolution:
     """Solve the normal contact on the coarse grid (module docstring); the layers are not modified.
-    ``delta_guess_mm``: the approach of a nearby solve (mm; e.g. the previous step of the wheel-rail balance), the
-    first box instead of the Hertz-like estimate."""
+    ``delta_guess_mm``: the approach of a nearby solve (mm; e.g. the previous step of the wheel-rail balance): the
+    first grid covers {f < delta_guess / 2} instead of a locating solve from the Hertz-like estimate."""
     factor = compliance_factor(prob.E_MPa, prob.poisson)
     lay = _Layer(layer, prob)
     stats = {"cg_iterations": 0, "layer_iterations": 0, "boxes": 0}
     shape = (options.cells, options.x_cells)
     half = (options.cells // 2, max(options.x_cells // 2, 4))
-    guess = delta_guess_mm if delta_guess_mm is not None and delta_guess_mm > 0 else hertz_like_guess(prob)
-    grid, p, _ = _located(prob, lay, options, factor, stats, half, 1.2 * guess)
+    if delta_guess_mm is not None and delta_guess_mm > 0:
+        # a nearby solve's approach: the region {f < delta/2} (Hertz's contact for a circle) as the first loaded
+        # region, with a semi-ellipsoidal start, instead of a locating solve
+        grid = _Grid.over_box(prob, GUESS_REGION * delta_guess_mm, half)
+        f0 = _separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
+        p = np.sqrt(np.clip(1.0 - f0 / (GUESS_REGION * delta_guess_mm), 0.0, None))
+    if delta_guess_mm is None or delta_guess_mm <= 0 or not np.any(p > 0):
+        grid, p, _ = _located(prob, lay, options, factor, stats, half, 1.2 * hertz_like_guess(prob))
     grid, p, delta, u_l, f = _fitted(prob, lay, options, factor, stats, shape, grid, p)
     sol = _outputs(prob, lay, grid, p, delta, u_l, f)
     if options.extrapolate:
