@@ -9,10 +9,10 @@ fewer cells than the profile-shaped y direction (defaults 32 x 12, chosen on ``b
 Placing the grid. Contact can only occur where f(x, y) = f(y) + x^2 / (2 R) lies below the approach delta (the
 elastic and layer displacements are >= 0). A first solve on half the lines and cells covers that region's bounding
 box for a Hertz-like delta, rebuilt until the solved delta lies within it; with ``delta_guess_mm`` (a nearby
-solve's approach) the region {f < delta_guess / 2} (:data:`GUESS_REGION`) stands for that solve's loaded cells. The grid is then
-fitted to the loaded cells plus :data:`MARGIN` of their extent: one line interval per run of loaded lines (one
-lattice of spacing dy, no lines in the gaps between separated regions, whose elastic interaction stays exact),
-moved out where the pressure reaches an end and refitted until no end moves by more than a cell. These solves
+solve's approach) the region {f < delta_guess / 2} (:data:`GUESS_REGION`) stands for that solve's loaded cells.
+The grid is then fitted to the loaded cells plus :data:`MARGIN` of their extent: one line interval per run of
+loaded lines (one lattice of spacing dy, no lines in the gaps between separated regions, whose elastic interaction
+stays exact; :mod:`contact.normal.coarse_grid`), moved out where the pressure reaches an end and refitted until no end moves by more than a cell. These solves
 stop at :data:`ROUGH_TOL`; the last one is solved again to ``tol``. Lines need not be strips: f is interpolated
 from the separation table as the problem does (no kinks between strips).
 
@@ -34,24 +34,24 @@ InputError when the patch reaches the end of the separation table or a layer doe
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from contact.layer.prandtl_layer import LayerPair
 from contact.normal.coarse_cg import dense_cg
+from contact.normal.coarse_grid import (MARGIN, CoarseGrid, influence_table, loaded_spans, merged, resample,
+                                        separation_at)
+from contact.normal.coarse_layer import LineLayers
 from contact.normal.exact import layer_is_elastic, line_area, line_extent
 from contact.normal.halfspace import compliance_factor
-from contact.normal.boussinesq import corner_antiderivative
 from contact.normal.kik_piotrowski import hertz_like_guess
-from contact.normal.layer_at_strip import LayerAtReference, layer_points
 from contact.normal.patch import Patch
 from contact.normal.problem import NormalProblem
 from contact.normal.solution import NormalSolution, RegionSolution
 from wrlayer.errors import ConvergenceError, InputError, require
 
-__all__ = ["DEFAULT_CELLS", "CoarseOptions", "solve_coarse_exact"]
+__all__ = ["DEFAULT_CELLS", "MARGIN", "CoarseOptions", "solve_coarse_exact"]
 
 #: Default lines and cells of the coarse grid (``method.coarse_cells``), from the time-error study of
 #: ``benchmarks/bench_fast_normal.py``.
@@ -64,8 +64,6 @@ CELLS_RANGE = (6, 128)
 ROUGH_TOL = 1e-3
 #: With an approach guess delta, the first loaded region is {f < GUESS_REGION delta}.
 GUESS_REGION = 0.5
-#: Margin of the fitted grid around the loaded cells of the locating solve (relative to their extent).
-MARGIN = 0.12
 
 
 @dataclass(frozen=True)
@@ -94,177 +92,11 @@ class CoarseOptions:
                     f"method.coarse_{name}", f"must be an even integer in [{lo}, {hi}], got {v!r}")
 
 
-@dataclass
-class _Grid:
-    """The coarse grid: lines y (ny,) on a lattice of spacing dy (``rows``: their lattice indices, increasing; gaps
-    between contact regions carry no lines), cell centres x (nx,) spacing dx (mm); ``clipped``: whether the first /
-    last line interval ends at the strip grid's end."""
-
-    y: np.ndarray
-    rows: np.ndarray
-    x: np.ndarray
-    dy: float
-    dx: float
-    box_delta: float
-    clipped: tuple = (False, False)
-
-    @classmethod
-    def over_box(cls, prob: NormalProblem, delta: float, shape: tuple) -> "_Grid":
-        """shape = (lines, cells) over {f < delta} (one strip more each side, within the table)."""
-        f = prob.separation_on_grid_mm
-        ys = prob.strip_y_mm
-        on = np.flatnonzero(f < delta)
-        y_lo, y_hi = ys[max(on[0] - 1, 0)], ys[min(on[-1] + 1, ys.size - 1)]   # f is linear between strips
-        x_hi = math.sqrt(2.0 * prob.rolling_radius_mm * delta)
-        return cls.over(prob, [(y_lo, y_hi)], (-x_hi, x_hi), shape, delta)
-
-    @classmethod
-    def over(cls, prob: NormalProblem, spans: list, x_span: tuple, shape: tuple, box_delta: float) -> "_Grid":
-        """About shape[0] lines over the y intervals ``spans`` (sorted, disjoint; clipped to the strip grid) on one
-        lattice, shape[1] cells over ``x_span`` (mm)."""
-        n, nx = shape
-        ys = prob.strip_y_mm
-        clipped = (bool(spans[0][0] <= ys[0]), bool(spans[-1][1] >= ys[-1]))
-        spans = [(max(lo, ys[0]), min(hi, ys[-1])) for lo, hi in spans]
-        dy = sum(hi - lo for lo, hi in spans) / n
-        y0 = spans[0][0]
-        rows = np.unique(np.concatenate([np.arange(int(math.floor((lo - y0) / dy + 1e-9)),
-                                                   int(math.ceil((hi - y0) / dy - 1e-9))) for lo, hi in spans]))
-        dx = (x_span[1] - x_span[0]) / nx
-        return cls(y0 + (rows + 0.5) * dy, rows, x_span[0] + (np.arange(nx) + 0.5) * dx, float(dy), float(dx),
-                   box_delta, clipped)
-
-    def spans(self) -> list[tuple[np.ndarray, float, float]]:
-        """(line indices, y_lo, y_hi) of each interval of consecutive lattice lines."""
-        cut = np.flatnonzero(np.diff(self.rows) > 1) + 1
-        return [(k, self.y[k[0]] - 0.5 * self.dy, self.y[k[-1]] + 0.5 * self.dy)
-                for k in np.split(np.arange(self.y.size), cut)]
-
-
-class _Layer:
-    """The layers' loading curves (from their current state) at the strip nearest each line, linearised per cell."""
-
-    def __init__(self, layer: LayerPair | None, prob: NormalProblem):
-        self.bodies = []
-        if layer is not None:
-            for lay in layer.bodies().values():
-                if np.any(np.abs(lay.pressure_MPa) > 1e-9 * max(1.0, float(np.abs(lay.pressure_MPa).max()))):
-                    raise InputError(lay.name, "layer must be unloaded (p = 0) before a normal solve")
-                self.bodies.append((lay, layer_points(lay, prob.strip_y_mm, prob.grid_mm)))
-        self.ys = prob.strip_y_mm
-        self.h = prob.grid_mm
-        self._curves: dict[int, LayerAtReference | None] = {}
-        self._states: dict[tuple, LayerAtReference] = {}
-        self._segments: dict[int, tuple] = {}
-
-    @property
-    def present(self) -> bool:
-        return bool(self.bodies)
-
-    def _curve(self, strip: int) -> LayerAtReference | None:
-        """The loading curve at a strip; strips whose elements are in the same state share it (a virgin uniform
-        layer has one curve)."""
-        if strip not in self._curves:
-            pts = [(lay, int(ix[strip])) for lay, ix in self.bodies]
-            if any(i < 0 for _, i in pts):
-                self._curves[strip] = None
-            else:
-                key = tuple(a[i].tobytes() for lay, i in pts for a in (lay.k_N_per_mm3, lay.half_width_mm, lay.u_mm,
-                                                                        lay.slip_mm, lay.k_last_N_per_mm3))
-                if key not in self._states:
-                    self._states[key] = LayerAtReference(pts)
-                self._curves[strip] = self._states[key]
-        return self._curves[strip]
-
-    def strips(self, y: np.ndarray) -> np.ndarray:
-        return np.clip(np.rint((y - self.ys[0]) / self.h).astype(int), 0, self.ys.size - 1)
-
-    def _arrays(self, cur: LayerAtReference) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(knots, displacements, compliance of the segment from each knot on; the last: beyond it) of a curve."""
-        if id(cur) not in self._segments:
-            dp = np.diff(cur.p)
-            slope = np.append(np.where(dp > 0, np.diff(cur.u) / np.where(dp > 0, dp, 1.0), 0.0),
-                              cur.final_compliance)
-            self._segments[id(cur)] = (cur.p, cur.u, slope)
-        return self._segments[id(cur)]
-
-    def on_lines(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Knots (ny, K) of the loading curves at the lines y (padded with +inf), the displacement there and the
-        compliance of the segment from each knot on (mm/MPa; the last: beyond the last knot); a line without a
-        curve has the knot 0 only and compliance 0."""
-        curves = [self._curve(int(j)) for j in self.strips(y)]
-        size = max((c.p.size for c in curves if c is not None), default=1)
-        knots = np.full((y.size, size), np.inf)
-        disp = np.zeros((y.size, size))
-        slope = np.zeros((y.size, size))
-        for k, cur in enumerate(curves):
-            if cur is None:
-                knots[k, 0] = 0.0
-                continue
-            m = cur.p.size
-            knots[k, :m], disp[k, :m], slope[k, :m] = self._arrays(cur)
-        return knots, disp, slope
-
-    @staticmethod
-    def linearise(p: np.ndarray, curves) -> tuple[np.ndarray, np.ndarray]:
-        """(u_L (mm), c (mm/MPa)) of each cell (ny, nx) at the pressure p: the displacement on the line's loading
-        curve (:meth:`on_lines`) and the compliance of the segment p lies on (the segment above at a knot)."""
-        knots, disp, slope = curves
-        seg = np.sum(p[:, :, None] >= knots[:, None, :], axis=2) - 1           # 0..K-1
-        rows = np.arange(p.shape[0])[:, None]
-        c = slope[rows, seg]
-        return disp[rows, seg] + c * (p - knots[rows, seg]), c
-
-    def check_coverage(self, p: np.ndarray, y: np.ndarray) -> None:
-        for k, j in enumerate(self.strips(y)):
-            if np.any(p[k] > 0) and self._curve(int(j)) is None:
-                raise InputError("layer", f"has no element at strip y = {self.ys[j]:.6g} mm (contact there): the "
-                                 "layer does not cover the contact patch")
-
-
-def _influence_table(grid: _Grid, factor: float) -> np.ndarray:
-    """(lattice rows spanned, 2 nx - 1) displacement at the centre of a cell (mm/MPa) per unit pressure on the cell
-    at the offset (dj >= 0, di; column nx - 1 + di) (Love's closed form, :mod:`contact.normal.halfspace`;
-    symmetric in the sign of dj)."""
-    ny, nx = int(grid.rows[-1] - grid.rows[0]) + 1, grid.x.size
-    xe = (np.arange(nx + 1) - 0.5) * grid.dx
-    ye = (np.arange(ny + 1) - 0.5) * grid.dy
-    f = corner_antiderivative(xe[None, :], ye[:, None])
-    k = factor * (f[1:, 1:] - f[:-1, 1:] - f[1:, :-1] + f[:-1, :-1])
-    return np.ascontiguousarray(np.concatenate([k[:, :0:-1], k], axis=1))     # x offsets -(nx-1)..(nx-1)
-
-
-def _resample(p: np.ndarray, old: _Grid, new: _Grid) -> np.ndarray:
-    """A pressure of ``old`` on ``new``: bilinear in the cell centres, 0 outside (the CG's warm start)."""
-    along_x = np.array([np.interp(new.x, old.x, row, left=0.0, right=0.0) for row in p])
-    return np.array([np.interp(new.y, old.y, col, left=0.0, right=0.0) for col in along_x.T]).T
-
-
-def _separation_at(prob: NormalProblem, y: np.ndarray) -> np.ndarray:
-    """f(y) at the lines (mm): the separation table interpolated as the problem does onto its strips (linear or
-    PCHIP; straight from the table, so that lines between strips see no kinks), plus the strips' offset (dents,
-    linear between strips), shifted as the strip grid (its minimum 0). The PCHIP interpolant of the last problem
-    is kept (a solve evaluates it on every grid)."""
-    if prob.interpolation == "linear":
-        f = np.interp(y, prob.y_mm, prob.f_mm)
-    else:
-        if _LAST_PCHIP[0] is not prob:
-            from scipy.interpolate import PchipInterpolator   # here: slow to import, only "pchip" needs it
-            _LAST_PCHIP[:] = [prob, PchipInterpolator(prob.y_mm, prob.f_mm)]
-        f = _LAST_PCHIP[1](y)
-    if prob.f_offset_mm is not None:
-        f = f + np.interp(y, prob.strip_y_mm, prob.f_offset_mm)
-    return f - prob.separation_unshifted_on_grid_mm.min()
-
-
-_LAST_PCHIP: list = [None, None]
-
-
-def _solve_on(prob: NormalProblem, grid: _Grid, layer: _Layer, p_start: np.ndarray, opts: CoarseOptions,
+def _solve_on(prob: NormalProblem, grid: CoarseGrid, layer: LineLayers, p_start: np.ndarray, opts: CoarseOptions,
               factor: float, stats: dict, rough: bool = False):
     """(p (ny, nx), delta (mm), u_L (ny, nx), f (ny, nx)) on the grid."""
-    f = _separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
-    k = _influence_table(grid, factor)
+    f = separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
+    k = influence_table(grid, factor)
     area = grid.dx * grid.dy
     p = np.array(p_start, dtype=float)
     if not np.any(p > 0):
@@ -302,8 +134,8 @@ def _located(prob, layer, opts, factor, stats, shape, delta_box):
     (grid, p, delta)."""
     p, old = None, None
     for _ in range(opts.max_boxes):
-        grid = _Grid.over_box(prob, delta_box, shape)
-        start = _resample(p, old, grid) if old is not None else np.zeros((grid.y.size, grid.x.size))
+        grid = CoarseGrid.over_box(prob, delta_box, shape)
+        start = resample(p, old, grid) if old is not None else np.zeros((grid.y.size, grid.x.size))
         p, delta, _, _ = _solve_on(prob, grid, layer, start, opts, factor, stats, rough=True)
         stats["boxes"] += 1
         if delta <= delta_box:
@@ -314,33 +146,15 @@ def _located(prob, layer, opts, factor, stats, shape, delta_box):
                            "rebuilds")
 
 
-def _loaded_spans(grid: _Grid, p: np.ndarray) -> tuple[list, tuple]:
-    """The y intervals of the runs of loaded lattice lines and the x interval of the loaded cells, each with
-    :data:`MARGIN` of its extent added each side (overlapping intervals merged): (y spans, x span) (mm)."""
-    on = np.flatnonzero(p.max(axis=1) > 0)
-    runs = np.split(on, np.flatnonzero(np.diff(grid.rows[on]) > 1) + 1)
-    spans = []
-    for run in runs:
-        lo, hi = grid.y[run[0]] - 0.5 * grid.dy, grid.y[run[-1]] + 0.5 * grid.dy
-        lo, hi = lo - MARGIN * (hi - lo), hi + MARGIN * (hi - lo)
-        if spans and lo <= spans[-1][1]:
-            spans[-1] = (spans[-1][0], hi)
-        else:
-            spans.append((lo, hi))
-    cols = np.flatnonzero(p.max(axis=0) > 0)
-    lo, hi = grid.x[cols[0]] - 0.5 * grid.dx, grid.x[cols[-1]] + 0.5 * grid.dx
-    return spans, (lo - MARGIN * (hi - lo), hi + MARGIN * (hi - lo))
-
-
 def _fitted(prob, layer, opts, factor, stats, shape, grid, p):
     """Solve with about shape[0] lines over the runs of loaded lines of ``p`` on ``grid`` and shape[1] cells over
-    its loaded cells, plus :data:`MARGIN` (:func:`_loaded_spans`), refitted to the new solution until no end moves
+    its loaded cells, plus :data:`MARGIN` (:func:`loaded_spans`), refitted to the new solution until no end moves
     by more than a cell; an interval end (or x end) the pressure reaches is moved out by half the interval: (grid,
     p, delta, u_L, f)."""
-    spans, x_span = _loaded_spans(grid, p)
+    spans, x_span = loaded_spans(grid, p)
     for _ in range(opts.max_boxes):
-        new = _Grid.over(prob, spans, x_span, shape, grid.box_delta)
-        p, delta, u_l, f = _solve_on(prob, new, layer, _resample(p, grid, new), opts, factor, stats, rough=True)
+        new = CoarseGrid.over(prob, spans, x_span, shape, grid.box_delta)
+        p, delta, u_l, f = _solve_on(prob, new, layer, resample(p, grid, new), opts, factor, stats, rough=True)
         stats["boxes"] += 1
         grid = new
         loaded = p.max(axis=1) > 0
@@ -361,9 +175,9 @@ def _fitted(prob, layer, opts, factor, stats, shape, grid, p):
         x_grown = (x_span[0] - 0.5 * width if cols[0] else x_span[0],
                    x_span[1] + 0.5 * width if cols[-1] else x_span[1])
         if moved or x_grown != x_span:
-            spans, x_span = _merged(grown), x_grown
+            spans, x_span = merged(grown), x_grown
             continue
-        want, want_x = _loaded_spans(grid, p)
+        want, want_x = loaded_spans(grid, p)
         if len(want) == len(spans) and all(abs(a - c) <= grid.dy and abs(b - d) <= grid.dy
                                            for (a, b), (c, d) in zip(want, spans)) \
                 and abs(want_x[0] - x_span[0]) <= grid.dx and abs(want_x[1] - x_span[1]) <= grid.dx:
@@ -374,40 +188,30 @@ def _fitted(prob, layer, opts, factor, stats, shape, grid, p):
                            "refits (contact at the grid border)")
 
 
-def _merged(spans: list) -> list:
-    out = []
-    for lo, hi in sorted(spans):
-        if out and lo <= out[-1][1]:
-            out[-1] = (out[-1][0], max(hi, out[-1][1]))
-        else:
-            out.append((lo, hi))
-    return out
-
-
 def solve_coarse_exact(prob: NormalProblem, layer: LayerPair | None = None, options: CoarseOptions = CoarseOptions(),
                        delta_guess_mm: float | None = None) -> NormalSolution:
     """Solve the normal contact on the coarse grid (module docstring); the layers are not modified.
     ``delta_guess_mm``: the approach of a nearby solve (mm; e.g. the previous step of the wheel-rail balance): the
     first grid covers {f < delta_guess / 2} instead of a locating solve from the Hertz-like estimate."""
     factor = compliance_factor(prob.E_MPa, prob.poisson)
-    lay = _Layer(layer, prob)
+    lay = LineLayers(layer, prob)
     stats = {"cg_iterations": 0, "layer_iterations": 0, "boxes": 0}
     shape = (options.cells, options.x_cells)
     half = (options.cells // 2, max(options.x_cells // 2, 4))
     if delta_guess_mm is not None and delta_guess_mm > 0:
         # a nearby solve's approach: the region {f < delta/2} (Hertz's contact for a circle) as the first loaded
         # region, with a semi-ellipsoidal start, instead of a locating solve
-        grid = _Grid.over_box(prob, GUESS_REGION * delta_guess_mm, half)
-        f0 = _separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
+        grid = CoarseGrid.over_box(prob, GUESS_REGION * delta_guess_mm, half)
+        f0 = separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
         p = np.sqrt(np.clip(1.0 - f0 / (GUESS_REGION * delta_guess_mm), 0.0, None))
     if delta_guess_mm is None or delta_guess_mm <= 0 or not np.any(p > 0):
         grid, p, _ = _located(prob, lay, options, factor, stats, half, 1.2 * hertz_like_guess(prob))
     grid, p, delta, u_l, f = _fitted(prob, lay, options, factor, stats, shape, grid, p)
     sol = _outputs(prob, lay, grid, p, delta, u_l, f)
     if options.extrapolate:
-        coarse = _Grid.over(prob, [(lo, hi) for _, lo, hi in grid.spans()],
+        coarse = CoarseGrid.over(prob, [(lo, hi) for _, lo, hi in grid.spans()],
                             (grid.x[0] - 0.5 * grid.dx, grid.x[-1] + 0.5 * grid.dx), half, grid.box_delta)
-        ph, dh, uh, fh = _solve_on(prob, coarse, lay, _resample(p, grid, coarse), options, factor, stats)
+        ph, dh, uh, fh = _solve_on(prob, coarse, lay, resample(p, grid, coarse), options, factor, stats)
         sol = sol[:1] + tuple(_richardson(a, b) for a, b in zip(_outputs(prob, lay, coarse, ph, dh, uh, fh)[1:],
                                                                  sol[1:]))
     return _solution(prob, layer, sol, stats, options)
@@ -454,7 +258,7 @@ def _ends(values: np.ndarray, coords: np.ndarray, step: float, power: int) -> tu
     return lo, hi
 
 
-def _outputs(prob, lay: _Layer, grid: _Grid, p, delta, u_l, f):
+def _outputs(prob, lay: LineLayers, grid: CoarseGrid, p, delta, u_l, f):
     """(grid, p_max, delta, area, length, width, strip data) of a grid solution."""
     if not np.any(p > 0):
         raise ConvergenceError("coarse exact normal solver: no contact (zero pressure everywhere)")
