@@ -12,9 +12,10 @@ box for a Hertz-like delta, rebuilt until the solved delta lies within it; with 
 solve's approach) the region {f < delta_guess / 2} (:data:`GUESS_REGION`) stands for that solve's loaded cells.
 The grid is then fitted to the loaded cells plus :data:`MARGIN` of their extent: one line interval per run of
 loaded lines (one lattice of spacing dy, no lines in the gaps between separated regions, whose elastic interaction
-stays exact; :mod:`contact.normal.coarse_grid`), moved out where the pressure reaches an end and refitted until no end moves by more than a cell. These solves
-stop at :data:`ROUGH_TOL`; the last one is solved again to ``tol``. Lines need not be strips: f is interpolated
-from the separation table as the problem does (no kinks between strips).
+stays exact; :mod:`contact.normal.coarse_grid`), moved out where the pressure reaches an end and refitted until
+no end moves by more than a cell. These solves stop at :data:`ROUGH_TOL`; the last one is solved again to ``tol``.
+Lines need not be strips: f is interpolated from the separation table as the problem does (no kinks between
+strips).
 
 Solve. Polonsky–Keer CG with the influence matrix applied from its table of cell offsets, in one compiled kernel
 (:mod:`contact.normal.coarse_cg`); with a layer, the exact solver's outer iteration (each cell's loading curve
