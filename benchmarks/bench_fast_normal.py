@@ -205,7 +205,8 @@ def run(mode: str, out: pathlib.Path) -> dict:
               if "failed" in r]
     md = (f"Reference: the exact solver converged on each patch (96 cells, >= {REFERENCE_STRIPS} strips across). "
           f"Load average {load0:.1f} -> {load1:.1f} (2 cores shared). "
-          f"Regenerate: `{COMMAND}` (`--full` for every method and the tangential check).\n\n" + summary(rows) + "\n\n" + table(rows) + "\n"
+          f"Regenerate: `{COMMAND}` (`--full` for every method and the tangential check).\n\n"
+          + summary(rows) + "\n\n" + table(rows) + "\n"
           + (f"\nTangential (no layer; vx = {CREEPAGE.vx:g}, vy = {CREEPAGE.vy:g}, phi = {CREEPAGE.phi_per_mm:g} "
              f"1/mm, mu = {FRICTION:g}) against the exact normal + exact tangential solution (defaults); F_x, F_y "
              "error / (mu N), M_z error / (mu N a), a = sqrt(area / pi); time: normal + tangential solve:\n\n"
