@@ -15,7 +15,7 @@ import numpy as np
 
 from wrlayer.errors import require
 
-__all__ = ["NormalProblem", "on_grid", "strip_grid"]
+__all__ = ["NormalProblem", "strip_grid"]
 
 
 def strip_grid(y_min_mm: float, y_max_mm: float, grid_mm: float) -> np.ndarray:
@@ -25,7 +25,7 @@ def strip_grid(y_min_mm: float, y_max_mm: float, grid_mm: float) -> np.ndarray:
     return np.arange(j0, j1 + 1) * grid_mm
 
 
-def on_grid(y: np.ndarray, f: np.ndarray, yg: np.ndarray, interpolation: str) -> np.ndarray:
+def _on_grid(y: np.ndarray, f: np.ndarray, yg: np.ndarray, interpolation: str) -> np.ndarray:
     """f(y) interpolated onto the strip centres ``yg`` (mm), linearly or by a monotone cubic (PCHIP)."""
     if interpolation == "linear":
         return np.interp(yg, y, f)
@@ -100,7 +100,7 @@ class NormalProblem:
         require(int(self.x_subdivision) >= 1, "x_subdivision", "must be a positive integer")
         yg = strip_grid(y[0], y[-1], self.grid_mm)
         require(yg.size >= 1, "separation.y_mm", f"range shorter than one grid step {self.grid_mm} mm")
-        object.__setattr__(self, "_grid", (yg, on_grid(y, f, yg, self.interpolation)))
+        object.__setattr__(self, "_grid", (yg, _on_grid(y, f, yg, self.interpolation)))
         self._set_offset(self.f_offset_mm)
 
     def __repr__(self) -> str:
