@@ -62,7 +62,7 @@ from wrlayer.errors import ConvergenceError, InputError, require
 
 # ExactField, fastsim_pressure and strip_centres are re-exported: callers take the solver's outputs from here
 __all__ = ["DEFAULT_CELLS", "CELLS_RANGE", "ExactOptions", "ExactField", "solve_exact", "fastsim_pressure",
-           "strip_centres"]
+           "strip_centres", "line_extent", "line_area", "layer_is_elastic"]
 
 #: Default cells along x over the KP patch length (``method.exact_cells``), from the time-error study
 #: (docs/exact-solver.md): about 0.5 % in p_max on the paper scene.
@@ -131,7 +131,7 @@ def _edge_extension(outer: float, inner: float, step: float, power: int) -> floa
     return 0.5 * step
 
 
-def _extent(values: np.ndarray, coords: np.ndarray, step: float, power: int) -> tuple[float, float]:
+def line_extent(values: np.ndarray, coords: np.ndarray, step: float, power: int) -> tuple[float, float]:
     """(low end, high end) of the positive run of ``values`` along ``coords`` with refined ends."""
     on = np.flatnonzero(values > 0)
     a, b = int(on[0]), int(on[-1])
@@ -141,7 +141,19 @@ def _extent(values: np.ndarray, coords: np.ndarray, step: float, power: int) -> 
             coords[b] + _edge_extension(values[b], hi_in, step, power))
 
 
-def _area(length: np.ndarray, y_lines: np.ndarray, y_lo: float, y_hi: float, h: float) -> float:
+def layer_is_elastic(layer: LayerPair | None, strip_y_mm: np.ndarray, h: float, p_peak: np.ndarray) -> bool:
+    """True when no layer element yields under the strips' peak pressures p_peak (MPa) (no layer: True)."""
+    if layer is None:
+        return True
+    for lay in layer.bodies().values():
+        ix = layer_points(lay, strip_y_mm, h)
+        loaded = (p_peak > 0) & (ix >= 0)
+        if np.any(p_peak[loaded] > lay.yield_pressure_MPa()[ix[loaded]] * (1.0 + 1e-12)):
+            return False
+    return True
+
+
+def line_area(length: np.ndarray, y_lines: np.ndarray, y_lo: float, y_hi: float, h: float) -> float:
     """Patch area (mm^2) from the refined line extents: the inner lines count length x h; an end line counts its
     length times the width from its inner cell edge to the refined patch end (d + h/2, d in [0, h]: the distance
     of the line centre from the refined end)."""
@@ -366,17 +378,17 @@ def _solution(prob, layer, kp, grid, res, f, u_l, stats, opts_force) -> NormalSo
     patches, regions, lengths, widths, areas = [], [], [], [], []
     extents = np.full((lines.size, 2), np.nan)
     for run in runs:
-        ext = np.array([_extent(p[j], x, dx, power) for j in run])
+        ext = np.array([line_extent(p[j], x, dx, power) for j in run])
         extents[run] = ext
         x_lead = 0.5 * (ext[:, 1] - ext[:, 0])
         force = p[run].sum(axis=1) * dx * h
         patches.append(Patch(h, y[lines[run]], x_lead, force / (0.5 * np.pi * x_lead * h)))
-        y_lo, y_hi = _extent(np.concatenate([[0.0], line_max[run], [0.0]]),
+        y_lo, y_hi = line_extent(np.concatenate([[0.0], line_max[run], [0.0]]),
                              np.concatenate([[y[lines[run[0]]] - h], y[lines[run]], [y[lines[run[-1]]] + h]]), h,
                              power)
         lengths.append(float(2.0 * x_lead.max()))
         widths.append(float(y_hi - y_lo))
-        areas.append(_area(2.0 * x_lead, y[lines[run]], y_lo, y_hi, h))
+        areas.append(line_area(2.0 * x_lead, y[lines[run]], y_lo, y_hi, h))
         jr = int(run[np.argmax(line_max[run])])
         ir = int(np.argmax(p[jr]))
         regions.append(RegionSolution(
@@ -384,13 +396,7 @@ def _solution(prob, layer, kp, grid, res, f, u_l, stats, opts_force) -> NormalSo
             I1_mm3=float("nan"), I2_mm2=float("nan"), u_layer_mm=float(u_l[jr, ir]), normal_force_N=float(force.sum()),
             layer_segments=0, approach_mm=float(res.delta_mm - f[jr, ir]), interaction_mm=0.0))
     main = max(regions, key=lambda r: r.p0_MPa)
-    elastic = True
-    if layer is not None:
-        for lay in layer.bodies().values():
-            ix = layer_points(lay, y, h)
-            loaded = (p_peak > 0) & (ix >= 0)
-            if np.any(p_peak[loaded] > lay.yield_pressure_MPa()[ix[loaded]] * (1.0 + 1e-12)):
-                elastic = False
+    elastic = layer_is_elastic(layer, y, h, p_peak)
     n_total = float(p.sum() * dx * h)
     iterations = {"delta_evaluations": kp.iterations["delta_evaluations"],
                   "loglog_slope": kp.iterations["loglog_slope"], "cg_iterations": stats["cg_iterations"],

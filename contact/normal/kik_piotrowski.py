@@ -44,7 +44,7 @@ def check_arguments(prob, layer, caller: str) -> None:
         raise TypeError(f"{caller}: layer must be a LayerPair or None, got {type(layer).__name__}{hint}")
 
 
-def _hertz_like_guess(prob: NormalProblem) -> float:
+def hertz_like_guess(prob: NormalProblem) -> float:
     """A starting approach (mm) from the local curvature of f at its minimum, Hertz circle-like estimate."""
     f = prob.separation_on_grid_mm
     j = int(np.argmin(f))
@@ -89,7 +89,7 @@ def solve_normal(prob: NormalProblem, layer: LayerPair | None = None, delta_gues
     """
     check_arguments(prob, layer, "solve_normal")
     ev = NormalForceEvaluator(prob, layer)
-    guess = delta_guess_mm if delta_guess_mm is not None and delta_guess_mm > 0 else _hertz_like_guess(prob)
+    guess = delta_guess_mm if delta_guess_mm is not None and delta_guess_mm > 0 else hertz_like_guess(prob)
     slope = loglog_slope_guess if loglog_slope_guess is not None and loglog_slope_guess > 0 else 1.5
     delta, steps, bracketed_iter, slope = find_delta(ev, prob.normal_force_N, guess, 0.1 * rtol_N, slope)
     if ev.last is None or ev.last[0] != delta:

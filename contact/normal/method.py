@@ -1,8 +1,11 @@
 """Choice of the normal contact solver: ``method.normal`` of every scene (units mm, N, MPa).
 
-    "kik_piotrowski"  the paper's fast method (default), :func:`contact.normal.kik_piotrowski.solve_normal`
+    "kik_piotrowski"  the paper's fast method (default), :func:`contact.normal.kik_piotrowski.solve_normal`; its
+                      p_max is approximate (6-25 % off the exact solution on non-Hertzian patches)
     "exact"           the FFT boundary-element half-space solver with the same layer, cell by cell,
                       :func:`contact.normal.exact.solve_exact` (options ``method.exact_cells``, ``method.layer_mode``)
+    "coarse_exact"    the same half-space problem on a coarse grid fitted to the patch (indentation layer only),
+                      :func:`contact.normal.coarse_exact.solve_coarse_exact`
 
 :func:`solve_normal_with` takes the arguments of ``solve_normal`` (problem, then layer) plus the method as a
 keyword, and returns a :class:`~contact.normal.solution.NormalSolution` either way, so passes, FASTSIM, pictures,
@@ -19,7 +22,7 @@ from contact.normal.problem import NormalProblem
 from contact.normal.solution import NormalSolution
 from wrlayer.errors import InputError
 
-NORMAL_METHODS = ("kik_piotrowski", "exact")
+NORMAL_METHODS = ("kik_piotrowski", "exact", "coarse_exact")
 
 
 @dataclass(frozen=True)
@@ -29,7 +32,8 @@ class NormalMethod:
     Attributes
     ----------
     name : str
-        The normal solver: "kik_piotrowski" (the paper's fast method, eqs. 9-15) or "exact" (FFT half-space).
+        The normal solver: "kik_piotrowski" (the paper's fast method, eqs. 9-15), "exact" (FFT half-space) or
+        "coarse_exact" (the half-space on a coarse grid).
     exact_cells : int or None
         Cells along x over the patch length of the exact solver's grid (1); None:
         :data:`contact.normal.exact.DEFAULT_CELLS`.
@@ -45,6 +49,9 @@ class NormalMethod:
         if self.name not in NORMAL_METHODS:
             raise InputError("method.normal", f"must be one of {', '.join(NORMAL_METHODS)}, got {self.name!r}")
         self.exact_options()                                  # validates exact_cells and layer_mode
+        if self.name == "coarse_exact" and self.layer_mode != "indentation":
+            raise InputError("method.layer_mode", f"coarse_exact loads the layer in indentation mode only, got "
+                             f"{self.layer_mode!r} (use method.normal = \"exact\" for rolling)")
 
     def exact_options(self, **overrides):
         """The :class:`contact.normal.exact.ExactOptions` of this choice (InputError naming the key if invalid)."""
@@ -78,10 +85,11 @@ def solve_normal_with(prob: NormalProblem, layer: LayerPair | None = None, *extr
     layer : LayerPair, optional
         The bodies' Prandtl layers on the problem's strip grid (not modified); None: no layer.
     method : NormalMethod or str, optional
-        "kik_piotrowski" (default) or "exact", or a :class:`NormalMethod` with the exact solver's options.
+        "kik_piotrowski" (default), "exact" or "coarse_exact", or a :class:`NormalMethod` with the exact solver's
+        options.
     **kwargs
         Passed on to :func:`~contact.normal.kik_piotrowski.solve_normal` (``delta_guess_mm``, ``rtol_N``,
-        ``loglog_slope_guess``) or :func:`~contact.normal.exact.solve_exact`.
+        ``loglog_slope_guess``) or :func:`~contact.normal.exact.solve_exact` (``delta_guess_mm``) for "coarse_exact".
 
     Returns
     -------
@@ -104,6 +112,11 @@ def solve_normal_with(prob: NormalProblem, layer: LayerPair | None = None, *extr
     check_arguments(prob, layer, "solve_normal_with")
     if method.name == "kik_piotrowski":
         return solve_normal(prob, layer, **kwargs)
+    if method.name == "coarse_exact":
+        # coarse_exact.py is imported here, as exact.py below
+        from contact.normal.coarse_exact import solve_coarse_exact
+
+        return solve_coarse_exact(prob, layer, **kwargs)
     # exact.py is imported here: the Kik-Piotrowski path (the default) does not need it
     from contact.normal.exact import solve_exact
 

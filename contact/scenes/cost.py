@@ -3,7 +3,9 @@
 Model (per-unit times measured in-process on the project's 2-core machine under load from other users, see
 docs/inputs-and-errors.md): a Kik–Piotrowski scene costs passes × strips × (STRIP_S + cells × CELL_S) with
 cells = ``method.fastsim_cells`` when there is a tangential solve (else 0) and strips = separation table width /
-``method.grid_mm``; ``method.normal = "exact"`` adds strips × ``exact_cells`` × EXACT_CELL_S per pass. A wheel–rail scene costs cases × wheels × (CASE_WHEEL_S [+ LAYER_CASE_WHEEL_S with layers] +
+``method.grid_mm``; ``method.normal = "exact"`` adds strips × ``exact_cells`` × EXACT_CELL_S per pass,
+``"coarse_exact"`` COARSE_SOLVE_S per pass (and per wheel and case).
+A wheel–rail scene costs cases × wheels × (CASE_WHEEL_S [+ LAYER_CASE_WHEEL_S with layers] +
 passes × strips × (STRIP_S + cells × CELL_S)), strips = WHEEL_RAIL_WINDOW_MM / grid_mm. ``passes`` is the
 ``passes.max`` asked for (a run may stop earlier at shakedown; the guard assumes it does not).
 """
@@ -24,6 +26,9 @@ LAYER_CASE_WHEEL_S = 0.15
 #: Exact (FFT half-space) normal solver per strip of the table and x cell, per pass (s): 27 ms CPU for the paper
 #: scene with the layer (160 strips, 48 cells; docs/exact-solver.md) -> 3.5 us; rounded up.
 EXACT_CELL_S = 5e-6
+#: Coarse-grid exact normal solve per pass (s): 1-4 ms CPU measured on the 30-patch set under load
+#: (benchmarks/bench_fast_normal.py); rounded up, so that a scene using it compiles its kernels.
+COARSE_SOLVE_S = 0.01
 #: Lateral extent of a wheel–rail contact candidate's strip grid assumed by the estimate (mm).
 WHEEL_RAIL_WINDOW_MM = 40.0
 
@@ -44,6 +49,9 @@ def scene_cost(scene) -> CostEstimate:
         factors["exact cells"] = exact_cells
         per_strip += exact_cells * EXACT_CELL_S
     seconds = passes * strips * per_strip
+    if getattr(scene.method, "normal", "kik_piotrowski") == "coarse_exact":
+        factors["coarse solves"] = passes
+        seconds += passes * COARSE_SOLVE_S
     return CostEstimate(scene.path.name, factors, seconds)
 
 
@@ -64,6 +72,8 @@ def wheel_rail_cost(scene) -> CostEstimate:
         exact_cells = method.exact_cells or DEFAULT_CELLS
         factors["exact cells"] = exact_cells
         per_strip += exact_cells * EXACT_CELL_S
+    if method.normal == "coarse_exact":
+        per += passes * COARSE_SOLVE_S
     workers = max(1, min(scene.run.workers, cases))
     seconds = cases * wheels * (per + passes * strips * per_strip) / workers
     return CostEstimate(scene.path.name, factors, seconds, note=f"on {workers} worker(s)" if workers > 1 else "")

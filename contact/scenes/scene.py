@@ -19,7 +19,8 @@ creepages for FASTSIM and optional repeated passes (section 5). Keys (all carry 
     [passes]     max (>= 1, default 1), hardening (bool, default false), tolerance_mm (> 0, default 1e-6),
                  memory ("rolling" default | "relaxed" | "state_kept"), traction_coefficient (-1..1, default 0)
     [method]     alpha (0 < alpha <= 1, default 0.55), grid_mm (> 0, default 0.1), fastsim_cells (>= 2, default 60),
-                 normal ("kik_piotrowski" (default, the paper's) or "exact": FFT half-space, docs/exact-solver.md),
+                 normal ("kik_piotrowski" (default, the paper's), "exact": FFT half-space, docs/exact-solver.md,
+                 or "coarse_exact": the half-space on a coarse grid),
                  exact_cells (exact solver: cells along x over the KP patch length, 8..1024, default 48),
                  layer_mode (exact solver: "indentation" (default) or "rolling"),
                  tangential ("fastsim" (default), "fastrip" or "exact": docs/tangential.md)

@@ -247,7 +247,7 @@ class MethodSpec:
     fastsim_cells : int
         FASTSIM cells per strip (-).
     normal : str
-        The normal solver: "kik_piotrowski" or "exact" (-).
+        The normal solver: "kik_piotrowski", "exact" or "coarse_exact" (the half-space on a coarse grid) (-).
     exact_cells : int | None
         Exact solver grid: cells along x over the patch length (-); None: the solver's default.
     layer_mode : str

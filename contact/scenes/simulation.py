@@ -58,9 +58,13 @@ from wrlayer.errors import InputError, PatchTruncated, typed_input_error
 from wrlayer.progress import progress
 
 _NORMAL_METHOD_TEXT = {
-    "kik_piotrowski": "Kik-Piotrowski virtual penetration with the Prandtl-body layer (paper eqs. 9-15)",
+    "kik_piotrowski": "Kik-Piotrowski virtual penetration with the Prandtl-body layer (paper eqs. 9-15); p_max "
+                      "approximate (up to 20 % below the exact half-space on Hertzian patches, 50 % on flat-topped "
+                      "ones: benchmarks/bench_fast_normal.py)",
     "exact": "exact half-space (FFT boundary elements, Polonsky-Keer CG) with the Prandtl-body layer cell by cell "
              "(layer_mode {m.layer_mode}, exact_cells {cells})",
+    "coarse_exact": "exact half-space on a coarse grid fitted to the patch (Polonsky-Keer CG) with the Prandtl-body "
+                    "layer cell by cell (indentation)",
 }
 
 #: The result's ``method.tangential`` text per ``method.tangential`` key.

@@ -14,20 +14,24 @@ the table, as CONTACT does.
 Rows: g = 0.1, 0.2, ..., 1.0 for both branches a/b <= 1 and b/a <= 1 (a: semi-axis in the rolling direction).
 Columns: Poisson's ratio nu = 0, 0.25, 0.5.
 
-Interpolation: linear in g between the table rows and piecewise linear in nu between the columns. (CONTACT instead
-fits a parabola through 1/C over the three nu columns; at nu = 0.28 the two rules differ by at most 0.6 % for
-a >= b, the wheel/rail case, and 1.7 % for a < b (C23 at a/b = 0.1); over nu in [0, 0.5] by up to 3.8 %.)
+Interpolation: in g between the table rows, linearly in scaled coefficients g^q C that are nearly linear in g
+(:data:`SCALE_POWERS`): g C11, g C22 and g^1.5 C23 for b < a (Kalker's asymptotes: they grow like 1/g and
+g^-1.5 as g -> 0); C11, C22 and sqrt(g) C23 for a <= b (the power with the smallest leave-one-out error on the
+table, 1.4 % at twice the row spacing against 2.6 % for C23 itself); exact at the rows. Piecewise linear in
+nu between the columns. (CONTACT interpolates the coefficients themselves linearly in g, and fits a parabola
+through 1/C over the three nu columns; at nu = 0.28 the nu rules differ by at most 0.6 % for a >= b, the wheel/rail
+case, and 1.7 % for a < b (C23 at a/b = 0.1); over nu in [0, 0.5] by up to 3.8 %.)
 Below g = 0.1 Kalker's asymptotic formulae are used; they join the table at g = 0.1 with a jump of up to 6 %
-(C23 for a/b -> 0, nu = 0.5; the asymptotes are not exact at g = 0.1). Patches of this project (a/b ~ 6-7) lie
-well inside the table.
+(C23 for a/b -> 0, nu = 0.5; the asymptotes are not exact at g = 0.1).
 
-Accuracy of the interpolation against the exact theory (:mod:`contact.tangential.exact_rolling`, nu = 0.25,
-extrapolated from 24 and 48 cells across the short axis; ``tests/contact/tangential/test_exact_rolling.py``): at
-the table's rows the two agree within 1 % (a/b = 0.2, 0.5, 1, 2, 5). Between rows C23 (~ g^-1.5 for b < a) and, less
-so, C11 and C22 (~ 1/g) are curved in g, and the linear rule overestimates them: a/b = 3 (g = 1/3) by 0.6 %, 0.5 %
-and 2 %; a/b = 6.67 (g = 0.15, this project's patches) by 6 %, 6 % and 16 %. Interpolating g C11, g C22 and
-g^1.5 C23 linearly instead would bring these within 2 %, but would change every FASTSIM result; the rule is kept
-as CONTACT's.
+Accuracy against the exact theory (:mod:`contact.tangential.exact_rolling`, nu = 0.25, extrapolated from 24 and
+48 cells across the short axis; ``tests/contact/tangential/test_exact_rolling.py``): at the table's rows within 1 %
+(a/b = 0.2, 0.5, 1, 2, 5). Between rows the coefficients are curved in g (C23 ~ g^-1.5 for b < a): interpolated
+linearly in the coefficients themselves (CONTACT's rule) they were 6 %, 6 % and 16 % high at a/b = 6.67
+(g = 0.15, wheel/rail patches); interpolated in the scaled variables they are within 2 % of the exact theory at
+a/b = 3 and 6.67 (slow test in ``test_exact_rolling.py``), and every coefficient of the table predicted from the
+rows two apart (a spacing twice the table's) is within 1.8 % of the published value (``tests/contact/tangential/
+test_kalker_coefficients.py``), against up to 46 % (C23, b/a = 0.2) for the linear rule.
 """
 
 from __future__ import annotations
@@ -40,6 +44,8 @@ from wrlayer.errors import require
 
 #: Table rows g = min(a/b, b/a).
 G_NODES = np.round(np.arange(1, 11) * 0.1, 10)
+#: Powers q of g in the scaled coefficients g^q C interpolated linearly between the rows, per branch and name.
+SCALE_POWERS = {"a<=b": {"C11": 0.0, "C22": 0.0, "C23": 0.5}, "b<a": {"C11": 1.0, "C22": 1.0, "C23": 1.5}}
 #: Table columns (Poisson's ratio).
 NU_NODES = np.array([0.0, 0.25, 0.5])
 
@@ -96,16 +102,18 @@ def _asymptotes(g: float, nu: float, a_le_b: bool) -> tuple[float, float, float]
     return float(c11), float(c22), float(c23)
 
 
-def _interp_branch(branch: dict, g: float, nu: float) -> tuple[float, float, float]:
-    """(C11, C22, C23) of one branch: linear in g between the rows, piecewise linear in nu between the columns."""
+def _interp_branch(branch: dict, g: float, nu: float, powers: dict) -> tuple[float, float, float]:
+    """(C11, C22, C23) of one branch: g^q C linear in g between the rows (q: ``powers``), piecewise linear in nu
+    between the columns."""
     row = min(int(np.searchsorted(G_NODES, g, side="right")) - 1, G_NODES.size - 2)
     fg = (g - G_NODES[row]) / (G_NODES[row + 1] - G_NODES[row])
     col = 0 if nu <= NU_NODES[1] else 1
     fn = (nu - NU_NODES[col]) / (NU_NODES[col + 1] - NU_NODES[col])
     out = []
     for name in ("C11", "C22", "C23"):
-        t = branch[name]
-        by_nu = (1.0 - fg) * t[row, col:col + 2] + fg * t[row + 1, col:col + 2]
+        t, q = branch[name], powers[name]
+        g0, g1 = G_NODES[row], G_NODES[row + 1]
+        by_nu = ((1.0 - fg) * g0 ** q * t[row, col:col + 2] + fg * g1 ** q * t[row + 1, col:col + 2]) / g ** q
         out.append(float((1.0 - fn) * by_nu[0] + fn * by_nu[1]))
     return out[0], out[1], out[2]
 
@@ -113,8 +121,8 @@ def _interp_branch(branch: dict, g: float, nu: float) -> tuple[float, float, flo
 def creep_coefficients(a_over_b: float, poisson: float) -> CreepCoefficients:
     """Kalker's C11, C22, C23 for the semi-axis ratio a/b (a in the rolling direction) and Poisson's ratio.
 
-    a_over_b > 0 (finite); poisson in [0, 0.5]. Table E3 values interpolated linearly in g = min(a/b, b/a) and in
-    nu; Kalker's asymptotes below g = 0.1.
+    a_over_b > 0 (finite); poisson in [0, 0.5]. Table E3 values interpolated in g = min(a/b, b/a) (the scaled
+    coefficients of :data:`SCALE_POWERS` linearly) and linearly in nu; Kalker's asymptotes below g = 0.1.
     """
     require(bool(np.isfinite(a_over_b)) and a_over_b > 0, "a_over_b",
             f"semi-axis ratio must be a positive finite number, got {a_over_b!r}")
@@ -124,4 +132,5 @@ def creep_coefficients(a_over_b: float, poisson: float) -> CreepCoefficients:
     g = a_over_b if a_le_b else 1.0 / a_over_b
     if g < 0.1:
         return CreepCoefficients(*_asymptotes(g, poisson, a_le_b))
-    return CreepCoefficients(*_interp_branch(TABLE["a<=b" if a_le_b else "b<a"], g, poisson))
+    branch = "a<=b" if a_le_b else "b<a"
+    return CreepCoefficients(*_interp_branch(TABLE[branch], g, poisson, SCALE_POWERS[branch]))

@@ -19,7 +19,8 @@
                 semi-axes, displacements x sqrt(ab)/sqrt(a_c b_c); docs/calibration.md)
     [passes]    max = 1, hardening = false, tolerance_mm = 1e-6, memory = "rolling", traction_coefficient = 0
     [method]    alpha = 0.55, grid_mm = 0.1, fastsim_cells = 60, merge_mm, candidate_gap_mm, f_cap_mm,
-                normal = "kik_piotrowski" | "exact" (the normal solver), exact_cells (exact solver grid: cells
+                normal = "kik_piotrowski" | "exact" | "coarse_exact" (the normal solver), exact_cells (exact
+                solver grid: cells
                 along x over the patch length, 8..1024, default 48), layer_mode ("indentation" | "rolling"),
                 contact_point = "first_contact" (default) | "weighted_centre" (reported point; creepages there),
                 balance = "total" (default: vertical component of normal + tangential forces = load) | "normal"

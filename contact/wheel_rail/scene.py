@@ -186,7 +186,7 @@ class MethodSpec(Record):
     f_cap_mm : float
         The separation function is cut where it exceeds this (mm).
     normal : str
-        The normal solver: "kik_piotrowski" or "exact" (-).
+        The normal solver: "kik_piotrowski", "exact" or "coarse_exact" (the half-space on a coarse grid) (-).
     exact_cells : int | None
         Exact solver grid: cells along x over the patch length (-); None: the solver's default.
     layer_mode : str

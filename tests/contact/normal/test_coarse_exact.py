@@ -1,0 +1,108 @@
+"""The coarse-grid exact normal solver (contact.normal.coarse_exact): Hertz, the exact solver, the layer, errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
+from contact.normal.coarse_exact import CoarseOptions, solve_coarse_exact
+from contact.normal.exact import ExactOptions, solve_exact
+from contact.normal.kik_piotrowski import NormalProblem
+from contact.normal.method import NormalMethod, solve_normal_with
+from contact.scenes.paper_example import paper_characteristic
+from tests.contact.normal.hertz_reference import hertz
+from wrlayer.errors import InputError
+
+E, NU, RX = 210000.0, 0.3, 460.0
+
+
+def parabolic(r_y: float, n: float, half: float = 12.0, grid_mm: float = 0.1) -> NormalProblem:
+    y = np.linspace(-half, half, 961)
+    return NormalProblem(y, y * y / (2 * r_y), n, RX, E, NU, grid_mm=grid_mm)
+
+
+def flat_topped(n: float = 2e4) -> NormalProblem:
+    y = np.linspace(-12.0, 12.0, 961)
+    return NormalProblem(y, np.maximum(np.abs(y) - 1.5, 0.0) ** 2 / 80.0, n, RX, E, NU)
+
+
+def paper_layer(prob: NormalProblem) -> LayerPair:
+    return LayerPair(combined=PrandtlLayer.uniform(paper_characteristic(), prob.strip_y_mm, name="paper layer"))
+
+
+@pytest.mark.parametrize("r_y, n", [(460.0, 1e4), (40.0, 8e4), (3000.0, 1e4)])
+def test_hertz_closed_form(r_y, n):
+    """Circle, a/b = 3 and a/b = 0.4: p_max and approach within 2 %, area and semi-axes within 3 % of Hertz's
+    elliptic-integral solution (the edges lie within cells of 1/13 of the patch; a wrong influence coefficient,
+    force or box would be off by far more)."""
+    ref = hertz(n, RX, r_y, E, NU)
+    sol = solve_coarse_exact(parabolic(r_y, n))
+    assert sol.p_max_MPa == pytest.approx(ref["p0_MPa"], rel=0.02)
+    assert sol.area_mm2 == pytest.approx(ref["area_mm2"], rel=0.03)
+    assert sol.delta_mm == pytest.approx(ref["delta_mm"], rel=0.02)
+    assert sol.length_mm == pytest.approx(2 * ref["a_mm"], rel=0.03)
+    assert sol.width_mm == pytest.approx(2 * ref["b_mm"], rel=0.03)
+    assert sol.method == "coarse_exact"
+
+
+def test_force_is_carried_by_the_strips():
+    sol = solve_coarse_exact(parabolic(100.0, 3e4))
+    assert sum(p.normal_force_N() for p in sol.patches) == pytest.approx(3e4, rel=1e-9)
+    assert sol.normal_force_N == pytest.approx(3e4, rel=1e-6)
+    # the strips' peak pressure is the lines' peak pressure interpolated: its maximum near p_max
+    assert sol.p_peak_MPa.max() == pytest.approx(sol.p_max_MPa, rel=0.02)
+
+
+def test_non_hertzian_against_the_exact_solver():
+    """Flat-topped separation (pressure peaks at the ends of the flat part): within 5 % of the exact solver on a
+    fine grid; Kik-Piotrowski is 15-50 % off here."""
+    prob = flat_topped()
+    ref = solve_exact(prob, None, ExactOptions(cells=64))
+    sol = solve_coarse_exact(prob, None, CoarseOptions(cells=24))
+    for key in ("p_max_MPa", "area_mm2", "delta_mm", "width_mm"):
+        assert getattr(sol, key) == pytest.approx(getattr(ref, key), rel=0.05), key
+
+
+def test_with_the_layer_against_the_exact_solver():
+    """The paper's layer in series (it yields at this load): peak pressure and approach within 2 %, area 5 %."""
+    prob = parabolic(31.7, 1e5, half=8.0)
+    ref = solve_exact(prob, paper_layer(prob), ExactOptions(cells=64))
+    sol = solve_coarse_exact(prob, paper_layer(prob))
+    assert not sol.elastic and not ref.elastic
+    assert sol.p_max_MPa == pytest.approx(ref.p_max_MPa, rel=0.02)
+    assert sol.delta_mm == pytest.approx(ref.delta_mm, rel=0.02)
+    assert sol.area_mm2 == pytest.approx(ref.area_mm2, rel=0.05)
+    assert sol.p_max_MPa < 0.8 * solve_coarse_exact(prob).p_max_MPa      # the layer lowers the peak
+
+
+def test_extrapolation_option_changes_little_on_hertz():
+    prob = parabolic(460.0, 1e4)
+    plain = solve_coarse_exact(prob)
+    extra = solve_coarse_exact(prob, None, CoarseOptions(extrapolate=True))
+    assert extra.iterations["extrapolated"]
+    assert extra.p_max_MPa == pytest.approx(plain.p_max_MPa, rel=0.02)
+
+
+def test_an_approach_guess_places_the_grid_without_a_locating_solve():
+    """With a nearby solve's approach (the wheel-rail balance) the first grid covers {f < delta / 2}: fewer grid
+    solves, the same solution within the grid's discretisation (a few %)."""
+    prob = flat_topped()
+    cold = solve_coarse_exact(prob)
+    warm = solve_coarse_exact(prob, delta_guess_mm=1.05 * cold.delta_mm)
+    assert warm.iterations["boxes"] < cold.iterations["boxes"]
+    for key in ("p_max_MPa", "area_mm2", "delta_mm"):
+        assert getattr(warm, key) == pytest.approx(getattr(cold, key), rel=0.03), key
+
+
+def test_registry_and_errors():
+    prob = parabolic(460.0, 1e4)
+    sol = solve_normal_with(prob, method="coarse_exact")
+    assert sol.method == "coarse_exact"
+    with pytest.raises(InputError, match="method.layer_mode"):
+        NormalMethod("coarse_exact", layer_mode="rolling")
+    with pytest.raises(InputError, match="coarse_cells"):
+        CoarseOptions(cells=7)
+    short = parabolic(460.0, 1e4, half=2.0)            # the patch (b = 3.1 mm) is wider than the table
+    with pytest.raises(InputError, match="end of the separation table"):
+        solve_coarse_exact(short)
