@@ -13,6 +13,8 @@ out-of-plane axis to index 2 (eps_33 = 0). Strains/stresses are Mandel 6-vectors
 
 from __future__ import annotations
 
+import functools
+import gc
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -171,6 +173,23 @@ def discretise(mesh: skfem.Mesh, order: int | None = None) -> Discretisation:
     indptr, indices, scatter = pattern
     return Discretisation(mesh, basis, B, np.ascontiguousarray(basis.dx), edofs, components, plane_strain,
                           indptr, indices, scatter)
+
+
+def frees_its_meshes(func):
+    """Decorate a function that builds and drops whole meshes (a rolling block, a static study point): a full
+    garbage collection runs when it returns. scikit-fem's meshes refer to themselves (mesh <-> its cached mapping
+    and dofs) and pypardiso's solvers to their library handle, so they are freed only by a full collection, which
+    Python runs rarely (numpy's and PARDISO's memory do not count towards its thresholds); one process running
+    block after block otherwise keeps growing (measured, benchmarks/bench_fem_memory.py)."""
+
+    @functools.wraps(func)
+    def wrapper(*args, **kwargs):
+        try:
+            return func(*args, **kwargs)
+        finally:
+            gc.collect()
+
+    return wrapper
 
 
 def _csr_pattern(edofs: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

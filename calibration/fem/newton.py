@@ -6,6 +6,7 @@ matrix-free) and the Newton correction of each strategy (:class:`calibration.fem
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Sequence
 
 import numpy as np
@@ -48,10 +49,16 @@ class TangentProblem:
     ``factor`` holds one factorisation: the elastic stiffness at first; with the 'pcg' strategy it is refreshed
     with the current consistent tangent whenever preconditioned CG needed more than ``cg_refresh_iters``
     iterations; with 'newton' it is the current tangent; with 'modified' it stays elastic.
+
+    The problem refers to its discretisation weakly: the discretisation keeps the problem in its
+    ``problem_cache``, and a strong reference back would make a cycle that only Python's rare full garbage
+    collection frees (numpy arrays and PARDISO's memory do not count towards its thresholds): one process that
+    built several meshes kept every one of them with its factorisation (GBs for fine rolling blocks).
     """
 
     def __init__(self, disc: Discretisation, material: J2Material, constrained: np.ndarray, opts: SolverOptions):
-        self.disc, self.material, self.opts = disc, material, opts
+        self._disc = weakref.ref(disc)
+        self.material, self.opts = material, opts
         n = disc.n_dofs
         self.fixed = np.zeros(n, dtype=bool)
         self.fixed[constrained] = True
@@ -67,6 +74,14 @@ class TangentProblem:
         self.factor = Factoriser(disc.csr_indptr, disc.csr_indices, n, opts.linear_solver, opts.factor_precision)
         self.factor.factorise(self.Ke_bc_data)
         self.factor_is_elastic = True
+
+    @property
+    def disc(self) -> Discretisation:
+        """The discretisation this problem was assembled on (it must be kept alive by its user)."""
+        disc = self._disc()
+        if disc is None:
+            raise RuntimeError("the discretisation of this TangentProblem no longer exists: keep a reference to it")
+        return disc
 
     def reset_to_elastic(self) -> None:
         """Refactorise the elastic stiffness if the kept factorisation is a tangent (after a failed increment the
