@@ -112,7 +112,7 @@ class SubstepSolver(RollingSolver):
             ps, bs, eq = r.plastic_strain, r.back_stress_MPa, r.eq_plastic_strain
             tangent += C / m
             if r.plastic.any():
-                tangent[r.plastic] = r.tangent_MPa[r.plastic] @ self.C_inv @ tangent[r.plastic]
+                tangent[r.plastic] = r.plastic_tangent_MPa @ self.C_inv @ tangent[r.plastic]
             yielded |= r.plastic
         tangent[yielded] = 0.5 * (tangent[yielded] + np.swapaxes(tangent[yielded], -1, -2))
         return r, tangent, yielded
@@ -155,7 +155,7 @@ class SubstepSolver(RollingSolver):
             if it == self.max_newton or rnorm > 1e6 or (it >= 4 and rnorm > 10 * residuals[0]):
                 break
             plastic_elems = np.nonzero(yielded.any(axis=1))[0]
-            du, ncg, rz0 = prob.solve_correction(r, tangent, plastic_elems,
+            du, ncg, rz0 = prob.solve_correction(r, tangent[plastic_elems], plastic_elems,
                                                  cg_tolerance(opts, it, rnorm, residuals))
             cg_total += ncg
             if e0 is None and rz0 is not None:
