@@ -45,11 +45,19 @@ class ReturnResult:
         None without tangent)."""
         if self.elastic_MPa is None:
             return None
-        tangent = np.broadcast_to(self.elastic_MPa, (len(elements),) + self.plastic.shape[1:] + (6, 6)).copy()
-        rank = np.cumsum(self.plastic.ravel()).reshape(self.plastic.shape) - 1  # index into plastic_tangent_MPa
-        sel = self.plastic[elements]
-        tangent[sel] = self.plastic_tangent_MPa[rank[elements][sel]]
-        return tangent
+        return tangent_of_elements(elements, self.plastic, self.plastic_tangent_MPa, self.elastic_MPa)
+
+
+def tangent_of_elements(elements: np.ndarray, marked: np.ndarray, marked_tangent: np.ndarray,
+                        default: np.ndarray) -> np.ndarray:
+    """Tangents (n_sel, n_qp, 6, 6) at the points of ``elements`` from the tangents ``marked_tangent`` (n_marked,
+    6, 6) of the ``marked`` points (bool (n_elem, n_qp), in the order of ``np.nonzero(marked)``) and ``default``
+    (6, 6) at every other point."""
+    tangent = np.broadcast_to(default, (len(elements),) + marked.shape[1:] + (6, 6)).copy()
+    rank = np.cumsum(marked.ravel()).reshape(marked.shape) - 1  # index into marked_tangent
+    sel = marked[elements]
+    tangent[sel] = marked_tangent[rank[elements][sel]]
+    return tangent
 
 
 def radial_return(material: J2Material, strain: np.ndarray, plastic_strain_old: np.ndarray,
