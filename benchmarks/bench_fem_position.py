@@ -1,5 +1,6 @@
 """One direct 3D calibration position (default configuration, 60E1 rail crown, one worker): run time split,
-machine-independent counts, and the check that a code change left its result unchanged (units s, MiB, mm, MPa).
+machine-independent counts, peak memory and the check that a code change left its result unchanged (units s,
+MiB, mm, MPa).
 
 Split (cProfile with the process CPU clock, so that the other users of a shared machine do not inflate it;
 cumulative CPU time of each phase's functions): meshing (``build_mesh``: gmsh and conversion),
@@ -105,11 +106,13 @@ def _phase_seconds(stats: pstats.Stats, wanted: list[str]) -> tuple[float, int]:
 
 def timed_position(body: str = "rail", y_mm: float = 0.0, plots: bool = False) -> dict:
     """Run one position under cProfile: wall and CPU time, load average, the CPU split and the counts."""
+    from benchmarks.bench_fem_memory import peak_rss_mb, reset_peak
     from calibration.tasks import run_position
 
     with tempfile.TemporaryDirectory() as tmp:
         task = position_task(body, y_mm, plots, Path(tmp))
         load_before = os.getloadavg()[0]
+        reset_peak()
         prof = cProfile.Profile(time.process_time)  # CPU seconds: robust to the machine's other load
         cpu0, t0 = time.process_time(), time.perf_counter()
         prof.enable()
@@ -126,7 +129,7 @@ def timed_position(body: str = "rail", y_mm: float = 0.0, plots: bool = False) -
     split["rest"] = cpu - sum(v for k, v in split.items() if k != "of which solves")
     rm_s, rm_calls = _phase_seconds(stats, [RETURN_MAPPING])
     return {"body": body, "y_mm": y_mm, "plots": plots, "wall_s": wall, "cpu_s": cpu,
-            "load_1min": [load_before, os.getloadavg()[0]], "split_s": split,
+            "load_1min": [load_before, os.getloadavg()[0]], "split_s": split, "peak_memory_MiB": peak_rss_mb(),
             "counts": {"newton_iterations": res.newton_iterations, "linear_solves": res.linear_solves,
                        "factorisations": res.factorisations, "return_mapping_calls": rm_calls,
                        "return_mapping_s": rm_s, "n_dofs": res.n_dofs, "n_elements": res.n_elements},
@@ -185,12 +188,12 @@ def _rel(a, b, scale) -> float:
 
 
 def _markdown(rows: list[dict], check: dict | None) -> str:
-    lines = ["| run | wall (s) | CPU (s) | load (1 min) | " + " | ".join(PHASES) + " | rest |",
-             "|---" * (5 + len(PHASES)) + "|"]
+    lines = ["| run | wall (s) | CPU (s) | load (1 min) | peak memory (MiB) | " + " | ".join(PHASES) + " | rest |",
+             "|---" * (6 + len(PHASES)) + "|"]
     for r in rows:
         s = r["split_s"]
         lines.append(f"| {'with plots' if r['plots'] else 'no plots'} | {r['wall_s']:.2f} | {r['cpu_s']:.2f} | "
-                     f"{r['load_1min'][0]:.1f}-{r['load_1min'][1]:.1f} | "
+                     f"{r['load_1min'][0]:.1f}-{r['load_1min'][1]:.1f} | {r['peak_memory_MiB']:.0f} | "
                      + " | ".join(f"{s[k]:.2f}" for k in PHASES) + f" | {s['rest']:.2f} |")
     c = rows[0]["counts"]
     text = ("Direct 3D calibration of the 60E1 rail crown (y = 0), default configuration, one worker, times in s "
