@@ -6,6 +6,7 @@ matrix-free) and the Newton correction of each strategy (:class:`calibration.fem
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Sequence
 
 import numpy as np
@@ -48,10 +49,16 @@ class TangentProblem:
     ``factor`` holds one factorisation: the elastic stiffness at first; with the 'pcg' strategy it is refreshed
     with the current consistent tangent whenever preconditioned CG needed more than ``cg_refresh_iters``
     iterations; with 'newton' it is the current tangent; with 'modified' it stays elastic.
+
+    The problem refers to its discretisation weakly: the discretisation keeps the problem in its
+    ``problem_cache``, and a strong reference back would make a cycle that only Python's rare full garbage
+    collection frees (numpy arrays and PARDISO's memory do not count towards its thresholds): one process that
+    built several meshes kept every one of them with its factorisation (GBs for fine rolling blocks).
     """
 
     def __init__(self, disc: Discretisation, material: J2Material, constrained: np.ndarray, opts: SolverOptions):
-        self.disc, self.material, self.opts = disc, material, opts
+        self._disc = weakref.ref(disc)
+        self.material, self.opts = material, opts
         n = disc.n_dofs
         self.fixed = np.zeros(n, dtype=bool)
         self.fixed[constrained] = True
@@ -68,6 +75,14 @@ class TangentProblem:
         self.factor.factorise(self.Ke_bc_data)
         self.factor_is_elastic = True
 
+    @property
+    def disc(self) -> Discretisation:
+        """The discretisation this problem was assembled on (it must be kept alive by its user)."""
+        disc = self._disc()
+        if disc is None:
+            raise RuntimeError("the discretisation of this TangentProblem no longer exists: keep a reference to it")
+        return disc
+
     def reset_to_elastic(self) -> None:
         """Refactorise the elastic stiffness if the kept factorisation is a tangent (after a failed increment the
         tangent of a diverged iterate may be near-singular, so it must not precondition the cut step)."""
@@ -81,10 +96,11 @@ class TangentProblem:
         return data
 
     def tangent_data(self, tangent: np.ndarray, plastic_elems: np.ndarray) -> np.ndarray:
-        """CSR data of K_e + sum over plastic elements of (K_ep - K_e), Dirichlet rows/cols replaced."""
+        """CSR data of K_e + sum over plastic elements of (K_ep - K_e), Dirichlet rows/cols replaced;
+        ``tangent``: the consistent tangent (n_sel, n_qp, 6, 6) at the points of ``plastic_elems``."""
         data = self.Ke_data.copy()
         if plastic_elems.size:  # K_ep - K_e = B^T (C_ep - C) B: one product over the plastic elements only
-            dK = self.disc.element_matrices(tangent[plastic_elems] - self.C, plastic_elems, selected=True)
+            dK = self.disc.element_matrices(tangent - self.C, plastic_elems, selected=True)
             data += self.disc.csr_data(dK, plastic_elems)
         return self._bc(data)
 
@@ -92,10 +108,10 @@ class TangentProblem:
         """x -> K_t x without assembling K_t: the elastic K_e x plus, over the plastic elements only, the element
         products (K_ep - K_e) x_e (Dirichlet rows/cols replaced as in :meth:`tangent_data`). Measured: the
         assembly of K_t's CSR data (copy, scatter, boundary conditions of all 5e6 entries at 62k dofs) cost more
-        than all the matvecs of the CG that used it."""
+        than all the matvecs of the CG that used it. ``tangent``: as in :meth:`tangent_data`."""
         if plastic_elems.size == 0:
             return self.Ke.dot
-        dK = self.disc.element_matrices(tangent[plastic_elems] - self.C, plastic_elems, selected=True)
+        dK = self.disc.element_matrices(tangent - self.C, plastic_elems, selected=True)
         edofs = self.disc.element_dofs[plastic_elems]
         flat = edofs.ravel()
         fixed, n = self.fixed, self.disc.n_dofs
@@ -113,7 +129,8 @@ class TangentProblem:
                          cg_rtol: float | None = None) -> tuple[np.ndarray, int, float | None]:
         """Newton correction for residual r (free dofs) with the chosen strategy; returns (du, cg iterations,
         r . P^-1 r with the factorisation P at hand on entry, or None when not computed: the 'newton' strategy).
-        cg_rtol: the CG tolerance of this correction (default options.cg_rtol)."""
+        tangent: the consistent tangent (n_sel, n_qp, 6, 6) at the points of ``plastic_elems``; cg_rtol: the CG
+        tolerance of this correction (default options.cg_rtol)."""
         cg_rtol = self.opts.cg_rtol if cg_rtol is None else cg_rtol
         strategy = self.opts.strategy
         if strategy == "modified":
@@ -199,7 +216,7 @@ def newton_increment(prob: TangentProblem, state: SolverState, force: np.ndarray
             break
         plastic_elems = np.nonzero(res.plastic.any(axis=1))[0]
         try:
-            du, ncg, rz0 = prob.solve_correction(r, res.tangent_MPa, plastic_elems,
+            du, ncg, rz0 = prob.solve_correction(r, res.tangent_of(plastic_elems), plastic_elems,
                                                  cg_tolerance(opts, it, rnorm, residuals))
         except ConvergenceError as err:
             residuals.append(float("nan"))

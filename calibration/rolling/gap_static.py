@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
+from calibration.fem.assembly import frees_its_meshes
 from calibration.rolling.config import TrackMeshSettings, TrackSettings
 from calibration.rolling.gap_cases import (GAP_MESH, GAP_TRACK, LEVELS, GapCase, GapCaseResult, GapPosition,
                                           default_positions)
@@ -152,6 +153,7 @@ def corrected_groove(coarse_groove_mm, coarse_static_mm: float, converged_static
     return np.asarray(coarse_groove_mm, dtype=float) / coarse_static_mm * converged_static_mm
 
 
+@frees_its_meshes
 def static_point(position: GapPosition, elements_per_semi_axis: float, levels=LEVELS, track: TrackSettings = GAP_TRACK,
                  mesh: TrackMeshSettings = GAP_MESH) -> StaticPoint:
     """The static dents of ``position`` at ``levels`` (x p_y) on the gap's block (``track``, ``mesh``) with

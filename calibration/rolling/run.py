@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from calibration.fem.assembly import discretise
+from calibration.fem.assembly import discretise, frees_its_meshes
 from calibration.fem.elastoplastic_solver import LoadPath
 from calibration.fem.solver_state import SolverOptions, SolverState
 from calibration.hertz.load import HertzLoad
@@ -241,6 +241,7 @@ def _write(out_dir: Path, result: RollingResult) -> Path:
     return atomic_write_text(out_dir / "rolling.json", json.dumps(result.to_dict(), indent=1, allow_nan=True))
 
 
+@frees_its_meshes
 def run_rolling(config: RollingConfig, out_dir: str | Path, force: bool = False, progress=None) -> RollingResult:
     """Run every level of ``config`` into ``out_dir`` (see the module docstring). ``force``: run beyond the cost
     limit; ``progress(text)``: called after each pass. InputError (bad input, cost), RollingConvergenceError."""

@@ -34,7 +34,7 @@ import numpy as np
 
 from calibration.fem.linear_solvers import preconditioned_cg
 from calibration.fem.newton import TangentProblem, cg_tolerance
-from calibration.fem.return_mapping import radial_return
+from calibration.fem.return_mapping import radial_return, tangent_of_elements
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.moving_load import SurfaceForces
 from calibration.rolling.passes import PREDICTOR_RTOL, RollingSolver, Target
@@ -93,29 +93,45 @@ class SubstepSolver(RollingSolver):
 
     def material_path(self, state: SolverState, eps_a: np.ndarray, eps_path: list[np.ndarray], u: np.ndarray):
         """Return mapping through the sub-steps for the end displacement u: (the last sub-step's ReturnResult,
-        the tangent d sigma_m / d eps_b through all sub-steps (MPa; symmetrised), points plastic in any sub-step).
+        the points plastic in any sub-step (bool (n_elem, n_qp)), the tangent d sigma_m / d eps_b through all
+        sub-steps at those points (n_yielded, 6, 6) in the order of ``np.nonzero``, MPa; symmetrised, and the
+        tangent of every other point: C, summed as m times C / m).
 
         Tangent: the trial stress of sub-step k is sigma_k-1 + C (eps_k - eps_k-1) and eps_k depends on eps_b with
         weight t_k, so T_k = R_k (T_k-1 + C (t_k - t_k-1)), T_0 = 0, with R_k = C_ep,k C^-1 the return's
         derivative with respect to its trial stress (exact for perfect plasticity; the hardening variables' own
-        dependence on eps_b is left out). T_m is the consistent tangent C_ep for m = 1."""
+        dependence on eps_b is left out). T_m is the consistent tangent C_ep for m = 1. A point elastic so far has
+        T_k = t_k C, so T is carried only at the points that have yielded (a small part of the block), from the
+        sub-step at which they first yield."""
         disc, mat, m = self.prob.disc, self.prob.material, self.substeps
         C = self.prob.C
         eps_b = disc.strain(u)
         rest = eps_b - eps_a - eps_path[-1]          # strain of the linearly interpolated correction D
         ps, bs, eq = state.plastic_strain, state.back_stress_MPa, state.eq_plastic_strain
-        tangent = np.zeros(eps_b.shape[:-1] + (6, 6))
         yielded = np.zeros(eps_b.shape[:-1], dtype=bool)
+        points = np.zeros(0, dtype=np.int64)         # flat indices of the yielded points (ascending)
+        tangent = np.zeros((0, 6, 6))                # T at those points
+        elastic = np.zeros((6, 6))                   # T_k of a point elastic so far (sum of the C / m)
         for k in range(1, m + 1):
             eps_k = eps_b if k == m else eps_a + eps_path[k - 1] + (k / m) * rest
             r = radial_return(mat, eps_k, ps, bs, eq, with_tangent=True)
             ps, bs, eq = r.plastic_strain, r.back_stress_MPa, r.eq_plastic_strain
+            plastic = np.flatnonzero(r.plastic)
+            new = plastic[~yielded.ravel()[plastic]]
+            if new.size:  # points yielding for the first time join with T_k-1 of an elastic point
+                merged = np.union1d(points, new)
+                grown = np.empty((merged.size, 6, 6))
+                grown[np.searchsorted(merged, points)] = tangent
+                grown[np.searchsorted(merged, new)] = elastic
+                points, tangent = merged, grown
+                yielded.ravel()[new] = True
             tangent += C / m
-            if r.plastic.any():
-                tangent[r.plastic] = r.tangent_MPa[r.plastic] @ self.C_inv @ tangent[r.plastic]
-            yielded |= r.plastic
-        tangent[yielded] = 0.5 * (tangent[yielded] + np.swapaxes(tangent[yielded], -1, -2))
-        return r, tangent, yielded
+            elastic += C / m
+            if plastic.size:
+                at = np.searchsorted(points, plastic)
+                tangent[at] = r.plastic_tangent_MPa @ self.C_inv @ tangent[at]
+        tangent = 0.5 * (tangent + np.swapaxes(tangent, -1, -2))
+        return r, yielded, tangent, elastic
 
     def increment(self, state: SolverState, a: Target, b: Target) -> tuple[SolverState, dict]:
         """Newton iteration for the state at ``b`` from ``state`` at ``a`` with the sub-stepped material;
@@ -134,7 +150,7 @@ class SubstepSolver(RollingSolver):
         e0 = None
         cg_total = 0
         for it in range(self.max_newton + 1):
-            res, tangent, yielded = self.material_path(state, eps_a, eps_path, u)
+            res, yielded, yielded_tangent, elastic_tangent = self.material_path(state, eps_a, eps_path, u)
             f_int = disc.internal_force(res.stress_MPa)
             r = f_ext - f_int
             r[prob.fixed] = 0.0
@@ -155,6 +171,7 @@ class SubstepSolver(RollingSolver):
             if it == self.max_newton or rnorm > 1e6 or (it >= 4 and rnorm > 10 * residuals[0]):
                 break
             plastic_elems = np.nonzero(yielded.any(axis=1))[0]
+            tangent = tangent_of_elements(plastic_elems, yielded, yielded_tangent, elastic_tangent)
             du, ncg, rz0 = prob.solve_correction(r, tangent, plastic_elems,
                                                  cg_tolerance(opts, it, rnorm, residuals))
             cg_total += ncg

@@ -81,9 +81,9 @@ def test_matrix_free_tangent_equals_the_assembled_one(block_2d_coarse, disc_2d, 
     rm = radial_return(STEEL, disc_2d.strain(u), st.plastic_strain, st.back_stress_MPa, st.eq_plastic_strain)
     plastic = np.nonzero(rm.plastic.any(axis=1))[0]
     assert plastic.size > 0
-    K = disc_2d.csr_matrix(prob.tangent_data(rm.tangent_MPa, plastic))
+    K = disc_2d.csr_matrix(prob.tangent_data(rm.tangent_of(plastic), plastic))
     x = np.random.default_rng(2).standard_normal(disc_2d.n_dofs)
-    np.testing.assert_allclose(prob.tangent_matvec(rm.tangent_MPa, plastic)(x), K.dot(x), rtol=1e-12,
+    np.testing.assert_allclose(prob.tangent_matvec(rm.tangent_of(plastic), plastic)(x), K.dot(x), rtol=1e-12,
                                atol=1e-12 * np.abs(K.dot(x)).max())
 
 
