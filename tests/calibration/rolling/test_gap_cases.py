@@ -55,7 +55,7 @@ def synthetic(position, a_mm, level, truth, static_mm):
 def test_gap_rows_fit_the_group_law_and_stand_ins_scale():
     from calibration.rolling import gap
     from calibration.rolling.law_fit import PassFit
-        from wrlayer.layer_table import LayerTable
+    from wrlayer.layer_table import LayerTable
 
     truth = {1.3: PassFit(0.97, 0.04, 0.3, 0.0, 0.0), 1.7: PassFit(0.95, 0.03, 0.3, 0.0, 0.0),
              2.1: PassFit(0.9, 0.08, 0.5, 0.02, 0.0)}

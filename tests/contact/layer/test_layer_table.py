@@ -155,7 +155,8 @@ def _v4_table(rho=2.0, p_max=2400.0):
     from wrlayer.layer_table import LayerTable
 
     ch = {"u_mm": [0.0, 0.001, 0.01, 0.05], "p_MPa": [0.0, 800.0, 1400.0, 2400.0], "reverse_factor": rho}
-    pos = [{"y_mm": y, "characteristic": ch, "fit_mode": "operating_range", "calibrated_max_MPa": p_max + y,
+    pos = [{"y_mm": y, "characteristic": ch, "geometry": {"a_mm": 5.0, "b_mm": 4.0}, "fit_mode": "operating_range",
+            "calibrated_max_MPa": p_max + y,
             "levels_over_p2": [1.0, 2.0], "u_pl_error": [0.0, 0.01], "residual_error": [0.01]} for y in (0.0, 10.0)]
     return LayerTable({"body": "rail", "profile": "60E1"}, pos, [], "t.json")
 

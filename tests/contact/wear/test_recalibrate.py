@@ -259,8 +259,7 @@ def _fake_lawless_calibration(out_tables):
         for body in out_tables:
             data = json.loads((TABLES / ("wheel_S1002_default.json" if body == "wheel" else
                                          "rail_60E1_default.json")).read_text())
-            data.pop("rolling_law")
-            data["format_version"] = 2
+            data.pop("rolling_law")  # a lawless table of format 4 stays version 4
             written[body] = Path(out_dir) / f"{body}_layer_table.json"
             written[body].write_text(json.dumps(data))
         return SimpleNamespace(tables=written, failed=[])
@@ -285,8 +284,7 @@ def test_recalibrated_tables_keep_the_scene_tables_rolling_law(make_scene, tmp_p
 def test_with_rolling_law_keeps_a_tables_own_law(tmp_path):
     shipped = LayerTable.read(TABLES / "rail_60E1_default.json")
     data = json.loads((TABLES / "rail_60E1_default.json").read_text())
-    data.pop("rolling_law")
-    data["format_version"] = 2
+    data.pop("rolling_law")  # a lawless table of format 4 stays version 4
     (tmp_path / "t.json").write_text(json.dumps(data))
     lawless = previous_table(tmp_path / "t.json")
     assert lawless is not None and lawless.rolling_law is None

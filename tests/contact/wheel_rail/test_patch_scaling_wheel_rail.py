@@ -36,6 +36,9 @@ class _Recording:
     def rolling_law(self):
         return self.table.rolling_law
 
+    def calibrated_max_MPa(self, y_mm):
+        return self.table.calibrated_max_MPa(y_mm)
+
     def characteristic_at(self, y_mm, patch_mm=None):
         self.asked.append(patch_mm)
         return self.table.characteristic_at(y_mm, patch_mm=patch_mm)
