@@ -202,3 +202,18 @@ def test_a_contact_above_the_calibrated_range_is_an_error():
                                                  r"to 1502 MPa; the contact's peak pressure there is 1700 MPa"):
         check_coverage(table, np.array([1.0, 2.0]), "layers.rail", "rail", "t.json",
                        p_peak_MPa=np.array([900.0, 1700.0]))
+
+
+def test_an_older_table_gives_its_numbers_as_before():
+    """A table of format 3 (the paper's fit) is read as it is: the paper's symmetric element (rho = 1), its
+    characteristic unchanged, no refit."""
+    from wrlayer.layer_table import LayerTable
+
+    ch = {"u_mm": [0.0, 0.001, 0.01, 0.05], "p_MPa": [0.0, 800.0, 1400.0, 2400.0]}
+    law = _v4_table().to_dict()  # only for the layout; the law itself is not needed
+    data = {"format": law["format"], "format_version": 3, "header": {"body": "rail", "profile": "60E1"},
+            "positions": [{"y_mm": 0.0, "characteristic": ch}]}
+    table = LayerTable.from_dict(data, "old.json")
+    c = table.characteristic_at(0.0)
+    assert c.reverse_factor == 1.0 and c.u_mm.tolist() == ch["u_mm"] and c.p_MPa.tolist() == ch["p_MPa"]
+    assert table.to_dict()["format_version"] == 2  # written back as the earlier format (no law, no version-4 keys)
