@@ -11,12 +11,13 @@ master's FEM count and time, the time per position once the master exists, and t
 recalibrated by similarity after every step (``scenes/wear/s1002_60e1_recalibrated.toml``) against the example
 without recalibration (``scenes/wear/s1002_60e1.toml``), both in this process, the master cached.
 
-Inputs: a direct run's tables (``DIRECT_OUT``: ``wrlayer calibrate`` of the configuration with ``run.method =
-"direct"``; its ``*.json`` layer tables carry each position's FEM points and residual dents) and the master's FEM
+Inputs: a direct run's FEM cache (``DIRECT_OUT/cache``: ``wrlayer calibrate`` of the configuration with
+``run.method = "direct"``; keyed as this code keys the positions, or by ``--direct-keys``) and the master's FEM
 cache (``MASTER``, where ``make calibrate`` keeps it); in "full" mode missing ones are computed, in "quick" mode the
 benchmark reports what is missing. Regenerate::
 
-    python -m benchmarks.bench_similarity --config CONFIG --direct DIRECT_OUT --master MASTER_DIR [--wear]
+    python -m benchmarks.bench_similarity --config CONFIG --direct DIRECT_OUT [--direct-keys KEYS.json]
+        --master MASTER_DIR [--wear] [--report FILE]
 
 Units: mm, MPa, s.
 """
@@ -57,7 +58,7 @@ def _config(config: Path, master_dir: Path, method: str = "similarity"):
 
 @dataclasses.dataclass(frozen=True)
 class DirectFem:
-    """The direct FEM of one position as its table stores it (MPa, mm)."""
+    """The direct FEM of one position (MPa, mm)."""
 
     p_y: float
     p_MPa: np.ndarray
@@ -65,24 +66,24 @@ class DirectFem:
     peaks_MPa: np.ndarray
     residual_mm: np.ndarray
 
+    @classmethod
+    def of(cls, ind) -> DirectFem:
+        """From an :class:`calibration.results.IndentationResult`."""
+        return cls(float(ind.first_yield_MPa), np.asarray(ind.p_MPa, dtype=float),
+                   np.asarray(ind.u_pl_mm, dtype=float), np.asarray(ind.unload_peaks_MPa, dtype=float),
+                   np.asarray(ind.residual_fem_mm, dtype=float))
 
-def _direct_entry(entry: dict) -> DirectFem:
-    fem = entry["fem"]
-    return DirectFem(float(entry["first_yield_fem_MPa"]), np.asarray(fem["p_MPa"], dtype=float),
-                     np.asarray(fem["u_pl_mm"], dtype=float), np.asarray(entry["residual_peaks_MPa"], dtype=float),
-                     np.asarray(entry["residual_fem_mm"], dtype=float))
 
+def direct_keys(cfg, direct_out: Path, keys_file: Path | None) -> dict[tuple[str, float], str]:
+    """{(body, y): cache key} of the direct FEM positions: those of ``cfg`` with ``run.method = "direct"`` (this
+    code), or those listed in ``keys_file`` ({"body:y": key}, for a direct run made by another revision)."""
+    from calibration.tasks import make_tasks
 
-def read_direct(direct_out: Path) -> dict[tuple[str, float], DirectFem]:
-    """{(body, y): DirectFem} of the layer tables in ``direct_out``."""
-    out = {}
-    for path in sorted(Path(direct_out).glob("*.json")):
-        data = json.loads(path.read_text())
-        if not isinstance(data, dict) or "positions" not in data or "header" not in data:
-            continue
-        for entry in data["positions"]:
-            out[data["header"]["body"], float(entry["y_mm"])] = _direct_entry(entry)
-    return out
+    if keys_file is not None:
+        listed = json.loads(Path(keys_file).read_text())
+        return {(k.split(":")[0], float(k.split(":")[1])): v for k, v in listed.items()}
+    tasks, _, _ = make_tasks(cfg, direct_out, False)
+    return {(t.body, t.y_mm): t.key for t in tasks}
 
 
 def _relative(diff: np.ndarray, ref: np.ndarray, ref_1_5: float) -> np.ndarray:
@@ -102,7 +103,11 @@ def compare(direct: DirectFem, sim, load) -> dict:
     r_s = np.interp(direct.peaks_MPa, sim.unload_peaks_MPa, sim.residual_fem_mm)
     r_1_5 = float(np.interp(1.5 * p_y, direct.peaks_MPa, direct.residual_mm)) if direct.peaks_MPa.size else 0.0
     r_err = _relative(r_s - direct.residual_mm, direct.residual_mm, r_1_5) if direct.peaks_MPa.size else np.zeros(0)
+    # diagnostic: the same at equal p0/p_y (each at its own p_y): what is left when p_y is taken as exact
+    u_q = np.interp(levels / p_y * sim.first_yield_MPa, sim.p_MPa, sim.u_pl_mm)
+    u_q_err = _relative(u_q - u_d, u_d, float(np.interp(1.5 * p_y, direct.p_MPa, direct.u_pl_mm)))
     return {"p_y": sim.first_yield_MPa / p_y - 1.0, "levels_over_p_y": (levels / p_y).tolist(),
+            "u_pl_at_equal_p0_over_p_y": float(np.max(np.abs(u_q_err))),
             "u_pl_per_level": u_err.tolist(), "peaks_over_p_y": (direct.peaks_MPa / p_y).tolist(),
             "residual_per_peak": r_err.tolist(), "u_pl": float(np.max(np.abs(u_err))),
             "residual": float(np.max(np.abs(r_err))) if r_err.size else 0.0}
@@ -128,20 +133,20 @@ def _master(cfg, quick: bool):
     return MasterCurves.build(cfg, mat, tasks, results), ""
 
 
-def _direct(cfg, direct_out: Path, quick: bool):
-    """({(body, y): DirectFem}, what is missing)."""
+def _direct(cfg, direct_out: Path, quick: bool, keys_file: Path | None = None):
+    """({(body, y): DirectFem} from the direct run's cache ``direct_out/cache``, what is missing)."""
+    from calibration.cache import fem_entry, load_indentation
     from calibration.pipeline import calibrate
 
-    direct = read_direct(direct_out)
-    wanted = [(b.body, float(y)) for b in cfg.bodies for y in b.positions_mm]
-    missing = [k for k in wanted if k not in direct]
+    dcfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, method="direct"))
+    keys = direct_keys(dcfg, direct_out, keys_file)
+    cache = Path(direct_out) / "cache"
+    missing = [k for k, key in keys.items() if not fem_entry(cache, key).is_file()]
     if missing and quick:
-        return direct, f"{len(missing)} of {len(wanted)} direct FEM positions not in the tables of {direct_out}"
+        return {}, f"{len(missing)} of {len(keys)} direct FEM positions not in {cache}"
     if missing:
-        calibrate(dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, method="direct")), direct_out,
-                  show_progress=False)
-        direct = read_direct(direct_out)
-    return direct, ""
+        calibrate(dcfg, direct_out, show_progress=False)
+    return {k: DirectFem.of(load_indentation(fem_entry(cache, key))[0]) for k, key in keys.items()}, ""
 
 
 def _timing(cfg, master, tasks) -> dict:
@@ -162,14 +167,15 @@ def _timing(cfg, master, tasks) -> dict:
     return {"route_and_interpolation_s": route_s, "with_fit_s": fit_s, "load": os.getloadavg()[0]}
 
 
-def compare_runs(config: Path, direct_out: Path, master_dir: Path, quick: bool = True) -> dict:
+def compare_runs(config: Path, direct_out: Path, master_dir: Path, quick: bool = True,
+                 keys_file: Path | None = None) -> dict:
     """The comparison and timings (``data`` of the report), or what is missing."""
     from calibration.similarity.route import route, task_indentation
     from calibration.tasks import make_tasks
 
     cfg = _config(config, master_dir)
     master, why = _master(cfg, quick)
-    direct, why_d = _direct(cfg, direct_out, quick)
+    direct, why_d = _direct(cfg, direct_out, quick, keys_file)
     if master is None or why_d:
         return {"missing": "; ".join(w for w in (why, why_d) if w)}
     tasks, _, _ = make_tasks(cfg, Path(tempfile.gettempdir()), False)
@@ -238,18 +244,20 @@ def _markdown(data: dict) -> str:
     if "missing" in data:
         return f"Not measured: {data['missing']} (run the full mode, or give --direct and --master)."
     md = ["| body | y [mm] | a/b | L [mm] | b/(2R) | route | p_y [%] | u_pl worst [%] | u_pl per level [%] | "
-          "residual worst [%] | residual per peak [%] |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+          "residual worst [%] | residual per peak [%] | u_pl worst at equal p0/p_y [%] |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in data["rows"]:
         route = "similarity" if r["method"] == "similarity" else f"direct ({r['note']}); master's nearest point:"
         md.append(f"| {r['body']} | {r['y_mm']:g} | {r['a_over_b']:.2f} | {r['length_mm']:.2f} | "
                   f"{r['convexity']:+.3f} | {route} | {_pct(r['p_y'])} | {100 * r['u_pl']:.2f} | "
                   f"{' '.join(_pct(e) for e in r['u_pl_per_level'])} | {100 * r['residual']:.2f} | "
-                  f"{' '.join(_pct(e) for e in r['residual_per_peak'])} |")
+                  f"{' '.join(_pct(e) for e in r['residual_per_peak'])} | {100 * r['u_pl_at_equal_p0_over_p_y']:.2f} |")
     first = data["rows"][0]
     w, tm = data["worst"], data["timing"]
     md += ["", f"Levels p0/p_y: {', '.join(f'{q:.3g}' for q in first['levels_over_p_y'])}; unloading peaks: "
                f"{', '.join(f'{q:.3g}' for q in first['peaks_over_p_y'])} (configuration {data['config']}). Errors "
-               f"relative to the direct value, or to {FLOOR_AT_1_5:g} x its value at 1.5 p_y where larger.",
+               f"relative to the direct value, or to {FLOOR_AT_1_5:g} x its value at 1.5 p_y where larger; all at "
+               "equal p0 (MPa) except the last column, a diagnostic at equal p0/p_y (each curve at its own p_y).",
            f"Served: {data['served']} of {len(data['rows'])} positions; within {100 * TARGET:g} % on p_y, u_pl at "
            f"every level and every residual: {data['within']} of them. Worst over the served positions: p_y "
            f"{100 * w['p_y']:.2f} %, u_pl {100 * w['u_pl']:.2f} %, residual {100 * w['residual']:.2f} %.",
@@ -278,13 +286,15 @@ def run(mode: str, out: Path) -> dict:
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench_similarity", description=__doc__.splitlines()[0])
     ap.add_argument("--config", type=Path, default=CONFIG)
-    ap.add_argument("--direct", type=Path, default=DIRECT_OUT, help="a direct run's output folder (its tables)")
+    ap.add_argument("--direct", type=Path, default=DIRECT_OUT, help="a direct run's output folder (its cache)")
+    ap.add_argument("--direct-keys", type=Path, default=None,
+                    help='JSON {"body:y": cache key} of the direct run (when another revision computed it)')
     ap.add_argument("--master", type=Path, default=MASTER, help="the master's FEM cache folder")
     ap.add_argument("--wear", action="store_true", help="also time the wear example with and without recalibration")
     ap.add_argument("--json", type=Path, default=None, help="also write the numbers here")
     ap.add_argument("--report", type=Path, default=None, help="write the report (markdown, stamped) here")
     args = ap.parse_args(argv)
-    data = compare_runs(args.config, args.direct, args.master, quick=True)
+    data = compare_runs(args.config, args.direct, args.master, quick=True, keys_file=args.direct_keys)
     if args.wear and "missing" not in data:
         data["wear"] = wear_timing(args.config, args.master)
     if args.json:
