@@ -106,11 +106,6 @@ def _row(ind: IndentationResult, length: float, q: np.ndarray, material: Materia
             ind.fem_elastic_compliance_mm_per_MPa * material.E_MPa / length)
 
 
-def _rescaled(row: tuple) -> tuple:
-    """A dimensionless row used at another size (pure similarity: unchanged)."""
-    return row
-
-
 def _difference(row: tuple, base: tuple) -> tuple:
     """row - base, component by component (scalars and lists of the same length)."""
     return tuple((np.asarray(a, dtype=float) - np.asarray(b, dtype=float)) for a, b in zip(row, base))
@@ -223,7 +218,7 @@ class MasterCurves:
                     if not others:
                         return None
                     other = min(others, key=lambda o: abs(math.log(o / length)))
-                    row = _rescaled(computed(0.0, other, r))
+                    row = computed(0.0, other, r)  # dimensionless: pure similarity
                     substituted.append(f"c = 0, L = {length:g} mm, a/b = {r:.3g}: from L = {other:g} mm")
                 flat[length, r] = row
         shape = {}  # the shape's dimensionless difference from the flat section at SHAPE_LENGTH_MM
