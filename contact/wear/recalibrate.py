@@ -176,11 +176,8 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
             worn = profiles[_placeholder_body(b.profile)] if b.profile in PLACEHOLDERS.values() else None
             for y in b.positions_mm if worn is not None else ():
                 worn.check_y(y, f"position y = {y:g} mm on the worn {b.body} profile")
-        direct: dict[tuple[str, float], str] = {}
         if recal.by_similarity:  # every position through the master, none by the FEM
             cfg = similarity_config(cfg, recal.scene_tables)
-            _tasks, failed, _ = make_tasks(cfg, work, plots=False)
-            direct = {(f.body, f.y_mm): f.message for f in failed}  # no geometry on the worn profile
         result = calibrate(cfg, work / "tables", scheduler=scheduler or None, plots=False, show_progress=False,
                            log=_quiet) if cfg.bodies else None
     except InputError as err:
@@ -189,6 +186,7 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
         raise ConvergenceError(f"{what}: calibration of the worn profiles failed: {err}") from None
     tables = {body: LayerTable.read(path) for body, path in (result.tables.items() if result else ())}
     if recal.by_similarity:
+        direct = {(f.body, f.y_mm): f.message for f in (result.failed if result else ())}  # e.g. no geometry
         bodies = {b.body for b in recal.calibration.bodies}
         tables = {body: merged_table(recal.scene_tables[body], tables.get(body), direct)
                   if body in recal.scene_tables else tables[body] for body in bodies
