@@ -66,7 +66,7 @@ def batch_cost(configs: dict[Path, CalibrationConfig], out_dir: Path, scheduler:
     for path, cfg in configs.items():
         tasks, _, _ = make_tasks(cfg, out_dir / path.stem, False)
         if cfg.run.method == "similarity":
-            tasks = [t for t in tasks if route(t, cfg.reference_load_N).method == METHOD_DIRECT]
+            tasks = [t for t in tasks if route(t, outside=cfg.run.similarity_outside).method == METHOD_DIRECT]
             for b in cfg.bodies:
                 for t in master_tasks(cfg, b.material):
                     if not fem_entry(Path(cfg.run.master_dir), t.key).is_file():

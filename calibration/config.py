@@ -15,8 +15,8 @@ from typing import Any
 from calibration.fit.characteristic_fit import N_SEGMENTS_RANGE
 from calibration.placement import MIN_INCLINATION_RATIO, cant_rad
 from calibration.settings import (FIT_MODES, LINEAR_SOLVERS, MESH_STYLES, METHODS, MODELS, REFERENCE_LOAD_N,
-                                  BodySettings, CalibrationConfig, FitSettings, LoadSettings, MaterialSettings,
-                                  MeshSettings, RunSettings)
+                                  SIMILARITY_OUTSIDE, BodySettings, CalibrationConfig, FitSettings, LoadSettings,
+                                  MaterialSettings, MeshSettings, RunSettings)
 from meshes.profiles import PROFILE_FILE_SUFFIXES, Profile, get_profile
 from wrlayer import validate
 from wrlayer.errors import InputError
@@ -45,6 +45,8 @@ def _run(k: Keys) -> RunSettings:
         kw["model"] = k.text("model", choices=MODELS)
     if "method" in k.table:
         kw["method"] = k.text("method", choices=METHODS)
+    if "similarity_outside" in k.table:
+        kw["similarity_outside"] = k.text("similarity_outside", choices=SIMILARITY_OUTSIDE)
     if "master_dir" in k.table:
         kw["master_dir"] = k.text("master_dir")
     if "workers" in k.table:

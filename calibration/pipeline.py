@@ -25,9 +25,9 @@ from calibration.cost import calibration_cost
 from calibration.position_fit import fit_position
 from calibration.results import IndentationResult, PositionFit
 from calibration.settings import CalibrationConfig
-from calibration.similarity.master import MasterCurves, master_tasks
+from calibration.similarity.master import MasterCurves, master_key, master_tasks, stored_master
 from calibration.similarity.route import (METHOD_DIRECT, METHOD_SIMILARITY, SIMILARITY_SOURCES, Route, route,
-                                          similar_indentation, similarity_task)
+                                          similarity_task, task_indentation)
 from calibration.tables import FIT_SOURCES, BodySummary, write_body_table
 # make_tasks, position_geometry and limited_threads are also re-exported (__all__) for the benchmarks and input
 # tests that import them from this module
@@ -312,9 +312,12 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     mcache = Path(cfg.run.master_dir) if cfg.run.master_dir else out_dir / "cache"
     materials = list(dict.fromkeys(b.material for b in cfg.bodies))
     mtasks = {m: master_tasks(cfg, m) for m in materials}
-    mresults, mtodo = _split_cached([t for m in materials for t in mtasks[m]], mcache, log)
-    n_mcached = len(mresults)
-    direct = [t for t in tasks if route(t, cfg.reference_load_N).method == METHOD_DIRECT]
+    # a master written before (same FEM task keys, this format version) is read whole; any other is rebuilt
+    stored = {m: stored_master(mcache, master_key(mtasks[m])) for m in materials}
+    mresults, mtodo = _split_cached([t for m in materials if stored[m] is None for t in mtasks[m]], mcache, log)
+    n_mcached = len(mresults) + sum(len(mtasks[m]) for m in materials if stored[m] is not None)
+    outside = cfg.run.similarity_outside
+    direct = [t for t in tasks if route(t, outside=outside).method == METHOD_DIRECT]
     estimate = guard(calibration_cost(cfg, mtodo + _split_cached(direct, out_dir / "cache", lambda *a: None)[1],
                                       scheduler), force)
     if mtodo:
@@ -323,17 +326,22 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     mfailed: list[PositionNote] = []
     _compute(mtodo, cfg, scheduler, mcache, show_progress, mresults, mfailed)
     warnings += [PositionNote("master", n.y_mm, f"similarity master: {n.message}") for n in mfailed]
-    masters = {m: MasterCurves.build(cfg, m, mtasks[m], mresults) for m in materials}
+    masters = {m: stored[m] or MasterCurves.build(cfg, m, mtasks[m], mresults) for m in materials}
+    for m, mc in masters.items():
+        if mc is not None and stored[m] is None and not mfailed:  # a master with failed points is not kept
+            mc.write(mcache)
     files = tuple(str(mc.write(out_dir)) for mc in masters.values() if mc is not None)
     out, code = [], code_hash(SIMILARITY_SOURCES)
     t0 = time.perf_counter()
     for t in tasks:
         master = masters[t.material]
-        r = route(t, cfg.reference_load_N, master.aspect_range) if master else \
+        r = route(t, (master.aspect_range, master.convexity_range), outside) if master else \
             Route(METHOD_DIRECT, "the similarity master of its material failed")
         if r.method == METHOD_SIMILARITY:
-            t = similarity_task(t, master, code)
-            results[t.key] = similar_indentation(master, t.geometry.a_mm, t.geometry.b_mm)
+            t = similarity_task(t, master, r.convexity, code)
+            results[t.key] = task_indentation(master, t, r.convexity)
+            if r.note:  # outside the master's domain, served from its nearest point: said in the entry
+                warnings.append(PositionNote(t.body, t.y_mm, f"similarity: {r.note}"))
         routes[t.key] = r
         out.append(t)
     per_position = (time.perf_counter() - t0) / max(len(tasks), 1)

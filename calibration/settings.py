@@ -18,6 +18,8 @@ from calibration.hertz.geometry import DEFAULT_MAX_LATERAL_RADIUS_MM
 MODELS = ("2d", "3d")
 #: The calibration routes of RunSettings.method.
 METHODS = ("direct", "similarity")
+#: What RunSettings.similarity_outside does with a position outside the similarity master's domain.
+SIMILARITY_OUTSIDE = ("direct", "nearest")
 #: The linear solvers of RunSettings.linear_solver.
 LINEAR_SOLVERS = ("auto", "pardiso", "scipy")
 #: The 3D mesh styles of MeshSettings.style.
@@ -35,9 +37,12 @@ class RunSettings:
     model : str
         FEM model: "3d" (local half model under the elliptic Hertz pressure) or "2d" (plane-strain section).
     method : str
-        "direct" (the FEM at every position) or "similarity" (3D only: non-conforming positions from the
-        material's master curves over the patch aspect ratio a/b, scaled by the patch size; conforming positions
-        and those outside the master's range by the direct FEM; docs/calibration.md, "Calibration by similarity").
+        "direct" (the FEM at every position) or "similarity" (3D only: positions from the material's master
+        curves over the surface convexity, the patch aspect ratio a/b and the patch size; those outside the
+        master's domain as ``similarity_outside`` says; docs/calibration.md, "Calibration by similarity").
+    similarity_outside : str
+        "direct" (a position outside the master's domain by its own FEM) or "nearest" (from the master at the
+        nearest point of its domain, the reason in the entry's warnings; the wear loop's recalibration).
     master_dir : str
         Folder of the similarity master's FEM cache, shared between runs ("" : the run's own OUT/cache).
     workers : int
@@ -52,6 +57,7 @@ class RunSettings:
 
     model: str = "3d"
     method: str = "direct"
+    similarity_outside: str = "direct"
     master_dir: str = ""
     workers: int = 2
     scheduler: str = ""

@@ -19,10 +19,11 @@ interpolate across them.
 
 With ``[run] method = "similarity"`` in the template (:mod:`calibration.similarity`) the recalibration computes no
 FEM once the template's master exists (``run.master_dir``; the first recalibration computes it when it is
-missing): the positions the master serves on the worn profiles get their characteristic from it, in milliseconds,
-and the positions it does not serve (conforming contact, a curved surface over the patch) keep the entry of the
-scene's table at that position, marked in the entry's ``warnings``. The recalibrated table is the scene's table
-with the served positions replaced (and added where the scene's table has none). Every recalibrated table carries
+missing): every position of the template and of the scene's table on the worn profiles gets its characteristic
+from the master, in milliseconds; a position outside the master's domain (a patch reaching past the profile's end, a convexity beyond
+the master's) from the master's nearest point (``run.similarity_outside = "nearest"``), the reason in the entry's
+``warnings``. Only a position without a contact geometry on the worn profile keeps the scene table's entry, marked
+in its ``warnings``. Every recalibrated table carries
 the scene table's rolling law (:func:`calibration.tables.with_rolling_law`), so the passes keep the rolling memory.
 """
 
@@ -36,7 +37,7 @@ from pathlib import Path
 from calibration.config import BodySettings, CalibrationConfig, parse_config
 from calibration.cost import calibration_cost
 from calibration.pipeline import calibrate
-from calibration.similarity.route import METHOD_SIMILARITY, served_config
+from calibration.similarity.route import METHOD_SIMILARITY
 from calibration.tables import with_rolling_law
 from calibration.tasks import make_tasks
 from wrlayer.layer_table import LayerTable
@@ -69,8 +70,8 @@ class Recalibration:
     every_steps : int
         Recalibrate after every this many wear steps (>= 1; not after the last step).
     scene_tables : dict
-        The scene's ``[layers]`` table of each body (LayerTable): under ``run.method = "similarity"`` the positions
-        the master does not serve keep their entries from it (not a scene key).
+        The scene's ``[layers]`` table of each body (LayerTable): under ``run.method = "similarity"`` a position
+        without a contact geometry on the worn profile keeps its entry from it (not a scene key).
     """
 
     config: str
@@ -81,7 +82,7 @@ class Recalibration:
 
     @property
     def by_similarity(self) -> bool:
-        """True when the template calibrates by similarity (served positions only, the others kept)."""
+        """True when the template calibrates by similarity (every position from the master)."""
         return self.calibration.run.method == METHOD_SIMILARITY
 
     @property
@@ -164,8 +165,9 @@ def worn_config(cfg: CalibrationConfig, files: dict[str, Path]) -> CalibrationCo
 def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: Path, scheduler: str = "",
                      what: str = "wear.recalibrate") -> dict[str, LayerTable]:
     """Calibrate the bodies of the template on ``profiles[body]`` (the current profiles of one side) in ``work``;
-    returns {body: LayerTable} of the bodies the template calibrates (by similarity: the positions the master
-    serves, merged into the scene's table by :func:`merged_table`). InputError/ConvergenceError ``what: ...``."""
+    returns {body: LayerTable} of the bodies the template calibrates (by similarity: every position from the
+    master, those without a geometry on the worn profile kept from the scene's table by :func:`merged_table`).
+    InputError/ConvergenceError ``what: ...``."""
     work = Path(work)
     files = write_profiles(profiles, work, "worn")
     cfg = worn_config(recal.calibration, files)
@@ -174,11 +176,8 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
             worn = profiles[_placeholder_body(b.profile)] if b.profile in PLACEHOLDERS.values() else None
             for y in b.positions_mm if worn is not None else ():
                 worn.check_y(y, f"position y = {y:g} mm on the worn {b.body} profile")
-        direct: dict[tuple[str, float], str] = {}
-        if recal.by_similarity:
-            tasks, failed, _ = make_tasks(cfg, work, plots=False)
-            cfg, direct = served_config(cfg, tasks)
-            direct.update({(f.body, f.y_mm): f.message for f in failed})  # no geometry on the worn profile
+        if recal.by_similarity:  # every position through the master, none by the FEM
+            cfg = similarity_config(cfg, recal.scene_tables)
         result = calibrate(cfg, work / "tables", scheduler=scheduler or None, plots=False, show_progress=False,
                            log=_quiet) if cfg.bodies else None
     except InputError as err:
@@ -187,6 +186,7 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
         raise ConvergenceError(f"{what}: calibration of the worn profiles failed: {err}") from None
     tables = {body: LayerTable.read(path) for body, path in (result.tables.items() if result else ())}
     if recal.by_similarity:
+        direct = {(f.body, f.y_mm): f.message for f in (result.failed if result else ())}  # e.g. no geometry
         bodies = {b.body for b in recal.calibration.bodies}
         tables = {body: merged_table(recal.scene_tables[body], tables.get(body), direct)
                   if body in recal.scene_tables else tables[body] for body in bodies
@@ -198,9 +198,21 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
     return {body: with_rolling_law(table, recal.scene_tables.get(body)) for body, table in tables.items()}
 
 
+def similarity_config(cfg: CalibrationConfig, scene_tables: dict[str, LayerTable]) -> CalibrationConfig:
+    """``cfg`` recalibrating by similarity every position of the template and of the scene's table of each body
+    (the master serves them all in milliseconds), those outside the master's domain from its nearest point."""
+    bodies = []
+    for b in cfg.bodies:
+        table = scene_tables.get(b.body)
+        ys = set(b.positions_mm) | ({float(p["y_mm"]) for p in table.positions} if table is not None else set())
+        bodies.append(dataclasses.replace(b, positions_mm=tuple(sorted(ys))))
+    return dataclasses.replace(cfg, bodies=tuple(bodies),
+                               run=dataclasses.replace(cfg.run, similarity_outside="nearest"))
+
+
 def merged_table(scene: LayerTable, new: LayerTable | None, direct: dict[tuple[str, float], str]) -> LayerTable:
     """The scene's table with the positions of ``new`` (recalibrated by similarity) in place of its own; its other
-    entries kept, each with a warning naming why (``direct[(body, y)]``, the route's reason where known)."""
+    entries kept, each with a warning naming why (``direct[(body, y)]``: no geometry on the worn profile)."""
     if new is None:
         new = scene
     fresh = {float(p["y_mm"]) for p in new.positions}
@@ -234,5 +246,5 @@ def _quiet(message: str) -> None:
     """The calibration's progress lines are not shown inside a wear run (its summary.json records the run)."""
 
 
-__all__ = ["PLACEHOLDERS", "Recalibration", "merged_table", "read_template", "recalibrate_side", "recalibrate_sides", "worn_config",
-           "write_profiles"]
+__all__ = ["PLACEHOLDERS", "Recalibration", "merged_table", "read_template", "recalibrate_side", "recalibrate_sides",
+           "similarity_config", "worn_config", "write_profiles"]

@@ -1,7 +1,9 @@
-"""Calibration by similarity: the master curves scale with the patch size and interpolate in log(a/b); the route
-serves non-conforming positions in the master's range and sends the others to the direct FEM, naming why; a run
-with the master cached computes no FEM (a synthetic master, written into the master's cache, stands in for the
-3D FEM here; benchmarks/bench_similarity.py compares the real master with the direct FEM)."""
+"""Calibration by similarity: the master curves scale with the patch size and interpolate in the surface convexity
+and log(a/b); the route serves concave, flat and convex positions (conforming ones too) and sends the others to the
+direct FEM, naming why, or serves them from the master's nearest point; a master file of another format version is
+rebuilt, never read; a run with the master cached computes no FEM (a synthetic master, written into the master's
+cache, stands in for the 3D FEM here); on a coarse mesh a synthetic concave position from a small master agrees
+with its own FEM (benchmarks/bench_similarity.py compares the real master with the direct FEM)."""
 
 import dataclasses
 import json
@@ -17,24 +19,28 @@ from calibration.hertz.geometry import given_geometry
 from calibration.indentation import load_levels
 from calibration.pipeline import calibrate
 from calibration.results import IndentationResult
-from calibration.similarity.master import ASPECTS, LENGTHS_MM, MasterCurves, master_tasks
+from calibration.similarity import master as master_mod
+from calibration.similarity.master import (ASPECTS, CONVEXITIES, MasterCurves, MasterFormatError, grid_points,
+                                           master_key, master_tasks, stored_master)
 from calibration.similarity.route import route, similar_indentation
-from calibration.tasks import make_tasks
+from calibration.similarity.sections import arc_section, patch_convexity
+from calibration.tasks import make_tasks, position_task, run_position
 from wrlayer.layer_table import LayerTable
 from meshes.profiles import get_profile
 from wrlayer.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[2]
 COARSE = ROOT / "calibration" / "configs" / "test_coarse.toml"
+DEFAULT = ROOT / "calibration" / "configs" / "default.toml"
 
 
-def _fake_indentation(a_mm: float, b_mm: float, cfg) -> IndentationResult:
-    """A 3D-like indentation with the similarity built in: p_y and the shape depend on a/b, lengths scale with
-    sqrt(a b)."""
+def _fake_indentation(a_mm: float, b_mm: float, cfg, convexity: float = 0.0) -> IndentationResult:
+    """A 3D-like indentation with the similarity built in: p_y and the shape depend on a/b and the surface
+    convexity, lengths scale with sqrt(a b)."""
     r, length = a_mm / b_mm, math.sqrt(a_mm * b_mm)
-    p_y = 500.0 * (1.6 + 0.05 * math.log(r))
+    p_y = 500.0 * (1.6 + 0.05 * math.log(r) - 0.5 * convexity)
     q = np.array([0.0] + load_levels(1.0, cfg.load))
-    u_pl = length * 2e-3 * (1 + 0.1 * math.log(r)) * np.maximum(q - 1.0, 0.0) ** 1.5
+    u_pl = length * 2e-3 * (1 + 0.1 * math.log(r) + convexity) * np.maximum(q - 1.0, 0.0) ** 1.5
     c_el = 1.4e-5 * length
     peaks = [f * p_y for f in sorted(cfg.load.unload_factors)]
     res = np.interp(peaks, q * p_y, u_pl) * 1.01
@@ -52,39 +58,74 @@ def _sim_cfg(tmp_path: Path, positions=(-5.0, 0.0), **body):
 
 def _fake_master(cfg) -> MasterCurves:
     tasks = master_tasks(cfg, cfg.bodies[0].material)
-    results = {t.key: _fake_indentation(t.geometry.a_mm, t.geometry.b_mm, cfg) for t in tasks}
+    results = {t.key: _fake_indentation(t.geometry.a_mm, t.geometry.b_mm, cfg, c)
+               for (c, _, _), t in zip(grid_points(), tasks)}
     for t in tasks:
         save_entry(fem_entry(Path(cfg.run.master_dir), t.key), results[t.key])
     return MasterCurves.build(cfg, cfg.bodies[0].material, tasks, results)
 
 
-def test_master_scales_with_patch_size_and_is_symmetric_in_aspect(tmp_path):
+def test_master_scales_with_patch_size_and_interpolates_in_convexity(tmp_path):
     cfg = _sim_cfg(tmp_path)
     master = _fake_master(cfg)
     assert master.aspect_range == pytest.approx((1 / 20, 20))
+    assert master.convexity_range == (CONVEXITIES[0], CONVEXITIES[-1]) and CONVEXITIES[0] < 0 < CONVEXITIES[-1]
     one = similar_indentation(master, 6.0, 3.0)
     two = similar_indentation(master, 12.0, 6.0)
     assert np.allclose(two.u_pl_mm, 2 * np.asarray(one.u_pl_mm)) and two.first_yield_MPa == one.first_yield_MPa
     turned = similar_indentation(master, 3.0, 6.0)  # the same half-space problem turned by 90 degrees
     assert np.allclose(turned.u_pl_mm, one.u_pl_mm)
-    r = ASPECTS[3]  # at a grid ratio the master is reproduced
-    exact = _fake_indentation(2.0 * math.sqrt(r), 2.0 / math.sqrt(r), cfg)
-    got = similar_indentation(master, 2.0 * math.sqrt(r), 2.0 / math.sqrt(r))
-    assert got.first_yield_MPa == pytest.approx(exact.first_yield_MPa)
-    assert np.allclose(got.residual_fem_mm, exact.residual_fem_mm)
-    assert np.allclose(np.interp(exact.p_MPa, got.p_MPa, got.u_pl_mm), exact.u_pl_mm, atol=1e-12)
+    for c in (-0.03, 0.0, 0.08):  # the fake is linear in c and in log(a/b): reproduced between grid points
+        r = ASPECTS[3]
+        a, b = 4.0 * math.sqrt(r), 4.0 / math.sqrt(r)
+        exact, got = _fake_indentation(a, b, cfg, c), similar_indentation(master, a, b, c)
+        assert got.first_yield_MPa == pytest.approx(exact.first_yield_MPa)
+        assert np.allclose(got.residual_fem_mm, exact.residual_fem_mm)
+        assert np.allclose(np.interp(exact.p_MPa, got.p_MPa, got.u_pl_mm), exact.u_pl_mm, atol=1e-12)
+    concave, convex = similar_indentation(master, 6.0, 3.0, -0.1), similar_indentation(master, 6.0, 3.0, 0.1)
+    assert concave.first_yield_MPa > one.first_yield_MPa > convex.first_yield_MPa
     assert MasterCurves.from_dict(json.loads(json.dumps(master.to_dict()))) == master
 
 
-def test_route_sends_conforming_and_out_of_range_positions_to_the_direct_fem(tmp_path):
-    cfg = _sim_cfg(tmp_path, positions=(-35.0, 0.0))
+def test_an_older_master_file_is_rebuilt_not_misread(tmp_path):
+    cfg = _sim_cfg(tmp_path)
+    master = _fake_master(cfg)
+    path = master.write(tmp_path / "master")
+    assert stored_master(tmp_path / "master", master.key) == master
+    old = {k: v for k, v in master.to_dict().items() if k not in ("format_version", "convexities")}
+    path.write_text(json.dumps(old))  # the crown master's form: no format_version, (size, aspect) arrays
+    with pytest.raises(MasterFormatError, match=r"format_version: 1 is not this master's format 2"):
+        MasterCurves.read(path)
+    assert stored_master(tmp_path / "master", master.key) is None
+    result = calibrate(cfg, tmp_path / "out", show_progress=False, log=lambda *a: None)  # rebuilt from the cache
+    assert result.ok and result.similarity.master_positions_computed == 0
+    assert MasterCurves.read(path) == master
+
+
+def test_route_serves_concave_flat_and_convex_positions(tmp_path):
+    cfg = load_config(DEFAULT)
     tasks, _, _ = make_tasks(cfg, tmp_path, False)
-    routes = {t.y_mm: route(t, cfg.reference_load_N) for t in tasks}
-    assert routes[0.0].method == "similarity" and routes[0.0].note == ""
-    assert routes[-35.0].method == "direct" and "conforming contact (b/R = 0.41 > 0.2" in routes[-35.0].note
-    flat = dataclasses.replace(tasks[0], geometry=given_geometry(get_profile("60E1"), 0.0, 1.0, 30.0))
-    out = route(flat, cfg.reference_load_N)
+    routes = {(t.body, t.y_mm): route(t) for t in tasks}
+    served = [k for k, r in routes.items() if r.method == "similarity"]
+    assert len(served) >= 27
+    for key, sign in ((("wheel", -37.5), -1), (("wheel", 0.0), -1), (("wheel", 37.5), 0), (("rail", 0.0), 1),
+                      (("rail", -32.5), 1)):  # flange root and gauge corner are conforming: served as well
+        assert routes[key].method == "similarity" and np.sign(round(routes[key].convexity, 3)) == sign
+    far = routes[("rail", -35.9)]
+    assert far.method == "direct" and "reaches past the profile's end" in far.note
+    nearest = route(next(t for t in tasks if (t.body, t.y_mm) == ("rail", -35.9)), outside="nearest")
+    assert nearest.method == "similarity" and "served from the master's nearest point" in nearest.note
+    turned = dataclasses.replace(tasks[0], geometry=given_geometry(get_profile("60E1"), 0.0, 1.0, 30.0))
+    out = route(turned)
     assert out.method == "direct" and "a/b = 0.0333 outside the master's range 0.05..20" in out.note
+
+
+def test_patch_convexity_of_a_circle_is_b_over_2r():
+    for c in (-0.1, -0.02, 0.0, 0.05):
+        assert patch_convexity(arc_section(c, 2.0), 0.0, 2.0) == pytest.approx(c, abs=1e-3)
+    rail, wheel = get_profile("60E1"), get_profile("S1002")
+    assert patch_convexity(rail, 0.0, 5.0) == pytest.approx(5.0 / 600.0, rel=0.02)  # crown R300: convex
+    assert patch_convexity(wheel, -37.5, 2.6) < -0.05  # flange root: concave
 
 
 def test_similarity_run_with_a_cached_master_computes_no_fem(tmp_path):
@@ -94,7 +135,7 @@ def test_similarity_run_with_a_cached_master_computes_no_fem(tmp_path):
     assert result.ok and result.positions_computed == 0 and result.fem_seconds is None
     sim = result.similarity
     assert sim.served == 2 and sim.direct == 0 and sim.master_positions_cached == len(master_tasks(cfg, cfg.bodies[0].material))
-    assert len(master_tasks(cfg, cfg.bodies[0].material)) == len(ASPECTS) * len(LENGTHS_MM) - 1  # a = 29 mm left out
+    assert len(master_tasks(cfg, cfg.bodies[0].material)) == len(grid_points())
     assert sim.master_positions_computed == 0 and sim.seconds_per_position < 0.1  # ms warm (benchmark)
     assert Path(sim.master_files[0]).is_file()
     table = LayerTable.read(result.tables["rail"])
@@ -136,3 +177,30 @@ def test_a_folder_of_profiles_is_costed_first_then_calibrated_from_the_master(tm
         calibrate_profiles([folder / "worn_a.prr"], _sim_cfg(tmp_path), tmp_path / "out2", log=lines.append)
     with pytest.raises(InputError, match="no profile file"):
         calibrate_profiles([tmp_path / "nothing*.prr"], cfg, tmp_path / "out3")
+
+
+@pytest.mark.slow
+def test_a_concave_position_from_a_small_master_agrees_with_its_own_fem(tmp_path, monkeypatch):
+    """Coarse mesh, a 2 x 2 master (flat and concave c = -0.08, a/b = 1 and 2, L = 3 mm): a concave position
+    between its grid points (c = -0.04, a/b = 1.4, L = 3 mm) against its own FEM."""
+    for name, value in (("CONVEXITIES", (-0.08, 0.0)), ("ASPECTS", (1.0, 2.0)), ("SHAPE_ASPECTS", (1.0, 2.0)),
+                        ("LENGTHS_MM", (3.0,)), ("SHAPE_LENGTH_MM", 3.0)):
+        monkeypatch.setattr(master_mod, name, value)
+    cfg = load_config(COARSE)
+    material = cfg.bodies[0].material
+    tasks = master_tasks(cfg, material)
+    assert len(tasks) == 4
+    results = {t.key: run_position(t).indentation for t in tasks}
+    master = MasterCurves.build(cfg, material, tasks, results)
+    r, length, c = 1.4, 3.0, -0.04
+    a, b = length * math.sqrt(r), length / math.sqrt(r)
+    section = arc_section(c, b)
+    direct = run_position(position_task(cfg, "rail", section, given_geometry(section, 0.0, a, b), material)).indentation
+    sim = similar_indentation(master, a, b, patch_convexity(section, 0.0, b))
+    assert sim.first_yield_MPa == pytest.approx(direct.first_yield_MPa, rel=0.02)
+    levels = [p for p in load_levels(direct.first_yield_MPa, cfg.load) if p > 1.2 * direct.first_yield_MPa]
+    u_d, u_s = np.interp(levels, direct.p_MPa, direct.u_pl_mm), np.interp(levels, sim.p_MPa, sim.u_pl_mm)
+    assert np.allclose(u_s, u_d, rtol=0.04)
+    res_s = np.interp(direct.unload_peaks_MPa, sim.unload_peaks_MPa, sim.residual_fem_mm)
+    assert np.allclose(res_s, direct.residual_fem_mm, rtol=0.04)
+    assert master_key(tasks) == master.key

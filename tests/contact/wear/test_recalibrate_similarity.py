@@ -1,7 +1,8 @@
 """Recalibration by similarity in the wear loop: with ``run.method = "similarity"`` in the template every step's
-wheel table is recomputed from the master on the worn profile (no FEM once the master exists), the positions the
-master does not serve keep the scene table's entries, marked. A synthetic master in the master's cache stands in
-for the 3D FEM (benchmarks/bench_similarity.py compares the real one with the direct FEM)."""
+wheel table is recomputed from the master on the worn profile (no FEM once the master exists), every position of
+it, the concave tread and the conforming flange root included: none keeps the scene table's entry. A synthetic
+master in the master's cache stands in for the 3D FEM (benchmarks/bench_similarity.py compares the real one with
+the direct FEM)."""
 
 import json
 import math
@@ -12,14 +13,14 @@ import numpy as np
 from calibration.cache import fem_entry, save_entry
 from calibration.indentation import load_levels
 from calibration.results import IndentationResult
-from calibration.similarity.master import master_tasks
+from calibration.similarity.master import grid_points, master_tasks
 from contact.wear import condition as condition_mod
 from contact.wear.loop import run_wear
 from wrlayer.layer_table import LayerTable
 
 TABLES = Path(__file__).resolve().parents[3] / "scenes" / "tables"
-#: The template's positions the master serves on the (worn) S1002 tread.
-SERVED = (15.0, 30.0, 37.5)
+#: The template's positions: flange root (conforming, concave), concave tread, flat and convex tread.
+POSITIONS = (-37.5, 0.0, 15.0, 30.0, 37.5)
 
 TEMPLATE = """
 [run]
@@ -48,10 +49,10 @@ positions_mm = [-37.5, 0.0, 15.0, 30.0, 37.5]
 """
 
 
-def _fake_indentation(a_mm, b_mm, load) -> IndentationResult:
+def _fake_indentation(a_mm, b_mm, load, convexity) -> IndentationResult:
     """A 3D-like indentation whose lengths scale with sqrt(a b) (the similarity the master relies on)."""
     r, length = a_mm / b_mm, math.sqrt(a_mm * b_mm)
-    p_y = 500.0 * (1.6 + 0.05 * math.log(r))
+    p_y = 500.0 * (1.6 + 0.05 * math.log(r) - 0.5 * convexity)
     q = np.array([0.0] + load_levels(1.0, load))
     u_pl = length * 2e-3 * (1 + 0.1 * math.log(r)) * np.maximum(q - 1.0, 0.0) ** 1.5
     peaks = [f * p_y for f in sorted(load.unload_factors)]
@@ -66,8 +67,9 @@ def test_each_step_uses_the_worn_profiles_table_from_the_master(make_scene, tmp_
     scene = make_scene(wear={"distance_km": 100.0, "steps": 2, "recalibrate": {"config": str(template)}},
                        passes={"max": 3})
     cfg = scene.settings.recalibrate.calibration
-    for t in master_tasks(cfg, cfg.bodies[0].material):
-        save_entry(fem_entry(tmp_path / "master", t.key), _fake_indentation(t.geometry.a_mm, t.geometry.b_mm, cfg.load))
+    for (c, _, _), t in zip(grid_points(), master_tasks(cfg, cfg.bodies[0].material)):
+        save_entry(fem_entry(tmp_path / "master", t.key),
+                   _fake_indentation(t.geometry.a_mm, t.geometry.b_mm, cfg.load, c))
     seen = []
     real = condition_mod.solve_condition
 
@@ -87,14 +89,10 @@ def test_each_step_uses_the_worn_profiles_table_from_the_master(make_scene, tmp_
     by_y = {float(p["y_mm"]): p for p in table.positions}
     worn = tmp_path / "work" / "calibration" / "step_001_right" / "wheel.prw"
     assert Path(table.header["profile_source"]) == worn.resolve()
-    for y in SERVED:  # served: from the master on the worn wheel, the synthetic material's p_y
-        assert by_y[y]["method"] == "similarity"
-        assert by_y[y]["first_yield_fem_MPa"] != next(p for p in scene_table.positions
-                                                      if p["y_mm"] == y)["first_yield_fem_MPa"]
-    for p in scene_table.positions:  # the others: the scene table's entries, marked
+    assert sorted(by_y) == sorted(float(p["y_mm"]) for p in scene_table.positions)
+    for p in scene_table.positions:  # every position recalibrated from the master, none kept from the scene
         y = float(p["y_mm"])
-        if y not in SERVED:
-            assert by_y[y]["characteristic"] == p["characteristic"]
-            assert "not recalibrated on the worn profile" in by_y[y]["warnings"][-1]
-    assert "conforming contact" in by_y[-37.5]["warnings"][-1]
-    assert "surface convexity" in by_y[0.0]["warnings"][-1]  # the concave tread: unlike the convex master
+        assert by_y[y]["method"] == "similarity"
+        assert by_y[y]["first_yield_fem_MPa"] != p["first_yield_fem_MPa"]
+        assert not any("not recalibrated" in w for w in by_y[y].get("warnings", []))
+    assert sorted(y for y in by_y if y in POSITIONS) == sorted(POSITIONS)
