@@ -92,13 +92,13 @@ def test_inelastic_saturates_under_the_rolling_law(make_scene):
     step stays above the elastic limit, and the second step's patch (on the dented profile) loads some positions
     beyond the largest pressure they carried (about 7 % of the first step's dent in this scene with the tables of
     the operating-range fit, 3 % with those of the paper fit, whose residual near first yield was low); the third
-    adds nothing measurable."""
+    adds less than 0.1 % of the first."""
     data = {"tangential": {"friction": 0.0}, "load": {"vertical_load_N": 80000.0},
             "passes": {"max": 40}, "wear": {"distance_km": 300.0, "steps": 3}}
     run = run_wear(make_scene(**data), show_progress=False)
     inc = [max(s.bodies["right", b].stats.inelastic_max_mm for b in BODIES) for s in run.steps]
     assert inc[0] > 1e-3
-    assert inc[1] < 0.1 * inc[0] and inc[2] < 1e-6
+    assert inc[1] < 0.1 * inc[0] and inc[2] < 1e-3 * inc[0]
 
 
 def test_hardened_characteristic_residual_is_the_increment():
