@@ -76,23 +76,24 @@ def _run_staged(scene: WearScene, staged: StagedOutput, plots: bool, show_progre
 
     run = start_run(scene)
     files = RunFiles(staged.dir, run)
-    try:
-        for record in wear_steps(run, work_dir=staged.dir, show_progress=show_progress):
-            files.step(record)
-            staged.publish(_kept(staged, len(run.steps)))
-    except WearStopped as stop:
-        files.finish(f"stopped: {stop.run.stopped}", _pictures(run, staged.dir, plots))
-        staged.finish(f"the stopped run's {len(run.steps)} completed step(s) are in {staged.path}")
-        raise
+    try:  # the end too (final files, pictures): a SIGTERM there marks the published steps like one in a step
+        try:
+            for record in wear_steps(run, work_dir=staged.dir, show_progress=show_progress):
+                files.step(record)
+                staged.publish(_kept(staged, len(run.steps)))
+        except WearStopped as stop:
+            files.finish(f"stopped: {stop.run.stopped}", _pictures(run, staged.dir, plots))
+            staged.finish(f"the stopped run's {len(run.steps)} completed step(s) are in {staged.path}")
+            raise
+        result = files.finish("complete", _pictures(run, staged.dir, plots))
+        check_terminated()  # a SIGTERM swallowed by a C callback (plots): the last published steps stay
+        staged.finish(f"the complete run ({len(run.steps)} steps) is in {staged.path}")
+        return result
     except (Terminated, KeyboardInterrupt, InputError, OSError) as err:
-        if staged.where is not None:  # the published steps say how the run ended (the staging goes with the block)
+        if staged.where == staged.partial:  # the published steps say how the run ended (not an ended run in DIR)
             with contextlib.suppress(OSError, InputError):  # a full disk may refuse this too: "running" stays
                 mark_published(staged.where, _end_status(err, staged.published, staged.where))
         raise
-    result = files.finish("complete", _pictures(run, staged.dir, plots))
-    check_terminated()  # a SIGTERM swallowed by a C callback (plots): the last published steps stay
-    staged.finish(f"the complete run ({len(run.steps)} steps) is in {staged.path}")
-    return result
 
 
 def _kept(staged: StagedOutput, steps: int) -> str:
