@@ -394,7 +394,10 @@ class StagedOutput:
         """Put the ended run in place of ``path`` and remove :attr:`partial`; ``kept`` as for :meth:`publish`."""
         with termination_deferred():
             self._put(self.path, kept or f"the complete output is in {self.path}")
-            remove_tree(self.partial)
+            if self.partial.exists():  # renamed first: a kill -9 meanwhile leaves a stale sibling, not half a folder
+                gone = self.partial.with_name(f".{self.partial.name}.old-{os.getpid()}-{os.urandom(4).hex()}")
+                os.replace(self.partial, gone)
+                remove_tree(gone)
 
 
 @contextlib.contextmanager
