@@ -2,10 +2,13 @@
 ``<key>.json``) and fits (:class:`PositionFit`, file ``fit-<key>.json``), read back through their typed
 ``from_dict``.
 
-An entry that is missing, unreadable (e.g. a folder), not JSON, or valid JSON of the wrong shape (``{}``, a string
-where a list of numbers belongs, a NaN, a characteristic that is not concave) is reported as unusable and
-recomputed by the pipeline, never used and never a traceback; writing the new entry replaces whatever was there.
-Units as in the entries (mm, MPa, s).
+Entries are read through the safe reader of inputs (:func:`wrlayer.input_files.read_text`): an entry that is
+missing, not a regular file (a folder, a FIFO, a device such as a link to ``/dev/zero``, a socket), a
+symbolic-link loop or a dangling link, larger than :data:`wrlayer.input_files.MAX_DATA_BYTES`, unreadable
+(permissions), not UTF-8 JSON, or valid JSON of the wrong shape (``{}``, a string where a list of numbers
+belongs, a NaN, a characteristic that is not concave) is reported as unusable and recomputed by the pipeline,
+never used, never a hang, an ``out of memory`` or a traceback; writing the new entry replaces whatever was there
+(the link itself, not its target). Units as in the entries (mm, MPa, s).
 """
 
 from __future__ import annotations
@@ -16,9 +19,10 @@ from pathlib import Path
 from typing import Any
 
 from calibration.results import IndentationResult, PositionFit
-from wrlayer.layer_table import LayerTable
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import InputError
+from wrlayer.input_files import MAX_DATA_BYTES, read_text
+from wrlayer.layer_table import LayerTable
 
 
 def fem_entry(cache: Path, key: str) -> Path:
@@ -31,12 +35,22 @@ def fit_entry(cache: Path, key: str) -> Path:
     return cache / f"fit-{key}.json"
 
 
+def entry_exists(path: Path) -> bool:
+    """True when something is at ``path`` (also a FIFO, a device, a dangling link or a link loop, which
+    :meth:`pathlib.Path.exists` calls absent): the entry is then read and, if unusable, reported."""
+    return path.exists() or path.is_symlink()
+
+
 def _read_json(path: Path) -> tuple[Any, str | None]:
-    try:
-        return json.loads(path.read_text(encoding="utf-8")), None
-    except FileNotFoundError:
+    if not entry_exists(path):
         return None, "missing"
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
+    try:
+        text = read_text(path, MAX_DATA_BYTES, path.name)  # no FIFO, device, link loop or oversize file
+    except InputError as err:
+        return None, err.problem
+    try:
+        return json.loads(text), None
+    except json.JSONDecodeError as err:
         return None, f"not readable JSON ({err})"
     except RecursionError:
         return None, "nested too deeply"
@@ -75,4 +89,4 @@ def save_entry(path: Path, record: IndentationResult | PositionFit) -> Path:
     return atomic_write_text(path, json.dumps(record.to_dict()))
 
 
-__all__ = ["fem_entry", "fit_entry", "load_fit", "load_indentation", "save_entry"]
+__all__ = ["entry_exists", "fem_entry", "fit_entry", "load_fit", "load_indentation", "save_entry"]

@@ -20,7 +20,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from calibration.cache import fem_entry, fit_entry, load_fit, load_indentation, save_entry
+from calibration.cache import entry_exists, fem_entry, fit_entry, load_fit, load_indentation, save_entry
 from calibration.cost import calibration_cost
 from calibration.position_fit import fit_position
 from calibration.results import IndentationResult, PositionFit
@@ -35,7 +35,7 @@ from calibration.tasks import (PositionNote, PositionTask, code_hash, inputs_has
                                run_position)
 from wrlayer.atomic_write import atomic_write_text, output_lock
 from wrlayer.cost import guard
-from wrlayer.errors import InputError, WrLayerError
+from wrlayer.errors import InputError, WrLayerError, record_kept, termination_deferred
 from wrlayer.progress import ProgressBar
 from wrlayer.runner import Runner, limited_threads
 
@@ -194,7 +194,7 @@ def _split_cached(tasks: list[PositionTask], cache: Path, log) -> tuple[dict[str
     for t in tasks:
         f = fem_entry(cache, t.key)
         fields_missing = t.fields_dir is not None and not any(Path(t.fields_dir).rglob("*.vtu"))
-        if f.exists() and not fields_missing:
+        if entry_exists(f) and not fields_missing:  # a FIFO or a link loop too: reported, recomputed
             entry, why = load_indentation(f)
             if entry is not None:
                 results[t.key] = entry
@@ -210,6 +210,7 @@ def _compute(todo: list[PositionTask], cfg: CalibrationConfig, scheduler: str, c
     if not todo:
         return
     quiet = not show_progress
+    saved = 0
     with ProgressBar(len(todo), "positions", "pos", quiet, 0) as bar_pos, \
             ProgressBar(sum(t.stages for t in todo), "load stages", "stage", quiet, 1, lines=False) as bar_steps, \
             Runner(cfg.run.workers, scheduler) as runner:
@@ -219,17 +220,22 @@ def _compute(todo: list[PositionTask], cfg: CalibrationConfig, scheduler: str, c
                 bar_steps.update(t.stages)
             bar_pos.update(1)
             if outcome.indentation is not None:
-                save_entry(fem_entry(cache, t.key), outcome.indentation)
+                with termination_deferred():  # cached and said so (the SIGTERM line), or neither
+                    save_entry(fem_entry(cache, t.key), outcome.indentation)
+                    saved += 1
+                    record_kept(f"{saved} computed position(s) cached in {cache} (a rerun reuses them)")
                 results[t.key] = outcome.indentation
             else:
                 failed.append(PositionNote(t.body, t.y_mm, outcome.error))
 
 
 def _fit(t: PositionTask, ind: IndentationResult, cfg: CalibrationConfig, cache: Path, fit_code: str,
-         failed: list[PositionNote]) -> PositionFit | None:
+         failed: list[PositionNote], log) -> PositionFit | None:
     """The (cached) fit of one position; None (and the error in ``failed``) when it does not fit."""
     f = fit_entry(cache, inputs_hash({"fem": t.key, "fit": asdict(cfg.fit), "code": fit_code}))
-    fit = load_fit(f, t.y_mm)[0] if f.exists() else None
+    fit, why = load_fit(f, t.y_mm) if entry_exists(f) else (None, None)
+    if why:
+        log(f"calibration: cache entry {f.name} of {t.label} is invalid ({why}); recomputing it")
     if fit is None:
         try:
             fit = fit_position(ind, t.geometry, cfg.fit, t.label)
@@ -269,21 +275,23 @@ def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress,
     fem_s = [r.seconds for r in computed]
     fem_seconds = None if not fem_s else FemSeconds(min(fem_s), max(fem_s), sum(fem_s),
                                                     sum(r.output_seconds for r in computed))
-    bodies, written = _tables(cfg, tasks, results, routes, failed, warnings, plots, out_dir)
+    bodies, written = _tables(cfg, tasks, results, routes, failed, warnings, plots, out_dir, log)
     worst = max([s.max_relative_fit_error for s in bodies.values() if s.table is not None], default=0.0)
     result = CalibrationResult(bodies, len(todo), n_cached, fem_seconds, tuple(failed), tuple(warnings), worst,
                                time.perf_counter() - t_start, tuple(written), similarity)
     # a run that computed nothing (all cached) writes its own record beside the one of the run that computed:
     # the cold run's times and counts stay where the benchmark reads them
     name = SUMMARY_CACHED if not todo and (out_dir / SUMMARY).is_file() else SUMMARY
-    atomic_write_text(out_dir / name, json.dumps(result.to_dict(), indent=1) + "\n")
+    with termination_deferred():
+        atomic_write_text(out_dir / name, json.dumps(result.to_dict(), indent=1) + "\n")
+        record_kept(f"the tables and {name} are in {out_dir}")
     _report(result, cfg.run.model, out_dir, log)
     return result
 
 
 def _tables(cfg: CalibrationConfig, tasks: list[PositionTask], results: dict[str, IndentationResult],
             routes: dict[str, Route], failed: list[PositionNote], warnings: list[PositionNote], plots: bool,
-            out_dir: Path) -> tuple[dict[str, BodySummary], list[str]]:
+            out_dir: Path, log) -> tuple[dict[str, BodySummary], list[str]]:
     """Fit every position with a result and write each body's table; ({body: summary}, files written)."""
     fit_code = code_hash(FIT_SOURCES)
     cache = out_dir / "cache"
@@ -292,7 +300,7 @@ def _tables(cfg: CalibrationConfig, tasks: list[PositionTask], results: dict[str
     for b in cfg.bodies:
         fits = []
         for t in (t for t in tasks if t.body == b.body and t.key in results):
-            fit = _fit(t, results[t.key], cfg, cache, fit_code, failed)
+            fit = _fit(t, results[t.key], cfg, cache, fit_code, failed, log)
             if fit is not None:
                 fits.append((t.key, fit))
         bodies[b.body], _, files = write_body_table(cfg, b, fits, failed, warnings, fit_code, plots, out_dir,

@@ -33,7 +33,7 @@ from typing import Any
 from wrlayer import cli
 from wrlayer.atomic_write import atomic_write_text, output_lock, replace_output_dir
 from wrlayer.cost import guard
-from wrlayer.errors import InputError, WrLayerError, cli_guard
+from wrlayer.errors import InputError, WrLayerError, cli_guard, record_kept
 from wrlayer.jit import run_mode
 
 
@@ -158,6 +158,7 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
         try:
             results[path.stem] = run_scene_file(path, out / path.stem, plots=args.plots, force=args.force,
                                                 vtk=not args.no_vtk)
+            record_kept(f"{len(results)} of {len(scenes)} scene outputs complete in {out}")  # the SIGTERM line
             print(f"{path.name}: ok -> {out / path.stem / 'result.json'}", flush=True)
             code = max(code, report_failed_cases(path.name, results[path.stem]))
         except WrLayerError as err:

@@ -9,10 +9,12 @@
   find no folder but never one that mixes two runs), under an exclusive lock (:func:`output_lock`) so that two
   runs into the same folder cannot interleave. Only a folder that is new, empty or an earlier output of the tool
   (it holds one of :data:`OUTPUT_FILES`) is replaced; anything else is refused (InputError), never deleted.
-- :func:`staged_output_dir`: a folder built in a staging sibling and published into ``path`` several times while
-  it grows (a wear run publishes after every step): each :meth:`StagedOutput.publish` hard-links the staging
-  folder's files into a fresh snapshot sibling and swaps it in as a whole, so a kill at any moment leaves ``path``
-  as it was before the first publish or as one published snapshot.
+- :func:`staged_output_dir`: a folder built in a staging sibling that grows (a wear run, step by step). Each
+  :meth:`StagedOutput.publish` puts a snapshot of it in place of the visible sibling ``<name>.partial``
+  (:func:`partial_dir`); :meth:`StagedOutput.finish` puts the ended run in place of ``path`` and removes the
+  partial folder. So ``path`` keeps an earlier output until the new run ends (a ``kill -9`` cannot put anything
+  back, hence nothing is taken away before the end), and the completed part of a killed run is in the partial
+  folder. A snapshot is the staging folder's files hard-linked into a fresh sibling swapped in as a whole.
 - Staging folders are named ``.<name>.staging-<pid>-<random>``; those whose process is gone (a killed run) are
   removed by the next run into the same folder (:func:`clean_stale_staging`), which also puts back an earlier
   output that a kill caught between the two renames of the non-atomic swap.
@@ -33,7 +35,7 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-from wrlayer.errors import InputError, Terminated, check_terminated, termination_deferred
+from wrlayer.errors import InputError, Terminated, check_terminated, record_kept, termination_deferred
 
 #: Files by which an earlier output folder of the tool is recognised (such a folder may be replaced as a whole).
 OUTPUT_FILES = ("result.json",)
@@ -42,6 +44,8 @@ OUTPUT_FILES = ("result.json",)
 #: result). Relative paths, matched with :meth:`pathlib.PurePath.match`; ``"name/"``: everything under the top
 #: folder ``name``.
 OWNED_PATTERNS = ("result.json", "*.png", "*.csv", "deformed_profiles/*")
+#: Suffix of the sibling folder that holds a growing run's completed part until the run ends (:func:`partial_dir`).
+PARTIAL_SUFFIX = ".partial"
 
 
 class OutputError(InputError):
@@ -318,9 +322,11 @@ def replace_output_dir(path: str | os.PathLike, what: str | None = None,
         try:
             yield tmp
             check_terminated()  # a SIGTERM swallowed by a C callback: the earlier output stays
-            if path.is_dir():
-                _carry_over(path, tmp, owned)
-            _swap_in(tmp, path)
+            with termination_deferred():  # swapped in and said so, or neither
+                if path.is_dir():
+                    _carry_over(path, tmp, owned)
+                _swap_in(tmp, path)
+                record_kept(f"the complete output is in {path}")
         finally:
             remove_tree(tmp)
 
@@ -339,41 +345,77 @@ def _link_tree(src: Path, dest: Path) -> None:
                 shutil.copy2(item, target)
 
 
+def partial_dir(path: str | os.PathLike) -> Path:
+    """The visible sibling ``<name>.partial`` of the output folder ``path`` that receives a growing run's
+    published snapshots until the run ends (:class:`StagedOutput`)."""
+    path = Path(path)
+    return path.with_name(path.name + PARTIAL_SUFFIX)
+
+
 class StagedOutput:
-    """A staging folder ``dir`` (build the output in it) that :meth:`publish` puts in place of ``path``."""
+    """A staging folder ``dir`` (build the output in it): :meth:`publish` puts a snapshot of it in place of
+    ``partial`` while the run goes, :meth:`finish` puts the ended run in place of ``path``.
+
+    ``published``: the snapshots published so far; ``where``: the folder the last one went to (None: none yet)."""
 
     def __init__(self, path: Path, staging: Path, owned: tuple[str, ...]):
         self.path, self.dir, self.owned = path, staging, owned
+        self.partial = partial_dir(path)
         self.published = 0
+        self.where: Path | None = None
 
-    def publish(self) -> None:
-        """Put a snapshot of the staging folder in place of ``path`` as a whole (files of the previous ``path``
-        that the tool does not own are carried over). A kill at any moment leaves ``path`` unchanged or the
-        complete snapshot; a snapshot left by a kill is removed by the next run (:func:`clean_stale_staging`)."""
-        snap = _staging_dir(self.path)
-        try:
-            _link_tree(self.dir, snap)
-            if self.path.is_dir():
-                _carry_over(self.path, snap, self.owned)
-            _swap_in(snap, self.path)
+    def _put(self, target: Path, kept: str) -> None:
+        """A snapshot of the staging folder in place of ``target`` as a whole (files of the previous ``target``
+        that the tool does not own are carried over), then ``kept`` recorded for the SIGTERM line. A SIGTERM
+        meanwhile is raised once both are done (or the snapshot is removed): the line never misstates the folder.
+        A kill at any moment leaves ``target`` unchanged or the complete snapshot; a snapshot left by a kill is
+        removed by the next run (:func:`clean_stale_staging`)."""
+        with termination_deferred():
+            snap = _staging_dir(target)
+            try:
+                _link_tree(self.dir, snap)
+                if target.is_dir():
+                    _carry_over(target, snap, self.owned)
+                _swap_in(snap, target)
+            except OSError as err:
+                raise output_error(err, target) from None
+            finally:
+                remove_tree(snap)  # the previous output, or a snapshot not swapped in
             self.published += 1
-        except OSError as err:
-            raise output_error(err, self.path) from None
-        finally:
-            remove_tree(snap)  # the previous output, or a snapshot not swapped in
+            self.where = target
+            record_kept(kept)
+
+    def publish(self, kept: str = "") -> None:
+        """Publish the staging folder's current state into :attr:`partial` (``path`` is not touched); ``kept``:
+        what the SIGTERM line then says (default: the folder's name)."""
+        self._put(self.partial, kept or f"the output published last is in {self.partial}")
+
+    def finish(self, kept: str = "") -> None:
+        """Put the ended run in place of ``path`` and remove :attr:`partial`; ``kept`` as for :meth:`publish`."""
+        with termination_deferred():
+            self._put(self.path, kept or f"the complete output is in {self.path}")
+            if self.partial.exists():  # renamed first: a kill -9 meanwhile leaves a stale sibling, not half a folder
+                gone = self.partial.with_name(f".{self.partial.name}.old-{os.getpid()}-{os.urandom(4).hex()}")
+                os.replace(self.partial, gone)
+                remove_tree(gone)
 
 
 @contextlib.contextmanager
 def staged_output_dir(path: str | os.PathLike, what: str | None = None,
                       owned: tuple[str, ...] = OWNED_PATTERNS) -> Iterator[StagedOutput]:
-    """Build an output folder beside ``path`` and publish it into ``path`` as often as the block asks
-    (:meth:`StagedOutput.publish`), under :func:`output_lock`. ``path`` is untouched until the first publish;
-    the staging folder is removed when the block ends, also on an exception or SIGTERM (what was published stays).
-    ``path`` must pass :func:`check_replaceable`; stale staging folders of killed runs are removed first."""
+    """Build an output folder beside ``path``, publish its growing state into ``<path>.partial`` as often as the
+    block asks and put it in place of ``path`` at the end (:class:`StagedOutput`), under :func:`output_lock` of
+    ``path``. ``path`` is untouched until :meth:`StagedOutput.finish`; the staging folder is removed when the block
+    ends, also on an exception or SIGTERM (what was published stays). ``path`` and the partial folder must pass
+    :func:`check_replaceable`; stale staging folders of killed runs beside both are removed first."""
     path = Path(path)
+    what = what or f"--out {path}"
     with output_lock(path, what):
+        partial = partial_dir(path)
         check_replaceable(path, what)
+        check_replaceable(partial, f"{what} (its partial-output folder {partial})")
         clean_stale_staging(path)
+        clean_stale_staging(partial)
         tmp = _staging_dir(path)
         try:
             yield StagedOutput(path, tmp, owned)
@@ -381,6 +423,6 @@ def staged_output_dir(path: str | os.PathLike, what: str | None = None,
             remove_tree(tmp)
 
 
-__all__ = ["OUTPUT_FILES", "OWNED_PATTERNS", "OutputError", "StagedOutput", "atomic_output_dir",
+__all__ = ["OUTPUT_FILES", "OWNED_PATTERNS", "OutputError", "PARTIAL_SUFFIX", "StagedOutput", "atomic_output_dir",
            "atomic_write_bytes", "atomic_write_text", "check_replaceable", "clean_stale_staging", "output_error",
-           "output_lock", "remove_tree", "replace_output_dir", "staged_output_dir"]
+           "output_lock", "partial_dir", "remove_tree", "replace_output_dir", "staged_output_dir"]

@@ -94,22 +94,23 @@ def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
 
     @functools.wraps(main)
     def wrapped(*args, **kwargs) -> int:
-        global _terminated
+        global _terminated, _pending, _kept
         previous = _catch_sigterm()
-        if previous is not _raise_terminated:  # the outermost command: a fresh flag, a quiet unraisable hook
-            _terminated = False
+        outermost = previous is not _raise_terminated
+        if outermost:  # fresh flags, a quiet unraisable hook
+            _terminated, _pending, _kept = False, False, ""
         hook = sys.unraisablehook
         sys.unraisablehook = _unraisable
         try:
             try:
                 rc = main(*args, **kwargs)
                 check_terminated()
-            except BaseException:
-                if _terminated:  # whatever a library made of the interrupted call (e.g. numba wraps it), SIGTERM
-                    raise Terminated() from None  # came first: the run ends as terminated
+            except BaseException as err:
+                if _terminated and not isinstance(err, Terminated):  # whatever a library made of the interrupted
+                    raise Terminated() from None  # call (e.g. numba wraps it), SIGTERM came first: terminated
                 raise
         except Terminated as err:
-            print(f"error: terminated (SIGTERM); {err.kept or 'nothing written'}", file=sys.stderr)
+            print(f"error: terminated (SIGTERM); {err.kept or _kept or 'nothing written'}", file=sys.stderr)
             return 143
         except WrLayerError as err:
             print(f"error: {_one_line(str(err))}", file=sys.stderr)
@@ -129,6 +130,8 @@ def cli_guard(main: Callable[..., int | None]) -> Callable[..., int]:
             sys.unraisablehook = hook
             if previous is not None:
                 signal.signal(signal.SIGTERM, previous)
+            if outermost:  # the command has answered its SIGTERM: later library calls in this process (tests,
+                _terminated, _pending, _kept = False, False, ""  # a notebook) must not raise it again
         return 0 if rc is None else int(rc)
 
     return wrapped
@@ -148,6 +151,18 @@ class Terminated(BaseException):
 #: through ctypes) is printed and dropped by Python, so the signal would be lost; :func:`check_terminated` at the
 #: points where output is committed, and the command wrapper at its end, raise it again.
 _terminated = False
+
+
+#: What the running command has kept on disk so far (:func:`record_kept`), for the SIGTERM line; "" for nothing.
+_kept = ""
+
+
+def record_kept(text: str) -> None:
+    """Say what the running command has put in place so far (e.g. ``2 completed step(s) kept in out/wear.partial``);
+    a SIGTERM then prints it instead of "nothing written". Called by the writer right after the output is in place,
+    inside the same :func:`termination_deferred` block, so the line is never ahead of or behind the folder."""
+    global _kept
+    _kept = text
 
 
 #: Depth of :func:`termination_deferred` blocks and whether a SIGTERM arrived inside one (raised at its end).
@@ -176,8 +191,8 @@ def termination_deferred() -> Iterator[None]:
         yield
     finally:
         _deferring -= 1
-    if not _deferring and _pending:
-        _pending = False
+        held, _pending = _pending, _pending and bool(_deferring)  # an error leaving the block: the flag keeps it
+    if held and not _deferring:
         raise Terminated()
 
 

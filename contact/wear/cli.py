@@ -5,13 +5,15 @@ scheduler address of a wrong form or a run whose estimated cost exceeds the limi
 unless ``--force``) fails before anything is written.
 
 The run is built in a staging folder beside DIR (:func:`wrlayer.atomic_write.staged_output_dir`) and published
-into DIR as a whole after every completed step, with result.json saying "running: N steps completed"; DIR keeps
-its earlier content until the first step completes. So a kill at any moment (even ``kill -9``) leaves either the
-earlier DIR or the completed steps with a result.json that matches them. At the end result.json says "complete";
-a failure during the loop stops it with one line naming the step, result.json says "stopped: step N: ..." and the
-exit code is 5; SIGTERM or Ctrl-C marks the published steps "terminated after step N" / "interrupted after step
-N" and removes the staging folder (exit 143 / 130); a full disk or another failure to write marks them "stopped
-after step N: <path>: <reason>" (exit 2).
+as a whole after every completed step into ``DIR.partial`` beside DIR, with result.json saying "running: N steps
+completed"; DIR keeps its earlier content until the run ends, when the run replaces it and ``DIR.partial`` is
+removed. So a kill at any moment (even ``kill -9``) leaves DIR as it was (or the ended run) and the completed
+steps of the killed run in ``DIR.partial`` with a result.json that matches them. At the end result.json says
+"complete"; a failure during the loop stops it with one line naming the step, result.json says "stopped: step
+N: ..." and the exit code is 5 (this ended run replaces DIR too); SIGTERM or Ctrl-C marks the published steps in
+``DIR.partial`` "terminated after step N" / "interrupted after step N", says where they are and removes the
+staging folder (exit 143 / 130); a full disk or another failure to write marks them "stopped after step N:
+<path>: <reason>" (exit 2).
 """
 
 from __future__ import annotations
@@ -74,25 +76,31 @@ def _run_staged(scene: WearScene, staged: StagedOutput, plots: bool, show_progre
 
     run = start_run(scene)
     files = RunFiles(staged.dir, run)
-    try:
-        for record in wear_steps(run, work_dir=staged.dir, show_progress=show_progress):
-            files.step(record)
-            staged.publish()
-    except WearStopped as stop:
-        files.finish(f"stopped: {stop.run.stopped}", _pictures(run, staged.dir, plots))
-        staged.publish()
-        raise
+    try:  # the end too (final files, pictures): a SIGTERM there marks the published steps like one in a step
+        try:
+            for record in wear_steps(run, work_dir=staged.dir, show_progress=show_progress):
+                files.step(record)
+                staged.publish(_kept(staged, len(run.steps)))
+        except WearStopped as stop:
+            files.finish(f"stopped: {stop.run.stopped}", _pictures(run, staged.dir, plots))
+            staged.finish(f"the stopped run's {len(run.steps)} completed step(s) are in {staged.path}")
+            raise
+        result = files.finish("complete", _pictures(run, staged.dir, plots))
+        check_terminated()  # a SIGTERM swallowed by a C callback (plots): the last published steps stay
+        staged.finish(f"the complete run ({len(run.steps)} steps) is in {staged.path}")
+        return result
     except (Terminated, KeyboardInterrupt, InputError, OSError) as err:
-        if staged.published:  # the published steps say how the run ended (the staging goes with the block)
+        if staged.where == staged.partial:  # the published steps say how the run ended (not an ended run in DIR)
             with contextlib.suppress(OSError, InputError):  # a full disk may refuse this too: "running" stays
-                mark_published(staged.path, _end_status(err, staged.published, staged.path))
-            if isinstance(err, Terminated):
-                raise Terminated(f"{staged.published} completed step(s) kept in {staged.path}") from None
+                mark_published(staged.where, _end_status(err, staged.published, staged.where))
         raise
-    result = files.finish("complete", _pictures(run, staged.dir, plots))
-    check_terminated()  # a SIGTERM swallowed by a C callback (plots): the last published steps stay
-    staged.publish()
-    return result
+
+
+def _kept(staged: StagedOutput, steps: int) -> str:
+    """What the SIGTERM line says once ``steps`` completed steps are published in the partial folder."""
+    earlier = (staged.path / "result.json").is_file()
+    return (f"{steps} completed step(s) kept in {staged.partial}; {staged.path} "
+            + ("keeps the earlier output" if earlier else "was not written"))
 
 
 def _end_status(err: BaseException, steps: int, out: Path) -> str:

@@ -1,7 +1,9 @@
 """Faults of a calibration run: a killed run leaves no worker behind (nor the caller's pipes held open), a
-cache entry that is valid JSON but wrong (or a folder) is recomputed, two runs into one --out cannot mix, a warm rerun notices
+cache entry that is valid JSON but wrong (or a folder) is recomputed, one that is a FIFO, a link to /dev/zero, a
+link loop, oversize or unreadable is a miss with a warning (never a hang or out of memory), two runs into one --out cannot mix, a warm rerun notices
 a CSV that does not belong to its JSON table. Each with a real run (coarse settings, seconds)."""
 
+import contextlib
 import json
 import os
 import re
@@ -166,3 +168,95 @@ def test_costly_calibration_is_refused_with_the_estimate(tmp_path, capsys):
     assert rc == 2 and "\n" not in err and not out.exists()
     assert "estimated cost 1 3D FEM position(s) on 1 worker(s) ~ " in err and "--force" in err, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["costly.toml"]
+
+
+# ------------------------------------------------------------------------------------------------ hostile entries
+#: Seconds a hostile cache entry may take before the test calls it a hang (the old reader blocked on a FIFO).
+HANG_S = 20
+
+
+@contextlib.contextmanager
+def _no_hang(seconds: int = HANG_S):
+    """Fail (instead of hanging the test run) when the block takes more than ``seconds``."""
+    def alarm(signum, frame):
+        raise TimeoutError(f"hung for {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, alarm)
+    signal.alarm(seconds)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def _hostile(kind: str, path: Path, monkeypatch) -> str:
+    """Put an entry of ``kind`` at ``path``; returns the words the warning must hold."""
+    path.unlink()
+    if kind == "fifo":
+        os.mkfifo(path)
+        return "a FIFO (named pipe), not a regular file"
+    if kind == "dev-zero":
+        path.symlink_to("/dev/zero")
+        return "a character device, not a regular file"
+    if kind == "link-loop":
+        path.symlink_to(path.name)
+        return "a symbolic-link loop"
+    if kind == "oversize":  # sparse: no disk used
+        from wrlayer.input_files import MAX_DATA_BYTES
+
+        with open(path, "wb") as fh:
+            fh.truncate(MAX_DATA_BYTES + 1)
+        return f"{MAX_DATA_BYTES + 1} bytes, more than the {MAX_DATA_BYTES} accepted"
+    if kind == "unreadable":  # chmod 000 does not stop root: the open itself fails as it would for another user
+        import wrlayer.input_files as input_files
+
+        real_open = os.open
+
+        def denied(name, *args, **kw):
+            if Path(name) == path:
+                raise PermissionError(13, "Permission denied", str(name))
+            return real_open(name, *args, **kw)
+
+        path.write_text("{}")
+        monkeypatch.setattr(input_files.os, "open", denied)
+        return "cannot read (Permission denied)"
+    raise ValueError(kind)
+
+
+HOSTILE = ["fifo", "dev-zero", "link-loop", "oversize", "unreadable"]
+
+
+@pytest.mark.parametrize("kind", HOSTILE)
+def test_hostile_fem_cache_entry_is_a_miss(warm, tmp_path, monkeypatch, kind):
+    """A FEM cache entry that is a FIFO, a link to /dev/zero, a link loop, oversize or unreadable: a cache miss
+    with a warning naming why, recomputed and replaced by a regular entry; never a hang or out of memory."""
+    out = _copy(warm, tmp_path)
+    (entry,) = [p for p in (out / "cache").glob("*.json") if not p.name.startswith("fit-")]
+    good = load_indentation(entry)[0]
+    why = _hostile(kind, entry, monkeypatch)
+    monkeypatch.setattr(pipeline, "run_position", lambda task: PositionOutcome(task.key, good))
+    logged = []
+    with _no_hang():
+        summary = run_calibration(load_config(COARSE), out, show_progress=False, log=logged.append)
+    assert summary["failed"] == [] and summary["positions_computed"] == 1 and summary["positions_cached"] == 0
+    assert any(f"{entry.name} of " in line and why in line and "recomputing" in line for line in logged), logged
+    monkeypatch.undo()
+    assert entry.is_file() and not entry.is_symlink() and load_indentation(entry)[0] == good
+
+
+@pytest.mark.parametrize("kind", HOSTILE)
+def test_hostile_fit_cache_entry_is_a_miss(warm, tmp_path, monkeypatch, kind):
+    """The same for a fit entry: refitted (same characteristic), with a warning, the entry replaced."""
+    out = _copy(warm, tmp_path)
+    (fit,) = list((out / "cache").glob("fit-*.json"))
+    before = json.loads(fit.read_text())
+    why = _hostile(kind, fit, monkeypatch)
+    logged = []
+    with _no_hang():
+        summary = run_calibration(load_config(COARSE), out, show_progress=False, log=logged.append)
+    assert summary["failed"] == [] and summary["positions_cached"] == 1
+    assert any(f"{fit.name} of " in line and why in line and "recomputing" in line for line in logged), logged
+    monkeypatch.undo()
+    assert fit.is_file() and not fit.is_symlink()
+    assert json.loads(fit.read_text())["characteristic"] == before["characteristic"]

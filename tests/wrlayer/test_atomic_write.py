@@ -198,31 +198,46 @@ def test_long_sweep_has_201_cases(tmp_path):
     assert len(parse_wheel_rail_scene(tomllib.loads(path.read_text()), path).cases) == 201
 
 
-def test_staged_output_is_published_whole_at_each_publish(tmp_path):
-    """Nothing in --out before the first publish; each publish a complete snapshot (files written later in the
-    staging folder do not reach it); a user's file kept; no staging left."""
-    out = tmp_path / "out"
+def test_staged_output_is_published_beside_out_until_it_finishes(tmp_path):
+    """--out keeps the earlier output until finish(); each publish puts a complete snapshot into out.partial (files
+    written later in the staging folder do not reach it); finish() puts the run in --out, keeps a user's file and
+    removes out.partial; no staging left."""
+    out, partial = tmp_path / "out", tmp_path / "out.partial"
     with replace_output_dir(out) as tmp:
         (tmp / "result.json").write_text('{"run": 0}')
         (tmp / "profiles").mkdir()
         (tmp / "profiles" / "old.prr").write_text("old")
     (out / "notes.txt").write_text("mine")
+    before = {str(p.relative_to(out)): p.read_bytes() for p in out.rglob("*") if p.is_file()}
     owned = ("result.json", "profiles/")
     with staged_output_dir(out, owned=owned) as staged:
         atomic_write_text(staged.dir / "profiles" / "step_001.prr", "1")
         atomic_write_text(staged.dir / "result.json", '{"run": 1, "steps": 1}')
-        assert json.loads((out / "result.json").read_text()) == {"run": 0}
+        assert not partial.exists()
         staged.publish()
         atomic_write_text(staged.dir / "profiles" / "step_002.prr", "2")
         atomic_write_text(staged.dir / "result.json", '{"run": 1, "steps": 2}')
-        assert sorted(str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()) == \
-            ["notes.txt", "profiles/step_001.prr", "result.json"]
-        assert json.loads((out / "result.json").read_text()) == {"run": 1, "steps": 1}
+        assert sorted(str(p.relative_to(partial)) for p in partial.rglob("*") if p.is_file()) == \
+            ["profiles/step_001.prr", "result.json"]
+        assert json.loads((partial / "result.json").read_text()) == {"run": 1, "steps": 1}
         staged.publish()
-        assert staged.published == 2
+        assert staged.published == 2 and staged.where == partial
+        assert {str(p.relative_to(out)): p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+        staged.finish()
+        assert staged.where == out and not partial.exists()
     assert json.loads((out / "result.json").read_text()) == {"run": 1, "steps": 2}
     assert (out / "notes.txt").read_text() == "mine" and not (out / "profiles" / "old.prr").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_a_foreign_partial_folder_is_refused(tmp_path):
+    """A folder named like the partial-output folder but holding other content is never replaced."""
+    (tmp_path / "out.partial").mkdir()
+    (tmp_path / "out.partial" / "thesis.tex").write_text("mine")
+    with pytest.raises(InputError, match="out.partial"):
+        with staged_output_dir(tmp_path / "out"):
+            pass
+    assert (tmp_path / "out.partial" / "thesis.tex").read_text() == "mine"
 
 
 def test_a_failed_write_names_its_path(tmp_path, monkeypatch):
@@ -285,10 +300,12 @@ def test_sigterm_while_a_snapshot_is_removed_leaves_no_staging(tmp_path, monkeyp
         return 0
 
     assert main() == 143
-    assert capsys.readouterr().err.strip() == "error: terminated (SIGTERM); nothing written"
+    # the line says what was kept (it said "nothing written" while the steps were there)
+    assert capsys.readouterr().err.strip() == \
+        f"error: terminated (SIGTERM); the output published last is in {tmp_path / 'out.partial'}"
     assert len(removals) >= 2
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # no staging, snapshot or lock left
-    assert json.loads((out / "result.json").read_text()) == {"steps": 2}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.partial"]  # no staging, snapshot or lock left
+    assert json.loads((tmp_path / "out.partial" / "result.json").read_text()) == {"steps": 2}
 
 
 def test_sigterm_while_a_staging_folder_is_made_leaves_none(tmp_path, monkeypatch, capsys):

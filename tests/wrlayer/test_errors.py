@@ -98,3 +98,48 @@ def test_an_error_caused_by_an_interrupted_library_call_after_sigterm_is_a_termi
 
     assert main() == 143
     assert capsys.readouterr().err.strip() == "error: terminated (SIGTERM); nothing written"
+
+
+def test_a_terminated_command_leaves_no_termination_behind(tmp_path, capsys):
+    """A command ended by SIGTERM (143) leaves no flag behind: later library calls in the same process (the next
+    test on the same pytest-xdist worker, a notebook) write their output instead of raising Terminated. (The flag
+    once outlived the command: tests of atomic_write failed with Terminated depending on which worker ran them.)"""
+    import os
+    import signal
+
+    from wrlayer.atomic_write import atomic_output_dir, replace_output_dir, staged_output_dir
+    from wrlayer.errors import check_terminated, termination_deferred
+
+    @cli_guard
+    def main():
+        with termination_deferred():
+            os.kill(os.getpid(), signal.SIGTERM)  # held back to the end of the block, then raised
+        return 0
+
+    assert main() == 143
+    capsys.readouterr()
+
+    @cli_guard
+    def failing():
+        try:
+            with termination_deferred():
+                os.kill(os.getpid(), signal.SIGTERM)
+                raise ValueError("an error leaving the deferred block")
+        except ValueError:
+            pass
+        return 0
+
+    assert failing() == 143  # the flag carried the SIGTERM past the error
+    capsys.readouterr()
+    check_terminated()
+    with termination_deferred():
+        pass
+    with atomic_output_dir(tmp_path / "a") as tmp:
+        (tmp / "result.json").write_text("{}")
+    with replace_output_dir(tmp_path / "b") as tmp:
+        (tmp / "result.json").write_text("{}")
+    with staged_output_dir(tmp_path / "c") as staged:
+        (staged.dir / "result.json").write_text("{}")
+        staged.publish()
+        staged.finish()
+    assert all((tmp_path / name / "result.json").is_file() for name in "abc")

@@ -243,3 +243,30 @@ def test_real_command_line(tmp_path):
                            str(out), "--json"], capture_output=True, text=True, timeout=300, check=False)
     assert proc.returncode == 0, proc.stderr
     assert json.loads(proc.stdout) == json.loads((out / "result.json").read_text())
+
+
+def test_sigterm_in_simulate_all_says_which_outputs_are_complete(tmp_path, monkeypatch, capsys):
+    """SIGTERM while simulate-all runs its second scene: exit 143, one line naming how many scene outputs are
+    complete (the first one's folder holds its whole output), not "nothing written"."""
+    import os
+    import signal
+
+    import contact.__main__ as contact_main
+
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    for name in ("a", "b"):
+        shutil.copy(SCENES / "hertz_check.toml", scenes / f"{name}.toml")
+    real, calls = contact_main.run_scene_file, []
+
+    def killed_in_the_second(path, out_dir, **kw):
+        calls.append(path)
+        if len(calls) == 2:
+            os.kill(os.getpid(), signal.SIGTERM)
+        return real(path, out_dir, **kw)
+
+    monkeypatch.setattr(contact_main, "run_scene_file", killed_in_the_second)
+    out = tmp_path / "out"
+    assert main(["simulate-all", str(scenes), "--out", str(out), "--no-vtk"]) == 143
+    assert capsys.readouterr().err.strip() == f"error: terminated (SIGTERM); 1 of 2 scene outputs complete in {out}"
+    assert json.loads((out / "a" / "result.json").read_text())["inputs"] and not (out / "b").exists()

@@ -84,7 +84,8 @@ def test_layer_table_a_loop_or_a_fifo(tmp_path, capsys, wear_dict, write_scene):
 
 def test_earlier_run_and_user_files_kept_until_replaced(tmp_path, capsys, wear_dict, write_scene, monkeypatch):
     """A run that fails before its first step leaves the earlier complete run as it was; a user's file in --out
-    survives a run; a full disk during step 2 leaves step 1 published, marked, and names the path."""
+    survives a run; a full disk during step 2 names the path, leaves step 1 published beside --out (marked) and the
+    earlier run in --out."""
     scene = write_scene(wear_dict(layers=None, wear=FAST))
     out = tmp_path / "out"
     assert main(["wear", str(scene), "--out", str(out), "--quiet", "--no-plots"]) == 0
@@ -114,7 +115,35 @@ def test_earlier_run_and_user_files_kept_until_replaced(tmp_path, capsys, wear_d
     assert main(["wear", str(scene), "--out", str(out), "--quiet", "--no-plots"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.endswith("steps.csv: no space left on device") and err.count("\n") == 0, err
-    res = json.loads((out / "result.json").read_text())
+    res = json.loads((tmp_path / "out.partial" / "result.json").read_text())  # step 1 beside --out, marked
     assert len(res["steps"]) == 1 and res["status"].startswith("stopped after step 1: ")
-    assert (out / "notes.txt").read_text() == "mine"
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before  # the earlier run as it was
     assert not list(tmp_path.glob(".out.*"))
+
+
+def test_sigterm_while_the_run_ends_marks_the_published_steps(tmp_path, capsys, wear_dict, write_scene,
+                                                               monkeypatch):
+    """SIGTERM after the last step, while the final files and pictures are written: the published steps are
+    marked "terminated (SIGTERM) after step 2" (they stayed "running" before), the line says where they are, and
+    --out keeps the earlier run."""
+    import signal
+
+    import contact.wear.cli as wear_cli
+
+    scene = write_scene(wear_dict(layers=None, wear=FAST))
+    out, partial = tmp_path / "out", tmp_path / "out.partial"
+    assert main(["wear", str(scene), "--out", str(out), "--quiet", "--no-plots"]) == 0
+    before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+
+    def killed_while_drawing(run, out_dir, plots):
+        os.kill(os.getpid(), signal.SIGTERM)
+        return []
+
+    monkeypatch.setattr(wear_cli, "_pictures", killed_while_drawing)
+    capsys.readouterr()
+    assert main(["wear", str(scene), "--out", str(out), "--quiet"]) == 143
+    assert capsys.readouterr().err.strip() == (f"error: terminated (SIGTERM); 2 completed step(s) kept in {partial}; "
+                                               f"{out} keeps the earlier output")
+    assert json.loads((partial / "result.json").read_text())["status"] == "terminated (SIGTERM) after step 2"
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+    assert not list(tmp_path.glob(".out*.*"))
