@@ -27,6 +27,7 @@ import time
 import numpy as np
 
 from benchmarks.fast_normal_cases import CLASSES, patch_set
+from benchmarks.harness import median_time
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.normal.coarse_exact import CoarseOptions, solve_coarse_exact
 from contact.normal.exact import ExactOptions, solve_exact
@@ -102,13 +103,7 @@ def errors(sol, ref) -> dict[str, float]:
 
 def cpu_ms(fn, repeat: int) -> float:
     """Median CPU time (ms) of ``fn()`` over ``repeat`` runs after one warm-up run."""
-    fn()
-    out = []
-    for _ in range(repeat):
-        c0 = time.process_time()
-        fn()
-        out.append(time.process_time() - c0)
-    return 1e3 * float(np.median(out))
+    return 1e3 * median_time(fn, repeat, 1, time.process_time)[0]
 
 
 def measure(methods=METHODS, repeat: int = 3) -> list[dict]:
