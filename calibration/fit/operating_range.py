@@ -128,8 +128,9 @@ def fitted_reverse_factor(ch: Characteristic, peaks: np.ndarray, residual_fem: n
         return 1.0
     scale = error_scale_mm(peaks, residual_fem, p2, peaks)
     rhos = np.arange(1.0, MAX_REVERSE_FACTOR + RHO_STEP / 2, RHO_STEP)
-    errors = np.array([np.max(np.abs(Characteristic(ch.u_mm, ch.p_MPa, ch.name, float(r)).unloading_residual(peaks)
-                                     - residual_fem) / scale) for r in rhos])
+    f = 1.0 + rhos[:, None]  # Characteristic.unloading_residual for every rho at once
+    residual = np.maximum(ch.displacement(peaks)[None, :] - f * ch.displacement(peaks[None, :] / f), 0.0)
+    errors = np.max(np.abs(residual - residual_fem) / scale, axis=1)
     return float(rhos[int(np.argmax(errors <= errors.min() + RHO_SLACK))])
 
 
