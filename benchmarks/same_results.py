@@ -30,12 +30,12 @@ from typing import Iterator
 #: Keys describing the run rather than its result (code revision, time, place, machine).
 IGNORED_KEYS = frozenset({
     "code_version", "timings", "timing", "wall_s", "elapsed_s", "cpu_s", "seconds", "run_time_s", "revision",
-    "host", "hostname", "platform", "python", "created", "date", "started", "finished", "scene_file", "path",
+    "host", "hostname", "platform", "python", "created", "created_utc", "date", "started", "finished", "scene_file", "path",
     "out", "output_dir", "versions", "package_versions", "command",
 })
 #: Keys and CSV columns holding a run time (s), recognised by name: ``time_s``, ``total_s``, ``timings_s``, ``*_s``
 #: inside a ``timings`` record; a unit such as ``speed_mm_s`` or ``pitch_rate_rad_s`` is not a run time.
-RUN_TIME_KEY = re.compile(r"^(?:time_s|total_s|timings?(?:_s)?|.*_time_s|wall.*|elapsed.*|cpu.*)$")
+RUN_TIME_KEY = re.compile(r"^(?:time_s|total_s|timings?(?:_s)?|.*_time_s|.*seconds.*|wall.*|elapsed.*|cpu.*)$")
 TEXT_SUFFIXES = (".csv", ".prr", ".prw", ".txt", ".md", ".toml", ".log")
 BINARY_SUFFIXES = (".png", ".svg", ".pdf", ".vtu", ".vtk", ".vtp", ".pvd", ".npz", ".npy")
 NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
