@@ -22,8 +22,8 @@ from pathlib import Path
 import numpy as np
 
 import contact
+from wrlayer.shipped import scenes_dir
 
-ROOT = Path(__file__).resolve().parents[1]
 R_Y_MM = 31.7                                             # lateral radius of the separation (mm)
 CHARACTERISTIC = {"u_mm": [0.0, 0.020106, 0.0301, 0.06], "p_MPa": [0.0, 1190.0, 1456.0, 1900.0]}
 
@@ -43,7 +43,7 @@ def main(out_dir: str | Path | None = None) -> float:
     """Solve the example in code and from its scene file; print both; return the approach delta (mm)."""
     sol = paper_solution()
     print("in code:   ", sol)
-    run = contact.simulate(contact.load_scene(ROOT / "scenes" / "paper_with_layer.toml"))
+    run = contact.simulate(contact.load_scene(scenes_dir() / "paper_with_layer.toml"))
     first = run.result.passes[0]  # a frozen PassResult; run.result.to_dict() is the result.json data
     print(f"scene file: delta = {first.delta_mm:.6f} mm, p_max = {first.p_max_MPa:.0f} MPa, "
           f"Fx = {first.Fx_N / 1e3:.2f} kN ({run.result.n_passes} pass)")

@@ -21,13 +21,13 @@ from pathlib import Path
 
 import contact
 from calibration.hertz.geometry import combined_modulus_MPa, hertz_ellipse
+from wrlayer.shipped import scenes_dir
 
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def main(out_dir: str | Path | None = None) -> float:
     """Hertz, Kik-Piotrowski and exact solutions of the Hertz-check scene; returns the exact p_max (MPa)."""
-    scene = contact.load_scene(ROOT / "scenes" / "hertz_check.toml")
+    scene = contact.load_scene(scenes_dir() / "hertz_check.toml")
     sep, load, mat = scene.separation, scene.load, scene.material
     prob = contact.NormalProblem(sep.y_mm, sep.f_mm, load.normal_force_N, load.rolling_radius_mm,
                                  E_MPa=mat.E_MPa, poisson=mat.poisson, alpha=scene.method.alpha,

@@ -26,14 +26,14 @@ from pathlib import Path
 
 import calibration
 import contact
+from wrlayer.shipped import configs_dir
 
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def main(out_dir: str | Path | None = None) -> float:
     """Calibrate the rail crown with the coarse configuration into ``out_dir``; returns p_2 (MPa)."""
     out = Path(out_dir) if out_dir is not None else Path(tempfile.mkdtemp(prefix="ex04_"))
-    cfg = calibration.load_config(ROOT / "calibration" / "configs" / "test_coarse.toml")
+    cfg = calibration.load_config(configs_dir() / "test_coarse.toml")
     rail = dataclasses.replace(cfg.bodies[0], positions_mm=(0.0,))
     cfg = dataclasses.replace(cfg, bodies=(rail,))
     summary = calibration.run_calibration(cfg, out / "calibration", plots=False, show_progress=False,

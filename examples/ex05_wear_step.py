@@ -27,9 +27,9 @@ import tempfile
 from pathlib import Path
 
 import contact
+from wrlayer.shipped import scenes_dir
 
-ROOT = Path(__file__).resolve().parents[1]
-SCENE = ROOT / "scenes" / "wear" / "s1002_60e1.toml"
+SCENE = scenes_dir() / "wear" / "s1002_60e1.toml"
 DISTANCE_KM, STEPS = 100.0, 1
 
 

@@ -24,13 +24,13 @@ import tempfile
 from pathlib import Path
 
 import contact
+from wrlayer.shipped import scenes_dir
 
 try:
     import pandas as pd
 except ImportError:                                       # the example runs without pandas, with the csv module
     pd = None
 
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def passes_table(result_json: Path) -> list[dict]:
@@ -57,8 +57,8 @@ def largest_p_max_per_side(cases_csv: Path) -> dict[str, float]:
 def main(out_dir: str | Path | None = None) -> float:
     """Run the two scenes into ``out_dir`` and read their results as tables; returns pass 1's p_max (MPa)."""
     out = Path(out_dir) if out_dir is not None else Path(tempfile.mkdtemp(prefix="ex06_"))
-    contact.run_scene_file(ROOT / "scenes" / "paper_with_layer.toml", out / "paper")
-    contact.run_scene_file(ROOT / "scenes" / "wheel_rail_sweep_elastic.toml", out / "sweep")
+    contact.run_scene_file(scenes_dir() / "paper_with_layer.toml", out / "paper")
+    contact.run_scene_file(scenes_dir() / "wheel_rail_sweep_elastic.toml", out / "sweep")
     passes = passes_table(out / "paper" / "result.json")
     if pd is not None:
         print(passes[["pass", "delta_mm", "p_max_MPa", "length_mm", "width_mm", "area_mm2"]].to_string(index=False))

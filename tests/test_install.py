@@ -7,6 +7,8 @@ Building the wheel needs pip's build isolation (setuptools from the package inde
 
 import json
 import os
+import posixpath
+import re
 import shutil
 import subprocess
 import sys
@@ -45,7 +47,28 @@ def test_wheel_ships_scenes_tables_configurations_and_pages(wheel):
     missing += [p.name for p in (REPO / "calibration" / "configs").glob("*.toml")
                 if f"calibration/configs/{p.name}" not in names]
     missing += [p.name for p in (REPO / "docs").glob("*.md") if f"wrlayer/data/docs/{p.name}" not in names]
+    missing += [p.name for p in (REPO / "examples").glob("ex*.py") if f"wrlayer/data/examples/{p.name}" not in names]
+    missing += [f"{package}/py.typed" for package in ("wrlayer", "contact", "calibration", "meshes")
+                if f"{package}/py.typed" not in names]
+    missing += [name for name in ("README.md", "CITATION.cff") if f"wrlayer/data/{name}" not in names]
     assert not missing, missing
+
+
+def test_installed_pages_links_resolve_inside_the_package(wheel):
+    """Every relative link of an installed reference page names a file the wheel carries."""
+    names = set(zipfile.ZipFile(wheel).namelist())
+    pages = [n for n in names if n.startswith("wrlayer/data/docs/") and n.endswith(".md")]
+    assert len(pages) >= 20
+    broken = []
+    for page in pages:
+        text = zipfile.ZipFile(wheel).read(page).decode("utf-8")
+        for target in re.findall(r"\]\(([^)#\s]+)", text):
+            if "://" in target or target.startswith("mailto:"):
+                continue
+            resolved = posixpath.normpath(posixpath.join(posixpath.dirname(page), target))
+            if resolved not in names and not any(n.startswith(resolved + "/") for n in names):
+                broken.append(f"{page} -> {target}")
+    assert not broken, broken
     sources = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "wrlayer", "meshes", "calibration",
                               "contact"], cwd=REPO, capture_output=True, text=True, check=True).stdout.split()
     assert not [s for s in sources if s.endswith(".py") and s not in names]

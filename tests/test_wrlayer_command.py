@@ -61,13 +61,27 @@ def test_installed_package_never_asks_git(monkeypatch):
         version.code_version.cache_clear()
 
 
-def test_example_list_names_scenes_and_configurations(capsys):
+def test_example_list_names_scenes_configurations_scripts_and_what_runs_each(capsys):
     assert shipped.main(["--list"]) == 0
-    rows = {line.split()[0]: line.split()[2] for line in capsys.readouterr().out.splitlines()[1:]}
-    assert rows["hertz_check"] == "simulate" and rows["wear/s1002_60e1"] == "wear"
-    assert rows["config/test_coarse"] == "calibrate" and rows["config/rolling_halfspace"] == "rolling"
+    lines = capsys.readouterr().out.splitlines()
+    assert max(len(line) for line in lines) <= shipped.LIST_COLUMNS
+    rows = {line.split()[0]: line.split()[1:4] for line in lines[1:]}
+    assert rows["hertz_check"][:2] == ["wrlayer", "simulate"] and rows["wear/s1002_60e1"][:2] == ["wrlayer", "wear"]
+    assert rows["config/test_coarse"][1] == "calibrate" and rows["config/rolling_halfspace"][1] == "rolling"
+    assert rows["examples/ex02_hertz_check"][0] == "python"
+    # the recalibration template is not offered as a scene to simulate
+    assert rows["wear/recalibrate_similarity"] == ["template", "of", "wear/s1002_60e1_recalibrated"]
     assert set(rows) == {e.name for e in shipped.examples()}
-    assert len([n for n in rows if not n.startswith("config/")]) == len(list((REPO / "scenes").rglob("*.toml")))
+    scenes = [n for n in rows if not n.startswith(("config/", "examples/"))]
+    assert len(scenes) == len(list((REPO / "scenes").rglob("*.toml")))
+    assert len([n for n in rows if n.startswith("examples/")]) == len(list((REPO / "examples").glob("ex*.py")))
+
+
+def test_example_script_is_copied_alone_and_finds_its_scene_through_the_package(tmp_path, capsys):
+    assert shipped.main(["examples/ex02_hertz_check", str(tmp_path)]) == 0
+    assert f"run it: python {tmp_path / 'ex02_hertz_check.py'}" in capsys.readouterr().out
+    text = (tmp_path / "ex02_hertz_check.py").read_text(encoding="utf-8")
+    assert "scenes_dir()" in text and "parents[1]" not in text
 
 
 def test_example_copies_a_scene_with_its_tables_and_never_overwrites(tmp_path, capsys):

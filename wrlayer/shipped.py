@@ -1,14 +1,20 @@
-"""The files shipped with wrlayer (scenes with their layer tables, calibration configurations, reference pages) and
-``wrlayer example``, which copies one of them out.
+"""The files shipped with wrlayer (scenes with their layer tables, calibration configurations, Python examples,
+reference pages) and ``wrlayer example``, which copies one of them out.
 
-In a source tree they are the repository's ``scenes/``, ``calibration/configs/`` and ``docs/``; an installed
-package carries ``scenes/`` and ``docs/`` as ``wrlayer/data/`` (setup.py) and the configurations inside the
-``calibration`` package, so the same names work after ``pip install``::
+In a source tree they are the repository's ``scenes/``, ``calibration/configs/``, ``examples/`` and ``docs/``; an
+installed package carries ``scenes/``, ``examples/``, ``docs/``, ``README.md`` and ``CITATION.cff`` as
+``wrlayer/data/`` (setup.py: the repository's layout, so the pages' relative links hold) and the configurations
+inside the ``calibration`` package, so the same names work after ``pip install``::
 
     wrlayer example --list
     wrlayer example hertz_check work/          # work/hertz_check.toml
     wrlayer example wear/s1002_60e1 work/      # work/wear/s1002_60e1.toml and the two tables it names
     wrlayer example config/test_coarse work/   # work/test_coarse.toml
+    wrlayer example examples/ex02_hertz_check work/   # work/ex02_hertz_check.py (finds its scene through
+                                                      # wrlayer.shipped.scenes_dir)
+
+A scene that another shipped scene names as its template (the wear scene's recalibration configuration) is listed
+with the scene it belongs to: it is not run by itself.
 
 A copied scene keeps its place relative to the files it names (layer tables), so it runs unchanged from the new
 folder; ``reference:`` files stay in the shared reference folder (``$WRLAYER_REFERENCE``). Nothing is overwritten.
@@ -30,6 +36,10 @@ from wrlayer.version import source_tree
 _PACKAGE = Path(__file__).resolve().parent
 #: Name prefix of the calibration and rolling configurations.
 CONFIG_PREFIX = "config/"
+#: Width of ``wrlayer example --list`` (characters; longer titles are cut).
+LIST_COLUMNS = 100
+#: Name prefix of the Python examples.
+EXAMPLES_PREFIX = "examples/"
 
 
 def scenes_dir() -> Path:
@@ -41,6 +51,12 @@ def scenes_dir() -> Path:
 def configs_dir() -> Path:
     """The shipped calibration and rolling configurations (inside the ``calibration`` package either way)."""
     return _PACKAGE.parent / "calibration" / "configs"
+
+
+def examples_dir() -> Path:
+    """The Python examples: ``examples/`` of the source tree, or ``wrlayer/data/examples`` when installed."""
+    root = source_tree()
+    return root / "examples" if root is not None else _PACKAGE / "data" / "examples"
 
 
 def docs_dir() -> Path:
@@ -67,7 +83,8 @@ class Example:
     path : Path
         The shipped file.
     command : str
-        The ``wrlayer`` command that runs it (``simulate``, ``wear``, ``calibrate``, ``rolling``).
+        What runs it: ``wrlayer simulate``, ``wrlayer wear``, ``wrlayer calibrate``, ``wrlayer rolling``,
+        ``python`` (an example script), or ``template of <scene>`` (read by that scene, not run by itself).
     title : str
         The file's ``title`` key, else its first comment line.
     """
@@ -85,21 +102,42 @@ def _title(data: dict[str, Any], path: Path) -> str:
     return first[0].lstrip("# ").strip() if first and first[0].startswith("#") else ""
 
 
-def _example(name: str, path: Path, config: bool) -> Example:
+def _example(name: str, path: Path, config: bool, templates: dict[Path, str]) -> Example:
     data = read_toml(path)
     if config:
-        command = "rolling" if "track" in data and "contact" in data else "calibrate"
+        command = "wrlayer rolling" if "track" in data and "contact" in data else "wrlayer calibrate"
+    elif path.resolve() in templates:
+        command = f"template of {templates[path.resolve()]}"
     else:
-        command = "wear" if data.get("type") == "wear" else "simulate"
+        command = "wrlayer wear" if data.get("type") == "wear" else "wrlayer simulate"
     return Example(name, path, command, _title(data, path))
 
 
+def _script(path: Path) -> Example:
+    doc = path.read_text(encoding="utf-8").split('"""')
+    title = doc[1].strip().splitlines()[0] if len(doc) > 2 else ""
+    return Example(EXAMPLES_PREFIX + path.stem, path, "python", title)
+
+
+def _templates(scenes: Path, paths: list[Path]) -> dict[Path, str]:
+    """The scene files another scene names (path -> the naming scene's example name)."""
+    named = {}
+    for path in paths:
+        for text in _strings(read_toml(path)):
+            candidate = (path.parent / text).resolve() if text.endswith(".toml") else None
+            if candidate is not None and candidate.is_file() and candidate != path.resolve():
+                named[candidate] = path.relative_to(scenes).with_suffix("").as_posix()
+    return named
+
+
 def examples() -> list[Example]:
-    """Every shipped scene (``scenes/**.toml``) and configuration, scenes first, by name."""
+    """Every shipped scene (``scenes/**.toml``), configuration and Python example, scenes first, by name."""
     scenes = scenes_dir()
-    found = [_example(p.relative_to(scenes).with_suffix("").as_posix(), p, False)
-             for p in sorted(scenes.rglob("*.toml"))]
-    found += [_example(CONFIG_PREFIX + p.stem, p, True) for p in sorted(configs_dir().glob("*.toml"))]
+    paths = sorted(scenes.rglob("*.toml"))
+    templates = _templates(scenes, paths)
+    found = [_example(p.relative_to(scenes).with_suffix("").as_posix(), p, False, templates) for p in paths]
+    found += [_example(CONFIG_PREFIX + p.stem, p, True, templates) for p in sorted(configs_dir().glob("*.toml"))]
+    found += [_script(p) for p in sorted(examples_dir().glob("ex*.py"))]
     return found
 
 
@@ -107,8 +145,8 @@ def find_example(name: str) -> Example:
     """The shipped example ``name`` (InputError listing the names when there is none)."""
     by_name = {e.name: e for e in examples()}
     if name.removesuffix(".toml") not in by_name:
-        raise InputError(f"example {name!r}", "no such shipped scene or configuration; one of "
-                                              + ", ".join(by_name) + " (wrlayer example --list)")
+        raise InputError(f"example {name!r}", "no such shipped scene, configuration or example script "
+                                              "(wrlayer example --list names them)")
     return by_name[name.removesuffix(".toml")]
 
 
@@ -153,7 +191,7 @@ def copy_example(name: str, folder: str | Path) -> list[Path]:
     """
     example = find_example(name)
     folder = Path(folder)
-    if example.name.startswith(CONFIG_PREFIX):
+    if example.name.startswith((CONFIG_PREFIX, EXAMPLES_PREFIX)):
         pairs = [(example.path, folder / example.path.name)]
     else:
         root = scenes_dir().resolve()
@@ -172,20 +210,29 @@ def copy_example(name: str, folder: str | Path) -> list[Path]:
 
 
 def list_text() -> str:
-    """The table printed by ``wrlayer example --list``: name, command, title."""
+    """The table printed by ``wrlayer example --list``: name, what runs it, title (cut to :data:`LIST_COLUMNS`)."""
     rows = examples()
     width = max(len(e.name) for e in rows)
-    lines = [f"{'NAME':<{width}}  {'RUN WITH':<17}  TITLE"]
-    lines += [f"{e.name:<{width}}  {'wrlayer ' + e.command:<17}  {e.title}" for e in rows]
+    run_width = max(len(e.command) for e in rows)
+    lines = [f"{'NAME':<{width}}  {'RUN WITH':<{run_width}}  TITLE"]
+    for e in rows:
+        line = f"{e.name:<{width}}  {e.command:<{run_width}}  {e.title}"
+        lines.append(line if len(line) <= LIST_COLUMNS else line[:LIST_COLUMNS - 3] + "...")
     return "\n".join(lines)
 
 
 def copied_text(name: str, copied: list[Path]) -> str:
     """What ``wrlayer example NAME DIR`` prints: the files written and the command that runs the copy."""
     example = find_example(name)
-    _, references = needed_files(example) if not example.name.startswith(CONFIG_PREFIX) else ([], [])
+    scene = not example.name.startswith((CONFIG_PREFIX, EXAMPLES_PREFIX))
+    _, references = needed_files(example) if scene else ([], [])
     lines = [f"wrote {p}" for p in copied]
-    lines.append(f"run it: wrlayer {example.command} {copied[0]} --out out/{Path(example.name).name}")
+    if example.command == "python":
+        lines.append(f"run it: python {copied[0]}")
+    elif example.command.startswith("wrlayer"):
+        lines.append(f"run it: {example.command} {copied[0]} --out out/{Path(example.name).name}")
+    else:
+        lines.append(f"it is the {example.command}: copy and run that scene")
     if references:
         lines.append(f"it reads {', '.join(references)} from the shared reference folder (${REFERENCE_ENV})")
     return "\n".join(lines)
