@@ -23,6 +23,7 @@ import pathlib
 import sys
 import time
 
+from benchmarks.harness import command_line, stamped_report
 from calibration.rolling import gap, gap_cases, gap_static
 from calibration.rolling.config import RollingConfig, load_rolling_config
 from calibration.rolling.run import RollingResult, run_rolling
@@ -323,18 +324,24 @@ def main(argv: list[str] | None = None) -> int:
                     help="folder of the gap cases (default OUT/rolling/gap)")
     ap.add_argument("--write-tables", action="store_true", help="write the rolling laws into the shipped tables")
     ap.add_argument("--report-only", action="store_true", help="report the cases present, compute none")
+    ap.add_argument("--report", type=pathlib.Path, default=None,
+                    help="also write the stamped report here (docs/validation/rolling-gap.md)")
     args = ap.parse_args(argv)
+    command = command_line("python benchmarks/bench_rolling.py", argv)
     if args.gap:
         (args.out / "rolling").mkdir(parents=True, exist_ok=True)
         res = run_gap(args.out / "rolling", args.cases or args.out / "rolling" / "gap", args.write_tables,
                       not args.report_only)
-        (args.out / "rolling" / "gap_report.md").write_text(f"# {res['title']}\n\n{res['markdown']}\n")
+        report = stamped_report(res["title"], res["markdown"], command)
+        (args.out / "rolling" / "gap_report.md").write_text(report)
+        if args.report:
+            args.report.write_text(report)
         (args.out / "rolling" / "gap_report.json").write_text(json.dumps(res["data"], indent=1, default=float))
         print(res["markdown"])
         return 0
     res = run(args.mode, args.out)
     (args.out / "rolling").mkdir(parents=True, exist_ok=True)
-    (args.out / "rolling" / "report.md").write_text(f"# {res['title']}\n\n{res['markdown']}\n")
+    (args.out / "rolling" / "report.md").write_text(stamped_report(res["title"], res["markdown"], command))
     (args.out / "rolling" / "report.json").write_text(json.dumps(res["data"], indent=1, default=float))
     print(res["markdown"])
     return 0
