@@ -325,7 +325,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--write-tables", action="store_true", help="write the rolling laws into the shipped tables")
     ap.add_argument("--report-only", action="store_true", help="report the cases present, compute none")
     ap.add_argument("--report", type=pathlib.Path, default=None,
-                    help="also write the stamped report here (docs/validation/rolling-gap.md)")
+                    help="also write the stamped report here (docs/validation/rolling.md; with --gap rolling-gap.md)")
     args = ap.parse_args(argv)
     command = command_line("python benchmarks/bench_rolling.py", argv)
     if args.gap:
@@ -341,7 +341,10 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     res = run(args.mode, args.out)
     (args.out / "rolling").mkdir(parents=True, exist_ok=True)
-    (args.out / "rolling" / "report.md").write_text(stamped_report(res["title"], res["markdown"], command))
+    report = stamped_report(res["title"], res["markdown"], command)
+    (args.out / "rolling" / "report.md").write_text(report)
+    if args.report:
+        args.report.write_text(report)
     (args.out / "rolling" / "report.json").write_text(json.dumps(res["data"], indent=1, default=float))
     print(res["markdown"])
     return 0
