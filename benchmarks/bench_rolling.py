@@ -161,7 +161,8 @@ def gap_markdown(rows: list[gap.GapRow], laws: dict, fits: dict) -> list[str]:
 
 
 def gap_summary(rows: list[gap.GapRow]) -> list[str]:
-    """The condensed gap table of docs/rolling-gap.md (stand-ins left out: they repeat their position's ratios)."""
+    """The condensed gap table of docs/validation/rolling-gap.md (stand-ins left out: they repeat their position's
+    ratios)."""
     md = ["| position | c | p0 / p_y | FEM groove / static dent, passes 1, 2, 5, 10 | relaxed / FEM, pass 10 | "
           "state kept / FEM, passes 1, 10 | rolling law / FEM, passes 1, 10 | law on the block: worst |",
           "|---|---|---|---|---|---|---|---|"]
@@ -295,7 +296,7 @@ def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = Fal
     mesh_dir = cases_dir.parent / (cases_dir.name + "_mesh")
     checks = gap_static.ratio_checks(results, gap.load_results(mesh_dir) if mesh_dir.exists() else [])
     md = gap_markdown(rows, laws, fits)
-    md += ["", "Condensed (docs/rolling-gap.md):", ""] + gap_summary(rows)
+    md += ["", "Condensed (docs/validation/rolling-gap.md):", ""] + gap_summary(rows)
     md += ["", f"Static dents under mesh refinement ({static_dir.name}; the half-space's r: the default fit to the "
                "finest mesh):", ""] + static_study_markdown(points, conv, statics)
     md += ["", f"Groove / static dent on a finer mesh ({mesh_dir.name}):", ""] + ratio_check_markdown(checks, rows)
