@@ -17,7 +17,7 @@ import time
 import traceback
 from pathlib import Path
 
-from benchmarks.harness import machine_info, max_rss_mb
+from benchmarks.harness import command_line, machine_info, max_rss_mb, report_stamp
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.version import version_text
 
@@ -77,7 +77,8 @@ def main(argv: list[str] | None = None) -> int:
         data["benchmarks"][name] = {"title": res.get("title"), "wall_s": wall, "data": res.get("data")}
         print(f"[bench] {name} done in {wall:.1f} s", flush=True)
     data["max_rss_MiB"] = max_rss_mb()
-    report = (f"# Benchmark report ({run_mode} mode)\n\nTimings are medians of repeated runs after warm-up; "
+    stamp = report_stamp(command_line("python -m benchmarks", argv))
+    report = (f"# Benchmark report ({run_mode} mode)\n\n{stamp}\n\nTimings are medians of repeated runs after warm-up; "
               f"comparisons are interleaved and given as ratios.\n\n## Machine\n\n{_machine_markdown(info)}\n"
               + "\n".join(sections)
               + f"\nPeak resident memory of the benchmark process: {data['max_rss_MiB']:.0f} MiB.\n")

@@ -23,6 +23,7 @@ import pathlib
 import sys
 import time
 
+from benchmarks.harness import command_line, stamped_report
 from calibration.rolling import gap, gap_cases, gap_static
 from calibration.rolling.config import RollingConfig, load_rolling_config
 from calibration.rolling.run import RollingResult, run_rolling
@@ -160,7 +161,8 @@ def gap_markdown(rows: list[gap.GapRow], laws: dict, fits: dict) -> list[str]:
 
 
 def gap_summary(rows: list[gap.GapRow]) -> list[str]:
-    """The condensed gap table of docs/rolling-gap.md (stand-ins left out: they repeat their position's ratios)."""
+    """The condensed gap table of docs/validation/rolling-gap.md (stand-ins left out: they repeat their position's
+    ratios)."""
     md = ["| position | c | p0 / p_y | FEM groove / static dent, passes 1, 2, 5, 10 | relaxed / FEM, pass 10 | "
           "state kept / FEM, passes 1, 10 | rolling law / FEM, passes 1, 10 | law on the block: worst |",
           "|---|---|---|---|---|---|---|---|"]
@@ -294,7 +296,7 @@ def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = Fal
     mesh_dir = cases_dir.parent / (cases_dir.name + "_mesh")
     checks = gap_static.ratio_checks(results, gap.load_results(mesh_dir) if mesh_dir.exists() else [])
     md = gap_markdown(rows, laws, fits)
-    md += ["", "Condensed (docs/rolling-gap.md):", ""] + gap_summary(rows)
+    md += ["", "Condensed (docs/validation/rolling-gap.md):", ""] + gap_summary(rows)
     md += ["", f"Static dents under mesh refinement ({static_dir.name}; the half-space's r: the default fit to the "
                "finest mesh):", ""] + static_study_markdown(points, conv, statics)
     md += ["", f"Groove / static dent on a finer mesh ({mesh_dir.name}):", ""] + ratio_check_markdown(checks, rows)
@@ -323,18 +325,27 @@ def main(argv: list[str] | None = None) -> int:
                     help="folder of the gap cases (default OUT/rolling/gap)")
     ap.add_argument("--write-tables", action="store_true", help="write the rolling laws into the shipped tables")
     ap.add_argument("--report-only", action="store_true", help="report the cases present, compute none")
+    ap.add_argument("--report", type=pathlib.Path, default=None,
+                    help="also write the stamped report here (docs/validation/rolling.md; with --gap rolling-gap.md)")
     args = ap.parse_args(argv)
+    command = command_line("python benchmarks/bench_rolling.py", argv)
     if args.gap:
         (args.out / "rolling").mkdir(parents=True, exist_ok=True)
         res = run_gap(args.out / "rolling", args.cases or args.out / "rolling" / "gap", args.write_tables,
                       not args.report_only)
-        (args.out / "rolling" / "gap_report.md").write_text(f"# {res['title']}\n\n{res['markdown']}\n")
+        report = stamped_report(res["title"], res["markdown"], command)
+        (args.out / "rolling" / "gap_report.md").write_text(report)
+        if args.report:
+            args.report.write_text(report)
         (args.out / "rolling" / "gap_report.json").write_text(json.dumps(res["data"], indent=1, default=float))
         print(res["markdown"])
         return 0
     res = run(args.mode, args.out)
     (args.out / "rolling").mkdir(parents=True, exist_ok=True)
-    (args.out / "rolling" / "report.md").write_text(f"# {res['title']}\n\n{res['markdown']}\n")
+    report = stamped_report(res["title"], res["markdown"], command)
+    (args.out / "rolling" / "report.md").write_text(report)
+    if args.report:
+        args.report.write_text(report)
     (args.out / "rolling" / "report.json").write_text(json.dumps(res["data"], indent=1, default=float))
     print(res["markdown"])
     return 0

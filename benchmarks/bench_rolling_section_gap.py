@@ -26,6 +26,7 @@ import pathlib
 import sys
 from dataclasses import asdict, dataclass, replace
 
+from benchmarks.harness import command_line, stamped_report
 from calibration.rolling import gap_cases
 from calibration.rolling.config import RollingConfig, parse_rolling_config
 from calibration.rolling.run import run_rolling
@@ -145,10 +146,16 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--runs", type=pathlib.Path, default=pathlib.Path("out/bench/rolling_section_gap"))
     ap.add_argument("--run", action="store_true", help="run the configurations without a result first")
+    ap.add_argument("--report", type=pathlib.Path, default=None,
+                    help="also write the stamped report here (docs/validation/rolling-section-gap.md)")
     args = ap.parse_args(argv)
     args.runs.mkdir(parents=True, exist_ok=True)
     text = table_markdown(collect(args.runs, args.run))
-    (args.runs / "section_gap.md").write_text(text + "\n")
+    report = stamped_report("The rolling layer against the rolling FEM on the profile sections", text,
+                            command_line("python -m benchmarks.bench_rolling_section_gap", argv))
+    (args.runs / "section_gap.md").write_text(report)
+    if args.report:
+        args.report.write_text(report)
     print(text)
     return 0
 

@@ -22,6 +22,7 @@ import pathlib
 import sys
 
 from benchmarks import tamaas_rolling
+from benchmarks.harness import command_line, stamped_report
 from benchmarks.rolling_verification_cases import Case, CaseResult, CaseRunner
 from benchmarks.tamaas_reference import tamaas_version
 
@@ -198,10 +199,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tamaas", action="store_const", dest="mode", const="tamaas",
                     help="only the Tamaas rolling reference")
     ap.add_argument("--out", type=pathlib.Path, default=pathlib.Path("out/bench"))
+    ap.add_argument("--report", type=pathlib.Path, default=None,
+                    help="also write the stamped report here (docs/validation/rolling-verification.md)")
     args = ap.parse_args(argv)
     res = run(args.mode, args.out)
     folder = args.out / "rolling_verification"
-    (folder / "report.md").write_text(f"# {res['title']}\n\n{res['markdown']}\n")
+    report = stamped_report(res["title"], res["markdown"],
+                            command_line("python benchmarks/bench_rolling_verification.py", argv))
+    (folder / "report.md").write_text(report)
+    if args.report:
+        args.report.write_text(report)
     (folder / "report.json").write_text(json.dumps(res["data"], indent=1, default=float))
     print(res["markdown"])
     return 0

@@ -34,6 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks.harness import command_line, stamped_report
+
 ROOT = Path(__file__).resolve().parent.parent
 DIRECT_OUT = ROOT / "out" / "calibration_direct"
 MASTER = ROOT / "out" / "calibration" / "cache"  # where `make calibrate` (similarity) keeps the master
@@ -302,20 +304,9 @@ def main(argv: list[str] | None = None) -> None:
     text = _markdown(data)
     if args.report:
         args.report.parent.mkdir(parents=True, exist_ok=True)
-        args.report.write_text(_stamped(text, argv))
+        args.report.write_text(stamped_report("Calibration by similarity against the direct 3D FEM", text,
+                                              command_line("python -m benchmarks.bench_similarity", argv)))
     print(text)
-
-
-def _stamped(text: str, argv: list[str] | None) -> str:
-    """The report with its title, the code revision, the command that regenerates it and the machine's load."""
-    import subprocess
-    import sys
-
-    rev = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True).stdout
-    command = " ".join(["python -m benchmarks.bench_similarity", *(sys.argv[1:] if argv is None else argv)])
-    return (f"# Calibration by similarity against the direct 3D FEM\n\nRevision {rev.strip() or 'unknown'}; "
-            f"regenerate: `{command}`; load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores. Units: mm, "
-            f"MPa, s.\n\n{text}\n")
 
 
 if __name__ == "__main__":

@@ -26,9 +26,9 @@ from wrlayer.plotting import save_figure
 
 SCENE = pathlib.Path(__file__).resolve().parents[1] / "scenes" / "wear" / "s1002_60e1.toml"
 # No published S1002/UIC60 wear result with its inputs stated could be read for this project, so there is no
-# scenes/wear/published_*.toml to run beside ours; what was searched is listed in docs/wear.md.
+# scenes/wear/published_*.toml to run beside ours (docs/wear.md, 'Limitations').
 PUBLISHED_STATUS = ("not done - no published S1002 on UIC60/60E1 wear result with stated inputs could be read "
-                    "(searches listed in docs/wear.md, 'Published comparison')")
+                    "(docs/wear.md, 'Limitations')")
 
 
 def _scene(**over):

@@ -82,6 +82,24 @@ def _git_version() -> str:
         return "unknown"
 
 
+def report_stamp(command: str) -> str:
+    """The stamp every validation report carries under its title (docs/validation/README.md): the code revision,
+    the command that regenerates the report and the machine's load, e.g.
+    ``Revision 2172805; regenerate: `python -m benchmarks.bench_x --report F`; load average 1.2 on 2 cores.``"""
+    return (f"Revision {_git_version()}; regenerate: `{command}`; load average {os.getloadavg()[0]:.1f} on "
+            f"{os.cpu_count()} cores.")
+
+
+def stamped_report(title: str, markdown: str, command: str) -> str:
+    """A validation report: the title, :func:`report_stamp`, the units, then the benchmark's markdown."""
+    return f"# {title}\n\n{report_stamp(command)} Units: mm, N, MPa, s.\n\n{markdown.rstrip()}\n"
+
+
+def command_line(program: str, argv: list[str] | None) -> str:
+    """The command that ran this benchmark: ``program`` and its arguments (``sys.argv[1:]`` when ``argv`` is None)."""
+    return " ".join([program, *(sys.argv[1:] if argv is None else argv)])
+
+
 def machine_info() -> dict[str, Any]:
     """Cores, CPU model, memory, Python and key package versions, and the code version (git)."""
     pkgs = {}

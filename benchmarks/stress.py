@@ -20,7 +20,7 @@ import traceback
 from collections import Counter
 from pathlib import Path
 
-from benchmarks.harness import machine_info
+from benchmarks.harness import command_line, machine_info, report_stamp
 from benchmarks.stress_contact import (
     InvariantViolation,
     check_contact_case,
@@ -101,10 +101,10 @@ def _fmt(v, spec: str) -> str:
     return "" if v is None else format(v, spec)
 
 
-def report_markdown(mode: str, seed0: int, contact: dict, fem: dict, machine: dict) -> str:
-    """The stress report (markdown)."""
+def report_markdown(mode: str, seed0: int, contact: dict, fem: dict, machine: dict, command: str) -> str:
+    """The stress report (markdown), stamped with the revision and ``command`` (:func:`report_stamp`)."""
     c = contact
-    lines = [f"# Stress tests ({mode})", "",
+    lines = [f"# Stress tests ({mode})", "", report_stamp(command), "",
              (f"Machine: {machine.get('cpu_model', '?')}, {machine.get('cores', '?')} cores; "
              f"code {machine.get('code_version', '?')}. Timings are wall clock on a shared machine."), "",
              "## Contact solver (random scenes)", "",
@@ -179,7 +179,7 @@ def main(argv: list[str] | None = None) -> int:
     contact = run_contact(range(args.seed, args.seed + n), progress)
     fem = {"cases": [], "outcomes": {}, "failures": [], "wall_s": 0.0} if args.no_fem else run_fem(mode, progress)
     machine = machine_info()
-    md = report_markdown(mode, args.seed, contact, fem, machine)
+    md = report_markdown(mode, args.seed, contact, fem, machine, command_line("python -m benchmarks.stress", argv))
     data = {"mode": mode, "seed": args.seed, "contact": contact, "fem": fem, "machine": machine}
     atomic_write_text(args.out / "stress.json", json.dumps(data, indent=2, default=str) + "\n")
     atomic_write_text(args.out / "stress.md", md)
