@@ -25,7 +25,7 @@ def cone(slope: float) -> Profile:
 def test_cone_on_a_round_head_without_roll_is_exact(slope):
     """By hand: the rail contact stays where the rail's slope equals the cone's, the wheel contact moves by y:
     Delta r = 2 slope y exactly, and both conicity methods give the slope at every amplitude 0.5..10 mm."""
-    got = contact_geometry(WheelsetProfiles(Rail60E1(), cone(slope)), TrackLayout(), with_roll=False)
+    got = contact_geometry(WheelsetProfiles(Rail60E1(), cone(slope)), TrackLayout(), step_mm=0.25, with_roll=False)
     y = got.sweep.lateral_mm
     assert np.max(np.abs(got.sweep.delta_r_mm - 2.0 * slope * y)) < 1e-8  # mm
     assert np.allclose(got.conicity.equivalent_conicity, slope, rtol=1e-8)
@@ -44,7 +44,7 @@ def test_cone_with_roll_against_the_first_order_hand_value():
     with a 1:40 cant). Measured agreement: Delta r 2e-5, roll parameter 0.6 % (phi = Delta r / (2 e0) neglects the
     contact angles)."""
     slope = 0.05
-    got = contact_geometry(WheelsetProfiles(Rail60E1(), cone(slope)), TrackLayout(inclination_rad=0.0))
+    got = contact_geometry(WheelsetProfiles(Rail60E1(), cone(slope)), TrackLayout(inclination_rad=0.0), step_mm=0.25)
     s = got.sweep
     y = s.lateral_mm
     nz = y != 0.0
