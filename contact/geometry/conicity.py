@@ -33,11 +33,12 @@ describing function of Delta r for y = y_hat sin(phi) about y = 0::
 by the midpoint rule in phi (exact for a polynomial Delta r of degree below 2 n_phi); a constant offset of Delta r
 drops out. The wear loop reports this one at its amplitude (:mod:`contact.wear.conicity`).
 
-How it was checked (tests/contact/geometry/test_equivalent_conicity.py): cones (both methods give gamma for every amplitude),
-a two-slope Delta r against its describing function worked by hand, a cubic Delta r (harmonic: closed form; the
-wavelength method within 3 % of it, as the methods differ for a nonlinear Delta r), an offset and asymmetric
-Delta r (two cones of different angle: the wavelength method gives the closed-form period of the two half
-oscillations). The EN 15302 reference profiles and results (its normative annexes) were not available.
+How it was checked (tests/contact/geometry/test_equivalent_conicity.py): cones (both methods give gamma for
+every amplitude), a two-slope Delta r against its describing function worked by hand, a cubic Delta r (harmonic:
+closed form; the wavelength method within 3 % of it, as the methods differ for a nonlinear Delta r), an offset and
+asymmetric Delta r (two cones of different angle: the wavelength method gives the closed-form period of the two
+half oscillations); on profiles, tests/contact/geometry/test_sweep.py (cones, circular profiles). The EN 15302
+reference profiles and results (its normative annexes) were not available.
 """
 
 from __future__ import annotations

@@ -19,7 +19,8 @@ def test_writes_tables_and_pictures(tmp_path, capsys):
     out = tmp_path / "geo"
     assert main(["geometry", "--rail", "60E1", "--wheel", "S1002", "--out", str(out), *SMALL]) == 0
     printed = capsys.readouterr().out
-    assert "amplitude  3.0 mm: tan gamma_e" in printed and max(len(ln) for ln in printed.splitlines()[:-1]) < 100  # the last: "wrote ... in OUT"
+    assert "amplitude  3.0 mm: tan gamma_e" in printed
+    assert max(len(ln) for ln in printed.splitlines()[:-1]) < 100  # the last line: "wrote ... in OUT"
     rows = _table(out / "geometry.csv")
     assert len(rows) == 33
     assert all(k.endswith(("_mm", "_rad", "_-")) for k in rows[0])

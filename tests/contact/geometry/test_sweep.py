@@ -84,7 +84,8 @@ def test_circular_pair_against_the_closed_form():
         got = getattr(s, side)
         assert np.max(np.abs(got.y_rail_mm - RR * sin_g)) < 5e-6        # measured 7e-7 mm
         assert np.max(np.abs(got.y_wheel_mm - (C + RW * sin_g))) < 5e-6
-        assert np.max(np.abs(got.rolling_radius_mm - (layout.nominal_radius_mm + RW * (1.0 - np.cos(g))))) < 1e-6  # 6e-8
+        radius = layout.nominal_radius_mm + RW * (1.0 - np.cos(g))
+        assert np.max(np.abs(got.rolling_radius_mm - radius)) < 1e-6  # measured 6e-8 mm
         assert np.max(np.abs(got.contact_angle_rad + g)) < 1e-7  # 7e-9 rad
     closed = RW * (np.cos(np.arcsin((dy - layout.taping_line_mm - C + s.lateral_mm) / (RW - RR)))
                    - np.cos(np.arcsin((dy - layout.taping_line_mm - C - s.lateral_mm) / (RW - RR))))
