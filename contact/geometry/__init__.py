@@ -6,6 +6,9 @@
   linearisation);
 - :mod:`~contact.geometry.jumps`: jumps of the contact points;
 - :mod:`~contact.geometry.outputs`: CSV tables and pictures; :mod:`~contact.geometry.command`: ``wrlayer geometry``.
+
+Depends on: contact.wheel_rail (track placement, contact search, rigid roll), meshes (profiles), wrlayer (errors,
+command line, files). The wear loop (contact.wear) uses its conicity formulas.
 """
 
 from contact.geometry.analysis import GeometryResult, contact_geometry
