@@ -37,7 +37,8 @@ def add_parser(sub) -> None:
     p.add_argument("--left-rail", default=None, help="left rail profile when it differs (default: --rail)")
     p.add_argument("--left-wheel", default=None, help="left wheel profile when it differs (default: --wheel)")
     p.add_argument("--units", choices=("mm", "m"), default=None,
-                   help="length unit of the profile files (default mm; SIMPACK files state their own)")
+                   help="length unit of the profile files, all of them (default mm; SIMPACK files state "
+                        "their own; standard profiles are not affected)")
     p.add_argument("--accept-unusual-profile", action="store_true",
                    help="skip the plausibility checks of profile files (a profile unusual on purpose)")
     lay = TrackLayout()
@@ -70,9 +71,7 @@ def add_parser(sub) -> None:
 def _profile(name: str | None, body: str, option: str, args) -> Profile | None:
     if name is None:
         return None
-    if name.strip().upper() in BUILTIN_PROFILES:
-        if args.units is not None:
-            raise InputError("--units", f"applies to profile files, not to the standard profile {name}")
+    if name.strip().upper() in BUILTIN_PROFILES:  # --units is the files' unit: a standard profile has none
         prof = load_profile(name)
     else:
         path = Path(name)
