@@ -109,3 +109,17 @@ def test_jumps_are_steps_beyond_the_threshold():
 def test_bad_lateral_range(args, match):
     with pytest.raises(InputError, match=match):
         lateral_positions(*args)
+
+
+def test_different_left_wheel_shifts_the_equilibrium():
+    """Right cone 0.15, left cone 0.05, level wheelset (hand): Delta r = d0 + (0.15 + 0.05) y with an offset d0 (the
+    cones touch the rail at different points; 1.93 mm), so the oscillation is about y0 = -d0 / 0.2 (-9.6 mm) and both
+    methods give (0.15 + 0.05) / 2 = 0.1 at every amplitude (the harmonic one about y = 0: the offset drops out)."""
+    profiles = WheelsetProfiles(Rail60E1(), cone(0.15), left_wheel=cone(0.05))
+    got = contact_geometry(profiles, TrackLayout(), -20.0, 11.0, 0.25, amplitudes_mm=[1.0, 3.0, 5.0], with_roll=False)
+    y, dr = got.sweep.lateral_mm, got.sweep.delta_r_mm
+    d0 = float(dr[y == 0.0][0])
+    assert abs(d0) > 0.1
+    assert np.max(np.abs(dr - d0 - 0.2 * y)) < 1e-8
+    assert np.allclose(got.conicity.equivalent_conicity, 0.1, rtol=1e-8)
+    assert np.allclose(got.conicity.harmonic_conicity, 0.1, rtol=1e-9)
