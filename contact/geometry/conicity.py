@@ -186,7 +186,16 @@ def _peaks(pot: _Potential, amplitude_mm: float) -> tuple[float, float]:
         raise InputError("conicity amplitude_mm", f"{amplitude_mm:g} mm: the oscillation leaves the lateral range "
                                                   f"{y_lo:g}..{y_hi:g} mm of Delta r (widen the sweep)")
     up = brentq(width, y0 + 1e-12, top, xtol=1e-10) if width(y0 + 1e-12) < 0.0 else y0
-    return low_peak(float(pot(np.array([up]))[0])), up
+    low = low_peak(float(pot(np.array([up]))[0]))
+    inside = (pot.y > low) & (pot.y < up)
+    wrong = inside & (np.sign(pot.dr) == -np.sign(pot.y - y0)) & (pot.dr != 0.0)
+    if np.any(wrong):
+        i = int(np.flatnonzero(wrong)[0])
+        raise InputError("conicity delta_r_mm", f"Delta r = {pot.dr[i]:.4g} mm at y = {pot.y[i]:g} mm pushes the "
+                                                f"wheelset away from its equilibrium y0 = {y0:.4g} mm within the "
+                                                f"oscillation of amplitude {amplitude_mm:g} mm (several equilibria: "
+                                                "a special case of EN 15302 not handled)")
+    return low, up
 
 
 def kinematic_oscillation(y_mm, delta_r_mm, amplitude_mm: float, e0_mm: float, r0_mm: float,

@@ -102,3 +102,12 @@ def test_curve_of_a_cone_is_flat_over_en15302_amplitudes():
     assert np.allclose(curve.equivalent_conicity, 0.05, rtol=1e-12)
     assert np.allclose(curve.harmonic_conicity, 0.05, rtol=1e-12)
     assert curve.at(3.0) == pytest.approx(0.05, rel=1e-12)
+
+
+def test_a_second_equilibrium_within_the_oscillation_is_refused():
+    """Delta r pointing away from the centre between 3 and 4 mm (e.g. a hollow-worn tread): the wheelset has
+    several equilibria and the kinematic wavelength of an amplitude reaching them is not the simple oscillation's."""
+    dr = np.where((np.abs(Y) > 3.05) & (np.abs(Y) < 3.95), -0.1 * np.sign(Y), 0.2 * Y)
+    assert kinematic_oscillation(Y, dr, 2.5, 750.0, 460.0).equivalent_conicity == pytest.approx(0.1, rel=1e-8)
+    with pytest.raises(InputError, match="several equilibria"):
+        kinematic_oscillation(Y, dr, 6.0, 750.0, 460.0)
