@@ -24,7 +24,7 @@ rolling radius at the centred position (y = 0, or the sweep position nearest to 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -94,7 +94,7 @@ class SideSweep:
 
     @classmethod
     def of(cls, contacts: list[SideContact]) -> SideSweep:
-        return cls(*(np.array([getattr(c, f) for c in contacts]) for f in SideContact.__dataclass_fields__))
+        return cls(*(np.array([getattr(c, f.name) for c in contacts]) for f in fields(SideContact)))
 
 
 @dataclass(frozen=True, eq=False)
