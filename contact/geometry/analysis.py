@@ -90,7 +90,8 @@ def contact_geometry(profiles: WheelsetProfiles, layout: TrackLayout = TrackLayo
     jump_mm : float
         Contact-point travel per step above which the step is reported as a jump (mm).
     with_roll : bool
-        Roll the wheelset so that both wheels touch (True, as a rigid wheelset does) or keep it level.
+        Roll the wheelset so that both wheels touch (True, as a rigid wheelset does) or keep it level and lower
+        each wheel onto its rail on its own (False, as the wear loop's Delta r).
 
     Raises
     ------

@@ -61,8 +61,8 @@ def add_parser(sub) -> None:
                    help="amplitudes of the equivalent conicity (default 0.5 .. 10 mm in 0.5 mm steps)")
     p.add_argument("--jump-mm", type=float, default=DEFAULT_JUMP_MM,
                    help="contact-point travel per step reported as a jump (default %(default)g mm)")
-    p.add_argument("--no-roll", action="store_true", help="keep the wheelset level (default: rolled so that both "
-                                                          "wheels touch)")
+    p.add_argument("--no-roll", action="store_true", help="no roll: each wheel lowered onto its rail on its own "
+                                                          "(default: the rigid wheelset rolled until both touch)")
     p.add_argument("--no-plots", action="store_true", help="do not write PNG pictures")
     p.add_argument("--out", required=True, help="output folder (geometry.csv, conicity.csv, PNG pictures)")
     p.set_defaults(func=run)

@@ -7,7 +7,7 @@ wheel's profile coordinate y = S). At every lateral displacement y of the wheels
 
 - the roll angle phi at which both wheels touch their rails when the rigid wheelset is lowered
   (:func:`contact.wheel_rail.deformed.rigid_roll`; positive lifting the right wheel), or phi = 0 with
-  ``with_roll = False``;
+  ``with_roll = False`` (each wheel then lowered onto its rail on its own, as the wear loop's Delta r);
 - per side, the first contact point of :func:`contact.wheel_rail.contact_search.search_contacts` (the candidate of
   smallest normal gap): rail and wheel profile coordinates, track-frame position, contact angle gamma (side frame:
   positive where the rail normal leans towards the track centre, i.e. on the gauge side; both sides alike), the
