@@ -13,6 +13,7 @@ and the tasks of a step), :mod:`step` (one wear step), :mod:`state` (what a step
 difference and equivalent conicity after EN 15302), :mod:`loop` (the step loop as a generator of step records), :mod:`outputs` (files), :mod:`plots`
 (pictures), :mod:`cli` (``wrlayer wear``).
 
-Depends on: contact.wheel_rail, contact.scenes, contact.passes, contact.normal, contact.tangential, contact.layer,
-meshes, calibration (the recalibration only, through its Python API).
+Depends on: contact.wheel_rail, contact.geometry (the conicity formulas), contact.scenes, contact.passes,
+contact.normal, contact.tangential, contact.layer, meshes, calibration (the recalibration only, through its Python
+API).
 """

@@ -9,7 +9,7 @@ Reported per profile state, at the amplitude ``A`` (``wear.conicity_amplitude_mm
 
 - ``delta_r_mm`` = Delta r(A) and the quasi-conicity Delta r(A) / (2 A): the simplest estimate at one point;
 - ``equivalent_conicity``: EN 15302's harmonic linearisation of the whole function Delta r on [-A, A]
-  (:func:`contact.wheel_rail.equivalent_conicity.harmonic_conicity`, ``N_PHI`` = 64 points per period), which is
+  (:func:`contact.geometry.conicity.harmonic_conicity`, ``N_PHI`` = 64 points per period), which is
   the quantity wheel-wear studies follow. The nodes y = A sin(phi_k) come in +- pairs, so one period needs
   32 distinct displacements; with one simulated side the left wheel is the mirrored right one,
   r_left(y) = r_right(-y), and each displacement costs one contact search.
@@ -22,7 +22,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from contact.wheel_rail.contact_search import SearchSettings, search_contacts
-from contact.wheel_rail.equivalent_conicity import harmonic_conicity
+from contact.geometry.conicity import harmonic_conicity
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
 from meshes.profiles import Profile
 

@@ -9,7 +9,8 @@
 - :class:`Profile`: the piecewise z(y) they all are (:mod:`~meshes.profiles.base`), built from curve pieces
   (:mod:`~meshes.profiles.pieces`); :class:`Line`, :class:`Arc`, :class:`PointCurve`: the exact outline segments
   handed to the mesher (:mod:`~meshes.profiles.segments`).
-- :mod:`~meshes.profiles.io`: SIMPACK and text profile files; :mod:`~meshes.profiles.placement`: rails and wheels
+- :mod:`~meshes.profiles.io`: SIMPACK, text and MiniProf (:mod:`~meshes.profiles.miniprof`) profile files, each with
+  a ``units`` argument (mm or m); :mod:`~meshes.profiles.placement`: rails and wheels
   placed in the track frame.
 
 Depends on: wrlayer.

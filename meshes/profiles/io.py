@@ -1,4 +1,9 @@
-"""Read and write profile point files: SIMPACK ``.prr`` (rail) / ``.prw`` (wheel) and plain text / CSV.
+"""Read and write profile point files: SIMPACK ``.prr`` (rail) / ``.prw`` (wheel), plain text / CSV, and read
+MiniProf measurement files ``.whl`` (wheel) / ``.ban`` (rail) (:mod:`meshes.profiles.miniprof`).
+
+Length units: a text, CSV or MiniProf file is in mm unless read with ``units = "m"``; a SIMPACK file states its
+unit in ``units.len.f`` (1000: mm, 1: m), and a ``units`` given for it must agree with that (or sets it when the
+header has no ``units.len.f``).
 
 All readers return a :class:`~meshes.profiles.spline.SplineProfile` in the project frame: lengths in
 mm, z UP (SIMPACK's z points DOWN and is negated on reading), y strictly increasing.
@@ -34,6 +39,7 @@ from wrlayer.errors import InputError
 from wrlayer.input_files import MAX_DATA_BYTES
 from wrlayer.input_files import read_text as read_text_file
 from meshes.profiles.base import Profile
+from meshes.profiles.miniprof import MINIPROF_SUFFIXES, parse_miniprof
 from meshes.profiles.plausibility import check_profile_points
 from meshes.profiles.spline import SplineProfile
 
@@ -179,12 +185,22 @@ def _setting(settings: dict, key: str, default: float, path: Path) -> float:
     return val
 
 
-def read_simpack(path, name: str | None = None, accept_unusual: bool = False) -> SplineProfile:
+def read_simpack(path, name: str | None = None, accept_unusual: bool = False, units: str | None = None,
+                 body: str | None = None) -> SplineProfile:
     """Read a SIMPACK ``.prr``/``.prw`` profile into the project frame (mm, z up); see module doc.
 
-    ``accept_unusual``: skip the plausibility checks (units, orientation, steps; a profile unusual on purpose)."""
+    ``accept_unusual``: skip the plausibility checks (units, orientation, steps; a profile unusual on purpose);
+    ``units``: "mm" or "m", the file's length unit when its header does not state ``units.len.f`` (a stated one
+    must agree); ``body``: "rail" or "wheel", must agree with the header's ``type``."""
     settings, pts = parse_simpack(path)
     path = Path(path)
+    if units is not None:
+        _check_units(units)
+        per_m = 1000.0 / _LENGTH_UNITS_MM[units]
+        stated = settings.setdefault("units.len.f", per_m)
+        if isinstance(stated, float) and stated != per_m:  # a non-number is reported by the header check below
+            raise InputError(f"{path}: units.len.f", f"the file states {stated:g} length units per metre, not "
+                                                     f"{units} ({per_m:g}) as given")
 
     def num(key: str, default: float) -> float:
         return _setting(settings, key, default, path)
@@ -210,8 +226,10 @@ def read_simpack(path, name: str | None = None, accept_unusual: bool = False) ->
         y, z = y[::-1], z[::-1]
     len_f = num("units.len.f", 1000.0)
     to_mm = 1000.0 / len_f
-    kind = int(num("header.type", 0.0))
-    return _to_profile(y * to_mm, -z * to_mm, path, ("rail", "wheel")[kind], name, accept_unusual)
+    kind = ("rail", "wheel")[int(num("header.type", 0.0))]
+    if body is not None and body != kind:
+        raise InputError(f"{path}: type", f"the file holds a {kind} profile, not a {body} profile")
+    return _to_profile(y * to_mm, -z * to_mm, path, kind, name, accept_unusual)
 
 
 def write_simpack(path, profile_or_points, body: str | None = None, comment: str = "", ds: float = 0.2) -> Path:
@@ -263,8 +281,7 @@ def read_text(path, units: str = "mm", z_down: bool = False, body: str = "rail",
     ``units``: "mm" or "m" (the file's length unit); ``z_down``: the file's z points downwards;
     lines starting with ``#`` are comments; one non-numeric header line before the data is allowed.
     """
-    if units not in _LENGTH_UNITS_MM:
-        raise InputError("units", f"{units!r} is not one of {tuple(_LENGTH_UNITS_MM)}")
+    _check_units(units)
     path, lines = _read_lines(path)
     pts: list[list[float]] = []
     header_allowed = True
@@ -291,8 +308,7 @@ def read_text(path, units: str = "mm", z_down: bool = False, body: str = "rail",
 def write_text(path, profile_or_points, units: str = "mm", z_down: bool = False, ds: float = 0.2,
                comment: str = "") -> Path:
     """Write two columns y, z (CSV if the suffix is .csv, else whitespace) with a ``#`` header."""
-    if units not in _LENGTH_UNITS_MM:
-        raise InputError("units", f"{units!r} is not one of {tuple(_LENGTH_UNITS_MM)}")
+    _check_units(units)
     pts = _profile_points(profile_or_points, ds) / _LENGTH_UNITS_MM[units]
     sep = "," if Path(path).suffix.lower() == ".csv" else "  "
     zcol = "z_down" if z_down else "z_up"
@@ -304,17 +320,47 @@ def write_text(path, profile_or_points, units: str = "mm", z_down: bool = False,
     return atomic_write_text(path, "\n".join(head + rows) + "\n")
 
 
+# --------------------------------------------------------------------------------------------
+# MiniProf
+# --------------------------------------------------------------------------------------------
+def read_miniprof(path, units: str = "mm", mirror_y: bool = False, y_offset_mm: float = 0.0, z_down: bool = False,
+                  body: str | None = None, name: str | None = None, accept_unusual: bool = False) -> SplineProfile:
+    """Read a MiniProf ``.whl`` (wheel) / ``.ban`` (rail) file (:mod:`meshes.profiles.miniprof`) into the project
+    frame: the two columns scaled by ``units`` ("mm" or "m"), the lateral one negated when ``mirror_y`` and then
+    shifted by ``y_offset_mm`` (mm), the vertical one negated when ``z_down``; checked for plausibility unless
+    ``accept_unusual``. ``body``, when given, must agree with the suffix."""
+    _check_units(units)
+    if not (isinstance(y_offset_mm, int | float) and math.isfinite(y_offset_mm)):
+        raise InputError("y_offset_mm", f"must be a finite number of mm, got {y_offset_mm!r}")
+    parsed = parse_miniprof(path)
+    if body is not None and body != parsed.body:
+        raise InputError(str(path), f"a {Path(path).suffix} file holds a {parsed.body} profile, not a {body} profile")
+    pts = parsed.points * _LENGTH_UNITS_MM[units]
+    y = (-pts[:, 0] if mirror_y else pts[:, 0]) + y_offset_mm
+    z = -pts[:, 1] if z_down else pts[:, 1]
+    return _to_profile(y, z, parsed.path, parsed.body, name, accept_unusual)
+
+
+def _check_units(units) -> None:
+    if units not in _LENGTH_UNITS_MM:
+        raise InputError("units", f"{units!r} is not one of {tuple(_LENGTH_UNITS_MM)} (the file's length unit)")
+
+
 def read_profile(path, **kw) -> SplineProfile:
-    """Read a profile file by suffix: .prr/.prw (SIMPACK) or .txt/.csv (two columns, see read_text)."""
+    """Read a profile file by suffix: .prr/.prw (SIMPACK, :func:`read_simpack`), .txt/.csv (two columns,
+    :func:`read_text`) or .whl/.ban (MiniProf, :func:`read_miniprof`). Every reader takes ``units`` ("mm" or "m",
+    the file's length unit), ``body``, ``name`` and ``accept_unusual``."""
     suffix = Path(path).suffix.lower()
     if suffix in (".prr", ".prw"):
-        unknown = set(kw) - {"name", "accept_unusual"}
+        unknown = set(kw) - {"name", "accept_unusual", "units", "body"}
         if unknown:
             raise InputError(str(path), f"options {sorted(unknown)} do not apply to SIMPACK files")
         return read_simpack(path, **kw)
     if suffix in (".txt", ".csv"):
         return read_text(path, **kw)
-    raise InputError(str(path), "unknown profile file type (expected .prr, .prw, .txt or .csv)")
+    if suffix in MINIPROF_SUFFIXES:
+        return read_miniprof(path, **kw)
+    raise InputError(str(path), "unknown profile file type (expected .prr, .prw, .txt, .csv, .whl or .ban)")
 
 
 def write_profile_files(stem_path, points: np.ndarray, body: str, comment: str = "") -> tuple[list[Path], float]:

@@ -21,8 +21,9 @@ BUILTIN_PROFILES = {
     "54E1": Rail54E1,
     "UIC54": Rail54E1,
 }
-#: Suffixes of the profile files :func:`load_profile` reads (SIMPACK .prr/.prw, two-column .txt/.csv).
-PROFILE_FILE_SUFFIXES = (".prr", ".prw", ".txt", ".csv")
+#: Suffixes of the profile files :func:`load_profile` reads (SIMPACK .prr/.prw, two-column .txt/.csv, MiniProf
+#: .whl/.ban).
+PROFILE_FILE_SUFFIXES = (".prr", ".prw", ".txt", ".csv", ".whl", ".ban")
 
 
 def load_profile(name: str | Path, **kw) -> Profile:
@@ -32,10 +33,11 @@ def load_profile(name: str | Path, **kw) -> Profile:
     ----------
     name : str or pathlib.Path
         "S1002" (EN 13715 wheel), "60E1"/"UIC60" or "54E1"/"UIC54" (EN 13674-1 rail), case-insensitive; or the
-        path of a profile file ending in .prr/.prw (SIMPACK) or .txt/.csv (two columns y, z in mm).
+        path of a profile file ending in .prr/.prw (SIMPACK), .txt/.csv (two columns y, z) or .whl/.ban (MiniProf).
     **kw
         Options of the standard profile's constructor (e.g. ``r0`` of S1002, the nominal wheel radius in mm) or of
-        the file reader (:func:`meshes.profiles.io.read_profile`: ``units``, ``z_down``, ``body``, ``name``).
+        the file reader (:func:`meshes.profiles.io.read_profile`: ``units`` ("mm" default, or "m"), ``body``,
+        ``name``, ``accept_unusual``; text: ``z_down``; MiniProf: ``mirror_y``, ``y_offset_mm``, ``z_down``).
 
     Returns
     -------

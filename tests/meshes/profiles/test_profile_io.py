@@ -145,17 +145,21 @@ def test_text_header_comments_and_decreasing_order(tmp_path):
     assert np.allclose(prof.points, [[0, 0], [1, 0.1], [2, 0.4], [3, 0.9]])
 
 
-@pytest.mark.parametrize("text, message", [
-    ("0 0\n1 1\n2 x\n3 3\n", "line 3: non-numeric"),
-    ("0 0 0\n", "line 1: expected 2 columns"),
-    ("# nothing\n", "no profile points"),
-    ("0 0\n1 1\n0.5 2\n3 3\n", "not strictly monotone"),
+@pytest.mark.parametrize("name, text, message", [
+    ("bad.txt", "0 0\n1 1\n2 x\n3 3\n", "line 3: non-numeric"),
+    ("bad.txt", "0 0 0\n", "line 1: expected 2 columns"),
+    ("bad.txt", "# nothing\n", "no profile points"),
+    ("bad.txt", "0 0\n1 1\n0.5 2\n3 3\n", "not strictly monotone"),
+    ("bad.whl", "header\n1 2\n3 4\n", "no empty line"),              # MiniProf: header, empty line, data
+    ("bad.whl", "header\n\n1 2 3\n", "line 3: expected 2 columns"),
+    ("bad.ban", "header\n\n1 x\n", "line 3: non-numeric"),
+    ("bad.whl", "header\n\n# only a comment\n", "no measured points"),
 ])
-def test_text_bad_input(tmp_path, text, message):
-    path = tmp_path / "bad.txt"
+def test_bad_profile_files(tmp_path, name, text, message):
+    path = tmp_path / name
     path.write_text(text)
     with pytest.raises(InputError, match=message):
-        read_text(path)
+        read_profile(path)
 
 
 def test_text_bad_units(tmp_path):
