@@ -20,12 +20,22 @@ import numpy as np
 
 from wrlayer.jit import kernel
 
-__all__ = ["dense_cg", "FULL_EVERY"]
+__all__ = ["FULL_EVERY", "MATRIX_CELLS", "dense_cg", "influence_columns"]
 
 #: Steps between full recomputations of the displacement M p (the update accumulates round-off).
 FULL_EVERY = 25
 #: Largest grid (cells) whose influence matrix is expanded (8 MB of float64 at 1024 cells).
 MATRIX_CELLS = 1024
+
+
+def influence_columns(k: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """The columns of M expanded from the table (``cols[j]`` = column j, mm/MPa) for :func:`dense_cg`, built once
+    per grid and shared by its solves (the layer iteration's); an empty (0, 0) array above :data:`MATRIX_CELLS`
+    cells (the table is read instead)."""
+    nx = (k.shape[1] + 1) // 2
+    if rows.size * nx > MATRIX_CELLS:
+        return np.empty((0, 0))
+    return _columns(k, rows, nx)
 
 
 @kernel()
@@ -82,10 +92,11 @@ def _product(cols, k, rows, nx, q, out):
 
 
 @kernel()
-def dense_cg(k, rows, f, c, b, cell_area, p, force, tol, max_iter):
+def dense_cg(cols, k, rows, f, c, b, cell_area, p, force, tol, max_iter):
     """Polonsky–Keer CG with the force prescribed on the flattened grid (module docstring).
 
-    k influence coefficients of the cell offsets (|dj|, di) (mm/MPa) on the lattice (:func:`_add_column`);
+    cols: :func:`influence_columns` of k and rows; k influence coefficients of the cell offsets (|dj|, di)
+    (mm/MPa) on the lattice (:func:`_add_column`);
     rows (ny,) the lattice row of each line; f, c, b (n = ny nx,) separation (mm), layer compliance (mm/MPa) and
     offset (mm); cell_area (mm^2); p (n,) starting pressure (MPa, positive somewhere; modified in place and returned);
     force (N); tol: relative change of the pressure sum that stops; max_iter. Returns (p, delta (mm), iterations,
@@ -93,7 +104,6 @@ def dense_cg(k, rows, f, c, b, cell_area, p, force, tol, max_iter):
     """
     n = f.size
     nx = (k.shape[1] + 1) // 2
-    cols = _columns(k, rows, nx) if n <= MATRIX_CELLS else np.empty((0, 0))
     total = 0.0
     for i in range(n):
         if p[i] < 0.0:

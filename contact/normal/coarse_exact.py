@@ -40,17 +40,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact.layer.prandtl_layer import LayerPair
-from contact.normal.coarse_cg import dense_cg
+from contact.normal.coarse_cg import dense_cg, influence_columns
 from contact.normal.coarse_grid import (MARGIN, CoarseGrid, influence_table, loaded_spans, merged, resample,
                                         separation_at)
 from contact.normal.coarse_layer import LineLayers
-from contact.normal.exact import layer_is_elastic, line_area, line_extent
+from contact.normal.exact import layer_is_elastic, line_area
 from contact.normal.halfspace import compliance_factor
 from contact.normal.kik_piotrowski import hertz_like_guess
 from contact.normal.patch import Patch
 from contact.normal.problem import NormalProblem
 from contact.normal.solution import NormalSolution, RegionSolution
 from wrlayer.errors import ConvergenceError, InputError, require
+from wrlayer.jit import kernel
 
 __all__ = ["DEFAULT_CELLS", "MARGIN", "CoarseOptions", "solve_coarse_exact"]
 
@@ -98,6 +99,7 @@ def _solve_on(prob: NormalProblem, grid: CoarseGrid, layer: LineLayers, p_start:
     """(p (ny, nx), delta (mm), u_L (ny, nx), f (ny, nx)) on the grid."""
     f = separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
     k = influence_table(grid, factor)
+    cols = influence_columns(k, grid.rows)
     area = grid.dx * grid.dy
     p = np.array(p_start, dtype=float)
     if not np.any(p > 0):
@@ -107,7 +109,8 @@ def _solve_on(prob: NormalProblem, grid: CoarseGrid, layer: LineLayers, p_start:
     layer_rtol = ROUGH_TOL if rough else opts.layer_rtol
     if not layer.present:
         zero = np.zeros(f.size)
-        p, delta, its, change = dense_cg(k, grid.rows, f.ravel(), zero, zero, area, p.ravel(), N, tol, opts.max_iter)
+        p, delta, its, change = dense_cg(cols, k, grid.rows, f.ravel(), zero, zero, area, p.ravel(), N, tol,
+                                         opts.max_iter)
         stats["cg_iterations"] += its
         if change >= tol:
             raise ConvergenceError(f"coarse exact normal solver: CG did not converge in {opts.max_iter} iterations")
@@ -116,7 +119,7 @@ def _solve_on(prob: NormalProblem, grid: CoarseGrid, layer: LineLayers, p_start:
     for _ in range(opts.layer_max_iter):
         u_l, c = layer.linearise(p, curves)
         b = u_l - c * p
-        p, delta, its, change = dense_cg(k, grid.rows, f.ravel(), c.ravel(), b.ravel(), area, p.ravel(), N, tol,
+        p, delta, its, change = dense_cg(cols, k, grid.rows, f.ravel(), c.ravel(), b.ravel(), area, p.ravel(), N, tol,
                                          opts.max_iter)
         stats["cg_iterations"] += its
         stats["layer_iterations"] += 1
@@ -228,35 +231,69 @@ def _ends(values: np.ndarray, coords: np.ndarray, step: float, power: int) -> tu
     """(low ends, high ends) (mm) of the positive run of each row of ``values`` (rows, cells at ``coords``): at each
     end the parabola through the outer three values^power (Hertz: p^2 is exactly quadratic; with a layer p is
     linear near the edge) meets zero within 1.5 cells beyond the outer cell; else (fewer cells, no such root) the
-    exact solver's rule (:func:`contact.normal.exact.line_extent`) at that end."""
-    rows = np.arange(values.shape[0])
-    on = values > 0
-    first = np.argmax(on, axis=1)
-    last = values.shape[1] - 1 - np.argmax(on[:, ::-1], axis=1)
-    q = values ** power
-    out = []
-    for outer, sign in ((first, -1.0), (last, 1.0)):
-        inward = np.clip(outer - int(sign) * np.arange(3)[:, None], 0, values.shape[1] - 1)
-        q0, q1, q2 = q[rows, inward[0]], q[rows, inward[1]], q[rows, inward[2]]
-        c = 0.5 * (q0 - 2.0 * q1 + q2)            # q(t) = q0 + b t + c t^2 through t = 0, -1, -2 (t outward)
-        b = q0 - q1 + c
+    exact solver's rule (:func:`contact.normal.exact.line_extent`) at that end. One compiled loop over the rows."""
+    values = np.ascontiguousarray(values, dtype=float)
+    return _row_ends(values, np.ascontiguousarray(coords, dtype=float), float(step), int(power))
+
+
+@kernel()
+def _parabola_end(q, outer, sign, n):
+    """Steps t in [0, 1.5] beyond cell ``outer`` (outwards: ``sign``) where the parabola through q at the outer
+    three cells meets zero (the smallest root; a straight line when it has no curvature); inf when none."""
+    i0 = outer
+    i1 = min(max(outer - sign, 0), n - 1)
+    i2 = min(max(outer - 2 * sign, 0), n - 1)
+    q0, q1, q2 = q[i0], q[i1], q[i2]
+    c = 0.5 * (q0 - 2.0 * q1 + q2)            # q(t) = q0 + b t + c t^2 through t = 0, -1, -2 (t outward)
+    b = q0 - q1 + c
+    best = np.inf
+    if c != 0.0:
         disc = b * b - 4.0 * c * q0
-        with np.errstate(divide="ignore", invalid="ignore"):
-            sq = np.sqrt(np.maximum(disc, 0.0))
-            roots = np.stack([(-b - sq) / (2 * c), (-b + sq) / (2 * c), -q0 / b])
-        roots[:2, (c == 0) | (disc < 0)] = np.nan
-        roots[2, c != 0] = np.nan
-        roots[(roots < 0) | (roots > 1.5) | ~np.isfinite(roots)] = np.nan
-        t = np.nanmin(np.where(np.isnan(roots), np.inf, roots), axis=0)
-        end = coords[outer] + sign * step * t
-        out.append(end)
-    lo, hi = out
-    need = ~np.isfinite(lo) | ~np.isfinite(hi) | (last - first < 2)
-    for k in np.flatnonzero(need):
-        flo, fhi = line_extent(values[k], coords, step, power)
-        lo[k] = flo if not np.isfinite(lo[k]) or last[k] - first[k] < 2 else lo[k]
-        hi[k] = fhi if not np.isfinite(hi[k]) or last[k] - first[k] < 2 else hi[k]
+        if disc >= 0.0:
+            sq = np.sqrt(disc)
+            for r in ((-b - sq) / (2.0 * c), (-b + sq) / (2.0 * c)):
+                if np.isfinite(r) and 0.0 <= r <= 1.5 and r < best:
+                    best = r
+    elif b != 0.0:
+        r = -q0 / b
+        if np.isfinite(r) and 0.0 <= r <= 1.5:
+            best = r
+    return best
+
+
+@kernel()
+def _row_ends(values, coords, step, power):
+    rows, n = values.shape
+    lo = np.empty(rows)
+    hi = np.empty(rows)
+    q = np.empty(n)
+    for k in range(rows):
+        first, last = -1, -1
+        for i in range(n):
+            q[i] = values[k, i] ** power
+            if values[k, i] > 0.0:
+                if first < 0:
+                    first = i
+                last = i
+        lo[k] = coords[first] - step * _parabola_end(q, first, -1, n)
+        hi[k] = coords[last] + step * _parabola_end(q, last, 1, n)
+        few = last - first < 2
+        if few or not np.isfinite(lo[k]):      # the exact solver's rule (line_extent, _edge_extension)
+            inner = values[k, first + 1] if first + 1 <= last else 0.0
+            lo[k] = coords[first] - _edge(values[k, first], inner, step, power)
+        if few or not np.isfinite(hi[k]):
+            inner = values[k, last - 1] if last - 1 >= first else 0.0
+            hi[k] = coords[last] + _edge(values[k, last], inner, step, power)
     return lo, hi
+
+
+@kernel()
+def _edge(outer, inner, step, power):
+    """:func:`contact.normal.exact._edge_extension`, compiled."""
+    if inner > outer > 0.0:
+        qo, qi = outer ** power, inner ** power
+        return min(step, step * qo / (qi - qo))
+    return 0.5 * step
 
 
 def _outputs(prob, lay: LineLayers, grid: CoarseGrid, p, delta, u_l, f):
