@@ -48,6 +48,7 @@ from contact.wear.laws import USFD_MATERIALS, ArchardMap, UsfdTable, WearLaw
 from contact.wear.recalibrate import Recalibration, read_template
 from contact.wheel_rail.parse import parse_wheel_rail_scene
 from contact.wheel_rail.scene import WheelRailScene
+from contact.wheel_rail.scene_files import file_sha256
 from meshes.profiles import Profile
 from wrlayer.errors import InputError
 from wrlayer.runner import check_scheduler_address
@@ -150,7 +151,26 @@ class WearScene:
     @property
     def normal(self) -> NormalMethod:
         """The normal contact method of every condition (``[method] normal``)."""
-        return self.wheel_rail.method.normal_method
+        return self.wheel_rail.method.normal_method()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The resolved inputs as plain data (result.json "inputs"): the file and its sha256, profiles, sides, the
+        normal method, the wear law, the collective, the step settings, the layers' tables and the TOML content."""
+        wr, col, law = self.wheel_rail, self.collective, self.law
+        path = Path(self.path)
+        return {
+            "scene_file": str(path.resolve()),
+            "content_sha256": file_sha256(path) if path.is_file() else None,
+            "rail_profile": wr.rail_profile.name, "wheel_profile": wr.wheel_profile.name,
+            "sides": wr.sides, "normal_method": self.normal.name, "law": law.name,
+            "archard": {b: vars(m) for b, m in law.archard.items()},
+            "usfd": {b: vars(t) for b, t in law.usfd.items()}, "density_kg_m3": law.density_kg_m3,
+            "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": self.settings.to_dict(),
+            "conditions": [vars(c) for c in col.conditions],
+            "collective_source": {"file": col.source_file, "sha256": col.source_sha256} if col.source_file else None,
+            "passes_cap": wr.passes.max,
+            "layers": None if wr.solver_layers is None else dict(wr.solver_layers.names),
+            "scene_toml": self.data}
 
     @property
     def initial_profiles(self) -> dict[str, dict[str, Profile]]:

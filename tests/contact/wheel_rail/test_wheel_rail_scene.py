@@ -25,7 +25,7 @@ def _scene(**sections):
 
 @pytest.mark.parametrize("data, match", [
     (_scene(track={"gauge": 1435.0}), r"s.toml: track.gauge: unknown key"),
-    (_scene(wheel={"side": "middle"}), r"s.toml: wheel.side: must be 'right', 'left' or 'both'"),
+    (_scene(wheel={"side": "middle"}), r"s.toml: wheel.side: must be one of right, left, both, got 'middle'"),
     (_scene(track={"gauge_mm": 1300.0}), r"s.toml: track.gauge_mm: impossible gauge"),
     (_scene(load={"vertical_load_N": -1.0}), r"s.toml: load.vertical_load_N: must be >= 0.001"),
     (_scene(profiles={"rail": "S1002"}), r"s.toml: profiles.rail: S1002 is a wheel profile"),
@@ -47,7 +47,7 @@ def test_validation_names_the_key(tmp_path, data, match):
 def test_passes_memory_reaches_the_solver_inputs(tmp_path, passes, rule):
     scene = parse_wheel_rail_scene(_scene(passes={"max": 4, "traction_coefficient": 0.2, **passes}),
                                    tmp_path / "s.toml")
-    opts = scene.inputs("right").passes
+    opts = scene.inputs("right").passes.options
     assert (opts.rule, opts.traction_coefficient, opts.max_passes) == (rule, 0.2, 4)
 
 
