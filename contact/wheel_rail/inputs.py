@@ -21,6 +21,15 @@ from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, side_si
 from wrlayer.errors import require
 
 
+#: Plain name -> (section, key) of the section values the solvers read from :class:`WheelRailInputs`.
+SECTION_OF = {"vertical_load_N": ("load", "vertical_load_N"), "speed_mm_s": ("load", "speed_mm_s"),
+              "friction": ("tangential", "friction"), "E_MPa": ("material", "E_MPa"),
+              "poisson": ("material", "poisson"), "G_MPa": ("material", "G_MPa"), "alpha": ("method", "alpha"),
+              "grid_mm": ("method", "grid_mm"), "fastsim_cells": ("method", "fastsim_cells"),
+              "contact_point": ("method", "contact_point"), "balance": ("method", "balance"),
+              "tangential_method": ("method", "tangential")}
+
+
 @dataclass(frozen=True)
 class WheelRailInputs:
     """Everything but the profiles and the layers for one wheel on its rail (units mm, N, MPa, s, rad).
@@ -78,19 +87,13 @@ class WheelRailInputs:
                 f"must be one of {', '.join(TANGENTIAL_METHODS)}, got {m.tangential!r}")
         require(0.0 <= self.poisson < 0.5, "poisson", f"must lie in [0, 0.5), got {self.poisson!r}")
 
-    # The sections' values the solvers read (mm, N, MPa, s).
-    vertical_load_N = property(lambda self: self.load.vertical_load_N, doc="Vertical wheel load Q (N).")
-    speed_mm_s = property(lambda self: self.load.speed_mm_s, doc="Rolling speed V (mm/s).")
-    friction = property(lambda self: self.tangential.friction, doc="Coulomb friction coefficient (-).")
-    E_MPa = property(lambda self: self.material.E_MPa, doc="Young's modulus (MPa).")
-    poisson = property(lambda self: self.material.poisson, doc="Poisson's ratio (-).")
-    G_MPa = property(lambda self: self.material.G_MPa, doc="Shear modulus (MPa).")
-    alpha = property(lambda self: self.method.alpha, doc="Kik–Piotrowski's alpha (-, eq. 9).")
-    grid_mm = property(lambda self: self.method.grid_mm, doc="Strip grid spacing (mm).")
-    fastsim_cells = property(lambda self: self.method.fastsim_cells, doc="FASTSIM cells per strip (-).")
-    contact_point = property(lambda self: self.method.contact_point, doc="The reported point of a patch.")
-    balance = property(lambda self: self.method.balance, doc="The vertical load balance.")
-    tangential_method = property(lambda self: self.method.tangential, doc="The tangential solver.")
+    def __getattr__(self, name: str):
+        """The section values the solvers read by their plain names (``vertical_load_N``, ``E_MPa``, ``alpha``,
+        ``tangential_method``, ...; :data:`SECTION_OF`)."""
+        if name not in SECTION_OF:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        section, key = SECTION_OF[name]
+        return getattr(getattr(self, section), key)
 
     @property
     def normal_method(self) -> NormalMethod:
@@ -109,4 +112,4 @@ class WheelRailInputs:
             else float(self.pitch_rate_rad_s)
 
 
-__all__ = ["BALANCES", "WheelRailInputs"]
+__all__ = ["BALANCES", "SECTION_OF", "WheelRailInputs"]
