@@ -30,14 +30,12 @@ Each key's unit, default and bounds are declared once on its section's field (:m
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Any
 
 from contact.scenes.layers import read_layers
 from contact.scenes.sections import TangentialSpec, read_material, read_method, read_passes
 from contact.wheel_rail.scene import (
-    INCLINATION,
     ProfilesSpec,
     RunSpec,
     TrackSpec,
@@ -49,7 +47,8 @@ from contact.wheel_rail.scene_files import read_profile
 from contact.wheel_rail.sections import WheelLoadSpec, WheelRailMethodSpec, WheelRailOutputSpec
 from contact.wheel_rail.sweep import parse_sweep
 from contact.wheel_rail.sweep_spec import CaseSpec
-from contact.wheel_rail.track_geometry import TrackLayout
+from contact.wheel_rail.track_geometry import INCLINATION, TrackLayout
+from meshes.profiles.placement import rail_inclination
 from wrlayer.errors import InputError
 from wrlayer.input_files import read_toml
 from wrlayer.section_keys import read_section
@@ -115,7 +114,7 @@ def _track(track: Keys) -> TrackSpec:
     elif ratio < 5:
         raise track.error("inclination", f"1:n needs n >= 5 (or 0 for an upright rail), got {ratio:g}")
     else:
-        incl = math.atan(1.0 / ratio)
+        incl = rail_inclination(ratio)
     return read_section(TrackSpec, track, given={"inclination_rad": incl}, also_known=("inclination",))
 
 

@@ -10,7 +10,6 @@ result.json; :meth:`WheelRailScene.from_dict` parses its TOML content again.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -29,8 +28,6 @@ from wrlayer.validate import MAX_RADIUS_MM, MIN_RADIUS_MM
 
 #: Largest number of local worker processes of [run] (as the calibration's run.workers).
 MAX_WORKERS = 64
-#: The rail inclination 1:n of a scene without one (-).
-INCLINATION = 40.0
 #: Values of ``wheel.side``.
 SIDES = ("right", "left", "both")
 
@@ -75,11 +72,11 @@ class TrackSpec(Record):
         Wheel profile coordinate of the flange back (mm).
     """
 
-    gauge_mm: float = key(1435.0, "mm")
-    gauge_depth_mm: float = key(14.0, "mm", gt=0.0)
-    inclination_rad: float = key(math.atan(1.0 / INCLINATION), "rad", ge=-0.2, le=0.2)
-    back_to_back_mm: float = key(1360.0, "mm", gt=0.0)
-    flange_back_y_mm: float = key(-70.0, "mm")
+    gauge_mm: float = key(TrackLayout.gauge_mm, "mm")
+    gauge_depth_mm: float = key(TrackLayout.gauge_depth_mm, "mm", gt=0.0)
+    inclination_rad: float = key(TrackLayout.inclination_rad, "rad", ge=-0.2, le=0.2)
+    back_to_back_mm: float = key(TrackLayout.back_to_back_mm, "mm", gt=0.0)
+    flange_back_y_mm: float = key(TrackLayout.flange_back_y_mm, "mm")
 
 
 @dataclass(frozen=True)
@@ -94,7 +91,7 @@ class WheelSpec(Record):
         "right", "left" or "both" (-).
     """
 
-    nominal_radius_mm: float = key(460.0, "mm", ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM)
+    nominal_radius_mm: float = key(TrackLayout.nominal_radius_mm, "mm", ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM)
     side: str = key("right", choices=SIDES)
 
 
@@ -265,5 +262,5 @@ class WheelRailScene:
         return parse_wheel_rail_scene(data["scene_toml"], Path(data["scene_file"]))
 
 
-__all__ = ["INCLINATION", "MAX_WORKERS", "SIDES", "ProfilesSpec", "RunSpec", "TrackSpec", "WheelLoadSpec",
+__all__ = ["MAX_WORKERS", "SIDES", "ProfilesSpec", "RunSpec", "TrackSpec", "WheelLoadSpec",
            "WheelRailMethodSpec", "WheelRailOutputSpec", "WheelRailScene", "WheelSpec", "WheelsetSpec"]
