@@ -83,7 +83,9 @@ def key_facts(f: dataclasses.Field) -> str:
     return ", ".join(parts)
 
 
-def _annotation(cls: type, f: dataclasses.Field) -> str:
+def _annotation(f: dataclasses.Field) -> str:
+    """The field's annotation as written, without spaces (``from __future__ import annotations`` keeps it a
+    string)."""
     hint = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))
     return hint.replace(" ", "")
 
@@ -126,7 +128,7 @@ def read_section(cls: type, keys: Keys, *, required: tuple[str, ...] = (), given
             values[f.name] = given.pop(f.name)
         elif spec is not None:
             default = MISSING if f.name in required else f.default
-            values[f.name] = read_key(keys, f.name, _annotation(cls, f), spec, default)
+            values[f.name] = read_key(keys, f.name, _annotation(f), spec, default)
     values.update(given)
     return cls(**values)
 

@@ -168,7 +168,10 @@ def read_layers(keys: Keys, base: Path, per_body: bool = False) -> LayersSpec:
     for body in BODIES:
         if body not in keys.table:
             continue
-        if per_body and isinstance(keys.table[body], dict):
+        if isinstance(keys.table[body], dict):
+            if not per_body:
+                raise keys.error(body, "must be a calibration table file (a string): a wheel–rail scene reads each "
+                                       "body's table at the contact search's profile coordinates")
             spec[body] = _characteristic(keys.sub(body))
             sources[body] = _char(spec[body], keys.what(body))
             continue
