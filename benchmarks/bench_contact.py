@@ -128,9 +128,9 @@ def _two_regions(quick: bool, repeat: int) -> tuple[str, dict]:
     import dataclasses
     from scipy.optimize import brentq
     from contact.scenes.scene import load_scene
-    from contact.scenes.simulation import build_layers, normal_problem
+    from contact.scenes.simulation import build_layers
     scene = load_scene(pathlib.Path(__file__).resolve().parents[1] / "scenes" / "two_patches.toml")
-    prob = normal_problem(scene)
+    prob = scene.normal_problem()
     layers = build_layers(scene, prob.strip_y_mm)
     split = 6.0                                                   # y (mm) between the two valleys
     lines = [_row(["solver (elastic, no layer)", "delta [mm]", "p_max main / second [MPa]",

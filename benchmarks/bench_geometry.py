@@ -22,6 +22,7 @@ from benchmarks.harness import machine_info, median_time, peak_memory_mb
 from contact.wheel_rail.contact_search import search_contacts
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
 from contact.wheel_rail.deformed import rigid_roll
+from contact.scenes.sections import MaterialSpec
 from contact.wheel_rail.inputs import WheelRailInputs
 from contact.wheel_rail.solve import solve_wheel
 from meshes.profiles import S1002, Rail60E1, get_profile
@@ -34,8 +35,8 @@ REFERENCE = pathlib.Path(__file__).resolve().parents[2] / "shared" / "reference"
 
 
 def _inputs(d: float, psi: float, side: str = "right", roll: float = 0.0) -> WheelRailInputs:
-    return WheelRailInputs(pose=WheelsetPose(float(d), float(psi), roll), side=side, vertical_load_N=10000.0,
-                           speed_mm_s=2000.0, friction=0.3, E_MPa=E_MPA, poisson=0.28)
+    return WheelRailInputs(pose=WheelsetPose(float(d), float(psi), roll), side=side,
+                           material=MaterialSpec(E_MPa=E_MPA, poisson=0.28))
 
 
 def _sweep(rail, wheel, placed, layout, yaw=True, side="right"):

@@ -22,7 +22,6 @@ import numpy as np
 
 from contact.normal.exact import ExactOptions, solve_exact
 from contact.scenes.scene import parse_scene
-from contact.scenes.simulation import normal_problem
 from contact.tangential.exact_rolling import RollingField, RollingOptions, solve_rolling
 from contact.tangential.fastsim import Creepage
 from contact.tangential.method import PressureGrid
@@ -82,7 +81,7 @@ def _outputs(sol, tang: RollingField, grid: PressureGrid) -> dict:
 
 
 def _tight(sep, normal_N: float, cells: int, grid_mm: float):
-    prob = normal_problem(scene(sep, normal_N, "exact", cells, grid_mm))
+    prob = scene(sep, normal_N, "exact", cells, grid_mm).normal_problem()
     sol = solve_exact(prob, None, ExactOptions(cells=cells, cg_tol=1e-10))
     grid = PressureGrid.from_exact(sol)
     tang = rolling(grid, 1e-12)

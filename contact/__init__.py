@@ -39,7 +39,11 @@ from wrlayer import lazy_exports
 #: Public name -> the module that defines it.
 API = {
     "load_scene": "contact.scenes.scene",
-    "Scene": "contact.scenes.scene",
+    "Scene": "contact.scenes.scene_spec",
+    "MaterialSpec": "contact.scenes.sections",
+    "MethodSpec": "contact.scenes.sections",
+    "PassesSpec": "contact.scenes.sections",
+    "TangentialSpec": "contact.scenes.sections",
     "simulate": "contact.scenes.simulation",
     "SimulationRun": "contact.scenes.simulation",
     "run_scene_file": "contact.__main__",
@@ -60,7 +64,9 @@ API = {
     "PassRecord": "contact.passes.passes",
     "solve_wheel": "contact.wheel_rail.solve",
     "WheelRailInputs": "contact.wheel_rail.inputs",
-    "WheelRailLayers": "contact.wheel_rail.inputs",
+    "LayerSources": "contact.scenes.layers",
+    "WheelLoadSpec": "contact.wheel_rail.sections",
+    "WheelRailMethodSpec": "contact.wheel_rail.sections",
     "WheelRailSolution": "contact.wheel_rail.solution",
     "load_wheel_rail_scene": "contact.wheel_rail.parse",
     "WheelRailScene": "contact.wheel_rail.scene",

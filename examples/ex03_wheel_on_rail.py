@@ -38,9 +38,10 @@ def main(out_dir: str | Path | None = None) -> float:
                                  back_to_back_mm=1360.0, flange_back_y_mm=-70.0, nominal_radius_mm=460.0)
     inputs = contact.WheelRailInputs(
         layout=layout, pose=contact.WheelsetPose(lateral_mm=1.0, yaw_rad=0.0024, roll_rad=5.049e-05),
-        side="right", vertical_load_N=10000.0, speed_mm_s=2000.0, pitch_rate_rad_s=4.3465752, friction=0.3,
-        E_MPa=2.0 * G_MPA * (1.0 + POISSON), poisson=POISSON, normal_method=contact.NormalMethod("exact"),
-        contact_point="weighted_centre", balance="total")
+        side="right", load=contact.WheelLoadSpec(vertical_load_N=10000.0, speed_mm_s=2000.0),
+        pitch_rate_rad_s=4.3465752, tangential=contact.TangentialSpec(friction=0.3),
+        material=contact.MaterialSpec(E_MPa=2.0 * G_MPA * (1.0 + POISSON), poisson=POISSON),
+        method=contact.WheelRailMethodSpec(normal="exact", contact_point="weighted_centre", balance="total"))
     sol = contact.solve_wheel(rail, wheel, inputs, case="A-2.2 case 3, right wheel")
     main_patch = max(sol.patches, key=lambda p: p.normal_force_N)
     print(f"{len(sol.patches)} patch(es); main patch: N = {main_patch.normal_force_N:.0f} N, "

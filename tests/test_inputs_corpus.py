@@ -112,20 +112,20 @@ def test_bad_profile_file(path, fragment, tmp_path, capsys):
 @pytest.mark.parametrize("path,fragment", _expected("bad_layer_tables"),
                          ids=[p.name for p, _ in _expected("bad_layer_tables")])
 def test_bad_layer_table(path, fragment, tmp_path, capsys):
-    """Each broken table is used by a scene (layer.rail.table): the scene is refused, naming the table key."""
+    """Each broken table is used by a scene (layers.rail): the scene is refused, naming the table key."""
     from contact.__main__ import main
 
     scene = dict(make_corpus.SCENE)
-    scene.pop("layer")
+    scene.pop("layers.combined")
     scene.pop("reference")
     make_corpus.write_toml(tmp_path / "uses_table.toml", scene, "uses a broken layer table")
     with open(tmp_path / "uses_table.toml", "a", encoding="utf-8") as fh:
-        fh.write(f"\n[layer.rail]\ntable = {json.dumps(str(path))}\nposition_mm = 0.0\n")
+        fh.write(f"\n[layers]\nrail = {json.dumps(str(path))}\nposition_mm = {{rail = 0.0}}\n")
     out = tmp_path / "out"
     rc = main(["simulate", str(tmp_path / "uses_table.toml"), "--out", str(out)])
     captured = capsys.readouterr()
     _check(rc, captured, path, fragment, out)
-    assert "layer.rail.table" in captured.err
+    assert "layers.rail" in captured.err
 
 
 @pytest.mark.parametrize("h_min, h_max, key", [("1e-9", "5", "h_min"), ("0.0009", "5", "h_min"),

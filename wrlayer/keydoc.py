@@ -9,15 +9,17 @@ A scene, configuration or result dataclass documents its keys in a numpydoc ``At
 
 :func:`key_table` renders one markdown row per field: the key (a caller's section prefix such as ``load.`` plus
 the field name), its type, its default (``required`` when it has none) and the description from that section
-(empty where the class has no entry). Fields that are dataclasses themselves are expanded with a dotted prefix.
+(empty where the class has no entry; a subclass inherits its bases' entries). Fields that are dataclasses themselves
+are expanded with a dotted prefix. A section whose fields declare their keys (:func:`wrlayer.section_keys.key`)
+gets a column with each key's unit and bounds.
 
 In a markdown page, a block::
 
-    <!-- keys: contact.scenes.scene.LoadSpec load. -->
+    <!-- keys: contact.scenes.sections.LoadSpec load. -->
     ...
     <!-- /keys -->
 
-is replaced by the table of ``contact.scenes.scene.LoadSpec`` with the prefix ``load.`` (the prefix is optional).
+is replaced by the table of ``contact.scenes.sections.LoadSpec`` with the prefix ``load.`` (the prefix is optional).
 ``python -m wrlayer.keydoc docs/`` rewrites every such block in the pages under the given folders or files;
 ``--check`` rewrites nothing and exits 1 when a block is out of date. An unknown class or a malformed block is an
 :class:`~wrlayer.errors.InputError` (exit 2).
@@ -37,6 +39,7 @@ import typing
 from pathlib import Path
 
 from wrlayer.errors import InputError, cli_guard
+from wrlayer.section_keys import key_facts, key_spec
 
 #: A generated block: the opening comment with the class path and an optional prefix, the body, the closing comment.
 BLOCK = re.compile(r"(<!-- keys: *(?P<target>[A-Za-z_][\w.]*)(?: +(?P<prefix>\S+))? *-->\n)(?P<body>.*?)(<!-- /keys -->)",
@@ -46,6 +49,8 @@ _UNDERLINE = re.compile(r"^\s*-{3,}\s*$")
 #: A numpydoc entry line: ``name : type`` (the type is optional).
 _ENTRY = re.compile(r"^(?P<name>[A-Za-z_]\w*)\s*(?::\s*(?P<type>.*))?$")
 HEADER = "| key | type | default | description |\n|---|---|---|---|\n"
+#: The header of a section whose fields declare their unit and bounds.
+SECTION_HEADER = "| key | type | default | unit, bounds | description |\n|---|---|---|---|---|\n"
 
 
 def attribute_descriptions(cls: type) -> dict[str, str]:
@@ -133,20 +138,33 @@ def _nested_dataclass(cls: type, f: dataclasses.Field) -> type | None:
     return found[0] if len(found) == 1 else None
 
 
+def described_attributes(cls: type) -> dict[str, str]:
+    """:func:`attribute_descriptions` of ``cls`` and its bases (the class's own entry wins)."""
+    out: dict[str, str] = {}
+    for klass in reversed(cls.__mro__):
+        out.update({k: v for k, v in attribute_descriptions(klass).items() if v or k not in out})
+    return out
+
+
 def key_rows(cls: type, prefix: str = "") -> list[tuple[str, str, str, str]]:
     """``(key, type, default, description)`` per field of dataclass ``cls``, nested dataclasses expanded."""
+    return [row[:4] for row in _rows(cls, prefix)]
+
+
+def _rows(cls: type, prefix: str = "") -> list[tuple[str, str, str, str, str]]:
+    """:func:`key_rows` with each key's unit and bounds (:func:`wrlayer.section_keys.key_facts`) appended."""
     if not (isinstance(cls, type) and dataclasses.is_dataclass(cls)):
         raise InputError(getattr(cls, "__qualname__", repr(cls)), "is not a dataclass")
-    described = attribute_descriptions(cls)
+    described = described_attributes(cls)
     rows = []
     for f in dataclasses.fields(cls):
         if f.name.startswith("_"):
             continue
         nested = _nested_dataclass(cls, f)
         if nested is not None:
-            rows.extend(key_rows(nested, f"{prefix}{f.name}."))
+            rows.extend(_rows(nested, f"{prefix}{f.name}."))
             continue
-        rows.append((f"{prefix}{f.name}", _type_text(f), _default_text(f), described.get(f.name, "")))
+        rows.append((f"{prefix}{f.name}", _type_text(f), _default_text(f), described.get(f.name, ""), key_facts(f)))
     return rows
 
 
@@ -161,9 +179,19 @@ def _default_cell(default: str) -> str:
 
 def key_table(cls: type, prefix: str = "") -> str:
     """The markdown table of ``cls``'s keys (header, separator and one row per key, each line ending in a newline)."""
-    body = "".join(f"| `{_cell(key)}` | `{_cell(kind)}` | {_default_cell(default)} | {_cell(text)} |\n"
-                   for key, kind, default, text in key_rows(cls, prefix))
-    return HEADER + body
+    rows = _rows(cls, prefix)
+    if not any(any(key_spec(f) for f in dataclasses.fields(c)) for c in _classes(cls)):
+        return HEADER + "".join(f"| `{_cell(key)}` | `{_cell(kind)}` | {_default_cell(default)} | {_cell(text)} |\n"
+                                for key, kind, default, text, _ in rows)
+    return SECTION_HEADER + "".join(
+        f"| `{_cell(key)}` | `{_cell(kind)}` | {_default_cell(default)} | {_cell(facts)} | {_cell(text)} |\n"
+        for key, kind, default, text, facts in rows)
+
+
+def _classes(cls: type) -> list[type]:
+    """``cls`` and the dataclasses nested in its fields."""
+    nested = [n for f in dataclasses.fields(cls) if (n := _nested_dataclass(cls, f)) is not None]
+    return [cls] + [c for n in nested for c in _classes(n)]
 
 
 def resolve(target: str) -> type:

@@ -15,7 +15,12 @@ import numpy as np
 
 from wrlayer.errors import require
 
-__all__ = ["NormalProblem", "strip_grid"]
+__all__ = ["ALPHA", "GRID_MM", "NormalProblem", "strip_grid"]
+
+#: Kik–Piotrowski's virtual-penetration factor delta_0 = alpha delta, the paper's value (eq. 9; ``method.alpha``).
+ALPHA = 0.55
+#: Strip width h of the lateral grid (mm; ``method.grid_mm``).
+GRID_MM = 0.1
 
 
 def strip_grid(y_min_mm: float, y_max_mm: float, grid_mm: float) -> np.ndarray:
@@ -74,8 +79,8 @@ class NormalProblem:
     rolling_radius_mm: float
     E_MPa: float
     poisson: float
-    alpha: float = 0.55
-    grid_mm: float = 0.1
+    alpha: float = ALPHA
+    grid_mm: float = GRID_MM
     interpolation: str = "linear"
     x_subdivision: int = 1
     f_offset_mm: np.ndarray | None = None

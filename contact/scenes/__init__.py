@@ -1,5 +1,8 @@
 """Single-contact scenes: reading scene files, running them, writing results, tables and pictures.
 
+- :mod:`~contact.scenes.sections`: the sections every scene kind shares ([load], [material], [tangential],
+  [passes], [method], [output]), each key's unit, default and bounds declared once.
+- :mod:`~contact.scenes.layers`: [layers] of every scene kind and the one builder of a patch's layers.
 - :mod:`~contact.scenes.scene`: scene TOML -> validated dataclasses (:mod:`~contact.scenes.scene_spec`).
 - :mod:`~contact.scenes.scene_layers`: the scene's layers on the strip grid, table coverage, patch-size scaling.
 - :mod:`~contact.scenes.simulation`: a scene run (normal, passes, tangential) -> result records.

@@ -34,11 +34,10 @@ _SLIP = ListedColormap(["#ffffff", "#9a9a9a"])  # adhesion white, slip grey
 
 
 def _elastic_limit(run) -> float | None:
-    layer = run.scene.layer
-    if layer is None:
+    layers = run.scene.layers
+    if layers is None:
         return None
-    chars = [layer.combined] if layer.combined is not None else [
-        b.characteristic_at(0.0) for b in (layer.wheel, layer.rail) if b is not None]
+    chars = layers.sources.at_contact()
     limits = [c.elastic_limit_MPa for c in chars if np.isfinite(c.elastic_limit_MPa)]
     return min(limits) if limits else None
 

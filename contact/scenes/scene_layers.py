@@ -12,65 +12,43 @@ from __future__ import annotations
 import numpy as np
 
 from contact.layer.patch_scaling import settle_patch_sizes
-from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
-from contact.layer.strip_lookup import check_coverage, clamped_characteristics
+from contact.layer.prandtl_layer import LayerPair
+from contact.layer.strip_lookup import check_coverage
 from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
 from contact.normal.method import solve_normal_with
-from contact.scenes.scene import BODIES, Scene
-
-
-def normal_problem(scene: Scene) -> NormalProblem:
-    """The scene's normal problem (separation table, load, material, alpha, strip grid)."""
-    sep, load, mat, met = scene.separation, scene.load, scene.material, scene.method
-    return NormalProblem(sep.y_mm, sep.f_mm, load.normal_force_N, load.rolling_radius_mm, mat.E_MPa, mat.poisson,
-                         alpha=met.alpha, grid_mm=met.grid_mm)
+from contact.scenes.layers import build_layer_pair
+from contact.scenes.scene_spec import Scene
 
 
 def scales_to_patch(scene: Scene) -> bool:
     """A table layer of the scene asks to be scaled to the solved patch size."""
-    return scene.layer is not None and any(
-        getattr(getattr(scene.layer, b), "scale_to_patch", False) for b in BODIES)
+    return scene.layers is not None and scene.layers.scale_to_patch
 
 
 def build_layers(scene: Scene, strip_y_mm: np.ndarray, patch_mm: tuple[float, float] | None = None
                  ) -> LayerPair | None:
-    """The scene's layers on the strip grid (PrandtlLayer per body, or one combined layer). A table layer is read
+    """The scene's layers on the strip grid (:func:`contact.scenes.layers.build_layer_pair`): a table layer is read
     at ``position_mm + y`` for every strip y, clamped to the table's range (coverage is checked after each pass, on
     the strips in contact: :func:`check_table_coverage`); with ``scale_to_patch`` scaled to ``patch_mm`` = (a, b)
     (mm)."""
-    spec = scene.layer
-    if spec is None:
+    if scene.layers is None:
         return None
-    if spec.combined is not None:
-        return LayerPair(combined=PrandtlLayer.uniform(spec.combined, strip_y_mm, name="layer"))
-    layers = {}
-    for body in BODIES:
-        b = getattr(spec, body)
-        if b is None:
-            continue
-        what = f"{scene.path.name}: layer.{body}"
-        if b.characteristic is not None:
-            layers[body] = PrandtlLayer.uniform(b.characteristic, strip_y_mm, name=what)
-        else:
-            chars, _ = clamped_characteristics(b.table, b.position_mm + strip_y_mm, f"{what}.table",
-                                               patch_mm if b.scale_to_patch else None)
-            layers[body] = PrandtlLayer.from_characteristics(chars, strip_y_mm, name=what,
-                                                             rolling_law=b.table.rolling_law)
-    return LayerPair(**layers)
+    sources = scene.layers.sources
+    return build_layer_pair(sources, strip_y_mm, lambda body: sources.position_mm[body] + strip_y_mm, patch_mm,
+                            f"{scene.path.name}: layers")
 
 
 def check_table_coverage(scene: Scene, solution: NormalSolution) -> None:
     """LayerNotCovered when a strip in contact lies outside a body's calibration table, LayerRangeExceeded when its
     peak pressure lies above the table's calibrated range."""
-    if scene.layer is None:
+    if scene.layers is None:
         return
+    sources = scene.layers.sources
     loaded = solution.p_peak_MPa > 0
     in_contact = solution.strip_y_mm[loaded]
-    for body in BODIES:
-        b = getattr(scene.layer, body)
-        if b is not None and b.table is not None:
-            check_coverage(b.table, b.position_mm + in_contact, f"{scene.path.name}: layer.{body}.table", body,
-                           b.table_path.name, tolerance_mm=1e-9, p_peak_MPa=solution.p_peak_MPa[loaded])
+    for body, table in sources.tables().items():
+        check_coverage(table, sources.position_mm[body] + in_contact, f"{scene.path.name}: layers.{body}", body,
+                       sources.name(body), tolerance_mm=1e-9, p_peak_MPa=solution.p_peak_MPa[loaded])
 
 
 def scale_layers_to_patch(scene: Scene, prob: NormalProblem, layers: LayerPair):
@@ -93,4 +71,4 @@ def scale_layers_to_patch(scene: Scene, prob: NormalProblem, layers: LayerPair):
     return layers, sizes[0], solves + 1
 
 
-__all__ = ["build_layers", "check_table_coverage", "normal_problem", "scale_layers_to_patch", "scales_to_patch"]
+__all__ = ["build_layers", "check_table_coverage", "scale_layers_to_patch", "scales_to_patch"]

@@ -44,11 +44,10 @@ from contact.scenes.run_result import (
     StripGrid,
     reference_deviation,
 )
-from contact.scenes.scene import Scene, scene_inputs
+from contact.scenes.scene_spec import Scene
 from contact.scenes.scene_layers import (
     build_layers,
     check_table_coverage,
-    normal_problem,
     scale_layers_to_patch,
     scales_to_patch,
 )
@@ -224,7 +223,7 @@ def _with_tangential(scene: Scene, solved: list[tuple]) -> Iterator[tuple[PassSn
 
 def _simulate(scene: Scene) -> SimulationRun:
     t_start = time.perf_counter()
-    prob = normal_problem(scene)
+    prob = scene.normal_problem()
     y = prob.strip_y_mm
     f_before = prob.separation_on_grid_mm.copy()
     layers = build_layers(scene, y)
@@ -249,7 +248,7 @@ def _simulate(scene: Scene) -> SimulationRun:
         else TANGENTIAL_METHOD_TEXT[scene.method.tangential],
         None if layers is None else tuple(sorted(layers.bodies())))
     result = SceneResult(
-        scene_inputs(scene), code_version(), UNITS, method, scaled, len(history),
+        scene.to_dict(), code_version(), UNITS, method, scaled, len(history),
         next((h.number for h in history if h.shakedown), None), history,
         reference_deviation(scene.reference, history[-1]),
         StripGrid(tuple(y.tolist()), tuple(f_before.tolist()), tuple(f_after.tolist()),
@@ -259,5 +258,5 @@ def _simulate(scene: Scene) -> SimulationRun:
     return SimulationRun(scene, result, snapshots[0], snapshots[-1], y, f_before, f_after, residual, snapshots)
 
 
-__all__ = ["PassSnapshot", "SimulationRun", "build_layers", "normal_problem", "pass_result", "region_result",
+__all__ = ["PassSnapshot", "SimulationRun", "build_layers", "pass_result", "region_result",
            "local_patch", "simulate", "solve_patches"]

@@ -22,7 +22,8 @@ import numpy as np
 
 from contact.wear.collective import Condition
 from contact.wear.laws import WearLaw, wear_of
-from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
+from contact.scenes.layers import LayerSources
+from contact.wheel_rail.inputs import WheelRailInputs
 from contact.wheel_rail.solution import WheelRailSolution
 from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import place_rail
@@ -42,7 +43,7 @@ class ConditionTask:
     rail: Profile
     wheel: Profile
     inputs: WheelRailInputs
-    layers: WheelRailLayers | None
+    layers: LayerSources | None
     law: WearLaw
     step: int
 
@@ -103,7 +104,8 @@ def side_inputs(task: ConditionTask) -> WheelRailInputs:
     (:meth:`Condition.load_on`; a curve loads the outer wheel more) and the wheelset's yaw rate in a curve
     (:mod:`contact.wear.curving`)."""
     c = task.condition
-    return dataclasses.replace(task.inputs, vertical_load_N=c.load_on(task.side), yaw_rate_rad_s=c.yaw_rate_rad_s)
+    load = dataclasses.replace(task.inputs.load, vertical_load_N=c.load_on(task.side))
+    return dataclasses.replace(task.inputs, load=load, yaw_rate_rad_s=c.yaw_rate_rad_s)
 
 
 def solve_condition(task: ConditionTask) -> ConditionResult:

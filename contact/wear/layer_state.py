@@ -30,7 +30,7 @@ import numpy as np
 from wrlayer.characteristic import Characteristic
 from contact.wear.condition import BODIES, ConditionResult
 from contact.wear.profile_grid import ArcGrid
-from contact.wheel_rail.inputs import WheelRailLayers
+from contact.scenes.layers import LayerSources
 from meshes.profiles import Profile
 
 #: (profile coordinates y (mm), largest peak pressure p_hist (MPa)) per (side, body).
@@ -120,8 +120,8 @@ def raised_history(history: History, results: list[ConditionResult]) -> History:
     return out
 
 
-def side_layers(layers: WheelRailLayers | None, history: History | None, side: str,
-                tables: dict | None = None) -> WheelRailLayers | None:
+def side_layers(layers: LayerSources | None, history: History | None, side: str,
+                tables: dict | None = None) -> LayerSources | None:
     """The layers of one side: ``layers`` (or the tables recalibrated on the worn profiles, ``tables[(side,
     body)]``), every table position hardened to its largest peak pressure so far when a ``history`` is given. A
     combined characteristic has no positions: returned as it is."""
@@ -136,7 +136,7 @@ def side_layers(layers: WheelRailLayers | None, history: History | None, side: s
             table = HardenedTable(table, y, p)
         chosen[body] = table
     names = {**layers.names, **{b: f"recalibrated {b} table" for (s, b) in tables if s == side}}
-    return WheelRailLayers(rail=chosen["rail"], wheel=chosen["wheel"], names=names,
+    return LayerSources(rail=chosen["rail"], wheel=chosen["wheel"], names=names,
                            scale_to_patch=layers.scale_to_patch)
 
 

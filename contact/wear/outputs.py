@@ -18,7 +18,6 @@ completed step. Each file is written atomically.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import math
 from dataclasses import dataclass, field
@@ -137,23 +136,9 @@ class WrittenFiles:
 
 def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any]:
     sc = run.scene
-    col, st = sc.collective, sc.settings
-    path = Path(sc.path)
     return _jsonable({
         "type": "wear", "status": status, "code_version": code_version(), "units": UNITS,
-        "inputs": {
-            "scene_file": str(path.resolve()),
-            "content_sha256": hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None,
-            "rail_profile": sc.wheel_rail.rail_profile.name, "wheel_profile": sc.wheel_rail.wheel_profile.name,
-            "sides": list(run.initial_profiles), "normal_method": sc.normal.name, "law": sc.law.name,
-            "archard": {b: vars(m) for b, m in sc.law.archard.items()},
-            "usfd": {b: vars(t) for b, t in sc.law.usfd.items()}, "density_kg_m3": sc.law.density_kg_m3,
-            "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": st.to_dict(),
-            "conditions": [vars(c) for c in col.conditions],
-            "collective_source": {"file": col.source_file, "sha256": col.source_sha256} if col.source_file else None,
-            "passes_cap": sc.wheel_rail.passes.max,
-            "layers": None if sc.wheel_rail.solver_layers is None else dict(sc.wheel_rail.solver_layers.names),
-            "scene_toml": sc.data},
+        "inputs": sc.to_dict(),
         "initial": {"conicity": run.initial_conicity.to_dict(), "profiles": files.initial},
         "steps": [{"step": r.index, "start_km": r.start_km, "length_km": r.length_km, "end_km": r.end_km,
                    "notes": r.notes, "conicity": r.conicity.to_dict(), "timings_s": r.timings,

@@ -23,6 +23,7 @@ from contact.wear.condition import ConditionTask
 from contact.wear.layer_state import History, side_layers
 from contact.wear.scene import WearScene
 from contact.wheel_rail.deformed import rigid_roll
+from contact.wheel_rail.sections import WheelLoadSpec
 from contact.wheel_rail.track_geometry import WheelsetPose, place_rail
 from meshes.profiles import Profile
 from wrlayer.errors import ConvergenceError, InputError
@@ -104,8 +105,8 @@ def build_tasks(scene: WearScene, profiles: dict[str, dict[str, Profile]], step:
         pitch = wheel_rail.wheelset.pitch_rate_rad_s if c.pitch_rate_rad_s is None else c.pitch_rate_rad_s
         for side in profiles:
             inputs = dataclasses.replace(wheel_rail.inputs(side, pose), pitch_rate_rad_s=pitch,
-                                         vertical_load_N=c.vertical_load_N, speed_mm_s=c.speed_mm_s,
-                                         passes=dataclasses.replace(opts.options, max_passes=n_pass))
+                                         load=WheelLoadSpec(c.vertical_load_N, c.speed_mm_s),
+                                         passes=dataclasses.replace(opts, max=n_pass))
             tasks.append(ConditionTask(k, side, c, profiles[side]["rail"], profiles[side]["wheel"], inputs,
                                        side_layers(layers, hardening, side, tables), scene.law, step))
     return tasks

@@ -48,9 +48,11 @@ from contact.wear.laws import USFD_MATERIALS, ArchardMap, UsfdTable, WearLaw
 from contact.wear.recalibrate import Recalibration, read_template
 from contact.wheel_rail.parse import parse_wheel_rail_scene
 from contact.wheel_rail.scene import WheelRailScene
+from contact.wheel_rail.scene_files import file_sha256
 from meshes.profiles import Profile
 from wrlayer.errors import InputError
 from wrlayer.runner import check_scheduler_address
+from wrlayer.section_keys import key, read_section
 
 WHEEL_RAIL_SECTIONS = ("title", "description", "profiles", "track", "wheel", "wheelset", "load", "material",
                        "tangential", "layers", "passes", "method")
@@ -64,6 +66,8 @@ ARCHARD_KEYS = ("hardness_MPa", "k_seizure", "k_low_speed", "k_mid_speed", "k_hi
 MAX_STEPS = 1000
 #: Largest ``smoothing_mm`` in update-grid cells (``grid_mm``): a wider Gaussian smooths more than the profile.
 MAX_SMOOTHING_CELLS = 1000
+#: Values of ``wear.layer_state``.
+LAYER_STATES = ("hardening", "virgin")
 USFD_KEYS = ("t1", "t2", "mild_slope", "severe_rate", "cat_slope", "cat_offset")
 
 
@@ -98,15 +102,15 @@ class WearSettings:
         throughout).
     """
 
-    max_depth_per_step_mm: float = 0.1
-    smoothing_mm: float = 1.0
-    grid_mm: float = 0.2
-    rail_passes_per_wheel_pass: float = 1.0
-    inelastic: bool = True
-    layer_state: str = "hardening"
-    workers: int = 1
-    scheduler: str = ""
-    conicity_amplitude_mm: float = 3.0
+    max_depth_per_step_mm: float = key(0.1, "mm", gt=0.0)
+    smoothing_mm: float = key(1.0, "mm", ge=0.0)
+    grid_mm: float = key(0.2, "mm", gt=0.0, le=2.0)
+    rail_passes_per_wheel_pass: float = key(1.0, "-", ge=0.0)
+    inelastic: bool = key(True)
+    layer_state: str = key("hardening", choices=LAYER_STATES)
+    workers: int = key(1, ge=1)
+    scheduler: str = key("")
+    conicity_amplitude_mm: float = key(3.0, "mm", gt=0.0)
     recalibrate: Recalibration | None = None
 
     def to_dict(self) -> dict[str, Any]:
@@ -150,7 +154,26 @@ class WearScene:
     @property
     def normal(self) -> NormalMethod:
         """The normal contact method of every condition (``[method] normal``)."""
-        return self.wheel_rail.method.normal_method
+        return self.wheel_rail.method.normal_method()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The resolved inputs as plain data (result.json "inputs"): the file and its sha256, profiles, sides, the
+        normal method, the wear law, the collective, the step settings, the layers' tables and the TOML content."""
+        wr, col, law = self.wheel_rail, self.collective, self.law
+        path = Path(self.path)
+        return {
+            "scene_file": str(path.resolve()),
+            "content_sha256": file_sha256(path) if path.is_file() else None,
+            "rail_profile": wr.rail_profile.name, "wheel_profile": wr.wheel_profile.name,
+            "sides": wr.sides, "normal_method": self.normal.name, "law": law.name,
+            "archard": {b: vars(m) for b, m in law.archard.items()},
+            "usfd": {b: vars(t) for b, t in law.usfd.items()}, "density_kg_m3": law.density_kg_m3,
+            "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": self.settings.to_dict(),
+            "conditions": [vars(c) for c in col.conditions],
+            "collective_source": {"file": col.source_file, "sha256": col.source_sha256} if col.source_file else None,
+            "passes_cap": wr.passes.max,
+            "layers": None if wr.solver_layers is None else dict(wr.solver_layers.names),
+            "scene_toml": self.data}
 
     @property
     def initial_profiles(self) -> dict[str, dict[str, Profile]]:
@@ -195,23 +218,13 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
 
 
 def _settings(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> WearSettings:
-    settings = WearSettings(
-        max_depth_per_step_mm=wear.number("max_depth_per_step_mm", 0.1, gt=0.0),
-        smoothing_mm=wear.number("smoothing_mm", 1.0, ge=0.0),
-        grid_mm=wear.number("grid_mm", 0.2, gt=0.0, le=2.0),
-        rail_passes_per_wheel_pass=wear.number("rail_passes_per_wheel_pass", 1.0, ge=0.0),
-        inelastic=wear.boolean("inelastic", True),
-        layer_state=wear.text("layer_state", "hardening"),
-        workers=wear.integer("workers", 1, ge=1),
-        scheduler=check_scheduler_address(wear.table.get("scheduler", ""), wear.what("scheduler")),
-        conicity_amplitude_mm=wear.number("conicity_amplitude_mm", 3.0, gt=0.0),
-        recalibrate=_recalibration(wear, base, wheel_rail))
+    scheduler = check_scheduler_address(wear.table.get("scheduler", ""), wear.what("scheduler"))
+    settings = read_section(WearSettings, wear, also_known=WEAR_KEYS,
+                            given={"scheduler": scheduler, "recalibrate": _recalibration(wear, base, wheel_rail)})
     if settings.smoothing_mm > MAX_SMOOTHING_CELLS * settings.grid_mm:
         raise wear.error("smoothing_mm", f"must be <= {MAX_SMOOTHING_CELLS} x grid_mm = "
                          f"{MAX_SMOOTHING_CELLS * settings.grid_mm:g} mm (a Gaussian wider than the profile), got "
                          f"{settings.smoothing_mm:g}")
-    if settings.layer_state not in ("hardening", "virgin"):
-        raise wear.error("layer_state", f"must be 'hardening' or 'virgin', got {settings.layer_state!r}")
     if settings.inelastic and wheel_rail.layers is None:
         raise wear.error("inelastic", "true needs [layers] (the Prandtl layer gives the inelastic displacement); "
                          "set inelastic = false for abrasive wear alone")

@@ -36,15 +36,15 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
-from contact.layer.strip_lookup import clamped_characteristics
+from contact.layer.prandtl_layer import LayerPair
+from contact.scenes.layers import LayerSources, build_layer_pair
 from contact.normal.kik_piotrowski import NormalForceEvaluator, NormalProblem, NormalSolution, solve_normal
 from contact.normal.exact_field import ExactField
 from contact.normal.method import NormalMethod, solve_normal_with
 from contact.tangential.fastsim import Creepage, TangentialResult
 from contact.tangential.on_patch import TangentialSettings, solve_regions
 from contact.wheel_rail.contact_search import ContactCandidate, SearchResult
-from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
+from contact.wheel_rail.inputs import WheelRailInputs
 from contact.wheel_rail.kinematics import PatchKinematics, contact_frame, creepages
 from contact.wheel_rail.reference_point import ReferencePoint, reference_point
 from contact.wheel_rail.root_finder import secant
@@ -75,11 +75,11 @@ def track_vector(v: np.ndarray, sign: int) -> np.ndarray:
     return np.array([v[0], sign * v[1], v[2]])
 
 
-def normal_problem(cand: ContactCandidate, sign: int, inputs: WheelRailInputs, force: float) -> NormalProblem:
+def candidate_problem(cand: ContactCandidate, sign: int, inputs: WheelRailInputs, force: float) -> NormalProblem:
     """The candidate's normal problem at the normal force ``force`` (N), strips in track orientation."""
     eta, f = (cand.eta_mm, cand.f_mm) if sign > 0 else (-cand.eta_mm[::-1], cand.f_mm[::-1])
-    return NormalProblem(eta, f, force, cand.rolling_radius_kp_mm, inputs.E_MPa, inputs.poisson, alpha=inputs.alpha,
-                         grid_mm=inputs.grid_mm, interpolation="pchip")
+    return inputs.method.normal_problem(eta, f, force, cand.rolling_radius_kp_mm, inputs.material,
+                                        interpolation="pchip")
 
 
 def patch_tangential(normal: NormalSolution, kin: PatchKinematics, inputs: WheelRailInputs,
@@ -96,31 +96,19 @@ def patch_tangential(normal: NormalSolution, kin: PatchKinematics, inputs: Wheel
     return solve_regions(normal, Creepage(kin.vx, kin.vy, kin.phi_per_mm), settings, eta_ref_mm, start)
 
 
-def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, layers: WheelRailLayers | None,
+def candidate_layers(cand: ContactCandidate, sign: int, prob: NormalProblem, layers: LayerSources | None,
                      f_cap_mm: float = LAYER_F_CAPS_MM[0], patch_mm: tuple[float, float] | None = None
                      ) -> tuple[LayerPair | None, dict[str, np.ndarray]]:
     """Per-strip layers of a candidate's patch: (pair, profile coordinate per body on the strips). Each table is read
     at the strip's profile coordinate on that body (the point of the body's profile on the strip's normal line in
-    the contact plane; :func:`contact.layer.strip_lookup.clamped_characteristics`); only strips with a separation
-    below ``f_cap_mm`` get an element. ``patch_mm`` = (a, b): table characteristics scaled to that patch. The layers
-    carry the table's rolling law (a lookup without one: none, the passes fall back to "relaxed")."""
+    the contact plane; :func:`contact.scenes.layers.build_layer_pair`); only strips with a separation below
+    ``f_cap_mm`` get an element. ``patch_mm`` = (a, b): table characteristics scaled to that patch."""
     if layers is None or layers.empty:
         return None, {}
-    strips = prob.strip_y_mm
-    eta = sign * strips
+    eta = sign * prob.strip_y_mm
     coords = {"rail": cand.rail_coordinate(eta), "wheel": cand.wheel_coordinate(eta)}
     near = prob.separation_on_grid_mm <= f_cap_mm
-    if layers.combined is not None:
-        return LayerPair(combined=PrandtlLayer.uniform(layers.combined, strips[near], name="combined layer")), coords
-    built = {}
-    for body in BODIES:
-        table = getattr(layers, body)
-        if table is not None:
-            name = layers.name(body)
-            chars, _ = clamped_characteristics(table, coords[body][near], f"layers.{body} ({name})", patch_mm)
-            built[body] = PrandtlLayer.from_characteristics(chars, strips[near], name=f"{body} layer ({name})",
-                                                            rolling_law=table.rolling_law)
-    return LayerPair(**built), coords
+    return build_layer_pair(layers, prob.strip_y_mm[near], lambda body: coords[body][near], patch_mm, "layers"), coords
 
 
 @dataclass(eq=False)
@@ -201,7 +189,7 @@ class VerticalBalance:
     ``case`` names the case in an InputError; a ConvergenceError's message leaves it to the caller."""
 
     def __init__(self, found: SearchResult, rail: PlacedRail, wheel: Profile, inputs: WheelRailInputs,
-                 layers: WheelRailLayers | None, sign: int, case: str, f_cap_mm: float,
+                 layers: LayerSources | None, sign: int, case: str, f_cap_mm: float,
                  patch_mm: dict[int, tuple[float, float]] | None = None):
         """``patch_mm``: candidate index -> (a, b) (mm) the candidate's table layers are scaled to."""
         self.found, self.wheel, self.inputs, self.sign, self.case = found, wheel, inputs, sign, case
@@ -216,7 +204,7 @@ class VerticalBalance:
             cg, sg = math.cos(c.contact_angle_rad), math.sin(c.contact_angle_rad)
             require(cg > 0.05, case, "a contact normal is (nearly) horizontal: the wheel cannot carry a vertical "
                     "load there")
-            prob = normal_problem(c, sign, inputs, Q / cg)
+            prob = candidate_problem(c, sign, inputs, Q / cg)
             pair, coords = candidate_layers(c, sign, prob, layers, f_cap_mm, patch_mm.get(k))
             self.ctx.append(BalanceCandidate(c, pair, coords, cg, sg, NormalForceEvaluator(prob, pair), sign,
                                              layer_patch_mm=patch_mm.get(k)))
@@ -227,7 +215,7 @@ class VerticalBalance:
         first point of the balance iteration, never its result)."""
         self.evaluations += 1
         inp = self.inputs
-        prob = normal_problem(ctx.cand, self.sign, inp, force)
+        prob = candidate_problem(ctx.cand, self.sign, inp, force)
         sol = solve_normal_with(prob, ctx.pair, method=inp.normal_method,
                                 **ctx.normal_start(inp.normal_method, rough))
         ctx.remember(sol)
@@ -255,7 +243,7 @@ class VerticalBalance:
             return n_kp
 
         def miss(log_n: float) -> float:
-            prob = normal_problem(ctx.cand, self.sign, self.inputs, math.exp(log_n))
+            prob = candidate_problem(ctx.cand, self.sign, self.inputs, math.exp(log_n))
             sol = solve_normal_with(prob, ctx.pair, method=method)
             ctx.remember(sol)
             return sol.delta_mm - delta
@@ -364,4 +352,4 @@ class VerticalBalance:
 
 
 __all__ = ["BALANCE_ITER_RTOL", "LAYER_F_CAPS_MM", "BalanceCandidate", "LoadedPatch", "VerticalBalance",
-           "candidate_layers", "normal_problem", "patch_tangential", "track_vector"]
+           "candidate_layers", "candidate_problem", "patch_tangential", "track_vector"]

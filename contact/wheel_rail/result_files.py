@@ -1,4 +1,4 @@
-"""The files of a wheel_rail result: the input echo and conventions of result.json, and ``cases.csv`` (one row per
+"""The files of a wheel_rail result: the conventions of result.json, and ``cases.csv`` (one row per
 loaded patch: pose, location, angle, N, Fx, Fy, p_max, area, creepages, Y/Q, balance residual, run time;
 :data:`CSV_COLUMNS`) (units mm, N, MPa, s, rad; conventions: :data:`CONVENTIONS`, docs/wheel-rail.md).
 """
@@ -6,12 +6,9 @@ loaded patch: pose, location, angle, N, Fx, Fy, p_max, area, creepages, Y/Q, bal
 from __future__ import annotations
 
 import csv
-import hashlib
 import io
-from typing import Any
 
 from contact.wheel_rail.results import SweepResult
-from contact.wheel_rail.scene import WheelRailScene
 
 #: Columns of cases.csv (one row per loaded patch; a failed case gets one row with its error).
 CSV_COLUMNS = ("case", "lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s", "vertical_load_N", "speed_mm_s",
@@ -73,35 +70,4 @@ CONVENTIONS = {
 }
 
 
-def inputs_echo(scene: WheelRailScene) -> dict[str, Any]:
-    """The resolved inputs of the scene as written in result.json ("inputs")."""
-    lay = scene.layout
-    inp = scene.inputs()
-    layers = scene.layers
-    path = scene.path
-    return {
-        "scene_file": str(path.resolve()),
-        "content_sha256": hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None,
-        "title": scene.data.get("title", ""), "description": scene.data.get("description", ""),
-        "rail_profile": scene.rail_profile.name, "wheel_profile": scene.wheel_profile.name,
-        "track": {"gauge_mm": lay.gauge_mm, "gauge_depth_mm": lay.gauge_depth_mm,
-                  "inclination_rad": lay.inclination_rad, "back_to_back_mm": lay.back_to_back_mm,
-                  "flange_back_y_mm": lay.flange_back_y_mm, "nominal_radius_mm": lay.nominal_radius_mm},
-        "sides": scene.sides, "roll": "auto" if scene.roll_auto else "given",
-        "vertical_load_N": inp.vertical_load_N, "speed_mm_s": inp.speed_mm_s,
-        "pitch_rate_rad_s": inp.omega_rad_s,
-        "friction": inp.friction, "E_MPa": inp.E_MPa, "poisson": inp.poisson, "G_MPa": inp.G_MPa,
-        "method": {"alpha": inp.alpha, "grid_mm": inp.grid_mm, "fastsim_cells": inp.fastsim_cells,
-                   "normal": inp.normal_method.name, "exact_cells": inp.normal_method.exact_cells,
-                   "layer_mode": inp.normal_method.layer_mode, "contact_point": inp.contact_point,
-                   "balance": inp.balance, **vars(inp.search)},
-        "sweep_csv": None if scene.sweep.csv is None else scene.sweep.csv.to_dict(),
-        "passes": vars(inp.passes),
-        "layers": None if layers is None else (
-            {"combined": layers.solver.combined.to_dict()} if layers.combined is not None else
-            {**layers.solver.names, "sha256": layers.sha256}),
-        "scene_toml": scene.data,
-    }
-
-
-__all__ = ["CONVENTIONS", "CSV_COLUMNS", "cases_csv", "inputs_echo"]
+__all__ = ["CONVENTIONS", "CSV_COLUMNS", "cases_csv"]

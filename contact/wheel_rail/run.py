@@ -28,7 +28,7 @@ from contact.scenes.result_io import UNITS, code_version
 from contact.scenes.vtk_output import sweep_items, write_series
 from contact.tangential.frictional_outputs import write_wheel_rail
 from contact.wheel_rail.contact_table import write_contact_table
-from contact.wheel_rail.result_files import CONVENTIONS, cases_csv, inputs_echo
+from contact.wheel_rail.result_files import CONVENTIONS, cases_csv
 from contact.wheel_rail.results import CaseResult, DeformedProfileFile, RailPlacement, SweepResult, WheelResult
 from contact.wheel_rail.scene import WheelRailScene
 from contact.wheel_rail.sweep_spec import SWEEP_KEYS, CaseSpec
@@ -172,7 +172,7 @@ def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk:
     if all(s is None for s in all_sols):
         raise InputError(scene.path.name, f"every case failed; first: {records[0].error}")
     result = SweepResult(
-        "wheel_rail", inputs_echo(scene), code_version(),
+        "wheel_rail", scene.to_dict(), code_version(),
         {**UNITS, "angles": "rad (contact_angle_deg in degrees)",
          "Fx_N, Fy_N": "N (creep forces of the rail on the wheel, contact frame x = rolling direction, "
                        "y = contact-plane lateral axis with positive track-Y component)"},

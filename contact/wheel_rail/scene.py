@@ -4,28 +4,32 @@ estimate, the run and the wear loop read it.
 
 The scene records the inputs as given (resolved: defaults filled in, ``inclination`` 1:n as ``inclination_rad``,
 ``G_MPa`` as ``E_MPa``, file names as resolved paths); the profiles and calibration tables it names are read once
-when it is built and kept beside the inputs (not compared, not written by :meth:`WheelRailScene.to_dict`;
-:meth:`WheelRailScene.from_dict` reads them again).
+when it is built and kept beside the inputs (not compared). :meth:`WheelRailScene.to_dict` is the inputs record of
+result.json; :meth:`WheelRailScene.from_dict` parses its TOML content again.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from contact.normal.method import NormalMethod
+from contact.scenes.layers import LayerSources, LayersSpec
 from contact.scenes.result_io import Record
-from contact.scenes.scene_spec import PassesSpec
-from contact.wheel_rail.contact_search import SearchSettings
-from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
-from contact.wheel_rail.layers_spec import LayersSpec
-from contact.wheel_rail.scene_files import read_profile
+from contact.scenes.sections import MaterialSpec, PassesSpec, TangentialSpec
+from contact.wheel_rail.inputs import WheelRailInputs
+from contact.wheel_rail.sections import WheelLoadSpec, WheelRailMethodSpec, WheelRailOutputSpec
+from contact.wheel_rail.scene_files import file_sha256
 from contact.wheel_rail.sweep_spec import CaseSpec, SweepSpec
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose
 from meshes.profiles import Profile
-from wrlayer.elastic import shear_modulus_MPa
+from wrlayer.section_keys import key
+from wrlayer.validate import MAX_RADIUS_MM, MIN_RADIUS_MM
+
+#: Largest number of local worker processes of [run] (as the calibration's run.workers).
+MAX_WORKERS = 64
+#: Values of ``wheel.side``.
+SIDES = ("right", "left", "both")
 
 
 @dataclass(frozen=True)
@@ -44,9 +48,9 @@ class ProfilesSpec(Record):
         :mod:`meshes.profiles.plausibility`): for a profile that is unusual on purpose.
     """
 
-    rail: str = "60E1"
-    wheel: str = "S1002"
-    accept_unusual_profile: bool = False
+    rail: str = key("60E1")
+    wheel: str = key("S1002")
+    accept_unusual_profile: bool = key(False)
 
 
 @dataclass(frozen=True)
@@ -68,11 +72,11 @@ class TrackSpec(Record):
         Wheel profile coordinate of the flange back (mm).
     """
 
-    gauge_mm: float = 1435.0
-    gauge_depth_mm: float = 14.0
-    inclination_rad: float = math.atan(1.0 / 40.0)
-    back_to_back_mm: float = 1360.0
-    flange_back_y_mm: float = -70.0
+    gauge_mm: float = key(TrackLayout.gauge_mm, "mm")
+    gauge_depth_mm: float = key(TrackLayout.gauge_depth_mm, "mm", gt=0.0)
+    inclination_rad: float = key(TrackLayout.inclination_rad, "rad", ge=-0.2, le=0.2)
+    back_to_back_mm: float = key(TrackLayout.back_to_back_mm, "mm", gt=0.0)
+    flange_back_y_mm: float = key(TrackLayout.flange_back_y_mm, "mm")
 
 
 @dataclass(frozen=True)
@@ -87,8 +91,8 @@ class WheelSpec(Record):
         "right", "left" or "both" (-).
     """
 
-    nominal_radius_mm: float = 460.0
-    side: str = "right"
+    nominal_radius_mm: float = key(TrackLayout.nominal_radius_mm, "mm", ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM)
+    side: str = key("right", choices=SIDES)
 
 
 @dataclass(frozen=True)
@@ -107,148 +111,14 @@ class WheelsetSpec(Record):
         Pitch rate (rad/s); None: speed / nominal radius (pure rolling).
     """
 
-    lateral_mm: float = 0.0
-    yaw_rad: float = 0.0
-    roll_rad: float | str = 0.0
-    pitch_rate_rad_s: float | None = None
+    lateral_mm: float = key(0.0, "mm")
+    yaw_rad: float = key(0.0, "rad", ge=-0.2, le=0.2)
+    roll_rad: float | str = field(default=0.0, metadata={"unit": "rad"})
+    pitch_rate_rad_s: float | None = key(None, "rad/s")
 
     @property
     def roll_auto(self) -> bool:
         return self.roll_rad == "auto"
-
-
-@dataclass(frozen=True)
-class LoadSpec(Record):
-    """[load]: load and speed of the single case (a sweep may vary them per case).
-
-    Attributes
-    ----------
-    vertical_load_N : float
-        Vertical load per wheel Q (N).
-    speed_mm_s : float
-        Rolling speed V (mm/s).
-    """
-
-    vertical_load_N: float = 10000.0
-    speed_mm_s: float = 2000.0
-
-
-@dataclass(frozen=True)
-class MaterialSpec(Record):
-    """[material]: elastic constants of wheel and rail (the scene may give ``G_MPa`` instead of ``E_MPa``).
-
-    Attributes
-    ----------
-    E_MPa : float
-        Young's modulus (MPa).
-    poisson : float
-        Poisson's ratio (-).
-    """
-
-    E_MPa: float = 210000.0
-    poisson: float = 0.28
-
-    @property
-    def G_MPa(self) -> float:
-        """Shear modulus E / (2 (1 + nu)) (MPa)."""
-        return shear_modulus_MPa(self.E_MPa, self.poisson)
-
-
-@dataclass(frozen=True)
-class TangentialSpec(Record):
-    """[tangential]: the friction of the tangential solution (``method.tangential``).
-
-    Attributes
-    ----------
-    friction : float
-        Coulomb friction coefficient mu (-); 0: no tangential solution.
-    """
-
-    friction: float = 0.3
-
-
-@dataclass(frozen=True)
-class MethodSpec(Record):
-    """[method]: solver settings.
-
-    Attributes
-    ----------
-    alpha : float
-        Kik–Piotrowski's virtual penetration factor (-, paper eq. 9).
-    grid_mm : float
-        Strip grid spacing of the normal problem (mm).
-    fastsim_cells : int
-        FASTSIM cells per strip (-).
-    merge_mm : float
-        Barrier height below which neighbouring gap minima are one contact candidate (mm).
-    candidate_gap_mm : float
-        Largest gap above the first contact of a kept contact candidate (mm).
-    f_cap_mm : float
-        The separation function is cut where it exceeds this (mm).
-    normal : str
-        The normal solver: "kik_piotrowski", "exact" or "coarse_exact" (the half-space on a coarse grid) (-).
-    exact_cells : int | None
-        Exact solver grid: cells along x over the patch length (-); None: the solver's default.
-    layer_mode : str
-        Exact solver's layer mode: "indentation" or "rolling" (-).
-    contact_point : str
-        The reported point of a patch, where creepages are evaluated: "first_contact" or "weighted_centre" (-).
-    balance : str
-        Vertical load balance: "total" (normal + tangential forces) or "normal" (normal forces only) (-).
-    tangential : str
-        The tangential solver: "fastsim" (Kalker's simplified theory), "fastrip" (FaStrip) or "exact" (Kalker's
-        full theory on the grid) (-; docs/tangential.md).
-    """
-
-    alpha: float = 0.55
-    grid_mm: float = 0.1
-    fastsim_cells: int = 60
-    merge_mm: float = 0.005
-    candidate_gap_mm: float = 1.0
-    f_cap_mm: float = 2.0
-    normal: str = "kik_piotrowski"
-    exact_cells: int | None = None
-    layer_mode: str = "indentation"
-    contact_point: str = "first_contact"
-    balance: str = "total"
-    tangential: str = "fastsim"
-
-    @property
-    def normal_method(self) -> NormalMethod:
-        return NormalMethod(self.normal, exact_cells=self.exact_cells, layer_mode=self.layer_mode)
-
-    @property
-    def search(self) -> SearchSettings:
-        return SearchSettings(merge_mm=self.merge_mm, candidate_gap_mm=self.candidate_gap_mm, f_cap_mm=self.f_cap_mm)
-
-
-@dataclass(frozen=True)
-class OutputSpec(Record):
-    """[output]: extra output files.
-
-    Attributes
-    ----------
-    deformed_profiles : bool
-        With layers: write each case's deformed rail and wheel profiles (SIMPACK .prr/.prw and CSV) (-).
-    vtk : bool
-        Write the patches' fields for ParaView (vtk/contact_fields.pvd over the cases, one .vtu per case, wheel and
-        patch) (-).
-    convention : str
-        "wrlayer" (default) or "contact": also write every patch in CONTACT's sign convention
-        (contact_convention.csv; docs/conventions.md) (-).
-    contact_table : bool
-        Also write the contact table for multibody codes (contact_table.csv, one row per case, wheel and loaded
-        patch; docs/contact-tables.md) (-).
-    frictional_csv : bool
-        Write the wear-ready frictional CSVs (frictional_cells.csv, frictional_strips.csv: every FASTSIM cell and
-        strip; about 0.9 MB and 0.1 s per elastic case of both wheels) (-).
-    """
-
-    deformed_profiles: bool = True
-    vtk: bool = True
-    convention: str = "wrlayer"
-    contact_table: bool = False
-    frictional_csv: bool = True
 
 
 @dataclass(frozen=True)
@@ -263,19 +133,13 @@ class RunSpec(Record):
         Dask scheduler address, e.g. "tcp://host:8786" ("": local); with it the cases run on the cluster.
     """
 
-    workers: int = 1
-    scheduler: str = ""
+    workers: int = key(1, ge=1, le=MAX_WORKERS)
+    scheduler: str = key("")
 
     @property
     def parallel(self) -> bool:
         """True when the cases go through the runner (several workers or a scheduler)."""
         return self.workers > 1 or bool(self.scheduler)
-
-
-#: The sections of a wheel–rail scene with their dataclasses (the order of :meth:`WheelRailScene.to_dict`).
-SECTIONS = {"profiles": ProfilesSpec, "track": TrackSpec, "wheel": WheelSpec, "wheelset": WheelsetSpec,
-            "load": LoadSpec, "material": MaterialSpec, "tangential": TangentialSpec, "layers": LayersSpec,
-            "passes": PassesSpec, "method": MethodSpec, "sweep": SweepSpec, "output": OutputSpec, "run": RunSpec}
 
 
 @dataclass(frozen=True)
@@ -309,14 +173,14 @@ class WheelRailScene:
     track: TrackSpec
     wheel: WheelSpec
     wheelset: WheelsetSpec
-    load: LoadSpec
+    load: WheelLoadSpec
     material: MaterialSpec
     tangential: TangentialSpec
     layers: LayersSpec | None
     passes: PassesSpec
-    method: MethodSpec
+    method: WheelRailMethodSpec
     sweep: SweepSpec
-    output: OutputSpec
+    output: WheelRailOutputSpec
     run: RunSpec = field(default_factory=RunSpec)
     data: dict = field(default_factory=dict)
     rail_profile: Profile | None = field(default=None, compare=False, repr=False)
@@ -348,45 +212,55 @@ class WheelRailScene:
         return self.sweep.cases
 
     @property
-    def solver_layers(self) -> WheelRailLayers | None:
+    def solver_layers(self) -> LayerSources | None:
         """The layers for the solver (None without [layers])."""
-        return None if self.layers is None else self.layers.solver
+        return None if self.layers is None else self.layers.sources
 
     def inputs(self, side: str = "right", pose: WheelsetPose | None = None, case: CaseSpec | None = None
                ) -> WheelRailInputs:
         """The solver inputs of one wheel: the scene's settings with the case's pitch rate, load and speed (the
         scene's [wheelset]/[load] without a case)."""
-        m = self.method
         pitch = self.wheelset.pitch_rate_rad_s if case is None else case.pitch_rate_rad_s
-        load = self.load if case is None else case
-        return WheelRailInputs(layout=self.layout, pose=pose or WheelsetPose(), side=side,
-                               vertical_load_N=load.vertical_load_N, speed_mm_s=load.speed_mm_s,
-                               pitch_rate_rad_s=pitch, friction=self.tangential.friction,
-                               E_MPa=self.material.E_MPa, poisson=self.material.poisson, alpha=m.alpha,
-                               grid_mm=m.grid_mm, fastsim_cells=m.fastsim_cells, passes=self.passes.options,
-                               search=m.search, normal_method=m.normal_method, contact_point=m.contact_point,
-                               balance=m.balance, tangential_method=m.tangential)
+        load = self.load if case is None else WheelLoadSpec(case.vertical_load_N, case.speed_mm_s)
+        return WheelRailInputs(layout=self.layout, pose=pose or WheelsetPose(), side=side, load=load,
+                               pitch_rate_rad_s=pitch, material=self.material, tangential=self.tangential,
+                               method=self.method, passes=self.passes)
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain data (the resolved inputs; the profiles and tables by name)."""
-        out: dict[str, Any] = {"path": str(self.path), "title": self.title, "description": self.description}
-        for name in SECTIONS:
-            value = getattr(self, name)
-            out[name] = None if value is None else value.to_dict()
-        out["data"] = self.data
-        return out
+        """The resolved inputs as plain data (result.json "inputs"): the file and its sha256, the profiles by name,
+        the track, sides, load, material and method as the solver uses them (defaults filled in), the layers' table
+        names and sha256, and the TOML content as read (:meth:`from_dict` parses it again)."""
+        lay, inp, layers = self.layout, self.inputs(), self.layers
+        m = self.method
+        return {
+            "scene_file": str(self.path.resolve()),
+            "content_sha256": file_sha256(self.path) if self.path.is_file() else None,
+            "title": self.title, "description": self.description,
+            "rail_profile": self.rail_profile.name, "wheel_profile": self.wheel_profile.name,
+            "track": {**self.track.to_dict(), "nominal_radius_mm": lay.nominal_radius_mm},
+            "sides": self.sides, "roll": "auto" if self.roll_auto else "given",
+            "vertical_load_N": self.load.vertical_load_N, "speed_mm_s": self.load.speed_mm_s,
+            "pitch_rate_rad_s": inp.omega_rad_s,
+            "friction": self.tangential.friction, "E_MPa": self.material.E_MPa, "poisson": self.material.poisson,
+            "G_MPa": self.material.G_MPa,
+            "method": {"alpha": m.alpha, "grid_mm": m.grid_mm, "fastsim_cells": m.fastsim_cells, "normal": m.normal,
+                       "exact_cells": m.exact_cells, "layer_mode": m.layer_mode, "contact_point": m.contact_point,
+                       "balance": m.balance, **vars(m.search)},
+            "sweep_csv": None if self.sweep.csv is None else self.sweep.csv.to_dict(),
+            "passes": vars(self.passes.options),
+            "layers": None if layers is None else (
+                {"combined": layers.sources.combined.to_dict()} if layers.combined is not None else
+                {**layers.sources.names, "sha256": layers.sha256}),
+            "scene_toml": self.data,
+        }
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> WheelRailScene:
-        """The scene of :meth:`to_dict` (profiles and tables read again)."""
-        path = Path(data["path"])
-        sections = {name: None if data[name] is None else kind.from_dict(data[name])
-                    for name, kind in SECTIONS.items()}
-        profiles = sections["profiles"]
-        return cls(path, data["title"], data["description"], **sections, data=data["data"],
-                   rail_profile=read_profile(profiles.rail, path.parent, "rail", f"{path.name}: profiles.rail"),
-                   wheel_profile=read_profile(profiles.wheel, path.parent, "wheel", f"{path.name}: profiles.wheel"))
+        """The scene of :meth:`to_dict`: its TOML content parsed again (profiles and tables read again)."""
+        from contact.wheel_rail.parse import parse_wheel_rail_scene  # here: the parser builds this class
+
+        return parse_wheel_rail_scene(data["scene_toml"], Path(data["scene_file"]))
 
 
-__all__ = ["SECTIONS", "LoadSpec", "MaterialSpec", "MethodSpec", "OutputSpec", "PassesSpec", "ProfilesSpec", "RunSpec",
-           "TangentialSpec", "TrackSpec", "WheelRailScene", "WheelSpec", "WheelsetSpec"]
+__all__ = ["MAX_WORKERS", "SIDES", "ProfilesSpec", "RunSpec", "TrackSpec", "WheelLoadSpec",
+           "WheelRailMethodSpec", "WheelRailOutputSpec", "WheelRailScene", "WheelSpec", "WheelsetSpec"]

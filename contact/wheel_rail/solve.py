@@ -16,7 +16,7 @@ on the strips near contact (:data:`contact.wheel_rail.balance.LAYER_F_CAPS_MM`);
 
 Layers: passes (paper section 5) run per patch at the patch's balanced normal force
 (:func:`contact.passes.passes.run_passes`); a strip IN CONTACT outside a calibration table's range is a
-:class:`wrlayer.errors.LayerNotCovered`. With ``WheelRailLayers.scale_to_patch`` every patch's table
+:class:`wrlayer.errors.LayerNotCovered`. With ``LayerSources.scale_to_patch`` every patch's table
 characteristics are scaled to that patch's own solved semi-axes (a, b) = (length/2, width/2)
 (``LayerTable.characteristic_at(y, patch_mm)``: displacements x sqrt(ab) / sqrt(a_c b_c)): the balance is solved,
 the layers rebuilt at the patches' sizes, and this is repeated until no loaded patch's a or b changes by more than
@@ -36,7 +36,8 @@ from contact.normal.kik_piotrowski import NormalSolution
 from contact.passes.passes import PassRecord, run_passes
 from contact.wheel_rail.balance import LAYER_F_CAPS_MM, LoadedPatch, VerticalBalance, track_vector
 from contact.wheel_rail.contact_search import SearchResult, SearchSettings, search_contacts
-from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
+from contact.scenes.layers import LayerSources
+from contact.wheel_rail.inputs import WheelRailInputs
 from contact.wheel_rail.solution import PatchSolution, WheelRailSolution
 from contact.wheel_rail.track_geometry import PlacedRail, place_rail, side_sign
 from meshes.profiles import Profile
@@ -49,7 +50,7 @@ MERGE_RETRY_MM = (0.02, 0.05, 0.1, 0.2, 0.5)
 
 
 def solve_wheel(rail_profile: Profile, wheel_profile: Profile, inputs: WheelRailInputs,
-                layers: WheelRailLayers | None = None, placed_rail: PlacedRail | None = None,
+                layers: LayerSources | None = None, placed_rail: PlacedRail | None = None,
                 case: str = "wheel-rail case") -> WheelRailSolution:
     """Solve one wheel on its rail (see the module docstring). ``placed_rail`` may be passed to reuse a placement
     (it depends only on the rail profile and the layout). ``WheelRailSolution.merge_mm`` records the merge level
@@ -74,7 +75,7 @@ def solve_wheel(rail_profile: Profile, wheel_profile: Profile, inputs: WheelRail
 
 
 def _solve_with_search(rail: PlacedRail, wheel_profile: Profile, inputs: WheelRailInputs,
-                       layers: WheelRailLayers | None, case: str, search: SearchSettings) -> WheelRailSolution:
+                       layers: LayerSources | None, case: str, search: SearchSettings) -> WheelRailSolution:
     """The case at one merge level; solved again with layers on more strips while a loaded strip has none."""
     found = search_contacts(rail, wheel_profile, inputs.layout, inputs.pose.for_side(inputs.side), search, case=case)
     for k, cap in enumerate(LAYER_F_CAPS_MM):
@@ -91,7 +92,7 @@ def _solve_with_search(rail: PlacedRail, wheel_profile: Profile, inputs: WheelRa
 
 
 def _balanced(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, inputs: WheelRailInputs,
-              layers: WheelRailLayers | None, case: str, f_cap_mm: float
+              layers: LayerSources | None, case: str, f_cap_mm: float
               ) -> tuple[VerticalBalance, list[LoadedPatch], float, int, int]:
     """The balanced candidates: (balance, loaded patches, Delta (mm), patch solves, scaled balances); with
     ``scale_to_patch`` at the fixed point over each loaded candidate's patch size (module docstring)."""
@@ -114,7 +115,7 @@ def _balanced(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, inp
 
 
 def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, inputs: WheelRailInputs,
-                 layers: WheelRailLayers | None, case: str, f_cap_mm: float) -> WheelRailSolution:
+                 layers: LayerSources | None, case: str, f_cap_mm: float) -> WheelRailSolution:
     """The balanced patches of the found candidates, with their passes; the balance residual checked."""
     _, loaded, Delta, iterations, scaling_solves = _balanced(found, rail, wheel_profile, inputs, layers, case,
                                                              f_cap_mm)
@@ -132,7 +133,7 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
                              balance_iterations=iterations)
 
 
-def _patch(lp: LoadedPatch, inputs: WheelRailInputs, layers: WheelRailLayers | None,
+def _patch(lp: LoadedPatch, inputs: WheelRailInputs, layers: LayerSources | None,
            scaling_solves: int) -> PatchSolution:
     """A balanced candidate as a patch: passes (paper section 5) at the balanced force, pass 1 being the balanced
     solution; the layer tables' coverage of the strips in contact checked."""
@@ -142,7 +143,7 @@ def _patch(lp: LoadedPatch, inputs: WheelRailInputs, layers: WheelRailLayers | N
     pass_normals: list[NormalSolution] = [lp.normal]
     if pair is not None:
         pass_normals = []
-        records, _ = run_passes(lp.prob, pair, inputs.passes, on_pass=lambda rec, s: pass_normals.append(s),
+        records, _ = run_passes(lp.prob, pair, inputs.passes.options, on_pass=lambda rec, s: pass_normals.append(s),
                                 method=inputs.normal_method)
     if not coords:
         eta = sign * lp.prob.strip_y_mm

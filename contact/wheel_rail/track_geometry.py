@@ -37,6 +37,8 @@ from meshes.profiles.placement import rail_inclination
 from wrlayer.errors import require
 
 SIDES = ("right", "left")
+#: The rail inclination 1:n of a track that gives none (-).
+INCLINATION = 40.0
 #: Spacing (mm) of the dense rail sample used for lateral look-ups.
 RAIL_SAMPLE_MM = 0.02
 
@@ -53,7 +55,7 @@ class TrackLayout:
 
     gauge_mm: float = 1435.0
     gauge_depth_mm: float = 14.0
-    inclination_rad: float = rail_inclination(40.0)
+    inclination_rad: float = rail_inclination(INCLINATION)
     back_to_back_mm: float = 1360.0
     flange_back_y_mm: float = -70.0
     nominal_radius_mm: float = 460.0

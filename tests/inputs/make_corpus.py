@@ -19,7 +19,7 @@ SCENE = {
     "load": {"normal_force_N": "80000.0", "rolling_radius_mm": "460.0"},
     "material": {"E_MPa": "210000.0", "poisson": "0.3"},
     "separation": {"lateral_radius_mm": "300.0", "half_width_mm": "12.0"},
-    "layer": {"u_mm": "[0.0, 0.02, 0.03, 0.06]", "p_MPa": "[0.0, 1190.0, 1456.0, 1900.0]"},
+    "layers.combined": {"u_mm": "[0.0, 0.02, 0.03, 0.06]", "p_MPa": "[0.0, 1190.0, 1456.0, 1900.0]"},
     "tangential": {"creepage_x": "0.002", "creepage_y": "0.0", "spin_per_mm": "0.0", "friction": "0.3",
                    "speed_mm_s": "1000.0", "flexibility": '"three"'},
     "passes": {"max": "3", "hardening": "false", "tolerance_mm": "1e-4"},
@@ -52,15 +52,21 @@ SCENE_BAD = [
     ("half_width_huge", "separation", "half_width_mm", "1e9", "separation points over +-1e+09 mm"),
     ("step_tiny", "separation", "step_mm", "1e-9", "separation.step_mm: gives"),
     ("step_negative", "separation", "step_mm", "-0.05", "separation.step_mm: must be > 0"),
-    ("layer_u_nested", "layer", "u_mm", "[[0.0, 0.02], [0.03, 0.06]]", "layer.u_mm[0]: must be a number"),
-    ("layer_u_deeply_nested", "layer", "u_mm", "[[[[[[0.0]]]]], 0.02, 0.03, 0.06]", "layer.u_mm[0]"),
-    ("layer_u_string_entry", "layer", "u_mm", '[0.0, "0.02", 0.03, 0.06]', "layer.u_mm[1]: must be a number"),
-    ("layer_u_bool_entry", "layer", "u_mm", "[0.0, true, 0.03, 0.06]", "layer.u_mm[1]: must be a number"),
-    ("layer_u_nested_100000_deep", "layer", "u_mm", "[" * 100000 + "]" * 100000, "nested too deeply"),
-    ("layer_p_nan_entry", "layer", "p_MPa", "[0.0, nan, 1456.0, 1900.0]", "layer.p_MPa[1]: must be a finite"),
-    ("layer_p_huge_entry", "layer", "p_MPa", "[0.0, 1190.0, 1456.0, 1e300]", "layer.p_MPa[3]: must be of magnitude"),
-    ("layer_p_not_list", "layer", "p_MPa", "1900.0", "layer.p_MPa: must be a list of numbers"),
-    ("layer_long_not_concave", None, "layer",
+    ("layer_u_nested", "layers.combined", "u_mm", "[[0.0, 0.02], [0.03, 0.06]]",
+     "layers.combined.u_mm[0]: must be a number"),
+    ("layer_u_deeply_nested", "layers.combined", "u_mm", "[[[[[[0.0]]]]], 0.02, 0.03, 0.06]",
+     "layers.combined.u_mm[0]"),
+    ("layer_u_string_entry", "layers.combined", "u_mm", '[0.0, "0.02", 0.03, 0.06]',
+     "layers.combined.u_mm[1]: must be a number"),
+    ("layer_u_bool_entry", "layers.combined", "u_mm", "[0.0, true, 0.03, 0.06]",
+     "layers.combined.u_mm[1]: must be a number"),
+    ("layer_u_nested_100000_deep", "layers.combined", "u_mm", "[" * 100000 + "]" * 100000, "nested too deeply"),
+    ("layer_p_nan_entry", "layers.combined", "p_MPa", "[0.0, nan, 1456.0, 1900.0]",
+     "layers.combined.p_MPa[1]: must be a finite"),
+    ("layer_p_huge_entry", "layers.combined", "p_MPa", "[0.0, 1190.0, 1456.0, 1e300]",
+     "layers.combined.p_MPa[3]: must be of magnitude"),
+    ("layer_p_not_list", "layers.combined", "p_MPa", "1900.0", "layers.combined.p_MPa: must be a list of numbers"),
+    ("layer_long_not_concave", None, "layers.combined",
      {"u_mm": "[" + ", ".join(f"{0.001 * i:.3f}" for i in range(40)) + "]",
       "p_MPa": "[" + ", ".join(f"{2000.0 * (1.0 - 0.9 ** i) + 50.0 * max(0, i - 20):.6f}"
                                for i in range(40)) + "]"},  # concave up to segment 20, then steeper
@@ -241,10 +247,10 @@ def write_toml(path: Path, doc: dict, header: str, bodies: list[dict] | None = N
     for key, value in doc.items():
         if not isinstance(value, dict):
             lines.append(f"{key} = {value}")
-        elif key == "layer" and "u_mm" in value and len(value["u_mm"]) > 200:  # long arrays: one line each
+        elif key == "layers.combined" and "u_mm" in value and len(value["u_mm"]) > 200:  # long arrays: one line each
             lines.append(f"{key} = {_toml_value(value)}")
     for key, value in doc.items():
-        if isinstance(value, dict) and not (key == "layer" and len(value.get("u_mm", "")) > 200):
+        if isinstance(value, dict) and not (key == "layers.combined" and len(value.get("u_mm", "")) > 200):
             lines += ["", f"[{key}]"] + [f"{k} = {_toml_value(v)}" for k, v in value.items()]
     for body in bodies or []:
         lines += ["", "[[bodies]]"] + [f"{k} = {_toml_value(v)}" for k, v in body.items()]

@@ -136,3 +136,34 @@ def test_cli_check_and_rewrite(tmp_path, capsys):
     assert "| `x.depth_mm` |" in page.read_text(encoding="utf-8")
     assert keydoc.main([str(tmp_path), "--check"]) == 0
     assert keydoc.main([str(tmp_path / "missing")]) == 2
+
+
+def test_a_section_table_shows_each_keys_unit_and_bounds():
+    """Fields declared with wrlayer.section_keys.key get a column with their unit and bounds; a subclass inherits
+    its bases' descriptions."""
+    from wrlayer.section_keys import key
+
+    @dataclass(frozen=True)
+    class Section:
+        """A section.
+
+        Attributes
+        ----------
+        force_N : float
+            Normal force (N).
+        """
+
+        force_N: float = key(10.0, "N", gt=0.0, le=1e6)
+        mode: str = key("a", choices=("a", "b"))
+
+    @dataclass(frozen=True)
+    class Extended(Section):
+        """More keys."""
+
+        cells: int = key(60, ge=2)
+
+    table = keydoc.key_table(Extended, "load.")
+    assert table.splitlines()[0] == "| key | type | default | unit, bounds | description |"
+    assert "| `load.force_N` | `float` | `10.0` | N, > 0, <= 1e+06 | Normal force (N). |" in table
+    assert '| `load.mode` | `str` | `"a"` | one of "a", "b" |  |' in table
+    assert "| `load.cells` | `int` | `60` | >= 2 |  |" in table

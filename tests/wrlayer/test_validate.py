@@ -108,7 +108,7 @@ def test_absurd_scene_cost_is_refused_through_the_command_line(tmp_path, capsys)
     scene = tmp_path / "costly.toml"
     scene.write_text("[load]\nnormal_force_N = 1e5\nrolling_radius_mm = 460.0\n[material]\nE_MPa = 2.1e5\n"
                      "poisson = 0.3\n[separation]\nlateral_radius_mm = 300.0\nhalf_width_mm = 40.0\n"
-                     "[layer]\nu_mm = [0.0, 0.02, 0.03, 0.06]\np_MPa = [0.0, 1190.0, 1456.0, 1900.0]\n"
+                     "[layers.combined]\nu_mm = [0.0, 0.02, 0.03, 0.06]\np_MPa = [0.0, 1190.0, 1456.0, 1900.0]\n"
                      "[tangential]\ncreepage_x = 0.002\nfriction = 0.3\n[passes]\nmax = 100000\n"
                      "tolerance_mm = 1e-9\n[method]\ngrid_mm = 0.01\nfastsim_cells = 200\n")
     out = tmp_path / "out"

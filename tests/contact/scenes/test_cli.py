@@ -66,7 +66,7 @@ def test_layer_trends_of_table_1(paper):
 
 def test_layer_numbers_follow_the_characteristic(paper):
     """u0 lies on the characteristic at p_0, up0 is eq. (8) (virgin element, p_0 <= 2 p_2), passes agree."""
-    ch = Characteristic.from_dict(paper["with_layer"]["inputs"]["layer"]["combined"])
+    ch = Characteristic.from_dict(paper["with_layer"]["inputs"]["layers"]["combined"])
     first = paper["with_layer"]["passes"][0]
     assert not first["elastic"]
     assert first["u0_mm"] == pytest.approx(float(ch.displacement(first["p_max_MPa"])), rel=1e-9)
@@ -197,9 +197,9 @@ def write_rail_table(path: Path, y_positions, p2_values):
 
 def table_scene(tmp_path, position_mm, table="rail_table.json") -> Path:
     text = (SCENES / "paper_with_layer.toml").read_text()
-    layer = text[text.index("[layer]"):text.index("[tangential]")]
-    text = text.replace(layer, "[layer.rail]\n" f'table = "tables/{table}"\nposition_mm = {position_mm}\n\n'
-                        "[layer.wheel]\nu_mm = [0.0, 0.03, 0.06]\np_MPa = [0.0, 1500.0, 2000.0]\n\n")
+    layer = text[text.index("[layers.combined]"):text.index("[tangential]")]
+    text = text.replace(layer, f'[layers]\nrail = "tables/{table}"\nposition_mm = {{rail = {position_mm}}}\n'
+                        "wheel = {u_mm = [0.0, 0.03, 0.06], p_MPa = [0.0, 1500.0, 2000.0]}\n\n")
     text = text[:text.index("[reference]")]
     path = tmp_path / f"table_{position_mm}.toml"
     path.write_text(text)
@@ -213,15 +213,15 @@ def test_per_body_layers_from_a_calibration_table(tmp_path):
     first = result["passes"][0]
     assert result["method"]["layer"] == ["rail", "wheel"]
     expected = LayerTable.read(tmp_path / "tables" / "rail_table.json").characteristic_at(2.0)  # interpolated
-    assert result["inputs"]["layer"]["rail"]["characteristic_at_position"] == expected.to_dict()
-    assert result["inputs"]["layer"]["rail"]["table"].endswith("rail_table.json")
+    assert result["inputs"]["layers"]["rail"].endswith("rail_table.json")
+    assert result["inputs"]["layers"]["position_mm"] == {"rail": 2.0}
     grid = result["strip_grid"]
     assert set(grid["residual_mm"]) == {"rail", "wheel"}
     assert max(grid["residual_mm"]["rail"]) > 1e-4 and max(grid["residual_mm"]["wheel"]) < 1e-15  # wheel p_2 = 1500
     # wheel + rail in series at the reference point: u0 = u_rail(p0) + u_wheel(p0)
     p0 = first["patches"][0]["p0_MPa"]
-    rail = Characteristic.from_dict(result["inputs"]["layer"]["rail"]["characteristic_at_position"])
-    wheel = Characteristic.from_dict(result["inputs"]["layer"]["wheel"])
+    rail = expected
+    wheel = Characteristic.from_dict(result["inputs"]["layers"]["wheel"])
     assert first["u0_mm"] == pytest.approx(float(rail.displacement(p0) + wheel.displacement(p0)), rel=1e-6)
 
 
@@ -232,7 +232,7 @@ def test_table_not_covering_the_contact_location(tmp_path, capsys):
         out = tmp_path / f"out{position}"
         assert main(["simulate", str(table_scene(tmp_path, position)), "--out", str(out)]) == 2
         err = capsys.readouterr().err.strip()
-        assert err.startswith(f"error: table_{position}.toml: layer.rail.table: does not cover the contact location")
+        assert err.startswith(f"error: table_{position}.toml: layers.rail: does not cover the contact location")
         assert where in err and "\n" not in err
         assert not out.exists()
 

@@ -21,13 +21,13 @@ poisson = 0.3
 [separation]
 lateral_radius_mm = 300.0
 half_width_mm = 25.0
-[layer.rail]
+[layers]
+position_mm = {rail = 0.0}
 """
 
 
 def _scene(tmp_path, extra: str, name: str):
-    text = 'title = "crown, rail table layer"\n' + CROWN + f"""table = "{TABLE}"
-position_mm = 0.0
+    text = 'title = "crown, rail table layer"\n' + CROWN + f"""rail = "{TABLE}"
 {extra}
 [passes]
 max = 1
@@ -61,8 +61,7 @@ def test_scaled_layer_follows_the_solved_patch(tmp_path):
 
 def test_scale_to_patch_needs_a_table(tmp_path):
     path = tmp_path / "bad.toml"
-    path.write_text('title = "bad"\n' + CROWN + """u_mm = [0.0, 0.01, 0.05]
-p_MPa = [0.0, 800.0, 1500.0]
+    path.write_text('title = "bad"\n' + CROWN + """rail = {u_mm = [0.0, 0.01, 0.05], p_MPa = [0.0, 800.0, 1500.0]}
 scale_to_patch = true
 """)
     with pytest.raises(InputError, match="scale_to_patch.*only used with a calibration table"):

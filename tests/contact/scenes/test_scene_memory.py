@@ -9,7 +9,7 @@ import pytest
 from contact.__main__ import main
 from contact.passes.passes import run_passes
 from contact.scenes.scene import load_scene
-from contact.scenes.scene_layers import build_layers, normal_problem
+from contact.scenes.scene_layers import build_layers
 from contact.scenes.simulation import simulate
 from wrlayer.errors import InputError
 
@@ -20,7 +20,7 @@ def calibrated_scene(tmp_path: Path, passes: str) -> Path:
     """scenes/calibrated_layers.toml with its [passes] replaced (tables by absolute path, not scaled to the
     patch so that the layers are the tables' characteristics)."""
     text = (SCENES / "calibrated_layers.toml").read_text(encoding="utf-8")
-    text = text.replace('table = "tables/', f'table = "{SCENES / "tables"}/')
+    text = text.replace('= "tables/', f'= "{SCENES / "tables"}/')
     text = text.replace("scale_to_patch = true", "scale_to_patch = false")
     head, _, tail = text.partition("[passes]")
     tail = tail[tail.index("\n[method]"):]
@@ -34,7 +34,7 @@ def test_rolling_residual_is_the_laws_prediction(tmp_path):
     the static residual of a virgin element at the pass's peak pressure p (for a nonzero traction too)."""
     scene = load_scene(calibrated_scene(tmp_path, "max = 3\ntraction_coefficient = 0.1"))
     assert scene.passes.memory == "rolling" and scene.passes.options.rule == "rolling"
-    prob = normal_problem(scene)
+    prob = scene.normal_problem()
     layers = build_layers(scene, prob.strip_y_mm)
     bodies = layers.bodies()
     assert set(bodies) == {"rail", "wheel"}
@@ -64,12 +64,12 @@ def test_relaxed_memory_keeps_the_static_residual(tmp_path):
     runs = {}
     for memory in ("relaxed", "rolling"):
         scene = load_scene(calibrated_scene(tmp_path, f'max = 1\nmemory = "{memory}"'))
-        prob = normal_problem(scene)
+        prob = scene.normal_problem()
         layers = build_layers(scene, prob.strip_y_mm)
         runs[memory] = run_passes(prob, layers, scene.passes.options, method=scene.method.normal_method())[0][0]
     relaxed, rolling = runs["relaxed"], runs["rolling"]
     np.testing.assert_array_equal(relaxed.p_peak_MPa, rolling.p_peak_MPa)  # the same first normal solve
-    virgin = build_layers(load_scene(tmp_path / "scene.toml"), normal_problem(load_scene(tmp_path / "scene.toml"))
+    virgin = build_layers(load_scene(tmp_path / "scene.toml"), load_scene(tmp_path / "scene.toml").normal_problem()
                           .strip_y_mm).bodies()["rail"]
     before = virgin.u_mm.copy()
     virgin.load_to(relaxed.p_peak_MPa)

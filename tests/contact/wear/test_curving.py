@@ -169,6 +169,6 @@ def test_wear_tasks_carry_the_passes_memory(make_scene, passes, memory, traction
     condition's)."""
     scene = make_scene(passes={"max": 8, **passes})
     (task,) = build_tasks(scene, scene.initial_profiles, 1, 1.0)
-    opts = task.inputs.passes
+    opts = task.inputs.passes.options
     assert (opts.rule, opts.traction_coefficient) == (memory, traction)
     assert 1 <= opts.max_passes <= 8 and opts.tolerance_mm == scene.wheel_rail.passes.tolerance_mm

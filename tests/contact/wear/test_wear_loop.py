@@ -157,7 +157,7 @@ def test_written_profiles_give_the_same_separation(make_scene, tmp_path):
     ({"method": {"normal": "magic"}}, r"w.toml: method.normal: must be one of"),
     ({"method": {"normal": "exact", "layer_mode": "sideways"}}, r"w.toml: method.layer_mode"),
     ({"wear": {"usfd": {"rail": "R999"}}}, r"w.toml: wear.usfd.rail: unknown material"),
-    ({"wear": {"layer_state": "soft"}}, r"w.toml: wear.layer_state: must be 'hardening' or 'virgin'"),
+    ({"wear": {"layer_state": "soft"}}, r"w.toml: wear.layer_state: must be one of hardening, virgin, got 'soft'"),
     ({"wear": {"law": "usfd", "usfd": {"rail": {"t1": 5.0}}}}, r"^w.toml: wear.usfd.rail.t2: missing \(required\)$"),
     ({"wear": {"archard": {"wheel": {"hardness_MPa": 0.0}}}}, r"^w.toml: wear.archard.wheel.hardness_MPa: must be"),
     ({"collective": {"lateral_mm": [0.0], "weights": [1.0], "speed": 3}}, r"w.toml: collective.speed: unknown key"),

@@ -8,16 +8,21 @@ import pytest
 
 from contact.wheel_rail.kinematics import creepages
 from contact.wheel_rail.reference_point import weighted_centre_eta
+from contact.scenes.sections import PassesSpec, TangentialSpec
 from contact.wheel_rail.inputs import WheelRailInputs
+from contact.wheel_rail.sections import WheelLoadSpec, WheelRailMethodSpec
 from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose, axle_direction
 
 Q = 10000.0
 
 
-def _solve(rail, wheel, placed, lateral, side="right", yaw=0.0, **kw):
+def _solve(rail, wheel, placed, lateral, side="right", yaw=0.0, friction=0.3, **method):
+    """The wheel's solution with the [method] keys ``method``."""
     pose = WheelsetPose(lateral, yaw, 0.0)
-    return solve_wheel(rail, wheel, WheelRailInputs(pose=pose, side=side, vertical_load_N=Q, **kw), placed_rail=placed)
+    inputs = WheelRailInputs(pose=pose, side=side, load=WheelLoadSpec(vertical_load_N=Q),
+                             tangential=TangentialSpec(friction), method=WheelRailMethodSpec(**method))
+    return solve_wheel(rail, wheel, inputs, placed_rail=placed)
 
 
 def _normal_vertical(sol):
@@ -119,9 +124,7 @@ def _exact_available() -> bool:
                     "until the exact half-space solver lands on main")
 @pytest.mark.parametrize("lateral, n_patches", [(0.5, 1), (5.2, 2), (7.0, 1)])
 def test_balance_and_approach_with_the_exact_normal_solver(rail60, s1002, placed, lateral, n_patches):
-    from contact.normal.method import NormalMethod
-
-    sol = _solve(rail60, s1002, placed, lateral, normal_method=NormalMethod("exact"),
+    sol = _solve(rail60, s1002, placed, lateral, normal="exact",
                  contact_point="weighted_centre")
     assert len(sol.patches) == n_patches
     assert abs(sol.vertical_force_N - Q) / Q < 1e-6
@@ -153,11 +156,9 @@ def test_weighted_centre_plane_is_the_weighted_mean_angle_and_carries_the_forces
 @pytest.mark.skipif(not _exact_available(), reason="method.normal = 'exact' raises 'not available in this build' "
                     "until the exact half-space solver lands on main")
 def test_close_patches_merged_and_solved_on_one_exact_grid(rail60, s1002, placed):
-    from contact.normal.method import NormalMethod
-
     pose = WheelsetPose(5.0)
-    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=pose, vertical_load_N=100000.0,
-                                                     normal_method=NormalMethod("exact")), placed_rail=placed)
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=pose, load=WheelLoadSpec(vertical_load_N=100000.0),
+                                                     method=WheelRailMethodSpec(normal="exact")), placed_rail=placed)
     assert sol.merge_mm > WheelRailInputs().search.merge_mm
     assert len(sol.patches) == 1 and len(sol.patches[0].normal.patches) == 2
     assert abs(sol.vertical_force_N - 100000.0) / 100000.0 < 1e-6
@@ -166,11 +167,10 @@ def test_close_patches_merged_and_solved_on_one_exact_grid(rail60, s1002, placed
 @pytest.mark.parametrize("method", ["kik_piotrowski", "exact"])
 def test_layered_wheel_with_either_normal_method(rail60, s1002, placed, method):
     from wrlayer.characteristic import Characteristic
-    from contact.normal.method import NormalMethod
-    from contact.wheel_rail.inputs import WheelRailLayers
+    from contact.scenes.layers import LayerSources
 
-    layers = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.05]), np.array([0, 300.0, 900.0])))
-    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(2.0), normal_method=NormalMethod(method)),
+    layers = LayerSources(combined=Characteristic(np.array([0, 0.01, 0.05]), np.array([0, 300.0, 900.0])))
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(2.0), method=WheelRailMethodSpec(normal=method)),
                       layers, placed_rail=placed)
     p = sol.patches[0]
     assert not p.normal.elastic and p.passes and p.passes[0].max_residual_mm > 0
@@ -179,11 +179,10 @@ def test_layered_wheel_with_either_normal_method(rail60, s1002, placed, method):
 
 def test_every_pass_is_kept(rail60, s1002, placed):
     from wrlayer.characteristic import Characteristic
-    from contact.passes.passes import PassesOptions
-    from contact.wheel_rail.inputs import WheelRailLayers
+    from contact.scenes.layers import LayerSources
 
-    layers = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.05]), np.array([0, 300.0, 900.0])))
-    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(2.0), passes=PassesOptions(max_passes=3)),
+    layers = LayerSources(combined=Characteristic(np.array([0, 0.01, 0.05]), np.array([0, 300.0, 900.0])))
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(2.0), passes=PassesSpec(max=3)),
                       layers, placed_rail=placed)
     p = sol.patches[0]
     assert len(p.pass_normals) == len(p.passes) == 3
@@ -192,11 +191,10 @@ def test_every_pass_is_kept(rail60, s1002, placed):
 def test_warm_started_exact_balance_gives_the_cold_forces(rail60, s1002, placed, monkeypatch):
     """The exact/exact balance with its warm starts and rough first point gives the forces of cold solves to full
     tolerance everywhere, within the solvers' tolerances."""
-    from contact.normal.method import NormalMethod
     from contact.wheel_rail import balance
 
-    inputs = WheelRailInputs(pose=WheelsetPose(2.0, yaw_rad=0.002), normal_method=NormalMethod("exact"),
-                             tangential_method="exact")
+    inputs = WheelRailInputs(pose=WheelsetPose(2.0, yaw_rad=0.002),
+                             method=WheelRailMethodSpec(normal="exact", tangential="exact"))
     warm = solve_wheel(rail60, s1002, inputs, placed_rail=placed).patches[0]
     monkeypatch.setattr(balance.BalanceCandidate, "normal_start",
                         lambda self, method, rough=False: {"delta_guess_mm": self.delta_guess})

@@ -10,7 +10,9 @@ from wrlayer.layer_table import LayerTable
 from contact.layer.patch_scaling import PATCH_SCALING_TOLERANCE
 from contact.wheel_rail.parse import parse_wheel_rail_scene
 from contact.wheel_rail.run import run_wheel_rail_scene
-from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
+from contact.scenes.layers import LayerSources
+from contact.wheel_rail.inputs import WheelRailInputs
+from contact.wheel_rail.sections import WheelLoadSpec
 from contact.wheel_rail.solve import BALANCE_RTOL, solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
 from wrlayer.errors import InputError
@@ -51,8 +53,8 @@ def tables():
 
 def test_each_patch_is_scaled_to_its_own_size(rail60, s1002, placed, tables):
     rail_t, wheel_t = (_Recording(t) for t in tables)
-    inputs = WheelRailInputs(pose=WheelsetPose(5.2), vertical_load_N=50000.0)
-    sol = solve_wheel(rail60, s1002, inputs, WheelRailLayers(rail=rail_t, wheel=wheel_t, scale_to_patch=True),
+    inputs = WheelRailInputs(pose=WheelsetPose(5.2), load=WheelLoadSpec(vertical_load_N=50000.0))
+    sol = solve_wheel(rail60, s1002, inputs, LayerSources(rail=rail_t, wheel=wheel_t, scale_to_patch=True),
                       placed_rail=placed)
     assert len(sol.patches) == 2  # tread and flange root: two patches of different size
     assert abs(sum(p.vertical_N for p in sol.patches) - 50000.0) / 50000.0 < BALANCE_RTOL
@@ -67,7 +69,7 @@ def test_each_patch_is_scaled_to_its_own_size(rail60, s1002, placed, tables):
         sizes.append((a, b))
     assert sizes[0] != pytest.approx(sizes[1], rel=0.1)
     # a patch smaller than the calibrated one gets a smaller residual than the unscaled layer at the flange root
-    plain = solve_wheel(rail60, s1002, inputs, WheelRailLayers(rail=tables[0], wheel=tables[1]), placed_rail=placed)
+    plain = solve_wheel(rail60, s1002, inputs, LayerSources(rail=tables[0], wheel=tables[1]), placed_rail=placed)
     assert plain.patches[0].layer_patch_mm is None and plain.patches[0].layer_scaling_solves == 0
     flange = max(sol.patches, key=lambda p: p.normal.p_max_MPa)
     flange_plain = max(plain.patches, key=lambda p: p.normal.p_max_MPa)
@@ -84,7 +86,7 @@ def test_scale_to_patch_with_a_combined_layer_is_refused(tmp_path):
     with pytest.raises(InputError, match=r"layers.scale_to_patch: only used with calibration tables"):
         parse_wheel_rail_scene(data, tmp_path / "s.toml")
     with pytest.raises(InputError, match="scale_to_patch"):
-        WheelRailLayers(combined=object(), scale_to_patch=True)
+        LayerSources(combined=object(), scale_to_patch=True)
 
 
 def test_scene_records_the_scaled_patch(tmp_path):

@@ -34,7 +34,7 @@ def test_g_is_converted_to_e_and_defaults_are_filled(tmp_path):
     assert scene.sides == ["right"] and len(scene.cases) == 1 and scene.layers is None
     inputs = scene.inputs("left")
     assert inputs.side == "left" and inputs.G_MPa == pytest.approx(shear_modulus_MPa(inputs.E_MPa, 0.3))
-    assert inputs.search == scene.method.search and inputs.passes.max_passes == 1
+    assert inputs.search == scene.method.search and inputs.passes.max == 1
 
 
 def test_case_values_reach_the_inputs(tmp_path):

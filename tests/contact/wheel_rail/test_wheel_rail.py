@@ -9,7 +9,9 @@ import pytest
 from wrlayer.characteristic import Characteristic
 from wrlayer.layer_table import LayerTable
 from contact.wheel_rail.deformed import deformed_profile, residual_on_profiles, rigid_roll
-from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
+from contact.scenes.layers import LayerSources
+from contact.wheel_rail.inputs import WheelRailInputs
+from contact.wheel_rail.sections import WheelLoadSpec
 from contact.wheel_rail.solve import BALANCE_RTOL, solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
 from wrlayer.errors import InputError, PatchTruncated
@@ -22,7 +24,7 @@ def _vertical(sol):
 
 @pytest.mark.parametrize("d", [0.5, 5.2, 7.0])
 def test_vertical_load_balance(rail60, s1002, placed, d):
-    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(d), vertical_load_N=12000.0), placed_rail=placed)
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(d), load=WheelLoadSpec(vertical_load_N=12000.0)), placed_rail=placed)
     assert abs(_vertical(sol) - 12000.0) / 12000.0 < BALANCE_RTOL
     assert sol.vertical_balance_rel < 1e-8
     if d == 5.2:  # two-point contact (tread + flange root), both loaded
@@ -82,7 +84,7 @@ def test_layers_per_strip_residuals_and_deformed_profiles(rail60, s1002, placed,
 
     rail_t = _table("rail", np.linspace(-36, 36, 13), np.linspace(500, 900, 13))
     wheel_t = _table("wheel", np.linspace(-60, 40, 11), np.full(11, 600.0))
-    layers = WheelRailLayers(rail=rail_t, wheel=wheel_t, names={"rail": "r", "wheel": "w"})
+    layers = LayerSources(rail=rail_t, wheel=wheel_t, names={"rail": "r", "wheel": "w"})
     inputs = WheelRailInputs(pose=WheelsetPose(6.0))
     sol = solve_wheel(rail60, s1002, inputs, layers, placed_rail=placed)
     p = sol.patches[0]
@@ -111,15 +113,15 @@ def test_layers_per_strip_residuals_and_deformed_profiles(rail60, s1002, placed,
 def test_combined_layer_is_softer(rail60, s1002, placed):
     inputs = WheelRailInputs(pose=WheelsetPose(2.0))
     elastic = solve_wheel(rail60, s1002, inputs, placed_rail=placed)
-    soft = solve_wheel(rail60, s1002, inputs, WheelRailLayers(combined=Characteristic.linear(2e4)), placed_rail=placed)
+    soft = solve_wheel(rail60, s1002, inputs, LayerSources(combined=Characteristic.linear(2e4)), placed_rail=placed)
     assert soft.patches[0].normal.area_mm2 > elastic.patches[0].normal.area_mm2
     assert soft.patches[0].normal.p_max_MPa < elastic.patches[0].normal.p_max_MPa
 
 
 def test_heavy_load_widens_the_layer(rail60, s1002, placed):
     # the virtual penetration exceeds the first layer cap (0.3 mm): solved again with a wider layer, still balanced
-    soft = WheelRailLayers(combined=Characteristic(np.array([0, 0.5, 3.0]), np.array([0, 200.0, 800.0])))
-    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(3.0), vertical_load_N=150000.0), soft,
+    soft = LayerSources(combined=Characteristic(np.array([0, 0.5, 3.0]), np.array([0, 200.0, 800.0])))
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(3.0), load=WheelLoadSpec(vertical_load_N=150000.0)), soft,
                       placed_rail=placed)
     p = sol.patches[0]
     assert p.normal.delta0_mm > 0.3
@@ -128,22 +130,22 @@ def test_heavy_load_widens_the_layer(rail60, s1002, placed):
 
 def test_patches_that_cannot_be_merged_are_a_clear_error(rail60, s1002, placed):
     # a very soft layer at 150 kN: the flange patch runs off its separation function even after merging candidates
-    soft = WheelRailLayers(combined=Characteristic(np.array([0, 0.01, 0.2]), np.array([0, 600.0, 1500.0])))
+    soft = LayerSources(combined=Characteristic(np.array([0, 0.01, 0.2]), np.array([0, 600.0, 1500.0])))
     with pytest.raises(PatchTruncated, match=r"wheel-rail case: a contact patch reaches the end of its separation "
                                          r"function .* even with candidates merged up to merge_mm = 0.5 mm"):
-        solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(7.0), vertical_load_N=150000.0), soft,
+        solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(7.0), load=WheelLoadSpec(vertical_load_N=150000.0)), soft,
                     placed_rail=placed)
 
 
 def test_patches_growing_into_each_other_are_merged_into_one(rail60, s1002, placed):
     # 100 kN at lateral 5 mm: tread and gauge-corner patches meet; solved as one patch with two regions
-    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.0), vertical_load_N=100000.0),
+    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.0), load=WheelLoadSpec(vertical_load_N=100000.0)),
                       placed_rail=placed)
     assert sol.merge_mm > WheelRailInputs().search.merge_mm
     assert len(sol.patches) == 1 and len(sol.patches[0].normal.patches) == 2
     assert abs(_vertical(sol) - 100000.0) / 100000.0 < BALANCE_RTOL
     # at the default merge level the same case is two candidates whose patches run into the barrier
-    assert solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.0), vertical_load_N=10000.0),
+    assert solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.0), load=WheelLoadSpec(vertical_load_N=10000.0)),
                        placed_rail=placed).merge_mm == WheelRailInputs().search.merge_mm
 
 
@@ -152,5 +154,5 @@ def test_a_convergence_failure_names_the_case(rail60, s1002, placed):
 
     # analytic profiles, 100 kN at 5.2 mm: the merged patch's regions merge and the KP force jumps past the target
     with pytest.raises(ConvergenceError, match=r"^my case: .*jumps across the target"):
-        solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.2), vertical_load_N=100000.0),
+        solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.2), load=WheelLoadSpec(vertical_load_N=100000.0)),
                     placed_rail=placed, case="my case")

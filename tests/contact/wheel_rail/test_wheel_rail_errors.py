@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from wrlayer.characteristic import Characteristic
-from contact.wheel_rail.inputs import WheelRailInputs, WheelRailLayers
+from contact.scenes.layers import LayerSources
+from contact.wheel_rail.inputs import WheelRailInputs
 from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
 from wrlayer.errors import (
@@ -56,6 +57,6 @@ class NarrowTable:
 
 
 def test_a_table_not_covering_a_loaded_strip_is_layer_not_covered(rail60, s1002, placed):
-    layers = WheelRailLayers(rail=NarrowTable(), names={"rail": "narrow.json"})
+    layers = LayerSources(rail=NarrowTable(), names={"rail": "narrow.json"})
     with pytest.raises(LayerNotCovered, match=r"^layers.rail \(narrow.json\): does not cover the contact location"):
         solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(0.0)), layers, placed_rail=placed)

@@ -25,13 +25,16 @@ def _scene(**sections):
 
 @pytest.mark.parametrize("data, match", [
     (_scene(track={"gauge": 1435.0}), r"s.toml: track.gauge: unknown key"),
-    (_scene(wheel={"side": "middle"}), r"s.toml: wheel.side: must be 'right', 'left' or 'both'"),
+    (_scene(wheel={"side": "middle"}), r"s.toml: wheel.side: must be one of right, left, both, got 'middle'"),
     (_scene(track={"gauge_mm": 1300.0}), r"s.toml: track.gauge_mm: impossible gauge"),
     (_scene(load={"vertical_load_N": -1.0}), r"s.toml: load.vertical_load_N: must be >= 0.001"),
     (_scene(profiles={"rail": "S1002"}), r"s.toml: profiles.rail: S1002 is a wheel profile"),
     (_scene(profiles={"wheel": "missing.prw"}), r"s.toml: profiles.wheel: no such profile file"),
     (_scene(sweep={"lateral_mm": [0.0, 1.0], "yaw_rad": [0.0]}), r"s.toml: sweep.mode: 'zip' needs"),
     (_scene(layers={"rail": "none.json"}), r"s.toml: layers.rail: no such calibration table"),
+    (_scene(layers={"rail": {"u_mm": [0.0, 0.01], "p_MPa": [0.0, 100.0]}}),
+     r"s.toml: layers.rail: must be a calibration table file"),
+    (_scene(layers={"rail": "none.json", "position_mm": {"rail": 0.0}}), r"s.toml: layers.position_mm: unknown key"),
     (_scene(material={"E_MPa": 2e5, "G_MPa": 8e4}), r"s.toml: material.G_MPa: give either"),
     (_scene(passes={"memory": "sticky"}), r"s.toml: passes.memory: must be one of rolling, relaxed, state_kept"),
     (_scene(passes={"memory": "relaxed", "hardening": True}), r"s.toml: passes.memory: 'relaxed' contradicts"),
@@ -47,7 +50,7 @@ def test_validation_names_the_key(tmp_path, data, match):
 def test_passes_memory_reaches_the_solver_inputs(tmp_path, passes, rule):
     scene = parse_wheel_rail_scene(_scene(passes={"max": 4, "traction_coefficient": 0.2, **passes}),
                                    tmp_path / "s.toml")
-    opts = scene.inputs("right").passes
+    opts = scene.inputs("right").passes.options
     assert (opts.rule, opts.traction_coefficient, opts.max_passes) == (rule, 0.2, 4)
 
 
