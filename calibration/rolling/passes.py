@@ -14,17 +14,19 @@ Units mm, N, MPa, s.
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from calibration.fem.linear_solvers import preconditioned_cg
-from calibration.fem.newton import TangentProblem, newton_increment
+from calibration.fem.newton import MaterialResponse, TangentProblem, newton_increment
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.moving_load import SurfaceForces
 from wrlayer.errors import ConvergenceError
 
+#: The material response of a displacement iterate (mm).
+MaterialFn = Callable[[np.ndarray], MaterialResponse]
 #: Deepest halving of a failed step (1/2^MAX_CUTS of it).
 MAX_CUTS = 5
 #: CG tolerance of the elastic predictor when the kept factorisation is a tangent (measured: the tangent's own
@@ -116,19 +118,25 @@ class RollingSolver:
         return done, totals
 
     def increment(self, state: SolverState, a: Target, b: Target) -> tuple[SolverState, dict]:
-        """One Newton increment from ``state`` at ``a`` to ``b`` (no cut); ConvergenceError when it fails."""
+        """One Newton increment of the engine (:func:`calibration.fem.newton.newton_increment`) from ``state`` at
+        ``a`` to ``b`` (no cut), started from :meth:`start`; ConvergenceError when it fails."""
+        u_start, elastic_start, material = self.start(state, a, b)
+        new, info = newton_increment(self.prob, state, self.load_vector(b), a.fraction, b.fraction, self.max_newton,
+                                     p_scale=1.0, u_start=u_start, elastic_start=elastic_start, material=material)
+        return replace(new, p0_MPa=self.p0 * b.fraction), info
+
+    def start(self, state: SolverState, a: Target, b: Target) -> tuple[np.ndarray, bool, MaterialFn | None]:
+        """(first iterate, whether it is exact for an elastic step, the material response or None: the engine's
+        one radial return) of the increment from ``a`` to ``b``: the converged state plus the elastic response to
+        the change of the load vector."""
         prob = self.prob
-        f_b = self.load_vector(b)
-        df = b.fraction * f_b - a.fraction * self.load_vector(a)
+        df = b.fraction * self.load_vector(b) - a.fraction * self.load_vector(a)
         df[prob.fixed] = 0.0
         if prob.factor_is_elastic:
             du = prob.factor.solve(df)
         else:  # the kept factorisation is a tangent of another load position: the ELASTIC response by CG
             du, _ = preconditioned_cg(prob.Ke.dot, df, prob.factor.solve, rtol=PREDICTOR_RTOL, max_iter=200)
-        u_start = state.u_mm + du
-        new, info = newton_increment(prob, state, f_b, a.fraction, b.fraction, self.max_newton, p_scale=1.0,
-                                     u_start=u_start, elastic_start=prob.factor_is_elastic)
-        return replace(new, p0_MPa=self.p0 * b.fraction), info
+        return state.u_mm + du, prob.factor_is_elastic, None
 
 
 def pass_targets(positions_mm: list[float], ramp_steps: int) -> list[Target]:
