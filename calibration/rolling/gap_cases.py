@@ -25,7 +25,7 @@ from pathlib import Path
 
 from calibration.rolling.config import (ContactSettings, RollingConfig, RollingMaterial, RollingRunSettings,
                                         TrackMeshSettings, TrackSettings)
-from calibration.rolling.passes import PassRecord, RollingConvergenceError, RollingSolver, roll
+from calibration.rolling.passes import MovingLoadPass, RollingConvergenceError, RollingSolver, roll
 from calibration.rolling.run import build_model, static_dents
 from calibration.rolling.section_position import table_position as position_in_table
 from calibration.rolling.track_mesh import track_mesh
@@ -204,7 +204,7 @@ def run_case(case: GapCase, out_dir: Path, progress=None, track: TrackSettings =
     solver = RollingSolver(model.prob, model.forces, p0)
     try:
         for rec in roll(solver, SolverState.virgin(model.disc), positions, case.n_passes, cfg.track.ramp_steps):
-            if isinstance(rec, PassRecord):
+            if isinstance(rec, MovingLoadPass):
                 prof = model.probe.profile(rec.state)
                 res = replace(res, groove_mm=res.groove_mm + [prof.groove_mm], shift_mm=res.shift_mm + [prof.shift_mm],
                               max_eq_plastic_strain=res.max_eq_plastic_strain + [prof.max_eq_plastic_strain],

@@ -39,7 +39,7 @@ class RollingConvergenceError(ConvergenceError):
 
 
 @dataclass(frozen=True)
-class StepRecord:
+class MovingLoadStep:
     """One converged step. level: index of the load level; pass_index: 1-based pass; step: 0-based step in the
     pass; x_c_mm: load centre (mm); load_fraction: p0 fraction applied (-; 0 after the removal); newton_iters,
     cg_iters: iterations (sub-steps of a cut summed); n_plastic: quadrature points yielding in the step; cuts: sub-steps
@@ -58,8 +58,8 @@ class StepRecord:
 
 
 @dataclass(frozen=True)
-class PassRecord:
-    """One completed pass (load removed). level, pass_index: as in :class:`StepRecord`; n_steps; newton_iters,
+class MovingLoadPass:
+    """One completed pass (load removed). level, pass_index: as in :class:`MovingLoadStep`; n_steps; newton_iters,
     cg_iters: totals; seconds: wall time of the pass (s); state: the residual state after it (for the groove and
     the fields; not written to JSON)."""
 
@@ -147,9 +147,9 @@ def pass_targets(positions_mm: list[float], ramp_steps: int) -> list[Target]:
 
 
 def roll(solver: RollingSolver, state: SolverState, positions_mm: list[float], n_passes: int, ramp_steps: int,
-         level: int = 0, first_pass: int = 1) -> Iterator[StepRecord | PassRecord]:
+         level: int = 0, first_pass: int = 1) -> Iterator[MovingLoadStep | MovingLoadPass]:
     """The passes ``first_pass`` .. n_passes from ``state`` (residual state of the previous pass): a
-    :class:`StepRecord` per converged step and a :class:`PassRecord` after each pass.
+    :class:`MovingLoadStep` per converged step and a :class:`MovingLoadPass` after each pass.
     RollingConvergenceError names the level, pass and step that failed."""
     targets = pass_targets(positions_mm, ramp_steps)
     for k in range(first_pass, n_passes + 1):
@@ -166,11 +166,13 @@ def roll(solver: RollingSolver, state: SolverState, positions_mm: list[float], n
                     f"load fraction {tgt.fraction:.3g}): {err}") from None
             newton += tot["newton_iters"]
             cg += tot["cg_iters"]
-            yield StepRecord(level, k, j, tgt.x_c_mm, tgt.fraction, tot["newton_iters"], tot["cg_iters"],
-                             tot["n_plastic"], tot["cuts"], time.perf_counter() - t0)
+            yield MovingLoadStep(level=level, pass_index=k, step=j, x_c_mm=tgt.x_c_mm, load_fraction=tgt.fraction,
+                                 newton_iters=tot["newton_iters"], cg_iters=tot["cg_iters"],
+                                 n_plastic=tot["n_plastic"], cuts=tot["cuts"], seconds=time.perf_counter() - t0)
             prev = tgt
-        yield PassRecord(level, k, len(targets), newton, cg, time.perf_counter() - t_pass, state)
+        yield MovingLoadPass(level=level, pass_index=k, n_steps=len(targets), newton_iters=newton, cg_iters=cg,
+                             seconds=time.perf_counter() - t_pass, state=state)
 
 
-__all__ = ["MAX_CUTS", "PassRecord", "RollingConvergenceError", "RollingSolver", "StepRecord", "Target",
-           "pass_targets", "roll"]
+__all__ = ["MAX_CUTS", "MaterialFn", "MovingLoadPass", "MovingLoadStep", "RollingConvergenceError", "RollingSolver",
+           "Target", "pass_targets", "roll"]
