@@ -163,6 +163,47 @@ class CalibrationResult:
         return out
 
 
+@dataclass(frozen=True)
+class ComputedPositions:
+    """What the FEM step returns: ``results`` {cache key: FEM result} of the positions computed (and cached),
+    ``failed`` the positions whose FEM failed, with the cause."""
+
+    results: dict[str, IndentationResult]
+    failed: tuple[PositionNote, ...]
+
+
+@dataclass(frozen=True)
+class FittedPosition:
+    """What the fit step returns for one position: its fit, or None and the ``failure`` that stopped it."""
+
+    fit: PositionFit | None
+    failure: PositionNote | None = None
+
+
+@dataclass(frozen=True)
+class WrittenTables:
+    """What the table step returns: ``bodies`` {body: summary}, the ``files`` written and the positions whose fit
+    ``failed`` (listed in their tables)."""
+
+    bodies: dict[str, BodySummary]
+    files: tuple[str, ...]
+    failed: tuple[PositionNote, ...]
+
+
+@dataclass(frozen=True)
+class SimilarityRouting:
+    """What the similarity step returns: the ``tasks`` (the served ones re-keyed by their similarity key), the
+    ``results`` {key: characteristic from the master} of the served positions, every position's ``routes``
+    {key: Route}, the ``warnings`` it raised (failed master points, positions served from outside the master's
+    domain) and the route's ``summary``."""
+
+    tasks: tuple[PositionTask, ...]
+    results: dict[str, IndentationResult]
+    routes: dict[str, Route]
+    warnings: tuple[PositionNote, ...]
+    summary: SimilaritySummary
+
+
 def calibrate(config: CalibrationConfig, out_dir: str | Path, *, scheduler: str | None = None,
               plots: bool | None = None, show_progress: bool = True, log: Callable[[str], Any] = print,
               force: bool = False) -> CalibrationResult:
@@ -204,11 +245,13 @@ def _split_cached(tasks: list[PositionTask], cache: Path, log) -> tuple[dict[str
     return results, todo
 
 
-def _compute(todo: list[PositionTask], cfg: CalibrationConfig, scheduler: str, cache: Path, show_progress: bool,
-             results: dict[str, IndentationResult], failed: list[PositionNote]) -> None:
-    """Run the FEM of ``todo`` (results cached and added to ``results``, failures to ``failed``)."""
+def _compute(todo: list[PositionTask], cfg: CalibrationConfig, scheduler: str, cache: Path,
+             show_progress: bool) -> ComputedPositions:
+    """Run the FEM of ``todo``; each result is cached as it arrives."""
+    results: dict[str, IndentationResult] = {}
+    failed: list[PositionNote] = []
     if not todo:
-        return
+        return ComputedPositions(results, ())
     quiet = not show_progress
     saved = 0
     with ProgressBar(len(todo), "positions", "pos", quiet, 0) as bar_pos, \
@@ -227,11 +270,12 @@ def _compute(todo: list[PositionTask], cfg: CalibrationConfig, scheduler: str, c
                 results[t.key] = outcome.indentation
             else:
                 failed.append(PositionNote(t.body, t.y_mm, outcome.error))
+    return ComputedPositions(results, tuple(failed))
 
 
 def _fit(t: PositionTask, ind: IndentationResult, cfg: CalibrationConfig, cache: Path, fit_code: str,
-         failed: list[PositionNote], log) -> PositionFit | None:
-    """The (cached) fit of one position; None (and the error in ``failed``) when it does not fit."""
+         log) -> FittedPosition:
+    """The (cached) fit of one position, or the error that stopped it."""
     f = fit_entry(cache, inputs_hash({"fem": t.key, "fit": asdict(cfg.fit), "code": fit_code}))
     fit, why = load_fit(f, t.y_mm) if entry_exists(f) else (None, None)
     if why:
@@ -240,10 +284,9 @@ def _fit(t: PositionTask, ind: IndentationResult, cfg: CalibrationConfig, cache:
         try:
             fit = fit_position(ind, t.geometry, cfg.fit, t.label)
         except WrLayerError as err:
-            failed.append(PositionNote(t.body, t.y_mm, str(err)))
-            return None
+            return FittedPosition(None, PositionNote(t.body, t.y_mm, str(err)))
         save_entry(f, fit)
-    return fit
+    return FittedPosition(fit)
 
 
 def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress, log, force) -> CalibrationResult:
@@ -251,15 +294,14 @@ def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress,
     plots = cfg.run.plots if plots is None else plots
     scheduler = scheduler if scheduler is not None else (cfg.run.scheduler or "")
     tasks, failed, warnings = make_tasks(cfg, out_dir, plots)
+    failed, warnings = tuple(failed), tuple(warnings)
     cache = out_dir / "cache"
-    results: dict[str, IndentationResult] = {}
-    routes: dict[str, Route] = {}
-    similarity = None
-    if cfg.run.method == "similarity":
-        tasks, similarity = _similarity(cfg, tasks, out_dir, scheduler, show_progress, log, force, warnings,
-                                        results, routes)
-    cached, todo = _split_cached([t for t in tasks if t.key not in results], cache, log)
-    results.update(cached)
+    routing = _similarity(cfg, tasks, out_dir, scheduler, show_progress, log, force) \
+        if cfg.run.method == "similarity" else None
+    if routing is not None:
+        tasks, warnings = list(routing.tasks), warnings + routing.warnings
+    served = routing.results if routing is not None else {}
+    cached, todo = _split_cached([t for t in tasks if t.key not in served], cache, log)
     # longest first: the most elongated patches take the most Newton iterations and solves (with the stretched mesh
     # of the default run 8-9.6 s at a/b = 5.8-13.6 against 6.4-7.6 s for round patches, docs/calibration.md), so
     # that no worker is left alone with a long position at the end
@@ -270,15 +312,20 @@ def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress,
         log(f"calibration ({cfg.run.model.upper()} model): {len(todo)} position(s) to compute, {n_cached} cached "
             f"({'Dask ' + scheduler if scheduler else f'{min(cfg.run.workers, len(todo))} local worker(s)'}; "
             f"estimated {estimate.describe()})")
-    _compute(todo, cfg, scheduler, cache, show_progress, results, failed)
+    fem = _compute(todo, cfg, scheduler, cache, show_progress)
+    results = {**served, **cached, **fem.results}
+    failed += fem.failed
     computed = [results[t.key] for t in todo if t.key in results]
     fem_s = [r.seconds for r in computed]
     fem_seconds = None if not fem_s else FemSeconds(min(fem_s), max(fem_s), sum(fem_s),
                                                     sum(r.output_seconds for r in computed))
-    bodies, written = _tables(cfg, tasks, results, routes, failed, warnings, plots, out_dir, log)
+    tables = _tables(cfg, tasks, results, routing.routes if routing is not None else {}, failed, warnings, plots,
+                     out_dir, log)
+    bodies = tables.bodies
     worst = max([s.max_relative_fit_error for s in bodies.values() if s.table is not None], default=0.0)
-    result = CalibrationResult(bodies, len(todo), n_cached, fem_seconds, tuple(failed), tuple(warnings), worst,
-                               time.perf_counter() - t_start, tuple(written), similarity)
+    result = CalibrationResult(bodies, len(todo), n_cached, fem_seconds, failed + tables.failed, warnings, worst,
+                               time.perf_counter() - t_start, tables.files,
+                               routing.summary if routing is not None else None)
     # a run that computed nothing (all cached) writes its own record beside the one of the run that computed:
     # the cold run's times and counts stay where the benchmark reads them
     name = SUMMARY_CACHED if not todo and (out_dir / SUMMARY).is_file() else SUMMARY
@@ -290,31 +337,32 @@ def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress,
 
 
 def _tables(cfg: CalibrationConfig, tasks: list[PositionTask], results: dict[str, IndentationResult],
-            routes: dict[str, Route], failed: list[PositionNote], warnings: list[PositionNote], plots: bool,
-            out_dir: Path, log) -> tuple[dict[str, BodySummary], list[str]]:
-    """Fit every position with a result and write each body's table; ({body: summary}, files written)."""
+            routes: dict[str, Route], failed: tuple[PositionNote, ...], warnings: tuple[PositionNote, ...],
+            plots: bool, out_dir: Path, log) -> WrittenTables:
+    """Fit every position with a result and write each body's table (listing ``failed`` and the positions whose
+    fit fails)."""
     fit_code = code_hash(FIT_SOURCES)
     cache = out_dir / "cache"
-    bodies, written = {}, []
+    bodies, written, fit_failed = {}, [], []
     body_routes = {k: (r.method, r.note) for k, r in routes.items()}
     for b in cfg.bodies:
         fits = []
         for t in (t for t in tasks if t.body == b.body and t.key in results):
-            fit = _fit(t, results[t.key], cfg, cache, fit_code, failed, log)
-            if fit is not None:
-                fits.append((t.key, fit))
-        bodies[b.body], _, files = write_body_table(cfg, b, fits, failed, warnings, fit_code, plots, out_dir,
-                                                    body_routes)
+            fitted = _fit(t, results[t.key], cfg, cache, fit_code, log)
+            if fitted.fit is not None:
+                fits.append((t.key, fitted.fit))
+            else:
+                fit_failed.append(fitted.failure)
+        bodies[b.body], _, files = write_body_table(cfg, b, fits, list(failed) + fit_failed, list(warnings),
+                                                    fit_code, plots, out_dir, body_routes)
         written += [str(p) for p in files]
-    return bodies, written
+    return WrittenTables(bodies, tuple(written), tuple(fit_failed))
 
 
 def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path, scheduler: str, show_progress,
-                log, force: bool, warnings: list[PositionNote], results: dict[str, IndentationResult],
-                routes: dict[str, Route]) -> tuple[list[PositionTask], SimilaritySummary]:
+                log, force: bool) -> SimilarityRouting:
     """The similarity route: compute (or read) each material's master, then give every position it serves its
-    characteristic from the master (into ``results``, keyed by its similarity key) and every position its route
-    (``routes``). Returns the tasks (the served ones re-keyed) and the route's summary."""
+    characteristic from the master (keyed by its similarity key) and every position its route."""
     if cfg.run.model != "3d":
         raise InputError(f"{cfg.source}: run.method", "'similarity' needs run.model = '3d'")
     mcache = Path(cfg.run.master_dir) if cfg.run.master_dir else out_dir / "cache"
@@ -331,9 +379,12 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     if mtodo:
         log(f"calibration (3D model, similarity): {len(mtodo)} master position(s) to compute "
             f"({len(mresults)} cached) in {mcache}; with the direct positions estimated {estimate.describe()}")
-    mfailed: list[PositionNote] = []
-    _compute(mtodo, cfg, scheduler, mcache, show_progress, mresults, mfailed)
-    warnings += [PositionNote("master", n.y_mm, f"similarity master: {n.message}") for n in mfailed]
+    computed = _compute(mtodo, cfg, scheduler, mcache, show_progress)
+    mresults.update(computed.results)
+    mfailed = computed.failed
+    warnings = [PositionNote("master", n.y_mm, f"similarity master: {n.message}") for n in mfailed]
+    results: dict[str, IndentationResult] = {}
+    routes: dict[str, Route] = {}
     masters = {m: stored[m] or MasterCurves.build(cfg, m, mtasks[m], mresults) for m in materials}
     for m, mc in masters.items():
         if mc is not None and stored[m] is None and not mfailed:  # a master with failed points is not kept
@@ -359,7 +410,7 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     served = sum(r.method == METHOD_SIMILARITY for r in routes.values())
     summary = SimilaritySummary(served, len(tasks) - served, files, len(mtodo) - len(mfailed), n_mcached,
                                 sum(mc.fem_seconds for mc in masters.values() if mc), per_position)
-    return out, summary
+    return SimilarityRouting(tuple(out), results, routes, tuple(warnings), summary)
 
 
 def _report(result: CalibrationResult, model: str, out_dir: Path, log) -> None:
