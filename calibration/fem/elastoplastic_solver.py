@@ -17,7 +17,8 @@ norm of the residual ``r_k . P^-1 r_k <= etol * r_0 . P^-1 r_0`` (P: the stiffne
 elastic or a recent tangent; one extra back-substitution per iteration).
 
 The options, states and records are in :mod:`calibration.fem.solver_state`, one Newton increment in
-:mod:`calibration.fem.newton`.
+:mod:`calibration.fem.newton`, the assembled problem in :mod:`calibration.fem.problem`, the constraints in
+:mod:`calibration.fem.boundary`.
 
 Stiffness: K_e is assembled and factorised once (PARDISO: in single precision by default, refined in double
 where a solve is used directly); the tangent is ``K_e + sum_plastic_elements (K_ep - K_e)``, applied matrix-free in
@@ -43,7 +44,9 @@ import skfem
 from calibration.fem.assembly import Discretisation, discretise
 from calibration.fem.linear_solvers import resolve_backend
 from calibration.fem.material import J2Material
-from calibration.fem.newton import TangentProblem, dirichlet_dofs, elastic_first_yield, newton_increment
+from calibration.fem.boundary import dirichlet_dofs
+from calibration.fem.newton import newton_increment
+from calibration.fem.problem import TangentProblem, elastic_first_yield
 from calibration.fem.solver_state import (STRATEGIES, FemResult, Increment, SolverOptions, SolverState, load_state,
                                           save_state)
 from wrlayer.errors import ConvergenceError, require

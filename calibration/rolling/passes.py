@@ -3,7 +3,7 @@
 Each pass: the load appears at x_start (p0 applied in ``ramp_steps`` equal steps), moves in steps to x_end, and is
 removed there (one step); the next pass starts again at x_start from the residual state. Every step is one
 Newton increment of the engine (:func:`calibration.fem.newton.newton_increment`) on the kept
-:class:`~calibration.fem.newton.TangentProblem` (the elastic factorisation is assembled once and kept across steps
+:class:`~calibration.fem.problem.TangentProblem` (the elastic factorisation is assembled once and kept across steps
 and passes; PCG on the consistent tangent, refreshed as the engine does). The first iterate of a step is the
 converged state plus the elastic response to the change of the load vector (a back-substitution with the kept
 elastic factorisation, or CG preconditioned by the kept tangent factorisation). A step whose Newton iteration fails is cut in halves (positions and
@@ -20,7 +20,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from calibration.fem.linear_solvers import preconditioned_cg
-from calibration.fem.newton import MaterialResponse, TangentProblem, newton_increment
+from calibration.fem.newton import MaterialResponse, newton_increment
+from calibration.fem.problem import TangentProblem
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.moving_load import SurfaceForces
 from wrlayer.errors import ConvergenceError

@@ -31,7 +31,8 @@ from __future__ import annotations
 import numpy as np
 
 from calibration.fem.linear_solvers import preconditioned_cg
-from calibration.fem.newton import MaterialResponse, TangentProblem
+from calibration.fem.newton import MaterialResponse
+from calibration.fem.problem import TangentProblem
 from calibration.fem.return_mapping import radial_return, tangent_of_elements
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.moving_load import SurfaceForces
