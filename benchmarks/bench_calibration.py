@@ -82,7 +82,7 @@ def model_comparison(quick: bool) -> list[dict]:
     """Rail y = 0: 2D and 3D indentations on several meshes; run time, first yield p_y and FEM residual dents
     after unloading from 1.5 and 2.5 p_y, against the finest 3D run (the last; quadratic tetrahedra)."""
     from calibration.hertz.geometry import local_geometry
-    from calibration.indentation import LoadSettings, MeshSettings, indent
+    from calibration.indentation import IndentationJob, LoadSettings, MeshSettings, indent
     from calibration.fem.material import J2Material
     from meshes.profiles import get_profile
 
@@ -101,7 +101,8 @@ def model_comparison(quick: bool) -> list[dict]:
     out = []
     for model, mesh in runs:
         t0 = time.perf_counter()
-        res = indent(rail, geo, mat, model, mesh, load, linear_solver="scipy")
+        res = indent(IndentationJob(profile=rail, geometry=geo, material=mat, model=model, mesh=mesh, load=load,
+                                    linear_solver="scipy"))
         out.append({"model": model, "mesh": dataclasses.asdict(mesh), "seconds": time.perf_counter() - t0,
                     "n_dofs": res.n_dofs, "first_yield_MPa": res.first_yield_MPa,
                     "peaks_MPa": res.unload_peaks_MPa, "residual_fem_mm": res.residual_fem_mm,
@@ -238,7 +239,7 @@ def convergence_case(body: str, y_mm: float, mesh_kw: dict, load_kw: dict | None
     every load level (as multiples of p_y), FEM residual dents, dofs, seconds (wall, with ``threads`` BLAS
     threads)."""
     from calibration.config import load_config, material_of
-    from calibration.indentation import indent
+    from calibration.indentation import IndentationJob, indent
     from calibration.tasks import position_geometry
     from wrlayer.runner import limited_threads
     from meshes.profiles import get_profile
@@ -251,7 +252,8 @@ def convergence_case(body: str, y_mm: float, mesh_kw: dict, load_kw: dict | None
     load = dataclasses.replace(cfg.load, **(load_kw or {}))
     t0 = time.perf_counter()
     with limited_threads(threads):
-        res = indent(profile, geo, material_of(b), "3d", mesh, load, linear_solver=linear_solver)
+        res = indent(IndentationJob(profile=profile, geometry=geo, material=material_of(b), model="3d", mesh=mesh,
+                                    load=load, linear_solver=linear_solver))
     p = np.asarray(res.p_MPa)
     return {"body": body, "y_mm": y_mm, "mesh": mesh_kw, "load": load_kw or {}, "a_mm": geo.a_mm,
             "b_mm": geo.b_mm, "warning": warning, "seconds": time.perf_counter() - t0, "threads": threads,

@@ -21,7 +21,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from benchmarks.harness import interleaved_medians, machine_info, max_rss_mb, peak_memory_mb
-from calibration.fem.elastoplastic_solver import SolverOptions, dirichlet_dofs, solve_load_path
+from calibration.fem.boundary import dirichlet_dofs
+from calibration.fem.elastoplastic_solver import SolverOptions, solve_load_path
 from calibration.fem.assembly import discretise
 from calibration.hertz.load import HertzLoad
 from calibration.fem.linear_solvers import HAVE_PARDISO
@@ -77,7 +78,7 @@ def factor_precision(h: float, repeat: int = 10) -> list[dict]:
     """PARDISO factorisation and triangular-solve times of the elastic stiffness of the level-h block, double
     against single precision (medians of ``repeat`` solves, one BLAS thread as in the calibration workers), and
     the relative residual of one solve and of the refined solve."""
-    from calibration.fem.newton import TangentProblem
+    from calibration.fem.problem import TangentProblem
     from calibration.fem.linear_solvers import Factoriser
 
     mesh = _mesh(h)

@@ -47,7 +47,7 @@ NOT_RESULTS = {"seconds", "output_seconds", "files", "newton_iterations", "linea
 PHASES = {
     "meshing": ["calibration.indentation:build_mesh"],
     "discretisation": ["calibration.fem.assembly:discretise"],
-    "assembly": ["calibration.fem.newton:TangentProblem.__init__", "calibration.hertz.load:HertzLoad.prepare"],
+    "assembly": ["calibration.fem.problem:TangentProblem.__init__", "calibration.hertz.load:HertzLoad.prepare"],
     "factorisation": ["calibration.fem.linear_solvers:Factoriser.factorise"],
     "Newton": ["calibration.fem.newton:newton_increment"],
     "of which solves": ["calibration.fem.linear_solvers:Factoriser.solve"],

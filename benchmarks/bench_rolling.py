@@ -23,8 +23,8 @@ import pathlib
 import sys
 import time
 
+from benchmarks import rolling_gap as gap, rolling_gap_cases as gap_cases, rolling_gap_static as gap_static
 from benchmarks.harness import command_line, stamped_report
-from calibration.rolling import gap, gap_cases, gap_static
 from calibration.rolling.config import RollingConfig, load_rolling_config
 from calibration.rolling.run import RollingResult, run_rolling
 

@@ -1,6 +1,6 @@
 """The rolling layer against the rolling FEM on the profile SECTION (units mm, MPa, s).
 
-The gap cases of :mod:`calibration.rolling.gap_cases` roll on the half-space block with each position's patch;
+The gap cases of :mod:`benchmarks.rolling_gap_cases` roll on the half-space block with each position's patch;
 the block's static dent is 13-16 % below the shipped tables' residuals at h = a/2, while the section's is within
 about 3 % (docs/rolling.md, "Accuracy"). Here five positions of the default tables (60E1 rail crown y = 0, gauge
 corner y = -35 mm and field side y = 25 mm, S1002 wheel tread y = 0 and flange root y = -37.5 mm) are rolled on
@@ -26,8 +26,8 @@ import pathlib
 import sys
 from dataclasses import asdict, dataclass, replace
 
+from benchmarks import rolling_gap_cases as gap_cases
 from benchmarks.harness import command_line, stamped_report
-from calibration.rolling import gap_cases
 from calibration.rolling.config import RollingConfig, parse_rolling_config
 from calibration.rolling.run import run_rolling
 from wrlayer.layer_table import LayerTable
@@ -51,7 +51,7 @@ TARGET = 0.05
 
 def section_config(table: str, y_mm: float, c: float) -> RollingConfig:
     """The rolling configuration of one position and traction on its section: the gap's coarse discretisation
-    (:data:`calibration.rolling.gap_cases.GAP_TRACK`, ``GAP_MESH``) with :data:`N_PASSES` passes."""
+    (:data:`benchmarks.rolling_gap_cases.GAP_TRACK`, ``GAP_MESH``) with :data:`N_PASSES` passes."""
     data = {"contact": {"body": "section", "table": table, "y_mm": y_mm, "traction_coefficient": c,
                         "levels": list(LEVELS), "level_unit": "p_y"},
             "track": asdict(replace(gap_cases.GAP_TRACK, n_passes=N_PASSES)),

@@ -21,7 +21,7 @@ from calibration.fem.solver_state import SolverState
 from calibration.rolling.config import (ContactSettings, RollingConfig, RollingMaterial, RollingRunSettings,
                                         TrackMeshSettings, TrackSettings)
 from calibration.rolling.groove import GrooveProfile
-from calibration.rolling.passes import PassRecord, roll
+from calibration.rolling.passes import MovingLoadPass, roll
 from calibration.rolling.run import RollingModel, build_model, level_pressures, static_dents
 from calibration.rolling.substeps import SubstepSolver, UnitResponses
 from calibration.rolling.track_mesh import track_mesh
@@ -84,7 +84,7 @@ class CaseResult:
     newton_iterations: list[int] = field(default_factory=list)
     load_average: list[float] = field(default_factory=list)
 
-    def with_pass(self, prof: GrooveProfile, net: float, rec: PassRecord, cpu_s: float) -> CaseResult:
+    def with_pass(self, prof: GrooveProfile, net: float, rec: MovingLoadPass, cpu_s: float) -> CaseResult:
         """This result with one more pass: its groove profile, net plastic change (-) and record, CPU time (s)."""
         return replace(self, groove_mm=self.groove_mm + [prof.groove_mm], shift_mm=self.shift_mm + [prof.shift_mm],
                        max_eq_plastic_strain=self.max_eq_plastic_strain + [prof.max_eq_plastic_strain],
@@ -148,7 +148,7 @@ class CaseRunner:
         previous = SolverState.virgin(model.disc).plastic_strain[below]
         cpu = time.process_time()
         for rec in roll(solver, SolverState.virgin(model.disc), positions, case.passes, cfg.track.ramp_steps):
-            if isinstance(rec, PassRecord):
+            if isinstance(rec, MovingLoadPass):
                 prof = model.probe.profile(rec.state)
                 change = rec.state.plastic_strain[below] - previous
                 net = float(np.sqrt(2.0 / 3.0 * (change ** 2).sum(axis=-1)).max())

@@ -29,11 +29,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from calibration.fem.elastoplastic_solver import (
-    SolverOptions,
-    dirichlet_dofs,
-    solve_load_path,
-)
+from calibration.fem.boundary import dirichlet_dofs
+from calibration.fem.elastoplastic_solver import SolverOptions, solve_load_path
 from calibration.fem.assembly import discretise
 from calibration.hertz.load import HertzLoad
 from calibration.fem.material import J2Material

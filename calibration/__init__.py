@@ -18,8 +18,8 @@ Python API (a calibration of given positions)::
 - :mod:`calibration.batch`: a folder of profile files with one template configuration.
 - :mod:`calibration.results`: a position's results (FEM indentation, table entry) as typed records.
 - :mod:`calibration.tasks`, :mod:`calibration.cache`, :mod:`calibration.tables`, :mod:`calibration.pipeline`,
-  :mod:`calibration.plots`: the cached run over many positions (:mod:`wrlayer.runner`) and the layer tables,
-  summary and pictures it writes.
+  :mod:`calibration.run_summary`, :mod:`calibration.plots`: the cached run over many positions
+  (:mod:`wrlayer.runner`) and the layer tables, summary and pictures it writes.
 
 Public API (imported on first use: ``import calibration`` loads neither scikit-fem nor gmsh; docs/api.md):
 
@@ -44,7 +44,7 @@ from wrlayer import lazy_exports
 API = {
     "calibrate": "calibration.pipeline",
     "run_calibration": "calibration.pipeline",
-    "CalibrationResult": "calibration.pipeline",
+    "CalibrationResult": "calibration.run_summary",
     "load_config": "calibration.config",
     "parse_config": "calibration.config",
     "CalibrationConfig": "calibration.settings",

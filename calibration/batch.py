@@ -19,7 +19,8 @@ from typing import Any
 from calibration.cache import fem_entry
 from calibration.config import profile_of, resolve_profile
 from calibration.cost import calibration_cost
-from calibration.pipeline import CalibrationResult, calibrate
+from calibration.pipeline import calibrate
+from calibration.run_summary import CalibrationResult
 from calibration.settings import CalibrationConfig
 from calibration.similarity.master import master_tasks
 from calibration.similarity.route import METHOD_DIRECT, route

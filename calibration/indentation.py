@@ -198,29 +198,49 @@ def load_stages(pm: PositionModel, material: J2Material, opts: SolverOptions, le
         start = end
 
 
-def indent(profile, geometry: LocalGeometry, material: J2Material, model: str = "2d",
-           mesh_settings: MeshSettings = MeshSettings(), load_settings: LoadSettings = LoadSettings(),
-           out_dir: Path | None = None, progress: Callable[[int], object] | None = None, linear_solver: str = "auto",
-           extra_depth_factors: tuple[float, ...] = ()) -> IndentationResult:
+@dataclass(frozen=True, kw_only=True)
+class IndentationJob:
+    """What one position's indentation computes (built by keyword): ``profile`` (:class:`meshes.profiles.base.Profile`)
+    and ``geometry`` (the Hertz patch, mm) of the position, its ``material`` (MPa), ``model`` '2d' | '3d', the
+    ``mesh`` and ``load`` settings, the ``linear_solver`` 'auto' | 'pardiso' | 'scipy' (SuperLU: faster for small
+    2D sections on a busy machine) and ``extra_depth_factors``: further reference depths (as
+    ``mesh.reference_depth_factor``) whose inelastic displacements are reported in ``u_pl_depth_mm``
+    (benchmarks). InputError for a model or unloading factor out of range."""
+
+    profile: object
+    geometry: LocalGeometry
+    material: J2Material
+    model: str = "2d"
+    mesh: MeshSettings = MeshSettings()
+    load: LoadSettings = LoadSettings()
+    linear_solver: str = "auto"
+    extra_depth_factors: tuple[float, ...] = ()
+
+    def __post_init__(self):
+        require(self.model in ("2d", "3d"), "model", f"must be '2d' or '3d', got {self.model!r}")
+        load = self.load
+        require(all(0 < f <= load.max_factor + 1e-12 for f in load.unload_factors), "unload_factors",
+                f"must lie in (0, max_factor = {load.max_factor}], got {list(load.unload_factors)}")
+
+
+def indent(job: IndentationJob, *, out_dir: Path | None = None,
+           progress: Callable[[int], object] | None = None) -> IndentationResult:
     """Run the indentation of one position; ``progress(n)`` is called after the elastic solve and after each load
-    stage (optional); linear_solver: 'auto' | 'pardiso' | 'scipy' (SuperLU: faster for small 2D sections on a busy
-    machine).
+    stage (optional).
 
     The layer displacement is the normal displacement of the load centre (relative to the material point at the
-    reference depth d_ref = reference_depth_factor * max(a, b) below it when that factor is > 0).
-    ``extra_depth_factors``: further reference depths (same unit) whose inelastic displacements are reported in ``u_pl_depth_mm``
-    (benchmarks). When ``out_dir`` is given, VTK/PNG fields at the highest peak and after unloading from it are
-    written there, and every converged level of the whole path as a ParaView time series
-    ``out_dir/load_path/load_path.pvd`` (load level p0_MPa in each file's FieldData). Raises ConvergenceError (FEM)
-    or InputError (geometry, mesh) naming the cause.
+    reference depth d_ref = reference_depth_factor * max(a, b) below it when that factor is > 0). When ``out_dir``
+    is given, VTK/PNG fields at the highest peak and after unloading from it are written there, and every
+    converged level of the whole path as a ParaView time series ``out_dir/load_path/load_path.pvd`` (load level
+    p0_MPa in each file's FieldData). Raises ConvergenceError (FEM) or InputError (geometry, mesh) naming the
+    cause.
     """
-    require(model in ("2d", "3d"), "model", f"must be '2d' or '3d', got {model!r}")
-    require(all(0 < f <= load_settings.max_factor + 1e-12 for f in load_settings.unload_factors), "unload_factors",
-            f"must lie in (0, max_factor = {load_settings.max_factor}], got {list(load_settings.unload_factors)}")
+    profile, geometry, material, model = job.profile, job.geometry, job.material, job.model
+    mesh_settings, load_settings, linear_solver = job.mesh, job.load, job.linear_solver
     t0 = time.perf_counter()
     if out_dir is not None and importlib.util.find_spec("calibration.fem.output") is None:
         out_dir = None  # the FEM engine's field output is not available: no VTK/PNG pictures
-    pm = position_model(profile, geometry, model, mesh_settings, extra_depth_factors)
+    pm = position_model(profile, geometry, model, mesh_settings, job.extra_depth_factors)
     el = elastic_response(pm, material, geometry, mesh_settings, linear_solver)
     if progress:
         progress(1)
@@ -289,7 +309,7 @@ def _result(pm: PositionModel, el: ElasticResponse, material: J2Material, geomet
                              output_seconds=float(output_seconds), **solver_counts(pm.disc))
 
 
-__all__ = ["AUTO_EXTRUDED_ASPECT", "ElasticResponse", "IndentationResult", "LoadSettings", "LoadStageRecord",
+__all__ = ["AUTO_EXTRUDED_ASPECT", "ElasticResponse", "IndentationJob", "IndentationResult", "LoadSettings", "LoadStageRecord",
            "MeshSettings", "add_support_boundary", "build_mesh", "mesh_style",
            "PositionModel", "elastic_response", "indent", "load_levels", "load_stages", "local_first_yield_MPa",
            "point_probe", "position_model", "solver_counts"]

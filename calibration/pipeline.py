@@ -24,6 +24,7 @@ from calibration.cache import entry_exists, fem_entry, fit_entry, load_fit, load
 from calibration.cost import calibration_cost
 from calibration.position_fit import fit_position
 from calibration.results import IndentationResult, PositionFit
+from calibration.run_summary import CalibrationResult, FemSeconds, SimilaritySummary
 from calibration.settings import CalibrationConfig
 from calibration.similarity.master import MasterCurves, master_key, master_tasks, stored_master
 from calibration.similarity.route import (METHOD_DIRECT, METHOD_SIMILARITY, SIMILARITY_SOURCES, Route, route,
@@ -45,122 +46,44 @@ SUMMARY_CACHED = "summary_cached.json"
 
 
 @dataclass(frozen=True)
-class FemSeconds:
-    """Wall time inside the workers of the computed positions, FEM apart from the field output (VTU, PNG).
+class ComputedPositions:
+    """What the FEM step returns: ``results`` {cache key: FEM result} of the positions computed (and cached),
+    ``failed`` the positions whose FEM failed, with the cause."""
 
-    Attributes
-    ----------
-    per_position_min : float
-        Shortest FEM time of a position (s).
-    per_position_max : float
-        Longest FEM time of a position (s).
-    total : float
-        FEM time of all computed positions (s).
-    output_total : float
-        Field output time of all computed positions (s).
-    """
-
-    per_position_min: float
-    per_position_max: float
-    total: float
-    output_total: float
+    results: dict[str, IndentationResult]
+    failed: tuple[PositionNote, ...]
 
 
 @dataclass(frozen=True)
-class SimilaritySummary:
-    """The similarity route of a run (``similarity`` of ``summary.json``).
+class FittedPosition:
+    """What the fit step returns for one position: its fit, or None and the ``failure`` that stopped it."""
 
-    Attributes
-    ----------
-    served : int
-        Positions calibrated from the master curves.
-    direct : int
-        Positions the master did not serve (calibrated by the direct FEM; why: each table entry's ``method`` and
-        the summary's ``position_details``).
-    master_files : tuple of str
-        The master curves written (``similarity_master_<key>.json``).
-    master_positions_computed : int
-        Master FEM positions computed in this run.
-    master_positions_cached : int
-        Master FEM positions read from the master's cache.
-    master_fem_seconds : float
-        FEM time of all master positions, cached ones included (s).
-    seconds_per_position : float
-        Time per position to route it and (when served) build its characteristic from the master, without the
-        fit (s).
-    """
-
-    served: int
-    direct: int
-    master_files: tuple[str, ...]
-    master_positions_computed: int
-    master_positions_cached: int
-    master_fem_seconds: float
-    seconds_per_position: float
+    fit: PositionFit | None
+    failure: PositionNote | None = None
 
 
 @dataclass(frozen=True)
-class CalibrationResult:
-    """The outcome of a calibration run (``summary.json``).
-
-    Attributes
-    ----------
-    bodies : dict of BodySummary
-        Per body: positions, calibrated and failed counts, fit errors and the table's path.
-    positions_computed : int
-        Positions whose FEM ran in this run.
-    positions_cached : int
-        Positions whose FEM result came from the cache.
-    fem_seconds : FemSeconds or None
-        FEM times of the computed positions (None, and absent from the file: nothing computed).
-    failed : tuple of PositionNote
-        Failed positions: body, y_mm (mm) and error (in the file: ``{"body", "y_mm", "error"}``).
-    warnings : tuple of PositionNote
-        Warnings about positions (in the file: ``{"body", "y_mm", "warning"}``).
-    worst_relative_fit_error : float
-        Largest fit error relative to max u over all positions (-).
-    seconds : float
-        Wall time of the run (s).
-    files : tuple of str
-        Files written (tables, pictures).
-    similarity : SimilaritySummary or None
-        The similarity route's summary (None, and absent from the file: ``run.method = "direct"``).
-    """
+class WrittenTables:
+    """What the table step returns: ``bodies`` {body: summary}, the ``files`` written and the positions whose fit
+    ``failed`` (listed in their tables)."""
 
     bodies: dict[str, BodySummary]
-    positions_computed: int
-    positions_cached: int
-    fem_seconds: FemSeconds | None
-    failed: tuple[PositionNote, ...]
-    warnings: tuple[PositionNote, ...]
-    worst_relative_fit_error: float
-    seconds: float
     files: tuple[str, ...]
-    similarity: SimilaritySummary | None = None
+    failed: tuple[PositionNote, ...]
 
-    @property
-    def ok(self) -> bool:
-        """True when every position was calibrated."""
-        return not self.failed
 
-    @property
-    def tables(self) -> dict[str, Path]:
-        """{body: path of its table's JSON file} of the bodies with a table."""
-        return {name: Path(b.table) for name, b in self.bodies.items() if b.table is not None}
+@dataclass(frozen=True)
+class SimilarityRouting:
+    """What the similarity step returns: the ``tasks`` (the served ones re-keyed by their similarity key), the
+    ``results`` {key: characteristic from the master} of the served positions, every position's ``routes``
+    {key: Route}, the ``warnings`` it raised (failed master points, positions served from outside the master's
+    domain) and the route's ``summary``."""
 
-    def to_dict(self) -> dict[str, Any]:
-        out: dict[str, Any] = {"bodies": {k: v.to_dict() for k, v in self.bodies.items()},
-                               "positions_computed": self.positions_computed,
-                               "positions_cached": self.positions_cached}
-        if self.fem_seconds is not None:
-            out["fem_seconds"] = asdict(self.fem_seconds)
-        out.update(failed=[{"body": f.body, "y_mm": f.y_mm, "error": f.message} for f in self.failed],
-                   warnings=[{"body": w.body, "y_mm": w.y_mm, "warning": w.message} for w in self.warnings],
-                   worst_relative_fit_error=self.worst_relative_fit_error, seconds=self.seconds,
-                   files=list(self.files))
-        if self.similarity is not None:
-            out["similarity"] = asdict(self.similarity)
-        return out
+    tasks: tuple[PositionTask, ...]
+    results: dict[str, IndentationResult]
+    routes: dict[str, Route]
+    warnings: tuple[PositionNote, ...]
+    summary: SimilaritySummary
 
 
 def calibrate(config: CalibrationConfig, out_dir: str | Path, *, scheduler: str | None = None,
@@ -204,11 +127,13 @@ def _split_cached(tasks: list[PositionTask], cache: Path, log) -> tuple[dict[str
     return results, todo
 
 
-def _compute(todo: list[PositionTask], cfg: CalibrationConfig, scheduler: str, cache: Path, show_progress: bool,
-             results: dict[str, IndentationResult], failed: list[PositionNote]) -> None:
-    """Run the FEM of ``todo`` (results cached and added to ``results``, failures to ``failed``)."""
+def _compute(todo: list[PositionTask], cfg: CalibrationConfig, scheduler: str, cache: Path,
+             show_progress: bool) -> ComputedPositions:
+    """Run the FEM of ``todo``; each result is cached as it arrives."""
+    results: dict[str, IndentationResult] = {}
+    failed: list[PositionNote] = []
     if not todo:
-        return
+        return ComputedPositions(results, ())
     quiet = not show_progress
     saved = 0
     with ProgressBar(len(todo), "positions", "pos", quiet, 0) as bar_pos, \
@@ -227,11 +152,12 @@ def _compute(todo: list[PositionTask], cfg: CalibrationConfig, scheduler: str, c
                 results[t.key] = outcome.indentation
             else:
                 failed.append(PositionNote(t.body, t.y_mm, outcome.error))
+    return ComputedPositions(results, tuple(failed))
 
 
 def _fit(t: PositionTask, ind: IndentationResult, cfg: CalibrationConfig, cache: Path, fit_code: str,
-         failed: list[PositionNote], log) -> PositionFit | None:
-    """The (cached) fit of one position; None (and the error in ``failed``) when it does not fit."""
+         log) -> FittedPosition:
+    """The (cached) fit of one position, or the error that stopped it."""
     f = fit_entry(cache, inputs_hash({"fem": t.key, "fit": asdict(cfg.fit), "code": fit_code}))
     fit, why = load_fit(f, t.y_mm) if entry_exists(f) else (None, None)
     if why:
@@ -240,10 +166,9 @@ def _fit(t: PositionTask, ind: IndentationResult, cfg: CalibrationConfig, cache:
         try:
             fit = fit_position(ind, t.geometry, cfg.fit, t.label)
         except WrLayerError as err:
-            failed.append(PositionNote(t.body, t.y_mm, str(err)))
-            return None
+            return FittedPosition(None, PositionNote(t.body, t.y_mm, str(err)))
         save_entry(f, fit)
-    return fit
+    return FittedPosition(fit)
 
 
 def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress, log, force) -> CalibrationResult:
@@ -251,15 +176,14 @@ def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress,
     plots = cfg.run.plots if plots is None else plots
     scheduler = scheduler if scheduler is not None else (cfg.run.scheduler or "")
     tasks, failed, warnings = make_tasks(cfg, out_dir, plots)
+    failed, warnings = tuple(failed), tuple(warnings)
     cache = out_dir / "cache"
-    results: dict[str, IndentationResult] = {}
-    routes: dict[str, Route] = {}
-    similarity = None
-    if cfg.run.method == "similarity":
-        tasks, similarity = _similarity(cfg, tasks, out_dir, scheduler, show_progress, log, force, warnings,
-                                        results, routes)
-    cached, todo = _split_cached([t for t in tasks if t.key not in results], cache, log)
-    results.update(cached)
+    routing = _similarity(cfg, tasks, out_dir, scheduler, show_progress, log, force) \
+        if cfg.run.method == "similarity" else None
+    if routing is not None:
+        tasks, warnings = list(routing.tasks), warnings + routing.warnings
+    served = routing.results if routing is not None else {}
+    cached, todo = _split_cached([t for t in tasks if t.key not in served], cache, log)
     # longest first: the most elongated patches take the most Newton iterations and solves (with the stretched mesh
     # of the default run 8-9.6 s at a/b = 5.8-13.6 against 6.4-7.6 s for round patches, docs/calibration.md), so
     # that no worker is left alone with a long position at the end
@@ -270,15 +194,20 @@ def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress,
         log(f"calibration ({cfg.run.model.upper()} model): {len(todo)} position(s) to compute, {n_cached} cached "
             f"({'Dask ' + scheduler if scheduler else f'{min(cfg.run.workers, len(todo))} local worker(s)'}; "
             f"estimated {estimate.describe()})")
-    _compute(todo, cfg, scheduler, cache, show_progress, results, failed)
+    fem = _compute(todo, cfg, scheduler, cache, show_progress)
+    results = {**served, **cached, **fem.results}
+    failed += fem.failed
     computed = [results[t.key] for t in todo if t.key in results]
     fem_s = [r.seconds for r in computed]
     fem_seconds = None if not fem_s else FemSeconds(min(fem_s), max(fem_s), sum(fem_s),
                                                     sum(r.output_seconds for r in computed))
-    bodies, written = _tables(cfg, tasks, results, routes, failed, warnings, plots, out_dir, log)
+    tables = _tables(cfg, tasks, results, routing.routes if routing is not None else {}, failed, warnings, plots,
+                     out_dir, log)
+    bodies = tables.bodies
     worst = max([s.max_relative_fit_error for s in bodies.values() if s.table is not None], default=0.0)
-    result = CalibrationResult(bodies, len(todo), n_cached, fem_seconds, tuple(failed), tuple(warnings), worst,
-                               time.perf_counter() - t_start, tuple(written), similarity)
+    result = CalibrationResult(bodies, len(todo), n_cached, fem_seconds, failed + tables.failed, warnings, worst,
+                               time.perf_counter() - t_start, tables.files,
+                               routing.summary if routing is not None else None)
     # a run that computed nothing (all cached) writes its own record beside the one of the run that computed:
     # the cold run's times and counts stay where the benchmark reads them
     name = SUMMARY_CACHED if not todo and (out_dir / SUMMARY).is_file() else SUMMARY
@@ -290,31 +219,32 @@ def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress,
 
 
 def _tables(cfg: CalibrationConfig, tasks: list[PositionTask], results: dict[str, IndentationResult],
-            routes: dict[str, Route], failed: list[PositionNote], warnings: list[PositionNote], plots: bool,
-            out_dir: Path, log) -> tuple[dict[str, BodySummary], list[str]]:
-    """Fit every position with a result and write each body's table; ({body: summary}, files written)."""
+            routes: dict[str, Route], failed: tuple[PositionNote, ...], warnings: tuple[PositionNote, ...],
+            plots: bool, out_dir: Path, log) -> WrittenTables:
+    """Fit every position with a result and write each body's table (listing ``failed`` and the positions whose
+    fit fails)."""
     fit_code = code_hash(FIT_SOURCES)
     cache = out_dir / "cache"
-    bodies, written = {}, []
+    bodies, written, fit_failed = {}, [], []
     body_routes = {k: (r.method, r.note) for k, r in routes.items()}
     for b in cfg.bodies:
         fits = []
         for t in (t for t in tasks if t.body == b.body and t.key in results):
-            fit = _fit(t, results[t.key], cfg, cache, fit_code, failed, log)
-            if fit is not None:
-                fits.append((t.key, fit))
-        bodies[b.body], _, files = write_body_table(cfg, b, fits, failed, warnings, fit_code, plots, out_dir,
-                                                    body_routes)
+            fitted = _fit(t, results[t.key], cfg, cache, fit_code, log)
+            if fitted.fit is not None:
+                fits.append((t.key, fitted.fit))
+            else:
+                fit_failed.append(fitted.failure)
+        bodies[b.body], _, files = write_body_table(cfg, b, fits, list(failed) + fit_failed, list(warnings),
+                                                    fit_code, plots, out_dir, body_routes)
         written += [str(p) for p in files]
-    return bodies, written
+    return WrittenTables(bodies, tuple(written), tuple(fit_failed))
 
 
 def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path, scheduler: str, show_progress,
-                log, force: bool, warnings: list[PositionNote], results: dict[str, IndentationResult],
-                routes: dict[str, Route]) -> tuple[list[PositionTask], SimilaritySummary]:
+                log, force: bool) -> SimilarityRouting:
     """The similarity route: compute (or read) each material's master, then give every position it serves its
-    characteristic from the master (into ``results``, keyed by its similarity key) and every position its route
-    (``routes``). Returns the tasks (the served ones re-keyed) and the route's summary."""
+    characteristic from the master (keyed by its similarity key) and every position its route."""
     if cfg.run.model != "3d":
         raise InputError(f"{cfg.source}: run.method", "'similarity' needs run.model = '3d'")
     mcache = Path(cfg.run.master_dir) if cfg.run.master_dir else out_dir / "cache"
@@ -331,9 +261,12 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     if mtodo:
         log(f"calibration (3D model, similarity): {len(mtodo)} master position(s) to compute "
             f"({len(mresults)} cached) in {mcache}; with the direct positions estimated {estimate.describe()}")
-    mfailed: list[PositionNote] = []
-    _compute(mtodo, cfg, scheduler, mcache, show_progress, mresults, mfailed)
-    warnings += [PositionNote("master", n.y_mm, f"similarity master: {n.message}") for n in mfailed]
+    computed = _compute(mtodo, cfg, scheduler, mcache, show_progress)
+    mresults.update(computed.results)
+    mfailed = computed.failed
+    warnings = [PositionNote("master", n.y_mm, f"similarity master: {n.message}") for n in mfailed]
+    results: dict[str, IndentationResult] = {}
+    routes: dict[str, Route] = {}
     masters = {m: stored[m] or MasterCurves.build(cfg, m, mtasks[m], mresults) for m in materials}
     for m, mc in masters.items():
         if mc is not None and stored[m] is None and not mfailed:  # a master with failed points is not kept
@@ -359,7 +292,7 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     served = sum(r.method == METHOD_SIMILARITY for r in routes.values())
     summary = SimilaritySummary(served, len(tasks) - served, files, len(mtodo) - len(mfailed), n_mcached,
                                 sum(mc.fem_seconds for mc in masters.values() if mc), per_position)
-    return out, summary
+    return SimilarityRouting(tuple(out), results, routes, tuple(warnings), summary)
 
 
 def _report(result: CalibrationResult, model: str, out_dir: Path, log) -> None:
@@ -379,5 +312,5 @@ def _report(result: CalibrationResult, model: str, out_dir: Path, log) -> None:
                                     "interpolated across; a rerun computes only the failed ones)"))
 
 
-__all__ = ["CalibrationResult", "FemSeconds", "SimilaritySummary", "calibrate", "limited_threads", "make_tasks", "position_geometry",
+__all__ = ["calibrate", "limited_threads", "make_tasks", "position_geometry",
            "run_calibration"]

@@ -19,7 +19,7 @@ from calibration.config import profile_of
 from calibration.fem.material import J2Material
 from calibration.hertz.geometry import (HERTZ_B_OVER_R_LIMIT, LocalGeometry, conformity, fitted_load_N,
                                         given_geometry, local_geometry)
-from calibration.indentation import indent
+from calibration.indentation import IndentationJob, indent
 from calibration.placement import cant_rad
 from calibration.results import IndentationResult
 from calibration.settings import (BodySettings, CalibrationConfig, LoadSettings, MaterialSettings, MeshSettings)
@@ -119,8 +119,10 @@ def run_position(task: PositionTask) -> PositionOutcome:
     Never raises for a failed position: the error is returned with the position named."""
     try:
         fields_dir = Path(task.fields_dir) if task.fields_dir else None
-        res = indent(profile_of(task.profile), task.geometry, J2Material(**asdict(task.material)), task.model,
-                     task.mesh, task.load, fields_dir, report_progress, task.linear_solver)
+        job = IndentationJob(profile=profile_of(task.profile), geometry=task.geometry,
+                             material=J2Material(**asdict(task.material)), model=task.model, mesh=task.mesh,
+                             load=task.load, linear_solver=task.linear_solver)
+        res = indent(job, out_dir=fields_dir, progress=report_progress)
         return PositionOutcome(task.key, res)
     except WrLayerError as err:
         return PositionOutcome(task.key, None, f"{task.label}: {err}")

@@ -2,8 +2,11 @@
 
 Public API (used by the calibration)::
 
-    for level in LoadPath(mesh, material, load, p0_levels_MPa, options=SolverOptions()).levels():
+    path = LoadPath(mesh, material, load, p0_levels_MPa, options=SolverOptions())
+    for level in path.levels():
         level.increments, level.state   # one LevelRecord per requested level, as it converges
+    for inc in path.increments(p0_MPa):  # or the increments towards one level, as they converge
+        inc.p0_MPa, path.state
     res = solve_load_path(mesh, material, load, p0_levels_MPa, options=SolverOptions(), vtk_at=(), out_dir=None)
     res.history            # list[Increment]: p0_MPa, u_centre_mm (into the body), n_plastic, newton_iters, ...
     res.first_yield_p0_MPa # p0 at which the first quadrature point yields (scaled elastic solution)
@@ -17,7 +20,8 @@ norm of the residual ``r_k . P^-1 r_k <= etol * r_0 . P^-1 r_0`` (P: the stiffne
 elastic or a recent tangent; one extra back-substitution per iteration).
 
 The options, states and records are in :mod:`calibration.fem.solver_state`, one Newton increment in
-:mod:`calibration.fem.newton`.
+:mod:`calibration.fem.newton`, the assembled problem in :mod:`calibration.fem.problem`, the constraints in
+:mod:`calibration.fem.boundary`.
 
 Stiffness: K_e is assembled and factorised once (PARDISO: in single precision by default, refined in double
 where a solve is used directly); the tangent is ``K_e + sum_plastic_elements (K_ep - K_e)``, applied matrix-free in
@@ -43,7 +47,9 @@ import skfem
 from calibration.fem.assembly import Discretisation, discretise
 from calibration.fem.linear_solvers import resolve_backend
 from calibration.fem.material import J2Material
-from calibration.fem.newton import TangentProblem, dirichlet_dofs, elastic_first_yield, newton_increment
+from calibration.fem.boundary import dirichlet_dofs
+from calibration.fem.newton import newton_increment
+from calibration.fem.problem import TangentProblem, elastic_first_yield
 from calibration.fem.solver_state import (STRATEGIES, FemResult, Increment, SolverOptions, SolverState, load_state,
                                           save_state)
 from wrlayer.errors import ConvergenceError, require
@@ -134,7 +140,7 @@ class LoadPath:
         vtk_idx = set(range(len(self.requested))) if vtk_at == "all" else {int(i) for i in vtk_at}
         require(not vtk_idx or out_dir is not None, "out_dir", "must be given when vtk_at is not empty")
         for k, target in enumerate(self.requested):
-            increments = self._reach(target)
+            increments = list(self.increments(target))
             files: list[Path] = []
             t_out = time.perf_counter()
             if on_level is not None:
@@ -147,9 +153,10 @@ class LoadPath:
             output_s = time.perf_counter() - t_out if on_level is not None or k in vtk_idx else 0.0
             yield LevelRecord(k, target, tuple(increments), self.state, list(self.branch), tuple(files), output_s)
 
-    def _reach(self, target: float) -> list[Increment]:
-        """Increments from the current state to ``target``: steps of at most the options' largest increment,
-        halved on a failed Newton iteration (down to the floor), grown back after a success."""
+    def increments(self, target: float) -> Iterator[Increment]:
+        """The converged increments from the current state to ``target`` (MPa), one at a time (after each,
+        :attr:`state` is its state): steps of at most the options' largest increment, halved on a failed Newton
+        iteration (down to the floor; then ConvergenceError), grown back after a success."""
         opts, prob, prepared = self.opts, self.prob, self.prepared
         max_iter = opts.max_newton * (10 if opts.strategy == "modified" else 1)
         start = self.state.p0_MPa
@@ -160,7 +167,6 @@ class LoadPath:
         step_req = (target - start) / n_sub
         floor = abs(step_req) * opts.min_increment_fraction
         step = step_req
-        out: list[Increment] = []
         while True:
             state = self.state
             remaining = target - state.p0_MPa
@@ -183,10 +189,10 @@ class LoadPath:
                 if opts.verbose:
                     print(f"  cutting the step to {step:.6g} MPa")
                 continue
-            out.append(self._accept(p_new, state_new, info, p_new == target))
+            yield self._accept(p_new, state_new, info, p_new == target)
             step = step_req if abs(2 * step) >= abs(step_req) else 2 * step  # grow back after a cut
             if p_new == target:
-                return out
+                return
 
     def _predictor(self, p_new: float) -> tuple[np.ndarray | None, bool]:
         """(first Newton iterate or None, whether it is the elastic predictor) of the increment to p_new."""

@@ -18,9 +18,6 @@ p0 and with the calibrated layer's prediction under both memory rules (docs/roll
 - :mod:`~calibration.rolling.run`: ``run_rolling(config, out_dir)`` writing ``rolling.json`` and ParaView series.
 - :mod:`~calibration.rolling.law_fit`: the rolling law (first-pass ratio, shakedown and ratcheting increments)
   fitted to the grooves of the passes (:class:`wrlayer.rolling_law.RollingLaw`).
-- :mod:`~calibration.rolling.gap_cases`: the rolling FEM at the half-space and the calibration positions, one
-  JSON file per case.
-- :mod:`~calibration.rolling.gap`: the gap between the layer's memory rules and the FEM, the laws of the tables.
 
 Depends on: wrlayer, meshes (the profiles and the section extrusion), calibration.fem, calibration.hertz,
 calibration.fit, calibration.position_fit (the layer's elastic slope S_1), calibration.position_mesh (the rail's

@@ -3,7 +3,7 @@
 Each pass: the load appears at x_start (p0 applied in ``ramp_steps`` equal steps), moves in steps to x_end, and is
 removed there (one step); the next pass starts again at x_start from the residual state. Every step is one
 Newton increment of the engine (:func:`calibration.fem.newton.newton_increment`) on the kept
-:class:`~calibration.fem.newton.TangentProblem` (the elastic factorisation is assembled once and kept across steps
+:class:`~calibration.fem.problem.TangentProblem` (the elastic factorisation is assembled once and kept across steps
 and passes; PCG on the consistent tangent, refreshed as the engine does). The first iterate of a step is the
 converged state plus the elastic response to the change of the load vector (a back-substitution with the kept
 elastic factorisation, or CG preconditioned by the kept tangent factorisation). A step whose Newton iteration fails is cut in halves (positions and
@@ -14,17 +14,20 @@ Units mm, N, MPa, s.
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from calibration.fem.linear_solvers import preconditioned_cg
-from calibration.fem.newton import TangentProblem, newton_increment
+from calibration.fem.newton import MaterialResponse, newton_increment
+from calibration.fem.problem import TangentProblem
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.moving_load import SurfaceForces
 from wrlayer.errors import ConvergenceError
 
+#: The material response of a displacement iterate (mm).
+MaterialFn = Callable[[np.ndarray], MaterialResponse]
 #: Deepest halving of a failed step (1/2^MAX_CUTS of it).
 MAX_CUTS = 5
 #: CG tolerance of the elastic predictor when the kept factorisation is a tangent (measured: the tangent's own
@@ -37,7 +40,7 @@ class RollingConvergenceError(ConvergenceError):
 
 
 @dataclass(frozen=True)
-class StepRecord:
+class MovingLoadStep:
     """One converged step. level: index of the load level; pass_index: 1-based pass; step: 0-based step in the
     pass; x_c_mm: load centre (mm); load_fraction: p0 fraction applied (-; 0 after the removal); newton_iters,
     cg_iters: iterations (sub-steps of a cut summed); n_plastic: quadrature points yielding in the step; cuts: sub-steps
@@ -56,8 +59,8 @@ class StepRecord:
 
 
 @dataclass(frozen=True)
-class PassRecord:
-    """One completed pass (load removed). level, pass_index: as in :class:`StepRecord`; n_steps; newton_iters,
+class MovingLoadPass:
+    """One completed pass (load removed). level, pass_index: as in :class:`MovingLoadStep`; n_steps; newton_iters,
     cg_iters: totals; seconds: wall time of the pass (s); state: the residual state after it (for the groove and
     the fields; not written to JSON)."""
 
@@ -116,19 +119,25 @@ class RollingSolver:
         return done, totals
 
     def increment(self, state: SolverState, a: Target, b: Target) -> tuple[SolverState, dict]:
-        """One Newton increment from ``state`` at ``a`` to ``b`` (no cut); ConvergenceError when it fails."""
+        """One Newton increment of the engine (:func:`calibration.fem.newton.newton_increment`) from ``state`` at
+        ``a`` to ``b`` (no cut), started from :meth:`start`; ConvergenceError when it fails."""
+        u_start, elastic_start, material = self.start(state, a, b)
+        new, info = newton_increment(self.prob, state, self.load_vector(b), a.fraction, b.fraction, self.max_newton,
+                                     p_scale=1.0, u_start=u_start, elastic_start=elastic_start, material=material)
+        return replace(new, p0_MPa=self.p0 * b.fraction), info
+
+    def start(self, state: SolverState, a: Target, b: Target) -> tuple[np.ndarray, bool, MaterialFn | None]:
+        """(first iterate, whether it is exact for an elastic step, the material response or None: the engine's
+        one radial return) of the increment from ``a`` to ``b``: the converged state plus the elastic response to
+        the change of the load vector."""
         prob = self.prob
-        f_b = self.load_vector(b)
-        df = b.fraction * f_b - a.fraction * self.load_vector(a)
+        df = b.fraction * self.load_vector(b) - a.fraction * self.load_vector(a)
         df[prob.fixed] = 0.0
         if prob.factor_is_elastic:
             du = prob.factor.solve(df)
         else:  # the kept factorisation is a tangent of another load position: the ELASTIC response by CG
             du, _ = preconditioned_cg(prob.Ke.dot, df, prob.factor.solve, rtol=PREDICTOR_RTOL, max_iter=200)
-        u_start = state.u_mm + du
-        new, info = newton_increment(prob, state, f_b, a.fraction, b.fraction, self.max_newton, p_scale=1.0,
-                                     u_start=u_start, elastic_start=prob.factor_is_elastic)
-        return replace(new, p0_MPa=self.p0 * b.fraction), info
+        return state.u_mm + du, prob.factor_is_elastic, None
 
 
 def pass_targets(positions_mm: list[float], ramp_steps: int) -> list[Target]:
@@ -139,9 +148,9 @@ def pass_targets(positions_mm: list[float], ramp_steps: int) -> list[Target]:
 
 
 def roll(solver: RollingSolver, state: SolverState, positions_mm: list[float], n_passes: int, ramp_steps: int,
-         level: int = 0, first_pass: int = 1) -> Iterator[StepRecord | PassRecord]:
+         level: int = 0, first_pass: int = 1) -> Iterator[MovingLoadStep | MovingLoadPass]:
     """The passes ``first_pass`` .. n_passes from ``state`` (residual state of the previous pass): a
-    :class:`StepRecord` per converged step and a :class:`PassRecord` after each pass.
+    :class:`MovingLoadStep` per converged step and a :class:`MovingLoadPass` after each pass.
     RollingConvergenceError names the level, pass and step that failed."""
     targets = pass_targets(positions_mm, ramp_steps)
     for k in range(first_pass, n_passes + 1):
@@ -158,11 +167,13 @@ def roll(solver: RollingSolver, state: SolverState, positions_mm: list[float], n
                     f"load fraction {tgt.fraction:.3g}): {err}") from None
             newton += tot["newton_iters"]
             cg += tot["cg_iters"]
-            yield StepRecord(level, k, j, tgt.x_c_mm, tgt.fraction, tot["newton_iters"], tot["cg_iters"],
-                             tot["n_plastic"], tot["cuts"], time.perf_counter() - t0)
+            yield MovingLoadStep(level=level, pass_index=k, step=j, x_c_mm=tgt.x_c_mm, load_fraction=tgt.fraction,
+                                 newton_iters=tot["newton_iters"], cg_iters=tot["cg_iters"],
+                                 n_plastic=tot["n_plastic"], cuts=tot["cuts"], seconds=time.perf_counter() - t0)
             prev = tgt
-        yield PassRecord(level, k, len(targets), newton, cg, time.perf_counter() - t_pass, state)
+        yield MovingLoadPass(level=level, pass_index=k, n_steps=len(targets), newton_iters=newton, cg_iters=cg,
+                             seconds=time.perf_counter() - t_pass, state=state)
 
 
-__all__ = ["MAX_CUTS", "PassRecord", "RollingConvergenceError", "RollingSolver", "StepRecord", "Target",
-           "pass_targets", "roll"]
+__all__ = ["MAX_CUTS", "MaterialFn", "MovingLoadPass", "MovingLoadStep", "RollingConvergenceError", "RollingSolver",
+           "Target", "pass_targets", "roll"]

@@ -30,7 +30,7 @@ from calibration.rolling.groove import GrooveProfile, SurfaceProbe
 from calibration.rolling.law_fit import fit_passes, rolling_law
 from calibration.rolling.layer_prediction import LayerGroove, StaticCurve, layer_grooves, static_curve
 from calibration.rolling.moving_load import MovingHertzLoad, SurfaceForces
-from calibration.rolling.passes import PassRecord, RollingConvergenceError, roll
+from calibration.rolling.passes import MovingLoadPass, RollingConvergenceError, roll
 from calibration.rolling.substeps import SubstepSolver, UnitResponses
 from calibration.rolling.section_groove import SectionProbe
 from calibration.rolling.section_track import SectionStaticLoad, section_static_load, section_track_mesh
@@ -84,7 +84,7 @@ class LevelResult:
     newton_iterations: list[int] = field(default_factory=list)
     profiles: list[GrooveProfile] = field(default_factory=list)
 
-    def with_pass(self, rec: PassRecord, prof: GrooveProfile) -> LevelResult:
+    def with_pass(self, rec: MovingLoadPass, prof: GrooveProfile) -> LevelResult:
         """This level with one more completed pass."""
         return replace(self, groove_mm=self.groove_mm + [prof.groove_mm], shift_mm=self.shift_mm + [prof.shift_mm],
                        max_eq_plastic_strain=self.max_eq_plastic_strain + [prof.max_eq_plastic_strain],
@@ -274,7 +274,7 @@ def run_rolling(config: RollingConfig, out_dir: str | Path, force: bool = False,
         solver = SubstepSolver(model.prob, model.forces, p0, config.track.substeps, responses=responses)
         try:
             for rec in roll(solver, SolverState.virgin(model.disc), positions, n_passes, config.track.ramp_steps, k):
-                if isinstance(rec, PassRecord):
+                if isinstance(rec, MovingLoadPass):
                     results[k] = results[k].with_pass(rec, model.probe.profile(rec.state))
                     if series is not None:
                         series(model.disc, rec.state)

@@ -28,17 +28,16 @@ return mapping m times instead of once. The Newton tangent is carried through th
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from calibration.fem.linear_solvers import preconditioned_cg
-from calibration.fem.newton import TangentProblem, cg_tolerance
+from calibration.fem.newton import MaterialResponse
+from calibration.fem.problem import TangentProblem
 from calibration.fem.return_mapping import radial_return, tangent_of_elements
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.moving_load import SurfaceForces
-from calibration.rolling.passes import PREDICTOR_RTOL, RollingSolver, Target
-from wrlayer.errors import ConvergenceError, require
+from calibration.rolling.passes import PREDICTOR_RTOL, MaterialFn, RollingSolver, Target
+from wrlayer.errors import require
 
 #: Newton iterations allowed per step with sub-steps.
 MAX_NEWTON = 15
@@ -133,60 +132,22 @@ class SubstepSolver(RollingSolver):
         tangent = 0.5 * (tangent + np.swapaxes(tangent, -1, -2))
         return r, yielded, tangent, elastic
 
-    def increment(self, state: SolverState, a: Target, b: Target) -> tuple[SolverState, dict]:
-        """Newton iteration for the state at ``b`` from ``state`` at ``a`` with the sub-stepped material;
-        the convergence test is the engine's (force residual rtol and energy etol, relative)."""
+    def start(self, state: SolverState, a: Target, b: Target) -> tuple[np.ndarray, bool, MaterialFn | None]:
+        """(first iterate: the state plus the elastic path's end, exact for an elastic step; the sub-stepped
+        material response of an iterate) of the increment from ``a`` to ``b``; the plain step for substeps = 1."""
         if self.substeps == 1:
-            return super().increment(state, a, b)
-        prob = self.prob
-        disc, opts, free = prob.disc, prob.opts, ~prob.fixed
+            return super().start(state, a, b)
+        disc = self.prob.disc
         du_path = self.elastic_path(a, b)
         eps_a = disc.strain(state.u_mm)
         eps_path = [disc.strain(d) for d in du_path]
-        f_ext = b.fraction * self.load_vector(b)
-        f_ref = max(abs(a.fraction), abs(b.fraction), 1.0) * np.linalg.norm(self.load_vector(b)[free])
-        u = state.u_mm + du_path[-1]
-        residuals: list[float] = []
-        e0 = None
-        cg_total = 0
-        for it in range(self.max_newton + 1):
-            res, yielded, yielded_tangent, elastic_tangent = self.material_path(state, eps_a, eps_path, u)
-            f_int = disc.internal_force(res.stress_MPa)
-            r = f_ext - f_int
-            r[prob.fixed] = 0.0
-            rnorm = np.linalg.norm(r) / max(f_ref, np.linalg.norm(f_int[free]), 1e-300)
-            if not math.isfinite(rnorm):
-                break
-            residuals.append(rnorm)
-            # as the engine: an elastic predictor no point contradicts is exact; after one correction of a step
-            # that started below the force tolerance the force criterion alone decides
-            if it == 0 and rnorm <= opts.rtol and not yielded.any():
-                return self._converged(u, res, b, it, cg_total)
-            if rnorm <= opts.rtol and it >= 1:
-                if residuals[0] <= opts.rtol:
-                    return self._converged(u, res, b, it, cg_total)
-                energy = abs(float(r @ prob.factor.solve(r)))
-                if e0 is not None and energy <= opts.etol * e0:
-                    return self._converged(u, res, b, it, cg_total)
-            if it == self.max_newton or rnorm > 1e6 or (it >= 4 and rnorm > 10 * residuals[0]):
-                break
-            plastic_elems = np.nonzero(yielded.any(axis=1))[0]
-            tangent = tangent_of_elements(plastic_elems, yielded, yielded_tangent, elastic_tangent)
-            du, ncg, rz0 = prob.solve_correction(r, tangent, plastic_elems,
-                                                 cg_tolerance(opts, it, rnorm, residuals))
-            cg_total += ncg
-            if e0 is None and rz0 is not None:
-                e0 = abs(rz0)
-            du[prob.fixed] = 0.0
-            u = u + du
-        hist = ", ".join(f"{x:.3e}" for x in residuals)
-        raise ConvergenceError(f"Newton with {self.substeps} material sub-steps did not converge from "
-                               f"x_c = {a.x_c_mm:.6g} to {b.x_c_mm:.6g} mm (relative residuals: {hist})")
 
-    def _converged(self, u, res, b: Target, it: int, cg_total: int) -> tuple[SolverState, dict]:
-        new = SolverState(u, res.plastic_strain, res.back_stress_MPa, res.eq_plastic_strain, self.p0 * b.fraction,
-                          res.stress_MPa)
-        return new, {"iters": it, "cg_iters": cg_total, "n_plastic": int(np.count_nonzero(res.plastic))}
+        def response(u: np.ndarray) -> MaterialResponse:
+            res, yielded, yielded_tangent, elastic_tangent = self.material_path(state, eps_a, eps_path, u)
+            return MaterialResponse(res, yielded, lambda elems: tangent_of_elements(elems, yielded, yielded_tangent,
+                                                                                    elastic_tangent))
+
+        return state.u_mm + du_path[-1], True, response
 
 
 __all__ = ["MAX_NEWTON", "SubstepSolver", "UnitResponses"]

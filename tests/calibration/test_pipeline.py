@@ -10,7 +10,8 @@ import pytest
 
 import calibration.pipeline as pipeline
 from calibration.config import load_config
-from calibration.pipeline import CalibrationResult, calibrate, run_calibration
+from calibration.pipeline import calibrate, run_calibration
+from calibration.run_summary import CalibrationResult
 from calibration.tasks import PositionOutcome
 from wrlayer.layer_table import LayerTable
 

@@ -8,7 +8,7 @@ import pytest
 from calibration.config import parse_config
 from calibration.fem.material import J2Material
 from calibration.hertz.geometry import given_geometry
-from calibration.indentation import indent
+from calibration.indentation import IndentationJob, indent
 from calibration.position_mesh import build_mesh, check_resolution, mesh_style
 from calibration.settings import LoadSettings, MeshSettings
 from meshes.meshing.mesh_quality import edge_lengths_at
@@ -47,7 +47,8 @@ def test_coarse_indentation_with_the_structured_style():
     mat = J2Material(210000.0, 0.3, 500.0, 10000.0, 10000.0)
     mesh = MeshSettings(elements_per_semi_axis=2, h_max_mm=12.0, style="structured")
     load = LoadSettings(max_factor=1.6, n_levels=2, unload_factors=(1.6,), max_increment_factor=0.3)
-    res = indent(rail, geo, mat, "3d", mesh, load, linear_solver="scipy")
+    res = indent(IndentationJob(profile=rail, geometry=geo, material=mat, model="3d", mesh=mesh, load=load,
+                                linear_solver="scipy"))
     # half-space first yield at p0 = 1.62 Y for a/b ~ 1.33 (as tests/calibration/test_pipeline.py), within 5 %
     assert res.first_yield_MPa == pytest.approx(1.62 * 500.0, rel=0.05)
     assert res.residual_fem_mm[0] > 0 and res.u_pl_mm[-1] > 0

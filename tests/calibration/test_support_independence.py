@@ -7,7 +7,7 @@ from threadpoolctl import threadpool_limits
 
 from calibration.fem.material import J2Material
 from calibration.hertz.geometry import local_geometry
-from calibration.indentation import LoadSettings, MeshSettings, indent
+from calibration.indentation import IndentationJob, LoadSettings, MeshSettings, indent
 from meshes.profiles import get_profile
 
 MATERIAL = J2Material(210000.0, 0.3, 500.0, 10000.0, 10000.0)
@@ -24,8 +24,8 @@ def crown_variants():
                          "no support, cut 60 mm": dict(rail_support_below_mm=None),
                          "support 35 mm, cut 120 mm": dict(rail_support_below_mm=35.0, depth_mm=120.0)}.items():
             mesh = MeshSettings(elements_per_semi_axis=2.5, h_max_mm=12.0, order=2, **kw)
-            out[name] = indent(rail, geo, MATERIAL, "3d", mesh, LOAD, linear_solver="auto",
-                               extra_depth_factors=(3.0,))
+            out[name] = indent(IndentationJob(profile=rail, geometry=geo, material=MATERIAL, model="3d", mesh=mesh,
+                                              load=LOAD, linear_solver="auto", extra_depth_factors=(3.0,)))
     return out
 
 

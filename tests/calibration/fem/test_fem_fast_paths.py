@@ -12,7 +12,8 @@ from calibration.fem.assembly import _csr_pattern, _csr_pattern_blocked, discret
 from calibration.fem.elastoplastic_solver import SolverOptions, extrapolate, solve_load_path
 from calibration.fem.linear_solvers import HAVE_PARDISO, Factoriser, preconditioned_cg
 from calibration.fem.material import J2Material
-from calibration.fem.newton import TangentProblem, dirichlet_dofs
+from calibration.fem.boundary import dirichlet_dofs
+from calibration.fem.problem import TangentProblem
 from calibration.hertz.load import HertzLoad
 from calibration.fem.return_mapping import radial_return
 

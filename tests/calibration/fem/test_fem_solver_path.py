@@ -6,7 +6,8 @@ import pytest
 import skfem
 from fem_cases import DIRICHLET_2D
 
-from calibration.fem.elastoplastic_solver import SolverOptions, SolverState, load_state, save_state, solve_load_path
+from calibration.fem.elastoplastic_solver import (LoadPath, SolverOptions, SolverState, load_state, save_state,
+                                                  solve_load_path)
 from calibration.fem.assembly import discretise
 from calibration.hertz.load import HertzLoad
 from calibration.fem.linear_solvers import HAVE_PARDISO
@@ -157,3 +158,21 @@ def test_unloading_to_zero_in_many_uneven_steps(path_newton, block_2d_coarse, di
     assert res.history[-1].p0_MPa == 0.0
     assert min(abs(i.p0_MPa) for i in res.history[:-1]) > 1e-6 * fy  # no round-off residue step
     assert all(i.residuals[-1] <= 1e-8 for i in res.history)
+
+
+def test_increments_are_a_generator_the_caller_can_stop_and_resume(path_newton, block_2d_coarse, disc_2d):
+    """LoadPath.increments yields each converged increment with the path's state at it: a caller that stops after
+    the first and resumes from its state reaches the same peak as the whole path in one call."""
+    fy, res = path_newton
+    opts = SolverOptions(dirichlet=DIRICHLET_2D, strategy="newton", max_increment_MPa=0.5 * fy)
+    path = LoadPath(block_2d_coarse, STEEL, LOAD, [2 * fy], options=opts, disc=disc_2d)
+    steps = path.increments(2 * fy)
+    first = next(steps)
+    assert first.p0_MPa == pytest.approx(0.5 * fy) and path.state.p0_MPa == first.p0_MPa
+    steps.close()  # stop here, keep the state, resume from it
+    resumed = LoadPath(block_2d_coarse, STEEL, LOAD, [2 * fy], options=opts, disc=disc_2d,
+                       initial_state=path.state, branch_points=path.branch)
+    rest = list(resumed.increments(2 * fy))
+    whole = [h for h in res.history if h.p0_MPa <= 2 * fy * (1 + 1e-12)][:1 + len(rest)]
+    assert [h.p0_MPa for h in [first] + rest] == pytest.approx([h.p0_MPa for h in whole])
+    assert rest[-1].u_centre_mm == pytest.approx(whole[-1].u_centre_mm, rel=1e-6)  # Newton tolerance

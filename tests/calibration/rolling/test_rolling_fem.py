@@ -15,7 +15,7 @@ from calibration.hertz.load import HertzLoad
 from calibration.rolling.config import (ContactSettings, RollingConfig, RollingRunSettings, TrackMeshSettings,
                                         TrackSettings)
 from calibration.rolling.moving_load import MovingHertzLoad, SurfaceForces
-from calibration.rolling.passes import PassRecord, RollingConvergenceError, RollingSolver, roll
+from calibration.rolling.passes import MovingLoadPass, RollingConvergenceError, RollingSolver, roll
 from calibration.rolling.run import build_model, level_pressures, run_rolling, static_dents
 from calibration.rolling.track_mesh import track_mesh
 from wrlayer.errors import ConvergenceError
@@ -55,11 +55,11 @@ def test_load_that_does_not_move_is_the_static_indentation(model, levels):
     solver = RollingSolver(m.prob, m.forces, p0)
     ramp = int(np.ceil(p0 / (0.1 * m.p_y_MPa) - 1e-9))  # the static path's increments (EPP: path dependent)
     records = list(roll(solver, SolverState.virgin(m.disc), [0.0], 1, ramp))
-    state = [r for r in records if isinstance(r, PassRecord)][0].state
+    state = [r for r in records if isinstance(r, MovingLoadPass)][0].state
     dent = m.probe.depth_at(state.u_mm, 0.0)
     assert static.dent_mm > 0
     assert dent == pytest.approx(static.dent_mm, rel=5e-3)
-    loaded = [r for r in records if not isinstance(r, PassRecord)]
+    loaded = [r for r in records if not isinstance(r, MovingLoadPass)]
     assert len(loaded) == ramp + 1
 
 

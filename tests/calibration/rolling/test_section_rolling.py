@@ -10,7 +10,7 @@ from calibration.fem.solver_state import SolverState
 from calibration.rolling.config import parse_rolling_config
 from calibration.rolling.cost import dof_count
 from calibration.rolling.moving_load import MovingHertzLoad, SurfaceForces
-from calibration.rolling.passes import PassRecord, RollingSolver, roll
+from calibration.rolling.passes import MovingLoadPass, RollingSolver, roll
 from calibration.rolling.run import build_model, level_pressures, run_rolling, static_dents
 from calibration.rolling.section_track import section_track_mesh
 from meshes.profiles import load_profile
@@ -57,7 +57,7 @@ def test_load_that_does_not_move_is_the_static_indentation():
     static = static_dents(m, cfg, [p0])[0]
     ramp = int(np.ceil(p0 / (0.1 * m.p_y_MPa) - 1e-9))  # the static path's increments
     records = list(roll(RollingSolver(m.prob, m.forces, p0), SolverState.virgin(m.disc), [0.0], 1, ramp))
-    state = [r for r in records if isinstance(r, PassRecord)][0].state
+    state = [r for r in records if isinstance(r, MovingLoadPass)][0].state
     assert static.dent_mm > 0
     assert m.probe.depth_at(state.u_mm, 0.0) == pytest.approx(static.dent_mm, rel=5e-3)
 

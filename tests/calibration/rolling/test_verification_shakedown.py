@@ -9,7 +9,7 @@ import pytest
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.config import ContactSettings, RollingConfig, RollingRunSettings, TrackMeshSettings, \
     TrackSettings
-from calibration.rolling.passes import PassRecord, roll
+from calibration.rolling.passes import MovingLoadPass, roll
 from calibration.rolling.run import build_model, level_pressures
 from calibration.rolling.substeps import SubstepSolver, UnitResponses
 from calibration.rolling.track_mesh import track_mesh
@@ -30,7 +30,7 @@ def net_increments():
         previous = np.zeros((np.count_nonzero(model.probe.below), 6))
         incs = []
         for rec in roll(solver, SolverState.virgin(model.disc), [-1.0, -0.5, 0.0, 0.5, 1.0], 3, 2):
-            if isinstance(rec, PassRecord):
+            if isinstance(rec, MovingLoadPass):
                 now = rec.state.plastic_strain[model.probe.below]
                 incs.append(float(np.sqrt(2.0 / 3.0 * ((now - previous) ** 2).sum(axis=-1)).max()))
                 previous = now

@@ -8,7 +8,7 @@ import pytest
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.config import ContactSettings, RollingConfig, RollingRunSettings, TrackMeshSettings, \
     TrackSettings
-from calibration.rolling.passes import PassRecord, roll
+from calibration.rolling.passes import MovingLoadPass, roll
 from calibration.rolling.run import build_model, level_pressures
 from calibration.rolling.substeps import SubstepSolver, UnitResponses
 from calibration.rolling.track_mesh import track_mesh
@@ -36,7 +36,7 @@ def one_pass(block, p0: float, step: float, substeps: int):
     positions = [-1.0 + 2.0 * i / n for i in range(n + 1)]
     solver = SubstepSolver(model.prob, model.forces, p0, substeps, responses=responses)
     state = [r for r in roll(solver, SolverState.virgin(model.disc), positions, 1, 2)
-             if isinstance(r, PassRecord)][0].state
+             if isinstance(r, MovingLoadPass)][0].state
     model.prob.reset_to_elastic()
     return model.probe.profile(state).groove_mm, state
 

@@ -1,6 +1,6 @@
 """The gap's static dents under mesh refinement and the mesh-corrected rolling FEM groove (units mm, MPa).
 
-The gap cases (:mod:`calibration.rolling.gap_cases`) roll on a coarse block (h = a/2 quadratic tetrahedra) whose
+The gap cases (:mod:`benchmarks.rolling_gap_cases`) roll on a coarse block (h = a/2 quadratic tetrahedra) whose
 static dent is 11-16 % off the calibrated (mesh-converged) residual of the shipped tables. A rolling case at a
 finer mesh costs 100-200 s per pass; a static indentation costs seconds. So:
 
@@ -13,9 +13,9 @@ finer mesh costs 100-200 s per pass; a static indentation costs seconds. So:
    assumption that the groove over the static dent is mesh-converged (checked by direct rolling runs at h = a/4:
    docs/rolling-gap.md);
 3. the half-space layer: the characteristic fitted to the finest block's static curve at the highest level with
-   the calibration's default fit (:func:`calibration.rolling.gap.layer_static_residuals`).
+   the calibration's default fit (:func:`benchmarks.rolling_gap.layer_static_residuals`).
 
-``python -m calibration.rolling.gap_static OUT [--meshes 2 3 4 5]`` computes the study, one JSON file per
+``python -m benchmarks.rolling_gap_static OUT [--meshes 2 3 4 5]`` computes the study, one JSON file per
 (position, mesh) written as soon as it is done (a present file is read, not recomputed).
 """
 
@@ -34,9 +34,9 @@ from scipy.optimize import brentq
 
 from calibration.fem.assembly import frees_its_meshes
 from calibration.rolling.config import TrackMeshSettings, TrackSettings
-from calibration.rolling.gap_cases import (GAP_MESH, GAP_TRACK, LEVELS, GapCase, GapCaseResult, GapPosition,
+from benchmarks.rolling_gap_cases import (GAP_MESH, GAP_TRACK, LEVELS, GapCase, GapCaseResult, GapPosition,
                                           default_positions)
-from calibration.rolling.gap import TARGET, GapRow
+from benchmarks.rolling_gap import TARGET, GapRow
 from calibration.rolling.layer_prediction import StaticCurve
 from calibration.rolling.run import build_model, static_dents
 from calibration.rolling.track_mesh import track_mesh
@@ -276,7 +276,7 @@ def within_target(rows: list[GapRow], column: str = "rolling_mm", target: float 
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m calibration.rolling.gap_static", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.rolling_gap_static", description=__doc__.splitlines()[0])
     ap.add_argument("out", type=Path)
     ap.add_argument("--meshes", type=float, nargs="+", default=list(MESHES))
     ap.add_argument("--only", default="", help="only the positions whose name contains this")

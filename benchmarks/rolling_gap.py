@@ -1,11 +1,11 @@
 """The gap between the layer's passes and the rolling FEM, and the rolling law that closes it (units mm, MPa).
 
-Input: the cases of :mod:`calibration.rolling.gap_cases` (the FEM groove after every pass at constant p0). For
+Input: the cases of :mod:`benchmarks.rolling_gap_cases` (the FEM groove after every pass at constant p0). For
 each case the layer's static residual r is the element's exact residual (paper eq. 8) of the calibrated characteristic at
 the same p0 / p_2: the shipped table's characteristic at the position (p_2 its FEM first yield), or, for the
 half-space, the characteristic fitted with the calibration's default fit to the block's static indentation at
 the highest level (:func:`calibration.rolling.layer_prediction.layer_grooves`; on the finest mesh of
-:mod:`calibration.rolling.gap_static` when given). The layer's groove after pass n is then
+:mod:`benchmarks.rolling_gap_static` when given). The layer's groove after pass n is then
 n r ("relaxed"), r ("state kept") and r G_n ("rolling", :class:`wrlayer.rolling_law.RollingLaw`).
 
 The law of a group of positions (the rail table's, the wheel table's, the half-space's) is fitted
@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from calibration.rolling.gap_cases import LEVELS, ROOT, TRACTIONS, GapCaseResult, default_positions
+from benchmarks.rolling_gap_cases import LEVELS, ROOT, TRACTIONS, GapCaseResult, default_positions
 from calibration.rolling.layer_prediction import StaticCurve, layer_grooves
 from calibration.rolling.law_fit import PassFit, fit_passes, rolling_law
 from calibration.settings import FitSettings
@@ -121,7 +121,7 @@ def load_results(out_dir: Path) -> list[GapCaseResult]:
 def with_stand_ins(results: list[GapCaseResult]) -> list[GapCaseResult]:
     """``results`` plus, for every stand-in position without its own case, the stand-in's case scaled to it
     (key suffixed " (stand-in: <position>)"). The table positions come from
-    :func:`calibration.rolling.gap_cases.default_positions`."""
+    :func:`benchmarks.rolling_gap_cases.default_positions`."""
     have = {(r.position, r.traction, r.p0_over_py) for r in results if r.complete}
     targets = {p.name: p for p in default_positions()}
     out = list(results)
@@ -147,7 +147,7 @@ def layer_static_residuals(results: list[GapCaseResult], halfspace_curve: Static
     """The layer's static residual r (mm) per (position, p0 / p_y): the table's characteristic at the position
     (p0 = level x its p_2), or for the half-space the characteristic fitted with the calibration's default fit
     (``LAYER_FIT``) to the block's highest-level static curve: ``halfspace_curve`` with its first yield
-    ``halfspace_p_y_MPa`` (the finest mesh of :mod:`calibration.rolling.gap_static`) when given, else the cases'
+    ``halfspace_p_y_MPa`` (the finest mesh of :mod:`benchmarks.rolling_gap_static`) when given, else the cases'
     own (coarse) curve."""
     out = {}
     for pos in {r.position for r in results}:
@@ -184,7 +184,7 @@ def fit_group(results: list[GapCaseResult], group: str) -> tuple[RollingLaw, dic
     tractions = [c for c in TRACTIONS if all((c, lv) in fits for lv in LEVELS)]
     if not tractions:
         raise KeyError(f"{group}: no traction with all levels computed")
-    source = (f"rolling FEM of {', '.join(members)} (calibration.rolling.gap_cases: h = a/2 quadratic tetrahedra, "
+    source = (f"rolling FEM of {', '.join(members)} (benchmarks.rolling_gap_cases: h = a/2 quadratic tetrahedra, "
               f"step a/4, track 1.5 contact lengths, {max(REPORTED_PASSES)} passes at constant p0)")
     return rolling_law(list(LEVELS), tractions, fits, source), fits
 

@@ -10,7 +10,7 @@ plastic. A case is (position, p0 / p_y, traction coefficient c) with ``n_passes`
 the block's own FEM first-yield pressure. Each case is written to ``<out>/<position>_c<c>_p<level>.json`` as
 soon as it is done (a killed run keeps its completed cases; a present file is read, not recomputed).
 
-``python -m calibration.rolling.gap_cases OUT [--passes N]`` runs every default case (the benchmark's ``gap``
+``python -m benchmarks.rolling_gap_cases OUT [--passes N]`` runs every default case (the benchmark's ``gap``
 mode reads them).
 """
 
@@ -25,14 +25,14 @@ from pathlib import Path
 
 from calibration.rolling.config import (ContactSettings, RollingConfig, RollingMaterial, RollingRunSettings,
                                         TrackMeshSettings, TrackSettings)
-from calibration.rolling.passes import PassRecord, RollingConvergenceError, RollingSolver, roll
+from calibration.rolling.passes import MovingLoadPass, RollingConvergenceError, RollingSolver, roll
 from calibration.rolling.run import build_model, static_dents
 from calibration.rolling.section_position import table_position as position_in_table
 from calibration.rolling.track_mesh import track_mesh
 from calibration.fem.solver_state import SolverState
 from wrlayer.atomic_write import atomic_write_text
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[1]
 #: The levels p0 / p_y and traction coefficients of the gap.
 LEVELS = (1.3, 1.7, 2.1)
 TRACTIONS = (0.0, 0.2)
@@ -204,7 +204,7 @@ def run_case(case: GapCase, out_dir: Path, progress=None, track: TrackSettings =
     solver = RollingSolver(model.prob, model.forces, p0)
     try:
         for rec in roll(solver, SolverState.virgin(model.disc), positions, case.n_passes, cfg.track.ramp_steps):
-            if isinstance(rec, PassRecord):
+            if isinstance(rec, MovingLoadPass):
                 prof = model.probe.profile(rec.state)
                 res = replace(res, groove_mm=res.groove_mm + [prof.groove_mm], shift_mm=res.shift_mm + [prof.shift_mm],
                               max_eq_plastic_strain=res.max_eq_plastic_strain + [prof.max_eq_plastic_strain],
@@ -224,7 +224,7 @@ def default_cases(n_passes: int = N_PASSES) -> list[GapCase]:
 
 
 def mesh_check_cases(n_passes: int = 5) -> list[GapCase]:
-    """The direct check of the mesh correction (:mod:`calibration.rolling.gap_static`) at h = a/4: the rail gauge
+    """The direct check of the mesh correction (:mod:`benchmarks.rolling_gap_static`) at h = a/4: the rail gauge
     corner at 2.1 p_y (the largest gap on the coarse mesh) frictionless and at 1.7 p_y with c = 0.2, and the
     ratcheting half-space at 2.1 p_y frictionless and at 1.7 p_y with c = 0.2."""
     corner = table_position(*TABLE_POSITIONS[1])
@@ -233,7 +233,7 @@ def mesh_check_cases(n_passes: int = 5) -> list[GapCase]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m calibration.rolling.gap_cases", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.rolling_gap_cases", description=__doc__.splitlines()[0])
     ap.add_argument("out", type=Path)
     ap.add_argument("--passes", type=int, default=N_PASSES)
     ap.add_argument("--only", default="", help="run only the positions whose name contains this")

@@ -8,14 +8,14 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from calibration.rolling import gap
-from calibration.rolling.gap_cases import GapCase, GapCaseResult, GapPosition, run_case
-from calibration.rolling.gap_static import (MAX_ORDER, Extrapolation, StaticPoint, common_pressure_dents,
+from benchmarks import rolling_gap as gap
+from benchmarks.rolling_gap_cases import GapCase, GapCaseResult, GapPosition, run_case
+from benchmarks.rolling_gap_static import (MAX_ORDER, Extrapolation, StaticPoint, common_pressure_dents,
                                             converged_dents, corrected_groove,
                                             corrected_rows, extrapolate, load_points, observed_order, point_path,
                                             ratio_checks, static_point, within_target)
 from calibration.rolling.layer_prediction import StaticCurve
-from test_gap_cases import MESH, MIXED, TRACK
+from test_rolling_gap_cases import MESH, MIXED, TRACK
 
 H = np.array([1 / 2, 1 / 3, 1 / 4, 1 / 5])
 

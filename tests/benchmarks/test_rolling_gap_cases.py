@@ -6,9 +6,9 @@ import json
 import numpy as np
 import pytest
 
-import calibration.rolling.gap_cases as gap_cases
+import benchmarks.rolling_gap_cases as gap_cases
 from calibration.rolling.config import RollingMaterial, TrackMeshSettings, TrackSettings
-from calibration.rolling.gap_cases import GapCase, GapCaseResult, GapPosition, run_case
+from benchmarks.rolling_gap_cases import GapCase, GapCaseResult, GapPosition, run_case
 from calibration.rolling.law_fit import fit_passes
 
 TRACK = TrackSettings(length_factor=1.0, step_factor=0.5, n_passes=2, ramp_steps=1)
@@ -53,7 +53,7 @@ def synthetic(position, a_mm, level, truth, static_mm):
 
 
 def test_gap_rows_fit_the_group_law_and_stand_ins_scale():
-    from calibration.rolling import gap
+    from benchmarks import rolling_gap as gap
     from calibration.rolling.law_fit import PassFit
     from wrlayer.layer_table import LayerTable
 
