@@ -4,7 +4,8 @@ Units: mm, N, MPa, s. A scene key whose value lies outside the range of its quan
 wheels and rails, standard and light-rail gauges, test rigs included) is an :class:`ImplausibleInput` (exit 2) naming
 the key, the value and the range, and when the value times 1000 or 1/1000 (or 1e6) lies inside, the slip that
 explains it (``E_MPa = 210``: "GPa typed as MPa?"). A scene that means it (a polymer model, a scaled rig) sets the
-override key ``[run] accept_implausible = true`` (:data:`OVERRIDE_KEY`): the check is skipped and the result says so.
+top-level override key ``accept_implausible = true`` (:data:`OVERRIDE_KEY`): the check is skipped. Section keys
+declare their quantity once (``key(..., plausible="E_MPa")``, :mod:`wrlayer.section_keys`); the reader checks them.
 
 A result whose peak pressure, approach or patch size lies outside :data:`RESULT_RANGES` is not refused (the inputs
 were plausible): :func:`result_warnings` gives one line per value for ``result.json`` (``warnings``) and stderr.
@@ -17,8 +18,8 @@ from dataclasses import dataclass
 
 from wrlayer.errors import InputError
 
-#: The scene key that switches the input check off (a documented override).
-OVERRIDE_KEY = "run.accept_implausible"
+#: The top-level scene key that switches the input check off (a documented override).
+OVERRIDE_KEY = "accept_implausible"
 
 
 class ImplausibleInput(InputError):
@@ -62,8 +63,8 @@ class PlausibleRange:
             return f"{value!r} is not a finite number"
         if self.contains(value):
             return None
-        text = (f"{value:g} {self.unit} is outside the engineering range of the {self.quantity} of wheel/rail steel "
-                f"({self.low:g}..{self.high:g} {self.unit}{', magnitude' if self.magnitude else ''})")
+        text = (f"{value:g} {self.unit} is outside the engineering range of the {self.quantity} for steel wheels "
+                f"and rails ({self.low:g}..{self.high:g} {self.unit}{', magnitude' if self.magnitude else ''})")
         for factor, slip in self.slips:
             if self.contains(value * factor):
                 return f"{text}: {slip} (x {factor:g} gives {value * factor:g} {self.unit})"
@@ -88,7 +89,7 @@ INPUT_RANGES: dict[str, PlausibleRange] = {
                                         slips=_METRES),
     "normal_force_N": PlausibleRange("normal force of a contact", "N", 100.0, 500e3, slips=_KN),
     "wheel_load_N": PlausibleRange("vertical wheel load", "N", 1e3, 500e3, slips=_KN),
-    "speed_mm_s": PlausibleRange("rolling speed", "mm/s", 0.0, 150e3,
+    "speed_mm_s": PlausibleRange("rolling speed", "mm/s", 100.0, 150e3,
                                  slips=((1e3, "m/s typed as mm/s?"), (1e3 / 3.6, "km/h typed as mm/s?"))),
     "gauge_mm": PlausibleRange("track gauge", "mm", 600.0, 1700.0, slips=_METRES),
 }

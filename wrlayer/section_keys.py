@@ -18,7 +18,7 @@ import dataclasses
 from dataclasses import MISSING, field
 from typing import Any, Callable
 
-from wrlayer.validate import Keys
+from wrlayer.validate import Keys, is_number
 
 #: The metadata entry that marks a field as a key of its section.
 KEY = "section_key"
@@ -37,6 +37,9 @@ class KeySpec:
         Bounds (exclusive/inclusive) of a number or an integer.
     choices : tuple | Callable | None
         Allowed strings, or a function returning them (for lists that live in modules slow to import).
+    plausible : str | None
+        The quantity of :data:`wrlayer.plausibility.INPUT_RANGES` whose engineering range the value must lie in
+        (unless the file sets ``accept_implausible``).
     """
 
     unit: str = "-"
@@ -45,6 +48,7 @@ class KeySpec:
     lt: float | None = None
     le: float | None = None
     choices: tuple[str, ...] | Callable[[], tuple[str, ...]] | None = None
+    plausible: str | None = None
 
     def allowed(self) -> tuple[str, ...] | None:
         return self.choices() if callable(self.choices) else self.choices
@@ -54,9 +58,10 @@ class KeySpec:
 
 
 def key(default: Any = MISSING, unit: str = "-", *, gt: float | None = None, ge: float | None = None,
-        lt: float | None = None, le: float | None = None, choices=None, **field_options) -> Any:
+        lt: float | None = None, le: float | None = None, choices=None, plausible: str | None = None,
+        **field_options) -> Any:
     """A dataclass field that is a key of its section (see the module docstring); no default: required."""
-    spec = KeySpec(unit, gt, ge, lt, le, choices)
+    spec = KeySpec(unit, gt, ge, lt, le, choices, plausible)
     return field(default=default, metadata={KEY: spec}, **field_options)
 
 
@@ -128,6 +133,8 @@ def read_section(cls: type, keys: Keys, *, required: tuple[str, ...] = (), given
             values[f.name] = given.pop(f.name)
         elif spec is not None:
             default = MISSING if f.name in required else f.default
+            if spec.plausible is not None and is_number(keys.table.get(f.name)):
+                keys.plausible(f.name, float(keys.table[f.name]), spec.plausible)   # before the bounds: the slip
             values[f.name] = read_key(keys, f.name, _annotation(f), spec, default)
     values.update(given)
     return cls(**values)

@@ -188,11 +188,13 @@ class Keys:
     ("" for the top level, e.g. "load" or "layer.rail"). The getters (:meth:`number`, :meth:`integer`,
     :meth:`boolean`, :meth:`text`, :meth:`array`, :meth:`sub`) apply the module's rules and raise
     :class:`~wrlayer.errors.InputError` naming ``<file>: <prefix>.<key>``; :meth:`check_known` rejects unknown
-    keys. Raises InputError when ``table`` is not a table.
+    keys. Raises InputError when ``table`` is not a table. ``accept_implausible`` (the scene's top-level override
+    key, carried to every sub-table): :meth:`plausible` lets values outside the engineering ranges pass.
     """
 
-    def __init__(self, file: str, prefix: str, table: Any):
+    def __init__(self, file: str, prefix: str, table: Any, accept_implausible: bool = False):
         self.file, self.prefix = file, prefix
+        self.accept_implausible = accept_implausible
         if not isinstance(table, dict):
             raise InputError(f"{file}: {prefix}" if prefix else file,
                              f"must be a table ([{prefix}]), got {kind(table)} {show(table)}")
@@ -249,10 +251,26 @@ class Keys:
         """The sub-table ``key`` (prefix extended), None when absent."""
         if key not in self.table:
             return None
-        return type(self)(self.file, f"{self.prefix}.{key}" if self.prefix else key, self.table[key])
+        return type(self)(self.file, f"{self.prefix}.{key}" if self.prefix else key, self.table[key],
+                          self.accept_implausible)
+
+    def plausible(self, key: str, value: float, quantity: str) -> float:
+        """``value`` of ``key`` when it lies in the engineering range of ``quantity``
+        (:data:`wrlayer.plausibility.INPUT_RANGES`) or the override is set; else
+        :class:`~wrlayer.plausibility.ImplausibleInput` naming the key, the value, the range and the likely slip."""
+        from wrlayer.plausibility import check_input  # here: validate is imported by every reader, first
+
+        return check_input(self.what(key), value, quantity, self.accept_implausible)
 
 
-__all__ = ["MAX_ABS", "MAX_E_MPA", "MAX_FASTSIM_CELLS", "MAX_LIST", "MAX_PASSES", "MAX_RADIUS_MM", "MAX_STRIPS",
+def top_keys(file: str, data: Any, cls: type[Keys] = Keys) -> Keys:
+    """The top-level table of an input file, carrying its ``accept_implausible`` override (a boolean key)."""
+    accept = boolean(data.get("accept_implausible", False), f"{file}: accept_implausible") \
+        if isinstance(data, dict) else False
+    return cls(file, "", data, accept)
+
+
+__all__ = ["top_keys", "MAX_ABS", "MAX_E_MPA", "MAX_FASTSIM_CELLS", "MAX_LIST", "MAX_PASSES", "MAX_RADIUS_MM", "MAX_STRIPS",
            "MIN_ALPHA", "MIN_E_MPA", "MIN_FORCE_N", "MIN_GRID_MM", "MIN_LATERAL_RADIUS_MM", "MIN_RADIUS_MM", "Keys",
            "boolean", "check_known", "integer", "is_number", "join", "kind", "number", "number_list", "rewrap", "show",
            "table", "text"]

@@ -43,7 +43,7 @@ from contact.scenes.sections import (LoadSpec, OutputSpec, read_creepages, read_
 from wrlayer.errors import InputError
 from wrlayer.input_files import read_toml
 from wrlayer.section_keys import read_section
-from wrlayer.validate import MAX_STRIPS, MIN_LATERAL_RADIUS_MM, Keys
+from wrlayer.validate import MAX_STRIPS, MIN_LATERAL_RADIUS_MM, Keys, is_number, top_keys
 
 SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
 #: Keys allowed in [reference]: published values of the last pass (Table 1 rows), units in the names.
@@ -78,7 +78,7 @@ class SceneKeys(Keys):
     validation layer of every reader; public: the wheel–rail scene parser uses it)."""
 
 
-TOP_KEYS = ("title", "description", "type", "load", "material", "separation", "layers", "layer", "tangential",
+TOP_KEYS = ("title", "description", "type", "accept_implausible", "load", "material", "separation", "layers", "layer", "tangential",
             "passes", "method", "output", "reference")
 
 
@@ -87,7 +87,7 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
     folder). Raises InputError naming ``<file>: <section>.<key>``."""
     path = Path(path)
     file = path.name
-    top = SceneKeys(file, "", data)
+    top = top_keys(file, data, SceneKeys)
     top.check_known(TOP_KEYS)
     kind = scene_type(data, path)
     if kind != "kik_piotrowski":
@@ -150,6 +150,8 @@ def _layers(top: SceneKeys, base: Path):
 def _parse_separation(keys: SceneKeys, grid_mm: float) -> SeparationSpec:
     if "lateral_radius_mm" in keys.table:
         keys.check_known(("lateral_radius_mm", "half_width_mm", "step_mm"))
+        if is_number(keys.table.get("lateral_radius_mm")):                   # before the bounds: the slip
+            keys.plausible("lateral_radius_mm", float(keys.table["lateral_radius_mm"]), "profile_radius_mm")
         radius = keys.number("lateral_radius_mm", ge=MIN_LATERAL_RADIUS_MM)
         half = keys.number("half_width_mm", 10.0, gt=0.0)
         step = keys.number("step_mm", grid_mm / 4.0, gt=0.0)

@@ -20,7 +20,7 @@ from wrlayer.elastic import shear_modulus_MPa, youngs_modulus_MPa
 from wrlayer.errors import InputError
 from wrlayer.section_keys import key, read_section
 from wrlayer.validate import (MAX_E_MPA, MAX_FASTSIM_CELLS, MAX_PASSES, MAX_RADIUS_MM, MIN_ALPHA, MIN_E_MPA,
-                              MIN_FORCE_N, MIN_GRID_MM, MIN_RADIUS_MM, Keys)
+                              MIN_FORCE_N, MIN_GRID_MM, MIN_RADIUS_MM, Keys, is_number)
 
 #: Values of ``output.convention``: wrlayer's signs only, or also CONTACT's (contact_convention.csv).
 OUTPUT_CONVENTIONS = ("wrlayer", "contact")
@@ -54,8 +54,9 @@ class LoadSpec(Record):
         Rolling radius in the rolling direction (mm, paper eq. 10).
     """
 
-    normal_force_N: float = key(unit="N", ge=MIN_FORCE_N)
-    rolling_radius_mm: float = key(unit="mm", ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM)
+    normal_force_N: float = key(unit="N", ge=MIN_FORCE_N, plausible="normal_force_N")
+    rolling_radius_mm: float = key(unit="mm", ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM,
+                                   plausible="rolling_radius_mm")
 
 
 @dataclass(frozen=True)
@@ -70,8 +71,8 @@ class MaterialSpec(Record):
         Poisson's ratio (-).
     """
 
-    E_MPa: float = key(210000.0, "MPa", ge=MIN_E_MPA, le=MAX_E_MPA)
-    poisson: float = key(0.28, "-", ge=0.0, lt=0.5)
+    E_MPa: float = key(210000.0, "MPa", ge=MIN_E_MPA, le=MAX_E_MPA, plausible="E_MPa")
+    poisson: float = key(0.28, "-", ge=0.0, lt=0.5, plausible="poisson")
 
     @property
     def G_MPa(self) -> float:
@@ -87,6 +88,8 @@ def read_material(keys: Keys, required: bool = False) -> MaterialSpec:
         raise keys.error("G_MPa", "give either E_MPa or G_MPa, not both")
     given = {"poisson": nu}
     if "G_MPa" in keys.table:
+        if is_number(keys.table["G_MPa"]):                                  # before the bounds: the slip
+            keys.plausible("G_MPa", float(keys.table["G_MPa"]), "G_MPa")
         given["E_MPa"] = youngs_modulus_MPa(keys.number("G_MPa", ge=MIN_E_MPA / 3.0, le=MAX_E_MPA / 2.0), nu)
     return read_section(MaterialSpec, keys, required=("E_MPa",) if required else (), given=given,
                         also_known=("G_MPa",))
@@ -129,7 +132,7 @@ class CreepageSpec(TangentialSpec):
     creepage_x: float = key(0.0, "-")
     creepage_y: float = key(0.0, "-")
     spin_per_mm: float = key(0.0, "1/mm")
-    speed_mm_s: float = key(1000.0, "mm/s", gt=0.0)
+    speed_mm_s: float = key(1000.0, "mm/s", gt=0.0, plausible="speed_mm_s")
     flexibility: str = key("three", choices=_flexibility_rules)
 
     @property

@@ -53,8 +53,9 @@ from meshes.profiles import Profile
 from wrlayer.errors import InputError
 from wrlayer.runner import check_scheduler_address
 from wrlayer.section_keys import key, read_section
+from wrlayer.validate import top_keys
 
-WHEEL_RAIL_SECTIONS = ("title", "description", "profiles", "track", "wheel", "wheelset", "load", "material",
+WHEEL_RAIL_SECTIONS = ("title", "description", "accept_implausible", "profiles", "track", "wheel", "wheelset", "load", "material",
                        "tangential", "layers", "passes", "method")
 WEAR_KEYS = ("law", "distance_km", "steps", "max_depth_per_step_mm", "smoothing_mm", "grid_mm", "density_kg_m3",
              "rail_passes_per_wheel_pass", "inelastic", "layer_state", "workers", "scheduler", "conicity_amplitude_mm",
@@ -186,7 +187,7 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     """Validate a wear scene (InputError naming ``<file>: <section>.<key>``)."""
     scene_path = Path(scene_path)
     file = scene_path.name
-    top = SceneKeys(file, "", data)
+    top = top_keys(file, data, SceneKeys)
     top.check_known(("type",) + WHEEL_RAIL_SECTIONS + ("wear", "collective"))
     if data.get("type") != "wear":
         raise top.error("type", f"must be \"wear\" for python -m contact wear, got {data.get('type')!r}")

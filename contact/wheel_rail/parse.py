@@ -52,9 +52,9 @@ from meshes.profiles.placement import rail_inclination
 from wrlayer.errors import InputError
 from wrlayer.input_files import read_toml
 from wrlayer.section_keys import read_section
-from wrlayer.validate import Keys
+from wrlayer.validate import Keys, top_keys
 
-TOP_KEYS = ("title", "description", "type", "profiles", "track", "wheel", "wheelset", "load", "material",
+TOP_KEYS = ("title", "description", "type", "accept_implausible", "profiles", "track", "wheel", "wheelset", "load", "material",
             "tangential", "layers", "passes", "method", "sweep", "output", "run")
 
 
@@ -69,7 +69,7 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path) -> Whee
     its folder); reads the profiles and tables it names. Raises InputError naming ``<file>: <section>.<key>``."""
     path = Path(scene_path)
     file, base = path.name, path.parent
-    top = Keys(file, "", data)
+    top = top_keys(file, data)
     top.check_known(TOP_KEYS)
     title, description = top.text("title", ""), top.text("description", "")
 

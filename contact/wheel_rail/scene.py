@@ -72,7 +72,7 @@ class TrackSpec(Record):
         Wheel profile coordinate of the flange back (mm).
     """
 
-    gauge_mm: float = key(TrackLayout.gauge_mm, "mm")
+    gauge_mm: float = key(TrackLayout.gauge_mm, "mm", plausible="gauge_mm")
     gauge_depth_mm: float = key(TrackLayout.gauge_depth_mm, "mm", gt=0.0)
     inclination_rad: float = key(TrackLayout.inclination_rad, "rad", ge=-0.2, le=0.2)
     back_to_back_mm: float = key(TrackLayout.back_to_back_mm, "mm", gt=0.0)
@@ -91,7 +91,8 @@ class WheelSpec(Record):
         "right", "left" or "both" (-).
     """
 
-    nominal_radius_mm: float = key(TrackLayout.nominal_radius_mm, "mm", ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM)
+    nominal_radius_mm: float = key(TrackLayout.nominal_radius_mm, "mm", ge=MIN_RADIUS_MM, le=MAX_RADIUS_MM,
+                                   plausible="wheel_radius_mm")
     side: str = key("right", choices=SIDES)
 
 

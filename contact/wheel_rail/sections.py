@@ -31,8 +31,8 @@ class WheelLoadSpec(Record):
         Rolling speed V (mm/s).
     """
 
-    vertical_load_N: float = key(10000.0, "N", ge=MIN_FORCE_N)
-    speed_mm_s: float = key(2000.0, "mm/s", gt=0.0)
+    vertical_load_N: float = key(10000.0, "N", ge=MIN_FORCE_N, plausible="wheel_load_N")
+    speed_mm_s: float = key(2000.0, "mm/s", gt=0.0, plausible="speed_mm_s")
 
 
 @dataclass(frozen=True)
