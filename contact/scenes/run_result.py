@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from contact.scenes.result_io import Record
+from wrlayer.json_io import Record
 
 OMIT_NONE = {"omit_none": True}
 

@@ -34,7 +34,6 @@ Every problem raises :class:`wrlayer.errors.InputError` naming the file and the 
 
 from __future__ import annotations
 
-import hashlib
 import math
 from pathlib import Path
 from typing import Any
@@ -61,6 +60,7 @@ from contact.scenes.scene_spec import (
 )
 from wrlayer.input_files import read_toml
 from wrlayer.errors import InputError
+from wrlayer.hashing import file_sha256, file_sha256_or_none, sha256_hex
 from wrlayer.validate import (
     MAX_E_MPA,
     MAX_FASTSIM_CELLS,
@@ -150,7 +150,7 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
     if n_strips < 2:
         raise InputError(f"{file}: method.grid_mm", f"{method.grid_mm:g} mm is wider than the separation table "
                          f"({separation.y_mm[0]:g}..{separation.y_mm[-1]:g} mm)")
-    hashes = [hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else ""]
+    hashes = [file_sha256_or_none(path) or ""]
     layer = None
     if (keys := top.sub("layer")) is not None:
         layer = _parse_layer(keys, path.parent, hashes)
@@ -182,7 +182,7 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
     return Scene(path=path, title=title, description=description, load=load, material=material,
                  separation=separation, layer=layer, tangential=tangential, passes=passes, method=method,
                  output=output, reference=reference, data=data,
-                 content_hash=hashlib.sha256("".join(hashes).encode()).hexdigest())
+                 content_hash=sha256_hex("".join(hashes)))
 
 
 def _parse_method(keys: SceneKeys | None, file: str) -> MethodSpec:
@@ -295,7 +295,7 @@ def _parse_body(keys: SceneKeys, body: str, base: Path, hashes: list[str]) -> Bo
         keys.check_known(("table", "position_mm", "scale_to_patch"))
         table_path, table = read_body_table(keys.text("table"), base, body, keys.what("table"))
         position = keys.number("position_mm")
-        hashes.append(hashlib.sha256(table_path.read_bytes()).hexdigest())
+        hashes.append(file_sha256(table_path))
         spec = BodyLayerSpec(body, table_path=table_path, position_mm=position, table=table,
                              scale_to_patch=keys.boolean("scale_to_patch", False))
         spec.characteristic_at(0.0, f"{keys.file}: {keys.prefix}")  # the table must cover the contact point

@@ -18,19 +18,18 @@ completed step. Each file is written atomically.
 
 from __future__ import annotations
 
-import hashlib
-import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from contact.scenes.result_io import code_version
+from contact.scenes.result_io import code_version, read_result, write_result
 from contact.wear.records import StepRecord, WearRun
 from meshes.profiles.io import write_profile_files
 from wrlayer.atomic_write import atomic_write_text
+from wrlayer.hashing import file_sha256_or_none
+from wrlayer.json_io import jsonable
 
 UNITS = {"length": "mm", "distance": "km", "force": "N", "stress": "MPa", "speed": "mm/s", "area": "mm^2",
          "mass_loss_g_per_km": "g of wheel material per km of running (the whole wheel circumference)",
@@ -101,21 +100,6 @@ def write_table(out_dir: Path, run: WearRun) -> Path:
     return atomic_write_text(out_dir / "steps.csv", "\n".join(lines) + "\n")
 
 
-def _jsonable(x):
-    if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return _jsonable(x.tolist())
-    if isinstance(x, (np.floating, float)):
-        v = float(x)
-        return v if math.isfinite(v) else None
-    if isinstance(x, (np.integer,)):
-        return int(x)
-    return x
-
-
 @dataclass
 class WrittenFiles:
     """The files written so far (names relative to the output folder), as result.json lists them.
@@ -139,11 +123,11 @@ def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any
     sc = run.scene
     col, st = sc.collective, sc.settings
     path = Path(sc.path)
-    return _jsonable({
+    return jsonable({
         "type": "wear", "status": status, "code_version": code_version(), "units": UNITS,
         "inputs": {
             "scene_file": str(path.resolve()),
-            "content_sha256": hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None,
+            "content_sha256": file_sha256_or_none(path),
             "rail_profile": sc.wheel_rail.rail_profile.name, "wheel_profile": sc.wheel_rail.wheel_profile.name,
             "sides": list(run.initial_profiles), "normal_method": sc.normal.name, "law": sc.law.name,
             "archard": {b: vars(m) for b, m in sc.law.archard.items()},
@@ -165,8 +149,8 @@ def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any
     })
 
 
-def write_result(out_dir: Path, run: WearRun, files: WrittenFiles, status: str) -> Path:
-    return atomic_write_text(out_dir / "result.json", json.dumps(result_dict(run, files, status), indent=1) + "\n")
+def write_run_result(out_dir: Path, run: WearRun, files: WrittenFiles, status: str) -> Path:
+    return write_result(out_dir, result_dict(run, files, status))
 
 
 class RunFiles:
@@ -189,23 +173,21 @@ class RunFiles:
         self._initial()
         self.files.steps[rec.index] = write_step(self.out_dir, rec)
         write_table(self.out_dir, self.run)
-        write_result(self.out_dir, self.run, self.files, f"running: {len(self.run.steps)} steps completed")
+        write_run_result(self.out_dir, self.run, self.files, f"running: {len(self.run.steps)} steps completed")
 
     def finish(self, status: str, pictures: list[Path] = ()) -> dict[str, Any]:
         """Write the table and the final result.json with ``status`` and the ``pictures``; returns the result."""
         self._initial()
         write_table(self.out_dir, self.run)
         self.files.pictures = [p.name for p in pictures]
-        write_result(self.out_dir, self.run, self.files, status)
+        write_run_result(self.out_dir, self.run, self.files, status)
         return result_dict(self.run, self.files, status)
 
 
 def mark_published(out_dir: Path, status: str) -> None:
     """Set the ``status`` of the result.json published in ``out_dir`` (its steps and files unchanged)."""
-    path = Path(out_dir) / "result.json"
-    result = json.loads(path.read_text(encoding="utf-8"))
-    atomic_write_text(path, json.dumps({**result, "status": status}, indent=1) + "\n")
+    write_result(out_dir, {**read_result(out_dir), "status": status})
 
 
 __all__ = ["TABLE_COLUMNS", "UNITS", "RunFiles", "WrittenFiles", "mark_published", "result_dict", "table_rows",
-           "write_initial", "write_profile_pair", "write_result", "write_step", "write_table"]
+           "write_initial", "write_profile_pair", "write_run_result", "write_step", "write_table"]

@@ -24,7 +24,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from contact.scenes.result_io import Record
+from wrlayer.json_io import Record
 from contact.tangential.fastsim import equivalent_ellipse
 from contact.wheel_rail.patch_result import PatchResult
 from contact.wheel_rail.results import CaseResult, SweepResult

@@ -12,7 +12,7 @@ from wrlayer.characteristic import Characteristic
 from wrlayer.layer_table import read_body_table
 from contact.scenes.result_io import Record
 from contact.wheel_rail.inputs import WheelRailLayers
-from contact.wheel_rail.scene_files import file_sha256
+from wrlayer.hashing import file_sha256
 from wrlayer.errors import InputError
 
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contact.passes.passes import PassRecord
-from contact.scenes.result_io import Record
+from wrlayer.json_io import Record
 from contact.wheel_rail.reference_point import weighted_centre_eta
 from contact.wheel_rail.solution import PatchSolution
 

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from contact.scenes.result_io import Record
+from wrlayer.json_io import Record
 from contact.wheel_rail.patch_result import OMIT_NONE, PatchResult
 from contact.wheel_rail.solution import WheelRailSolution
 
