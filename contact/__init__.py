@@ -42,7 +42,7 @@ API = {
     "Scene": "contact.scenes.scene",
     "simulate": "contact.scenes.simulation",
     "SimulationRun": "contact.scenes.simulation",
-    "run_scene_file": "contact.__main__",
+    "run_scene_file": "contact.run_files",
     "paper_problem": "contact.scenes.paper_example",
     "paper_layers": "contact.scenes.paper_example",
     "paper_characteristic": "contact.scenes.paper_example",
@@ -64,11 +64,11 @@ API = {
     "WheelRailSolution": "contact.wheel_rail.solution",
     "load_wheel_rail_scene": "contact.wheel_rail.parse",
     "WheelRailScene": "contact.wheel_rail.scene",
-    "run_wheel_rail_scene": "contact.wheel_rail.run",
+    "run_wheel_rail_scene": "contact.run_files",
     "SweepResult": "contact.wheel_rail.results",
     "TrackLayout": "contact.wheel_rail.track_geometry",
     "WheelsetPose": "contact.wheel_rail.track_geometry",
-    "run_wear_file": "contact.wear.cli",
+    "run_wear_file": "contact.run_files",
 }
 __all__ = sorted(API)
 __getattr__, __dir__ = lazy_exports(__name__, API)
