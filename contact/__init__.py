@@ -57,7 +57,7 @@ API = {
     "LayerTable": "wrlayer.layer_table",
     "run_passes": "contact.passes.passes",
     "PassesOptions": "contact.passes.passes",
-    "PassRecord": "contact.passes.passes",
+    "PassRecord": "contact.passes.record",
     "solve_wheel": "contact.wheel_rail.solve",
     "WheelRailInputs": "contact.wheel_rail.inputs",
     "WheelRailLayers": "contact.wheel_rail.inputs",

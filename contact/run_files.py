@@ -205,9 +205,16 @@ def write_folder_tables(results: dict[str, SceneResult | SweepResult], out: Path
 # --------------------------------------------------------------------------------------------------- wear
 def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = True, workers: int | None = None,
                   scheduler: str | None = None, show_progress: bool = True, force: bool = False) -> dict[str, Any]:
-    """Run one wear scene into ``out_dir`` (files: :mod:`contact.wear.outputs`); returns the result dict (raises
-    WearStopped after publishing the completed steps). Refused (CostError, exit 2) when the estimate exceeds the
-    limit, unless ``force``.
+    """:func:`run_wear` returning the result.json data (a dictionary)."""
+    return run_wear(scene_path, out_dir, plots, workers, scheduler, show_progress, force)[1]
+
+
+def run_wear(scene_path: str | Path, out_dir: str | Path, plots: bool = True, workers: int | None = None,
+             scheduler: str | None = None, show_progress: bool = True, force: bool = False
+             ) -> tuple[WearRun, dict[str, Any]]:
+    """Run one wear scene into ``out_dir`` (files: :mod:`contact.wear.outputs`); returns the run's records and the
+    result.json data (raises WearStopped after publishing the completed steps). Refused (CostError, exit 2) when
+    the estimate exceeds the limit, unless ``force``.
 
     The run is built in a staging folder beside DIR (:func:`wrlayer.atomic_write.staged_output_dir`) and published
     as a whole after every completed step into ``DIR.partial`` beside DIR, with result.json saying "running: N
@@ -234,7 +241,8 @@ def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Tru
             raise output_error(err, out) from None
 
 
-def _run_staged(scene: WearScene, staged: StagedOutput, plots: bool, show_progress: bool) -> dict[str, Any]:
+def _run_staged(scene: WearScene, staged: StagedOutput, plots: bool, show_progress: bool
+                ) -> tuple[WearRun, dict[str, Any]]:
     """Run the loop in ``staged.dir``, publishing after every completed step (the caller holds DIR's lock)."""
     from contact.wear.loop import start_run, wear_steps
     from contact.wear.outputs import RunFiles, mark_published
@@ -254,7 +262,7 @@ def _run_staged(scene: WearScene, staged: StagedOutput, plots: bool, show_progre
         result = files.finish("complete", _wear_pictures(run, staged.dir, plots))
         check_terminated()  # a SIGTERM swallowed by a C callback (plots): the last published steps stay
         staged.finish(f"the complete run ({len(run.steps)} steps) is in {staged.path}")
-        return result
+        return run, result
     except (Terminated, KeyboardInterrupt, InputError, OSError) as err:
         if staged.where == staged.partial:  # the published steps say how the run ended (not an ended run in DIR)
             with contextlib.suppress(OSError, InputError):  # a full disk may refuse this too: "running" stays
@@ -287,5 +295,5 @@ def _wear_pictures(run: WearRun, out: Path, plots: bool) -> list[Path]:
 
 
 __all__ = ["WEAR_OWNED", "failed_cases", "run_overrides", "run_scene", "run_scene_file", "run_scene_folder",
-           "run_wear_file", "run_wheel_rail_scene", "write_folder_tables", "write_scene_files",
+           "run_wear", "run_wear_file", "run_wheel_rail_scene", "write_folder_tables", "write_scene_files",
            "write_sweep_files"]

@@ -3,7 +3,7 @@
 - :mod:`~contact.scenes.scene`: scene TOML -> validated dataclasses (:mod:`~contact.scenes.scene_spec`).
 - :mod:`~contact.scenes.scene_layers`: the scene's layers on the strip grid, table coverage, patch-size scaling.
 - :mod:`~contact.scenes.simulation`: a scene run (normal, passes, tangential) -> result records.
-- :mod:`~contact.scenes.run_result`: the result records of a scene run (SceneResult, PassResult, ...).
+- :mod:`~contact.scenes.run_result`: the result records of a scene run (SceneResult, ...; the pass record: contact.passes.record).
 - :mod:`~contact.scenes.result_io` / :mod:`~contact.scenes.result_table`: result.json, units, code version, the
   Record base of every result record, tables.
 - :mod:`~contact.scenes.cost`: cost estimates of scene runs (the guard before a run).

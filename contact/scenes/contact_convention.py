@@ -28,7 +28,8 @@ from typing import TYPE_CHECKING, Any, Protocol
 from wrlayer.atomic_write import atomic_write_text
 
 if TYPE_CHECKING:
-    from contact.scenes.run_result import RegionResult, SceneResult
+    from contact.passes.record import RegionRecord
+    from contact.scenes.run_result import SceneResult
     from contact.wheel_rail.patch_result import PatchResult
     from contact.wheel_rail.results import SweepResult
 
@@ -46,7 +47,7 @@ SWEEP_COLUMNS = ("case", "wheel", "patch", "roll_rad", "vpitch_rad_s", "ycp_r_mm
                  "fs_N", "mz_Nmm", "cksi", "ceta", "cphi_per_mm", "approach_mm", "pmax_MPa", "area_mm2", "fy_tr_N")
 
 
-def creep_in_contact(patch: RegionResult | PatchResult, creepages: Creepages) -> dict[str, float]:
+def creep_in_contact(patch: RegionRecord | PatchResult, creepages: Creepages) -> dict[str, float]:
     """FN, FX, FS, MZ and the creepages of one patch (a region of a contact scene's pass or a wheel–rail patch) in
     CONTACT's signs; ``creepages``: anything with ``creepage_x``, ``creepage_y``, ``spin_per_mm``."""
     return {"fn_N": patch.normal_force_N, "fx_N": -patch.Fx_N, "fs_N": -patch.Fy_N, "mz_Nmm": -patch.Mz_Nmm,
@@ -75,8 +76,8 @@ def scene_rows(result: SceneResult, creepages: Creepages | None) -> list[dict[st
     every pass and patch."""
     if creepages is None:
         return []
-    return [{"pass": p.number, "patch": i, **creep_in_contact(q, creepages)}
-            for p in result.passes for i, q in enumerate(p.patches)]
+    return [{"pass": p.index, "patch": i, **creep_in_contact(q, creepages)}
+            for p in result.passes for i, q in enumerate(p.regions)]
 
 
 def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:

@@ -21,7 +21,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from contact.scenes.run_result import PassResult, SceneResult
+    from contact.passes.record import PassRecord
+    from contact.scenes.run_result import SceneResult
     from contact.wheel_rail.results import SweepResult
 
 #: A batch's results by scene name.
@@ -43,7 +44,7 @@ ROWS = (
 )
 
 
-def pass_values(record: PassResult) -> dict[str, Any]:
+def pass_values(record: PassRecord) -> dict[str, Any]:
     """The table's quantities of one pass, by result key (:data:`ROWS`)."""
     return {key: getattr(record, key) for _, _, key, _, _ in ROWS}
 

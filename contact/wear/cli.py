@@ -26,18 +26,18 @@ from wrlayer import cli
 
 
 def wear_command(args) -> int:
-    from contact.run_files import run_wear_file
+    from contact.run_files import run_wear
 
-    result = run_wear_file(args.scene, args.out, plots=not args.no_plots, workers=args.workers,
-                           scheduler=args.scheduler, show_progress=not args.quiet, force=args.force)
-    steps = result["steps"]
-    print(f"{Path(args.scene).name}: {len(steps)} steps, {result['distance_done_km']:.6g} km -> "
+    run, _ = run_wear(args.scene, args.out, plots=not args.no_plots, workers=args.workers, scheduler=args.scheduler,
+                      show_progress=not args.quiet, force=args.force)
+    done_km = run.steps[-1].end_km if run.steps else 0.0
+    print(f"{Path(args.scene).name}: {len(run.steps)} steps, {done_km:.6g} km -> "
           f"{Path(args.out) / 'result.json'}, steps.csv, profiles/")
-    for row in steps:
-        worst = max(row["bodies"], key=lambda r: r["wear_max_mm"])
-        print(f"  step {row['step']}: {row['start_km']:.6g}..{row['end_km']:.6g} km, max wear "
-              f"{worst['wear_max_mm'] * 1e3:.2f} µm ({worst['side']} {worst['body']} at y = "
-              f"{worst['wear_max_y_mm']:.2f} mm), dr = {row['conicity']['delta_r_mm']:.4f} mm", file=sys.stdout)
+    for rec in run.steps:
+        (side, body), worst = max(rec.bodies.items(), key=lambda item: item[1].stats.wear_max_mm)
+        print(f"  step {rec.index}: {rec.start_km:.6g}..{rec.end_km:.6g} km, max wear "
+              f"{worst.stats.wear_max_mm * 1e3:.2f} µm ({side} {body} at y = "
+              f"{worst.stats.wear_max_y_mm:.2f} mm), dr = {rec.conicity.delta_r_mm:.4f} mm", file=sys.stdout)
     return 0
 
 

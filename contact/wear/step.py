@@ -53,7 +53,8 @@ def depth_rates(scene: WearScene, grids: Grids, results: list[ConditionResult]
 
 
 def summary_of(r: ConditionResult) -> ConditionSummary:
-    return ConditionSummary(r.index, r.side, r.passes, r.shakedown, r.seconds, r.merge_mm, r.summary)
+    return ConditionSummary(condition=r.index, side=r.side, passes=r.passes, shakedown=r.shakedown, seconds=r.seconds,
+                            merge_mm=r.merge_mm, patches=r.patches)
 
 
 def wear_step(scene: WearScene, state: WearState, solve: Callable[[list], list[ConditionResult]]

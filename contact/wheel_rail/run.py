@@ -62,9 +62,10 @@ def solve_case(scene: WheelRailScene, case: CaseSpec, placed_rail: PlacedRail | 
     if len(sols) == 2:  # rolling radius difference of the main (largest normal force) patches, left - right
         r = {side: max(s.patches, key=lambda p: p.normal_force_N).candidate.wheel_radius_mm for side, s in sols.items()}
         difference = r["left"] - r["right"]
-    record = CaseResult(pose.lateral_mm, pose.yaw_rad, pose.roll_rad, any_inputs.omega_rad_s,
-                        any_inputs.vertical_load_N, any_inputs.speed_mm_s,
-                        {side: WheelResult.of(s) for side, s in sols.items()}, difference)
+    record = CaseResult(lateral_mm=pose.lateral_mm, yaw_rad=pose.yaw_rad, roll_rad=pose.roll_rad,
+                        pitch_rate_rad_s=any_inputs.omega_rad_s, vertical_load_N=any_inputs.vertical_load_N,
+                        speed_mm_s=any_inputs.speed_mm_s, wheels={side: WheelResult.of(s) for side, s in sols.items()},
+                        rolling_radius_difference_mm=difference)
     return record, sols
 
 
@@ -84,13 +85,14 @@ def write_deformed_profiles(scene: WheelRailScene, sols: dict[str, WheelRailSolu
             paths, err = write_profile_files(out_dir / "deformed_profiles" / f"{stem}_{side}_{body}", pts, body,
                                              f"{prof.name} with residual displacements ({stem}, {side})")
             for path in paths:
-                written.append(DeformedProfileFile(str(path.relative_to(out_dir)), body, side, float(up.max()), err))
+                written.append(DeformedProfileFile(file=str(path.relative_to(out_dir)), body=body, side=side,
+                                                   max_residual_mm=float(up.max()), read_back_max_error_mm=err))
     return tuple(written)
 
 
 def failed_record(case: CaseSpec, k: int, err: InputError | ConvergenceError, time_s: float) -> CaseResult:
     """The record of case ``k`` that failed with ``err`` (its inputs, the error and the failed wheel)."""
-    return CaseResult(*(getattr(case, key) for key in SWEEP_KEYS), error=str(err),
+    return CaseResult(**{key: getattr(case, key) for key in SWEEP_KEYS}, error=str(err),
                       failed_wheel=getattr(err, "wheel", None), case=k, time_s=time_s)
 
 
