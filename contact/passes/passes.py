@@ -158,14 +158,11 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
             energy[name] = float(body_layer.dissipated_energy_N_per_mm.max(initial=0.0))
         max_added = float(np.max(np.abs(added))) if added.size else 0.0
         shakedown = max_added <= options.tolerance_mm
-        rec = PassRecord(
-            index=k, delta_mm=sol.delta_mm, delta0_mm=sol.delta0_mm, p_max_MPa=sol.p_max_MPa,
-            length_mm=sol.length_mm, width_mm=sol.width_mm, area_mm2=sol.area_mm2,
-            normal_force_N=sol.normal_force_N, residual_N=sol.residual_N, u0_mm=sol.u0_mm, u0_elements_mm=float(u0),
-            up0_mm=float(up0), max_residual_mm=max_added, elastic=sol.elastic, shakedown=shakedown,
+        rec = PassRecord.of(
+            sol, k, u0_elements_mm=float(u0), up0_mm=float(up0), max_residual_mm=max_added, shakedown=shakedown,
             max_cumulative_residual_mm={n: float(np.max(c, initial=0.0)) for n, c in cumulative.items()},
-            dissipated_energy_N_per_mm=energy, iterations=dict(sol.iterations), strip_y_mm=y,
-            p_peak_MPa=sol.p_peak_MPa, cumulative_residual_mm={n: c.copy() for n, c in cumulative.items()})
+            dissipated_energy_N_per_mm=energy,
+            cumulative_residual_mm={n: c.copy() for n, c in cumulative.items()})
         records.append(rec)
         offset = offset + added
         if on_pass is not None:

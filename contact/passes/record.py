@@ -10,10 +10,10 @@ record in the scene kind's keys (:data:`SCENE_PASS_LAYOUT` for a contact scene's
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
-import numpy as np
-
+from contact.normal.solution import NormalNumbers, NormalSolution
 from wrlayer.json_io import Layout, Record
 
 __all__ = ["PATCH_PASS_LAYOUT", "PATCH_REGION_LAYOUT", "SCENE_PASS_LAYOUT", "PassRecord", "RegionRecord"]
@@ -89,30 +89,18 @@ class RegionRecord(Record):
 
 
 @dataclass(frozen=True, kw_only=True, repr=False)
-class PassRecord(Record):
+class PassRecord(NormalNumbers, Record):
     """One pass (paper section 5): the normal solve, the layer's residual displacements and, in a contact scene,
     the tangential solution of its regions (the Table 1 quantities) and its timings.
+
+    The normal solve's numbers (``delta_mm``, ``delta0_mm``, ``p_max_MPa``, ``length_mm``, ``width_mm``,
+    ``area_mm2``, ``normal_force_N``, ``residual_N``, ``elastic``, ``u0_mm``, ``iterations``, ``strip_y_mm``,
+    ``p_peak_MPa``; the arrays are not written) are :class:`contact.normal.solution.NormalNumbers`.
 
     Attributes
     ----------
     index : int
         Pass number, 1-based (-).
-    delta_mm : float
-        Approach delta (mm), eq. 13.
-    delta0_mm : float
-        Virtual penetration alpha delta (mm), eq. 9.
-    p_max_MPa : float
-        Largest pressure of the pass (MPa).
-    length_mm : float
-        Patch length in the rolling direction (mm).
-    width_mm : float
-        Lateral extent of the patches (mm).
-    area_mm2 : float
-        Contact area (mm^2).
-    normal_force_N : float
-        Normal force of the solution (N).
-    residual_N : float
-        Force residual N - N_target (N).
     u0_mm : float | None
         Layer displacement (all layers) at the reference point of the main patch under load, as the normal solve
         gives it (mm); None in a wheel–rail patch's pass read back from result.json (it keeps ``u0_elements_mm``).
@@ -123,16 +111,12 @@ class PassRecord(Record):
         Residual displacement added at the reference point in this pass (mm), eq. 8.
     max_residual_mm : float
         Largest residual displacement added in this pass on any strip (mm).
-    elastic : bool
-        True when no layer element yields in this pass.
     shakedown : bool
         This pass added no residual displacement beyond the tolerance.
     max_cumulative_residual_mm : dict
         Per body ("wheel", "rail", "combined"): largest residual displacement accumulated so far (mm).
     dissipated_energy_N_per_mm : dict
         Per body: the largest accumulated friction work of an element (N/mm).
-    iterations : dict
-        Iteration counts of the pass's normal solve (-).
     Fx_N : float
         Longitudinal creep force, sum over the regions (N).
     Fy_N : float
@@ -147,32 +131,17 @@ class PassRecord(Record):
         The contact regions of a contact scene's pass.
     timings_s : dict
         Wall-clock times of the pass's steps (s).
-    strip_y_mm : numpy.ndarray | None
-        The strip grid (mm); not written.
-    p_peak_MPa : numpy.ndarray | None
-        Peak pressure p(0, y) per strip (MPa); not written.
     cumulative_residual_mm : dict
         Per body: the dents so far on the strip grid (mm); not written.
     """
 
     index: int
-    delta_mm: float
-    delta0_mm: float
-    p_max_MPa: float
-    length_mm: float
-    width_mm: float
-    area_mm2: float
-    normal_force_N: float
-    residual_N: float
-    u0_mm: float | None = None
     u0_elements_mm: float = 0.0
     up0_mm: float = 0.0
     max_residual_mm: float = 0.0
-    elastic: bool
     shakedown: bool = False
     max_cumulative_residual_mm: dict = field(default_factory=dict)
     dissipated_energy_N_per_mm: dict = field(default_factory=dict)
-    iterations: dict = field(default_factory=dict)
     Fx_N: float = 0.0
     Fy_N: float = 0.0
     Mz_Nmm: float = 0.0
@@ -180,9 +149,14 @@ class PassRecord(Record):
     PT_max_W_per_mm2: float | None = None
     regions: tuple[RegionRecord, ...] = ()
     timings_s: dict = field(default_factory=dict)
-    strip_y_mm: np.ndarray | None = field(default=None, compare=False)
-    p_peak_MPa: np.ndarray | None = field(default=None, compare=False)
     cumulative_residual_mm: dict = field(default_factory=dict, compare=False)
+
+    @classmethod
+    def of(cls, solution: NormalSolution, index: int, **layer) -> PassRecord:
+        """The record of pass ``index`` from its normal solution (the one place its numbers are copied) and the
+        layer's numbers ``layer`` (residual displacements, shakedown, ...; none for a pass without a layer)."""
+        numbers = {f.name: getattr(solution, f.name) for f in dataclasses.fields(NormalNumbers)}
+        return cls(index=index, **{**numbers, "iterations": dict(solution.iterations)}, **layer)
 
     @property
     def n_patches(self) -> int:

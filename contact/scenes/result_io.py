@@ -4,6 +4,7 @@ reading. The records and the JSON conversion: :mod:`wrlayer.json_io`.
 
 from __future__ import annotations
 
+import functools
 import json
 from pathlib import Path
 from typing import Any
@@ -29,6 +30,15 @@ UNITS = {
     "timings": "s (wall clock)",
     "dissipated_energy_max_N_per_mm": "N/mm (= N mm/mm^2: largest accumulated slider friction work of an element)",
 }
+
+
+@functools.singledispatch
+def inputs_echo(scene: Any) -> dict[str, Any]:
+    """The resolved inputs of a scene as result.json writes them (``inputs``): the one place every scene kind's
+    result asks for its echo. Each kind registers its own (:func:`contact.scenes.scene.scene_inputs` in
+    :mod:`contact.scenes.simulation`, :func:`contact.wheel_rail.result_files.wheel_rail_inputs`,
+    :func:`contact.wear.outputs.wear_inputs`)."""
+    raise TypeError(f"no inputs echo for a {type(scene).__name__}")
 
 
 def write_result(out_dir: str | Path, result: Record | dict[str, Any]) -> Path:

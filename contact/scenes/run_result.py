@@ -107,7 +107,7 @@ class SceneResult(Record):
     Attributes
     ----------
     inputs : dict
-        The resolved inputs (:func:`contact.scenes.scene.scene_inputs`).
+        The resolved inputs (:func:`contact.scenes.result_io.inputs_echo`).
     code_version : Any
         Version of the code that ran.
     units : dict

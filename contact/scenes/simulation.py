@@ -35,7 +35,7 @@ from contact.normal.method import solve_normal_with
 from contact.normal.patch import Patch
 from contact.passes.passes import run_passes
 from contact.passes.record import SCENE_PASS_LAYOUT, PassRecord, RegionRecord
-from contact.scenes.result_io import UNITS, code_version
+from contact.scenes.result_io import UNITS, code_version, inputs_echo
 from contact.scenes.run_result import (
     MethodDescription,
     PatchScaling,
@@ -56,6 +56,8 @@ from contact.tangential.fastsim import Creepage, TangentialResult
 from contact.tangential.on_patch import TangentialSettings, solve_regions
 from wrlayer.errors import InputError, PatchTruncated, typed_input_error
 from wrlayer.progress import progress
+
+inputs_echo.register(Scene, scene_inputs)
 
 _NORMAL_METHOD_TEXT = {
     "kik_piotrowski": "Kik-Piotrowski virtual penetration with the Prandtl-body layer (paper eqs. 9-15); p_max "
@@ -154,15 +156,6 @@ def region_result(snapshot: PassSnapshot, i: int) -> RegionRecord:
                         equivalent_ellipse_b_mm=tr.ellipse.b_mm)
 
 
-def elastic_record(solution: NormalSolution) -> PassRecord:
-    """The record of the one pass of a scene without a layer (no residual displacement)."""
-    return PassRecord(index=1, delta_mm=solution.delta_mm, delta0_mm=solution.delta0_mm,
-                      p_max_MPa=solution.p_max_MPa, length_mm=solution.length_mm, width_mm=solution.width_mm,
-                      area_mm2=solution.area_mm2, normal_force_N=solution.normal_force_N,
-                      residual_N=solution.residual_N, elastic=solution.elastic, iterations=dict(solution.iterations),
-                      u0_mm=solution.u0_mm, strip_y_mm=solution.strip_y_mm, p_peak_MPa=solution.p_peak_MPa)
-
-
 def pass_result(snapshot: PassSnapshot, record: PassRecord, timings: dict[str, float] | None = None) -> PassRecord:
     """The pass as result.json keeps it (:data:`contact.passes.record.SCENE_PASS_LAYOUT`): the record of the normal
     solve and the layer with the tangential solution of its regions and the timings."""
@@ -219,7 +212,7 @@ def _elastic_pass(scene: Scene, prob: NormalProblem) -> tuple[PassSnapshot, Pass
     sol = solve_normal_with(prob, method=scene.method.normal_method())
     t_normal = time.perf_counter() - t0
     snap, t_tang = solve_patches(scene, sol, 1)
-    return snap, pass_result(snap, elastic_record(sol), {"normal_s": t_normal, "tangential_s": t_tang})
+    return snap, pass_result(snap, PassRecord.of(sol, 1), {"normal_s": t_normal, "tangential_s": t_tang})
 
 
 def _with_tangential(scene: Scene, solved: list[tuple]) -> Iterator[tuple[PassSnapshot, PassRecord]]:
@@ -257,7 +250,7 @@ def _simulate(scene: Scene) -> SimulationRun:
         else TANGENTIAL_METHOD_TEXT[scene.method.tangential],
         layer=None if layers is None else tuple(sorted(layers.bodies())))
     result = SceneResult(
-        inputs=scene_inputs(scene), code_version=code_version(), units=UNITS, method=method,
+        inputs=inputs_echo(scene), code_version=code_version(), units=UNITS, method=method,
         layer_scaled_to_patch=scaled, n_passes=len(history),
         shakedown_pass=next((h.index for h in history if h.shakedown), None), passes=history,
         reference_deviation=reference_deviation(scene.reference, history[-1]),
@@ -269,6 +262,5 @@ def _simulate(scene: Scene) -> SimulationRun:
     return SimulationRun(scene, result, snapshots[0], snapshots[-1], y, f_before, f_after, residual, snapshots)
 
 
-__all__ = ["PassSnapshot", "SimulationRun", "build_layers", "elastic_record", "normal_problem", "pass_result",
-           "region_result",
+__all__ = ["PassSnapshot", "SimulationRun", "build_layers", "normal_problem", "pass_result", "region_result",
            "local_patch", "simulate", "solve_patches"]

@@ -24,8 +24,9 @@ from typing import Any
 
 import numpy as np
 
-from contact.scenes.result_io import code_version, read_result, write_result
+from contact.scenes.result_io import code_version, inputs_echo, read_result, write_result
 from contact.wear.records import StepRecord, WearRun
+from contact.wear.scene import WearScene
 from meshes.profiles.io import write_profile_files
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.hashing import file_sha256_or_none
@@ -37,6 +38,9 @@ UNITS = {"length": "mm", "distance": "km", "force": "N", "stress": "MPa", "speed
 TABLE_COLUMNS = ("step", "start_km", "length_km", "end_km", "side", "body", "wear_max_mm", "wear_max_y_mm",
                  "worn_area_mm2", "inelastic_max_mm", "inelastic_max_y_mm", "inelastic_area_mm2", "mass_loss",
                  "mass_loss_unit", "delta_r_mm", "quasi_conicity", "equivalent_conicity", "conicity_amplitude_mm")
+#: Columns of steps.csv taken from a body's statistics (:class:`contact.wear.statistics.BodyStats`).
+STATS_COLUMNS = ("wear_max_mm", "wear_max_y_mm", "worn_area_mm2", "inelastic_max_mm", "inelastic_max_y_mm",
+                 "inelastic_area_mm2")
 
 
 def write_profile_pair(out_dir: Path, stem: str, profile, body: str) -> dict[str, Any]:
@@ -80,12 +84,11 @@ def table_rows(run: WearRun) -> list[dict]:
     rows = []
     for rec in run.steps:
         for (s, b), bs in rec.bodies.items():
-            st = bs.stats.to_dict()
             unit = "g/km" if b == "wheel" else "g/(m rail km)"
-            mass = st.get("mass_loss_g_per_km", st.get("mass_loss_g_per_m_rail_per_km"))
             rows.append({"step": rec.index, "start_km": rec.start_km, "length_km": rec.length_km,
-                         "end_km": rec.end_km, "side": s, "body": b, **{k: st[k] for k in TABLE_COLUMNS if k in st},
-                         "mass_loss": mass, "mass_loss_unit": unit, "delta_r_mm": rec.conicity.delta_r_mm,
+                         "end_km": rec.end_km, "side": s, "body": b,
+                         **{k: getattr(bs.stats, k) for k in STATS_COLUMNS}, "mass_loss": bs.stats.mass_loss,
+                         "mass_loss_unit": unit, "delta_r_mm": rec.conicity.delta_r_mm,
                          "quasi_conicity": rec.conicity.quasi_conicity,
                          "equivalent_conicity": rec.conicity.equivalent_conicity,
                          "conicity_amplitude_mm": rec.conicity.amplitude_mm})
@@ -119,25 +122,31 @@ class WrittenFiles:
     pictures: list[str] = field(default_factory=list)
 
 
-def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any]:
-    sc = run.scene
+@inputs_echo.register
+def wear_inputs(sc: WearScene) -> dict[str, Any]:
+    """The resolved inputs of a wear scene as written in result.json ("inputs")."""
     col, st = sc.collective, sc.settings
     path = Path(sc.path)
+    return {
+        "scene_file": str(path.resolve()),
+        "content_sha256": file_sha256_or_none(path),
+        "rail_profile": sc.wheel_rail.rail_profile.name, "wheel_profile": sc.wheel_rail.wheel_profile.name,
+        "sides": list(sc.initial_profiles), "normal_method": sc.normal.name, "law": sc.law.name,
+        "archard": {b: vars(m) for b, m in sc.law.archard.items()},
+        "usfd": {b: vars(t) for b, t in sc.law.usfd.items()}, "density_kg_m3": sc.law.density_kg_m3,
+        "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": st.to_dict(),
+        "conditions": [vars(c) for c in col.conditions],
+        "collective_source": {"file": col.source_file, "sha256": col.source_sha256} if col.source_file else None,
+        "passes_cap": sc.wheel_rail.passes.max,
+        "layers": None if sc.wheel_rail.solver_layers is None else dict(sc.wheel_rail.solver_layers.names),
+        "scene_toml": sc.data}
+
+
+def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any]:
+    sc = run.scene
     return jsonable({
         "type": "wear", "status": status, "code_version": code_version(), "units": UNITS,
-        "inputs": {
-            "scene_file": str(path.resolve()),
-            "content_sha256": file_sha256_or_none(path),
-            "rail_profile": sc.wheel_rail.rail_profile.name, "wheel_profile": sc.wheel_rail.wheel_profile.name,
-            "sides": list(run.initial_profiles), "normal_method": sc.normal.name, "law": sc.law.name,
-            "archard": {b: vars(m) for b, m in sc.law.archard.items()},
-            "usfd": {b: vars(t) for b, t in sc.law.usfd.items()}, "density_kg_m3": sc.law.density_kg_m3,
-            "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": st.to_dict(),
-            "conditions": [vars(c) for c in col.conditions],
-            "collective_source": {"file": col.source_file, "sha256": col.source_sha256} if col.source_file else None,
-            "passes_cap": sc.wheel_rail.passes.max,
-            "layers": None if sc.wheel_rail.solver_layers is None else dict(sc.wheel_rail.solver_layers.names),
-            "scene_toml": sc.data},
+        "inputs": inputs_echo(sc),
         "initial": {"conicity": run.initial_conicity.to_dict(), "profiles": files.initial},
         "steps": [{"step": r.index, "start_km": r.start_km, "length_km": r.length_km, "end_km": r.end_km,
                    "notes": r.notes, "conicity": r.conicity.to_dict(), "timings_s": r.timings,
@@ -190,4 +199,4 @@ def mark_published(out_dir: Path, status: str) -> None:
 
 
 __all__ = ["TABLE_COLUMNS", "UNITS", "RunFiles", "WrittenFiles", "mark_published", "result_dict", "table_rows",
-           "write_initial", "write_profile_pair", "write_run_result", "write_step", "write_table"]
+           "wear_inputs", "write_initial", "write_profile_pair", "write_run_result", "write_step", "write_table"]

@@ -9,6 +9,7 @@ import csv
 import io
 from typing import Any
 
+from contact.scenes.result_io import inputs_echo
 from contact.wheel_rail.results import SweepResult
 from contact.wheel_rail.scene import WheelRailScene
 from wrlayer.hashing import file_sha256_or_none
@@ -80,7 +81,8 @@ CONVENTIONS = {
 }
 
 
-def inputs_echo(scene: WheelRailScene) -> dict[str, Any]:
+@inputs_echo.register
+def wheel_rail_inputs(scene: WheelRailScene) -> dict[str, Any]:
     """The resolved inputs of the scene as written in result.json ("inputs")."""
     lay = scene.layout
     inp = scene.inputs()
@@ -111,4 +113,4 @@ def inputs_echo(scene: WheelRailScene) -> dict[str, Any]:
     }
 
 
-__all__ = ["CONVENTIONS", "CSV_COLUMNS", "cases_csv", "inputs_echo"]
+__all__ = ["CASE_COLUMNS", "CONVENTIONS", "CSV_COLUMNS", "PATCH_COLUMNS", "cases_csv", "wheel_rail_inputs"]

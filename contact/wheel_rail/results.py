@@ -248,7 +248,7 @@ class SweepResult(Record):
     type : str
         "wheel_rail" (-).
     inputs : dict
-        The resolved inputs (:func:`contact.wheel_rail.result_files.inputs_echo`).
+        The resolved inputs (:func:`contact.scenes.result_io.inputs_echo`).
     code_version : str
         Version of the code that ran.
     units : dict

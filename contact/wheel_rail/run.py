@@ -26,7 +26,8 @@ import numpy as np
 
 from contact.scenes.result_io import UNITS, code_version
 from contact.tangential.frictional_outputs import write_wheel_rail
-from contact.wheel_rail.result_files import CONVENTIONS, inputs_echo
+from contact.scenes.result_io import inputs_echo
+from contact.wheel_rail.result_files import CONVENTIONS
 from contact.wheel_rail.results import CaseResult, DeformedProfileFile, RailPlacement, SweepResult, WheelResult
 from contact.wheel_rail.scene import WheelRailScene
 from contact.wheel_rail.sweep_spec import SWEEP_KEYS, CaseSpec
