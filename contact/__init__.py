@@ -12,6 +12,8 @@ Subpackages, one concept each; dependencies point one way (left may import right
 - :mod:`contact.scenes`: scene files, the simulation run, results, tables and pictures.
 - :mod:`contact.wheel_rail`: track geometry, contact search, kinematics, the wheel solve and its scenes.
 - :mod:`contact.wear`: profiles evolving by wear and the layer's inelastic displacement.
+- :mod:`contact.run_files`: a scene file of any kind run into an output folder (every file written); the command
+  line (:mod:`contact.__main__`) only parses arguments.
 
 Public API (imported on first use: ``import contact`` loads no solver; the full table is docs/api.md):
 

@@ -2,7 +2,7 @@
 
     wrlayer simulate SCENE --out DIR [--json] [--plots] [--no-vtk]
     wrlayer simulate-all SCENES_DIR --out OUT [--plots] [--no-vtk]
-    wrlayer wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS]   (contact.wear.cli)
+    wrlayer wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS] [--quiet]
 
 Argument parsing only: the runs and their files are :mod:`contact.run_files`. ``simulate`` writes
 ``DIR/result.json``, the frictional CSVs, the VTK fields ``DIR/vtk/contact_fields.pvd`` (unless ``--no-vtk`` or
@@ -11,13 +11,16 @@ estimated cost exceeds the limit is refused up front unless ``--force`` (:mod:`c
 ``simulate-all`` runs every ``*.toml`` of the folder into ``OUT/<scene-stem>/``, then writes a table like the
 paper's Table 1 to ``OUT/table.md`` and ``OUT/table.csv`` and prints a summary that fits 100 columns (one short
 table per scene kind, :func:`contact.scenes.result_table.summary_text`); a failing scene is reported in one line,
-the others still run, and the exit code is non-zero if any failed.
+the others still run, and the exit code is non-zero if any failed. ``wear`` runs a wear scene
+(:func:`contact.run_files.run_wear_file`: published step by step; a bad scene, a scheduler address of a wrong form
+or a refused cost fails before anything is written) and prints one line per step.
 
 Exit codes: 0 success; 1 some scenes of ``simulate-all`` failed (each reported in one line); 2 bad input (scene,
 table or profile file, a refused cost, a busy ``--out``); 3 numerical failure (ConvergenceError); 4 some cases of a
 wheel–rail sweep failed (each printed on stderr as case, wheel, reason; every result, the failed cases' errors
 included, was written; ``simulate-all`` gives 4 when no scene but some case failed); 5 wear loop stopped at a step
-(see :mod:`contact.wear.cli`); 130 interrupted; 143 terminated.
+(result.json says "stopped: step N: ..."; the completed steps were written); 130 interrupted; 143 terminated (a
+wear run's published steps in ``DIR.partial`` are marked so).
 """
 
 from __future__ import annotations
@@ -100,6 +103,22 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
     return code
 
 
+def _wear(args: argparse.Namespace) -> int:
+    from contact.run_files import run_wear_into
+
+    run, _ = run_wear_into(args.scene, args.out, plots=not args.no_plots, workers=args.workers,
+                           scheduler=args.scheduler, show_progress=not args.quiet, force=args.force)
+    done_km = run.steps[-1].end_km if run.steps else 0.0
+    print(f"{Path(args.scene).name}: {len(run.steps)} steps, {done_km:.6g} km -> "
+          f"{Path(args.out) / 'result.json'}, steps.csv, profiles/")
+    for rec in run.steps:
+        (side, body), worst = max(rec.bodies.items(), key=lambda item: item[1].stats.wear_max_mm)
+        print(f"  step {rec.index}: {rec.start_km:.6g}..{rec.end_km:.6g} km, max wear "
+              f"{worst.stats.wear_max_mm * 1e3:.2f} µm ({side} {body} at y = "
+              f"{worst.stats.wear_max_y_mm:.2f} mm), dr = {rec.conicity.delta_r_mm:.4f} mm")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = cli.parser("python -m contact", "Kik–Piotrowski contact with the Prandtl-body layer, FASTSIM, passes to "
                         "shakedown, wheel-on-rail scenes (units mm, N, MPa, s).",
@@ -125,9 +144,15 @@ def build_parser() -> argparse.ArgumentParser:
     many.add_argument("--plots", action="store_true", help="write PNG pictures")
     many.add_argument("--no-vtk", action="store_true", help="do not write the VTK fields for ParaView (vtk/)")
     many.set_defaults(func=_simulate_all)
-    from contact.wear.cli import add_parser as add_wear_parser
-
-    add_wear_parser(sub)
+    wear = cli.subparser(sub, "wear", "run a wear scene (profiles evolving by wear and inelastic displacement)",
+                         ["wrlayer wear scenes/wear/s1002_60e1.toml --out out/wear",
+                          "wrlayer wear scenes/wear/s1002_60e1.toml --out out/wear --workers 2 --no-plots"])
+    wear.add_argument("scene", help="wear scene TOML file")
+    cli.add_run_options(wear, "output folder (profiles/, depth/, steps.csv, result.json, PNGs)")
+    wear.add_argument("--no-plots", action="store_true", help="do not write PNG pictures")
+    cli.add_worker_options(wear, "local processes per step (default: the scene's)",
+                           "Dask scheduler address (default: the scene's; none = local)")
+    wear.set_defaults(func=_wear)
     return parser
 
 

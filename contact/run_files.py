@@ -205,13 +205,13 @@ def write_folder_tables(results: dict[str, SceneResult | SweepResult], out: Path
 # --------------------------------------------------------------------------------------------------- wear
 def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = True, workers: int | None = None,
                   scheduler: str | None = None, show_progress: bool = True, force: bool = False) -> dict[str, Any]:
-    """:func:`run_wear` returning the result.json data (a dictionary)."""
-    return run_wear(scene_path, out_dir, plots, workers, scheduler, show_progress, force)[1]
+    """:func:`run_wear_into` returning the result.json data (a dictionary)."""
+    return run_wear_into(scene_path, out_dir, plots, workers, scheduler, show_progress, force)[1]
 
 
-def run_wear(scene_path: str | Path, out_dir: str | Path, plots: bool = True, workers: int | None = None,
-             scheduler: str | None = None, show_progress: bool = True, force: bool = False
-             ) -> tuple[WearRun, dict[str, Any]]:
+def run_wear_into(scene_path: str | Path, out_dir: str | Path, plots: bool = True, workers: int | None = None,
+                  scheduler: str | None = None, show_progress: bool = True, force: bool = False
+                  ) -> tuple[WearRun, dict[str, Any]]:
     """Run one wear scene into ``out_dir`` (files: :mod:`contact.wear.outputs`); returns the run's records and the
     result.json data (raises WearStopped after publishing the completed steps). Refused (CostError, exit 2) when
     the estimate exceeds the limit, unless ``force``.
@@ -295,5 +295,5 @@ def _wear_pictures(run: WearRun, out: Path, plots: bool) -> list[Path]:
 
 
 __all__ = ["WEAR_OWNED", "failed_cases", "run_overrides", "run_scene", "run_scene_file", "run_scene_folder",
-           "run_wear", "run_wear_file", "run_wheel_rail_scene", "write_folder_tables", "write_scene_files",
+           "run_wear_file", "run_wear_into", "run_wheel_rail_scene", "write_folder_tables", "write_scene_files",
            "write_sweep_files"]

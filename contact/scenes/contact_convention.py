@@ -30,8 +30,10 @@ from wrlayer.atomic_write import atomic_write_text
 if TYPE_CHECKING:
     from contact.passes.record import RegionRecord
     from contact.scenes.run_result import SceneResult
-    from contact.wheel_rail.patch_result import PatchResult
-    from contact.wheel_rail.results import SweepResult
+
+#: A wheel–rail patch record (:class:`contact.wheel_rail.patch_result.PatchResult`; this package does not import
+#: the wheel–rail package) and a sweep's result record (:class:`contact.wheel_rail.results.SweepResult`).
+PatchResult = SweepResult = Any
 
 
 class Creepages(Protocol):

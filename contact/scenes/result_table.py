@@ -23,10 +23,10 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from contact.passes.record import PassRecord
     from contact.scenes.run_result import SceneResult
-    from contact.wheel_rail.results import SweepResult
 
-#: A batch's results by scene name.
-Results = dict[str, "SceneResult | SweepResult"]
+#: A batch's results by scene name: :class:`contact.scenes.run_result.SceneResult` or a wheel–rail sweep's
+#: :class:`contact.wheel_rail.results.SweepResult` (this package does not import the wheel–rail package).
+Results = dict[str, Any]
 
 #: (label, unit, result key, scale, decimals)
 ROWS = (
