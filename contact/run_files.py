@@ -63,6 +63,7 @@ def run_scene(scene_path: str | Path, out_dir: str | Path, plots: bool = False, 
 
     scene_path, data = read_scene_data(scene_path)
     kind = scene_type(data, scene_path)
+    changes = run_overrides(workers, scheduler)  # checked for every scene kind, used by a wheel–rail sweep
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"--out {out_dir}", "exists and is not a folder")
@@ -71,7 +72,6 @@ def run_scene(scene_path: str | Path, out_dir: str | Path, plots: bool = False, 
         from contact.wheel_rail.parse import parse_wheel_rail_scene
 
         scene = parse_wheel_rail_scene(data, scene_path)
-        changes = run_overrides(workers, scheduler)
         if changes:
             scene = dataclasses.replace(scene, run=dataclasses.replace(scene.run, **changes))
         estimate = guard(wheel_rail_cost(scene), force)

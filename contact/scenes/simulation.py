@@ -132,7 +132,9 @@ def solve_patches(scene: Scene, solution: NormalSolution, number: int,
         settings = TangentialSettings(scene.material.E_MPa, scene.material.poisson, ts.friction, ts.speed_mm_s,
                                       scene.method.fastsim_cells, ts.flexibility, scene.method.tangential)
         tang = solve_regions(solution, Creepage(ts.creepage_x, ts.creepage_y, ts.spin_per_mm), settings)
-    return PassSnapshot(number, solution, tang, local, y_ref, dict(residual_mm or {})), time.perf_counter() - t0
+    snapshot = PassSnapshot(number=number, solution=solution, tangential=tang, local_patches=local, y_ref_mm=y_ref,
+                            residual_mm=dict(residual_mm or {}))
+    return snapshot, time.perf_counter() - t0
 
 
 def local_patch(patch: Patch, y_ref_mm: float) -> Patch:
@@ -259,7 +261,9 @@ def _simulate(scene: Scene) -> SimulationRun:
                              residual_mm={k: tuple(v.tolist()) for k, v in residual.items()}),
         solver=SolverStats(total_s=time.perf_counter() - t_start,
                            delta_evaluations=int(sum(h.iterations.get("delta_evaluations", 0) for h in history))))
-    return SimulationRun(scene, result, snapshots[0], snapshots[-1], y, f_before, f_after, residual, snapshots)
+    return SimulationRun(scene=scene, result=result, first=snapshots[0], last=snapshots[-1], strip_y_mm=y,
+                         separation_before_mm=f_before, separation_after_mm=f_after, residual_mm=residual,
+                         every_pass=snapshots)
 
 
 __all__ = ["PassSnapshot", "SimulationRun", "build_layers", "normal_problem", "pass_result", "region_result",

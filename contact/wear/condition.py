@@ -153,10 +153,12 @@ def _result(task: ConditionTask, sol: WheelRailSolution, t0: float) -> Condition
             peaks[b].append((np.asarray(coords[b], float), np.asarray(peak, float)))
         passes.append(len(p.passes))
     shakedown = all(p.passes[-1].shakedown for p in sol.patches if p.passes)
-    return ConditionResult(task.index, task.side, float(task.inputs.grid_mm), {b: _concat(ys[b]) for b in BODIES},
-                           {b: _concat(wear[b]) for b in BODIES}, {b: _concat(iys[b]) for b in BODIES},
-                           {b: _concat(ins[b]) for b in BODIES}, tuple(passes), shakedown, WheelResult.of(sol).patches,
-                           time.perf_counter() - t0, sol.merge_mm, peaks)
+    return ConditionResult(index=task.index, side=task.side, strip_mm=float(task.inputs.grid_mm),
+                           y_mm={b: _concat(ys[b]) for b in BODIES}, wear_mm={b: _concat(wear[b]) for b in BODIES},
+                           inelastic_y_mm={b: _concat(iys[b]) for b in BODIES},
+                           inelastic_mm={b: _concat(ins[b]) for b in BODIES}, passes=tuple(passes),
+                           shakedown=shakedown, patches=WheelResult.of(sol).patches,
+                           seconds=time.perf_counter() - t0, merge_mm=sol.merge_mm, peaks=peaks)
 
 
 __all__ = ["BODIES", "ConditionResult", "ConditionTask", "side_inputs", "solve_condition"]
