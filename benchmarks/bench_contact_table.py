@@ -35,7 +35,7 @@ import numpy as np
 
 from contact.wheel_rail.contact_table import TABLE_FILE
 from contact.wheel_rail.parse import parse_wheel_rail_scene
-from contact.wheel_rail.run import run_wheel_rail_scene
+from contact.run_files import run_wheel_rail_scene
 from contact.wheel_rail.scene import RunSpec
 from wrlayer.plotting import save_figure
 

@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from contact.wheel_rail.parse import parse_wheel_rail_scene
-from contact.wheel_rail.run import run_wheel_rail_scene
+from contact.run_files import run_wheel_rail_scene
 from contact.wheel_rail.scene_files import reference_dir
 from wrlayer.errors import InputError
 from wrlayer.plotting import save_figure

@@ -173,7 +173,7 @@ def _floor(env: dict[str, str], repeat: int) -> list[float]:
 
 
 #: runs the scene twice in one process and prints the two ``solver.total_s`` (s) as JSON
-_TWICE = ("import json, sys\nfrom contact.__main__ import run_scene_file\n"
+_TWICE = ("import json, sys\nfrom contact.run_files import run_scene_file\n"
           "print(json.dumps([run_scene_file(sys.argv[1], sys.argv[2] + str(i))['solver']['total_s'] for i in (0, 1)]))")
 
 

@@ -12,6 +12,8 @@ Subpackages, one concept each; dependencies point one way (left may import right
 - :mod:`contact.scenes`: scene files, the simulation run, results, tables and pictures.
 - :mod:`contact.wheel_rail`: track geometry, contact search, kinematics, the wheel solve and its scenes.
 - :mod:`contact.wear`: profiles evolving by wear and the layer's inelastic displacement.
+- :mod:`contact.run_files`: a scene file of any kind run into an output folder (every file written); the command
+  line (:mod:`contact.__main__`) only parses arguments.
 
 Public API (imported on first use: ``import contact`` loads no solver; the full table is docs/api.md):
 
@@ -46,7 +48,7 @@ API = {
     "TangentialSpec": "contact.scenes.sections",
     "simulate": "contact.scenes.simulation",
     "SimulationRun": "contact.scenes.simulation",
-    "run_scene_file": "contact.__main__",
+    "run_scene_file": "contact.run_files",
     "paper_problem": "contact.scenes.paper_example",
     "paper_layers": "contact.scenes.paper_example",
     "paper_characteristic": "contact.scenes.paper_example",
@@ -61,7 +63,7 @@ API = {
     "LayerTable": "wrlayer.layer_table",
     "run_passes": "contact.passes.passes",
     "PassesOptions": "contact.passes.passes",
-    "PassRecord": "contact.passes.passes",
+    "PassRecord": "contact.passes.record",
     "solve_wheel": "contact.wheel_rail.solve",
     "WheelRailInputs": "contact.wheel_rail.inputs",
     "LayerSources": "contact.scenes.layers",
@@ -70,11 +72,11 @@ API = {
     "WheelRailSolution": "contact.wheel_rail.solution",
     "load_wheel_rail_scene": "contact.wheel_rail.parse",
     "WheelRailScene": "contact.wheel_rail.scene",
-    "run_wheel_rail_scene": "contact.wheel_rail.run",
+    "run_wheel_rail_scene": "contact.run_files",
     "SweepResult": "contact.wheel_rail.results",
     "TrackLayout": "contact.wheel_rail.track_geometry",
     "WheelsetPose": "contact.wheel_rail.track_geometry",
-    "run_wear_file": "contact.wear.cli",
+    "run_wear_file": "contact.run_files",
 }
 __all__ = sorted(API)
 __getattr__, __dir__ = lazy_exports(__name__, API)

@@ -44,7 +44,7 @@ def main(out_dir: str | Path | None = None) -> float:
     sol = paper_solution()
     print("in code:   ", sol)
     run = contact.simulate(contact.load_scene(scenes_dir() / "paper_with_layer.toml"))
-    first = run.result.passes[0]  # a frozen PassResult; run.result.to_dict() is the result.json data
+    first = run.result.passes[0]  # a frozen PassRecord; run.result.to_dict() is the result.json data
     print(f"scene file: delta = {first.delta_mm:.6f} mm, p_max = {first.p_max_MPa:.0f} MPa, "
           f"Fx = {first.Fx_N / 1e3:.2f} kN ({run.result.n_passes} pass)")
     print("paper:      delta = 0.127601 mm, p_max = 1456 MPa, Fx = -14.44 kN")

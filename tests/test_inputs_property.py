@@ -165,7 +165,7 @@ WHEEL_RAIL_KEYS = [(s, k) for s, t in _wheel_rail_base().items() if isinstance(t
 def test_random_wheel_rail_documents_keep_the_contract(doc, tmp_path_factory):
     from contact.scenes.cost import wheel_rail_cost
     from contact.wheel_rail.parse import parse_wheel_rail_scene
-    from contact.wheel_rail.run import run_wheel_rail_scene
+    from contact.run_files import run_wheel_rail_scene
 
     t0 = time.perf_counter()
     path = Path("generated.toml")

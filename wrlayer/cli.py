@@ -132,6 +132,13 @@ def add_run_options(command: argparse.ArgumentParser, out_help: str, quiet: bool
         command.add_argument("--quiet", action="store_true", help="no progress lines")
 
 
+def add_worker_options(command: argparse.ArgumentParser, workers_help: str, scheduler_help: str) -> None:
+    """``--workers N`` and ``--scheduler ADDRESS`` (None: the scene's); both checked by one rule when the run
+    starts (:func:`contact.run_files.run_overrides`)."""
+    command.add_argument("--workers", type=int, default=None, help=workers_help)
+    command.add_argument("--scheduler", default=None, metavar="ADDRESS", help=scheduler_help)
+
+
 def _top_parser() -> argparse.ArgumentParser:
     ap = parser("wrlayer", "FEM-calibrated Prandtl surface layers for wheel/rail contact (units mm, N, MPa, s).",
                 ["wrlayer example --list",

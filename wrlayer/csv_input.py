@@ -18,7 +18,6 @@ Each problem is one :class:`~wrlayer.errors.InputError` naming the file, the row
 from __future__ import annotations
 
 import csv
-import hashlib
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from wrlayer.errors import InputError
+from wrlayer.hashing import sha256_hex
 from wrlayer.input_files import MAX_CSV_BYTES, decode_utf8, read_bytes
 from wrlayer.validate import MAX_ABS
 
@@ -153,7 +153,7 @@ def read_numeric_csv(path: str | Path, known: tuple[str, ...], *, what: str | No
         values[r - 1] = [_number(fields[i], what, r, h) for i, h in zip(index, used)]
         if label in header:
             labels.append(fields[header.index(label)].strip())
-    return CsvTable(file=str(path), sha256=hashlib.sha256(raw).hexdigest(), columns=tuple(used), values=values,
+    return CsvTable(file=str(path), sha256=sha256_hex(raw), columns=tuple(used), values=values,
                     labels=tuple(labels), ignored_columns=tuple(h for h in header if h in ignore))
 
 

@@ -42,6 +42,7 @@ from wrlayer.characteristic import Characteristic
 from wrlayer import input_files, validate
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.errors import InputError
+from wrlayer.json_io import json_text
 from wrlayer.rolling_law import RollingLaw
 
 FORMAT = "wrlayer-layer-table"
@@ -138,7 +139,7 @@ class LayerTable:
         return _has_version_4_keys(self.positions)
 
     def to_json(self) -> str:
-        return json.dumps(_plain(self.to_dict()), indent=1, allow_nan=False) + "\n"
+        return json_text(self.to_dict())
 
     def to_csv(self) -> str:
         """One row per calibrated position: geometry, N, S_i, k_i, T_0i, the points, fit errors (units in names),
@@ -298,19 +299,6 @@ def _has_version_4_keys(positions: list) -> bool:
     return any(isinstance(pos, dict) and (any(k in pos for k in VERSION_4_KEYS) or (
         isinstance(pos.get("characteristic"), dict) and "reverse_factor" in pos["characteristic"]))
         for pos in positions)
-
-
-def _plain(obj):
-    """numpy scalars/arrays -> JSON-able Python objects."""
-    if isinstance(obj, dict):
-        return {str(k): _plain(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_plain(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _plain(obj.tolist())
-    if isinstance(obj, np.generic):
-        return obj.item()
-    return obj
 
 
 def _check_extras(pos: dict, what: str) -> None:

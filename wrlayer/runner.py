@@ -30,6 +30,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import contextlib
 import multiprocessing as mp
+import numbers
 import os
 import signal
 import threading
@@ -144,6 +145,14 @@ def _host_port(rest: str, address: str, what: str) -> None:
         raise InputError(what, f"{address!r}: the port must be an integer 1..65535, got {port!r}")
 
 
+def check_workers(workers: Any, what: str = "workers") -> int:
+    """The number of worker processes ``workers`` (an integer >= 1; 1: in-process), InputError naming ``what``
+    otherwise. The one rule for ``--workers`` and every ``workers`` key."""
+    if isinstance(workers, bool) or not isinstance(workers, numbers.Integral) or workers < 1:
+        raise InputError(what, f"must be >= 1, got {workers}")
+    return int(workers)
+
+
 def check_scheduler_address(address: Any, what: str = "scheduler") -> str:
     """The Dask scheduler ``address`` checked by its form only (no connection): "" (none), ``scheme://host:port``
     with a scheme of :data:`SCHEDULER_SCHEMES` (``inproc://`` takes any non-empty rest) or a bare ``host:port``.
@@ -194,7 +203,7 @@ class Runner:
 
     def __init__(self, workers: int = 1, scheduler: str = "", *, blas_threads: int | None = None,
                  what: str = "scheduler"):
-        self.workers, self.what = max(1, int(workers)), what
+        self.workers, self.what = check_workers(workers, "workers"), what
         self.scheduler = check_scheduler_address(scheduler or "", what)
         self.blas_threads = blas_threads_per_worker(self.workers) if blas_threads is None else int(blas_threads)
         self._pool: cf.ProcessPoolExecutor | None = None
@@ -331,4 +340,4 @@ class Runner:
 
 
 __all__ = ["POLL_S", "SCHEDULER_SCHEMES", "THREAD_VARIABLES", "Runner", "blas_threads_per_worker", "call_limited",
-           "check_scheduler_address", "limited_threads", "report_progress", "thread_environment", "worker_lifeline"]
+           "check_scheduler_address", "check_workers", "limited_threads", "report_progress", "thread_environment", "worker_lifeline"]

@@ -7,13 +7,13 @@ arrays stay available as attributes). Units: mm, N, MPa.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from contact.normal.patch import Patch
 
-__all__ = ["NormalSolution", "RegionSolution"]
+__all__ = ["NormalNumbers", "NormalSolution", "RegionSolution"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -63,16 +63,12 @@ class RegionSolution:
                 f"p0={self.p0_MPa:.6g} MPa, N={self.normal_force_N:.6g} N, u_layer={self.u_layer_mm:.6g} mm)")
 
 
-@dataclass(frozen=True, repr=False)
-class NormalSolution:
-    """Result of a normal solve (:func:`contact.normal.solve_normal` or :func:`contact.normal.solve_normal_with`).
+@dataclass(frozen=True, kw_only=True, repr=False)
+class NormalNumbers:
+    """The numbers of a normal solve, kept by every pass record (:class:`contact.passes.record.PassRecord`).
 
     Attributes
     ----------
-    patches : list of Patch
-        One discretised patch per contact region (strips, x_l, peak pressure).
-    regions : list of RegionSolution
-        The regions' reference points, peak pressures and forces.
     delta_mm : float
         Approach delta of the bodies (mm), eq. 13.
     delta0_mm : float
@@ -85,20 +81,49 @@ class NormalSolution:
         Lateral extent of the patches (mm).
     area_mm2 : float
         Contact area (mm^2).
-    u0_mm : float
-        Layer displacement (all layers) at the reference point of the main patch, the one with the largest p_0 (mm).
-    strip_y_mm : numpy.ndarray
-        The strip grid (mm).
-    p_peak_MPa : numpy.ndarray
-        p(0, y) on the whole strip grid (MPa), 0 outside contact.
-    iterations : dict
-        Iteration counts of the solve ("delta_evaluations", ...; "loglog_slope" d log N / d log delta).
+    normal_force_N : float
+        Normal force of the solution (N).
     residual_N : float
         Force residual N - N_target (N).
     elastic : bool
         True when no layer element yields under this load.
-    normal_force_N : float
-        Normal force of the solution (N).
+    u0_mm : float | None
+        Layer displacement (all layers) at the reference point of the main patch, the one with the largest p_0 (mm).
+    iterations : dict
+        Iteration counts of the solve ("delta_evaluations", ...; "loglog_slope" d log N / d log delta).
+    strip_y_mm : numpy.ndarray | None
+        The strip grid (mm).
+    p_peak_MPa : numpy.ndarray | None
+        p(0, y) on the whole strip grid (MPa), 0 outside contact.
+    """
+
+    delta_mm: float
+    delta0_mm: float
+    p_max_MPa: float
+    length_mm: float
+    width_mm: float
+    area_mm2: float
+    normal_force_N: float
+    residual_N: float
+    elastic: bool
+    u0_mm: float | None = None
+    iterations: dict = field(default_factory=dict)
+    strip_y_mm: np.ndarray | None = field(default=None, compare=False)
+    p_peak_MPa: np.ndarray | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True, kw_only=True, repr=False)
+class NormalSolution(NormalNumbers):
+    """Result of a normal solve (:func:`contact.normal.solve_normal` or :func:`contact.normal.solve_normal_with`):
+    its numbers (:class:`NormalNumbers`: approach, virtual penetration, p_max, size, force, residual, layer
+    displacement u0, iterations, the strip grid and p(0, y) on it), patches and regions.
+
+    Attributes
+    ----------
+    patches : list of Patch
+        One discretised patch per contact region (strips, x_l, peak pressure).
+    regions : list of RegionSolution
+        The regions' reference points, peak pressures and forces.
     method : str
         The normal solver that produced it: "kik_piotrowski" or "exact".
     field : ExactField or None
@@ -107,19 +132,6 @@ class NormalSolution:
 
     patches: list[Patch]
     regions: list[RegionSolution]
-    delta_mm: float
-    delta0_mm: float
-    p_max_MPa: float
-    length_mm: float
-    width_mm: float
-    area_mm2: float
-    u0_mm: float
-    strip_y_mm: np.ndarray
-    p_peak_MPa: np.ndarray
-    iterations: dict
-    residual_N: float
-    elastic: bool
-    normal_force_N: float
     method: str = "kik_piotrowski"
     field: object = None
 

@@ -24,7 +24,7 @@ layer without a rolling law (the paper's characteristic, tables before the law) 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -34,6 +34,7 @@ from contact.normal.method import NormalMethod, solve_normal_with
 from contact.normal.problem import NormalProblem
 from contact.normal.solution import NormalSolution
 from contact.layer.prandtl_layer import LayerPair
+from contact.passes.record import PassRecord
 from contact.passes.rolling_memory import MEMORY_RULES, RollingMemory
 from wrlayer.errors import require
 
@@ -79,84 +80,6 @@ class PassesOptions:
         require(int(self.max_passes) >= 1, "max_passes", f"must be >= 1, got {self.max_passes!r}")
         require(bool(np.isfinite(self.tolerance_mm) and self.tolerance_mm >= 0), "tolerance_mm",
                 f"must be >= 0, got {self.tolerance_mm!r}")
-
-
-@dataclass(frozen=True, repr=False)
-class PassRecord:
-    """One pass of :func:`run_passes` (its scalar numbers go to the result's ``passes`` entries).
-
-    Attributes
-    ----------
-    index : int
-        Pass number, 1-based.
-    delta_mm : float
-        Approach delta (mm), eq. 13.
-    delta0_mm : float
-        Virtual penetration alpha delta (mm), eq. 9.
-    p_max_MPa : float
-        Largest pressure of the pass (MPa).
-    length_mm : float
-        Patch length in the rolling direction (mm).
-    width_mm : float
-        Lateral extent of the patches (mm).
-    area_mm2 : float
-        Contact area (mm^2).
-    normal_force_N : float
-        Normal force of the solution (N).
-    residual_N : float
-        Force residual N - N_target (N).
-    u0_mm : float
-        Layer displacement (all layers) at the reference point under load (mm).
-    up0_mm : float
-        Residual displacement added at the reference point in this pass (mm), eq. 8.
-    max_residual_mm : float
-        Largest residual displacement added in this pass on any strip (mm).
-    elastic : bool
-        True when no layer element yields in this pass.
-    shakedown : bool
-        This pass added no residual displacement beyond the tolerance.
-    strip_y_mm : numpy.ndarray
-        The strip grid (mm).
-    p_peak_MPa : numpy.ndarray
-        Peak pressure p(0, y) per strip (MPa).
-    cumulative_residual_mm : dict
-        Per body ("wheel", "rail", "combined"): the dents so far on the strip grid (mm).
-    dissipated_energy_N_per_mm : dict
-        Per body: the largest accumulated friction work of an element (N/mm).
-    iterations : dict
-        Iteration counts of the pass's normal solve.
-    """
-
-    index: int
-    delta_mm: float
-    delta0_mm: float
-    p_max_MPa: float
-    length_mm: float
-    width_mm: float
-    area_mm2: float
-    normal_force_N: float
-    residual_N: float
-    u0_mm: float
-    up0_mm: float
-    max_residual_mm: float
-    elastic: bool
-    shakedown: bool
-    strip_y_mm: np.ndarray
-    p_peak_MPa: np.ndarray
-    cumulative_residual_mm: dict = field(default_factory=dict)
-    dissipated_energy_N_per_mm: dict = field(default_factory=dict)
-    iterations: dict = field(default_factory=dict)
-
-    def __repr__(self) -> str:
-        return (f"PassRecord(pass {self.index}: delta={self.delta_mm:.6g} mm, p_max={self.p_max_MPa:.6g} MPa, "
-                f"u0={self.u0_mm:.4g} mm, up0={self.up0_mm:.4g} mm, max residual={self.max_residual_mm:.4g} mm"
-                f"{', shakedown' if self.shakedown else ''})")
-
-    def summary(self) -> dict:
-        """The scalar numbers (JSON-serialisable)."""
-        keys = ("index", "delta_mm", "delta0_mm", "p_max_MPa", "length_mm", "width_mm", "area_mm2",
-                "normal_force_N", "residual_N", "u0_mm", "up0_mm", "max_residual_mm", "elastic", "shakedown")
-        return {k: getattr(self, k) for k in keys}
 
 
 def _next_delta_guess(deltas: list[float]) -> float | None:
@@ -235,13 +158,11 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
             energy[name] = float(body_layer.dissipated_energy_N_per_mm.max(initial=0.0))
         max_added = float(np.max(np.abs(added))) if added.size else 0.0
         shakedown = max_added <= options.tolerance_mm
-        rec = PassRecord(
-            index=k, delta_mm=sol.delta_mm, delta0_mm=sol.delta0_mm, p_max_MPa=sol.p_max_MPa,
-            length_mm=sol.length_mm, width_mm=sol.width_mm, area_mm2=sol.area_mm2,
-            normal_force_N=sol.normal_force_N, residual_N=sol.residual_N, u0_mm=float(u0), up0_mm=float(up0),
-            max_residual_mm=max_added, elastic=sol.elastic, shakedown=shakedown, strip_y_mm=y,
-            p_peak_MPa=sol.p_peak_MPa, cumulative_residual_mm={n: c.copy() for n, c in cumulative.items()},
-            dissipated_energy_N_per_mm=energy, iterations=dict(sol.iterations))
+        rec = PassRecord.of(
+            sol, k, u0_elements_mm=float(u0), up0_mm=float(up0), max_residual_mm=max_added, shakedown=shakedown,
+            max_cumulative_residual_mm={n: float(np.max(c, initial=0.0)) for n, c in cumulative.items()},
+            dissipated_energy_N_per_mm=energy,
+            cumulative_residual_mm={n: c.copy() for n, c in cumulative.items()})
         records.append(rec)
         offset = offset + added
         if on_pass is not None:

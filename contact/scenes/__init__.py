@@ -6,9 +6,10 @@
 - :mod:`~contact.scenes.scene`: scene TOML -> validated dataclasses (:mod:`~contact.scenes.scene_spec`).
 - :mod:`~contact.scenes.scene_layers`: the scene's layers on the strip grid, table coverage, patch-size scaling.
 - :mod:`~contact.scenes.simulation`: a scene run (normal, passes, tangential) -> result records.
-- :mod:`~contact.scenes.run_result`: the result records of a scene run (SceneResult, PassResult, ...).
+- :mod:`~contact.scenes.run_result`: the result records of a scene run (SceneResult, ...;
+  the pass record: contact.passes.record).
 - :mod:`~contact.scenes.result_io` / :mod:`~contact.scenes.result_table`: result.json, units, code version, the
-  Record base of every result record, tables.
+  inputs echo of every scene kind, tables (the Record base and the JSON converter: :mod:`wrlayer.json_io`).
 - :mod:`~contact.scenes.cost`: cost estimates of scene runs (the guard before a run).
 - :mod:`~contact.scenes.plots`: patch, pressure and residual-displacement pictures.
 - :mod:`~contact.scenes.paper_example`: the paper's example scene (Table 1).

@@ -183,7 +183,7 @@ def plot_separation(run, path: Path) -> Path:
 def plot_shakedown(run, path: Path) -> Path:
     """Area, p_max and delta against the pass number."""
     hist = run.history
-    n = np.array([h.number for h in hist])
+    n = np.array([h.index for h in hist])
     fig, axes = plt.subplots(3, 1, figsize=(7.5, 7.5), sharex=True, constrained_layout=True)
     for ax, key, label in zip(axes, ("area_mm2", "p_max_MPa", "delta_mm"),
                               ("area [mm$^2$]", "p$_{max}$ [MPa]", "approach delta [mm]")):

@@ -18,7 +18,15 @@ from __future__ import annotations
 import csv
 import io
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from contact.passes.record import PassRecord
+    from contact.scenes.run_result import SceneResult
+
+#: A batch's results by scene name: :class:`contact.scenes.run_result.SceneResult` or a wheel–rail sweep's
+#: :class:`contact.wheel_rail.results.SweepResult` (this package does not import the wheel–rail package).
+Results = dict[str, Any]
 
 #: (label, unit, result key, scale, decimals)
 ROWS = (
@@ -36,19 +44,32 @@ ROWS = (
 )
 
 
-def table_columns(results: dict[str, dict[str, Any]]) -> list[tuple[str, dict[str, Any]]]:
+def pass_values(record: PassRecord) -> dict[str, Any]:
+    """The table's quantities of one pass, by result key (:data:`ROWS`)."""
+    return {key: getattr(record, key) for _, _, key, _, _ in ROWS}
+
+
+def scene_reference(result: SceneResult) -> dict[str, Any]:
+    """The scene's ``[reference]`` values (published numbers, ``source``), from the result's inputs echo."""
+    return result.inputs.get("reference") or {}
+
+
+def contact_results(results: Results) -> dict[str, SceneResult]:
+    """The contact scenes' results (those with passes) of a batch."""
+    return {name: r for name, r in results.items() if getattr(r, "passes", None)}
+
+
+def table_columns(results: Results) -> list[tuple[str, dict[str, Any]]]:
     """(column title, values by result key) for every scene result that has passes."""
     columns = []
-    for name, result in results.items():
-        passes = result.get("passes")
-        if not passes:
-            continue
+    for name, result in contact_results(results).items():
+        passes = result.passes
         if len(passes) > 1:
-            columns.append((f"{name} (pass 1)", passes[0]))
-            columns.append((f"{name} (pass {len(passes)})", passes[-1]))
+            columns.append((f"{name} (pass 1)", pass_values(passes[0])))
+            columns.append((f"{name} (pass {len(passes)})", pass_values(passes[-1])))
         else:
-            columns.append((name, passes[-1]))
-        reference = (result.get("inputs") or {}).get("reference") or {}
+            columns.append((name, pass_values(passes[-1])))
+        reference = scene_reference(result)
         if any(key in reference for _, _, key, _, _ in ROWS):
             columns.append((f"{name}: {reference.get('source', 'reference')}", reference))
     return columns
@@ -65,7 +86,7 @@ def _markdown(header: list[str], rows: list[list[str]]) -> list[str]:
     return ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)] + ["| " + " | ".join(r) + " |" for r in rows]
 
 
-def results_table(results: dict[str, dict[str, Any]]) -> tuple[str, str]:
+def results_table(results: Results) -> tuple[str, str]:
     """The markdown and CSV texts of the full table (quantities in rows, scenes in columns); the markdown adds the
     wheel–rail scenes' key numbers (:func:`wheel_rail_rows`) when there are any."""
     columns = table_columns(results)
@@ -100,7 +121,7 @@ def _name(text: str) -> str:
     return text if len(text) <= NAME_WIDTH else text[:NAME_WIDTH - 1] + "…"
 
 
-def contact_rows(results: dict[str, dict[str, Any]]) -> tuple[list[str], list[list[str]]]:
+def contact_rows(results: Results) -> tuple[list[str], list[list[str]]]:
     """Header and rows of the contact scenes' summary: per scene its last pass, then its ``[reference]`` values
     (if any of the summary's) on an indented row."""
     spec = {key: (unit, scale, dec) for _, unit, key, scale, dec in ROWS}
@@ -110,12 +131,9 @@ def contact_rows(results: dict[str, dict[str, Any]]) -> tuple[list[str], list[li
         return [_cell(values, key, *spec[key][1:]) for _, key in SUMMARY_COLUMNS]
 
     rows = []
-    for name, result in results.items():
-        passes = result.get("passes")
-        if not passes:
-            continue
-        rows.append([_name(name), str(len(passes))] + cells(passes[-1]))
-        reference = (result.get("inputs") or {}).get("reference") or {}
+    for name, result in contact_results(results).items():
+        rows.append([_name(name), str(len(result.passes))] + cells(pass_values(result.passes[-1])))
+        reference = scene_reference(result)
         if any(key in reference for _, key in SUMMARY_COLUMNS):
             count = f"{reference['passes']:g}" if reference.get("passes") is not None else "-"
             rows.append([_name("  " + str(reference.get("source", "reference"))), count] + cells(reference))
@@ -128,22 +146,20 @@ def _largest(values, fmt: str) -> str:
     return format(max(values), fmt) if values else "-"
 
 
-def wheel_rail_rows(results: dict[str, dict[str, Any]]) -> list[list[str]]:
+def wheel_rail_rows(results: Results) -> list[list[str]]:
     """One row per wheel–rail scene (:data:`WHEEL_RAIL_HEADER`): normal method, cases, failed cases, loaded
     patches, and the largest normal force (kN), p_max (MPa) and |Y/Q| over its cases and wheels."""
     rows = []
     for name, result in results.items():
-        if result.get("type") != "wheel_rail":
+        if getattr(result, "type", None) != "wheel_rail":
             continue
-        cases = result.get("cases") or []
-        wheels = [w for c in cases for w in (c.get("wheels") or {}).values()]
-        patches = [p for w in wheels for p in w.get("patches", [])]
-        failed = sum(1 for c in cases if c.get("error") is not None)
-        method = ((result.get("inputs") or {}).get("method") or {}).get("normal", "-")
-        rows.append([_name(name), method, str(len(cases)), str(failed), str(len(patches)),
-                     _largest([p.get("normal_force_N", 0.0) / 1e3 for p in patches], ".1f"),
-                     _largest([p.get("p_max_MPa") for p in patches], ".0f"),
-                     _largest([w.get("Y_over_Q") for w in wheels], ".2f")])
+        wheels = [w for c in result.cases for w in (c.wheels or {}).values()]
+        patches = [p for w in wheels for p in w.patches]
+        method = result.inputs["method"]["normal"]  # the inputs echo
+        rows.append([_name(name), method, str(len(result.cases)), str(result.n_failed), str(len(patches)),
+                     _largest([p.normal_force_N / 1e3 for p in patches], ".1f"),
+                     _largest([p.p_max_MPa for p in patches], ".0f"),
+                     _largest([w.Y_over_Q for w in wheels], ".2f")])
     return rows
 
 
@@ -154,7 +170,7 @@ def _aligned(header: list[str], rows: list[list[str]]) -> list[str]:
             for r in [header, *rows]]
 
 
-def summary_text(results: dict[str, dict[str, Any]], out_dir: str | Path) -> str:
+def summary_text(results: Results, out_dir: str | Path) -> str:
     """The console summary of a batch: one table per scene kind (at most :data:`SUMMARY_WIDTH` columns), then
     where the full table and the per-scene results are (one path a line, indented)."""
     out = Path(out_dir)

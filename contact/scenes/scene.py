@@ -29,7 +29,6 @@ once on their sections' fields (:mod:`contact.scenes.sections`; docs/scene-keys.
 
 from __future__ import annotations
 
-import hashlib
 import math
 from pathlib import Path
 from typing import Any
@@ -41,6 +40,7 @@ from contact.scenes.scene_spec import Scene, SeparationSpec
 from contact.scenes.sections import (LoadSpec, OutputSpec, read_creepages, read_material, read_method,
                                      read_passes)
 from wrlayer.errors import InputError
+from wrlayer.hashing import file_sha256_or_none, sha256_hex
 from wrlayer.input_files import read_toml
 from wrlayer.section_keys import read_section
 from wrlayer.validate import MAX_STRIPS, MIN_LATERAL_RADIUS_MM, Keys, is_number, top_keys
@@ -128,12 +128,12 @@ def parse_scene(data: dict[str, Any], path: str | Path) -> Scene:
         for key in keys.table:
             reference[key] = keys.text(key) if key == "source" else keys.number(key)
 
-    hashes = [hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else ""]
+    hashes = [file_sha256_or_none(path) or ""]
     hashes += [] if layers is None else layers.table_hashes()
     return Scene(path=path, title=title, description=description, load=load, material=material,
                  separation=separation, layers=layers, tangential=tangential, passes=passes, method=method,
                  output=output, reference=reference, data=data,
-                 content_hash=hashlib.sha256("".join(hashes).encode()).hexdigest())
+                 content_hash=sha256_hex("".join(hashes)))
 
 
 def _layers(top: SceneKeys, base: Path):

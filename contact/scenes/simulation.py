@@ -23,6 +23,7 @@ Steps (units mm, N, MPa, s):
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -32,13 +33,12 @@ import numpy as np
 from contact.normal.kik_piotrowski import NormalProblem, NormalSolution
 from contact.normal.method import solve_normal_with
 from contact.normal.patch import Patch
-from contact.passes.passes import PassRecord, run_passes
+from contact.passes.passes import run_passes
+from contact.passes.record import SCENE_PASS_LAYOUT, PassRecord, RegionRecord
 from contact.scenes.result_io import UNITS, code_version
 from contact.scenes.run_result import (
     MethodDescription,
-    PassResult,
     PatchScaling,
-    RegionResult,
     SceneResult,
     SolverStats,
     StripGrid,
@@ -55,6 +55,7 @@ from contact.tangential.fastsim import Creepage, TangentialResult
 from contact.tangential.on_patch import TangentialSettings, solve_regions
 from wrlayer.errors import InputError, PatchTruncated, typed_input_error
 from wrlayer.progress import progress
+
 
 _NORMAL_METHOD_TEXT = {
     "kik_piotrowski": "Kik-Piotrowski virtual penetration with the Prandtl-body layer (paper eqs. 9-15); p_max "
@@ -111,7 +112,7 @@ class SimulationRun:
         return f"SimulationRun({self.scene.name}: {self.result!r})"
 
     @property
-    def history(self) -> tuple[PassResult, ...]:
+    def history(self) -> tuple[PassRecord, ...]:
         return self.result.passes
 
 
@@ -129,7 +130,9 @@ def solve_patches(scene: Scene, solution: NormalSolution, number: int,
         settings = TangentialSettings(scene.material.E_MPa, scene.material.poisson, ts.friction, ts.speed_mm_s,
                                       scene.method.fastsim_cells, ts.flexibility, scene.method.tangential)
         tang = solve_regions(solution, Creepage(ts.creepage_x, ts.creepage_y, ts.spin_per_mm), settings)
-    return PassSnapshot(number, solution, tang, local, y_ref, dict(residual_mm or {})), time.perf_counter() - t0
+    snapshot = PassSnapshot(number=number, solution=solution, tangential=tang, local_patches=local, y_ref_mm=y_ref,
+                            residual_mm=dict(residual_mm or {}))
+    return snapshot, time.perf_counter() - t0
 
 
 def local_patch(patch: Patch, y_ref_mm: float) -> Patch:
@@ -137,36 +140,35 @@ def local_patch(patch: Patch, y_ref_mm: float) -> Patch:
     return Patch(patch.grid_mm, patch.y_mm - y_ref_mm, patch.x_lead_mm, patch.p_peak_MPa)
 
 
-def region_result(snapshot: PassSnapshot, i: int) -> RegionResult:
+def region_result(snapshot: PassSnapshot, i: int) -> RegionRecord:
     """Region ``i`` of a pass (its own frame; creep forces when solved)."""
     region, patch, tr = snapshot.solution.regions[i], snapshot.local_patches[i], snapshot.tangential[i]
     yr = snapshot.y_ref_mm[i]
-    geometry = (yr, yr + float(patch.y_mm[0]), yr + float(patch.y_mm[-1]), patch.length_mm(), patch.width_mm(),
-                patch.area_mm2(), region.p0_MPa, float(patch.p_peak_MPa.max()), region.normal_force_N,
-                region.u_layer_mm)
+    geometry = dict(y_ref_mm=yr, y_min_mm=yr + float(patch.y_mm[0]), y_max_mm=yr + float(patch.y_mm[-1]),
+                    length_mm=patch.length_mm(), width_mm=patch.width_mm(), area_mm2=patch.area_mm2(),
+                    p0_MPa=region.p0_MPa, p_max_MPa=float(patch.p_peak_MPa.max()),
+                    normal_force_N=region.normal_force_N, u_layer_mm=region.u_layer_mm)
     if tr is None:
-        return RegionResult(*geometry)
-    return RegionResult(*geometry, tr.Fx_N, tr.Fy_N, tr.Mz_Nmm, tr.WT_max_N_per_mm, tr.PT_max_W_per_mm2,
-                        tr.slip_area_mm2, tr.adhesion_area_mm2, tr.ellipse.a_mm, tr.ellipse.b_mm)
+        return RegionRecord(**geometry)
+    return RegionRecord(**geometry, Fx_N=tr.Fx_N, Fy_N=tr.Fy_N, Mz_Nmm=tr.Mz_Nmm, WT_max=tr.WT_max_N_per_mm,
+                        PT_max_W_per_mm2=tr.PT_max_W_per_mm2, slip_area_mm2=tr.slip_area_mm2,
+                        adhesion_area_mm2=tr.adhesion_area_mm2, equivalent_ellipse_a_mm=tr.ellipse.a_mm,
+                        equivalent_ellipse_b_mm=tr.ellipse.b_mm)
 
 
-def pass_result(snapshot: PassSnapshot, record: PassRecord | None = None,
-                timings: dict[str, float] | None = None) -> PassResult:
-    """The per-pass result (Table 1 quantities + layer numbers + solver statistics)."""
+def pass_result(snapshot: PassSnapshot, record: PassRecord, timings: dict[str, float] | None = None) -> PassRecord:
+    """The pass as result.json keeps it (:data:`contact.passes.record.SCENE_PASS_LAYOUT`): the record of the normal
+    solve and the layer with the tangential solution of its regions and the timings."""
     sol = snapshot.solution
-    patches = tuple(region_result(snapshot, i) for i in range(len(sol.patches)))
+    regions = tuple(region_result(snapshot, i) for i in range(len(sol.patches)))
     has_t = any(t is not None for t in snapshot.tangential)
-    return PassResult(
-        snapshot.number, sol.length_mm, sol.width_mm, sol.area_mm2, sol.delta_mm, sol.delta0_mm, sol.p_max_MPa,
-        float(sum(p.Fx_N for p in patches)), float(sum(p.Fy_N for p in patches)),
-        float(sum(p.Mz_Nmm for p in patches)),
-        max(p.WT_max for p in patches) if has_t else None,
-        max(p.PT_max_W_per_mm2 for p in patches) if has_t else None,
-        sol.u0_mm, 0.0 if record is None else float(record.up0_mm),
-        0.0 if record is None else float(record.max_residual_mm), bool(sol.elastic),
-        bool(record is not None and record.shakedown),
-        {} if record is None else dict(record.dissipated_energy_N_per_mm), len(patches), sol.normal_force_N,
-        sol.residual_N, dict(sol.iterations), timings or {}, patches)
+    return dataclasses.replace(
+        record, regions=regions, timings_s=timings or {},
+        Fx_N=float(sum(r.Fx_N for r in regions)), Fy_N=float(sum(r.Fy_N for r in regions)),
+        Mz_Nmm=float(sum(r.Mz_Nmm for r in regions)),
+        WT_max=max(r.WT_max for r in regions) if has_t else None,
+        PT_max_W_per_mm2=max(r.PT_max_W_per_mm2 for r in regions) if has_t else None,
+    ).projected(SCENE_PASS_LAYOUT)
 
 
 def simulate(scene: Scene) -> SimulationRun:
@@ -204,16 +206,16 @@ def _layered_passes(scene: Scene, prob: NormalProblem, layers) -> tuple[list[tup
     return solved, records, np.asarray(f_after, dtype=float)
 
 
-def _elastic_pass(scene: Scene, prob: NormalProblem) -> tuple[PassSnapshot, PassResult]:
+def _elastic_pass(scene: Scene, prob: NormalProblem) -> tuple[PassSnapshot, PassRecord]:
     """The one pass of a scene without a layer."""
     t0 = time.perf_counter()
     sol = solve_normal_with(prob, method=scene.method.normal_method())
     t_normal = time.perf_counter() - t0
     snap, t_tang = solve_patches(scene, sol, 1)
-    return snap, pass_result(snap, None, {"normal_s": t_normal, "tangential_s": t_tang})
+    return snap, pass_result(snap, PassRecord.of(sol, 1), {"normal_s": t_normal, "tangential_s": t_tang})
 
 
-def _with_tangential(scene: Scene, solved: list[tuple]) -> Iterator[tuple[PassSnapshot, PassResult]]:
+def _with_tangential(scene: Scene, solved: list[tuple]) -> Iterator[tuple[PassSnapshot, PassRecord]]:
     """Every pass of ``solved`` ((record, solution, time) of :func:`_layered_passes`) with FASTSIM on its patches:
     (snapshot, result record)."""
     for number, (record, solution, t_pass) in enumerate(solved, start=1):
@@ -230,7 +232,7 @@ def _simulate(scene: Scene) -> SimulationRun:
     scaled = None
     if layers is not None and scales_to_patch(scene):
         layers, patch, solves = scale_layers_to_patch(scene, prob, layers)
-        scaled = PatchScaling(patch[0], patch[1], solves)
+        scaled = PatchScaling(a_mm=patch[0], b_mm=patch[1], solves=solves)
     residual: dict[str, np.ndarray] = {}
     if layers is None:
         passes, f_after = [_elastic_pass(scene, prob)], f_before
@@ -242,20 +244,24 @@ def _simulate(scene: Scene) -> SimulationRun:
     snapshots = [snap for snap, _ in passes]
     history = tuple(rec for _, rec in passes)
     method = MethodDescription(
-        _NORMAL_METHOD_TEXT[scene.method.normal].format(m=scene.method,
-                                                        cells=scene.method.normal_method().exact_options().cells),
-        None if scene.tangential is None or not scene.tangential.has_creepage
+        normal=_NORMAL_METHOD_TEXT[scene.method.normal].format(
+            m=scene.method, cells=scene.method.normal_method().exact_options().cells),
+        tangential=None if scene.tangential is None or not scene.tangential.has_creepage
         else TANGENTIAL_METHOD_TEXT[scene.method.tangential],
-        None if layers is None else tuple(sorted(layers.bodies())))
+        layer=None if layers is None else tuple(sorted(layers.bodies())))
     result = SceneResult(
-        scene.to_dict(), code_version(), UNITS, method, scaled, len(history),
-        next((h.number for h in history if h.shakedown), None), history,
-        reference_deviation(scene.reference, history[-1]),
-        StripGrid(tuple(y.tolist()), tuple(f_before.tolist()), tuple(f_after.tolist()),
-                  {k: tuple(v.tolist()) for k, v in residual.items()}),
-        SolverStats(time.perf_counter() - t_start,
-                    int(sum(h.iterations.get("delta_evaluations", 0) for h in history))))
-    return SimulationRun(scene, result, snapshots[0], snapshots[-1], y, f_before, f_after, residual, snapshots)
+        inputs=scene.to_dict(), code_version=code_version(), units=UNITS, method=method,
+        layer_scaled_to_patch=scaled, n_passes=len(history),
+        shakedown_pass=next((h.index for h in history if h.shakedown), None), passes=history,
+        reference_deviation=reference_deviation(scene.reference, history[-1]),
+        strip_grid=StripGrid(y_mm=tuple(y.tolist()), separation_before_mm=tuple(f_before.tolist()),
+                             separation_after_mm=tuple(f_after.tolist()),
+                             residual_mm={k: tuple(v.tolist()) for k, v in residual.items()}),
+        solver=SolverStats(total_s=time.perf_counter() - t_start,
+                           delta_evaluations=int(sum(h.iterations.get("delta_evaluations", 0) for h in history))))
+    return SimulationRun(scene=scene, result=result, first=snapshots[0], last=snapshots[-1], strip_y_mm=y,
+                         separation_before_mm=f_before, separation_after_mm=f_after, residual_mm=residual,
+                         every_pass=snapshots)
 
 
 __all__ = ["PassSnapshot", "SimulationRun", "build_layers", "pass_result", "region_result",

@@ -11,7 +11,7 @@ and the tasks of a step), :mod:`step` (one wear step), :mod:`state` (what a step
 :mod:`statistics` (numbers of a body's depths), :mod:`records` (step records and the run), :mod:`recalibrate`
 (layer tables on the worn profiles, through the calibration's Python API), :mod:`conicity` (rolling-radius
 difference and equivalent conicity after EN 15302), :mod:`loop` (the step loop as a generator of step records), :mod:`outputs` (files), :mod:`plots`
-(pictures), :mod:`cli` (``wrlayer wear``).
+(pictures); a wear scene is run into a folder by :func:`contact.run_files.run_wear_file` (``wrlayer wear``).
 
 Depends on: contact.wheel_rail, contact.geometry (the conicity formulas), contact.scenes, contact.passes,
 contact.normal, contact.tangential, contact.layer, meshes, calibration (the recalibration only, through its Python

@@ -24,6 +24,7 @@ from contact.wear.collective import Condition
 from contact.wear.laws import WearLaw, wear_of
 from contact.scenes.layers import LayerSources
 from contact.wheel_rail.inputs import WheelRailInputs
+from contact.wheel_rail.results import WheelResult
 from contact.wheel_rail.solution import WheelRailSolution
 from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import place_rail
@@ -72,9 +73,8 @@ class ConditionResult:
         Passes run per loaded patch.
     shakedown : bool
         Every patch shook down within its passes.
-    summary : tuple
-        Per patch: contact point (mm), forces (N), peak pressure (MPa), area (mm^2), creepages, passes, rolling
-        radius (mm).
+    patches : tuple
+        The loaded patches' records (:class:`contact.wheel_rail.patch_result.PatchResult`).
     seconds : float
         Wall time of the solution (s).
     merge_mm : float
@@ -93,7 +93,7 @@ class ConditionResult:
     inelastic_mm: dict = field(default_factory=dict)
     passes: tuple = ()
     shakedown: bool = True
-    summary: tuple = ()
+    patches: tuple = ()
     seconds: float = 0.0
     merge_mm: float = 0.0
     peaks: dict = field(default_factory=dict)
@@ -132,7 +132,7 @@ def _concat(parts: list) -> np.ndarray:
 def _result(task: ConditionTask, sol: WheelRailSolution, t0: float) -> ConditionResult:
     """The depths of every patch of ``sol`` on the profiles' strips (see the module docstring)."""
     ys, wear, iys, ins, peaks = ({b: [] for b in BODIES} for _ in range(5))
-    passes, summary = [], []
+    passes = []
     for p in sol.patches:
         grid = p.problem.strip_y_mm
         coords = {"rail": p.rail_y_of_strip, "wheel": p.wheel_y_of_strip}
@@ -154,17 +154,13 @@ def _result(task: ConditionTask, sol: WheelRailSolution, t0: float) -> Condition
         for b in BODIES:  # largest peak pressure of every strip over the passes, at the profile coordinates
             peaks[b].append((np.asarray(coords[b], float), np.asarray(peak, float)))
         passes.append(len(p.passes))
-        summary.append({"y_wheel_mm": p.candidate.y_wheel_mm, "y_rail_mm": p.candidate.y_rail_mm,
-                        "normal_force_N": p.normal_force_N, "p_max_MPa": p.normal.p_max_MPa,
-                        "area_mm2": p.normal.area_mm2, "Fx_N": p.Fx_N, "Fy_N": p.Fy_N,
-                        "creepage_x": p.kinematics.vx, "creepage_y": p.kinematics.vy,
-                        "spin_per_mm": p.kinematics.phi_per_mm, "passes": len(p.passes),
-                        "wheel_radius_mm": p.candidate.wheel_radius_mm})
     shakedown = all(p.passes[-1].shakedown for p in sol.patches if p.passes)
-    return ConditionResult(task.index, task.side, float(task.inputs.grid_mm), {b: _concat(ys[b]) for b in BODIES},
-                           {b: _concat(wear[b]) for b in BODIES}, {b: _concat(iys[b]) for b in BODIES},
-                           {b: _concat(ins[b]) for b in BODIES}, tuple(passes), shakedown, tuple(summary),
-                           time.perf_counter() - t0, sol.merge_mm, peaks)
+    return ConditionResult(index=task.index, side=task.side, strip_mm=float(task.inputs.grid_mm),
+                           y_mm={b: _concat(ys[b]) for b in BODIES}, wear_mm={b: _concat(wear[b]) for b in BODIES},
+                           inelastic_y_mm={b: _concat(iys[b]) for b in BODIES},
+                           inelastic_mm={b: _concat(ins[b]) for b in BODIES}, passes=tuple(passes),
+                           shakedown=shakedown, patches=WheelResult.of(sol).patches,
+                           seconds=time.perf_counter() - t0, merge_mm=sol.merge_mm, peaks=peaks)
 
 
 __all__ = ["BODIES", "ConditionResult", "ConditionTask", "side_inputs", "solve_condition"]

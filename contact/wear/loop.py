@@ -4,7 +4,7 @@
 (:mod:`contact.wear.planning`), solved and applied to the profiles (:mod:`contact.wear.step`), the state handed to
 the next step (:mod:`contact.wear.state`), the layer tables recalibrated on the worn profiles when the scene asks
 for it (:mod:`contact.wear.recalibrate`), and the record yielded at once, so that a consumer can write each step
-as it completes (the command line does, :mod:`contact.wear.cli`) and a later failure keeps every completed step.
+as it completes (:func:`contact.run_files.run_wear_file` does) and a later failure keeps every completed step.
 :func:`run_wear` runs the loop to its end.
 
 A condition without contact, a solver failure, a profile that folds or a failed recalibration stops the loop with

@@ -18,18 +18,17 @@ completed step. Each file is written atomically.
 
 from __future__ import annotations
 
-import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from contact.scenes.result_io import code_version
+from contact.scenes.result_io import code_version, read_result, write_result
 from contact.wear.records import StepRecord, WearRun
 from meshes.profiles.io import write_profile_files
 from wrlayer.atomic_write import atomic_write_text
+from wrlayer.json_io import jsonable
 
 UNITS = {"length": "mm", "distance": "km", "force": "N", "stress": "MPa", "speed": "mm/s", "area": "mm^2",
          "mass_loss_g_per_km": "g of wheel material per km of running (the whole wheel circumference)",
@@ -37,6 +36,9 @@ UNITS = {"length": "mm", "distance": "km", "force": "N", "stress": "MPa", "speed
 TABLE_COLUMNS = ("step", "start_km", "length_km", "end_km", "side", "body", "wear_max_mm", "wear_max_y_mm",
                  "worn_area_mm2", "inelastic_max_mm", "inelastic_max_y_mm", "inelastic_area_mm2", "mass_loss",
                  "mass_loss_unit", "delta_r_mm", "quasi_conicity", "equivalent_conicity", "conicity_amplitude_mm")
+#: Columns of steps.csv taken from a body's statistics (:class:`contact.wear.statistics.BodyStats`).
+STATS_COLUMNS = ("wear_max_mm", "wear_max_y_mm", "worn_area_mm2", "inelastic_max_mm", "inelastic_max_y_mm",
+                 "inelastic_area_mm2")
 
 
 def write_profile_pair(out_dir: Path, stem: str, profile, body: str) -> dict[str, Any]:
@@ -80,12 +82,11 @@ def table_rows(run: WearRun) -> list[dict]:
     rows = []
     for rec in run.steps:
         for (s, b), bs in rec.bodies.items():
-            st = bs.stats.to_dict()
             unit = "g/km" if b == "wheel" else "g/(m rail km)"
-            mass = st.get("mass_loss_g_per_km", st.get("mass_loss_g_per_m_rail_per_km"))
             rows.append({"step": rec.index, "start_km": rec.start_km, "length_km": rec.length_km,
-                         "end_km": rec.end_km, "side": s, "body": b, **{k: st[k] for k in TABLE_COLUMNS if k in st},
-                         "mass_loss": mass, "mass_loss_unit": unit, "delta_r_mm": rec.conicity.delta_r_mm,
+                         "end_km": rec.end_km, "side": s, "body": b,
+                         **{k: getattr(bs.stats, k) for k in STATS_COLUMNS}, "mass_loss": bs.stats.mass_loss,
+                         "mass_loss_unit": unit, "delta_r_mm": rec.conicity.delta_r_mm,
                          "quasi_conicity": rec.conicity.quasi_conicity,
                          "equivalent_conicity": rec.conicity.equivalent_conicity,
                          "conicity_amplitude_mm": rec.conicity.amplitude_mm})
@@ -98,21 +99,6 @@ def write_table(out_dir: Path, run: WearRun) -> Path:
     for r in rows:
         lines.append(",".join(f"{r[c]:.9g}" if isinstance(r[c], float) else str(r[c]) for c in TABLE_COLUMNS))
     return atomic_write_text(out_dir / "steps.csv", "\n".join(lines) + "\n")
-
-
-def _jsonable(x):
-    if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return _jsonable(x.tolist())
-    if isinstance(x, (np.floating, float)):
-        v = float(x)
-        return v if math.isfinite(v) else None
-    if isinstance(x, (np.integer,)):
-        return int(x)
-    return x
 
 
 @dataclass
@@ -136,7 +122,7 @@ class WrittenFiles:
 
 def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any]:
     sc = run.scene
-    return _jsonable({
+    return jsonable({
         "type": "wear", "status": status, "code_version": code_version(), "units": UNITS,
         "inputs": sc.to_dict(),
         "initial": {"conicity": run.initial_conicity.to_dict(), "profiles": files.initial},
@@ -150,8 +136,8 @@ def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any
     })
 
 
-def write_result(out_dir: Path, run: WearRun, files: WrittenFiles, status: str) -> Path:
-    return atomic_write_text(out_dir / "result.json", json.dumps(result_dict(run, files, status), indent=1) + "\n")
+def write_run_result(out_dir: Path, run: WearRun, files: WrittenFiles, status: str) -> Path:
+    return write_result(out_dir, result_dict(run, files, status))
 
 
 class RunFiles:
@@ -174,23 +160,21 @@ class RunFiles:
         self._initial()
         self.files.steps[rec.index] = write_step(self.out_dir, rec)
         write_table(self.out_dir, self.run)
-        write_result(self.out_dir, self.run, self.files, f"running: {len(self.run.steps)} steps completed")
+        write_run_result(self.out_dir, self.run, self.files, f"running: {len(self.run.steps)} steps completed")
 
     def finish(self, status: str, pictures: list[Path] = ()) -> dict[str, Any]:
         """Write the table and the final result.json with ``status`` and the ``pictures``; returns the result."""
         self._initial()
         write_table(self.out_dir, self.run)
         self.files.pictures = [p.name for p in pictures]
-        write_result(self.out_dir, self.run, self.files, status)
+        write_run_result(self.out_dir, self.run, self.files, status)
         return result_dict(self.run, self.files, status)
 
 
 def mark_published(out_dir: Path, status: str) -> None:
     """Set the ``status`` of the result.json published in ``out_dir`` (its steps and files unchanged)."""
-    path = Path(out_dir) / "result.json"
-    result = json.loads(path.read_text(encoding="utf-8"))
-    atomic_write_text(path, json.dumps({**result, "status": status}, indent=1) + "\n")
+    write_result(out_dir, {**read_result(out_dir), "status": status})
 
 
 __all__ = ["TABLE_COLUMNS", "UNITS", "RunFiles", "WrittenFiles", "mark_published", "result_dict", "table_rows",
-           "write_initial", "write_profile_pair", "write_result", "write_step", "write_table"]
+           "write_initial", "write_profile_pair", "write_run_result", "write_step", "write_table"]

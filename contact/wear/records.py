@@ -14,8 +14,10 @@ from contact.wear.layer_state import History
 from contact.wear.profile_grid import ArcGrid
 from contact.wear.scene import WearScene
 from contact.wear.statistics import BodyStats
+from contact.wheel_rail.patch_result import PatchResult
 from meshes.profiles import Profile
 from wrlayer.errors import WrLayerError
+from wrlayer.json_io import Layout, Record
 
 #: profiles[side][body]: the profiles of the simulated sides ("right", "left"), bodies "wheel" and "rail".
 Profiles = dict[str, dict[str, Profile]]
@@ -46,8 +48,17 @@ class BodyStep:
     stats: BodyStats
 
 
-@dataclass(frozen=True)
-class ConditionSummary:
+#: A patch of ``steps[].conditions[].patches[]`` in result.json: contact point (first contact, mm), forces (N),
+#: peak pressure (MPa), area (mm^2), creepages, passes, rolling radius (mm).
+WEAR_PATCH_LAYOUT: Layout = (
+    ("y_wheel_mm", "first_contact.y_wheel_mm"), ("y_rail_mm", "first_contact.y_rail_mm"),
+    *((name, name) for name in ("normal_force_N", "p_max_MPa", "area_mm2", "Fx_N", "Fy_N", "creepage_x",
+                                "creepage_y", "spin_per_mm")),
+    ("passes", "n_passes"), ("wheel_radius_mm", "wheel_radius_mm"))
+
+
+@dataclass(frozen=True, kw_only=True)
+class ConditionSummary(Record):
     """One (condition, side) solution of a step as result.json records it (``steps[].conditions[]``).
 
     Attributes
@@ -56,7 +67,7 @@ class ConditionSummary:
         Index of the condition in the collective (0-based).
     side : str
         ``"right"`` or ``"left"``.
-    passes : list
+    passes : tuple[int, ...]
         Passes run per loaded patch.
     shakedown : bool
         Every patch shook down within its passes.
@@ -64,21 +75,17 @@ class ConditionSummary:
         Wall time of the solution (s).
     merge_mm : float
         Merge barrier of the contact search used (mm).
-    patches : list
-        Per patch: contact point, forces (N), peak pressure (MPa), area (mm^2), creepages, passes, rolling radius.
+    patches : tuple[PatchResult, ...]
+        The loaded patches (written in :data:`WEAR_PATCH_LAYOUT`).
     """
 
     condition: int
     side: str
-    passes: list
+    passes: tuple[int, ...]
     shakedown: bool
     seconds: float
     merge_mm: float
-    patches: list
-
-    def to_dict(self) -> dict:
-        return {"condition": self.condition, "side": self.side, "passes": self.passes, "shakedown": self.shakedown,
-                "seconds": self.seconds, "merge_mm": self.merge_mm, "patches": self.patches}
+    patches: tuple[PatchResult, ...] = field(metadata={"layout": WEAR_PATCH_LAYOUT})
 
 
 @dataclass(frozen=True)
@@ -163,4 +170,4 @@ class WearStopped(WrLayerError):
         self.run = run
 
 
-__all__ = ["BodyStep", "ConditionSummary", "Profiles", "StepRecord", "WearRun", "WearStopped"]
+__all__ = ["WEAR_PATCH_LAYOUT", "BodyStep", "ConditionSummary", "Profiles", "StepRecord", "WearRun", "WearStopped"]

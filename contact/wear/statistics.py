@@ -67,8 +67,10 @@ def body_stats(grid: ArcGrid, wear: np.ndarray, inel: np.ndarray, length_km: flo
     iw, ii = int(np.argmax(wear)), int(np.argmax(inel))
     around_mm = 2.0 * math.pi * nominal_radius_mm if body == "wheel" else 1000.0
     mass_g = area * around_mm * density_kg_m3 * 1e-9 * 1e3
-    return BodyStats(body, float(wear[iw]), float(grid.y_mm[iw]), area, float(inel[ii]), float(grid.y_mm[ii]),
-                     grid.area_mm2(inel), mass_g / length_km if length_km > 0 else 0.0)
+    return BodyStats(body=body, wear_max_mm=float(wear[iw]), wear_max_y_mm=float(grid.y_mm[iw]), worn_area_mm2=area,
+                     inelastic_max_mm=float(inel[ii]), inelastic_max_y_mm=float(grid.y_mm[ii]),
+                     inelastic_area_mm2=grid.area_mm2(inel),
+                     mass_loss=mass_g / length_km if length_km > 0 else 0.0)
 
 
 __all__ = ["MASS_LOSS_KEY", "BodyStats", "body_stats"]

@@ -53,7 +53,8 @@ def depth_rates(scene: WearScene, grids: Grids, results: list[ConditionResult]
 
 
 def summary_of(r: ConditionResult) -> ConditionSummary:
-    return ConditionSummary(r.index, r.side, r.passes, r.shakedown, r.seconds, r.merge_mm, r.summary)
+    return ConditionSummary(condition=r.index, side=r.side, passes=r.passes, shakedown=r.shakedown, seconds=r.seconds,
+                            merge_mm=r.merge_mm, patches=r.patches)
 
 
 def wear_step(scene: WearScene, state: WearState, solve: Callable[[list], list[ConditionResult]]
@@ -80,15 +81,17 @@ def wear_step(scene: WearScene, state: WearState, solve: Callable[[list], list[C
         wear = smooth_rate[s, b] * length
         name = f"{initial[s][b].name} {s} after step {step}"
         profiles[s][b] = g.updated(wear + smooth_inel[s, b], name, f"step {step}: {s} {b} profile")
-        bodies[s, b] = BodyStep(g, wear, smooth_inel[s, b], rate[s, b] * length,
-                                body_stats(g, wear, smooth_inel[s, b], length, b, r0, scene.law.density_kg_m3))
+        bodies[s, b] = BodyStep(grid=g, wear_mm=wear, inelastic_mm=smooth_inel[s, b], wear_raw_mm=rate[s, b] * length,
+                                stats=body_stats(g, wear, smooth_inel[s, b], length, b, r0, scene.law.density_kg_m3))
     t_update = time.perf_counter() - t1
     conicity = radius_difference(profiles, scene.wheel_rail.layout, settings.conicity_amplitude_mm,
                                  scene.wheel_rail.method.search)
     keep_state = settings.inelastic and settings.layer_state == "hardening"
-    record = StepRecord(step, state.done_km, length, bodies, conicity, tuple(summary_of(r) for r in results),
-                        {"solve_s": t_solve, "update_s": t_update, "conditions_s": sum(r.seconds for r in results)},
-                        profiles, notes, dict(history) if keep_state else {})
+    record = StepRecord(index=step, start_km=state.done_km, length_km=length, bodies=bodies, conicity=conicity,
+                        conditions=tuple(summary_of(r) for r in results),
+                        timings={"solve_s": t_solve, "update_s": t_update,
+                                 "conditions_s": sum(r.seconds for r in results)},
+                        profiles=profiles, notes=notes, layer_state=dict(history) if keep_state else {})
     return record, history
 
 

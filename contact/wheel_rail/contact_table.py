@@ -24,12 +24,12 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from contact.scenes.result_io import Record
 from contact.tangential.fastsim import equivalent_ellipse
 from contact.wheel_rail.patch_result import PatchResult
 from contact.wheel_rail.results import CaseResult, SweepResult
 from contact.wheel_rail.scene import WheelRailScene
 from wrlayer.atomic_write import atomic_write_text
+from wrlayer.json_io import Record
 
 TABLE_FILE = "contact_table.csv"
 FAILED_FILE = "contact_table_failed.csv"
@@ -56,7 +56,7 @@ class PatchSize:
         return self.width
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ContactTableRow(Record):
     """One row of contact_table.csv: one loaded patch of one wheel in one case (the column names are the fields).
 
@@ -181,11 +181,16 @@ def patch_row(scene: WheelRailScene, case: CaseResult, side: str, index: int, p:
     a, b, k = ellipse.a_mm, ellipse.b_mm, ellipse.coefficients
     f = G * a * b
     return ContactTableRow(
-        case.case, case.lateral_mm, case.yaw_rad, case.roll_rad, case.pitch_rate_rad_s, case.vertical_load_N,
-        case.speed_mm_s, side, index, n_patches, p.y_rail_mm, float(scene.rail_profile.z(p.y_rail_mm)), p.y_wheel_mm,
-        float(scene.wheel_profile.z(p.y_wheel_mm)), p.Y_track_mm, p.Z_track_mm, p.contact_angle_rad,
-        p.wheel_radius_mm, p.normal_force_N, a, b, p.area_mm2, k.C11, k.C22, k.C23, f * k.C11, f * k.C22,
-        f * math.sqrt(a * b) * k.C23, p.creepage_x, p.creepage_y, p.spin_per_mm, p.Fx_N, p.Fy_N, p.Mz_Nmm)
+        case=case.case, lateral_mm=case.lateral_mm, yaw_rad=case.yaw_rad, roll_rad=case.roll_rad,
+        pitch_rate_rad_s=case.pitch_rate_rad_s, vertical_load_N=case.vertical_load_N, speed_mm_s=case.speed_mm_s,
+        side=side, patch=index, n_patches=n_patches,
+        y_rail_mm=p.y_rail_mm, z_rail_mm=float(scene.rail_profile.z(p.y_rail_mm)),
+        y_wheel_mm=p.y_wheel_mm, z_wheel_mm=float(scene.wheel_profile.z(p.y_wheel_mm)),
+        Y_track_mm=p.Y_track_mm, Z_track_mm=p.Z_track_mm, contact_angle_rad=p.contact_angle_rad,
+        rolling_radius_mm=p.wheel_radius_mm, normal_force_N=p.normal_force_N, a_mm=a, b_mm=b, area_mm2=p.area_mm2,
+        C11=k.C11, C22=k.C22, C23=k.C23, f11_N=f * k.C11, f22_N=f * k.C22, f23_Nmm=f * math.sqrt(a * b) * k.C23,
+        creepage_x=p.creepage_x, creepage_y=p.creepage_y, spin_per_mm=p.spin_per_mm,
+        Fx_N=p.Fx_N, Fy_N=p.Fy_N, Mz_Nmm=p.Mz_Nmm)
 
 
 def table_rows(result: SweepResult, scene: WheelRailScene) -> list[ContactTableRow]:

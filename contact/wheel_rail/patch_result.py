@@ -1,6 +1,8 @@
 """The result record of one loaded patch of a wheel, as written to result.json (units mm, N, MPa, s, rad;
 conventions: :data:`contact.wheel_rail.result_files.CONVENTIONS`, docs/wheel-rail.md). Field names are the JSON
-keys; built from a solved patch by :meth:`PatchResult.of`.
+keys; built from a solved patch by :meth:`PatchResult.of`. Its regions, passes and layer scaling are the records
+every scene kind uses (:mod:`contact.passes.record`, :class:`contact.scenes.run_result.PatchScaling`), written in
+the wheel–rail keys (``*_LAYOUT``).
 """
 
 from __future__ import annotations
@@ -8,17 +10,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from contact.passes.passes import PassRecord
-from contact.scenes.result_io import Record
+from contact.passes.record import PATCH_PASS_LAYOUT, PATCH_REGION_LAYOUT, PassRecord, RegionRecord
+from contact.scenes.run_result import PATCH_SCALING_LAYOUT, PatchScaling
 from contact.wheel_rail.reference_point import weighted_centre_eta
 from contact.wheel_rail.solution import PatchSolution
+from wrlayer.json_io import Record
 
 OMIT_NONE = {"omit_none": True}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class FirstContactPoint(Record):
     """The rigid first-contact point of a patch's candidate.
 
@@ -46,7 +47,7 @@ class FirstContactPoint(Record):
     contact_angle_rad: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class WeightedCentrePoint(Record):
     """The depth-weighted centre of a patch's interpenetration region.
 
@@ -71,48 +72,7 @@ class WeightedCentrePoint(Record):
     Z_track_mm: float
 
 
-@dataclass(frozen=True)
-class RegionResult(Record):
-    """One contact region of a patch (paper section 4: a region of the virtual penetration).
-
-    Attributes
-    ----------
-    eta_min_mm : float
-        First strip of the region (mm, strip coordinate).
-    eta_max_mm : float
-        Last strip of the region (mm).
-    p0_MPa : float
-        Peak pressure at the region's reference strip (MPa, paper eq. 11).
-    normal_force_N : float
-        Normal force of the region (N).
-    """
-
-    eta_min_mm: float
-    eta_max_mm: float
-    p0_MPa: float
-    normal_force_N: float
-
-
-@dataclass(frozen=True)
-class LayerScaling(Record):
-    """The patch size the table layers were scaled to (``layers.scale_to_patch``).
-
-    Attributes
-    ----------
-    a_mm : float
-        Semi-axis along the rolling direction (mm).
-    b_mm : float
-        Lateral semi-axis (mm).
-    balances : int
-        Balances solved with scaled layers (-).
-    """
-
-    a_mm: float
-    b_mm: float
-    balances: int
-
-
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class StripsResult(Record):
     """The strips in contact and their neighbourhood (separation <= 2 delta0), track orientation.
 
@@ -140,68 +100,7 @@ class StripsResult(Record):
         return f"StripsResult({len(self.eta_mm)} strips)"
 
 
-@dataclass(frozen=True)
-class PassSummary(Record):
-    """One pass of a patch's layer (paper section 5).
-
-    Attributes
-    ----------
-    index : int
-        Pass number, 1-based (-).
-    delta_mm : float
-        Approach of the pass (mm).
-    delta0_mm : float
-        Virtual penetration (mm, paper eq. 9).
-    p_max_MPa : float
-        Largest pressure (MPa).
-    length_mm : float
-        Patch length (mm).
-    width_mm : float
-        Patch width (mm).
-    area_mm2 : float
-        Patch area (mm^2).
-    normal_force_N : float
-        Normal force (N).
-    residual_N : float
-        Force residual of the normal solve (N).
-    u0_mm : float
-        Layer displacement at the reference point under load (mm).
-    up0_mm : float
-        Residual displacement at the reference point added by the pass (mm).
-    max_residual_mm : float
-        Largest residual displacement added by the pass (mm).
-    elastic : bool
-        The pass stayed elastic (-).
-    shakedown : bool
-        The pass added no residual beyond the tolerance (-).
-    max_cumulative_residual_mm : dict
-        Per layer ("rail", "wheel", "combined"): largest accumulated residual displacement (mm).
-    """
-
-    index: int
-    delta_mm: float
-    delta0_mm: float
-    p_max_MPa: float
-    length_mm: float
-    width_mm: float
-    area_mm2: float
-    normal_force_N: float
-    residual_N: float
-    u0_mm: float
-    up0_mm: float
-    max_residual_mm: float
-    elastic: bool
-    shakedown: bool
-    max_cumulative_residual_mm: dict
-
-    @classmethod
-    def of(cls, record: PassRecord) -> PassSummary:
-        """From a :class:`contact.passes.passes.PassRecord`."""
-        return cls(**record.summary(), max_cumulative_residual_mm={
-            b: float(np.max(v, initial=0.0)) for b, v in record.cumulative_residual_mm.items()})
-
-
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PatchResult(Record):
     """One loaded patch of a wheel (track-frame forces of the rail on the wheel; location conventions:
     :mod:`contact.wheel_rail.contact_search`).
@@ -254,8 +153,8 @@ class PatchResult(Record):
         Patch width (mm).
     n_regions : int
         Contact regions of the patch (-).
-    regions : tuple[RegionResult, ...]
-        The regions.
+    regions : tuple[RegionRecord, ...]
+        The regions (strip range ``eta_min_mm``/``eta_max_mm``, p0, normal force).
     creepage_x : float
         Longitudinal creepage (-).
     creepage_y : float
@@ -282,12 +181,13 @@ class PatchResult(Record):
         The first pass stayed elastic (-).
     u0_mm : float
         Layer displacement at the reference point under load (mm).
-    layer_scaled_to_patch : LayerScaling | None
-        The patch size the table layers were scaled to; None when not scaled.
+    layer_scaled_to_patch : PatchScaling | None
+        The patch size the table layers were scaled to (``a_mm``, ``b_mm``, ``balances``); None when not scaled.
     strips : StripsResult
         The strips in contact and their neighbourhood.
-    passes : tuple[PassSummary, ...] | None
-        Every pass of the layer; left out without a layer.
+    passes : tuple[PassRecord, ...] | None
+        Every pass of the layer (``index``, approach, ..., ``max_cumulative_residual_mm``); left out without a
+        layer.
     load_share : float
         The patch's share of the wheel's vertical force (-).
     """
@@ -315,7 +215,7 @@ class PatchResult(Record):
     length_mm: float
     width_mm: float
     n_regions: int
-    regions: tuple[RegionResult, ...]
+    regions: tuple[RegionRecord, ...] = field(metadata={"layout": PATCH_REGION_LAYOUT})
     creepage_x: float
     creepage_y: float
     spin_per_mm: float
@@ -329,10 +229,15 @@ class PatchResult(Record):
     lateral_track: tuple[float, float, float]
     elastic: bool
     u0_mm: float
-    layer_scaled_to_patch: LayerScaling | None
+    layer_scaled_to_patch: PatchScaling | None = field(metadata={"layout": PATCH_SCALING_LAYOUT})
     strips: StripsResult
-    passes: tuple[PassSummary, ...] | None = field(default=None, metadata=OMIT_NONE)
+    passes: tuple[PassRecord, ...] | None = field(default=None, metadata={**OMIT_NONE, "layout": PATCH_PASS_LAYOUT})
     load_share: float = 1.0
+
+    @property
+    def n_passes(self) -> int:
+        """Passes run on the patch's layer (0 without a layer) (-)."""
+        return len(self.passes or ())
 
     def __repr__(self) -> str:
         return (f"PatchResult(y_rail={self.y_rail_mm:.4g} mm, angle={self.contact_angle_deg:.3g} deg, "
@@ -346,31 +251,42 @@ class PatchResult(Record):
         y, f = p.problem.strip_y_mm, p.problem.separation_on_grid_mm
         near = f <= 2.0 * ns.delta0_mm  # the strips in contact and their neighbourhood
         return cls(
-            ref.kind, ref.eta_mm, ref.y_rail_mm, ref.y_wheel_mm, float(p.point_track[1]), float(p.point_track[2]),
-            float(p.point_track[0]),
-            FirstContactPoint(c.y_rail_mm, c.y_wheel_mm, sign * c.Y_mm, c.Z_mm, c.X_mm, c.contact_angle_rad),
-            _weighted_centre(p), ref.angle_rad, math.degrees(ref.angle_rad), c.wheel_contact_angle_rad,
-            c.wheel_radius_mm, c.rolling_radius_kp_mm, c.normal_gap_mm, p.normal_force_N, ns.delta_mm, ns.delta0_mm,
-            ns.area_mm2, ns.p_max_MPa, ns.length_mm, ns.width_mm, len(ns.patches),
-            tuple(RegionResult(float(pt.y_mm[0]), float(pt.y_mm[-1]), r.p0_MPa, r.normal_force_N)
-                  for pt, r in zip(ns.patches, ns.regions)),
-            p.kinematics.vx, p.kinematics.vy, p.kinematics.phi_per_mm, p.Fx_N, p.Fy_N, p.Mz_Nmm,
-            max((r.WT_max_N_per_mm for r in t), default=None), max((r.PT_max_W_per_mm2 for r in t), default=None),
-            tuple(p.force_track_N().tolist()), tuple(p.normal_track.tolist()), tuple(p.lateral_track.tolist()),
-            bool(ns.elastic), ns.u0_mm,
-            None if p.layer_patch_mm is None else LayerScaling(*p.layer_patch_mm, p.layer_scaling_solves),
-            StripsResult(*(tuple(v[near].tolist()) for v in (y, f, ns.p_peak_MPa, p.rail_y_of_strip,
-                                                              p.wheel_y_of_strip))),
-            tuple(PassSummary.of(r) for r in p.passes) if p.passes else None, load_share)
+            contact_point=ref.kind, eta_ref_mm=ref.eta_mm, y_rail_mm=ref.y_rail_mm, y_wheel_mm=ref.y_wheel_mm,
+            Y_track_mm=float(p.point_track[1]), Z_track_mm=float(p.point_track[2]), X_lead_mm=float(p.point_track[0]),
+            first_contact=FirstContactPoint(y_rail_mm=c.y_rail_mm, y_wheel_mm=c.y_wheel_mm, Y_track_mm=sign * c.Y_mm,
+                                            Z_track_mm=c.Z_mm, X_lead_mm=c.X_mm,
+                                            contact_angle_rad=c.contact_angle_rad),
+            weighted_centre=_weighted_centre(p), contact_angle_rad=ref.angle_rad,
+            contact_angle_deg=math.degrees(ref.angle_rad), wheel_contact_angle_rad=c.wheel_contact_angle_rad,
+            wheel_radius_mm=c.wheel_radius_mm, rolling_radius_kp_mm=c.rolling_radius_kp_mm,
+            normal_gap_mm=c.normal_gap_mm, normal_force_N=p.normal_force_N, delta_mm=ns.delta_mm,
+            delta0_mm=ns.delta0_mm, area_mm2=ns.area_mm2, p_max_MPa=ns.p_max_MPa, length_mm=ns.length_mm,
+            width_mm=ns.width_mm, n_regions=len(ns.patches),
+            regions=tuple(RegionRecord(y_min_mm=float(pt.y_mm[0]), y_max_mm=float(pt.y_mm[-1]), p0_MPa=r.p0_MPa,
+                                       normal_force_N=r.normal_force_N) for pt, r in zip(ns.patches, ns.regions)),
+            creepage_x=p.kinematics.vx, creepage_y=p.kinematics.vy, spin_per_mm=p.kinematics.phi_per_mm,
+            Fx_N=p.Fx_N, Fy_N=p.Fy_N, Mz_Nmm=p.Mz_Nmm,
+            WT_max=max((r.WT_max_N_per_mm for r in t), default=None),
+            PT_max_W_per_mm2=max((r.PT_max_W_per_mm2 for r in t), default=None),
+            force_on_wheel_track_N=tuple(p.force_track_N().tolist()), normal_track=tuple(p.normal_track.tolist()),
+            lateral_track=tuple(p.lateral_track.tolist()), elastic=bool(ns.elastic), u0_mm=ns.u0_mm,
+            layer_scaled_to_patch=None if p.layer_patch_mm is None else PatchScaling(
+                a_mm=p.layer_patch_mm[0], b_mm=p.layer_patch_mm[1], solves=p.layer_scaling_solves),
+            strips=StripsResult(**{name: tuple(v[near].tolist()) for name, v in (
+                ("eta_mm", y), ("f_mm", f), ("p_peak_MPa", ns.p_peak_MPa), ("y_rail_mm", p.rail_y_of_strip),
+                ("y_wheel_mm", p.wheel_y_of_strip))}),
+            passes=tuple(r.projected(PATCH_PASS_LAYOUT) for r in p.passes) if p.passes else None,
+            load_share=load_share)
 
 
 def _weighted_centre(p: PatchSolution) -> WeightedCentrePoint:
     c = p.candidate
     eta = weighted_centre_eta(c, p.normal.delta_mm)
-    return WeightedCentrePoint(eta, float(c.rail_coordinate(eta)), float(c.wheel_coordinate(eta)),
-                               p.strip_sign * float(c.Y_mm + eta * c.lateral[1]),
-                               float(c.Z_mm + eta * c.lateral[2]))
+    return WeightedCentrePoint(eta_mm=eta, y_rail_mm=float(c.rail_coordinate(eta)),
+                               y_wheel_mm=float(c.wheel_coordinate(eta)),
+                               Y_track_mm=p.strip_sign * float(c.Y_mm + eta * c.lateral[1]),
+                               Z_track_mm=float(c.Z_mm + eta * c.lateral[2]))
 
 
-__all__ = ["FirstContactPoint", "LayerScaling", "PassSummary", "PatchResult", "RegionResult", "StripsResult",
+__all__ = ["FirstContactPoint", "PatchResult", "StripsResult",
            "WeightedCentrePoint"]

@@ -20,6 +20,7 @@ from matplotlib.lines import Line2D
 
 from contact.normal.exact import DEFAULT_CELLS
 from contact.wheel_rail.deformed import residual_on_profiles
+from contact.wheel_rail.results import CaseResult, SweepResult
 from contact.wheel_rail.solution import WheelRailSolution
 from contact.wheel_rail.track_geometry import wheel_locus, wheel_sample_y
 from wrlayer.plotting import save_figure
@@ -62,7 +63,7 @@ def _profiles_panel(ax, sol: WheelRailSolution, title: str) -> None:
     ax.grid(alpha=0.3)
 
 
-def write_wheel_rail_plots(result: dict[str, Any], solutions: list[dict[str, WheelRailSolution] | None],
+def write_wheel_rail_plots(result: SweepResult, solutions: list[dict[str, WheelRailSolution] | None],
                            out_dir: Path) -> list[Path]:
     """profiles_in_contact.png (first, middle and last computed case), sweep.png (if more than one case) and
     residual_displacements.png (if any case left a residual displacement)."""
@@ -74,11 +75,11 @@ def write_wheel_rail_plots(result: dict[str, Any], solutions: list[dict[str, Whe
         sides = list(solutions[picks[0]])
         fig, axes = plt.subplots(len(sides), len(picks), figsize=(4.4 * len(picks), 2.6 * len(sides)), squeeze=False)
         for j, k in enumerate(picks):
-            case = result["cases"][k]
+            case = result.cases[k]
             for i, side in enumerate(sides):
                 _profiles_panel(axes[i, j], solutions[k][side],
-                                f"{side} wheel: lateral {case['lateral_mm']:g} mm, yaw {case['yaw_rad'] * 1e3:.1f} "
-                                f"mrad, roll {case['roll_rad'] * 1e3:.2f} mrad")
+                                f"{side} wheel: lateral {case.lateral_mm:g} mm, yaw {case.yaw_rad * 1e3:.1f} "
+                                f"mrad, roll {case.roll_rad * 1e3:.2f} mrad")
         axes[0, 0].legend(fontsize=7, loc="lower left")
         fig.suptitle("profiles in contact (red: loaded patches with contact angle and normal force; grey x: "
                      "unloaded candidates)", fontsize=8)
@@ -86,7 +87,7 @@ def write_wheel_rail_plots(result: dict[str, Any], solutions: list[dict[str, Whe
         path = out_dir / "profiles_in_contact.png"
         save_figure(fig, path)
         paths.append(path)
-    if len(result["cases"]) > 1 and ok:
+    if len(result.cases) > 1 and ok:
         paths.append(_sweep_plot(result, out_dir / "sweep.png"))
     residual = _residual_plot(result, solutions, out_dir / "residual_displacements.png")
     if residual is not None:
@@ -127,7 +128,7 @@ class ResidualCurve:
     up_um: np.ndarray
 
 
-def residual_curves(result: dict[str, Any], solutions: list) -> list[ResidualCurve]:
+def residual_curves(result: SweepResult, solutions: list) -> list[ResidualCurve]:
     """The non-zero residual displacements of every computed case, wheel and body."""
     key, _ = _sweep_axis(result)
     curves = []
@@ -137,7 +138,7 @@ def residual_curves(result: dict[str, Any], solutions: list) -> list[ResidualCur
                 if res is None or not np.any(res[1] > 1e-9):
                     continue
                 order = np.argsort(res[0])
-                value = result["cases"][k]["lateral_mm"] if key == "lateral_mm" else k + 1
+                value = result.cases[k].lateral_mm if key == "lateral_mm" else k + 1
                 curves.append(ResidualCurve(body, side, float(value), res[0][order], res[1][order] * 1e3))
     return curves
 
@@ -175,7 +176,7 @@ def residual_figure(curves: list[ResidualCurve], value_label: str):
     return fig
 
 
-def _residual_plot(result: dict[str, Any], solutions: list, path: Path) -> Path | None:
+def _residual_plot(result: SweepResult, solutions: list, path: Path) -> Path | None:
     """residual_displacements.png (:func:`residual_figure`); None when no case left a residual displacement."""
     curves = residual_curves(result, solutions)
     if not curves:
@@ -201,24 +202,24 @@ def method_label(method: dict[str, Any], layered: bool = True) -> str:
     return "; ".join(words)
 
 
-def sweep_title(result: dict[str, Any], failed: bool = False) -> str:
-    """Title of sweep.png: the scene's title, its file name and its solvers (:func:`method_label`), what is drawn."""
-    inputs = result.get("inputs", {})
+def sweep_title(inputs: dict[str, Any], failed: bool = False) -> str:
+    """Title of sweep.png from the result's inputs echo: the scene's title, its file name and its solvers
+    (:func:`method_label`), what is drawn."""
     name = Path(inputs["scene_file"]).name if inputs.get("scene_file") else "scene"
     note = "one marker per loaded patch" + ("; red dotted lines: failed cases" if failed else "")
     label = method_label(inputs.get("method", {}), layered=bool(inputs.get("layers")))
     return f"{inputs.get('title', '')}\n{name} — {label}\n{note}"
 
 
-def _sweep_axis(result: dict[str, Any]) -> tuple[str, str]:
+def _sweep_axis(result: SweepResult) -> tuple[str, str]:
     """The sweep's abscissa: the lateral displacement if it varies over the cases, else the case number."""
-    lateral = {c.get("lateral_mm") for c in result["cases"]}
+    lateral = {c.lateral_mm for c in result.cases}
     if len(lateral) > 1:
         return "lateral_mm", "wheelset lateral displacement (mm)"
     return "case", "case"
 
 
-def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
+def _sweep_plot(result: SweepResult, path: Path) -> Path:
     """Six panels over the cases, one quantity each, one colour per wheel, one marker per patch of a case:
     contact position on the rail (mm), contact angle (°), normal force (kN), p_max (MPa), creep forces F_x and F_y
     of the rail on the wheel in the contact frame (kN), and the wheel's Y/Q (track frame). One legend below the
@@ -226,27 +227,26 @@ def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
     fig, axes = plt.subplots(3, 2, figsize=(10, 10), sharex=True, constrained_layout=True)
     (a_pos, a_ang), (a_n, a_p), (a_f, a_yq) = axes
     key, xlabel = _sweep_axis(result)
-    x_of = (lambda k, c: c["lateral_mm"]) if key == "lateral_mm" else (lambda k, c: k + 1)
-    cases = list(enumerate(result["cases"]))
-    sides = sorted({s for _, c in cases if "wheels" in c for s in c["wheels"]})
+    x_of = (lambda k, c: c.lateral_mm) if key == "lateral_mm" else (lambda k, c: k + 1)
+    cases: list[tuple[int, CaseResult]] = list(enumerate(result.cases))
+    sides = sorted({s for _, c in cases for s in c.wheels or {}})
     for side in sides:
         col = SIDE_COLOURS.get(side, "k")
-        rows = [(x_of(k, c), p) for k, c in cases if "wheels" in c and side in c["wheels"]
-                for p in c["wheels"][side]["patches"]]
+        rows = [(x_of(k, c), p) for k, c in cases if side in (c.wheels or {}) for p in c.wheels[side].patches]
         if not rows:
             continue
         x = np.array([r[0] for r in rows])
         mark = dict(color=col, ms=4, ls="none")
-        a_pos.plot(x, [r[1]["y_rail_mm"] for r in rows], "o", label=f"{side} wheel", **mark)
-        a_ang.plot(x, [np.degrees(r[1]["contact_angle_rad"]) for r in rows], "o", label=f"{side} wheel", **mark)
-        a_n.plot(x, [r[1]["normal_force_N"] / 1e3 for r in rows], "o", label=f"{side} wheel", **mark)
-        a_p.plot(x, [r[1]["p_max_MPa"] for r in rows], "o", label=f"{side} wheel", **mark)
-        a_f.plot(x, [r[1]["Fx_N"] / 1e3 for r in rows], "o", label=f"{side}: F_x", **mark)
-        a_f.plot(x, [r[1]["Fy_N"] / 1e3 for r in rows], "s", mfc="none", label=f"{side}: F_y", **mark)
-        wheels = [(x_of(k, c), c["wheels"][side]) for k, c in cases if "wheels" in c and side in c["wheels"]]
-        a_yq.plot([w[0] for w in wheels], [w[1].get("Y_over_Q", np.nan) for w in wheels], "o-", color=col, ms=4,
+        a_pos.plot(x, [r[1].y_rail_mm for r in rows], "o", label=f"{side} wheel", **mark)
+        a_ang.plot(x, [np.degrees(r[1].contact_angle_rad) for r in rows], "o", label=f"{side} wheel", **mark)
+        a_n.plot(x, [r[1].normal_force_N / 1e3 for r in rows], "o", label=f"{side} wheel", **mark)
+        a_p.plot(x, [r[1].p_max_MPa for r in rows], "o", label=f"{side} wheel", **mark)
+        a_f.plot(x, [r[1].Fx_N / 1e3 for r in rows], "o", label=f"{side}: F_x", **mark)
+        a_f.plot(x, [r[1].Fy_N / 1e3 for r in rows], "s", mfc="none", label=f"{side}: F_y", **mark)
+        wheels = [(x_of(k, c), c.wheels[side]) for k, c in cases if side in (c.wheels or {})]
+        a_yq.plot([w[0] for w in wheels], [w[1].Y_over_Q for w in wheels], "o-", color=col, ms=4,
                   lw=1, label=f"{side} wheel")
-    failed = [x_of(k, c) for k, c in cases if "error" in c]
+    failed = [x_of(k, c) for k, c in cases if c.error is not None]
     for ax in axes.ravel():
         for xf in failed:
             ax.axvline(xf, color="r", lw=0.8, ls=":")
@@ -264,7 +264,7 @@ def _sweep_plot(result: dict[str, Any], path: Path) -> Path:
     a_yq.set_ylabel("Y/Q of the wheel (track frame)")
     for ax in axes[-1]:
         ax.set_xlabel(xlabel)
-    fig.suptitle(sweep_title(result, bool(failed)), fontsize=9)
+    fig.suptitle(sweep_title(result.inputs, bool(failed)), fontsize=9)
     save_figure(fig, path)
     return path
 

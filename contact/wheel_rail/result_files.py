@@ -9,6 +9,7 @@ import csv
 import io
 
 from contact.wheel_rail.results import SweepResult
+from wrlayer.json_io import jsonable
 
 #: Columns of cases.csv (one row per loaded patch; a failed case gets one row with its error).
 CSV_COLUMNS = ("case", "lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s", "vertical_load_N", "speed_mm_s",
@@ -19,21 +20,27 @@ CSV_COLUMNS = ("case", "lateral_mm", "yaw_rad", "roll_rad", "pitch_rate_rad_s", 
                "vertical_force_N", "vertical_balance_rel", "time_s", "error")
 
 
+#: Columns of cases.csv taken from the case record and from the patch record (by field name).
+CASE_COLUMNS = CSV_COLUMNS[:7]
+PATCH_COLUMNS = ("contact_point", "y_rail_mm", "y_wheel_mm", "Y_track_mm", "Z_track_mm", "contact_angle_deg",
+                 "normal_force_N", "load_share", "Fx_N", "Fy_N", "Mz_Nmm", "p_max_MPa", "area_mm2", "creepage_x",
+                 "creepage_y", "spin_per_mm", "delta_mm")
+
+
 def cases_csv(result: SweepResult) -> str:
-    """The per-case table of a wheel_rail result as CSV text (columns :data:`CSV_COLUMNS`; units in the names)."""
+    """The per-case table of a wheel_rail result as CSV text (columns :data:`CSV_COLUMNS`; units in the names;
+    a number that is not finite is left empty, as in result.json)."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(CSV_COLUMNS)
     for case in result.cases:
-        e = case.to_dict()
-        head = {k: e.get(k) for k in CSV_COLUMNS[:7]}
+        head = {k: jsonable(getattr(case, k)) for k in CASE_COLUMNS}
         if case.error is not None:
             w.writerow([head.get(k, "") if k in head else (case.error if k == "error" else "") for k in CSV_COLUMNS])
             continue
         for side, wr in case.wheels.items():
             for j, patch in enumerate(wr.patches):
-                pr = patch.to_dict()
-                row = {**head, **{k: pr.get(k) for k in CSV_COLUMNS if k in pr}, "side": side, "patch": j,
+                row = {**head, **{k: jsonable(getattr(patch, k)) for k in PATCH_COLUMNS}, "side": side, "patch": j,
                        "y_rail_first_contact_mm": patch.first_contact.y_rail_mm,
                        "y_rail_weighted_centre_mm": patch.weighted_centre.y_rail_mm,
                        "approach_mm": wr.approach_mm, "Y_over_Q": wr.Y_over_Q,
@@ -70,4 +77,4 @@ CONVENTIONS = {
 }
 
 
-__all__ = ["CONVENTIONS", "CSV_COLUMNS", "cases_csv"]
+__all__ = ["CASE_COLUMNS", "CONVENTIONS", "CSV_COLUMNS", "PATCH_COLUMNS", "cases_csv"]

@@ -13,12 +13,12 @@ from typing import Any
 
 import numpy as np
 
-from contact.scenes.result_io import Record
 from contact.wheel_rail.patch_result import OMIT_NONE, PatchResult
 from contact.wheel_rail.solution import WheelRailSolution
+from wrlayer.json_io import Record
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class UnloadedCandidate(Record):
     """A contact candidate that carries no load.
 
@@ -40,7 +40,7 @@ class UnloadedCandidate(Record):
     contact_angle_rad: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class FlangeTip(Record):
     """The wheel's flange tip.
 
@@ -56,7 +56,7 @@ class FlangeTip(Record):
     Y_side_mm: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class WheelResult(Record):
     """One wheel of a case.
 
@@ -118,17 +118,21 @@ class WheelResult(Record):
     def of(cls, sol: WheelRailSolution) -> WheelResult:
         Q = sol.inputs.vertical_load_N
         force = sum((p.force_track_N() for p in sol.patches), np.zeros(3))
-        return cls(sol.inputs.side, sol.search.wheel_height_mm, sol.approach_mm, sol.vertical_balance_rel,
-                   sol.inputs.balance, sol.balance_iterations, float(force[2]), sol.merge_mm,
-                   float(sum(p.normal_force_N * p.normal_track[2] for p in sol.patches)), tuple(force.tolist()),
-                   float(force[1] / Q), len(sol.patches),
-                   tuple(PatchResult.of(p, p.vertical_N / float(force[2])) for p in sol.patches),
-                   tuple(UnloadedCandidate(c.y_rail_mm, c.y_wheel_mm, c.normal_gap_mm, c.contact_angle_rad)
-                         for c in sol.unloaded),
-                   FlangeTip(*sol.search.flange_tip))
+        tip_y_wheel_mm, tip_Y_side_mm = sol.search.flange_tip
+        return cls(side=sol.inputs.side, wheel_height_mm=sol.search.wheel_height_mm, approach_mm=sol.approach_mm,
+                   vertical_balance_rel=sol.vertical_balance_rel, balance=sol.inputs.balance,
+                   balance_iterations=sol.balance_iterations, vertical_force_N=float(force[2]), merge_mm=sol.merge_mm,
+                   normal_vertical_N=float(sum(p.normal_force_N * p.normal_track[2] for p in sol.patches)),
+                   force_on_wheel_track_N=tuple(force.tolist()), Y_over_Q=float(force[1] / Q),
+                   n_patches=len(sol.patches),
+                   patches=tuple(PatchResult.of(p, p.vertical_N / float(force[2])) for p in sol.patches),
+                   unloaded_candidates=tuple(
+                       UnloadedCandidate(y_rail_mm=c.y_rail_mm, y_wheel_mm=c.y_wheel_mm, normal_gap_mm=c.normal_gap_mm,
+                                         contact_angle_rad=c.contact_angle_rad) for c in sol.unloaded),
+                   flange_tip=FlangeTip(y_wheel_mm=tip_y_wheel_mm, Y_side_mm=tip_Y_side_mm))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class DeformedProfileFile(Record):
     """A deformed profile written for a case.
 
@@ -153,7 +157,7 @@ class DeformedProfileFile(Record):
     read_back_max_error_mm: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CaseResult(Record):
     """One case of the scene: its pose, load and speed, and every wheel (or the error that stopped it).
 
@@ -207,7 +211,7 @@ class CaseResult(Record):
         return f"CaseResult({self.case}: lateral {self.lateral_mm:g} mm, yaw {self.yaw_rad:g} rad: {what})"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class RailPlacement(Record):
     """The rail placed in the side frame.
 
@@ -235,7 +239,7 @@ class RailPlacement(Record):
     top_y_rail_mm: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SweepResult(Record):
     """The result of a wheel_rail scene (result.json).
 
@@ -244,7 +248,7 @@ class SweepResult(Record):
     type : str
         "wheel_rail" (-).
     inputs : dict
-        The resolved inputs (:func:`contact.wheel_rail.result_files.inputs_echo`).
+        The resolved inputs (the scene's ``to_dict()``).
     code_version : str
         Version of the code that ran.
     units : dict

@@ -1,5 +1,6 @@
-"""Run a wheel_rail scene: every case on every simulated wheel, result.json data, cases.csv, the wear-ready
-frictional CSVs, deformed profiles and pictures (units mm, N, MPa, s, rad).
+"""Solve a wheel_rail scene: every case on every simulated wheel, the result record, the wear-ready frictional CSVs
+and deformed profiles (units mm, N, MPa, s, rad); the other files (cases.csv, VTK, pictures, result.json):
+:mod:`contact.run_files`.
 
 Run by ``python -m contact simulate SCENE --out DIR`` (and ``simulate-all``) with the scene parsed once
 (:func:`contact.wheel_rail.parse.parse_wheel_rail_scene`). A progress bar over the cases goes to stderr when it is a
@@ -23,12 +24,9 @@ from pathlib import Path
 
 import numpy as np
 
-from contact.scenes.contact_convention import write_contact_convention
 from contact.scenes.result_io import UNITS, code_version
-from contact.scenes.vtk_output import sweep_items, write_series
 from contact.tangential.frictional_outputs import write_wheel_rail
-from contact.wheel_rail.contact_table import write_contact_table
-from contact.wheel_rail.result_files import CONVENTIONS, cases_csv
+from contact.wheel_rail.result_files import CONVENTIONS
 from contact.wheel_rail.results import CaseResult, DeformedProfileFile, RailPlacement, SweepResult, WheelResult
 from contact.wheel_rail.scene import WheelRailScene
 from contact.wheel_rail.sweep_spec import SWEEP_KEYS, CaseSpec
@@ -64,9 +62,10 @@ def solve_case(scene: WheelRailScene, case: CaseSpec, placed_rail: PlacedRail | 
     if len(sols) == 2:  # rolling radius difference of the main (largest normal force) patches, left - right
         r = {side: max(s.patches, key=lambda p: p.normal_force_N).candidate.wheel_radius_mm for side, s in sols.items()}
         difference = r["left"] - r["right"]
-    record = CaseResult(pose.lateral_mm, pose.yaw_rad, pose.roll_rad, any_inputs.omega_rad_s,
-                        any_inputs.vertical_load_N, any_inputs.speed_mm_s,
-                        {side: WheelResult.of(s) for side, s in sols.items()}, difference)
+    record = CaseResult(lateral_mm=pose.lateral_mm, yaw_rad=pose.yaw_rad, roll_rad=pose.roll_rad,
+                        pitch_rate_rad_s=any_inputs.omega_rad_s, vertical_load_N=any_inputs.vertical_load_N,
+                        speed_mm_s=any_inputs.speed_mm_s, wheels={side: WheelResult.of(s) for side, s in sols.items()},
+                        rolling_radius_difference_mm=difference)
     return record, sols
 
 
@@ -86,13 +85,14 @@ def write_deformed_profiles(scene: WheelRailScene, sols: dict[str, WheelRailSolu
             paths, err = write_profile_files(out_dir / "deformed_profiles" / f"{stem}_{side}_{body}", pts, body,
                                              f"{prof.name} with residual displacements ({stem}, {side})")
             for path in paths:
-                written.append(DeformedProfileFile(str(path.relative_to(out_dir)), body, side, float(up.max()), err))
+                written.append(DeformedProfileFile(file=str(path.relative_to(out_dir)), body=body, side=side,
+                                                   max_residual_mm=float(up.max()), read_back_max_error_mm=err))
     return tuple(written)
 
 
 def failed_record(case: CaseSpec, k: int, err: InputError | ConvergenceError, time_s: float) -> CaseResult:
     """The record of case ``k`` that failed with ``err`` (its inputs, the error and the failed wheel)."""
-    return CaseResult(*(getattr(case, key) for key in SWEEP_KEYS), error=str(err),
+    return CaseResult(**{key: getattr(case, key) for key in SWEEP_KEYS}, error=str(err),
                       failed_wheel=getattr(err, "wheel", None), case=k, time_s=time_s)
 
 
@@ -157,45 +157,32 @@ def solve_cases(scene: WheelRailScene, placed: PlacedRail, out_dir: Path, keep: 
         yield with_deformed_profiles(scene, one, out_dir)
 
 
-def run_wheel_rail_scene(scene: WheelRailScene, out_dir: Path, plots: bool, vtk: bool | None = None
-                         ) -> SweepResult:
-    """Run a wheel_rail scene; pictures, deformed profiles, CSV files and (``vtk``, default ``output.vtk``) the
-    VTK fields go into ``out_dir`` (result.json is the caller's: ``result.to_json()``); with
-    ``output.convention = "contact"`` also contact_convention.csv, with ``output.contact_table`` the contact table
-    (:mod:`contact.wheel_rail.contact_table`)."""
+def solve_sweep(scene: WheelRailScene, out_dir: Path, keep: bool) -> tuple[SweepResult, list]:
+    """Every case of the scene: the result record and the cases' solutions ({side: WheelRailSolution}, None for a
+    failed case; {} unless ``keep`` or the deformed profiles need them); the deformed profiles and (with
+    ``output.frictional_csv``) the wear-ready frictional CSVs go into ``out_dir``. InputError when every case
+    failed. The other files: :func:`contact.run_files.write_sweep_files`."""
     t0 = time.perf_counter()
     out_dir = Path(out_dir)
     placed = place_rail(scene.rail_profile, scene.layout)
-    vtk = scene.output.vtk if vtk is None else vtk
-    solved = list(solve_cases(scene, placed, out_dir, keep=plots or vtk or scene.output.frictional_csv))
+    solved = list(solve_cases(scene, placed, out_dir, keep=keep or scene.output.frictional_csv))
     records, all_sols = [r for r, _ in solved], [s for _, s in solved]
     if all(s is None for s in all_sols):
         raise InputError(scene.path.name, f"every case failed; first: {records[0].error}")
     result = SweepResult(
-        "wheel_rail", scene.to_dict(), code_version(),
-        {**UNITS, "angles": "rad (contact_angle_deg in degrees)",
-         "Fx_N, Fy_N": "N (creep forces of the rail on the wheel, contact frame x = rolling direction, "
-                       "y = contact-plane lateral axis with positive track-Y component)"},
-        CONVENTIONS,
-        RailPlacement(placed.dy_mm, placed.dz_mm, placed.angle_rad, placed.gauge_point[0], placed.gauge_point[1],
-                      placed.top_q_mm),
-        tuple(records), sum(1 for r in records if r.error is not None), {"total": time.perf_counter() - t0},
-        tuple(write_wheel_rail(all_sols, out_dir)) if scene.output.frictional_csv else ())  # wear-ready CSVs
-    out_dir.mkdir(parents=True, exist_ok=True)
-    (out_dir / result.cases_csv).write_text(cases_csv(result), encoding="utf-8")
-    if vtk:
-        write_series(sweep_items(all_sols), out_dir)
-    if scene.output.convention == "contact":
-        write_contact_convention(result.to_dict(), out_dir)
-    if scene.output.contact_table:
-        write_contact_table(result, scene, out_dir)
-    if plots:
-        from contact.wheel_rail.plots import write_wheel_rail_plots  # matplotlib only when pictures are asked for
-
-        pictures = write_wheel_rail_plots(result.to_dict(), all_sols, out_dir)
-        result = dataclasses.replace(result, pictures=tuple(p.name for p in pictures))
-    return result
+        type="wheel_rail", inputs=scene.to_dict(), code_version=code_version(),
+        units={**UNITS, "angles": "rad (contact_angle_deg in degrees)",
+               "Fx_N, Fy_N": "N (creep forces of the rail on the wheel, contact frame x = rolling direction, "
+                             "y = contact-plane lateral axis with positive track-Y component)"},
+        conventions=CONVENTIONS,
+        rail_placement=RailPlacement(dy_mm=placed.dy_mm, dz_mm=placed.dz_mm, angle_rad=placed.angle_rad,
+                                     gauge_point_Y_mm=placed.gauge_point[0], gauge_point_Z_mm=placed.gauge_point[1],
+                                     top_y_rail_mm=placed.top_q_mm),
+        cases=tuple(records), n_failed=sum(1 for r in records if r.error is not None),
+        timings_s={"total": time.perf_counter() - t0},
+        frictional_outputs=tuple(write_wheel_rail(all_sols, out_dir)) if scene.output.frictional_csv else ())
+    return result, all_sols
 
 
-__all__ = ["failed_record", "run_wheel_rail_scene", "solve_case", "solve_cases", "solve_one", "solve_parallel",
+__all__ = ["failed_record", "solve_case", "solve_cases", "solve_one", "solve_parallel", "solve_sweep",
            "with_deformed_profiles", "write_deformed_profiles"]

@@ -6,7 +6,6 @@ Every reader raises :class:`wrlayer.errors.InputError` naming ``what`` (``<file>
 
 from __future__ import annotations
 
-import hashlib
 from pathlib import Path
 
 from meshes.profiles import Profile, get_profile
@@ -24,11 +23,6 @@ def resolve_path(name: str, base: Path, what: str) -> Path:
     if name.startswith(REFERENCE_PREFIX):
         return resolve_reference(name, what)
     return base / name
-
-
-def file_sha256(path: Path) -> str:
-    """sha256 of a file's bytes (hex)."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 def read_profile(name: str, base: Path, body: str, what: str, accept_unusual: bool = False) -> Profile:
@@ -49,4 +43,4 @@ def read_profile(name: str, base: Path, body: str, what: str, accept_unusual: bo
     return prof
 
 
-__all__ = ["PROFILE_SUFFIXES", "file_sha256", "read_profile", "reference_dir", "resolve_path"]
+__all__ = ["PROFILE_SUFFIXES", "read_profile", "reference_dir", "resolve_path"]

@@ -129,7 +129,8 @@ def _solve_found(found: SearchResult, rail: PlacedRail, wheel_profile: Profile, 
     if not rel <= BALANCE_RTOL:
         raise ConvergenceError(f"vertical load balance off by {rel:.3g} (relative) > {BALANCE_RTOL:g}")
     unloaded = [c for c in found.candidates if all(c is not p.candidate for p in patches)]
-    return WheelRailSolution(inputs, found, rail, patches, float(Delta), rel, unloaded, wheel_profile,
+    return WheelRailSolution(inputs=inputs, search=found, rail=rail, patches=patches, approach_mm=float(Delta),
+                             vertical_balance_rel=rel, unloaded=unloaded, wheel=wheel_profile,
                              balance_iterations=iterations)
 
 
@@ -150,11 +151,13 @@ def _patch(lp: LoadedPatch, inputs: WheelRailInputs, layers: LayerSources | None
         coords = {"rail": c.rail_coordinate(eta), "wheel": c.wheel_coordinate(eta)}
     n_track, t_track = lp.frame
     residual = {} if not records else {k: np.asarray(v) for k, v in records[-1].cumulative_residual_mm.items()}
-    patch = PatchSolution(c, inputs.side, sign, lp.prob, lp.normal, float(lp.normal.normal_force_N),
-                          track_vector(lp.ref.point_mm, sign), n_track, t_track, lp.kin, lp.tangential, records,
-                          coords.get("rail"), coords.get("wheel"), residual, reference=lp.ref,
-                          pass_normals=pass_normals, layer_patch_mm=ctx.layer_patch_mm,
-                          layer_scaling_solves=scaling_solves)
+    patch = PatchSolution(candidate=c, side=inputs.side, strip_sign=sign, problem=lp.prob, normal=lp.normal,
+                          normal_force_N=float(lp.normal.normal_force_N),
+                          point_track=track_vector(lp.ref.point_mm, sign), normal_track=n_track,
+                          lateral_track=t_track, kinematics=lp.kin, tangential=lp.tangential, passes=records,
+                          rail_y_of_strip=coords.get("rail"), wheel_y_of_strip=coords.get("wheel"),
+                          residual_mm=residual, reference=lp.ref, pass_normals=pass_normals,
+                          layer_patch_mm=ctx.layer_patch_mm, layer_scaling_solves=scaling_solves)
     if pair is not None and layers is not None:
         in_contact = patch.normal.p_peak_MPa > 0
         for body in ("rail", "wheel"):

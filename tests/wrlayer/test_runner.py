@@ -11,7 +11,8 @@ import time
 import pytest
 
 from wrlayer.errors import InputError
-from wrlayer.runner import THREAD_VARIABLES, Runner, blas_threads_per_worker, check_scheduler_address, report_progress
+from wrlayer.runner import (THREAD_VARIABLES, Runner, blas_threads_per_worker, check_scheduler_address, check_workers,
+                            report_progress)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -181,3 +182,16 @@ def test_bad_scheduler_address_is_one_input_error(address, fragment):
     assert fragment in str(err.value) and "\n" not in str(err.value)
     with pytest.raises(InputError):
         Runner(1, address, what="wear.scheduler")
+
+
+@pytest.mark.parametrize("workers", [0, -1, True, 1.5, "2"])
+def test_workers_rule_refuses_what_is_not_a_count_of_one_or_more(workers):
+    """One rule for --workers and every workers key: an integer >= 1, the error naming the option."""
+    with pytest.raises(InputError, match="--workers: must be >= 1"):
+        check_workers(workers, "--workers")
+    with pytest.raises(InputError, match="workers"):
+        Runner(workers)
+
+
+def test_workers_rule_keeps_a_count():
+    assert check_workers(3) == 3 and Runner(2).workers == 2

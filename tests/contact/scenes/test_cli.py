@@ -251,13 +251,13 @@ def test_sigterm_in_simulate_all_says_which_outputs_are_complete(tmp_path, monke
     import os
     import signal
 
-    import contact.__main__ as contact_main
+    import contact.run_files as run_files
 
     scenes = tmp_path / "scenes"
     scenes.mkdir()
     for name in ("a", "b"):
         shutil.copy(SCENES / "hertz_check.toml", scenes / f"{name}.toml")
-    real, calls = contact_main.run_scene_file, []
+    real, calls = run_files.run_scene, []
 
     def killed_in_the_second(path, out_dir, **kw):
         calls.append(path)
@@ -265,7 +265,7 @@ def test_sigterm_in_simulate_all_says_which_outputs_are_complete(tmp_path, monke
             os.kill(os.getpid(), signal.SIGTERM)
         return real(path, out_dir, **kw)
 
-    monkeypatch.setattr(contact_main, "run_scene_file", killed_in_the_second)
+    monkeypatch.setattr(run_files, "run_scene", killed_in_the_second)
     out = tmp_path / "out"
     assert main(["simulate-all", str(scenes), "--out", str(out), "--no-vtk"]) == 143
     assert capsys.readouterr().err.strip() == f"error: terminated (SIGTERM); 1 of 2 scene outputs complete in {out}"

@@ -4,6 +4,7 @@ table.md / table.csv."""
 import csv
 import io
 from pathlib import Path
+from types import SimpleNamespace as Record
 
 from contact.scenes.result_table import SUMMARY_WIDTH, results_table, summary_text, wheel_rail_rows
 
@@ -11,15 +12,16 @@ from contact.scenes.result_table import SUMMARY_WIDTH, results_table, summary_te
 def contact_result(p_max, passes=1, reference=None):
     one = {"length_mm": 10.0, "width_mm": 5.0, "area_mm2": 40.0, "delta_mm": 0.08, "Fx_N": -1234.0,
            "Fy_N": 0.0, "p_max_MPa": p_max, "WT_max": 1.0, "PT_max_W_per_mm2": 0.5, "u0_mm": 0.01, "up0_mm": 0.0}
-    return {"passes": [dict(one, pass_=k + 1) for k in range(passes)], "inputs": {"reference": reference or {}}}
+    return Record(passes=[Record(**one, number=k + 1) for k in range(passes)], inputs={"reference": reference or {}})
 
 
 def wheel_rail_result(normal="kik_piotrowski"):
     patch = {"normal_force_N": 12_345.0, "p_max_MPa": 1500.0}
-    wheels = {"right": {"patches": [patch, dict(patch, normal_force_N=2000.0)], "Y_over_Q": -1.25},
-              "left": {"patches": [dict(patch, p_max_MPa=600.0)], "Y_over_Q": 0.3}}
-    return {"type": "wheel_rail", "inputs": {"method": {"normal": normal}},
-            "cases": [{"wheels": wheels}, {"error": "table does not cover the contact location"}]}
+    wheels = {"right": Record(patches=[Record(**patch), Record(**dict(patch, normal_force_N=2000.0))], Y_over_Q=-1.25),
+              "left": Record(patches=[Record(**dict(patch, p_max_MPa=600.0))], Y_over_Q=0.3)}
+    return Record(type="wheel_rail", inputs={"method": {"normal": normal}}, n_failed=1,
+                  cases=[Record(wheels=wheels, error=None),
+                         Record(wheels=None, error="table does not cover the contact location")])
 
 
 def results():

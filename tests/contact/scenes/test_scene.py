@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contact.scenes.result_io import result_text
+from wrlayer.json_io import json_text
 from contact.scenes.scene import load_scene, parse_scene
 from wrlayer.errors import InputError
 
@@ -33,7 +33,7 @@ def scene_with(**sections):
 def test_shipped_scenes_load(path):
     scene = load_scene(path)
     assert scene.load.normal_force_N > 0 and scene.separation.y_mm.size >= 3
-    json.loads(result_text({"inputs": scene.to_dict()}))  # the inputs record is strict JSON
+    json.loads(json_text({"inputs": scene.to_dict()}))  # the inputs record is strict JSON
 
 
 def test_paper_scenes_share_the_paper_inputs():

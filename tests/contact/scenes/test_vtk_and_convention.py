@@ -13,7 +13,7 @@ import pytest
 from contact.__main__ import main
 from contact.scenes.vtk_output import CELL_FIELDS, PVD_FILE, VTK_DIR
 from contact.wheel_rail.parse import load_wheel_rail_scene
-from contact.wheel_rail.run import run_wheel_rail_scene
+from contact.run_files import run_wheel_rail_scene
 from benchmarks.bench_manchester import contact_reference
 
 ROOT = Path(__file__).resolve().parents[3]

@@ -148,15 +148,15 @@ def test_wear_condition_in_a_curve_gets_the_yaw_rate_terms(make_scene):
     spin (sin(gamma) = -phi r0 from the straight solution: pure rolling at r0)."""
     scene = make_scene(layers=None, wear={"inelastic": False})
     (task,) = build_tasks(scene, scene.initial_profiles, 1, 1.0)
-    straight = solve_condition(task).summary[0]
+    straight = solve_condition(task).patches[0]
     curved = solve_condition(dataclasses.replace(task, condition=dataclasses.replace(task.condition,
                                                                                      curvature_1_per_m=2e-3)))
-    curved = curved.summary[0]
-    arm = scene.wheel_rail.layout.taping_line_mm + curved["y_wheel_mm"]
-    assert curved["y_wheel_mm"] == pytest.approx(straight["y_wheel_mm"], abs=1e-9)
-    assert curved["creepage_x"] - straight["creepage_x"] == pytest.approx(2e-6 * arm, rel=1e-5)
-    sin_gamma = -straight["spin_per_mm"] * scene.wheel_rail.wheel.nominal_radius_mm  # phi = -sin(gamma) / r0
-    assert curved["spin_per_mm"] - straight["spin_per_mm"] == pytest.approx(-2e-6 * math.sqrt(1 - sin_gamma ** 2),
+    curved = curved.patches[0]
+    arm = scene.wheel_rail.layout.taping_line_mm + curved.first_contact.y_wheel_mm
+    assert curved.first_contact.y_wheel_mm == pytest.approx(straight.first_contact.y_wheel_mm, abs=1e-9)
+    assert curved.creepage_x - straight.creepage_x == pytest.approx(2e-6 * arm, rel=1e-5)
+    sin_gamma = -straight.spin_per_mm * scene.wheel_rail.wheel.nominal_radius_mm  # phi = -sin(gamma) / r0
+    assert curved.spin_per_mm - straight.spin_per_mm == pytest.approx(-2e-6 * math.sqrt(1 - sin_gamma ** 2),
                                                                              rel=1e-9)
 
 

@@ -128,7 +128,7 @@ def test_sigterm_while_the_run_ends_marks_the_published_steps(tmp_path, capsys, 
     --out keeps the earlier run."""
     import signal
 
-    import contact.wear.cli as wear_cli
+    import contact.run_files as run_files
 
     scene = write_scene(wear_dict(layers=None, wear=FAST))
     out, partial = tmp_path / "out", tmp_path / "out.partial"
@@ -139,7 +139,7 @@ def test_sigterm_while_the_run_ends_marks_the_published_steps(tmp_path, capsys, 
         os.kill(os.getpid(), signal.SIGTERM)
         return []
 
-    monkeypatch.setattr(wear_cli, "_pictures", killed_while_drawing)
+    monkeypatch.setattr(run_files, "_wear_pictures", killed_while_drawing)
     capsys.readouterr()
     assert main(["wear", str(scene), "--out", str(out), "--quiet"]) == 143
     assert capsys.readouterr().err.strip() == (f"error: terminated (SIGTERM); 2 completed step(s) kept in {partial}; "

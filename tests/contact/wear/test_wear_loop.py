@@ -271,7 +271,7 @@ def test_condition_pitch_rate_adds_longitudinal_creepage(tmp_path, wear_dict):
         data = wear_dict(layers=None, wear={"distance_km": 10.0, "steps": 1, "inelastic": False})
         data["collective"] = {"condition": [c]}
         runs.append(run_wear(parse_wear_scene(data, tmp_path / "w.toml"), show_progress=False))
-    kx = [r.steps[0].conditions[0].patches[0]["creepage_x"] for r in runs]
+    kx = [r.steps[0].conditions[0].patches[0].creepage_x for r in runs]
     area = [r.steps[0].bodies["right", "wheel"].stats.worn_area_mm2 for r in runs]
     assert abs(kx[1] - kx[0]) > 2e-3
     assert area[1] > 2.0 * area[0]
@@ -286,7 +286,7 @@ def test_exact_normal_method_runs_the_loop(make_scene):
         a, b = kp.bodies["right", body].stats, ex.bodies["right", body].stats
         assert b.wear_max_mm > 0 and b.inelastic_max_mm > 0
         assert b.worn_area_mm2 == pytest.approx(a.worn_area_mm2, rel=0.3)
-    assert ex.conditions[0].patches[0]["p_max_MPa"] != kp.conditions[0].patches[0]["p_max_MPa"]
+    assert ex.conditions[0].patches[0].p_max_MPa != kp.conditions[0].patches[0].p_max_MPa
 
 
 def test_wear_loop_keeps_scale_to_patch_and_hardened_tables_scale(make_scene):
@@ -317,4 +317,4 @@ def test_tangential_methods_run_the_loop(make_scene, tangential):
         a, b = fastsim.bodies["right", body].stats, other.bodies["right", body].stats
         assert b.wear_max_mm > 0
         assert b.worn_area_mm2 == pytest.approx(a.worn_area_mm2, rel=0.5)
-    assert other.conditions[0].patches[0]["Fx_N"] != fastsim.conditions[0].patches[0]["Fx_N"]
+    assert other.conditions[0].patches[0].Fx_N != fastsim.conditions[0].patches[0].Fx_N

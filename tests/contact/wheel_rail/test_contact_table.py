@@ -14,7 +14,7 @@ from contact.scenes.cost import wheel_rail_cost
 from contact.wheel_rail.contact_table import (FAILED_COLUMNS, FAILED_FILE, TABLE_COLUMNS, TABLE_FILE, table_csv,
                                               table_rows)
 from contact.wheel_rail.parse import load_wheel_rail_scene
-from contact.wheel_rail.run import run_wheel_rail_scene
+from contact.run_files import run_wheel_rail_scene
 from contact.wheel_rail.scene import RunSpec
 from meshes.profiles import S1002, Rail60E1
 from wrlayer.errors import InputError

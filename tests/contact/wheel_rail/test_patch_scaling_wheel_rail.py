@@ -9,7 +9,7 @@ import pytest
 from wrlayer.layer_table import LayerTable
 from contact.layer.patch_scaling import PATCH_SCALING_TOLERANCE
 from contact.wheel_rail.parse import parse_wheel_rail_scene
-from contact.wheel_rail.run import run_wheel_rail_scene
+from contact.run_files import run_wheel_rail_scene
 from contact.scenes.layers import LayerSources
 from contact.wheel_rail.inputs import WheelRailInputs
 from contact.wheel_rail.sections import WheelLoadSpec

@@ -9,7 +9,7 @@ import pytest
 
 from contact.__main__ import main
 from contact.wheel_rail.parse import parse_wheel_rail_scene
-from contact.wheel_rail.run import run_wheel_rail_scene
+from contact.run_files import run_wheel_rail_scene
 from wrlayer.errors import InputError
 
 SCENES = Path(__file__).resolve().parents[3] / "scenes"

@@ -4,7 +4,7 @@ other on a tread contact; FASTSIM's spin taken about the patch centroid."""
 import pytest
 
 from contact.wheel_rail.parse import parse_wheel_rail_scene
-from contact.wheel_rail.run import run_wheel_rail_scene
+from contact.run_files import run_wheel_rail_scene
 
 
 def _run(tmp_path, method):

@@ -48,7 +48,7 @@ def test_case_values_reach_the_inputs(tmp_path):
 
 def test_result_records_round_trip_and_stay_short(tmp_path):
     from contact.wheel_rail.results import SweepResult
-    from contact.wheel_rail.run import run_wheel_rail_scene
+    from contact.run_files import run_wheel_rail_scene
 
     data = {"type": "wheel_rail", "wheel": {"side": "both"}, "sweep": {"lateral_mm": [0.0, 3.0]},
             "layers": {"combined": {"u_mm": [0.0, 0.01, 0.05], "p_MPa": [0.0, 300.0, 900.0]}},

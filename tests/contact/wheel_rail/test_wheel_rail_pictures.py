@@ -1,6 +1,8 @@
 """Wheel-rail pictures: the sweep title names the scene file and the normal method; the residual displacements
 use a colour bar (not one legend entry per case) and show only where there are residual displacements."""
 
+from types import SimpleNamespace as Record
+
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
@@ -11,9 +13,9 @@ from contact.wheel_rail.plots import (RESIDUAL_FRACTION, RESIDUAL_MARGIN_MM, Res
 
 def test_sweep_title_names_scene_file_and_normal_method():
     def result(normal):
-        return {"inputs": {"title": "A-2.2", "scene_file": "/x/manchester_a22.toml",
-                           "method": {"normal": normal, "alpha": 0.55, "grid_mm": 0.1, "exact_cells": 64,
-                                      "contact_point": "weighted_centre"}}}
+        return {"title": "A-2.2", "scene_file": "/x/manchester_a22.toml",
+                "method": {"normal": normal, "alpha": 0.55, "grid_mm": 0.1, "exact_cells": 64,
+                           "contact_point": "weighted_centre"}}
 
     kp, exact = sweep_title(result("kik_piotrowski")), sweep_title(result("exact"))
     assert kp != exact
@@ -50,9 +52,10 @@ def test_sweep_has_one_legend_below_the_panels(monkeypatch, tmp_path):
     monkeypatch.setattr(plots, "save_figure", lambda fig, path: kept.append(fig))
     patch = {"y_rail_mm": -1.0, "contact_angle_rad": 0.01, "normal_force_N": 1e4, "p_max_MPa": 900.0,
              "Fx_N": 100.0, "Fy_N": -50.0}
-    cases = [{"lateral_mm": lat, "wheels": {side: {"patches": [patch], "Y_over_Q": 0.1} for side in ("right", "left")}}
+    cases = [Record(lateral_mm=lat, error=None, wheels={side: Record(patches=[Record(**patch)], Y_over_Q=0.1)
+                                                        for side in ("right", "left")})
              for lat in (0.0, 1.0, 2.0)]
-    plots._sweep_plot({"inputs": {"title": "t"}, "cases": cases}, tmp_path / "s.png")
+    plots._sweep_plot(Record(inputs={"title": "t"}, cases=cases), tmp_path / "s.png")
     (fig,) = kept
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()

@@ -9,7 +9,7 @@ import pytest
 from contact.__main__ import main
 from contact.scenes.scene import read_scene_data
 from contact.wheel_rail.parse import parse_wheel_rail_scene
-from contact.wheel_rail.run import run_wheel_rail_scene
+from contact.run_files import run_wheel_rail_scene
 from wrlayer.errors import InputError
 
 
@@ -129,18 +129,20 @@ def test_shipped_calibrated_tables_cover_the_shipped_layered_sweep(tmp_path):
 def test_sweep_picture_abscissa_and_panels(tmp_path):
     """sweep.png: the lateral displacement as abscissa when it varies, else the case number; one panel per
     quantity (Y/Q included); a failed case is drawn, not dropped."""
+    from types import SimpleNamespace as Record
+
     from contact.wheel_rail.plots import _sweep_axis, _sweep_plot
 
     def case(lateral, yq, error=False):
         if error:
-            return {"lateral_mm": lateral, "error": "x"}
-        patch = {"y_rail_mm": -lateral, "contact_angle_rad": 0.01 * lateral, "normal_force_N": 1e4, "p_max_MPa": 900.0,
-                 "Fx_N": 100.0, "Fy_N": -50.0}
-        return {"lateral_mm": lateral, "wheels": {"right": {"patches": [patch], "Y_over_Q": yq}}}
+            return Record(lateral_mm=lateral, wheels=None, error="x")
+        patch = Record(y_rail_mm=-lateral, contact_angle_rad=0.01 * lateral, normal_force_N=1e4, p_max_MPa=900.0,
+                       Fx_N=100.0, Fy_N=-50.0)
+        return Record(lateral_mm=lateral, error=None, wheels={"right": Record(patches=[patch], Y_over_Q=yq)})
 
-    varying = {"inputs": {"title": "t"}, "cases": [case(0.0, 0.1), case(1.0, 0.2), case(2.0, 0.0, error=True)]}
+    varying = Record(inputs={"title": "t"}, cases=[case(0.0, 0.1), case(1.0, 0.2), case(2.0, 0.0, error=True)])
     assert _sweep_axis(varying)[0] == "lateral_mm"
-    fixed = {"inputs": {"title": "t"}, "cases": [case(1.0, 0.1), case(1.0, 0.3)]}
+    fixed = Record(inputs={"title": "t"}, cases=[case(1.0, 0.1), case(1.0, 0.3)])
     assert _sweep_axis(fixed) == ("case", "case")
     for result, name in ((varying, "a.png"), (fixed, "b.png")):
         path = _sweep_plot(result, tmp_path / name)
