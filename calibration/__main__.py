@@ -17,7 +17,7 @@ import dataclasses
 import sys
 
 from wrlayer import cli
-from wrlayer.errors import cli_guard, require
+from wrlayer.errors import cli_guard
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -57,11 +57,12 @@ def main(argv: list[str] | None = None) -> int:
         return _rolling(args)
     from calibration.config import load_config  # the FEM stack only once the arguments are valid
     from calibration.pipeline import calibrate
+    from wrlayer.runner import check_workers
 
     cfg = load_config(args.config)
     if args.workers is not None:
-        require(1 <= args.workers <= 64, "--workers", f"must be in 1..64, got {args.workers}")
-        cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, workers=args.workers))
+        cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, workers=check_workers(args.workers,
+                                                                                            "--workers")))
     result = calibrate(cfg, args.out, scheduler=args.scheduler, plots=args.plots, show_progress=not args.quiet,
                        force=args.force)
     return 0 if result.ok else 4

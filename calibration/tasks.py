@@ -8,7 +8,6 @@ nothing changed does no FEM and changing one position recomputes only that one.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import pickle
 from dataclasses import asdict, dataclass
@@ -26,6 +25,7 @@ from calibration.settings import (BodySettings, CalibrationConfig, LoadSettings,
 from meshes.meshing.section_mesh import DEFAULT_DEPTH_MM, check_mesh_inputs
 from meshes.profiles import Profile
 from wrlayer.errors import InputError, WrLayerError
+from wrlayer.hashing import file_sha256, sha256_hex
 from wrlayer.runner import report_progress
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -36,27 +36,23 @@ FEM_SOURCES = ("calibration/indentation.py", "calibration/position_mesh.py", "ca
 
 def code_hash(patterns: tuple[str, ...] = FEM_SOURCES) -> str:
     """SHA-256 of the Python sources matching ``patterns`` (default: those that determine the FEM results)."""
-    h = hashlib.sha256()
-    for pattern in patterns:
-        for f in sorted(ROOT.glob(pattern)):
-            h.update(str(f.relative_to(ROOT)).encode())
-            h.update(f.read_bytes())
-    return h.hexdigest()
+    return sha256_hex(b"".join(part for pattern in patterns for f in sorted(ROOT.glob(pattern))
+                               for part in (str(f.relative_to(ROOT)).encode(), f.read_bytes())))
 
 
 def inputs_hash(obj: Any) -> str:
     """SHA-256 of the JSON form of ``obj`` (sorted keys): the cache key of a result made from ``obj``."""
-    return hashlib.sha256(json.dumps(obj, sort_keys=True, default=str).encode()).hexdigest()
+    return sha256_hex(json.dumps(obj, sort_keys=True, default=str))
 
 
 def profile_identity(spec: Any) -> str:
     """What identifies a profile in a cache key: its builtin name, its file's content, or an in-memory
     Profile's content (pickled)."""
     if isinstance(spec, Profile):
-        return f"object:{hashlib.sha256(pickle.dumps(spec, protocol=4)).hexdigest()}"
+        return f"object:{sha256_hex(pickle.dumps(spec, protocol=4))}"
     p = Path(spec)
     if p.is_file():
-        return f"file:{hashlib.sha256(p.read_bytes()).hexdigest()}"
+        return f"file:{file_sha256(p)}"
     return f"builtin:{spec.upper()}"
 
 

@@ -18,7 +18,6 @@ A contact scene's earlier ``[layer]`` (``u_mm``/``p_MPa``, ``[layer.wheel]``/``[
 
 from __future__ import annotations
 
-import hashlib
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,6 +30,7 @@ from contact.layer.strip_lookup import LayerLookup, clamped_characteristics
 from contact.scenes.result_io import Record
 from wrlayer.characteristic import Characteristic
 from wrlayer.errors import InputError, require
+from wrlayer.hashing import file_sha256
 from wrlayer.layer_table import read_body_table
 from wrlayer.validate import Keys
 
@@ -177,7 +177,7 @@ def read_layers(keys: Keys, base: Path, per_body: bool = False) -> LayersSpec:
             continue
         path, sources[body] = read_body_table(keys.text(body), base, body, keys.what(body))
         spec[body], names[body] = str(path), path.name
-        hashes[body] = hashlib.sha256(path.read_bytes()).hexdigest()
+        hashes[body] = file_sha256(path)
         if per_body:
             given[body] = positions.number(body)
             _check_covers(sources[body], given[body], path, body, keys.what(body))

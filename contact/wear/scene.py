@@ -48,7 +48,7 @@ from contact.wear.laws import USFD_MATERIALS, ArchardMap, UsfdTable, WearLaw
 from contact.wear.recalibrate import Recalibration, read_template
 from contact.wheel_rail.parse import parse_wheel_rail_scene
 from contact.wheel_rail.scene import WheelRailScene
-from contact.wheel_rail.scene_files import file_sha256
+from wrlayer.hashing import file_sha256
 from meshes.profiles import Profile
 from wrlayer.errors import InputError
 from wrlayer.runner import check_scheduler_address

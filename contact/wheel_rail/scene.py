@@ -19,7 +19,7 @@ from contact.scenes.result_io import Record
 from contact.scenes.sections import MaterialSpec, PassesSpec, TangentialSpec
 from contact.wheel_rail.inputs import WheelRailInputs
 from contact.wheel_rail.sections import WheelLoadSpec, WheelRailMethodSpec, WheelRailOutputSpec
-from contact.wheel_rail.scene_files import file_sha256
+from wrlayer.hashing import file_sha256
 from contact.wheel_rail.sweep_spec import CaseSpec, SweepSpec
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose
 from meshes.profiles import Profile
