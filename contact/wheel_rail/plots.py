@@ -19,6 +19,7 @@ from matplotlib.colors import Normalize
 from matplotlib.lines import Line2D
 
 from contact.normal.exact import DEFAULT_CELLS
+from contact.normal.problem import ALPHA, GRID_MM
 from contact.wheel_rail.deformed import residual_on_profiles
 from contact.wheel_rail.results import CaseResult, SweepResult
 from contact.wheel_rail.solution import WheelRailSolution
@@ -193,7 +194,7 @@ def method_label(method: dict[str, Any], layered: bool = True) -> str:
         mode = f", {method.get('layer_mode', 'indentation')} layer" if layered else ""
         normal = f"exact half-space solver ({cells} cells along x{mode})"
     else:
-        normal = f"Kik–Piotrowski (α = {method.get('alpha', 0.55):g}, strips {method.get('grid_mm', 0.1):g} mm)"
+        normal = f"Kik–Piotrowski (α = {method.get('alpha', ALPHA):g}, strips {method.get('grid_mm', GRID_MM):g} mm)"
     words = [f"normal: {normal}"]
     if method.get("tangential"):
         words.append(f"tangential: {method['tangential']}")
