@@ -114,14 +114,9 @@ def _wear(args: argparse.Namespace) -> int:
 
     run, _ = run_wear_into(args.scene, args.out, plots=not args.no_plots, workers=args.workers,
                            scheduler=args.scheduler, show_progress=not args.quiet, force=args.force)
-    done_km = run.steps[-1].end_km if run.steps else 0.0
-    print(f"{Path(args.scene).name}: {len(run.steps)} steps, {done_km:.6g} km -> "
-          f"{Path(args.out) / 'result.json'}, steps.csv, profiles/")
-    for rec in run.steps:
-        (side, body), worst = max(rec.bodies.items(), key=lambda item: item[1].stats.wear_max_mm)
-        print(f"  step {rec.index}: {rec.start_km:.6g}..{rec.end_km:.6g} km, max wear "
-              f"{worst.stats.wear_max_mm * 1e3:.2f} µm ({side} {body} at y = "
-              f"{worst.stats.wear_max_y_mm:.2f} mm), dr = {rec.conicity.delta_r_mm:.4f} mm")
+    from contact.scenes.result_table import wear_summary
+
+    print("\n".join(wear_summary(Path(args.scene).name, run.steps, Path(args.out) / "result.json")))
     return 0
 
 

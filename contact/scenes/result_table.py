@@ -11,7 +11,8 @@ Table 1 rows only.
 Console summary: one short table per scene kind, one row per scene: contact scenes (last pass; a scene's
 ``[reference]`` values on an indented row below it) and wheel–rail scenes (cases, failures, largest values over
 the cases); the last line names the files holding the full table. One scene's key numbers on the terminal
-(``wrlayer simulate``, each scene of ``simulate-all``): :func:`scene_summary`.
+(``wrlayer simulate``, each scene of ``simulate-all``): :func:`scene_summary`; a wear run's steps
+(``wrlayer wear``): :func:`wear_summary`.
 """
 
 from __future__ import annotations
@@ -198,6 +199,20 @@ def scene_summary(name: str, result: Any) -> list[str]:
     title = f"{_name(name)}: {len(passes)} pass{'es' if len(passes) > 1 else ''}" + (
         f", shakedown at pass {shakedown}" if shakedown is not None else "")
     return [title, *_aligned(header, rows)]
+
+
+def wear_summary(name: str, steps, result_path: str | Path) -> list[str]:
+    """The key numbers of a wear run's steps (:class:`contact.wear.records.StepRecord`) for the terminal: the
+    distance run and where the result is, then per step its distance range (km), the largest wear depth (µm) with
+    its body and position y (mm), and the rolling radius difference dr (mm)."""
+    done_km = steps[-1].end_km if steps else 0.0
+    lines = [f"{name}: {len(steps)} steps, {done_km:.6g} km -> {result_path}, steps.csv, profiles/"]
+    for rec in steps:
+        (side, body), worst = max(rec.bodies.items(), key=lambda item: item[1].stats.wear_max_mm)
+        lines.append(f"  step {rec.index}: {rec.start_km:.6g}..{rec.end_km:.6g} km, max wear "
+                     f"{worst.stats.wear_max_mm * 1e3:.2f} µm ({side} {body} at y = {worst.stats.wear_max_y_mm:.2f}"
+                     f" mm), dr = {rec.conicity.delta_r_mm:.4f} mm")
+    return lines
 
 
 def summary_text(results: Results, out_dir: str | Path) -> str:

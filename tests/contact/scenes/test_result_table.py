@@ -88,3 +88,19 @@ def test_relative_deviation_keys_name_a_fraction():
                                       "PT_max_W_per_mm2", "u0_mm", "passes")] == [
         "length_rel", "area_rel", "delta_rel", "Fx_rel", "p_max_rel", "WT_max_rel", "PT_max_rel", "u0_rel",
         "passes_rel"]
+
+
+def test_wear_summary_names_each_step_largest_wear_within_100_columns():
+    from contact.scenes.result_table import wear_summary
+
+    def body(wear_mm, y_mm):
+        return Record(stats=Record(wear_max_mm=wear_mm, wear_max_y_mm=y_mm))
+
+    steps = [Record(index=k + 1, start_km=5000.0 * k, end_km=5000.0 * (k + 1), conicity=Record(delta_r_mm=0.1234),
+                    bodies={("right", "rail"): body(0.002 * (k + 1), -12.345),
+                            ("right", "wheel"): body(0.001, 30.0)}) for k in range(12)]
+    lines = wear_summary("s1002_60e1.toml", steps, Path("out") / "wear" / "result.json")
+    assert lines[0] == f"s1002_60e1.toml: 12 steps, 60000 km -> {Path('out/wear/result.json')}, steps.csv, profiles/"
+    assert lines[-1] == ("  step 12: 55000..60000 km, max wear 24.00 µm (right rail at y = -12.35 mm), "
+                         "dr = 0.1234 mm")
+    assert len(lines) == 13 and max(len(line) for line in lines) <= SUMMARY_WIDTH
