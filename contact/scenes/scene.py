@@ -48,7 +48,7 @@ from wrlayer.validate import MAX_STRIPS, MIN_LATERAL_RADIUS_MM, Keys, is_number,
 SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
 #: Keys allowed in [reference]: published values of the last pass (Table 1 rows), units in the names.
 REFERENCE_KEYS = ("source", "length_mm", "width_mm", "area_mm2", "delta_mm", "Fx_N", "Fy_N", "p_max_MPa",
-                  "WT_max", "PT_max_W_per_mm2", "passes", "u0_mm", "up0_mm")
+                  "WT_max_N_per_mm", "PT_max_W_per_mm2", "passes", "u0_mm", "up0_mm")
 
 
 # ---------------------------------------------------------------------------------------------------- reading
