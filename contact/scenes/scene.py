@@ -150,9 +150,10 @@ def _layers(top: SceneKeys, base: Path):
 def _parse_separation(keys: SceneKeys, grid_mm: float) -> SeparationSpec:
     if "lateral_radius_mm" in keys.table:
         keys.check_known(("lateral_radius_mm", "half_width_mm", "step_mm"))
-        if is_number(keys.table.get("lateral_radius_mm")):                   # before the bounds: the slip
-            keys.plausible("lateral_radius_mm", float(keys.table["lateral_radius_mm"]), "profile_radius_mm")
-        radius = keys.number("lateral_radius_mm", ge=MIN_LATERAL_RADIUS_MM)
+        if is_number(keys.table.get("lateral_radius_mm")):                   # a unit slip before the bounds
+            keys.plausible("lateral_radius_mm", float(keys.table["lateral_radius_mm"]), "profile_radius_mm", True)
+        radius = keys.plausible("lateral_radius_mm", keys.number("lateral_radius_mm", ge=MIN_LATERAL_RADIUS_MM),
+                                "profile_radius_mm")
         half = keys.number("half_width_mm", 10.0, gt=0.0)
         step = keys.number("step_mm", grid_mm / 4.0, gt=0.0)
         if half / step > 2 * MAX_STRIPS:
