@@ -66,6 +66,8 @@ def _simulate(args: argparse.Namespace) -> int:
 
         print("\n".join(scene_summary(Path(args.scene).name, result)))
         print(f"{Path(args.scene).name}: wrote {Path(args.out) / 'result.json'}")
+    for line in result.warnings or ():
+        print(line, file=sys.stderr)
     return report_failed_cases(Path(args.scene).name, result)
 
 
@@ -95,6 +97,8 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
             print(error, file=sys.stderr, flush=True)
             continue
         results[path.stem] = result
+        for line in result.warnings or ():
+            print(line, file=sys.stderr)
         record_kept(f"{len(results)} of {len(scenes)} scene outputs complete in {out}")  # the SIGTERM line
         print(f"{path.name}: ok -> {out / path.stem / 'result.json'}")
         print("\n".join("  " + line for line in scene_summary(path.stem, result)), flush=True)

@@ -76,8 +76,7 @@ def run_scene(scene_path: str | Path, out_dir: str | Path, plots: bool = False, 
             scene = dataclasses.replace(scene, run=dataclasses.replace(scene.run, **changes))
         estimate = guard(wheel_rail_cost(scene), force)
         with run_mode(estimate.seconds), replace_output_dir(out_dir) as tmp:
-            result = run_wheel_rail_scene(scene, tmp, plots, vtk=vtk and scene.output.vtk)
-            _write_result(tmp, result)
+            result = _write_result(tmp, run_wheel_rail_scene(scene, tmp, plots, vtk=vtk and scene.output.vtk))
         return result
 
     from contact.scenes.scene import parse_scene
@@ -92,8 +91,7 @@ def run_scene(scene_path: str | Path, out_dir: str | Path, plots: bool = False, 
         run = simulate(scene)
     run.result.to_json()  # serialisable before anything is written (a failure leaves no file)
     with replace_output_dir(out_dir) as tmp:
-        result = write_scene_files(run, tmp, plots, vtk and scene.output.vtk)
-        _write_result(tmp, result)
+        result = _write_result(tmp, write_scene_files(run, tmp, plots, vtk and scene.output.vtk))
     return result
 
 
@@ -103,10 +101,16 @@ def run_scene_file(scene_path: str | Path, out_dir: str | Path, plots: bool = Fa
     return run_scene(scene_path, out_dir, plots, force, vtk, workers, scheduler).to_dict()
 
 
-def _write_result(out_dir: Path, result: SceneResult | SweepResult) -> None:
+def _write_result(out_dir: Path, result: SceneResult | SweepResult) -> SceneResult | SweepResult:
+    """Write result.json with the warnings of implausible results (:mod:`contact.result_warnings`); returns the
+    record written."""
+    from contact.result_warnings import scene_warnings
     from contact.scenes.result_io import write_result
 
+    name = Path(str(result.inputs.get("scene_file", "scene"))).name if isinstance(result.inputs, dict) else "scene"
+    result = dataclasses.replace(result, warnings=scene_warnings(name, result) or None)
     write_result(out_dir, result)
+    return result
 
 
 def write_scene_files(run: SimulationRun, out_dir: Path, plots: bool, vtk: bool) -> SceneResult:

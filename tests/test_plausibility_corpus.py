@@ -60,3 +60,24 @@ def test_the_override_lets_the_value_through(tmp_path, capsys):
         if (tmp_path / "x").mkdir() is None else None
     assert main(["simulate", str(path), "--out", str(tmp_path / "o2"), "--no-vtk"]) == 0   # a needle-sharp radius
     assert "engineering range" not in capsys.readouterr().err
+
+
+def test_an_accepted_implausible_input_gives_result_warnings(tmp_path, capsys):
+    """E = 210 MPa (GPa typed as MPa) let through: the solve runs (p_max 16.6 MPa, approach 8.4 mm, a 106 mm long
+    patch), each outside its plausible range, so result.json carries one warning per quantity and stderr prints
+    them; a plausible scene carries none."""
+    import json
+
+    path = _slipped(tmp_path, "hertz_check.toml", "E_MPa = 210000.0", "E_MPa = 210.0", override=True)
+    text = path.read_text(encoding="utf-8").replace("half_width_mm = 6.0", "half_width_mm = 200.0")
+    path.write_text(text, encoding="utf-8")
+    out = tmp_path / "out"
+    assert main(["simulate", str(path), "--out", str(out), "--no-vtk"]) == 0
+    warnings = json.loads((out / "result.json").read_text(encoding="utf-8"))["warnings"]
+    err = capsys.readouterr().err
+    assert [w.split(": ")[2].split(" = ")[0] for w in warnings] == ["p_max_MPa", "approach_mm", "semi_axis_mm"]
+    assert "p_max_MPa = 16.59 MPa" in warnings[0] and "(50..6000 MPa)" in warnings[0]
+    assert all(w in err for w in warnings) and all(w.startswith("warning: hertz_check.toml, pass 1: ")
+                                                   for w in warnings)
+    assert main(["simulate", str(SCENES / "hertz_check.toml"), "--out", str(tmp_path / "plain"), "--no-vtk"]) == 0
+    assert "warnings" not in json.loads((tmp_path / "plain" / "result.json").read_text(encoding="utf-8"))

@@ -148,6 +148,7 @@ class SceneResult(Record):
     solver: SolverStats
     frictional_outputs: tuple[str, ...] | None = field(default=None, metadata=OMIT_NONE)
     pictures: tuple[str, ...] | None = field(default=None, metadata=OMIT_NONE)
+    warnings: tuple[str, ...] | None = field(default=None, metadata=OMIT_NONE)
 
     def __repr__(self) -> str:
         last = self.passes[-1]

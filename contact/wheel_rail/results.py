@@ -283,6 +283,7 @@ class SweepResult(Record):
     frictional_outputs: tuple[str, ...] = ()
     cases_csv: str = "cases.csv"
     pictures: tuple[str, ...] | None = field(default=None, metadata=OMIT_NONE)
+    warnings: tuple[str, ...] | None = field(default=None, metadata=OMIT_NONE)
 
     def __repr__(self) -> str:
         return f"SweepResult({len(self.cases)} cases, {self.n_failed} failed, {self.timings_s.get('total', 0):.3g} s)"

@@ -1,0 +1,43 @@
+"""Warnings for results outside the plausible ranges of steel wheel/rail contact (peak pressure, approach, patch
+size; :data:`wrlayer.plausibility.RESULT_RANGES`): the inputs passed their checks, yet a p_max of 5 MPa or an
+approach of 2 mm says a unit is wrong somewhere. Units: mm, MPa.
+
+A result record carries the lines in ``warnings`` (result.json; left out when there are none) and the command
+line prints them on stderr; the numbers are written as solved.
+"""
+
+from __future__ import annotations
+
+from contact.scenes.run_result import SceneResult
+from contact.wheel_rail.results import SweepResult
+from wrlayer.plausibility import result_warnings
+
+
+def _values(p_max_MPa, delta_mm, length_mm, width_mm) -> dict[str, float]:
+    values = {"p_max_MPa": p_max_MPa, "approach_mm": delta_mm}
+    semi = [0.5 * v for v in (length_mm, width_mm) if v is not None]
+    if semi:
+        values["semi_axis_mm"] = min(semi) if min(semi) < 0.05 else max(semi)
+    return {k: float(v) for k, v in values.items() if v is not None}
+
+
+def scene_warnings(name: str, result: SceneResult | SweepResult) -> tuple[str, ...]:
+    """One line per implausible value of the result's passes (contact scene) or loaded patches (wheel–rail sweep),
+    the first pass or case only when the same quantity repeats (``name``: the scene)."""
+    lines: list[str] = []
+    seen: set[str] = set()
+    if isinstance(result, SweepResult):
+        places = [(f"{name}, case {c.case}, {side} wheel, patch {i}", p)
+                  for c in result.cases for side, w in (c.wheels or {}).items() for i, p in enumerate(w.patches)]
+    else:
+        places = [(f"{name}, pass {k + 1}", p) for k, p in enumerate(result.passes)]
+    for where, rec in places:
+        for line in result_warnings(where, _values(rec.p_max_MPa, rec.delta_mm, rec.length_mm, rec.width_mm)):
+            quantity = line.split(": ", 2)[-1].split(" = ")[0]
+            if quantity not in seen:
+                seen.add(quantity)
+                lines.append(line)
+    return tuple(lines)
+
+
+__all__ = ["scene_warnings"]
