@@ -135,12 +135,13 @@ def _fit(k: Keys) -> FitSettings:
     return FitSettings(**kw)
 
 
-def resolve_profile(spec: Any, what: str, base: Path, accept_unusual: bool = False, units: str | None = None
-                    ) -> tuple[Any, Profile]:
+def resolve_profile(spec: Any, what: str, base: Path, accept_unusual: bool = False, units: str | None = None,
+                    body: str | None = None) -> tuple[Any, Profile]:
     """(spec as stored, Profile) of a profile given as a name, a file path (relative to ``base``) or a Profile
     object; InputError naming ``what`` when it is none of them or cannot be read. A file read with options
-    (``accept_unusual``: without the plausibility checks; ``units``: "mm" or "m", the file's length unit,
-    :func:`meshes.profiles.named_profile`) is stored as the Profile object (so that it is not read again)."""
+    (``accept_unusual``: without the plausibility checks; ``units``: "mm" or "m", the file's length unit; ``body``
+    for a text or CSV file, which does not state its body; :func:`meshes.profiles.named_profile`) is stored as the
+    Profile object (so that it is not read again without them)."""
     if isinstance(spec, Profile):
         return spec, spec
     if not isinstance(spec, str) or not spec.strip():
@@ -151,8 +152,10 @@ def resolve_profile(spec: Any, what: str, base: Path, accept_unusual: bool = Fal
             raise InputError(what, f"profile file {str(path)!r} not found")
         spec = str(path)
     try:
-        if (accept_unusual or units is not None) and Path(spec).suffix.lower() in PROFILE_FILE_SUFFIXES:
-            profile = named_profile(spec, units=units, accept_unusual=accept_unusual)
+        suffix = Path(spec).suffix.lower()
+        text_body = body if suffix in (".txt", ".csv") else None
+        if suffix in PROFILE_FILE_SUFFIXES and (accept_unusual or units is not None or text_body is not None):
+            profile = named_profile(spec, text_body, units, accept_unusual)
             return profile, profile
         return spec, get_profile(spec)
     except InputError as err:
@@ -191,7 +194,8 @@ def _positions(k: Keys) -> tuple[float, ...]:
 
 
 def _mate(k: Keys, body: str, base: Path, accept_unusual: bool = False, units: str | None = None):
-    mate, profile = resolve_profile(k.table["mate"], k.what("mate"), base, accept_unusual, units)
+    mate, profile = resolve_profile(k.table["mate"], k.what("mate"), base, accept_unusual, units,
+                                    "wheel" if body == "rail" else "rail")
     if profile.body == body:
         raise k.error("mate", f"{profile.name} is a {profile.body} profile; the mate of a {body} must be a "
                               f"{'wheel' if body == 'rail' else 'rail'}")
@@ -209,7 +213,7 @@ def _body(k: Keys, base: Path, material: MaterialSettings, accept_unusual_profil
         raise k.error("profile", "missing (required)")
     unusual = accept_unusual_profile or k.boolean("accept_unusual_profile", False)
     units = k.text("units", None, tuple(PROFILE_UNITS)) if "units" in k.table else None
-    spec, profile = resolve_profile(k.table["profile"], k.what("profile"), base, unusual, units)
+    spec, profile = resolve_profile(k.table["profile"], k.what("profile"), base, unusual, units, body)
     if profile.body != body:
         raise k.error("profile", f"{profile.name} is a {profile.body} profile, not a {body} profile")
     ys = _positions(k)
