@@ -39,6 +39,7 @@ def _parser() -> argparse.ArgumentParser:
                          ["wrlayer rolling calibration/configs/rolling_halfspace.toml --out out/rolling"])
     roll.add_argument("config", help="TOML rolling configuration file")
     cli.add_run_options(roll, "output folder (rolling.json, fields/)")
+    cli.add_profile_check_option(roll)
     return ap
 
 
@@ -46,7 +47,7 @@ def _rolling(args) -> int:
     from calibration.rolling.config import load_rolling_config  # the FEM stack only once the arguments are valid
     from calibration.rolling.run import run_rolling
 
-    cfg = load_rolling_config(args.config)
+    cfg = load_rolling_config(args.config, args.accept_unusual_profile)
     run_rolling(cfg, args.out, force=args.force, progress=None if args.quiet else print)
     return 0
 

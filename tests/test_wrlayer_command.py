@@ -30,7 +30,7 @@ def test_every_command_help_is_in_wrlayer_form_and_names_existing_reference_page
         assert (REPO / page).is_file(), page
 
 
-@pytest.mark.parametrize("command", ["simulate", "simulate-all", "wear", "calibrate", "mesh", "geometry"])
+@pytest.mark.parametrize("command", ["simulate", "simulate-all", "wear", "calibrate", "rolling", "mesh", "geometry"])
 def test_every_command_that_reads_profile_files_takes_the_one_override_option(command, capsys):
     """--accept-unusual-profile, defined once (wrlayer.cli.add_profile_check_option), with one help text."""
     with pytest.raises(SystemExit):
