@@ -14,7 +14,8 @@ estimated cost exceeds the limit is refused up front unless ``--force`` (:mod:`c
 ``simulate-all`` runs every ``*.toml`` of the folder into ``OUT/<scene-stem>/``, then writes a table like the
 paper's Table 1 to ``OUT/table.md`` and ``OUT/table.csv`` and prints a summary that fits 100 columns (one short
 table per scene kind, :func:`contact.scenes.result_table.summary_text`); a failing scene is reported in one line,
-the others still run, and the exit code is non-zero if any failed. ``wear`` runs a wear scene
+the others still run, and the exit code is non-zero if any failed. ``simulate`` and each scene of ``simulate-all``
+print the scene's key numbers (:func:`contact.scenes.result_table.scene_summary`). ``wear`` runs a wear scene
 (:func:`contact.run_files.run_wear_file`: published step by step; a bad scene, a scheduler address of a wrong form
 or a refused cost fails before anything is written) and prints one line per step.
 
@@ -66,6 +67,9 @@ def _simulate(args: argparse.Namespace) -> int:
     if args.json:
         sys.stdout.write(result.to_json())
     else:
+        from contact.scenes.result_table import scene_summary
+
+        print("\n".join(scene_summary(Path(args.scene).name, result)))
         print(f"{Path(args.scene).name}: wrote {Path(args.out) / 'result.json'}")
     return report_failed_cases(Path(args.scene).name, result)
 
@@ -84,6 +88,7 @@ def _simulate_all(args: argparse.Namespace) -> int:
 
 def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
     from contact.run_files import run_scene_folder, write_folder_tables
+    from contact.scenes.result_table import scene_summary
 
     results: dict[str, SceneResult | SweepResult] = {}
     failed = []
@@ -97,7 +102,8 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
             continue
         results[path.stem] = result
         record_kept(f"{len(results)} of {len(scenes)} scene outputs complete in {out}")  # the SIGTERM line
-        print(f"{path.name}: ok -> {out / path.stem / 'result.json'}", flush=True)
+        print(f"{path.name}: ok -> {out / path.stem / 'result.json'}")
+        print("\n".join("  " + line for line in scene_summary(path.stem, result)), flush=True)
         code = max(code, report_failed_cases(path.name, result))
     if results:
         summary = write_folder_tables(results, out)
@@ -115,14 +121,9 @@ def _wear(args: argparse.Namespace) -> int:
     run, _ = run_wear_into(args.scene, args.out, plots=not args.no_plots, workers=args.workers,
                            scheduler=args.scheduler, show_progress=not args.quiet, force=args.force,
                            accept_unusual_profile=args.accept_unusual_profile)
-    done_km = run.steps[-1].end_km if run.steps else 0.0
-    print(f"{Path(args.scene).name}: {len(run.steps)} steps, {done_km:.6g} km -> "
-          f"{Path(args.out) / 'result.json'}, steps.csv, profiles/")
-    for rec in run.steps:
-        (side, body), worst = max(rec.bodies.items(), key=lambda item: item[1].stats.wear_max_mm)
-        print(f"  step {rec.index}: {rec.start_km:.6g}..{rec.end_km:.6g} km, max wear "
-              f"{worst.stats.wear_max_mm * 1e3:.2f} µm ({side} {body} at y = "
-              f"{worst.stats.wear_max_y_mm:.2f} mm), dr = {rec.conicity.delta_r_mm:.4f} mm")
+    from contact.scenes.result_table import wear_summary
+
+    print("\n".join(wear_summary(Path(args.scene).name, run.steps, Path(args.out) / "result.json")))
     return 0
 
 

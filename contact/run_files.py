@@ -156,10 +156,14 @@ def write_sweep_files(scene: WheelRailScene, result: SweepResult, all_sols: list
 
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / result.cases_csv).write_text(cases_csv(result), encoding="utf-8")
-    if vtk:
+    if vtk and scene.output.vtk_frame == "local":
         from contact.scenes.vtk_output import sweep_items, write_series
 
         write_series(sweep_items(all_sols), out_dir)
+    elif vtk:
+        from contact.wheel_rail.track_vtk import write_track_series
+
+        write_track_series(all_sols, out_dir)
     if scene.output.convention == "contact":
         write_contact_convention(result, out_dir)
     if scene.output.contact_table:

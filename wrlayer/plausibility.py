@@ -57,6 +57,13 @@ class PlausibleRange:
         v = abs(value) if self.magnitude else value
         return self.low <= v <= self.high
 
+    def slip(self, value: float) -> str | None:
+        """The unit slip that brings an implausible ``value`` into the range, None when none does (or it is
+        plausible)."""
+        if not math.isfinite(value) or self.contains(value):
+            return None
+        return next((slip for factor, slip in self.slips if self.contains(value * factor)), None)
+
     def problem(self, value: float) -> str | None:
         """None when ``value`` is plausible, else what is wrong with it (one line)."""
         if not math.isfinite(value):
@@ -102,11 +109,14 @@ RESULT_RANGES: dict[str, PlausibleRange] = {
 }
 
 
-def check_input(key: str, value: float, quantity: str, accept: bool = False) -> float:
+def check_input(key: str, value: float, quantity: str, accept: bool = False, slips_only: bool = False) -> float:
     """``value`` of scene key ``key`` (full dotted name) when it lies in the range of ``quantity``
-    (:data:`INPUT_RANGES`) or ``accept`` (the override key) is set; else :class:`ImplausibleInput`."""
-    problem = INPUT_RANGES[quantity].problem(float(value))
-    if problem is not None and not accept:
+    (:data:`INPUT_RANGES`) or ``accept`` (the override key) is set; else :class:`ImplausibleInput`.
+    ``slips_only``: refuse only a value that a unit slip explains (a reader's first check, before its hard bounds,
+    whose message is clearer for a negative or zero value)."""
+    rng = INPUT_RANGES[quantity]
+    problem = rng.problem(float(value))
+    if problem is not None and not accept and (not slips_only or rng.slip(float(value)) is not None):
         raise ImplausibleInput(key, problem)
     return value
 

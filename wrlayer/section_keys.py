@@ -133,9 +133,12 @@ def read_section(cls: type, keys: Keys, *, required: tuple[str, ...] = (), given
             values[f.name] = given.pop(f.name)
         elif spec is not None:
             default = MISSING if f.name in required else f.default
-            if spec.plausible is not None and is_number(keys.table.get(f.name)):
-                keys.plausible(f.name, float(keys.table[f.name]), spec.plausible)   # before the bounds: the slip
+            plausible = spec.plausible is not None and is_number(keys.table.get(f.name))
+            if plausible:       # a unit slip first (it may break a hard bound too), then the bounds, then the range
+                keys.plausible(f.name, float(keys.table[f.name]), spec.plausible, slips_only=True)
             values[f.name] = read_key(keys, f.name, _annotation(f), spec, default)
+            if plausible:
+                keys.plausible(f.name, values[f.name], spec.plausible)
     values.update(given)
     return cls(**values)
 

@@ -254,13 +254,14 @@ class Keys:
         return type(self)(self.file, f"{self.prefix}.{key}" if self.prefix else key, self.table[key],
                           self.accept_implausible)
 
-    def plausible(self, key: str, value: float, quantity: str) -> float:
+    def plausible(self, key: str, value: float, quantity: str, slips_only: bool = False) -> float:
         """``value`` of ``key`` when it lies in the engineering range of ``quantity``
         (:data:`wrlayer.plausibility.INPUT_RANGES`) or the override is set; else
-        :class:`~wrlayer.plausibility.ImplausibleInput` naming the key, the value, the range and the likely slip."""
+        :class:`~wrlayer.plausibility.ImplausibleInput` naming the key, the value, the range and the likely slip
+        (``slips_only``: only when a unit slip explains the value)."""
         from wrlayer.plausibility import check_input  # here: validate is imported by every reader, first
 
-        return check_input(self.what(key), value, quantity, self.accept_implausible)
+        return check_input(self.what(key), value, quantity, self.accept_implausible, slips_only)
 
 
 def top_keys(file: str, data: Any, cls: type[Keys] = Keys) -> Keys:

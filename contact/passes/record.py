@@ -53,7 +53,7 @@ class RegionRecord(Record):
         Lateral creep force on the wheel (N).
     Mz_Nmm : float
         Spin moment about the region's origin (N mm).
-    WT_max : float | None
+    WT_max_N_per_mm : float | None
         Largest frictional work per unit area over one pass (N/mm); None without creepage.
     PT_max_W_per_mm2 : float | None
         Largest frictional power density (W/mm^2); None without creepage.
@@ -80,7 +80,7 @@ class RegionRecord(Record):
     Fx_N: float = 0.0
     Fy_N: float = 0.0
     Mz_Nmm: float = 0.0
-    WT_max: float | None = None
+    WT_max_N_per_mm: float | None = None
     PT_max_W_per_mm2: float | None = None
     slip_area_mm2: float | None = None
     adhesion_area_mm2: float | None = None
@@ -123,7 +123,7 @@ class PassRecord(NormalNumbers, Record):
         Lateral creep force, sum over the regions (N).
     Mz_Nmm : float
         Spin moment, sum over the regions (each about its own origin) (N mm).
-    WT_max : float | None
+    WT_max_N_per_mm : float | None
         Largest frictional work per unit area over the pass (N/mm); None without creepage.
     PT_max_W_per_mm2 : float | None
         Largest frictional power density (W/mm^2); None without creepage.
@@ -145,7 +145,7 @@ class PassRecord(NormalNumbers, Record):
     Fx_N: float = 0.0
     Fy_N: float = 0.0
     Mz_Nmm: float = 0.0
-    WT_max: float | None = None
+    WT_max_N_per_mm: float | None = None
     PT_max_W_per_mm2: float | None = None
     regions: tuple[RegionRecord, ...] = ()
     timings_s: dict = field(default_factory=dict)
@@ -176,7 +176,7 @@ def _same(*names: str) -> Layout:
 #: A contact scene's ``passes[k]`` (result.json).
 SCENE_PASS_LAYOUT: Layout = (
     ("pass", "index"), *_same("length_mm", "width_mm", "area_mm2", "delta_mm", "delta0_mm", "p_max_MPa", "Fx_N",
-                              "Fy_N", "Mz_Nmm", "WT_max", "PT_max_W_per_mm2"),
+                              "Fy_N", "Mz_Nmm", "WT_max_N_per_mm", "PT_max_W_per_mm2"),
     *_same("u0_mm", "up0_mm"), ("up_max_mm", "max_residual_mm"), *_same("elastic", "shakedown"),
     ("dissipated_energy_max_N_per_mm", "dissipated_energy_N_per_mm"),
     *_same("n_patches", "normal_force_N", "residual_N", "iterations", "timings_s"), ("patches", "regions"))

@@ -1,7 +1,8 @@
 """Pictures of a contact scene run (matplotlib, Agg): patches, separation and residuals, shakedown history.
 
 - ``patch_pass<N>.png``: the patch(es) of pass N on the square grid (x rolling direction, y lateral), pressure
-  contours (MPa), slip cells grey and adhesion cells white (like the paper's Figs. 6–8), a 1 x 1 mm box for scale
+  contours (MPa; labelled on the reference strip's leading side where they do not overlap,
+  :func:`label_positions`; every level in the colour bar), slip cells grey and adhesion cells white (like the paper's Figs. 6–8), a 1 x 1 mm box for scale
   and the rolling-direction arrow; with a Hertz ``[reference]`` (``source`` starting with "Hertz", ``length_mm``
   and ``width_mm`` given) the Hertz ellipse's outline centred on the reference point. Written for the first and
   the last pass.
@@ -67,6 +68,34 @@ def draw_hertz_ellipse(ax, semi_axes: tuple[float, float] | None, centre_mm: tup
                          label=f"Hertz ellipse (reference): 2a = {2 * a:.2f} mm, 2b = {2 * b:.2f} mm"))
 
 
+#: Least distance between two contour labels along the reference strip, as a fraction of the plotted x span (-).
+LABEL_GAP = 0.045
+
+
+def label_positions(x_mm: np.ndarray, p_row_MPa: np.ndarray, levels, y_mm: float, gap_mm: float
+                    ) -> tuple[list[float], list[tuple[float, float]]]:
+    """Where to label the pressure contours of a patch without overlaps: on the reference strip ``y_mm`` (the
+    largest p0), on the leading side (x > 0, adhesion: white behind the labels), where the pressure ``p_row_MPa``
+    (MPa, at ``x_mm``) crosses each level, from the highest level outwards, a level being left out when its
+    crossing is within ``gap_mm`` (mm) of the last labelled one or within half of it of the patch's leading edge
+    (the outline; the colour bar still names every level).
+    Returns (the labelled levels, their (x, y) positions)."""
+    lead = (x_mm > 0.0) & (p_row_MPa > 0.0)
+    xs, ps = x_mm[lead], p_row_MPa[lead]
+    edge = float(xs.max()) if xs.size else 0.0
+    order = np.argsort(ps)  # increasing pressure for np.interp (the leading half falls monotonically)
+    labelled, where, last = [], [], None
+    for level in sorted(levels, reverse=True):
+        if xs.size < 2 or not ps.min() < level < ps.max():
+            continue
+        x = float(np.interp(level, ps[order], xs[order]))
+        if (last is None or abs(x - last) >= gap_mm) and x <= edge - 0.5 * gap_mm:
+            labelled.append(float(level))
+            where.append((x, float(y_mm)))
+            last = x
+    return labelled, where
+
+
 def plot_patch(snapshot, path: Path, title: str, hertz: tuple[float, float] | None = None) -> Path:
     """The patches of one pass on their grid: pressure contours, slip cells grey, scale box, rolling arrow, and
     the Hertz ellipse of semi-axes ``hertz`` (a, b; mm) centred on the reference point when given."""
@@ -99,7 +128,12 @@ def plot_patch(snapshot, path: Path, title: str, hertz: tuple[float, float] | No
         if y.size > 1:
             contour = ax.contour(x, y, np.where(mask, pressure, 0.0), levels=p_levels, cmap="viridis",
                                  linewidths=1.0)
-            ax.clabel(contour, fmt="%.0f", fontsize=7)
+            labelled, where = label_positions(x, pressure[int(np.argmin(np.abs(y - yr)))], p_levels, yr,
+                                              LABEL_GAP * (2.0 * x_max))
+            for level, (lx, ly) in zip(labelled, where):  # upright text on white: no overlap, no rotation
+                ax.text(lx, ly, f"{level:.0f}", ha="center", va="center", fontsize=7,
+                        color=contour.cmap(contour.norm(level)),
+                        bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none"})
         # outline: leading and trailing edges of the strips
         ax.step(patch.x_lead_mm, y, where="mid", color="k", lw=0.8)
         ax.step(-patch.x_lead_mm, y, where="mid", color="k", lw=0.8)

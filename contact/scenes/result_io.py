@@ -20,7 +20,7 @@ PICTURE_PATTERNS = ("patch_pass*.png", "separation.png", "shakedown.png")
 UNITS = {
     "length": "mm", "force": "N", "stress": "MPa (N/mm^2)", "time": "s", "speed": "mm/s",
     "layer_stiffness": "N/mm^3", "spin": "1/mm", "creepage": "-",
-    "WT_max": "N/mm (= N mm/mm^2: frictional work per unit area over one pass, FASTSIM)",
+    "WT_max_N_per_mm": "N/mm (= N mm/mm^2: frictional work per unit area over one pass, FASTSIM)",
     "PT_max_W_per_mm2": "W/mm^2 (frictional power density at speed_mm_s)",
     "Mz_Nmm": "N mm (spin moment about the patch origin, on body 1)",
     "Fx_N, Fy_N": "N (creep forces on body 1 = the wheel; Kalker's sign convention)",

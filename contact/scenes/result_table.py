@@ -10,7 +10,9 @@ Table 1 rows only.
 
 Console summary: one short table per scene kind, one row per scene: contact scenes (last pass; a scene's
 ``[reference]`` values on an indented row below it) and wheel–rail scenes (cases, failures, largest values over
-the cases); the last line names the files holding the full table.
+the cases); the last line names the files holding the full table. One scene's key numbers on the terminal
+(``wrlayer simulate``, each scene of ``simulate-all``): :func:`scene_summary`; a wear run's steps
+(``wrlayer wear``): :func:`wear_summary`.
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ ROWS = (
     ("F_x", "kN", "Fx_N", 1e-3, 2),
     ("F_y", "kN", "Fy_N", 1e-3, 2),
     ("p_max", "MPa", "p_max_MPa", 1.0, 0),
-    ("W_T max", "N/mm", "WT_max", 1.0, 2),
+    ("W_T max", "N/mm", "WT_max_N_per_mm", 1.0, 2),
     ("P_T max", "W/mm^2", "PT_max_W_per_mm2", 1.0, 2),
     ("layer u(0) under load", "mm", "u0_mm", 1.0, 4),
     ("residual u_p(0) of the pass", "mm", "up0_mm", 1.0, 4),
@@ -168,6 +170,49 @@ def _aligned(header: list[str], rows: list[list[str]]) -> list[str]:
     widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
     return ["  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths))).rstrip()
             for r in [header, *rows]]
+
+
+#: Columns of a contact scene's pass rows in :func:`scene_summary` (label, result key; as :data:`SUMMARY_COLUMNS`).
+PASS_COLUMNS = (("p_max", "p_max_MPa"), ("length", "length_mm"), ("width", "width_mm"), ("delta", "delta_mm"),
+                ("F_x", "Fx_N"), ("F_y", "Fy_N"), ("u_p(0)", "up0_mm"))
+#: Most pass rows of :func:`scene_summary`: more passes show the first and last ones around a "…" row.
+SHOWN_PASSES = 6
+
+
+def scene_summary(name: str, result: Any) -> list[str]:
+    """The key numbers of one scene's result for the terminal (each line at most :data:`SUMMARY_WIDTH` columns):
+    a contact scene's passes (p_max MPa, patch length and width mm, approach mm, F_x, F_y kN, the residual
+    u_p(0) the pass left mm; the first and last passes when there are more than :data:`SHOWN_PASSES`), a
+    wheel–rail sweep's row of :func:`wheel_rail_rows` (cases, failed, largest N, p_max, |Y/Q|)."""
+    if getattr(result, "type", None) == "wheel_rail":
+        title = f"{_name(name)}: {len(result.cases)} cases, {result.n_failed} failed; largest over the cases:"
+        return [title, *_aligned(WHEEL_RAIL_HEADER, wheel_rail_rows({name: result}))]
+    spec = {key: (unit, scale, dec) for _, unit, key, scale, dec in ROWS}
+    header = ["pass"] + [f"{label} {spec[key][0]}" for label, key in PASS_COLUMNS]
+    passes = list(result.passes)
+    rows = [[str(p.index)] + [_cell(pass_values(p), key, *spec[key][1:]) for _, key in PASS_COLUMNS]
+            for p in passes]
+    if len(rows) > SHOWN_PASSES:
+        head = SHOWN_PASSES // 2
+        rows = rows[:head] + [["…"] + [""] * len(PASS_COLUMNS)] + rows[head + 1 - SHOWN_PASSES:]
+    shakedown = getattr(result, "shakedown_pass", None)
+    title = f"{_name(name)}: {len(passes)} pass{'es' if len(passes) > 1 else ''}" + (
+        f", shakedown at pass {shakedown}" if shakedown is not None else "")
+    return [title, *_aligned(header, rows)]
+
+
+def wear_summary(name: str, steps, result_path: str | Path) -> list[str]:
+    """The key numbers of a wear run's steps (:class:`contact.wear.records.StepRecord`) for the terminal: the
+    distance run and where the result is, then per step its distance range (km), the largest wear depth (µm) with
+    its body and position y (mm), and the rolling radius difference dr (mm)."""
+    done_km = steps[-1].end_km if steps else 0.0
+    lines = [f"{name}: {len(steps)} steps, {done_km:.6g} km -> {result_path}, steps.csv, profiles/"]
+    for rec in steps:
+        (side, body), worst = max(rec.bodies.items(), key=lambda item: item[1].stats.wear_max_mm)
+        lines.append(f"  step {rec.index}: {rec.start_km:.6g}..{rec.end_km:.6g} km, max wear "
+                     f"{worst.stats.wear_max_mm * 1e3:.2f} µm ({side} {body} at y = {worst.stats.wear_max_y_mm:.2f}"
+                     f" mm), dr = {rec.conicity.delta_r_mm:.4f} mm")
+    return lines
 
 
 def summary_text(results: Results, out_dir: str | Path) -> str:

@@ -123,7 +123,8 @@ class SceneResult(Record):
     passes : tuple[PassRecord, ...]
         Every pass (written in :data:`contact.passes.record.SCENE_PASS_LAYOUT`).
     reference_deviation : dict
-        Relative deviation (value - reference) / |reference| of the last pass from the scene's [reference] (-).
+        Relative deviation (value - reference) / |reference| of the last pass from the scene's [reference], a
+        fraction (-), keyed ``<quantity>_rel`` (:func:`relative_key`: ``length_rel``, ``p_max_rel``, ...).
     strip_grid : StripGrid
         The strip grid and the separation on it.
     solver : SolverStats
@@ -154,17 +155,29 @@ class SceneResult(Record):
                 f"delta={last.delta_mm:.6g} mm, p_max={last.p_max_MPa:.5g} MPa)")
 
 
+#: Unit suffixes of the result keys, dropped in a relative deviation's key (longest first).
+UNIT_SUFFIXES = ("_W_per_mm2", "_N_per_mm", "_Nmm", "_mm2", "_MPa", "_mm", "_N")
+
+
+def relative_key(key: str) -> str:
+    """The key of a relative deviation of result key ``key``: its unit suffix replaced by ``_rel``
+    (``length_mm`` -> ``length_rel``, ``passes`` -> ``passes_rel``)."""
+    stem = next((key[:-len(s)] for s in UNIT_SUFFIXES if key.endswith(s)), key)
+    return f"{stem}_rel"
+
+
 def reference_deviation(reference: dict[str, Any], last: PassRecord) -> dict[str, float]:
     """Relative deviation (value - reference) / |reference| of the last pass from the scene's [reference] numbers
-    (by the keys of a result's pass; ``passes``: the pass count); empty without a reference."""
+    (by the keys of a result's pass; ``passes``: the pass count), keyed by :func:`relative_key` (a fraction, -);
+    empty without a reference."""
     values = last.to_dict(SCENE_PASS_LAYOUT)
     out = {}
     for key, ref in reference.items():
         value = last.index if key == "passes" else values.get(key)
         if isinstance(ref, float) and ref != 0.0 and value is not None:
-            out[key] = (float(value) - ref) / abs(ref)
+            out[relative_key(key)] = (float(value) - ref) / abs(ref)
     return out
 
 
 __all__ = ["PATCH_SCALING_LAYOUT", "MethodDescription", "PatchScaling", "SceneResult", "SolverStats", "StripGrid",
-           "reference_deviation"]
+           "reference_deviation", "relative_key"]

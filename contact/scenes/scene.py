@@ -48,7 +48,7 @@ from wrlayer.validate import MAX_STRIPS, MIN_LATERAL_RADIUS_MM, Keys, is_number,
 SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
 #: Keys allowed in [reference]: published values of the last pass (Table 1 rows), units in the names.
 REFERENCE_KEYS = ("source", "length_mm", "width_mm", "area_mm2", "delta_mm", "Fx_N", "Fy_N", "p_max_MPa",
-                  "WT_max", "PT_max_W_per_mm2", "passes", "u0_mm", "up0_mm")
+                  "WT_max_N_per_mm", "PT_max_W_per_mm2", "passes", "u0_mm", "up0_mm")
 
 
 # ---------------------------------------------------------------------------------------------------- reading
@@ -150,9 +150,10 @@ def _layers(top: SceneKeys, base: Path):
 def _parse_separation(keys: SceneKeys, grid_mm: float) -> SeparationSpec:
     if "lateral_radius_mm" in keys.table:
         keys.check_known(("lateral_radius_mm", "half_width_mm", "step_mm"))
-        if is_number(keys.table.get("lateral_radius_mm")):                   # before the bounds: the slip
-            keys.plausible("lateral_radius_mm", float(keys.table["lateral_radius_mm"]), "profile_radius_mm")
-        radius = keys.number("lateral_radius_mm", ge=MIN_LATERAL_RADIUS_MM)
+        if is_number(keys.table.get("lateral_radius_mm")):                   # a unit slip before the bounds
+            keys.plausible("lateral_radius_mm", float(keys.table["lateral_radius_mm"]), "profile_radius_mm", True)
+        radius = keys.plausible("lateral_radius_mm", keys.number("lateral_radius_mm", ge=MIN_LATERAL_RADIUS_MM),
+                                "profile_radius_mm")
         half = keys.number("half_width_mm", 10.0, gt=0.0)
         step = keys.number("step_mm", grid_mm / 4.0, gt=0.0)
         if half / step > 2 * MAX_STRIPS:

@@ -88,9 +88,10 @@ def read_material(keys: Keys, required: bool = False) -> MaterialSpec:
         raise keys.error("G_MPa", "give either E_MPa or G_MPa, not both")
     given = {"poisson": nu}
     if "G_MPa" in keys.table:
-        if is_number(keys.table["G_MPa"]):                                  # before the bounds: the slip
-            keys.plausible("G_MPa", float(keys.table["G_MPa"]), "G_MPa")
-        given["E_MPa"] = youngs_modulus_MPa(keys.number("G_MPa", ge=MIN_E_MPA / 3.0, le=MAX_E_MPA / 2.0), nu)
+        if is_number(keys.table["G_MPa"]):                                  # a unit slip before the bounds
+            keys.plausible("G_MPa", float(keys.table["G_MPa"]), "G_MPa", slips_only=True)
+        shear = keys.plausible("G_MPa", keys.number("G_MPa", ge=MIN_E_MPA / 3.0, le=MAX_E_MPA / 2.0), "G_MPa")
+        given["E_MPa"] = youngs_modulus_MPa(shear, nu)
     return read_section(MaterialSpec, keys, required=("E_MPa",) if required else (), given=given,
                         also_known=("G_MPa",))
 

@@ -55,6 +55,7 @@ from contact.tangential.fastsim import Creepage, TangentialResult
 from contact.tangential.on_patch import TangentialSettings, solve_regions
 from wrlayer.errors import InputError, PatchTruncated, typed_input_error
 from wrlayer.progress import progress
+from wrlayer.short_repr import short_repr
 
 
 _NORMAL_METHOD_TEXT = {
@@ -87,6 +88,8 @@ class PassSnapshot:
     local_patches: list[Patch]
     y_ref_mm: list[float]
     residual_mm: dict[str, np.ndarray] = field(default_factory=dict)
+
+    __repr__ = short_repr  # the arrays by their shapes
 
 
 @dataclass(frozen=True, eq=False)
@@ -150,7 +153,8 @@ def region_result(snapshot: PassSnapshot, i: int) -> RegionRecord:
                     normal_force_N=region.normal_force_N, u_layer_mm=region.u_layer_mm)
     if tr is None:
         return RegionRecord(**geometry)
-    return RegionRecord(**geometry, Fx_N=tr.Fx_N, Fy_N=tr.Fy_N, Mz_Nmm=tr.Mz_Nmm, WT_max=tr.WT_max_N_per_mm,
+    return RegionRecord(**geometry, Fx_N=tr.Fx_N, Fy_N=tr.Fy_N, Mz_Nmm=tr.Mz_Nmm,
+                        WT_max_N_per_mm=tr.WT_max_N_per_mm,
                         PT_max_W_per_mm2=tr.PT_max_W_per_mm2, slip_area_mm2=tr.slip_area_mm2,
                         adhesion_area_mm2=tr.adhesion_area_mm2, equivalent_ellipse_a_mm=tr.ellipse.a_mm,
                         equivalent_ellipse_b_mm=tr.ellipse.b_mm)
@@ -166,7 +170,7 @@ def pass_result(snapshot: PassSnapshot, record: PassRecord, timings: dict[str, f
         record, regions=regions, timings_s=timings or {},
         Fx_N=float(sum(r.Fx_N for r in regions)), Fy_N=float(sum(r.Fy_N for r in regions)),
         Mz_Nmm=float(sum(r.Mz_Nmm for r in regions)),
-        WT_max=max(r.WT_max for r in regions) if has_t else None,
+        WT_max_N_per_mm=max(r.WT_max_N_per_mm for r in regions) if has_t else None,
         PT_max_W_per_mm2=max(r.PT_max_W_per_mm2 for r in regions) if has_t else None,
     ).projected(SCENE_PASS_LAYOUT)
 

@@ -20,7 +20,7 @@ and the patch as ``part``: ParaView's time slider steps through them. Written un
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
@@ -52,18 +52,25 @@ class PatchFields:
     name: str
 
 
-def patch_mesh(item: PatchFields):
-    """The meshio quad mesh of one patch with the cell data of the module docstring."""
+def cell_edges(patch: Patch) -> tuple[np.ndarray, np.ndarray]:
+    """(x edges (nx + 1,), strip edges (ny + 1,)) of a patch's picture grid (mm, the patch's frame)."""
+    h = patch.grid_mm
+    x, _ = patch.grid()
+    return np.append(x - 0.5 * h, x[-1] + 0.5 * h), np.append(patch.y_mm - 0.5 * h, patch.y_mm[-1] + 0.5 * h)
+
+
+def patch_mesh(item: PatchFields, points: np.ndarray | None = None):
+    """The meshio quad mesh of one patch with the cell data of the module docstring; ``points`` ((ny + 1) (nx + 1),
+    3) place the grid's corners (strip by strip) elsewhere, e.g. on a body's surface in track coordinates (default:
+    the patch's plane, z = 0)."""
     import meshio  # here: only runs that write VTK files import it
 
     patch = item.patch
-    h = patch.grid_mm
     x, mask = patch.grid()
     ny, nx = mask.shape
-    xe = np.append(x - 0.5 * h, x[-1] + 0.5 * h)
-    ye = np.append(patch.y_mm - 0.5 * h, patch.y_mm[-1] + 0.5 * h)
-    X, Y = np.meshgrid(xe, ye)
-    points = np.column_stack([X.ravel(), Y.ravel(), np.zeros(X.size)])
+    if points is None:
+        X, Y = np.meshgrid(*cell_edges(patch))
+        points = np.column_stack([X.ravel(), Y.ravel(), np.zeros(X.size)])
     j, i = np.meshgrid(np.arange(ny), np.arange(nx), indexing="ij")
     p0 = (j * (nx + 1) + i).ravel()
     quads = np.column_stack([p0, p0 + 1, p0 + nx + 2, p0 + nx + 1])
@@ -97,13 +104,20 @@ def cell_fields(item: PatchFields, x: np.ndarray, mask: np.ndarray) -> dict[str,
 def write_series(items: Iterable[PatchFields], out_dir: Path) -> list[str]:
     """Write every item as ``vtk/<name>.vtu`` and the collection ``vtk/contact_fields.pvd``; returns the written
     paths relative to ``out_dir`` (the collection first; [] without items)."""
+    return write_meshes(((item.step, item.part, item.name, patch_mesh(item)) for item in items), out_dir)
+
+
+def write_meshes(meshes: Iterable[tuple], out_dir: Path) -> list[str]:
+    """Write every (step, part, name, meshio mesh) as ``vtk/<name>.vtu`` and the collection
+    ``vtk/contact_fields.pvd`` listing them by step and part; returns the written paths relative to ``out_dir``
+    (the collection first; [] without meshes)."""
     folder = Path(out_dir) / VTK_DIR
     entries = []
-    for item in items:
+    for step, part, stem, mesh in meshes:
         folder.mkdir(parents=True, exist_ok=True)
-        name = f"{item.name}.vtu"
-        patch_mesh(item).write(folder / name, file_format="vtu")
-        entries.append((item.step, item.part, name))
+        name = f"{stem}.vtu"
+        mesh.write(folder / name, file_format="vtu")
+        entries.append((step, part, name))
     if not entries:
         return []
     lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
@@ -134,16 +148,16 @@ def scene_items(run) -> list[PatchFields]:
     return items
 
 
-def _layer_sum(cumulative: dict) -> np.ndarray | None:
-    """Cumulative residual displacement summed over the layers (mm), None without."""
-    return np.sum([np.asarray(v, dtype=float) for v in cumulative.values()], axis=0) if cumulative else None
-
-
 def sweep_items(all_sols: list) -> list[PatchFields]:
     """The patches of every solved case and wheel of a wheel–rail sweep (``all_sols[case] = {side:
     WheelRailSolution}``, None for a failed case): the balanced solution (pass 1's normal and tangential
     solutions, strips in the patch problem's coordinate), residuals after the last pass and added by it."""
-    items = []
+    return [item for *_, item in sweep_patches(all_sols)]
+
+
+def sweep_patches(all_sols: list) -> Iterator[tuple]:
+    """(case index, side, WheelRailSolution, PatchSolution, PatchFields) of every region of every loaded patch of
+    a wheel–rail sweep (:func:`sweep_items`)."""
     for k, case in enumerate(all_sols):
         for side, sol in (case or {}).items():
             for i, p in enumerate(sol.patches):
@@ -157,10 +171,14 @@ def sweep_items(all_sols: list) -> list[PatchFields]:
                     def on_strips(v):
                         return None if v is None else np.interp(patch.y_mm, y, v)
                     part = f"{side}_patch{i}_region{r}"
-                    items.append(PatchFields(patch, tang, on_strips(total), on_strips(added), k, part,
-                                             f"case{k:03d}_{part}"))
-    return items
+                    yield k, side, sol, p, PatchFields(patch, tang, on_strips(total), on_strips(added), k, part,
+                                                       f"case{k:03d}_{part}")
 
 
-__all__ = ["CELL_FIELDS", "PVD_FILE", "VTK_DIR", "PatchFields", "cell_fields", "patch_mesh", "scene_items",
-           "sweep_items", "write_series"]
+def _layer_sum(cumulative: dict) -> np.ndarray | None:
+    """Cumulative residual displacement summed over the layers (mm), None without."""
+    return np.sum([np.asarray(v, dtype=float) for v in cumulative.values()], axis=0) if cumulative else None
+
+
+__all__ = ["CELL_FIELDS", "PVD_FILE", "VTK_DIR", "PatchFields", "cell_edges", "cell_fields", "patch_mesh",
+           "scene_items", "sweep_items", "sweep_patches", "write_meshes", "write_series"]

@@ -60,6 +60,7 @@ from contact.tangential.kalker_coefficients import CreepCoefficients, creep_coef
 from contact.normal.patch import Patch
 from wrlayer.errors import require
 from wrlayer.jit import kernel
+from wrlayer.short_repr import short_repr
 
 #: N/mm^2 * mm/s = N mm/(s mm^2) = 1e-3 W/mm^2.
 W_PER_NMM_S = 1e-3
@@ -148,6 +149,8 @@ class TangentialResult:
     method: str = "fastsim"
     iterations: int = 0
     residual: float = 0.0
+
+    __repr__ = short_repr  # the arrays by their shapes
 
     @property
     def adhesion(self) -> np.ndarray:
@@ -320,6 +323,8 @@ class StripCells:
     speed_mm_s: float
     flexibility: str = "three"
 
+    __repr__ = short_repr  # the arrays by their shapes
+
     def result(self, patch: Patch, tx, ty, slip, slip_velocity_mm_s, work, ell: EquivalentEllipse, method: str,
                flex: tuple[float, float, float], iterations: int = 0, residual: float = 0.0) -> TangentialResult:
         """The TangentialResult of per-cell tractions (MPa), slip flags, |slip velocity| (mm/s) and frictional work
@@ -414,6 +419,8 @@ class GridSample:
     PT_W_per_mm2: np.ndarray
     WT_field_N_per_mm: np.ndarray
     slip_velocity_mm_s: np.ndarray
+
+    __repr__ = short_repr  # the arrays by their shapes
 
 
 def sample_on_grid(patch: Patch, result: TangentialResult) -> GridSample:

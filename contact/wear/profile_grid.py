@@ -24,6 +24,7 @@ from scipy.ndimage import gaussian_filter1d
 
 from meshes.profiles import Profile, SplineProfile
 from wrlayer.errors import InputError
+from wrlayer.short_repr import short_repr
 
 
 @dataclass(frozen=True)
@@ -36,6 +37,8 @@ class ArcGrid:
     z_mm: np.ndarray
     normal: np.ndarray
     cell_mm: np.ndarray
+
+    __repr__ = short_repr  # the nodes by their shapes
 
     @classmethod
     def of(cls, profile: Profile, ds_mm: float) -> ArcGrid:

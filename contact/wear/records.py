@@ -18,6 +18,7 @@ from contact.wheel_rail.patch_result import PatchResult
 from meshes.profiles import Profile
 from wrlayer.errors import WrLayerError
 from wrlayer.json_io import Layout, Record
+from wrlayer.short_repr import short_repr
 
 #: profiles[side][body]: the profiles of the simulated sides ("right", "left"), bodies "wheel" and "rail".
 Profiles = dict[str, dict[str, Profile]]
@@ -46,6 +47,8 @@ class BodyStep:
     inelastic_mm: np.ndarray
     wear_raw_mm: np.ndarray
     stats: BodyStats
+
+    __repr__ = short_repr  # the arrays by their shapes
 
 
 #: A patch of ``steps[].conditions[].patches[]`` in result.json: contact point (first contact, mm), forces (N),
@@ -129,6 +132,8 @@ class StepRecord:
     notes: tuple[str, ...] = ()
     layer_state: History = field(default_factory=dict)
 
+    __repr__ = short_repr  # the depths by their shapes
+
     @property
     def end_km(self) -> float:
         return self.start_km + self.length_km
@@ -158,6 +163,11 @@ class WearRun:
     initial_conicity: RadiusDifference
     steps: list[StepRecord] = field(default_factory=list)
     stopped: str | None = None
+
+    def __repr__(self) -> str:
+        done_km = self.steps[-1].end_km if self.steps else 0.0
+        return (f"WearRun({len(self.steps)} steps, {done_km:.6g} km"
+                f"{', stopped: ' + self.stopped if self.stopped else ''})")
 
 
 class WearStopped(WrLayerError):

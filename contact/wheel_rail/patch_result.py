@@ -167,7 +167,7 @@ class PatchResult(Record):
         Lateral creep force, contact-plane lateral axis (N).
     Mz_Nmm : float
         Spin moment about the reference point (N mm).
-    WT_max : float | None
+    WT_max_N_per_mm : float | None
         Largest frictional work per unit area over one pass (N/mm); None without friction.
     PT_max_W_per_mm2 : float | None
         Largest frictional power density (W/mm^2); None without friction.
@@ -222,7 +222,7 @@ class PatchResult(Record):
     Fx_N: float
     Fy_N: float
     Mz_Nmm: float
-    WT_max: float | None
+    WT_max_N_per_mm: float | None
     PT_max_W_per_mm2: float | None
     force_on_wheel_track_N: tuple[float, float, float]
     normal_track: tuple[float, float, float]
@@ -266,7 +266,7 @@ class PatchResult(Record):
                                        normal_force_N=r.normal_force_N) for pt, r in zip(ns.patches, ns.regions)),
             creepage_x=p.kinematics.vx, creepage_y=p.kinematics.vy, spin_per_mm=p.kinematics.phi_per_mm,
             Fx_N=p.Fx_N, Fy_N=p.Fy_N, Mz_Nmm=p.Mz_Nmm,
-            WT_max=max((r.WT_max_N_per_mm for r in t), default=None),
+            WT_max_N_per_mm=max((r.WT_max_N_per_mm for r in t), default=None),
             PT_max_W_per_mm2=max((r.PT_max_W_per_mm2 for r in t), default=None),
             force_on_wheel_track_N=tuple(p.force_track_N().tolist()), normal_track=tuple(p.normal_track.tolist()),
             lateral_track=tuple(p.lateral_track.tolist()), elastic=bool(ns.elastic), u0_mm=ns.u0_mm,

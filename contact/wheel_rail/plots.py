@@ -220,49 +220,61 @@ def _sweep_axis(result: SweepResult) -> tuple[str, str]:
     return "case", "case"
 
 
+#: The panels of sweep.png, row by row: (title naming what and in which frame, y label). Rows 1-3 per loaded patch
+#: (its location, its normal solution, its creep forces in the contact frame), row 4 per wheel in the track frame.
+SWEEP_PANELS = (
+    ("per patch: contact position, rail profile coordinate", "y_rail (mm, field side +)"),
+    ("per patch: contact angle, normal vs. track vertical", "contact angle γ (°)"),
+    ("per patch: normal force, along the contact normal", "normal force N (kN)"),
+    ("per patch: largest pressure", "p_max (MPa)"),
+    ("per patch, contact frame: longitudinal creep force", "F_x on the wheel (kN)"),
+    ("per patch, contact frame: lateral creep force\n(in the contact plane)", "F_y on the wheel (kN)"),
+    ("per wheel, track frame: lateral force Y\n(solid: total; dashed: of the normal forces alone)",
+     "Y on the wheel (kN)"),
+    ("per wheel, track frame: Y/Q", "Y/Q (-)"),
+)
+
+
 def _sweep_plot(result: SweepResult, path: Path) -> Path:
-    """Six panels over the cases, one quantity each, one colour per wheel, one marker per patch of a case:
-    contact position on the rail (mm), contact angle (°), normal force (kN), p_max (MPa), creep forces F_x and F_y
-    of the rail on the wheel in the contact frame (kN), and the wheel's Y/Q (track frame). One legend below the
-    panels (wheel colours, F_x / F_y markers), none over the points."""
-    fig, axes = plt.subplots(3, 2, figsize=(10, 10), sharex=True, constrained_layout=True)
-    (a_pos, a_ang), (a_n, a_p), (a_f, a_yq) = axes
+    """Eight panels over the cases, one quantity each and titled with its frame (:data:`SWEEP_PANELS`), one colour
+    per wheel, one marker per patch of a case: per patch the contact position on the rail (mm), the contact angle
+    (°), the normal force (kN), p_max (MPa), the creep forces F_x and F_y of the rail on the wheel in the contact
+    frame (kN); per wheel in the track frame the lateral force Y (kN; also its part from the normal forces alone)
+    and Y/Q (-): F_y (contact plane) stands
+    above Y (track) so that the two frames are not mixed in a panel. One legend below the panels (wheel colours),
+    none over the points."""
+    fig, axes = plt.subplots(4, 2, figsize=(10, 12.5), sharex=True, constrained_layout=True)
     key, xlabel = _sweep_axis(result)
     x_of = (lambda k, c: c.lateral_mm) if key == "lateral_mm" else (lambda k, c: k + 1)
     cases: list[tuple[int, CaseResult]] = list(enumerate(result.cases))
     sides = sorted({s for _, c in cases for s in c.wheels or {}})
+    per_patch = (lambda p: p.y_rail_mm, lambda p: np.degrees(p.contact_angle_rad),
+                 lambda p: p.normal_force_N / 1e3, lambda p: p.p_max_MPa, lambda p: p.Fx_N / 1e3,
+                 lambda p: p.Fy_N / 1e3)
+    per_wheel = (lambda w: w.force_on_wheel_track_N[1] / 1e3, lambda w: w.Y_over_Q)
     for side in sides:
         col = SIDE_COLOURS.get(side, "k")
         rows = [(x_of(k, c), p) for k, c in cases if side in (c.wheels or {}) for p in c.wheels[side].patches]
-        if not rows:
-            continue
-        x = np.array([r[0] for r in rows])
-        mark = dict(color=col, ms=4, ls="none")
-        a_pos.plot(x, [r[1].y_rail_mm for r in rows], "o", label=f"{side} wheel", **mark)
-        a_ang.plot(x, [np.degrees(r[1].contact_angle_rad) for r in rows], "o", label=f"{side} wheel", **mark)
-        a_n.plot(x, [r[1].normal_force_N / 1e3 for r in rows], "o", label=f"{side} wheel", **mark)
-        a_p.plot(x, [r[1].p_max_MPa for r in rows], "o", label=f"{side} wheel", **mark)
-        a_f.plot(x, [r[1].Fx_N / 1e3 for r in rows], "o", label=f"{side}: F_x", **mark)
-        a_f.plot(x, [r[1].Fy_N / 1e3 for r in rows], "s", mfc="none", label=f"{side}: F_y", **mark)
+        if rows:
+            x = np.array([r[0] for r in rows])
+            for ax, value in zip(axes.ravel(), per_patch):
+                ax.plot(x, [value(r[1]) for r in rows], "o", color=col, ms=4, ls="none")
         wheels = [(x_of(k, c), c.wheels[side]) for k, c in cases if side in (c.wheels or {})]
-        a_yq.plot([w[0] for w in wheels], [w[1].Y_over_Q for w in wheels], "o-", color=col, ms=4,
-                  lw=1, label=f"{side} wheel")
+        for ax, value in zip(axes[-1], per_wheel):
+            ax.plot([w[0] for w in wheels], [value(w[1]) for w in wheels], "o-", color=col, ms=4, lw=1)
+        axes[-1, 0].plot([w[0] for w in wheels],  # Y = sum N n_Y + creep forces: the flange's share shows here
+                         [sum(p.normal_force_N * p.normal_track[1] for p in w[1].patches) / 1e3 for w in wheels],
+                         "x--", color=col, ms=4, lw=0.8)
     failed = [x_of(k, c) for k, c in cases if c.error is not None]
-    for ax in axes.ravel():
+    for ax, (title, ylabel) in zip(axes.ravel(), SWEEP_PANELS):
         for xf in failed:
             ax.axvline(xf, color="r", lw=0.8, ls=":")
         ax.grid(alpha=0.3)
+        ax.set_title(title, fontsize=8)
+        ax.set_ylabel(ylabel)
     handles = [Line2D([], [], color=SIDE_COLOURS.get(side, "k"), marker="o", ms=4, ls="none") for side in sides]
-    handles += [Line2D([], [], color="0.3", marker="o", ms=4, ls="none"),
-                Line2D([], [], color="0.3", marker="s", mfc="none", ms=4, ls="none")]
-    fig.legend(handles, [f"{side} wheel" for side in sides] + ["creep force F_x", "creep force F_y"],
-               loc="outside lower center", ncol=len(handles), fontsize=8)
-    a_pos.set_ylabel("contact position on the rail\ny_rail (mm, field side +)")
-    a_ang.set_ylabel("contact angle γ (°)")
-    a_n.set_ylabel("normal force N (kN)")
-    a_p.set_ylabel("largest pressure p_max (MPa)")
-    a_f.set_ylabel("creep forces on the wheel (kN)\ncontact frame")
-    a_yq.set_ylabel("Y/Q of the wheel (track frame)")
+    fig.legend(handles, [f"{side} wheel" for side in sides], loc="outside lower center", ncol=max(len(handles), 1),
+               fontsize=8)
     for ax in axes[-1]:
         ax.set_xlabel(xlabel)
     fig.suptitle(sweep_title(result.inputs, bool(failed)), fontsize=9)
@@ -270,5 +282,5 @@ def _sweep_plot(result: SweepResult, path: Path) -> Path:
     return path
 
 
-__all__ = ["ResidualCurve", "method_label", "residual_curves", "residual_figure", "residual_span", "sweep_title",
-           "write_wheel_rail_plots"]
+__all__ = ["SWEEP_PANELS", "ResidualCurve", "method_label", "residual_curves", "residual_figure", "residual_span",
+           "sweep_title", "write_wheel_rail_plots"]

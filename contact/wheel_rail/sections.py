@@ -85,11 +85,15 @@ class WheelRailOutputSpec(OutputSpec):
     frictional_csv : bool
         Write the wear-ready frictional CSVs (frictional_cells.csv, frictional_strips.csv: every FASTSIM cell and
         strip; about 0.9 MB and 0.1 s per elastic case of both wheels) (-).
+    vtk_frame : str
+        Where the VTK fields lie: "track" (default: on the deformed rail and wheel surfaces in track coordinates,
+        with the surfaces; :mod:`contact.wheel_rail.track_vtk`) or "local" (each patch flat in its own frame) (-).
     """
 
     deformed_profiles: bool = key(True)
     contact_table: bool = key(False)
     frictional_csv: bool = key(True)
+    vtk_frame: str = key("track", choices=("track", "local"))
 
 
 __all__ = ["BALANCES", "WheelLoadSpec", "WheelRailMethodSpec", "WheelRailOutputSpec"]

@@ -18,7 +18,7 @@ from contact.scenes.scene import load_scene
 
 SCENES = Path(__file__).resolve().parents[3] / "scenes"
 BAD = Path(__file__).resolve().parents[2] / "inputs" / "bad_scenes"
-PASS_KEYS = ("length_mm", "width_mm", "area_mm2", "delta_mm", "p_max_MPa", "Fx_N", "Fy_N", "WT_max",
+PASS_KEYS = ("length_mm", "width_mm", "area_mm2", "delta_mm", "p_max_MPa", "Fx_N", "Fy_N", "WT_max_N_per_mm",
              "PT_max_W_per_mm2", "u0_mm", "up0_mm", "elastic")
 
 
@@ -37,7 +37,7 @@ def paper(tmp_path_factory):
 def test_result_has_the_documented_fields(paper):
     for result in paper.values():
         assert {"inputs", "code_version", "units", "passes", "shakedown_pass", "solver"} <= set(result)
-        assert result["code_version"] and "WT_max" in result["units"]
+        assert result["code_version"] and "WT_max_N_per_mm" in result["units"]
         assert len(result["inputs"]["content_sha256"]) == 64
         assert result["inputs"]["scene_file"].endswith(".toml")
         for p in result["passes"]:
@@ -45,7 +45,7 @@ def test_result_has_the_documented_fields(paper):
             assert p["normal_force_N"] == pytest.approx(100e3, rel=1e-8)
             assert p["Fx_N"] == pytest.approx(sum(q["Fx_N"] for q in p["patches"]))
             assert abs(np.hypot(p["Fx_N"], p["Fy_N"])) <= 0.3 * 100e3 * (1 + 1e-9)  # Coulomb bound mu N
-            assert p["WT_max"] > 0 and p["PT_max_W_per_mm2"] > 0
+            assert p["WT_max_N_per_mm"] > 0 and p["PT_max_W_per_mm2"] > 0
 
 
 def test_layer_trends_of_table_1(paper):
@@ -57,8 +57,8 @@ def test_layer_trends_of_table_1(paper):
     assert sd[-1]["area_mm2"] > sd[0]["area_mm2"] and sd[-1]["p_max_MPa"] < sd[0]["p_max_MPa"]
     assert sd[-1]["p_max_MPa"] == pytest.approx(1190.0, rel=0.01)
     dev = paper["shakedown"]["reference_deviation"]
-    assert dev["p_max_MPa"] == pytest.approx((sd[-1]["p_max_MPa"] - 1190.0) / 1190.0)
-    assert dev["passes"] == pytest.approx((len(sd) - 19) / 19)
+    assert dev["p_max_rel"] == pytest.approx((sd[-1]["p_max_MPa"] - 1190.0) / 1190.0)
+    assert dev["passes_rel"] == pytest.approx((len(sd) - 19) / 19)
     assert np.all(np.diff([p["area_mm2"] for p in sd]) > 0)
     for key in ("length_mm", "width_mm", "area_mm2", "delta_mm", "p_max_MPa", "u0_mm", "up0_mm"):
         assert sd[0][key] == pytest.approx(layer[0][key], rel=1e-12)  # pass 1 of both scenes is the same
@@ -85,7 +85,7 @@ def test_layer_numbers_follow_the_characteristic(paper):
 def test_no_creepage_means_no_tangential_solution(tmp_path):
     result = run(SCENES / "hertz_check.toml", tmp_path / "hertz")
     p = result["passes"][0]
-    assert (p["Fx_N"], p["Fy_N"], p["WT_max"], p["PT_max_W_per_mm2"]) == (0.0, 0.0, None, None)
+    assert (p["Fx_N"], p["Fy_N"], p["WT_max_N_per_mm"], p["PT_max_W_per_mm2"]) == (0.0, 0.0, None, None)
     assert result["method"]["tangential"] is None and result["method"]["layer"] is None
     assert result["shakedown_pass"] is None and p["elastic"]
 
@@ -270,3 +270,29 @@ def test_sigterm_in_simulate_all_says_which_outputs_are_complete(tmp_path, monke
     assert main(["simulate-all", str(scenes), "--out", str(out), "--no-vtk"]) == 143
     assert capsys.readouterr().err.strip() == f"error: terminated (SIGTERM); 1 of 2 scene outputs complete in {out}"
     assert json.loads((out / "a" / "result.json").read_text())["inputs"] and not (out / "b").exists()
+
+
+def test_simulate_prints_the_key_numbers_of_each_pass(tmp_path, capsys):
+    result = run(SCENES / "hertz_check.toml", tmp_path / "h", "--no-vtk")
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == "hertz_check.toml: 1 pass"
+    assert lines[-1] == f"hertz_check.toml: wrote {tmp_path / 'h' / 'result.json'}"
+    row = dict(zip(("pass", "p_max", "length", "width", "delta"), lines[2].split()))
+    p = result["passes"][0]
+    assert (row["p_max"], row["length"], row["delta"]) == (f"{p['p_max_MPa']:.0f}", f"{p['length_mm']:.2f}",
+                                                           f"{p['delta_mm']:.6f}")
+    assert max(len(line) for line in lines[:-1]) <= 100
+
+
+def test_result_records_print_short():
+    """print(run.first) and the records show scalars and array shapes, not the arrays."""
+    from contact.scenes.simulation import simulate
+
+    sim = simulate(load_scene(SCENES / "paper_no_layer.toml"))
+    texts = {"first": repr(sim.first), "tangential": repr(sim.first.tangential[0]), "run": repr(sim),
+             "result": repr(sim.result), "pass": repr(sim.result.passes[0]),
+             "region": repr(sim.result.passes[0].regions[0]), "strip grid": repr(sim.result.strip_grid)}
+    for name, text in texts.items():
+        assert len(text) < 2000 and "\n" not in text and "[[" not in text, name
+    assert "tx_MPa=array((" in texts["tangential"] and "WT_max_N_per_mm=" in texts["tangential"]
+    assert "p_max=1869.83 MPa" in texts["first"] and len(sim.first.tangential[0].tx_MPa.ravel()) > 1000

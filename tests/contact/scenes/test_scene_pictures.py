@@ -55,3 +55,30 @@ def test_separation_legends_beside_the_panels():
         assert legend is not None
         assert legend.get_window_extent(renderer).x0 >= box.x1     # right of the axes, not over the curves
     plt.close(fig)
+
+
+def test_contour_labels_of_two_patches_do_not_overlap(figures, tmp_path):
+    """patch_pass1.png of two_patches: the pressure labels sit apart on each patch's reference strip, inside the
+    outline, upright; their boxes do not overlap once drawn."""
+    run = simulate(load_scene(SCENES / "two_patches.toml"))
+    plots.plot_patch(run.first, tmp_path / "p.png", "two patches")
+    fig = figures[-1]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    labels = [t for t in fig.axes[0].texts if t.get_text().isdigit()]
+    assert len(labels) >= 6                                    # both patches labelled
+    boxes = [t.get_window_extent(renderer) for t in labels]
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+    assert all(t.get_rotation() == 0 for t in labels)
+
+
+def test_label_positions_keep_a_gap_and_stay_inside_the_patch():
+    import numpy as np
+
+    x = np.linspace(-10.0, 10.0, 401)
+    p = 1500.0 * np.sqrt(np.clip(1.0 - (x / 6.0) ** 2, 0.0, None))   # a Hertz-like row, edge at 6 mm
+    levels, where = plots.label_positions(x, p, [200, 400, 600, 800, 1000, 1200, 1400], 0.0, 0.8)
+    xs = [w[0] for w in where]
+    assert levels[0] == 1400 and levels == sorted(levels, reverse=True)
+    assert all(b - a >= 0.8 for a, b in zip(xs, xs[1:])) and max(xs) <= 6.0 - 0.4
+    assert 200 not in levels                                   # the crowded outer levels are left to the colour bar

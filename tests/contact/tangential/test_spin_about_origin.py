@@ -48,7 +48,7 @@ def test_every_method_through_the_scene(method):
     p = run.result.passes[0]
     tr = run.first.tangential[0]
     assert tr.method == method
-    assert p.Fx_N < 0 and p.WT_max > 0 and p.PT_max_W_per_mm2 > 0
+    assert p.Fx_N < 0 and p.WT_max_N_per_mm > 0 and p.PT_max_W_per_mm2 > 0
     g = sample_on_grid(run.first.solution.patches[0], tr)
     inside = g.mask.sum()
     assert 0 < g.slip.sum() < inside

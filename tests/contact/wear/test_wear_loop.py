@@ -318,3 +318,14 @@ def test_tangential_methods_run_the_loop(make_scene, tangential):
         assert b.wear_max_mm > 0
         assert b.worn_area_mm2 == pytest.approx(a.worn_area_mm2, rel=0.5)
     assert other.conditions[0].patches[0].Fx_N != fastsim.conditions[0].patches[0].Fx_N
+
+
+def test_wear_records_print_short(make_scene):
+    """A wear run, its steps and their depths print their numbers and array shapes, not the arrays."""
+    run = run_wear(make_scene(layers=None, wear={"distance_km": 0.02, "steps": 1, "inelastic": False}),
+                   show_progress=False)
+    step = run.steps[0]
+    assert repr(run) == "WearRun(1 steps, 0.02 km)"
+    for text in (repr(step), repr(step.bodies["right", "wheel"]), repr(step.bodies["right", "wheel"].grid)):
+        assert "\n" not in text and len(text) < 3000 and "array((" in text
+    assert step.bodies["right", "wheel"].wear_mm.size > 50

@@ -45,23 +45,32 @@ def test_residual_displacements_colour_bar_and_limits():
     plt.close(fig)
 
 
-def test_sweep_has_one_legend_below_the_panels(monkeypatch, tmp_path):
+def test_sweep_panels_name_their_frame_and_one_legend_is_below_them(monkeypatch, tmp_path):
+    """sweep.png: every panel titled with what it shows per patch or per wheel and in which frame; the contact-frame
+    creep forces and the track-frame Y and Y/Q never share a panel; one legend (the wheels) below the panels."""
     from contact.wheel_rail import plots
 
     kept = []
     monkeypatch.setattr(plots, "save_figure", lambda fig, path: kept.append(fig))
     patch = {"y_rail_mm": -1.0, "contact_angle_rad": 0.01, "normal_force_N": 1e4, "p_max_MPa": 900.0,
-             "Fx_N": 100.0, "Fy_N": -50.0}
-    cases = [Record(lateral_mm=lat, error=None, wheels={side: Record(patches=[Record(**patch)], Y_over_Q=0.1)
-                                                        for side in ("right", "left")})
+             "Fx_N": 100.0, "Fy_N": -50.0, "normal_track": (0.0, 0.1, 0.99)}
+    cases = [Record(lateral_mm=lat, error=None,
+                    wheels={side: Record(patches=[Record(**patch)], Y_over_Q=0.1,
+                                         force_on_wheel_track_N=(100.0, 1000.0, 1e4)) for side in ("right", "left")})
              for lat in (0.0, 1.0, 2.0)]
     plots._sweep_plot(Record(inputs={"title": "t"}, cases=cases), tmp_path / "s.png")
     (fig,) = kept
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
+    titles = [ax.get_title() for ax in fig.axes]
+    assert len(titles) == 8 and all(t.startswith(("per patch", "per wheel")) for t in titles)
+    contact = [ax for ax in fig.axes if "contact frame" in ax.get_title()]
+    track = [ax for ax in fig.axes if "track frame" in ax.get_title()]
+    assert [ax.get_ylabel() for ax in contact] == ["F_x on the wheel (kN)", "F_y on the wheel (kN)"]
+    assert [ax.get_ylabel() for ax in track] == ["Y on the wheel (kN)", "Y/Q (-)"]
+    assert track[0].lines[0].get_ydata()[0] == 1.0 and track[1].lines[0].get_ydata()[0] == 0.1
     assert all(ax.get_legend() is None for ax in fig.axes)
     (legend,) = fig.legends
-    assert [t.get_text() for t in legend.get_texts()] == ["left wheel", "right wheel", "creep force F_x",
-                                                          "creep force F_y"]
+    assert [t.get_text() for t in legend.get_texts()] == ["left wheel", "right wheel"]
     assert legend.get_window_extent(renderer).y1 <= min(ax.get_window_extent(renderer).y0 for ax in fig.axes)
     plt.close(fig)

@@ -137,8 +137,9 @@ def test_sweep_picture_abscissa_and_panels(tmp_path):
         if error:
             return Record(lateral_mm=lateral, wheels=None, error="x")
         patch = Record(y_rail_mm=-lateral, contact_angle_rad=0.01 * lateral, normal_force_N=1e4, p_max_MPa=900.0,
-                       Fx_N=100.0, Fy_N=-50.0)
-        return Record(lateral_mm=lateral, error=None, wheels={"right": Record(patches=[patch], Y_over_Q=yq)})
+                       Fx_N=100.0, Fy_N=-50.0, normal_track=(0.0, 0.1, 0.99))
+        return Record(lateral_mm=lateral, error=None, wheels={"right": Record(
+            patches=[patch], Y_over_Q=yq, force_on_wheel_track_N=(0.0, 1e4 * yq, 1e4))})
 
     varying = Record(inputs={"title": "t"}, cases=[case(0.0, 0.1), case(1.0, 0.2), case(2.0, 0.0, error=True)])
     assert _sweep_axis(varying)[0] == "lateral_mm"
