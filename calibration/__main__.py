@@ -34,10 +34,12 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--workers", type=int, default=None, help="local worker processes (default: config)")
     run.add_argument("--plots", action=argparse.BooleanOptionalAction, default=None,
                      help="write PNG/VTK pictures (default: config run.plots)")
+    cli.add_profile_check_option(run)
     roll = cli.subparser(sub, "rolling", "moving Hertz load pass after pass on an elastic-plastic half-space",
                          ["wrlayer rolling calibration/configs/rolling_halfspace.toml --out out/rolling"])
     roll.add_argument("config", help="TOML rolling configuration file")
     cli.add_run_options(roll, "output folder (rolling.json, fields/)")
+    cli.add_profile_check_option(roll)
     return ap
 
 
@@ -45,7 +47,7 @@ def _rolling(args) -> int:
     from calibration.rolling.config import load_rolling_config  # the FEM stack only once the arguments are valid
     from calibration.rolling.run import run_rolling
 
-    cfg = load_rolling_config(args.config)
+    cfg = load_rolling_config(args.config, args.accept_unusual_profile)
     run_rolling(cfg, args.out, force=args.force, progress=None if args.quiet else print)
     return 0
 
@@ -59,7 +61,7 @@ def main(argv: list[str] | None = None) -> int:
     from calibration.pipeline import calibrate
     from wrlayer.runner import check_workers
 
-    cfg = load_config(args.config)
+    cfg = load_config(args.config, args.accept_unusual_profile)
     if args.workers is not None:
         cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, workers=check_workers(args.workers,
                                                                                             "--workers")))

@@ -17,7 +17,7 @@ from calibration.placement import MIN_INCLINATION_RATIO, cant_rad
 from calibration.settings import (FIT_MODES, LINEAR_SOLVERS, MESH_STYLES, METHODS, MODELS, REFERENCE_LOAD_N,
                                   SIMILARITY_OUTSIDE, BodySettings, CalibrationConfig, FitSettings, LoadSettings,
                                   MaterialSettings, MeshSettings, RunSettings)
-from meshes.profiles import PROFILE_FILE_SUFFIXES, Profile, get_profile
+from meshes.profiles import PROFILE_FILE_SUFFIXES, PROFILE_UNITS, Profile, get_profile, named_profile
 from wrlayer import validate
 from wrlayer.errors import InputError
 from wrlayer.input_files import read_toml
@@ -31,7 +31,7 @@ MAX_POSITIONS = 500
 _TOP_KEYS = ("run", "material", "load", "mesh", "fit", "bodies")
 _BODY_KEYS = ("body", "profile", "mate", "positions_mm", "positions", "semi_axes_mm", "inclination",
               "inclination_rad", "rail_cant_rad", "max_lateral_radius_mm", "wheel_radius_mm", "material",
-              "accept_unusual_profile")
+              "accept_unusual_profile", "units")
 
 
 def _names(cls) -> tuple[str, ...]:
@@ -135,10 +135,13 @@ def _fit(k: Keys) -> FitSettings:
     return FitSettings(**kw)
 
 
-def resolve_profile(spec: Any, what: str, base: Path, accept_unusual: bool = False) -> tuple[Any, Profile]:
+def resolve_profile(spec: Any, what: str, base: Path, accept_unusual: bool = False, units: str | None = None,
+                    body: str | None = None) -> tuple[Any, Profile]:
     """(spec as stored, Profile) of a profile given as a name, a file path (relative to ``base``) or a Profile
-    object; InputError naming ``what`` when it is none of them or cannot be read. ``accept_unusual``: a file is
-    read without the plausibility checks and stored as the Profile object (so that it is not read again)."""
+    object; InputError naming ``what`` when it is none of them or cannot be read. A file read with options
+    (``accept_unusual``: without the plausibility checks; ``units``: "mm" or "m", the file's length unit; ``body``
+    for a text or CSV file, which does not state its body; :func:`meshes.profiles.named_profile`) is stored as the
+    Profile object (so that it is not read again without them)."""
     if isinstance(spec, Profile):
         return spec, spec
     if not isinstance(spec, str) or not spec.strip():
@@ -149,8 +152,10 @@ def resolve_profile(spec: Any, what: str, base: Path, accept_unusual: bool = Fal
             raise InputError(what, f"profile file {str(path)!r} not found")
         spec = str(path)
     try:
-        if accept_unusual and Path(spec).suffix.lower() in PROFILE_FILE_SUFFIXES:
-            profile = get_profile(spec, accept_unusual=True)
+        suffix = Path(spec).suffix.lower()
+        text_body = body if suffix in (".txt", ".csv") else None
+        if suffix in PROFILE_FILE_SUFFIXES and (accept_unusual or units is not None or text_body is not None):
+            profile = named_profile(spec, text_body, units, accept_unusual)
             return profile, profile
         return spec, get_profile(spec)
     except InputError as err:
@@ -188,15 +193,16 @@ def _positions(k: Keys) -> tuple[float, ...]:
     return tuple(sorted(ys))
 
 
-def _mate(k: Keys, body: str, base: Path, accept_unusual: bool = False):
-    mate, profile = resolve_profile(k.table["mate"], k.what("mate"), base, accept_unusual)
+def _mate(k: Keys, body: str, base: Path, accept_unusual: bool = False, units: str | None = None):
+    mate, profile = resolve_profile(k.table["mate"], k.what("mate"), base, accept_unusual, units,
+                                    "wheel" if body == "rail" else "rail")
     if profile.body == body:
         raise k.error("mate", f"{profile.name} is a {profile.body} profile; the mate of a {body} must be a "
                               f"{'wheel' if body == 'rail' else 'rail'}")
     return mate
 
 
-def _body(k: Keys, base: Path, material: MaterialSettings) -> BodySettings:
+def _body(k: Keys, base: Path, material: MaterialSettings, accept_unusual_profile: bool = False) -> BodySettings:
     k.check_known(_BODY_KEYS)
     if "body" not in k.table:
         raise k.error("body", "missing (required)")
@@ -205,8 +211,9 @@ def _body(k: Keys, base: Path, material: MaterialSettings) -> BodySettings:
         raise k.error("body", f"must be 'rail' or 'wheel', got {validate.show(body)}")
     if "profile" not in k.table:
         raise k.error("profile", "missing (required)")
-    unusual = k.boolean("accept_unusual_profile", False)
-    spec, profile = resolve_profile(k.table["profile"], k.what("profile"), base, unusual)
+    unusual = accept_unusual_profile or k.boolean("accept_unusual_profile", False)
+    units = k.text("units", None, tuple(PROFILE_UNITS)) if "units" in k.table else None
+    spec, profile = resolve_profile(k.table["profile"], k.what("profile"), base, unusual, units, body)
     if profile.body != body:
         raise k.error("profile", f"{profile.name} is a {profile.body} profile, not a {body} profile")
     ys = _positions(k)
@@ -223,11 +230,12 @@ def _body(k: Keys, base: Path, material: MaterialSettings) -> BodySettings:
         semi = tuple(float(x) for x in k.array("semi_axes_mm", gt=0.0))
     if "mate" not in k.table and semi is None:
         raise k.error("mate", "missing (needed for the Hertz semi-axes unless semi_axes_mm is given)")
-    mate = _mate(k, body, base, unusual) if "mate" in k.table else None
+    mate = _mate(k, body, base, unusual, units) if "mate" in k.table else None
     kw = _numbers(k, {"max_lateral_radius_mm": dict(gt=0.0), "wheel_radius_mm": dict(gt=0.0)})
     kw.update(_inclination(k))
     mat = _material(k.sub("material"), material) if "material" in k.table else material
-    settings = BodySettings(body, spec, mate, ys, semi, material=mat, accept_unusual_profile=unusual, **kw)
+    settings = BodySettings(body, spec, mate, ys, semi, material=mat, accept_unusual_profile=unusual, units=units,
+                            **kw)
     cant_rad(settings, f"{k.file}: {k.prefix}")  # a rail of unknown placement: refused here
     return settings
 
@@ -252,9 +260,11 @@ def _table(k: Keys, key: str) -> Keys:
     return k.sub(key) or Keys(k.file, key, {})
 
 
-def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> CalibrationConfig:
+def parse_config(data: dict, source: str = "config", base: Path = Path("."), accept_unusual_profile: bool = False
+                 ) -> CalibrationConfig:
     """Validate a parsed TOML mapping (InputError naming ``source`` and the key); profile files are relative to
-    ``base``."""
+    ``base``. ``accept_unusual_profile``: as ``accept_unusual_profile = true`` in every body (the command line's
+    ``--accept-unusual-profile``)."""
     top = Keys(source, "", data)
     top.check_known(_TOP_KEYS)
     run = _run(_table(top, "run"))
@@ -265,17 +275,18 @@ def parse_config(data: dict, source: str = "config", base: Path = Path(".")) -> 
     bodies = data.get("bodies")
     if not isinstance(bodies, list) or not bodies:
         raise top.error("bodies", "missing: give at least one [[bodies]] table")
-    parsed = tuple(_body(Keys(source, f"bodies[{i}]", b), base, material) for i, b in enumerate(bodies))
+    parsed = tuple(_body(Keys(source, f"bodies[{i}]", b), base, material, accept_unusual_profile)
+                   for i, b in enumerate(bodies))
     names = [b.body for b in parsed]
     if len(set(names)) != len(names):
         raise top.error("bodies", f"each body may appear once, got {names}")
     return CalibrationConfig(source, run, load, ref, mesh, fit, parsed)
 
 
-def load_config(path: str | Path) -> CalibrationConfig:
-    """Read and validate a TOML configuration file."""
+def load_config(path: str | Path, accept_unusual_profile: bool = False) -> CalibrationConfig:
+    """Read and validate a TOML configuration file (``accept_unusual_profile``: as :func:`parse_config`)."""
     path = Path(path)
-    return parse_config(read_toml(path, what=str(path)), str(path), path.parent)
+    return parse_config(read_toml(path, what=str(path)), str(path), path.parent, accept_unusual_profile)
 
 
 def material_of(body: BodySettings):

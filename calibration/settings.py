@@ -250,6 +250,9 @@ class BodySettings:
     accept_unusual_profile : bool
         Read the body's and the mate's profile files without the plausibility checks of
         :mod:`meshes.profiles.plausibility` (units, orientation, steps; a profile unusual on purpose).
+    units : str or None
+        Length unit of the body's and the mate's profile files ("mm" or "m"; None: mm for text, CSV and MiniProf
+        files, the header's ``units.len.f`` for SIMPACK files).
     """
 
     body: str
@@ -263,6 +266,7 @@ class BodySettings:
     wheel_radius_mm: float | None = None
     material: MaterialSettings = MaterialSettings()
     accept_unusual_profile: bool = False
+    units: str | None = None
 
 
 @dataclass(frozen=True)

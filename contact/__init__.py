@@ -30,6 +30,8 @@ Public API (imported on first use: ``import contact`` loads no solver; the full 
   ``TrackLayout``, ``WheelsetPose``; a wheel-rail scene file: ``load_wheel_rail_scene(path) -> WheelRailScene``,
   ``run_wheel_rail_scene(scene, out_dir, plots) -> SweepResult``.
 - Wear: ``run_wear_file(scene_path, out_dir)`` -> the wear run (profiles per step, steps.csv, result.json).
+- Contact geometry: ``contact_geometry(WheelsetProfiles(rail, wheel), TrackLayout(...))`` -> ``GeometryResult``
+  (Delta r, contact angles, roll, contact points and jumps, equivalent conicity after EN 15302).
 
 Depends on: wrlayer, meshes, calibration.
 The contact package uses the public profile API :mod:`meshes.profiles`; only the wear loop's recalibration imports
@@ -77,6 +79,9 @@ API = {
     "TrackLayout": "contact.wheel_rail.track_geometry",
     "WheelsetPose": "contact.wheel_rail.track_geometry",
     "run_wear_file": "contact.run_files",
+    "contact_geometry": "contact.geometry.analysis",
+    "GeometryResult": "contact.geometry.analysis",
+    "WheelsetProfiles": "contact.geometry.sweep",
 }
 __all__ = sorted(API)
 __getattr__, __dir__ = lazy_exports(__name__, API)

@@ -3,6 +3,9 @@
     wrlayer simulate SCENE --out DIR [--json] [--plots] [--no-vtk]
     wrlayer simulate-all SCENES_DIR --out OUT [--plots] [--no-vtk]
     wrlayer wear SCENE --out DIR [--no-plots] [--workers N] [--scheduler ADDRESS] [--quiet]
+    wrlayer geometry --rail RAIL --wheel WHEEL --out DIR [...]   (contact.geometry.command)
+
+Every command that reads profile files takes ``--accept-unusual-profile`` (:func:`wrlayer.cli.add_profile_check_option`).
 
 Argument parsing only: the runs and their files are :mod:`contact.run_files`. ``simulate`` writes
 ``DIR/result.json``, the frictional CSVs, the VTK fields ``DIR/vtk/contact_fields.pvd`` (unless ``--no-vtk`` or
@@ -32,6 +35,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from contact.geometry.command import add_parser as add_geometry_parser
 from wrlayer import cli
 from wrlayer.atomic_write import output_lock
 from wrlayer.errors import InputError, cli_guard, record_kept
@@ -58,7 +62,8 @@ def _simulate(args: argparse.Namespace) -> int:
     from contact.run_files import run_scene
 
     result = run_scene(args.scene, args.out, plots=args.plots, force=args.force, vtk=not args.no_vtk,
-                       workers=args.workers, scheduler=args.scheduler)
+                       workers=args.workers, scheduler=args.scheduler,
+                       accept_unusual_profile=args.accept_unusual_profile)
     if args.json:
         sys.stdout.write(result.to_json())
     else:
@@ -91,7 +96,8 @@ def _run_all(scenes: list[Path], out: Path, args: argparse.Namespace) -> int:
     failed = []
     code = 0
     for path, result, error in run_scene_folder(scenes, out, plots=args.plots, force=args.force,
-                                                vtk=not args.no_vtk):
+                                                vtk=not args.no_vtk,
+                                                accept_unusual_profile=args.accept_unusual_profile):
         if result is None:
             failed.append(path.name)
             print(error, file=sys.stderr, flush=True)
@@ -117,7 +123,8 @@ def _wear(args: argparse.Namespace) -> int:
     from contact.run_files import run_wear_into
 
     run, _ = run_wear_into(args.scene, args.out, plots=not args.no_plots, workers=args.workers,
-                           scheduler=args.scheduler, show_progress=not args.quiet, force=args.force)
+                           scheduler=args.scheduler, show_progress=not args.quiet, force=args.force,
+                           accept_unusual_profile=args.accept_unusual_profile)
     from contact.scenes.result_table import wear_summary
 
     print("\n".join(wear_summary(Path(args.scene).name, run.steps, Path(args.out) / "result.json")))
@@ -138,6 +145,7 @@ def build_parser() -> argparse.ArgumentParser:
     one.add_argument("--json", action="store_true", help="also print the result JSON")
     one.add_argument("--plots", action="store_true", help="write PNG pictures")
     one.add_argument("--no-vtk", action="store_true", help="do not write the VTK fields for ParaView (vtk/)")
+    cli.add_profile_check_option(one)
     cli.add_worker_options(one, "wheel-rail sweeps: local worker processes for the cases (overrides [run] workers)",
                            "wheel-rail sweeps: Dask scheduler address for the cases (overrides [run] scheduler)")
     one.set_defaults(func=_simulate)
@@ -148,6 +156,7 @@ def build_parser() -> argparse.ArgumentParser:
     cli.add_run_options(many, "output folder (one subfolder per scene, table.md, table.csv)", quiet=False)
     many.add_argument("--plots", action="store_true", help="write PNG pictures")
     many.add_argument("--no-vtk", action="store_true", help="do not write the VTK fields for ParaView (vtk/)")
+    cli.add_profile_check_option(many)
     many.set_defaults(func=_simulate_all)
     wear = cli.subparser(sub, "wear", "run a wear scene (profiles evolving by wear and inelastic displacement)",
                          ["wrlayer wear scenes/wear/s1002_60e1.toml --out out/wear",
@@ -155,9 +164,11 @@ def build_parser() -> argparse.ArgumentParser:
     wear.add_argument("scene", help="wear scene TOML file")
     cli.add_run_options(wear, "output folder (profiles/, depth/, steps.csv, result.json, PNGs)")
     wear.add_argument("--no-plots", action="store_true", help="do not write PNG pictures")
+    cli.add_profile_check_option(wear)
     cli.add_worker_options(wear, "local processes per step (default: the scene's)",
                            "Dask scheduler address (default: the scene's; none = local)")
     wear.set_defaults(func=_wear)
+    add_geometry_parser(sub)
     return parser
 
 

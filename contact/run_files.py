@@ -54,11 +54,12 @@ def run_overrides(workers: int | None, scheduler: str | None) -> dict[str, Any]:
 
 
 def run_scene(scene_path: str | Path, out_dir: str | Path, plots: bool = False, force: bool = False,
-              vtk: bool = True, workers: int | None = None, scheduler: str | None = None
-              ) -> SceneResult | SweepResult:
+              vtk: bool = True, workers: int | None = None, scheduler: str | None = None,
+              accept_unusual_profile: bool = False) -> SceneResult | SweepResult:
     """Run one contact or wheel–rail scene file into ``out_dir`` (every file, atomically); returns the result
     record (result.json). The run's cost is estimated first; above :data:`wrlayer.cost.LIMIT_SECONDS` it is refused
-    (CostError, exit 2) unless ``force``. ``workers``/``scheduler``: a wheel–rail scene's ``[run]`` replaced."""
+    (CostError, exit 2) unless ``force``. ``workers``/``scheduler``: a wheel–rail scene's ``[run]`` replaced;
+    ``accept_unusual_profile``: its profile files read without the plausibility checks."""
     from contact.scenes.scene import read_scene_data, scene_type
 
     scene_path, data = read_scene_data(scene_path)
@@ -71,7 +72,7 @@ def run_scene(scene_path: str | Path, out_dir: str | Path, plots: bool = False, 
         from contact.scenes.cost import wheel_rail_cost
         from contact.wheel_rail.parse import parse_wheel_rail_scene
 
-        scene = parse_wheel_rail_scene(data, scene_path)
+        scene = parse_wheel_rail_scene(data, scene_path, accept_unusual_profile)
         if changes:
             scene = dataclasses.replace(scene, run=dataclasses.replace(scene.run, **changes))
         estimate = guard(wheel_rail_cost(scene), force)
@@ -185,13 +186,15 @@ def failed_cases(result: SceneResult | SweepResult) -> list[str]:
             for c in getattr(result, "cases", ()) if c.error is not None]
 
 
-def run_scene_folder(scenes: list[Path], out: Path, plots: bool = False, force: bool = False, vtk: bool = True
+def run_scene_folder(scenes: list[Path], out: Path, plots: bool = False, force: bool = False, vtk: bool = True,
+                     accept_unusual_profile: bool = False
                      ) -> Iterator[tuple[Path, SceneResult | SweepResult | None, str | None]]:
     """Run every scene file of ``scenes`` into ``out/<stem>/``: (path, its result or None, None or the error line)
     per scene, as each ends (a failing scene does not stop the others)."""
     for path in scenes:
         try:
-            yield path, run_scene(path, out / path.stem, plots=plots, force=force, vtk=vtk), None
+            yield path, run_scene(path, out / path.stem, plots=plots, force=force, vtk=vtk,
+                                  accept_unusual_profile=accept_unusual_profile), None
         except WrLayerError as err:
             named = getattr(err, "what", "").split(":")[0].strip() in (path.name, str(path))
             yield path, None, f"error: {err}" if named else f"error: {path.name}: {err}"
@@ -212,17 +215,20 @@ def write_folder_tables(results: dict[str, SceneResult | SweepResult], out: Path
 
 # --------------------------------------------------------------------------------------------------- wear
 def run_wear_file(scene_path: str | Path, out_dir: str | Path, plots: bool = True, workers: int | None = None,
-                  scheduler: str | None = None, show_progress: bool = True, force: bool = False) -> dict[str, Any]:
+                  scheduler: str | None = None, show_progress: bool = True, force: bool = False,
+                  accept_unusual_profile: bool = False) -> dict[str, Any]:
     """:func:`run_wear_into` returning the result.json data (a dictionary)."""
-    return run_wear_into(scene_path, out_dir, plots, workers, scheduler, show_progress, force)[1]
+    return run_wear_into(scene_path, out_dir, plots, workers, scheduler, show_progress, force,
+                         accept_unusual_profile)[1]
 
 
 def run_wear_into(scene_path: str | Path, out_dir: str | Path, plots: bool = True, workers: int | None = None,
-                  scheduler: str | None = None, show_progress: bool = True, force: bool = False
-                  ) -> tuple[WearRun, dict[str, Any]]:
+                  scheduler: str | None = None, show_progress: bool = True, force: bool = False,
+                  accept_unusual_profile: bool = False) -> tuple[WearRun, dict[str, Any]]:
     """Run one wear scene into ``out_dir`` (files: :mod:`contact.wear.outputs`); returns the run's records and the
     result.json data (raises WearStopped after publishing the completed steps). Refused (CostError, exit 2) when
-    the estimate exceeds the limit, unless ``force``.
+    the estimate exceeds the limit, unless ``force``. ``accept_unusual_profile``: the scene's profile files read
+    without the plausibility checks.
 
     The run is built in a staging folder beside DIR (:func:`wrlayer.atomic_write.staged_output_dir`) and published
     as a whole after every completed step into ``DIR.partial`` beside DIR, with result.json saying "running: N
@@ -236,7 +242,7 @@ def run_wear_into(scene_path: str | Path, out_dir: str | Path, plots: bool = Tru
     from contact.wear.scene import parse_wear_scene
 
     scene_path, data = read_scene_data(scene_path)
-    scene = parse_wear_scene(data, scene_path)
+    scene = parse_wear_scene(data, scene_path, accept_unusual_profile)
     changes = run_overrides(workers, scheduler)
     if changes:
         scene = dataclasses.replace(scene, settings=dataclasses.replace(scene.settings, **changes))

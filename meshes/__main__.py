@@ -42,8 +42,7 @@ def _parser() -> argparse.ArgumentParser:
                       help="3D: half-sizes of the box meshed with h_min (mm)")
     mesh.add_argument("--grading", type=float, default=None, help="size growth per mm of distance (default 0.3)")
     mesh.add_argument("--out", required=True, help="output mesh file (.vtu or .msh)")
-    mesh.add_argument("--accept-unusual-profile", action="store_true",
-                      help="read a profile file without the plausibility checks (units, orientation, steps)")
+    cli.add_profile_check_option(mesh)
     return parser
 
 

@@ -30,6 +30,15 @@ def test_every_command_help_is_in_wrlayer_form_and_names_existing_reference_page
         assert (REPO / page).is_file(), page
 
 
+@pytest.mark.parametrize("command", ["simulate", "simulate-all", "wear", "calibrate", "rolling", "mesh", "geometry"])
+def test_every_command_that_reads_profile_files_takes_the_one_override_option(command, capsys):
+    """--accept-unusual-profile, defined once (wrlayer.cli.add_profile_check_option), with one help text."""
+    with pytest.raises(SystemExit):
+        cli.main([command, "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert "--accept-unusual-profile read profile files without the plausibility checks" in out
+
+
 def test_version_is_computed_only_when_asked(monkeypatch, capsys):
     def fail(prog):
         raise AssertionError("version_text called while building a parser")

@@ -59,6 +59,7 @@ COMMANDS = {
     "rolling": ("calibration.__main__", ["rolling"], "moving-load elastoplastic FEM, pass after pass (rolling)"),
     "mesh": ("meshes.__main__", ["mesh"], "mesh a profile section (2D) or local block (3D)"),
     "mesh-plots": ("meshes.__main__", ["plots"], "pictures of the default meshes"),
+    "geometry": ("contact.__main__", ["geometry"], "contact geometry of a wheel/rail pair (Δr, conicity)"),
     "example": ("wrlayer.shipped", [], "copy a shipped scene or configuration (with its tables) into a folder"),
 }
 
@@ -71,6 +72,7 @@ REFERENCE_PAGES = {
     "rolling": ("rolling.md",),
     "mesh": ("profiles-and-meshes.md",),
     "mesh-plots": ("profiles-and-meshes.md",),
+    "geometry": ("geometry.md",),
     "example": ("scene-keys.md",),
 }
 
@@ -137,6 +139,15 @@ def add_worker_options(command: argparse.ArgumentParser, workers_help: str, sche
     starts (:func:`contact.run_files.run_overrides`)."""
     command.add_argument("--workers", type=int, default=None, help=workers_help)
     command.add_argument("--scheduler", default=None, metavar="ADDRESS", help=scheduler_help)
+
+
+def add_profile_check_option(command: argparse.ArgumentParser) -> None:
+    """``--accept-unusual-profile``: every profile file the command reads is read without the plausibility checks
+    (units, orientation, steps, spikes; :mod:`meshes.profiles.plausibility`), as the input key
+    ``accept_unusual_profile = true`` (a profile unusual on purpose)."""
+    command.add_argument("--accept-unusual-profile", action="store_true",
+                         help="read profile files without the plausibility checks (units, orientation, steps, "
+                              "spikes; as the input key accept_unusual_profile = true)")
 
 
 def _top_parser() -> argparse.ArgumentParser:

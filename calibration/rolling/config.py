@@ -3,7 +3,8 @@
 Layout of a file (every key optional except ``contact.a_mm`` and ``contact.levels``)::
 
     [material]  E_MPa, poisson, yield_MPa, H_iso_MPa, H_kin_MPa
-    [contact]   model, a_mm, b_mm, traction_coefficient, levels, level_unit, body, table, profile, y_mm
+    [contact]   model, a_mm, b_mm, traction_coefficient, levels, level_unit, body, table, profile, y_mm,
+                accept_unusual_profile
     [track]     length_factor, step_factor, n_passes, ramp_steps, substeps
     [mesh]      elements_per_semi_axis, order, fine_width_factor, fine_depth_factor, size_factor, growth
     [run]       linear_solver, plots, layer_segments
@@ -24,7 +25,7 @@ from pathlib import Path
 from calibration.fem.material import J2Material
 from calibration.rolling.section_position import table_position
 from calibration.settings import MaterialSettings
-from meshes.profiles import load_profile
+from meshes.profiles import Profile, named_profile
 from wrlayer.errors import InputError
 from wrlayer.validate import Keys
 
@@ -97,6 +98,9 @@ class ContactSettings:
         Section without a table: the profile's name (e.g. "60E1", "S1002") or file.
     y_mm : float
         Section: the profile coordinate y0 of the track centreline (mm).
+    accept_unusual_profile : bool
+        Section: read the profile file without the plausibility checks of :mod:`meshes.profiles.plausibility`
+        (units, orientation, steps; a profile unusual on purpose; command line ``--accept-unusual-profile``).
     """
 
     a_mm: float
@@ -109,6 +113,11 @@ class ContactSettings:
     table: str = ""
     profile: str = ""
     y_mm: float = 0.0
+    accept_unusual_profile: bool = False
+
+    def section_profile(self) -> Profile:
+        """The section's profile (``profile``, a name or a file; see ``accept_unusual_profile``)."""
+        return named_profile(self.profile, accept_unusual=self.accept_unusual_profile)
 
     @property
     def lateral_mm(self) -> float:
@@ -241,6 +250,8 @@ def _contact(k: Keys) -> tuple[ContactSettings, RollingMaterial | None]:
                           ("profile", None)):
         if name in k.table:
             kw[name] = k.text(name, choices=choices)
+    if "accept_unusual_profile" in k.table:
+        kw["accept_unusual_profile"] = k.boolean("accept_unusual_profile", False)
     material = None
     if kw.get("body", "block") == "section":
         kw, material = _section(k, kw)
@@ -276,7 +287,8 @@ def _section(k: Keys, kw: dict) -> tuple[dict, RollingMaterial | None]:
             if not kw.get(name):
                 raise k.error(name, 'missing (required with body = "section" and no table)')
     try:
-        load_profile(kw["profile"]).check_y(kw["y_mm"], "y_mm")
+        profile = named_profile(kw["profile"], accept_unusual=kw.get("accept_unusual_profile", False))
+        profile.check_y(kw["y_mm"], "y_mm")
     except InputError as err:
         raise k.error("profile" if err.what != "y_mm" else "y_mm", err.problem) from None
     return kw, material
@@ -313,8 +325,13 @@ def _run(k: Keys) -> RollingRunSettings:
     return RollingRunSettings(**kw)
 
 
-def parse_rolling_config(data: dict, source: str = "rolling") -> RollingConfig:
-    """Validate a TOML-like mapping into a :class:`RollingConfig` (InputError naming ``source`` and the key)."""
+def parse_rolling_config(data: dict, source: str = "rolling", accept_unusual_profile: bool = False
+                         ) -> RollingConfig:
+    """Validate a TOML-like mapping into a :class:`RollingConfig` (InputError naming ``source`` and the key);
+    ``accept_unusual_profile``: as ``contact.accept_unusual_profile = true`` (the command line's
+    ``--accept-unusual-profile``)."""
+    if accept_unusual_profile and isinstance(data.get("contact"), dict):
+        data = {**data, "contact": {**data["contact"], "accept_unusual_profile": True}}
     top = Keys(source, "", data)
     top.check_known(("material", "contact", "track", "mesh", "run"))
     contact = top.sub("contact")
@@ -333,8 +350,9 @@ def parse_rolling_config(data: dict, source: str = "rolling") -> RollingConfig:
     return RollingConfig(source=source, **kw)
 
 
-def load_rolling_config(path: str | Path) -> RollingConfig:
-    """Read and validate a rolling TOML file; InputError when missing, unreadable or invalid."""
+def load_rolling_config(path: str | Path, accept_unusual_profile: bool = False) -> RollingConfig:
+    """Read and validate a rolling TOML file (``accept_unusual_profile``: as :func:`parse_rolling_config`);
+    InputError when missing, unreadable or invalid."""
     path = Path(path)
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
@@ -342,7 +360,7 @@ def load_rolling_config(path: str | Path) -> RollingConfig:
         raise InputError(str(path), f"cannot read: {err.strerror or err}") from err
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
         raise InputError(str(path), f"not valid TOML: {err}") from err
-    return parse_rolling_config(data, str(path))
+    return parse_rolling_config(data, str(path), accept_unusual_profile)
 
 
 __all__ = ["BODIES", "ContactSettings", "LEVEL_UNITS", "MAX_LEVELS", "MAX_PASSES", "MAX_TRACK_FACTOR", "MODELS",

@@ -35,7 +35,6 @@ from calibration.rolling.substeps import SubstepSolver, UnitResponses
 from calibration.rolling.section_groove import SectionProbe
 from calibration.rolling.section_track import SectionStaticLoad, section_static_load, section_track_mesh
 from calibration.rolling.track_mesh import TrackMesh, track_axes, track_mesh
-from meshes.profiles import load_profile
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.cost import guard
 from wrlayer.errors import InputError
@@ -200,7 +199,7 @@ def build_model(config: RollingConfig, tm: TrackMesh) -> RollingModel:
     b = None if c.model == "2d" else c.lateral_mm
     window = (-tm.track_half_mm, tm.track_half_mm)
     if c.body == "section":
-        profile = load_profile(c.profile)
+        profile = c.section_profile()
         forces = SurfaceForces(disc.basis, MovingHertzLoad(c.a_mm, b, c.traction_coefficient, profile, c.y_mm),
                                window)
         static = section_static_load(disc, forces, profile, c.y_mm)

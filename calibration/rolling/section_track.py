@@ -31,7 +31,6 @@ from calibration.rolling.moving_load import SurfaceForces
 from calibration.rolling.track_mesh import TrackMesh, track_axes
 from calibration.settings import MeshSettings
 from meshes.meshing.extruded_mesh import MAX_LAYERS, extruded_local_mesh
-from meshes.profiles import load_profile
 from wrlayer.errors import InputError
 
 #: The calibration's section meshing (size growth, far size, depth, rail support).
@@ -51,7 +50,7 @@ def section_extrusion(config: RollingConfig, x_layers) -> skfem.Mesh:
     c = config.contact
     h, h_max, box = section_sizes(config)
     h_x = c.a_mm / config.mesh.elements_per_semi_axis
-    return extruded_local_mesh(load_profile(c.profile), c.y_mm, h, h_x, max(h_max, h_x), 0.0, 0.0,
+    return extruded_local_mesh(c.section_profile(), c.y_mm, h, h_x, max(h_max, h_x), 0.0, 0.0,
                                depth_mm=SECTION_MESH.depth_mm, order=config.mesh.order, refine_box_yz=box,
                                grading=SECTION_MESH.grading, x_layers=x_layers)
 
@@ -59,7 +58,7 @@ def section_extrusion(config: RollingConfig, x_layers) -> skfem.Mesh:
 def section_track_mesh(config: RollingConfig) -> TrackMesh:
     """The section track mesh of ``config`` (``contact.body = "section"``; see the module docstring)."""
     c = config.contact
-    profile = load_profile(c.profile)
+    profile = c.section_profile()
     mesh = section_extrusion(config, track_axes(c, config.track, config.mesh)[0])
     dirichlet = {"fixed": [0, 1, 2]}
     if profile.body == "rail" and SECTION_MESH.rail_support_below_mm is not None:

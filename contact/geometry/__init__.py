@@ -11,10 +11,19 @@ Depends on: contact.wheel_rail (track placement, contact search, rigid roll), me
 command line, files). The wear loop (contact.wear) uses its conicity formulas.
 """
 
-from contact.geometry.analysis import GeometryResult, contact_geometry
-from contact.geometry.conicity import ConicityCurve, KinematicOscillation, conicity_curve, kinematic_oscillation
-from contact.geometry.jumps import ContactJump
-from contact.geometry.sweep import LateralSweep, WheelsetProfiles
+from wrlayer import lazy_exports
 
-__all__ = ["ConicityCurve", "ContactJump", "GeometryResult", "KinematicOscillation", "LateralSweep",
-           "WheelsetProfiles", "conicity_curve", "contact_geometry", "kinematic_oscillation"]
+#: Public name -> the module that defines it (imported on first use: the command line's parser loads no solver).
+API = {
+    "ConicityCurve": "contact.geometry.conicity",
+    "ContactJump": "contact.geometry.jumps",
+    "GeometryResult": "contact.geometry.analysis",
+    "KinematicOscillation": "contact.geometry.conicity",
+    "LateralSweep": "contact.geometry.sweep",
+    "WheelsetProfiles": "contact.geometry.sweep",
+    "conicity_curve": "contact.geometry.conicity",
+    "contact_geometry": "contact.geometry.analysis",
+    "kinematic_oscillation": "contact.geometry.conicity",
+}
+__all__ = sorted(API)
+__getattr__, __dir__ = lazy_exports(__name__, API)

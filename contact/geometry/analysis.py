@@ -21,15 +21,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from contact.geometry.conicity import DEFAULT_AMPLITUDES_MM, ConicityCurve, conicity_curve
-from contact.geometry.jumps import DEFAULT_JUMP_MM, ContactJump, contact_jumps
-from contact.geometry.sweep import (DEFAULT_STEP_MM, LateralSweep, WheelsetProfiles, lateral_positions,
-                                    lateral_sweep)
+from contact.geometry.conicity import ConicityCurve, conicity_curve
+from contact.geometry.defaults import DEFAULT_AMPLITUDES_MM, DEFAULT_JUMP_MM, DEFAULT_LATERAL_MM, DEFAULT_STEP_MM
+from contact.geometry.jumps import ContactJump, contact_jumps
+from contact.geometry.sweep import LateralSweep, WheelsetProfiles, lateral_positions, lateral_sweep
 from contact.wheel_rail.track_geometry import TrackLayout
 from wrlayer.errors import InputError
 
-#: Default lateral range (mm): one millimetre beyond EN 15302's largest amplitude (10 mm).
-DEFAULT_LATERAL_MM = (-11.0, 11.0)
 
 
 @dataclass(frozen=True, eq=False)

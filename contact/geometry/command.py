@@ -11,21 +11,21 @@ import math
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from contact.geometry.analysis import DEFAULT_LATERAL_MM, contact_geometry
-from contact.geometry.conicity import DEFAULT_AMPLITUDES_MM
-from contact.geometry.jumps import DEFAULT_JUMP_MM
-from contact.geometry.sweep import DEFAULT_STEP_MM, WheelsetProfiles
-from contact.wheel_rail.track_geometry import TrackLayout
-from meshes.profiles import BUILTIN_PROFILES, Profile, load_profile
-from meshes.profiles.placement import rail_inclination
+from contact.geometry.defaults import DEFAULT_AMPLITUDES_MM, DEFAULT_JUMP_MM, DEFAULT_LATERAL_MM, DEFAULT_STEP_MM
 from wrlayer import cli
 from wrlayer.errors import InputError, cli_guard
+
+if TYPE_CHECKING:
+    from meshes.profiles import Profile
 
 EXAMPLES = ["wrlayer geometry --rail 60E1 --wheel S1002 --out out/geometry",
             "wrlayer geometry --rail rail.prr --wheel worn.whl --gauge-mm 1437 --inclination 20 --out out/worn"]
 #: Smallest n of an inclination 1:n (0: upright rails), as the scene key ``track.inclination``.
 MIN_INCLINATION_RATIO = 5.0
+#: The options that are fields of :class:`contact.wheel_rail.track_geometry.TrackLayout` (None: its default).
+TRACK_OPTIONS = ("gauge_mm", "gauge_depth_mm", "back_to_back_mm", "flange_back_y_mm", "nominal_radius_mm")
 
 
 def add_parser(sub) -> None:
@@ -39,21 +39,20 @@ def add_parser(sub) -> None:
     p.add_argument("--units", choices=("mm", "m"), default=None,
                    help="length unit of the profile files, all of them (default mm; SIMPACK files state "
                         "their own; standard profiles are not affected)")
-    p.add_argument("--accept-unusual-profile", action="store_true",
-                   help="skip the plausibility checks of profile files (a profile unusual on purpose)")
-    lay = TrackLayout()
-    p.add_argument("--gauge-mm", type=float, default=lay.gauge_mm, help="track gauge (default %(default)g mm)")
-    p.add_argument("--gauge-depth-mm", type=float, default=lay.gauge_depth_mm,
-                   help="depth of the gauge point below the rail top (default %(default)g mm)")
+    cli.add_profile_check_option(p)
+    track = "; default: the standard track, docs/geometry.md"  # TrackLayout's defaults, read when the command runs
+    p.add_argument("--gauge-mm", type=float, default=None, help=f"track gauge (mm{track})")
+    p.add_argument("--gauge-depth-mm", type=float, default=None,
+                   help=f"depth of the gauge point below the rail top (mm{track})")
     p.add_argument("--inclination", type=float, default=None,
                    help="rail inclination 1:n, give n (default 40; 0: upright rails)")
     p.add_argument("--inclination-rad", type=float, default=None, help="rail inclination in rad (instead of 1:n)")
-    p.add_argument("--back-to-back-mm", type=float, default=lay.back_to_back_mm,
-                   help="distance between the flange backs (default %(default)g mm)")
-    p.add_argument("--flange-back-y-mm", type=float, default=lay.flange_back_y_mm,
-                   help="wheel profile coordinate of the flange back (default %(default)g mm, S1002)")
-    p.add_argument("--nominal-radius-mm", type=float, default=lay.nominal_radius_mm,
-                   help="rolling radius at the wheel profile's y = 0 (default %(default)g mm)")
+    p.add_argument("--back-to-back-mm", type=float, default=None,
+                   help=f"distance between the flange backs (mm{track})")
+    p.add_argument("--flange-back-y-mm", type=float, default=None,
+                   help=f"wheel profile coordinate of the flange back (mm{track}, S1002)")
+    p.add_argument("--nominal-radius-mm", type=float, default=None,
+                   help=f"rolling radius at the wheel profile's y = 0 (mm{track})")
     p.add_argument("--lateral-mm", type=float, nargs=2, default=list(DEFAULT_LATERAL_MM), metavar=("MIN", "MAX"),
                    help="lateral displacements of the wheelset (default %(default)s mm)")
     p.add_argument("--step-mm", type=float, default=DEFAULT_STEP_MM, help="lateral step (default %(default)g mm)")
@@ -69,22 +68,16 @@ def add_parser(sub) -> None:
 
 
 def _profile(name: str | None, body: str, option: str, args) -> Profile | None:
+    from meshes.profiles import BUILTIN_PROFILES, named_profile  # the profile modules when the command runs
+
     if name is None:
         return None
-    if name.strip().upper() in BUILTIN_PROFILES:  # --units is the files' unit: a standard profile has none
-        prof = load_profile(name)
-    else:
-        path = Path(name)
-        if not path.is_file():
-            raise InputError(option, f"no such profile file {name!r}")
-        opts = {"units": args.units, "body": body, "accept_unusual": args.accept_unusual_profile}
-        try:
-            prof = load_profile(path, **{k: v for k, v in opts.items() if v is not None})
-        except InputError as err:
-            raise InputError(option, str(err)) from None
-    if prof.body != body:
-        raise InputError(option, f"{prof.name} is a {prof.body} profile, expected a {body} profile")
-    return prof
+    if name.strip().upper() not in BUILTIN_PROFILES and not Path(name).is_file():
+        raise InputError(option, f"no such profile file {name!r}")
+    try:  # --units is the files' unit: a standard profile has none
+        return named_profile(name, body, args.units, args.accept_unusual_profile)
+    except InputError as err:
+        raise InputError(option, err.problem if err.what == "profile" else str(err)) from None
 
 
 def _inclination(args) -> float:
@@ -98,20 +91,24 @@ def _inclination(args) -> float:
     if not (math.isfinite(ratio) and ratio >= MIN_INCLINATION_RATIO):
         raise InputError("--inclination", f"1:n needs n >= {MIN_INCLINATION_RATIO:g} (or 0 for upright rails), "
                                           f"got {ratio:g}")
+    from meshes.profiles.placement import rail_inclination
+
     return rail_inclination(ratio)
 
 
 def run(args) -> int:
     """Run the analysis of the parsed arguments; write the tables and pictures; print the key numbers."""
-    from contact.geometry.outputs import write_geometry  # matplotlib only when writing
+    from contact.geometry.analysis import contact_geometry  # the solvers once the arguments are parsed
+    from contact.geometry.outputs import write_geometry
+    from contact.geometry.sweep import WheelsetProfiles
+    from contact.wheel_rail.track_geometry import TrackLayout
 
     profiles = WheelsetProfiles(_profile(args.rail, "rail", "--rail", args),
                                 _profile(args.wheel, "wheel", "--wheel", args),
                                 _profile(args.left_rail, "rail", "--left-rail", args),
                                 _profile(args.left_wheel, "wheel", "--left-wheel", args))
-    layout = TrackLayout(gauge_mm=args.gauge_mm, gauge_depth_mm=args.gauge_depth_mm, inclination_rad=_inclination(args),
-                         back_to_back_mm=args.back_to_back_mm, flange_back_y_mm=args.flange_back_y_mm,
-                         nominal_radius_mm=args.nominal_radius_mm)
+    given = {name: getattr(args, name) for name in TRACK_OPTIONS if getattr(args, name) is not None}
+    layout = TrackLayout(inclination_rad=_inclination(args), **given)
     result = contact_geometry(profiles, layout, args.lateral_mm[0], args.lateral_mm[1], args.step_mm,
                               args.amplitudes_mm, args.jump_mm, with_roll=not args.no_roll)
     paths = write_geometry(result, args.out, pictures=not args.no_plots)

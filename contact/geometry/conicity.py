@@ -50,6 +50,7 @@ from typing import Callable
 import numpy as np
 from scipy.optimize import brentq
 
+from contact.geometry.defaults import DEFAULT_AMPLITUDES_MM
 from wrlayer.errors import InputError
 
 DeltaR = Callable[[np.ndarray], np.ndarray]
@@ -223,8 +224,6 @@ def kinematic_oscillation(y_mm, delta_r_mm, amplitude_mm: float, e0_mm: float, r
 
 
 # ------------------------------------------------------------------------------------------ over amplitudes
-#: EN 15302's amplitude range of the conicity function (mm): 0.5 .. 10 mm.
-DEFAULT_AMPLITUDES_MM = tuple(float(a) for a in np.arange(1, 21) * 0.5)
 
 
 @dataclass(frozen=True, eq=False)

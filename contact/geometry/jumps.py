@@ -14,10 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contact.geometry.defaults import DEFAULT_JUMP_MM
 from wrlayer.errors import InputError
 
-#: Default contact-point travel per step (mm) above which the step is a jump.
-DEFAULT_JUMP_MM = 1.0
 
 
 @dataclass(frozen=True)

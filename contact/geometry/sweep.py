@@ -28,15 +28,13 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
+from contact.geometry.defaults import DEFAULT_STEP_MM
 from contact.wheel_rail.contact_search import SearchSettings, search_contacts
 from contact.wheel_rail.deformed import rigid_roll
 from contact.wheel_rail.track_geometry import PlacedRail, TrackLayout, WheelsetPose, place_rail, side_sign
 from meshes.profiles import Profile
 from wrlayer.errors import InputError
 
-#: Default lateral step of a sweep (mm): small enough that the jump threshold (1 mm) separates jumps from the
-#: fast but continuous travel of the contact point on a conformal tread.
-DEFAULT_STEP_MM = 0.1
 
 
 @dataclass(frozen=True, eq=False)

@@ -183,8 +183,9 @@ class WearScene:
         return {side: {"rail": wr.rail_profile, "wheel": wr.wheel_profile} for side in wr.sides}
 
 
-def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
-    """Validate a wear scene (InputError naming ``<file>: <section>.<key>``)."""
+def parse_wear_scene(data: dict[str, Any], scene_path: Path, accept_unusual_profile: bool = False) -> WearScene:
+    """Validate a wear scene (InputError naming ``<file>: <section>.<key>``); ``accept_unusual_profile``: as
+    :func:`contact.wheel_rail.parse.parse_wheel_rail_scene`."""
     scene_path = Path(scene_path)
     file = scene_path.name
     top = top_keys(file, data, SceneKeys)
@@ -192,7 +193,8 @@ def parse_wear_scene(data: dict[str, Any], scene_path: Path) -> WearScene:
     if data.get("type") != "wear":
         raise top.error("type", f"must be \"wear\" for python -m contact wear, got {data.get('type')!r}")
     wheel_rail = parse_wheel_rail_scene({"type": "wheel_rail", **{k: v for k, v in data.items()
-                                                                   if k in WHEEL_RAIL_SECTIONS}}, scene_path)
+                                                                   if k in WHEEL_RAIL_SECTIONS}}, scene_path,
+                                       accept_unusual_profile)
     wear = top.sub("wear")
     if wear is None:
         raise top.error("wear", "a wear scene needs a [wear] table (law, distance_km, steps)")

@@ -3,8 +3,9 @@
 
     type = "wheel_rail"                                   (required)
     title, description                                    free text
-    [profiles]  rail = "60E1", wheel = "S1002"            a standard name or a profile file (.prr/.prw/.txt/.csv,
-                                                          relative to the scene file)
+    [profiles]  rail = "60E1", wheel = "S1002"            a standard name or a profile file (.prr/.prw/.txt/.csv/
+                                                          .whl/.ban, relative to the scene file); units ("mm"/"m",
+                                                          the files' length unit), accept_unusual_profile
     [track]     gauge_mm = 1435, gauge_depth_mm = 14, inclination = 40 (1:40; or inclination_rad),
                 back_to_back_mm = 1360, flange_back_y_mm = -70 (wheel profile coordinate of the flange back)
     [wheel]     nominal_radius_mm, side = "right" | "left" | "both"
@@ -30,6 +31,7 @@ Each key's unit, default and bounds are declared once on its section's field (:m
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -64,9 +66,12 @@ def load_wheel_rail_scene(path: str | Path) -> WheelRailScene:
     return parse_wheel_rail_scene(read_toml(path, what=str(path)), path)
 
 
-def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path) -> WheelRailScene:
+def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path, accept_unusual_profile: bool = False
+                           ) -> WheelRailScene:
     """Validate the TOML content of a wheel_rail scene read from ``scene_path`` (relative file names resolve from
-    its folder); reads the profiles and tables it names. Raises InputError naming ``<file>: <section>.<key>``."""
+    its folder); reads the profiles and tables it names. ``accept_unusual_profile``: as the scene key
+    ``profiles.accept_unusual_profile`` = true (the command line's ``--accept-unusual-profile``). Raises InputError
+    naming ``<file>: <section>.<key>``."""
     path = Path(scene_path)
     file, base = path.name, path.parent
     top = top_keys(file, data)
@@ -77,11 +82,13 @@ def parse_wheel_rail_scene(data: dict[str, Any], scene_path: str | Path) -> Whee
         return top.sub(name) if name in data else Keys(file, name, {})
 
     profiles = read_section(ProfilesSpec, s("profiles"))
-    unusual = profiles.accept_unusual_profile
-    rail = read_profile(profiles.rail, base, "rail", s("profiles").what("rail"), unusual)
+    if accept_unusual_profile:
+        profiles = dataclasses.replace(profiles, accept_unusual_profile=True)
+    unusual, units = profiles.accept_unusual_profile, profiles.units
+    rail = read_profile(profiles.rail, base, "rail", s("profiles").what("rail"), unusual, units)
     track = _track(s("track"))
     wheel = read_section(WheelSpec, s("wheel"))
-    wheel_profile = read_profile(profiles.wheel, base, "wheel", s("profiles").what("wheel"), unusual)
+    wheel_profile = read_profile(profiles.wheel, base, "wheel", s("profiles").what("wheel"), unusual, units)
     _check_layout(s("track"), track, wheel)
     wheelset = _wheelset(s("wheelset"))
     material = read_material(s("material"))

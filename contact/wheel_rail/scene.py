@@ -22,7 +22,7 @@ from contact.wheel_rail.sections import WheelLoadSpec, WheelRailMethodSpec, Whee
 from wrlayer.hashing import file_sha256
 from contact.wheel_rail.sweep_spec import CaseSpec, SweepSpec
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose
-from meshes.profiles import Profile
+from meshes.profiles import PROFILE_UNITS, Profile
 from wrlayer.section_keys import key
 from wrlayer.validate import MAX_RADIUS_MM, MIN_RADIUS_MM
 
@@ -39,10 +39,13 @@ class ProfilesSpec(Record):
     Attributes
     ----------
     rail : str
-        Rail profile: a standard name (e.g. "60E1") or a profile file (.prr/.txt/.csv, relative to the scene file,
-        or "reference:NAME" in the shared reference folder).
+        Rail profile: a standard name (e.g. "60E1") or a profile file (.prr/.txt/.csv/.ban, relative to the scene
+        file, or "reference:NAME" in the shared reference folder).
     wheel : str
-        Wheel profile: a standard name (e.g. "S1002") or a profile file (.prw/.txt/.csv), as ``rail``.
+        Wheel profile: a standard name (e.g. "S1002") or a profile file (.prw/.txt/.csv/.whl), as ``rail``.
+    units : str | None
+        Length unit of the profile files named ("mm" or "m"; both files); not given: mm for text, CSV and MiniProf
+        files, the header's ``units.len.f`` for SIMPACK files (a given unit must agree with it).
     accept_unusual_profile : bool
         Read profile files without the plausibility checks (units, orientation, steps, spikes;
         :mod:`meshes.profiles.plausibility`): for a profile that is unusual on purpose.
@@ -50,6 +53,7 @@ class ProfilesSpec(Record):
 
     rail: str = key("60E1")
     wheel: str = key("S1002")
+    units: str | None = key(None, choices=tuple(PROFILE_UNITS))
     accept_unusual_profile: bool = key(False)
 
 

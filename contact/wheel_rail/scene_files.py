@@ -8,12 +8,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from meshes.profiles import Profile, get_profile
+from meshes.profiles import PROFILE_FILE_SUFFIXES, Profile, named_profile
 from wrlayer.errors import InputError
 from wrlayer.input_files import REFERENCE_PREFIX, reference_dir, resolve_reference
 
-#: Profile file suffixes a scene may name (anything else is a standard profile name).
-PROFILE_SUFFIXES = (".prr", ".prw", ".txt", ".csv")
+#: Profile file suffixes a scene may name (anything else is a standard profile name): the readers' suffixes.
+PROFILE_SUFFIXES = PROFILE_FILE_SUFFIXES
 
 
 def resolve_path(name: str, base: Path, what: str) -> Path:
@@ -25,22 +25,19 @@ def resolve_path(name: str, base: Path, what: str) -> Path:
     return base / name
 
 
-def read_profile(name: str, base: Path, body: str, what: str, accept_unusual: bool = False) -> Profile:
-    """The ``body`` ("rail" or "wheel") profile a scene names: a standard name or a profile file (checked for
-    plausibility unless ``accept_unusual``)."""
+def read_profile(name: str, base: Path, body: str, what: str, accept_unusual: bool = False,
+                 units: str | None = None) -> Profile:
+    """The ``body`` ("rail" or "wheel") profile a scene names: a standard name or a profile file in ``units``
+    ("mm", "m"; None: the reader's default), checked for plausibility unless ``accept_unusual``
+    (:func:`meshes.profiles.named_profile`)."""
     candidate = resolve_path(name, base, what)
-    target = str(candidate) if candidate.suffix.lower() in PROFILE_SUFFIXES else name
-    if target != name and not candidate.is_file():
+    is_file = candidate.suffix.lower() in PROFILE_SUFFIXES
+    if is_file and not candidate.is_file():
         raise InputError(what, f"no such profile file {name!r} (looked at {candidate})")
     try:
-        options = {"accept_unusual": True} if accept_unusual and target != name else {}
-        prof = get_profile(target, body=body, **options) if Path(target).suffix.lower() in (".txt", ".csv") \
-            else get_profile(target, **options)
+        return named_profile(candidate if is_file else name, body, units, accept_unusual)
     except InputError as err:
-        raise InputError(what, str(err)) from None
-    if prof.body != body:
-        raise InputError(what, f"{prof.name} is a {prof.body} profile, expected a {body} profile")
-    return prof
+        raise InputError(what, err.problem if err.what == "profile" else str(err)) from None
 
 
 __all__ = ["PROFILE_SUFFIXES", "read_profile", "reference_dir", "resolve_path"]

@@ -39,11 +39,12 @@ from wrlayer.errors import InputError
 from wrlayer.input_files import MAX_DATA_BYTES
 from wrlayer.input_files import read_text as read_text_file
 from meshes.profiles.base import Profile
+from meshes.profiles.lookup import PROFILE_UNITS
 from meshes.profiles.miniprof import MINIPROF_SUFFIXES, parse_miniprof
 from meshes.profiles.plausibility import check_profile_points
 from meshes.profiles.spline import SplineProfile
 
-_LENGTH_UNITS_MM = {"mm": 1.0, "m": 1000.0}
+_LENGTH_UNITS_MM = PROFILE_UNITS
 
 
 # --------------------------------------------------------------------------------------------

@@ -11,7 +11,7 @@ from meshes.profiles.rail_heads import Rail54E1, Rail60E1
 from meshes.profiles.s1002 import S1002
 from wrlayer.errors import InputError
 
-__all__ = ["BUILTIN_PROFILES", "PROFILE_FILE_SUFFIXES", "get_profile", "load_profile"]
+__all__ = ["BUILTIN_PROFILES", "PROFILE_FILE_SUFFIXES", "PROFILE_UNITS", "get_profile", "load_profile", "named_profile"]
 
 #: Standard profiles by upper-case name.
 BUILTIN_PROFILES = {
@@ -24,6 +24,9 @@ BUILTIN_PROFILES = {
 #: Suffixes of the profile files :func:`load_profile` reads (SIMPACK .prr/.prw, two-column .txt/.csv, MiniProf
 #: .whl/.ban).
 PROFILE_FILE_SUFFIXES = (".prr", ".prw", ".txt", ".csv", ".whl", ".ban")
+#: Length units of a profile file, in mm per unit (the readers' ``units`` option; the ``units`` key of every input
+#: that names a profile file).
+PROFILE_UNITS = {"mm": 1.0, "m": 1000.0}
 
 
 def load_profile(name: str | Path, **kw) -> Profile:
@@ -68,3 +71,19 @@ def load_profile(name: str | Path, **kw) -> Profile:
 
 #: The same as :func:`load_profile` (the name used by the scene and configuration readers).
 get_profile = load_profile
+
+
+def named_profile(name: str | Path, body: str | None = None, units: str | None = None,
+                  accept_unusual: bool = False) -> Profile:
+    """The profile an input names: a standard name, or a profile file read with ``units`` ("mm" or "m"; None: mm
+    for text, CSV and MiniProf files, the header's ``units.len.f`` for SIMPACK files) and without the plausibility
+    checks when ``accept_unusual``. The file options do not apply to a standard profile (it has no file unit).
+    ``body`` ("rail" or "wheel"), when given, must be the profile's. Raises InputError."""
+    if str(name).strip().upper() in BUILTIN_PROFILES:
+        prof = load_profile(name)
+    else:
+        options = {"body": body, "units": units, "accept_unusual": accept_unusual or None}
+        prof = load_profile(name, **{k: v for k, v in options.items() if v is not None})
+    if body is not None and prof.body != body:
+        raise InputError("profile", f"{prof.name} is a {prof.body} profile, expected a {body} profile")
+    return prof

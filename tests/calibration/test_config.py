@@ -58,3 +58,45 @@ def test_unusual_profile_file_accepted_on_request(tmp_path):
         parse_config({"bodies": [body]}, "c.toml", tmp_path)
     cfg = parse_config({"bodies": [{**body, "accept_unusual_profile": True}]}, "c.toml", tmp_path)
     assert cfg.bodies[0].accept_unusual_profile and cfg.bodies[0].profile.name == "narrow"
+
+
+def test_profile_files_units_and_the_command_line_option(tmp_path, monkeypatch):
+    """``units = "m"`` reads a body's and its mate's files in metres (the same profile as in mm); without it the
+    file is diagnosed; ``--accept-unusual-profile`` of ``wrlayer calibrate`` is accept_unusual_profile = true in
+    every body."""
+    import numpy as np
+
+    import calibration.config as config
+    from calibration.__main__ import main
+    from calibration.config import parse_config
+    from meshes.profiles import get_profile
+
+    for name, file in (("60E1", "rail_m.csv"), ("S1002", "wheel_m.csv")):
+        y, z = get_profile(name).sample(0.5)
+        np.savetxt(tmp_path / file, np.column_stack([y, z]) * 1e-3, fmt="%.17g", delimiter=",")
+    body = {"body": "rail", "profile": "rail_m.csv", "mate": "wheel_m.csv", "positions_mm": [0.0], "inclination": 0}
+    with pytest.raises(InputError, match=r"c.toml: bodies\[0\].profile: .*spans only 0.0.* mm.*metres"):
+        parse_config({"bodies": [body]}, "c.toml", tmp_path)
+    with pytest.raises(InputError, match=r"c.toml: bodies\[0\].units: must be one of"):
+        parse_config({"bodies": [{**body, "units": "inch"}]}, "c.toml", tmp_path)
+    cfg = parse_config({"bodies": [{**body, "units": "m"}]}, "c.toml", tmp_path)
+    b = cfg.bodies[0]
+    assert b.units == "m" and b.profile.body == "rail" and b.mate.body == "wheel"
+    assert b.profile.z(10.0) == pytest.approx(get_profile("60E1").z(10.0), abs=1e-4)   # spline through 0.5 mm samples
+    assert b.mate.z(-20.0) == pytest.approx(get_profile("S1002").z(-20.0), abs=1e-4)
+
+    narrow = tmp_path / "narrow.csv"
+    yy = np.linspace(-2.0, 2.0, 41)
+    np.savetxt(narrow, np.column_stack([yy, -yy ** 2 / 600.0]), delimiter=",")
+    assert parse_config({"bodies": [{**body, "profile": "narrow.csv", "mate": "S1002"}]}, "c.toml", tmp_path,
+                        accept_unusual_profile=True).bodies[0].accept_unusual_profile
+    seen = []
+
+    def fake_load(path, accept_unusual_profile=False):
+        seen.append(accept_unusual_profile)
+        raise InputError(str(path), "stop here")
+
+    monkeypatch.setattr(config, "load_config", fake_load)
+    assert main(["run", "c.toml", "--out", str(tmp_path / "out"), "--accept-unusual-profile"]) == 2
+    assert main(["run", "c.toml", "--out", str(tmp_path / "out")]) == 2
+    assert seen == [True, False]

@@ -83,3 +83,41 @@ def test_shipped_table_is_found_from_any_folder(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     cfg = parse_rolling_config(section(table=TABLE, y_mm=0.0), "c")
     assert cfg.contact.a_mm == pytest.approx(7.161, abs=1e-3) and cfg.contact.profile == "60E1"
+
+
+def test_unusual_profile_file_accepted_by_the_key_or_the_command_line(tmp_path, monkeypatch, capsys):
+    """A section profile file that fails the plausibility checks is refused naming the key; the key
+    accept_unusual_profile or ``wrlayer rolling --accept-unusual-profile`` reads it (the section then uses it)."""
+    import numpy as np
+
+    from meshes.profiles import get_profile
+    from meshes.profiles.io import write_text
+
+    y, z = get_profile("60E1").sample(0.5)
+    z = np.asarray(z, float).copy()
+    z[int(np.argmin(np.abs(np.asarray(y) - 34.0)))] -= 2.0        # a notch far from the load
+    path = write_text(tmp_path / "notched.csv", np.column_stack([y, z]))
+    data = section(profile=str(path), y_mm=0.0, a_mm=3.5, b_mm=2.6)
+    with pytest.raises(InputError, match=r"c: contact.profile: .*accept_unusual_profile"):
+        parse_rolling_config(data, "c")
+    cfg = parse_rolling_config(data, "c", accept_unusual_profile=True)
+    assert cfg.contact.accept_unusual_profile and cfg.to_dict()["contact"]["accept_unusual_profile"] is True
+    assert cfg.contact.section_profile().name == "notched"
+    assert parse_rolling_config(section(profile=str(path), y_mm=0.0, a_mm=3.5, b_mm=2.6, accept_unusual_profile=True),
+                                "c").contact.section_profile().z(0.0) == pytest.approx(0.0, abs=1e-9)
+    toml = tmp_path / "r.toml"
+    toml.write_text(f'[contact]\nbody = "section"\nlevels = [1.7]\nprofile = "{path}"\ny_mm = 0.0\na_mm = 3.5\n'
+                    'b_mm = 2.6\n')
+    import calibration.rolling.run as rolling_run
+
+    seen = []
+
+    def fake_run(cfg, out, force=False, progress=None):
+        seen.append(cfg.contact.accept_unusual_profile)
+        raise InputError("stop", "here")
+
+    monkeypatch.setattr(rolling_run, "run_rolling", fake_run)
+    assert main(["rolling", str(toml), "--out", str(tmp_path / "o")]) == 2
+    assert "accept_unusual_profile" in capsys.readouterr().err and seen == []
+    assert main(["rolling", str(toml), "--out", str(tmp_path / "o"), "--accept-unusual-profile"]) == 2
+    assert seen == [True]

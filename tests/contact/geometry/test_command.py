@@ -78,3 +78,21 @@ def test_measured_profile_files_and_units(tmp_path, capsys):
     assert main([*args, "--rail", str(rail), "--wheel", "S1002", "--units", "m", "--out", str(tmp_path / "d")]) == 0
     in_metres = _table(tmp_path / "d" / "conicity.csv")[0]["equivalent_conicity_-"]
     assert float(in_metres) == pytest.approx(float(standard), rel=0.02)
+
+
+def test_unusual_profile_file_refused_unless_accepted(tmp_path, capsys):
+    """A rail file with a one-point spike far on the field side fails the plausibility checks (exit 2, the option
+    named); --accept-unusual-profile reads it."""
+    from meshes.profiles import Rail60E1
+    from meshes.profiles.io import write_text
+
+    y, z = Rail60E1().sample(0.5)
+    z = np.asarray(z, float).copy()
+    z[int(np.argmin(np.abs(np.asarray(y) - 34.0)))] -= 2.0
+    rail = write_text(tmp_path / "notched.csv", np.column_stack([y, z]))
+    args = ["geometry", "--rail", str(rail), "--wheel", "S1002", "--lateral-mm", "-2", "2", "--step-mm", "0.5",
+            "--amplitudes-mm", "1", "--no-plots"]
+    assert main([*args, "--out", str(tmp_path / "refused")]) == 2
+    assert "--accept-unusual-profile" in capsys.readouterr().err
+    assert main([*args, "--out", str(tmp_path / "accepted"), "--accept-unusual-profile"]) == 0
+    assert (tmp_path / "accepted" / "conicity.csv").is_file()
