@@ -40,18 +40,11 @@ def influence_columns(k: np.ndarray, rows: np.ndarray) -> np.ndarray:
 
 @kernel()
 def _columns(k, rows, nx):
-    """The matrix C (n, n) with C[j] = column j of M (:func:`_add_column`'s values, in its order)."""
-    ny = rows.size
-    n = ny * nx
-    cols = np.empty((n, n))
+    """The matrix C (n, n) with C[j] = column j of M (:func:`_add_column`'s values, exactly)."""
+    n = rows.size * nx
+    cols = np.zeros((n, n))
     for j in range(n):
-        jr, jc = rows[j // nx], j % nx
-        shift = nx - 1 - jc
-        for ir in range(ny):
-            dr = rows[ir] - jr if rows[ir] >= jr else jr - rows[ir]
-            base = ir * nx
-            for ic in range(nx):
-                cols[j, base + ic] = k[dr, shift + ic]
+        _add_column(k, rows, nx, j, 1.0, cols[j])
     return cols
 
 
