@@ -22,13 +22,13 @@ from wrlayer import validate
 from wrlayer.errors import InputError
 from wrlayer.input_files import read_toml
 from wrlayer.runner import check_scheduler_address
-from wrlayer.validate import Keys
+from wrlayer.validate import Keys, is_number, top_keys
 
 #: Largest number of positions per body (a hard size limit; the cost guard of calibration.cost refuses long runs
 #: below it unless forced).
 MAX_POSITIONS = 500
 
-_TOP_KEYS = ("run", "material", "load", "mesh", "fit", "bodies")
+_TOP_KEYS = ("accept_implausible", "run", "material", "load", "mesh", "fit", "bodies")
 _BODY_KEYS = ("body", "profile", "mate", "positions_mm", "positions", "semi_axes_mm", "inclination",
               "inclination_rad", "rail_cant_rad", "max_lateral_radius_mm", "wheel_radius_mm", "material",
               "accept_unusual_profile", "units")
@@ -68,7 +68,9 @@ def _material(k: Keys, base: MaterialSettings = MaterialSettings()) -> MaterialS
     kw = asdict(base)
     for name in ("E_MPa", "yield_MPa"):
         if name in k.table:
-            kw[name] = k.number(name, gt=0.0)
+            if is_number(k.table[name]):            # a unit slip first, then the bound, then the engineering range
+                k.plausible(name, float(k.table[name]), name, slips_only=True)
+            kw[name] = k.plausible(name, k.number(name, gt=0.0), name)
     for name in ("H_iso_MPa", "H_kin_MPa"):
         if name in k.table:
             kw[name] = k.number(name, ge=0.0)
@@ -265,7 +267,7 @@ def parse_config(data: dict, source: str = "config", base: Path = Path("."), acc
     """Validate a parsed TOML mapping (InputError naming ``source`` and the key); profile files are relative to
     ``base``. ``accept_unusual_profile``: as ``accept_unusual_profile = true`` in every body (the command line's
     ``--accept-unusual-profile``)."""
-    top = Keys(source, "", data)
+    top = top_keys(source, data)
     top.check_known(_TOP_KEYS)
     run = _run(_table(top, "run"))
     material = _material(_table(top, "material"))

@@ -81,3 +81,24 @@ def test_an_accepted_implausible_input_gives_result_warnings(tmp_path, capsys):
                                                    for w in warnings)
     assert main(["simulate", str(SCENES / "hertz_check.toml"), "--out", str(tmp_path / "plain"), "--no-vtk"]) == 0
     assert "warnings" not in json.loads((tmp_path / "plain" / "result.json").read_text(encoding="utf-8"))
+
+
+def test_calibration_material_is_checked_too(tmp_path, capsys):
+    """A calibration configuration's yield stress in GPa: one error line naming the key and the slip, exit 2,
+    before any FEM; accept_implausible = true lets it through to the parser's other checks."""
+    from calibration.__main__ import main as calibration_main
+
+    config = Path(__file__).resolve().parents[1] / "calibration" / "configs" / "test_coarse.toml"
+    text = config.read_text(encoding="utf-8").replace("[load]", "[material]\nyield_MPa = 0.5\n\n[load]", 1)
+    path = tmp_path / "gpa.toml"
+    path.write_text(text, encoding="utf-8")
+    assert calibration_main(["run", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and "material.yield_MPa: 0.5 MPa" in err and "GPa typed as MPa" in err
+    assert err.count("\n") == 1 and not (tmp_path / "out").exists()
+    from calibration.config import parse_config
+    from wrlayer.input_files import read_toml
+
+    data = read_toml(path)
+    accepted = parse_config({**data, "accept_implausible": True}, "gpa.toml")
+    assert all(body.material.yield_MPa == 0.5 for body in accepted.bodies)
