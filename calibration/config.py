@@ -22,7 +22,7 @@ from wrlayer import validate
 from wrlayer.errors import InputError
 from wrlayer.input_files import read_toml
 from wrlayer.runner import check_scheduler_address
-from wrlayer.validate import Keys, is_number, top_keys
+from wrlayer.validate import Keys, top_keys
 
 #: Largest number of positions per body (a hard size limit; the cost guard of calibration.cost refuses long runs
 #: below it unless forced).
@@ -68,9 +68,7 @@ def _material(k: Keys, base: MaterialSettings = MaterialSettings()) -> MaterialS
     kw = asdict(base)
     for name in ("E_MPa", "yield_MPa"):
         if name in k.table:
-            if is_number(k.table[name]):            # a unit slip first, then the bound, then the engineering range
-                k.plausible(name, float(k.table[name]), name, slips_only=True)
-            kw[name] = k.plausible(name, k.number(name, gt=0.0), name)
+            kw[name] = k.plausible_number(name, name, gt=0.0)
     for name in ("H_iso_MPa", "H_kin_MPa"):
         if name in k.table:
             kw[name] = k.number(name, ge=0.0)

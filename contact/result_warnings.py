@@ -32,11 +32,11 @@ def scene_warnings(name: str, result: SceneResult | SweepResult) -> tuple[str, .
     else:
         places = [(f"{name}, pass {k + 1}", p) for k, p in enumerate(result.passes)]
     for where, rec in places:
-        for line in result_warnings(where, _values(rec.p_max_MPa, rec.delta_mm, rec.length_mm, rec.width_mm)):
-            quantity = line.split(": ", 2)[-1].split(" = ")[0]
-            if quantity not in seen:
+        values = _values(rec.p_max_MPa, rec.delta_mm, rec.length_mm, rec.width_mm)
+        for quantity, value in values.items():
+            if quantity not in seen and (found := result_warnings(where, {quantity: value})):
                 seen.add(quantity)
-                lines.append(line)
+                lines += found
     return tuple(lines)
 
 

@@ -254,6 +254,14 @@ class Keys:
         return type(self)(self.file, f"{self.prefix}.{key}" if self.prefix else key, self.table[key],
                           self.accept_implausible)
 
+    def plausible_number(self, key: str, quantity: str, default: float | None = None, **bounds) -> float:
+        """:meth:`number` checked against the engineering range of ``quantity`` too: a unit slip first (it may
+        break a bound: 0.46 m as a radius), then the bounds (clearer for a negative or zero value), then the
+        range."""
+        if is_number(self.table.get(key)):
+            self.plausible(key, float(self.table[key]), quantity, slips_only=True)
+        return self.plausible(key, self.number(key, default, **bounds), quantity)
+
     def plausible(self, key: str, value: float, quantity: str, slips_only: bool = False) -> float:
         """``value`` of ``key`` when it lies in the engineering range of ``quantity``
         (:data:`wrlayer.plausibility.INPUT_RANGES`) or the override is set; else

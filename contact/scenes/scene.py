@@ -43,7 +43,7 @@ from wrlayer.errors import InputError
 from wrlayer.hashing import file_sha256_or_none, sha256_hex
 from wrlayer.input_files import read_toml
 from wrlayer.section_keys import read_section
-from wrlayer.validate import MAX_STRIPS, MIN_LATERAL_RADIUS_MM, Keys, is_number, top_keys
+from wrlayer.validate import MAX_STRIPS, MIN_LATERAL_RADIUS_MM, Keys, top_keys
 
 SCENE_TYPES = ("kik_piotrowski", "wheel_rail")
 #: Keys allowed in [reference]: published values of the last pass (Table 1 rows), units in the names.
@@ -150,10 +150,7 @@ def _layers(top: SceneKeys, base: Path):
 def _parse_separation(keys: SceneKeys, grid_mm: float) -> SeparationSpec:
     if "lateral_radius_mm" in keys.table:
         keys.check_known(("lateral_radius_mm", "half_width_mm", "step_mm"))
-        if is_number(keys.table.get("lateral_radius_mm")):                   # a unit slip before the bounds
-            keys.plausible("lateral_radius_mm", float(keys.table["lateral_radius_mm"]), "profile_radius_mm", True)
-        radius = keys.plausible("lateral_radius_mm", keys.number("lateral_radius_mm", ge=MIN_LATERAL_RADIUS_MM),
-                                "profile_radius_mm")
+        radius = keys.plausible_number("lateral_radius_mm", "profile_radius_mm", ge=MIN_LATERAL_RADIUS_MM)
         half = keys.number("half_width_mm", 10.0, gt=0.0)
         step = keys.number("step_mm", grid_mm / 4.0, gt=0.0)
         if half / step > 2 * MAX_STRIPS:

@@ -20,7 +20,7 @@ from wrlayer.elastic import shear_modulus_MPa, youngs_modulus_MPa
 from wrlayer.errors import InputError
 from wrlayer.section_keys import key, read_section
 from wrlayer.validate import (MAX_E_MPA, MAX_FASTSIM_CELLS, MAX_PASSES, MAX_RADIUS_MM, MIN_ALPHA, MIN_E_MPA,
-                              MIN_FORCE_N, MIN_GRID_MM, MIN_RADIUS_MM, Keys, is_number)
+                              MIN_FORCE_N, MIN_GRID_MM, MIN_RADIUS_MM, Keys)
 
 #: Values of ``output.convention``: wrlayer's signs only, or also CONTACT's (contact_convention.csv).
 OUTPUT_CONVENTIONS = ("wrlayer", "contact")
@@ -88,9 +88,7 @@ def read_material(keys: Keys, required: bool = False) -> MaterialSpec:
         raise keys.error("G_MPa", "give either E_MPa or G_MPa, not both")
     given = {"poisson": nu}
     if "G_MPa" in keys.table:
-        if is_number(keys.table["G_MPa"]):                                  # a unit slip before the bounds
-            keys.plausible("G_MPa", float(keys.table["G_MPa"]), "G_MPa", slips_only=True)
-        shear = keys.plausible("G_MPa", keys.number("G_MPa", ge=MIN_E_MPA / 3.0, le=MAX_E_MPA / 2.0), "G_MPa")
+        shear = keys.plausible_number("G_MPa", "G_MPa", ge=MIN_E_MPA / 3.0, le=MAX_E_MPA / 2.0)
         given["E_MPa"] = youngs_modulus_MPa(shear, nu)
     return read_section(MaterialSpec, keys, required=("E_MPa",) if required else (), given=given,
                         also_known=("G_MPa",))

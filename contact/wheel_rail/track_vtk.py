@@ -53,11 +53,11 @@ def _surface(points: np.ndarray, depth: np.ndarray):
                        point_data={"residual_mm": depth.reshape(-1)})
 
 
-def body_surfaces(sol) -> tuple:
-    """(rail mesh, wheel mesh) of one solved wheel (:class:`~contact.wheel_rail.solution.WheelRailSolution`)."""
+def body_surfaces(sol, residual: dict) -> tuple:
+    """(rail mesh, wheel mesh) of one solved wheel (:class:`~contact.wheel_rail.solution.WheelRailSolution`) with
+    its residual on the profiles (:func:`contact.wheel_rail.deformed.residual_on_profiles`)."""
     side = sol.inputs.side
     sign, pose, layout = side_sign(side), sol.inputs.pose.for_side(side), sol.inputs.layout
-    residual = residual_on_profiles(sol.patches)
     n_x = int(round(2.0 * SURFACE_HALF_LENGTH_MM / SURFACE_X_STEP_MM)) + 1
     X = np.linspace(-SURFACE_HALF_LENGTH_MM, SURFACE_HALF_LENGTH_MM, n_x)
     prof = sol.rail.profile
@@ -76,15 +76,15 @@ def body_surfaces(sol) -> tuple:
 def track_meshes(all_sols: list):
     """(step, part, name, mesh) of every surface and placed patch of a sweep (``all_sols[case] = {side:
     WheelRailSolution}``)."""
-    done = set()
+    residuals: dict = {}
     for k, side, sol, p, item in sweep_patches(all_sols):
-        if (k, side) not in done:
-            done.add((k, side))
-            rail, wheel = body_surfaces(sol)
+        if (k, side) not in residuals:          # the wheel's surfaces and residual, once per case and wheel
+            residuals[k, side] = residual_on_profiles(sol.patches)
+            rail, wheel = body_surfaces(sol, residuals[k, side])
             yield k, f"{side}_rail_surface", f"case{k:03d}_{side}_rail_surface", rail
             yield k, f"{side}_wheel_surface", f"case{k:03d}_{side}_wheel_surface", wheel
         sign, pose, layout = side_sign(side), sol.inputs.pose.for_side(side), sol.inputs.layout
-        residual = residual_on_profiles(sol.patches)
+        residual = residuals[k, side]
         xe, ye = cell_edges(item.patch)
         eta = p.strip_sign * ye                      # the problem's strips are strip_sign * eta of the candidate
         cand = p.candidate
