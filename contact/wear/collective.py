@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
+from contact.wear.curving import CurvingBalance
 from wrlayer.errors import InputError
 
 WEIGHT_SUM_TOL = 1e-9
@@ -50,6 +52,9 @@ class Condition:
     curvature_1_per_m : float
         Track curvature 1/R (1/m), positive for a curve to the left (the right rail is the outer, high rail);
         0 = straight track. Gives the wheelset's yaw rate -V / R (:mod:`contact.wear.curving`).
+    balance : CurvingBalance or None
+        A curve whose wheelset position is found from the quasi-static balance in every step
+        (:mod:`contact.wear.quasi_static`; ``lateral_mm`` and ``yaw_rad`` are then unused); None: given.
     """
 
     lateral_mm: float
@@ -62,9 +67,17 @@ class Condition:
     vertical_load_right_N: float | None = None
     vertical_load_left_N: float | None = None
     curvature_1_per_m: float = 0.0
+    balance: CurvingBalance | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The condition as result.json records it (``balance`` only where the position is found)."""
+        out = {k: v for k, v in vars(self).items() if k != "balance"}
+        return out if self.balance is None else {**out, "balance": vars(self.balance)}
 
     def describe(self) -> str:
-        return (self.label or f"lateral {self.lateral_mm:g} mm, yaw {self.yaw_rad:g} rad, "
+        position = "position from the balance" if self.balance else \
+            f"lateral {self.lateral_mm:g} mm, yaw {self.yaw_rad:g} rad"
+        return (self.label or f"{position}, "
                 f"{self.vertical_load_N:g} N, {self.speed_mm_s:g} mm/s"
                 + (f", curve 1/R = {self.curvature_1_per_m:g} 1/m" if self.curvature_1_per_m else ""))
 

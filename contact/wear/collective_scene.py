@@ -6,7 +6,8 @@ Three forms (exactly one):
 - ``[[collective.condition]]`` tables: lateral_mm (0), yaw_rad (0), vertical_load_N and speed_mm_s (the scene's
   ``[load]``), weight, label, pitch_rate_rad_s (traction/braking; default the scene's), vertical_load_right_N /
   vertical_load_left_N (per wheel; default vertical_load_N) and a steady curve: curvature_1_per_m (signed, positive
-  to the left), cant_mm or cant_deficiency_mm, cg_height_mm (:class:`contact.wear.curving.CurveSpec`);
+  to the left), cant_mm or cant_deficiency_mm, cg_height_mm, wheelset_position ("given" | "balance") and the
+  balance's suspension (:class:`contact.wear.curving.CurveSpec`);
 - a sweep: lateral_mm (list or {start, stop, step}), yaw_rad (one number or a list of the same length), weights (a
   list of the same length, or "uniform");
 - ``csv = "export.csv"`` with weight_by ("distance" | "time") and max_conditions (20): a multibody code's export
@@ -27,11 +28,11 @@ from contact.wheel_rail.scene import WheelRailScene
 from contact.wheel_rail.sweep import sweep_values
 from wrlayer.csv_input import CsvTable
 from wrlayer.errors import InputError
+from wrlayer.section_keys import key_names, read_section
 
+CURVE_KEYS = key_names(CurveSpec)
 CONDITION_KEYS = ("lateral_mm", "yaw_rad", "vertical_load_N", "speed_mm_s", "weight", "label", "pitch_rate_rad_s",
-                  "vertical_load_right_N", "vertical_load_left_N", "curvature_1_per_m", "cant_mm", "cant_deficiency_mm",
-                  "cg_height_mm")
-CURVE_KEYS = ("cant_mm", "cant_deficiency_mm", "cg_height_mm")
+                  "vertical_load_right_N", "vertical_load_left_N", "curvature_1_per_m") + CURVE_KEYS
 
 
 def parse_collective(col: SceneKeys, wheel_rail: WheelRailScene, base: Path
@@ -59,14 +60,15 @@ def _curve(keys: SceneKeys, wheel_rail: WheelRailScene, load: float, speed: floa
             raise keys.error(present[0], "needs a curve (curvature_1_per_m != 0)")
         return {}
     try:
-        curve = CurveSpec(keys.number("cant_mm") if "cant_mm" in keys.table else None,
-                          keys.number("cant_deficiency_mm") if "cant_deficiency_mm" in keys.table else None,
-                          keys.number("cg_height_mm", 0.0))
+        curve = read_section(CurveSpec, keys, also_known=CONDITION_KEYS)
         right, left = curve.side_loads(kappa, load, speed, wheel_rail.layout.gauge_mm,
                                        wheel_rail.layout.taping_line_mm)
     except InputError as err:
-        raise keys.error(err.what, err.problem) from None
-    out = {"curvature_1_per_m": kappa}
+        raise (err if err.what.startswith(keys.file) else keys.error(err.what, err.problem)) from None
+    given = [k for k in ("lateral_mm", "yaw_rad") if k in keys.table]
+    if curve.wheelset_position == "balance" and given:
+        raise keys.error(given[0], 'is found by the balance with wheelset_position = "balance"; do not give it')
+    out = {"curvature_1_per_m": kappa, "balance": curve.balance(kappa, speed, wheel_rail.layout.gauge_mm)}
     if curve.cg_height_mm > 0:
         side_given = [k for k in ("vertical_load_right_N", "vertical_load_left_N") if k in keys.table]
         if side_given:

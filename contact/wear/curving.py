@@ -33,11 +33,16 @@ import math
 from dataclasses import dataclass
 
 from wrlayer.errors import InputError
+from wrlayer.section_keys import key
 
 #: Gravitational acceleration (mm/s^2).
 G_MM_S2 = 9810.0
 #: Distance of the rail-head centres minus the track gauge (mm): s0 = 1500 mm for 1435 mm gauge (EN 13803).
 HEAD_CENTRES_OVER_GAUGE_MM = 65.0
+#: Values of ``wheelset_position``: the condition's lateral_mm and yaw_rad, or found from the balance.
+WHEELSET_POSITIONS = ("given", "balance")
+#: Keys of the balance's suspension (only with ``wheelset_position = "balance"``).
+SUSPENSION_KEYS = ("lateral_stiffness_N_per_mm", "yaw_stiffness_Nmm_per_rad", "frame_yaw_rad")
 
 
 @dataclass(frozen=True)
@@ -52,11 +57,25 @@ class CurveSpec:
         Cant deficiency I (mm), instead of ``cant_mm``: a_u = g I / s0.
     cg_height_mm : float
         Height h of the vehicle's centre of gravity above the rail tops (mm) for the load transfer; 0: none.
+    wheelset_position : str
+        ``"given"``: the condition's lateral_mm and yaw_rad; ``"balance"``: found from the quasi-static balance of
+        lateral forces and yaw moments in every step (then lateral_mm and yaw_rad are not given).
+    lateral_stiffness_N_per_mm : float
+        Balance: lateral stiffness k_y of the primary suspension to a frame on the track centre line (N/mm).
+    yaw_stiffness_Nmm_per_rad : float
+        Balance: yaw stiffness k_psi of the primary suspension to the frame (N mm/rad); 0 with k_y = 0: a free
+        wheelset.
+    frame_yaw_rad : float
+        Balance: the frame's yaw relative to the track tangent (rad); 0: a radial frame.
     """
 
-    cant_mm: float | None = None
-    cant_deficiency_mm: float | None = None
-    cg_height_mm: float = 0.0
+    cant_mm: float | None = key(None, "mm")
+    cant_deficiency_mm: float | None = key(None, "mm")
+    cg_height_mm: float = key(0.0, "mm", ge=0.0, le=5000.0)
+    wheelset_position: str = key("given", choices=WHEELSET_POSITIONS)
+    lateral_stiffness_N_per_mm: float = key(0.0, "N/mm", ge=0.0)
+    yaw_stiffness_Nmm_per_rad: float = key(0.0, "N mm/rad", ge=0.0)
+    frame_yaw_rad: float = key(0.0, "rad", ge=-0.05, le=0.05)
 
     def __post_init__(self):
         if self.cant_mm is not None and self.cant_deficiency_mm is not None:
@@ -67,6 +86,15 @@ class CurveSpec:
                 raise InputError(key, f"must lie within +-300 mm, got {v!r}")
         if not (math.isfinite(self.cg_height_mm) and 0.0 <= self.cg_height_mm <= 5000.0):
             raise InputError("cg_height_mm", f"must lie in [0, 5000] mm, got {self.cg_height_mm!r}")
+        if self.wheelset_position not in WHEELSET_POSITIONS:
+            raise InputError("wheelset_position", f"must be one of {', '.join(WHEELSET_POSITIONS)}, got "
+                             f"{self.wheelset_position!r}")
+        for key in SUSPENSION_KEYS:
+            v = getattr(self, key)
+            if self.wheelset_position == "given" and v != 0.0:
+                raise InputError(key, 'needs wheelset_position = "balance" (a given position has no suspension)')
+            if not (math.isfinite(v) and (v >= 0.0 or key == "frame_yaw_rad")):
+                raise InputError(key, f"must be a finite number >= 0, got {v!r}")
 
     def unbalanced_acceleration_mm_s2(self, curvature_1_per_m: float, speed_mm_s: float, gauge_mm: float) -> float:
         """a_u (mm/s^2) towards the outer rail (negative: cant excess), see the module docstring."""
@@ -89,4 +117,36 @@ class CurveSpec:
         return (outer, inner) if curvature_1_per_m > 0 else (inner, outer)
 
 
-__all__ = ["CurveSpec", "G_MM_S2", "HEAD_CENTRES_OVER_GAUGE_MM"]
+    def balance(self, curvature_1_per_m: float, speed_mm_s: float, gauge_mm: float) -> CurvingBalance | None:
+        """What the quasi-static balance needs (None for a given position)."""
+        if self.wheelset_position != "balance":
+            return None
+        return CurvingBalance(self.unbalanced_acceleration_mm_s2(curvature_1_per_m, speed_mm_s, gauge_mm),
+                              self.lateral_stiffness_N_per_mm, self.yaw_stiffness_Nmm_per_rad, self.frame_yaw_rad)
+
+
+@dataclass(frozen=True)
+class CurvingBalance:
+    """What the quasi-static balance of a condition needs besides the wheel-rail inputs (mm, N, s, rad;
+    :mod:`contact.wear.quasi_static`).
+
+    Attributes
+    ----------
+    unbalanced_acceleration_mm_s2 : float
+        a_u (mm/s^2) towards the outer rail (negative: cant excess).
+    lateral_stiffness_N_per_mm : float
+        k_y of the primary suspension to the frame (N/mm); 0: none.
+    yaw_stiffness_Nmm_per_rad : float
+        k_psi of the primary suspension to the frame (N mm/rad); 0: none.
+    frame_yaw_rad : float
+        The frame's yaw psi_f relative to the track tangent (rad); 0: radial.
+    """
+
+    unbalanced_acceleration_mm_s2: float
+    lateral_stiffness_N_per_mm: float = 0.0
+    yaw_stiffness_Nmm_per_rad: float = 0.0
+    frame_yaw_rad: float = 0.0
+
+
+__all__ = ["CurveSpec", "CurvingBalance", "G_MM_S2", "HEAD_CENTRES_OVER_GAUGE_MM", "SUSPENSION_KEYS",
+           "WHEELSET_POSITIONS"]

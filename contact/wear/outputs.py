@@ -129,7 +129,8 @@ def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any
         "steps": [{"step": r.index, "start_km": r.start_km, "length_km": r.length_km, "end_km": r.end_km,
                    "notes": r.notes, "conicity": r.conicity.to_dict(), "timings_s": r.timings,
                    "bodies": [{"side": s, "body": b, **bs.stats.to_dict()} for (s, b), bs in r.bodies.items()],
-                   "files": files.steps.get(r.index, []), "conditions": [c.to_dict() for c in r.conditions]}
+                   "files": files.steps.get(r.index, []), "conditions": [c.to_dict() for c in r.conditions],
+                   **({"balance": [b.to_dict() for b in r.balances]} if r.balances else {})}
                   for r in run.steps],
         "distance_done_km": run.steps[-1].end_km if run.steps else 0.0,
         "pictures": files.pictures,

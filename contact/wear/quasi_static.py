@@ -17,9 +17,9 @@ patch i (normal force along the contact normal plus the creep forces, track fram
 
 m = (Q_right + Q_left) / g the mass the wheelset carries, a_u the unbalanced lateral acceleration
 (:class:`contact.wear.curving.CurveSpec`), s = sign(kappa) (the force points to the outer rail), C the wheelset
-centre, a the axle direction, M_z,i the patch's spin moment about its normal n_i; k_y, k_psi: lateral and yaw stiffness of the primary
-suspension to a bogie frame held on the track centre line at the yaw psi_f relative to the track tangent (0: a
-radial frame); k_y = k_psi = 0: a free wheelset.
+centre, a the axle direction, M_z,i the patch's spin moment about its normal n_i; k_y, k_psi: lateral and yaw
+stiffness of the primary suspension to a bogie frame held on the track centre line at the yaw psi_f relative to
+the track tangent (0: a radial frame); k_y = k_psi = 0: a free wheelset.
 
 Solution (nested, both by Brent's method, :func:`scipy.optimize.brentq`): for a given y, psi(y) solves R_y = 0
 (the creep forces rise steeply with the attack angle; bracket grown from the last psi); the outer function
@@ -47,7 +47,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from contact.wear.curving import G_MM_S2
+from contact.wear.curving import G_MM_S2, CurvingBalance
 from contact.wheel_rail.inputs import WheelRailInputs
 from contact.wheel_rail.solution import WheelRailSolution
 from contact.wheel_rail.solve import solve_wheel
@@ -83,28 +83,6 @@ NEWTON_MAX_STEP = 20.0
 NEWTON_FD_STEP = 1e-2
 #: The outer function's value (N mm) where no attack angle balances the lateral force.
 UNBALANCED = 1e12
-
-
-@dataclass(frozen=True)
-class CurvingBalance:
-    """What the balance of one condition needs besides the wheel-rail inputs (mm, N, s, rad).
-
-    Attributes
-    ----------
-    unbalanced_acceleration_mm_s2 : float
-        a_u (mm/s^2) towards the outer rail (negative: cant excess).
-    lateral_stiffness_N_per_mm : float
-        k_y of the primary suspension to the frame (N/mm); 0: none.
-    yaw_stiffness_Nmm_per_rad : float
-        k_psi of the primary suspension to the frame (N mm/rad); 0: none.
-    frame_yaw_rad : float
-        The frame's yaw psi_f relative to the track tangent (rad); 0: radial.
-    """
-
-    unbalanced_acceleration_mm_s2: float
-    lateral_stiffness_N_per_mm: float = 0.0
-    yaw_stiffness_Nmm_per_rad: float = 0.0
-    frame_yaw_rad: float = 0.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -387,5 +365,5 @@ class QuasiStaticCurving:
                                wheel_solves=self.solves)
 
 
-__all__ = ["CurvingBalance", "Evaluation", "QuasiStaticCurving", "Wheelset", "WheelsetBalance", "WheelsetForces",
+__all__ = ["Evaluation", "QuasiStaticCurving", "Wheelset", "WheelsetBalance", "WheelsetForces",
            "wheelset_forces"]

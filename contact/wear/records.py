@@ -12,6 +12,7 @@ import numpy as np
 from contact.wear.conicity import RadiusDifference
 from contact.wear.layer_state import History
 from contact.wear.profile_grid import ArcGrid
+from contact.wear.quasi_static import WheelsetBalance
 from contact.wear.scene import WearScene
 from contact.wear.statistics import BodyStats
 from contact.wheel_rail.patch_result import PatchResult
@@ -119,6 +120,9 @@ class StepRecord:
     layer_state : dict
         Hardening mode: ``layer_state[(side, body)]`` = (profile y (mm), largest peak pressure so far (MPa)) after
         the step; empty otherwise.
+    balances : tuple
+        :class:`contact.wear.quasi_static.WheelsetBalance` of the conditions whose position was found from the
+        quasi-static balance on the profiles before the step (result.json ``steps[].balance``).
     """
 
     index: int
@@ -131,6 +135,7 @@ class StepRecord:
     profiles: Profiles
     notes: tuple[str, ...] = ()
     layer_state: History = field(default_factory=dict)
+    balances: tuple[WheelsetBalance, ...] = ()
 
     __repr__ = short_repr  # the depths by their shapes
 

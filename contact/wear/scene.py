@@ -170,7 +170,7 @@ class WearScene:
             "archard": {b: vars(m) for b, m in law.archard.items()},
             "usfd": {b: vars(t) for b, t in law.usfd.items()}, "density_kg_m3": law.density_kg_m3,
             "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": self.settings.to_dict(),
-            "conditions": [vars(c) for c in col.conditions],
+            "conditions": [c.to_dict() for c in col.conditions],
             "collective_source": {"file": col.source_file, "sha256": col.source_sha256} if col.source_file else None,
             "passes_cap": wr.passes.max,
             "layers": None if wr.solver_layers is None else dict(wr.solver_layers.names),

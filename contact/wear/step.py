@@ -24,7 +24,7 @@ import numpy as np
 from contact.wear.condition import BODIES, ConditionResult
 from contact.wear.conicity import radius_difference
 from contact.wear.layer_state import History, raised_history
-from contact.wear.planning import build_tasks, controlled_length, nominal_length_km, passes_per_km
+from contact.wear.planning import balanced_positions, build_tasks, controlled_length, nominal_length_km, passes_per_km
 from contact.wear.profile_grid import ArcGrid
 from contact.wear.records import BodyStep, ConditionSummary, StepRecord
 from contact.wear.scene import WearScene
@@ -64,7 +64,8 @@ def wear_step(scene: WearScene, state: WearState, solve: Callable[[list], list[C
     settings, step = scene.settings, state.steps_done + 1
     nominal_km = nominal_length_km(scene.collective, state.done_km, state.steps_done)
     t0 = time.perf_counter()
-    results = solve(build_tasks(scene, state.profiles, step, nominal_km, state.history, state.tables))
+    balances = balanced_positions(scene, state.profiles, step)
+    results = solve(build_tasks(scene, state.profiles, step, nominal_km, state.history, state.tables, balances))
     t_solve = time.perf_counter() - t0
     history = raised_history(state.history, results)
     t1 = time.perf_counter()
@@ -91,7 +92,8 @@ def wear_step(scene: WearScene, state: WearState, solve: Callable[[list], list[C
                         conditions=tuple(summary_of(r) for r in results),
                         timings={"solve_s": t_solve, "update_s": t_update,
                                  "conditions_s": sum(r.seconds for r in results)},
-                        profiles=profiles, notes=notes, layer_state=dict(history) if keep_state else {})
+                        profiles=profiles, notes=notes, layer_state=dict(history) if keep_state else {},
+                        balances=tuple(balances.values()))
     return record, history
 
 
