@@ -17,6 +17,8 @@ from contact.wear.curving import CurvingBalance
 from wrlayer.errors import InputError
 
 WEIGHT_SUM_TOL = 1e-9
+#: Condition fields written to result.json only when set (runs without them keep their records).
+OPTIONAL_RECORDS = ("balance", "creepages_right", "creepages_left")
 
 
 #: Largest number of running conditions of a collective (each is solved on every side in every step).
@@ -55,6 +57,11 @@ class Condition:
     balance : CurvingBalance or None
         A curve whose wheelset position is found from the quasi-static balance in every step
         (:mod:`contact.wear.quasi_static`; ``lateral_mm`` and ``yaw_rad`` are then unused); None: given.
+    creepages_right : tuple or None
+        Creepages (vx, vy, phi (1/mm)) of the right wheel from a multibody export, used instead of the kinematic
+        ones (:mod:`contact.wear.mbs_collective`); None: from the kinematics.
+    creepages_left : tuple or None
+        The same for the left wheel.
     """
 
     lateral_mm: float
@@ -68,11 +75,17 @@ class Condition:
     vertical_load_left_N: float | None = None
     curvature_1_per_m: float = 0.0
     balance: CurvingBalance | None = None
+    creepages_right: tuple[float, float, float] | None = None
+    creepages_left: tuple[float, float, float] | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        """The condition as result.json records it (``balance`` only where the position is found)."""
-        out = {k: v for k, v in vars(self).items() if k != "balance"}
+        """The condition as result.json records it (the balance and the given creepages only where present)."""
+        out = {k: v for k, v in vars(self).items() if v is not None or k not in OPTIONAL_RECORDS}
         return out if self.balance is None else {**out, "balance": vars(self.balance)}
+
+    def creepages_on(self, side: str) -> tuple[float, float, float] | None:
+        """The given creepages (vx, vy, phi (1/mm)) of the ``side`` wheel; None: from the kinematics."""
+        return self.creepages_right if side == "right" else self.creepages_left
 
     def describe(self) -> str:
         position = "position from the balance" if self.balance else \
@@ -147,6 +160,11 @@ class LoadCollective:
             raise InputError("wear.distance_km", f"must be a positive distance, got {self.distance_km!r}")
         if not (isinstance(self.steps, int) and self.steps >= 1):
             raise InputError("wear.steps", f"must be an integer >= 1, got {self.steps!r}")
+
+    @property
+    def creepages_given(self) -> bool:
+        """The conditions' creepages come from the multibody export (not from the kinematics)."""
+        return any(c.creepages_right is not None for c in self.conditions)
 
     @property
     def nominal_step_km(self) -> float:

@@ -102,10 +102,11 @@ class ConditionResult:
 def side_inputs(task: ConditionTask) -> WheelRailInputs:
     """The task's inputs with the condition's values of its side: the vertical load of this wheel
     (:meth:`Condition.load_on`; a curve loads the outer wheel more) and the wheelset's yaw rate in a curve
-    (:mod:`contact.wear.curving`)."""
+    (:mod:`contact.wear.curving`) and the creepages a multibody export gives for this wheel."""
     c = task.condition
     load = dataclasses.replace(task.inputs.load, vertical_load_N=c.load_on(task.side))
-    return dataclasses.replace(task.inputs, load=load, yaw_rate_rad_s=c.yaw_rate_rad_s)
+    return dataclasses.replace(task.inputs, load=load, yaw_rate_rad_s=c.yaw_rate_rad_s,
+                               creepages=c.creepages_on(task.side))
 
 
 def solve_condition(task: ConditionTask) -> ConditionResult:

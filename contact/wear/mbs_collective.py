@@ -18,6 +18,12 @@ column                     unit       meaning
 ``longitudinal_creepage``  \\-         optional: mean longitudinal creepage xi of the two wheels (Kalker's sign,
                                       negative under traction); gives the pitch rate omega = V (1 - xi) / r0;
                                       default pure rolling
+``creepage_x_right``,      \\-         optional, all six or none: each wheel's creepages in wrlayer's contact
+``creepage_y_right``,      \\-         frame (Kalker's sign, body 1 = wheel; x rolling direction, y in the contact
+``spin_right_1_per_m``,    1/m        plane towards the right rail, spin about the normal into the wheel), |vx|,
+``creepage_x_left``,       \\-         |vy| < 0.5, |spin| <= 5 1/m; used at every patch of the wheel instead of
+``creepage_y_left``,       \\-         the kinematic creepages (the position, yaw and curvature then set only the
+``spin_left_1_per_m``      1/m        contact geometry)
 =========================  =========  ===========================================================================
 
 Weights: sample k stands for the interval between the midpoints to its neighbours (half intervals at the ends).
@@ -45,7 +51,13 @@ from wrlayer.errors import InputError
 
 KEY_COLUMNS = ("time_s", "distance_m")
 REQUIRED_COLUMNS = ("lateral_mm", "yaw_rad", "vertical_load_left_N", "vertical_load_right_N", "speed_mm_s")
-OPTIONAL_COLUMNS = ("curvature_1_per_m", "longitudinal_creepage")
+#: The per-wheel creepage columns (vx, vy, spin in 1/m), given all together or not at all.
+CREEPAGE_COLUMNS = {side: (f"creepage_x_{side}", f"creepage_y_{side}", f"spin_{side}_1_per_m")
+                    for side in ("right", "left")}
+OPTIONAL_COLUMNS = ("curvature_1_per_m", "longitudinal_creepage") + CREEPAGE_COLUMNS["right"] + \
+    CREEPAGE_COLUMNS["left"]
+#: Largest |spin| (1/m) of an export: sin(gamma) / r on a flange (r >= 0.3 m) plus 1/R stays below 5 1/m.
+MAX_SPIN_1_PER_M = 5.0
 COLUMNS = KEY_COLUMNS + REQUIRED_COLUMNS + OPTIONAL_COLUMNS
 #: Starting cell widths of the merging grid: lateral (mm), yaw (rad), curvature (1/m).
 BIN_WIDTHS = (0.25, 0.5e-3, 0.1e-3)
@@ -91,6 +103,11 @@ def _check(table: CsvTable, what: str) -> str:
     missing = [c for c in REQUIRED_COLUMNS if c not in table.columns]
     if missing:
         raise InputError(what, f"missing column(s) {', '.join(missing)}")
+    creepage_columns = CREEPAGE_COLUMNS["right"] + CREEPAGE_COLUMNS["left"]
+    present = [c for c in creepage_columns if c in table.columns]
+    if present and len(present) < len(creepage_columns):
+        raise InputError(what, "the creepage columns come all six or none: missing "
+                         f"{', '.join(c for c in creepage_columns if c not in present)}")
     key = table.column(keys[0])
     step = np.diff(key)
     if np.any(step <= 0):
@@ -101,7 +118,12 @@ def _check(table: CsvTable, what: str) -> str:
              "vertical_load_right_N": (lambda v: v > 0, "must be > 0"), "speed_mm_s": (lambda v: v > 0, "must be > 0"),
              "yaw_rad": (lambda v: np.abs(v) < 0.2, "|yaw| must be < 0.2 rad"),
              "curvature_1_per_m": (lambda v: np.abs(v) <= 0.02, "|1/R| must be <= 0.02 1/m (R >= 50 m)"),
-             "longitudinal_creepage": (lambda v: np.abs(v) < 0.5, "|creepage| must be < 0.5")}
+             "longitudinal_creepage": (lambda v: np.abs(v) < 0.5, "|creepage| must be < 0.5"),
+             **{c: (lambda v: np.abs(v) < 0.5, "|creepage| must be < 0.5 (a fraction, not per cent)")
+                for side in ("right", "left") for c in CREEPAGE_COLUMNS[side][:2]},
+             **{CREEPAGE_COLUMNS[side][2]: (lambda v: np.abs(v) <= MAX_SPIN_1_PER_M,
+                                            f"|spin| must be <= {MAX_SPIN_1_PER_M:g} 1/m (1/m, not 1/mm or rad/km)")
+                for side in ("right", "left")}}
     for col, (ok, problem) in rules.items():
         if col in table.columns:
             bad = ~ok(table.column(col))
@@ -160,13 +182,15 @@ def read_mbs_collective(spec: MbsCollective, base: Path, what: str, nominal_radi
         load = 0.5 * (m["vertical_load_left_N"] + m["vertical_load_right_N"])
         pitch = None if "longitudinal_creepage" not in table.columns else \
             m["speed_mm_s"] * (1.0 - m["longitudinal_creepage"]) / nominal_radius_mm
+        given = {} if CREEPAGE_COLUMNS["right"][0] not in table.columns else \
+            {f"creepages_{side}": (m[vx], m[vy], m[spin] * 1e-3) for side, (vx, vy, spin) in CREEPAGE_COLUMNS.items()}
         conditions.append(Condition(m["lateral_mm"], m["yaw_rad"], load, m["speed_mm_s"], w,
                                     f"{Path(spec.csv).name} cell {k} ({n} samples)", pitch,
                                     vertical_load_right_N=m["vertical_load_right_N"],
                                     vertical_load_left_N=m["vertical_load_left_N"],
-                                    curvature_1_per_m=m["curvature_1_per_m"]))
+                                    curvature_1_per_m=m["curvature_1_per_m"], **given))
     total = sum(c.weight for c in conditions)
     return [Condition(**{**vars(c), "weight": c.weight / total}) for c in conditions], table
 
 
-__all__ = ["BIN_WIDTHS", "COLUMNS", "MbsCollective", "merge_cells", "read_mbs_collective", "sample_weights"]
+__all__ = ["BIN_WIDTHS", "COLUMNS", "CREEPAGE_COLUMNS", "MbsCollective", "merge_cells", "read_mbs_collective", "sample_weights"]

@@ -171,7 +171,9 @@ class WearScene:
             "usfd": {b: vars(t) for b, t in law.usfd.items()}, "density_kg_m3": law.density_kg_m3,
             "distance_km": col.distance_km, "nominal_steps": col.steps, "settings": self.settings.to_dict(),
             "conditions": [c.to_dict() for c in col.conditions],
-            "collective_source": {"file": col.source_file, "sha256": col.source_sha256} if col.source_file else None,
+            "collective_source": {"file": col.source_file, "sha256": col.source_sha256,
+                                  **({"creepages": "export"} if col.creepages_given else {})}
+            if col.source_file else None,
             "passes_cap": wr.passes.max,
             "layers": None if wr.solver_layers is None else dict(wr.solver_layers.names),
             "scene_toml": self.data}

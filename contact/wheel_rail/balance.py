@@ -45,7 +45,7 @@ from contact.tangential.fastsim import Creepage, TangentialResult
 from contact.tangential.on_patch import TangentialSettings, solve_regions
 from contact.wheel_rail.contact_search import ContactCandidate, SearchResult
 from contact.wheel_rail.inputs import WheelRailInputs
-from contact.wheel_rail.kinematics import PatchKinematics, contact_frame, creepages
+from contact.wheel_rail.kinematics import PatchKinematics, contact_frame, creepages, given_creepages
 from contact.wheel_rail.reference_point import ReferencePoint, reference_point
 from contact.wheel_rail.root_finder import secant
 from contact.wheel_rail.track_geometry import PlacedRail, axle_direction
@@ -224,7 +224,8 @@ class VerticalBalance:
         point = track_vector(ref.point_mm, self.sign)
         n_track = track_vector(ref.normal, self.sign)
         centre = np.array([0.0, inp.pose.lateral_mm, self.found.wheel_height_mm])   # rigid-contact geometry
-        kin = creepages(point, n_track, centre, self.axle, inp.speed_mm_s, inp.omega_rad_s, inp.yaw_rate_rad_s)
+        kin = creepages(point, n_track, centre, self.axle, inp.speed_mm_s, inp.omega_rad_s, inp.yaw_rate_rad_s) \
+            if inp.creepages is None else given_creepages(inp.creepages, n_track, inp.speed_mm_s)
         tangential = patch_tangential(sol, kin, inp, self.sign * ref.eta_mm, ctx.tangential_guess)
         ctx.tangential_guess = tangential
         return LoadedPatch(ctx, float(force), prob, sol, ref, kin, tangential)

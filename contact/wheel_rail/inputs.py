@@ -49,6 +49,9 @@ class WheelRailInputs:
     yaw_rate_rad_s : float
         Wheelset yaw rate (rad/s): -V / R in a steady curve of signed radius R (positive to the left), 0 on
         straight track (:func:`contact.wheel_rail.kinematics.creepages`).
+    creepages : tuple or None
+        Creepages (vx, vy, phi (1/mm)) of this wheel given from outside (a multibody export), used at every patch
+        instead of the kinematic ones; None: from the kinematics.
     material : MaterialSpec
         Young's modulus (MPa) and Poisson's ratio (-) of both bodies.
     tangential : TangentialSpec
@@ -66,6 +69,7 @@ class WheelRailInputs:
     load: WheelLoadSpec = field(default_factory=WheelLoadSpec)
     pitch_rate_rad_s: float | None = None
     yaw_rate_rad_s: float = 0.0
+    creepages: tuple[float, float, float] | None = None
     material: MaterialSpec = field(default_factory=MaterialSpec)
     tangential: TangentialSpec = field(default_factory=TangentialSpec)
     method: WheelRailMethodSpec = field(default_factory=WheelRailMethodSpec)

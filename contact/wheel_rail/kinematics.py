@@ -72,4 +72,14 @@ def creepages(point_mm: np.ndarray, normal: np.ndarray, centre_mm: np.ndarray, a
                            tuple(float(c) for c in v))
 
 
-__all__ = ["PatchKinematics", "contact_frame", "creepages"]
+def given_creepages(creepages_given: tuple[float, float, float], normal: np.ndarray, speed_mm_s: float
+                    ) -> PatchKinematics:
+    """Creepages (vx, vy, phi (1/mm)) given from outside (a multibody export) in the contact frame of ``normal``,
+    with the rigid slip velocity V (vx e_X + vy t) they stand for (mm/s, track)."""
+    ex, t, _ = contact_frame(normal)
+    vx, vy, phi = (float(c) for c in creepages_given)
+    v = speed_mm_s * (vx * ex + vy * t)
+    return PatchKinematics(vx, vy, phi, tuple(float(c) for c in v))
+
+
+__all__ = ["PatchKinematics", "contact_frame", "creepages", "given_creepages"]

@@ -1,6 +1,7 @@
 """A load collective from a multibody export: weights, the merging rule, strict reading (exit 2, one line naming
 the file and the row) and a wear run that takes the shipped example export."""
 
+import dataclasses
 import json
 import re
 import shutil
@@ -10,13 +11,20 @@ import numpy as np
 import pytest
 
 from contact.__main__ import main
+from contact.scenes.sections import TangentialSpec
 from contact.wear.mbs_collective import BIN_WIDTHS, MbsCollective, merge_cells, read_mbs_collective, sample_weights
 from contact.wear.scene import parse_wear_scene
+from contact.wheel_rail.inputs import WheelRailInputs
+from contact.wheel_rail.sections import WheelLoadSpec
+from contact.wheel_rail.solve import solve_wheel
+from contact.wheel_rail.track_geometry import WheelsetPose
+from meshes.profiles import Rail60E1, S1002
 from wrlayer.errors import InputError
 
 REPO = Path(__file__).resolve().parents[3]
 EXPORT = REPO / "scenes" / "wear" / "mbs_curve_export.csv"
 HEADER = "time_s,lateral_mm,yaw_rad,vertical_load_left_N,vertical_load_right_N,speed_mm_s"
+CREEP = "creepage_x_right,creepage_y_right,spin_right_1_per_m,creepage_x_left,creepage_y_left,spin_left_1_per_m"
 
 
 def test_weights_by_distance_and_time_by_hand():
@@ -81,6 +89,10 @@ def test_longitudinal_creepage_gives_the_pitch_rate(tmp_path):
     ("time_s,lateral_mm,yaw_rad,speed_mm_s\n0,0,0,2e4\n", "missing column.s. vertical_load_left_N"),
     (f"{HEADER},lateral_m\n0,0,0,5e4,5e4,2e4,0\n", "unknown column 'lateral_m'"),
     (f"{HEADER},curvature_1_per_m\n0,0,0,5e4,5e4,2e4,0.5\n", "row 1, column curvature_1_per_m"),
+    (f"{HEADER},{CREEP}\n0,0,0,5e4,5e4,2e4,0.3,0,0,-0.3,0,0\n1,0,0,5e4,5e4,2e4,0.3,2.0,0,-0.3,0,0\n",
+     r"row 2, column creepage_y_right: \|creepage\| must be < 0.5 \(a fraction, not per cent\)"),
+    (f"{HEADER},{CREEP}\n0,0,0,5e4,5e4,2e4,0,0,0,0,0,40\n", r"row 1, column spin_left_1_per_m: \|spin\| must be <= 5"),
+    (f"{HEADER},creepage_x_right\n0,0,0,5e4,5e4,2e4,0\n", "all six or none: missing creepage_y_right"),
 ])
 def test_bad_exports_exit_2_with_one_line_naming_file_and_row(text, match, tmp_path, wear_dict, write_scene, capsys):
     (tmp_path / "export.csv").write_text(text)
@@ -122,3 +134,38 @@ def test_wear_run_takes_the_shipped_export(tmp_path, wear_dict, write_scene):
     assert all(c["vertical_load_right_N"] > 0 and c["vertical_load_left_N"] > 0 for c in conds)
     wear = res["steps"][0]["bodies"]
     assert all(b["wear_max_mm"] > 0 for b in wear)
+
+
+def test_export_creepages_replace_the_kinematic_ones(tmp_path):
+    """Per-wheel creepages of an export: merged as weighted means (equal weights here: samples 1 s apart at one
+    speed), the spin converted from 1/m to 1/mm; the solver uses them at the patch instead of the kinematics and
+    result.json says so; without the columns nothing changes (the kinematic creepages of the position)."""
+    f = tmp_path / "e.csv"
+    f.write_text(f"{HEADER},{CREEP}\n0,2,0,5e4,5e4,2e4,-0.001,0.002,-0.1,0.001,0.0,0.1\n"
+                 "1,2,0,5e4,5e4,2e4,-0.003,0.004,-0.3,0.003,0.0,0.3\n")
+    (c,), _ = read_mbs_collective(MbsCollective(f.name), tmp_path, "e.csv", 460.0)
+    assert c.creepages_right == pytest.approx((-0.002, 0.003, -0.2e-3))
+    assert c.creepages_left == pytest.approx((0.002, 0.0, 0.2e-3))
+    inputs = WheelRailInputs(load=WheelLoadSpec(5e4, 2e4), tangential=TangentialSpec(0.3),
+                             pose=WheelsetPose(2.0, 0.0, 0.0), creepages=c.creepages_right)
+    patch = solve_wheel(Rail60E1(), S1002(), inputs).patches[0]
+    assert (patch.kinematics.vx, patch.kinematics.vy, patch.kinematics.phi_per_mm) == pytest.approx(c.creepages_right)
+    assert patch.Fx_N > 0 and patch.Fy_N < 0                       # Kalker: the force opposes the creepage
+    kinematic = solve_wheel(Rail60E1(), S1002(), dataclasses.replace(inputs, creepages=None)).patches[0]
+    assert kinematic.kinematics.vx != pytest.approx(-0.002, abs=1e-4) and kinematic.kinematics.vy == 0.0
+
+
+def test_wear_run_records_export_creepages(tmp_path, wear_dict, write_scene):
+    f = tmp_path / "e.csv"
+    f.write_text(f"{HEADER},{CREEP}\n0,2,0,5e4,5e4,2e4,-0.001,0.002,-0.1,0.001,0.0,0.1\n"
+                 "1,2,0,5e4,5e4,2e4,-0.001,0.002,-0.1,0.001,0.0,0.1\n")
+    path = write_scene(wear_dict(collective=None, layers=None, wear={"distance_km": 1.0, "steps": 1,
+                                                                     "inelastic": False}))
+    path.write_text(path.read_text() + '\n[collective]\ncsv = "e.csv"\n')
+    out = tmp_path / "out"
+    assert main(["wear", str(path), "--out", str(out), "--quiet", "--no-plots"]) == 0
+    res = json.loads((out / "result.json").read_text())
+    assert res["inputs"]["collective_source"]["creepages"] == "export"
+    assert res["inputs"]["conditions"][0]["creepages_right"] == pytest.approx([-0.001, 0.002, -0.1e-3])
+    (patch,) = res["steps"][0]["conditions"][0]["patches"]
+    assert (patch["creepage_x"], patch["creepage_y"], patch["spin_per_mm"]) == pytest.approx((-0.001, 0.002, -1e-4))
