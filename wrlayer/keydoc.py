@@ -10,7 +10,8 @@ A scene, configuration or result dataclass documents its keys in a numpydoc ``At
 :func:`key_table` renders one markdown row per field: the key (a caller's section prefix such as ``load.`` plus
 the field name), its type, its default (``required`` when it has none) and the description from that section
 (empty where the class has no entry; a subclass inherits its bases' entries). Fields that are dataclasses themselves
-are expanded with a dotted prefix. A section whose fields declare their keys (:func:`wrlayer.section_keys.key`)
+are expanded with a dotted prefix; fields with ``metadata={NOT_A_KEY: True}`` (values a reader derives) are left
+out. A section whose fields declare their keys (:func:`wrlayer.section_keys.key`)
 gets a column with each key's unit and bounds.
 
 In a markdown page, a block::
@@ -39,7 +40,7 @@ import typing
 from pathlib import Path
 
 from wrlayer.errors import InputError, cli_guard
-from wrlayer.section_keys import key_facts, key_spec
+from wrlayer.section_keys import NOT_A_KEY, key_facts, key_spec
 
 #: A generated block: the opening comment with the class path and an optional prefix, the body, the closing comment.
 BLOCK = re.compile(r"(<!-- keys: *(?P<target>[A-Za-z_][\w.]*)(?: +(?P<prefix>\S+))? *-->\n)(?P<body>.*?)(<!-- /keys -->)",
@@ -158,7 +159,7 @@ def _rows(cls: type, prefix: str = "") -> list[tuple[str, str, str, str, str]]:
     described = described_attributes(cls)
     rows = []
     for f in dataclasses.fields(cls):
-        if f.name.startswith("_"):
+        if f.name.startswith("_") or f.metadata.get(NOT_A_KEY):
             continue
         nested = _nested_dataclass(cls, f)
         if nested is not None:

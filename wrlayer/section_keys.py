@@ -22,6 +22,9 @@ from wrlayer.validate import Keys, is_number
 
 #: The metadata entry that marks a field as a key of its section.
 KEY = "section_key"
+#: The metadata entry that marks a field as a value a reader derives, not a key of the input (left out of the key
+#: tables of :mod:`wrlayer.keydoc`).
+NOT_A_KEY = "not_a_key"
 _BOUNDS = (("gt", ">"), ("ge", ">="), ("lt", "<"), ("le", "<="))
 
 
@@ -143,4 +146,4 @@ def read_section(cls: type, keys: Keys, *, required: tuple[str, ...] = (), given
     return cls(**values)
 
 
-__all__ = ["KEY", "KeySpec", "key", "key_facts", "key_names", "key_spec", "read_key", "read_section"]
+__all__ = ["KEY", "NOT_A_KEY", "KeySpec", "key", "key_facts", "key_names", "key_spec", "read_key", "read_section"]

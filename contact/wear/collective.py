@@ -10,11 +10,12 @@ weights must sum to one (within 1e-9).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from contact.wear.curving import CurvingBalance
 from wrlayer.errors import InputError
+from wrlayer.section_keys import NOT_A_KEY
 
 WEIGHT_SUM_TOL = 1e-9
 #: Condition fields written to result.json only when set (runs without them keep their records).
@@ -74,9 +75,9 @@ class Condition:
     vertical_load_right_N: float | None = None
     vertical_load_left_N: float | None = None
     curvature_1_per_m: float = 0.0
-    balance: CurvingBalance | None = None
-    creepages_right: tuple[float, float, float] | None = None
-    creepages_left: tuple[float, float, float] | None = None
+    balance: CurvingBalance | None = field(default=None, metadata={NOT_A_KEY: True})
+    creepages_right: tuple[float, float, float] | None = field(default=None, metadata={NOT_A_KEY: True})
+    creepages_left: tuple[float, float, float] | None = field(default=None, metadata={NOT_A_KEY: True})
 
     def to_dict(self) -> dict[str, Any]:
         """The condition as result.json records it (the balance and the given creepages only where present)."""
