@@ -13,13 +13,14 @@ patch i (normal force along the contact normal plus the creep forces, track fram
 
     R_y(y, psi)   = sum_i F_Y,i + s m a_u - k_y y                                  = 0     (lateral)
     R_psi(y, psi) = sum_i [(P_i - C) x F_i]_Z + M_z,i n_Z,i - k_psi (psi - psi_f)  = 0     (yaw)
-    T(omega)      = sum_i [(P_i - C) x F_i] . a                                     = 0     (free pitch)
+    T(omega)      = sum_i [(P_i - C) x (F_i - N_i n_i)] . a                         = 0     (free pitch)
 
 m = (Q_right + Q_left) / g the mass the wheelset carries, a_u the unbalanced lateral acceleration
 (:class:`contact.wear.curving.CurveSpec`), s = sign(kappa) (the force points to the outer rail), C the wheelset
-centre, a the axle direction, M_z,i the patch's spin moment about its normal n_i; k_y, k_psi: lateral and yaw
-stiffness of the primary suspension to a bogie frame held on the track centre line at the yaw psi_f relative to
-the track tangent (0: a radial frame); k_y = k_psi = 0: a free wheelset.
+centre, a the axle direction, N_i n_i the normal force (it meets the axle of the wheel, a surface of revolution,
+so only the creep forces have a torque about it), M_z,i the patch's spin moment about its normal n_i; k_y,
+k_psi: lateral and yaw stiffness of the primary suspension to a bogie frame held on the track centre line at the
+yaw psi_f relative to the track tangent (0: a radial frame); k_y = k_psi = 0: a free wheelset.
 
 Solution (nested, both by Brent's method, :func:`scipy.optimize.brentq`): for a given y, psi(y) solves R_y = 0
 (the creep forces rise steeply with the attack angle; bracket grown from the last psi); the outer function
@@ -173,10 +174,12 @@ def wheelset_forces(solutions: dict[str, WheelRailSolution]) -> WheelsetForces:
         axle = axle_direction(sol.inputs.pose)
         for p in sol.patches:
             force = p.force_track_N()
-            arm_moment = np.cross(p.point_track - centre, force)
+            arm = p.point_track - centre
             total += force
-            moment += arm_moment + p.Mz_Nmm * p.normal_track
-            torque += float(arm_moment @ axle)
+            moment += np.cross(arm, force) + p.Mz_Nmm * p.normal_track
+            # the normal of a wheel (a surface of revolution) meets its axle: only the creep forces turn it
+            creep = force - p.normal_force_N * p.normal_track
+            torque += float(np.cross(arm, creep) @ axle)
             creep_y += p.Fy_N * p.lateral_track[1]
     return WheelsetForces(float(total[1]), float(moment[2]), torque, float(creep_y), float(total[0]))
 

@@ -19,7 +19,7 @@ from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import TrackLayout, place_rail
 from meshes.profiles import Profile, Rail60E1, S1002
 from meshes.profiles.pieces import line_piece
-from wrlayer.errors import InputError
+from wrlayer.errors import ConvergenceError, InputError
 
 Q, V, R0 = 50000.0, 20000.0, 460.0
 
@@ -39,14 +39,15 @@ def wheelset(wheel: Profile, radius_m: float) -> tuple[Wheelset, WheelRailInputs
                     {s: dataclasses.replace(inputs, side=s) for s in ("right", "left")}), inputs
 
 
-def conical_case(slope: float, radius_m: float, a_u: float):
+def conical_case(slope: float, radius_m: float, a_u: float, **suspension):
     """The balance of a free conical wheelset whose centred contact has the rolling radius r0 exactly; also the
     centred contact point (half distance e0 in the track, contact angle)."""
     rail = Rail60E1()
     first, inputs = wheelset(cone(slope), radius_m)
     centred = solve_wheel(rail, cone(slope), inputs).patches[0].candidate
     ws, _ = wheelset(cone(slope, centred.y_wheel_mm), radius_m)
-    found = QuasiStaticCurving(ws, CurvingBalance(a_u), 1.0 / (radius_m * 1e3), centred.Y_mm, "cone").solve()
+    found = QuasiStaticCurving(ws, CurvingBalance(a_u, **suspension), 1.0 / (radius_m * 1e3), centred.Y_mm,
+                               "cone").solve()
     return found, centred
 
 
@@ -66,6 +67,22 @@ def test_conical_free_wheelset_runs_on_the_pure_rolling_line():
     assert abs(found.lateral_residual_N) <= 1e-4 * 2 * Q and abs(found.yaw_residual_Nmm) <= 1e-4 * 2 * Q * 750
 
 
+def test_a_right_hand_curve_mirrors_the_position():
+    """R = -1000 m (a curve to the right, the left rail outer): y = -y0, the same |psi|."""
+    left, _ = conical_case(0.05, 1000.0, 0.0)
+    right, _ = conical_case(0.05, -1000.0, 0.0)
+    assert right.lateral_mm == pytest.approx(-left.lateral_mm, abs=1e-4)
+    assert right.yaw_rad == pytest.approx(-left.yaw_rad, abs=1e-7)
+
+
+def test_no_balance_is_a_convergence_error():
+    """A stiff yaw spring (1e12 N mm/rad) to a frame yawed 20 mrad asks for a yaw moment of 2e10 N mm that the
+    creep forces of a flangeless cone (at most about 2 mu Q e0 = 2.3e7 N mm) cannot give at any y: reported, not
+    returned."""
+    with pytest.raises(ConvergenceError, match="yaw moment does not change sign"):
+        conical_case(0.05, 1000.0, 0.0, yaw_stiffness_Nmm_per_rad=1e12, frame_yaw_rad=0.02)
+
+
 def test_cant_deficiency_is_carried_by_the_creep_forces():
     """By hand: with equal loads and contact angles gamma the normal forces' lateral parts cancel except for the
     creep forces' own vertical parts (the wheels' vertical balance, N cos g + F_s t_Z = Q), so the track-lateral
@@ -82,6 +99,7 @@ def test_cant_deficiency_is_carried_by_the_creep_forces():
     assert found.yaw_rad < -1e-4    # vy ~ -psi > 0: the attack angle makes the inward creep force (towards -Y)
 
 
+@pytest.mark.slow
 def test_tight_curve_presses_the_wheelset_into_flange_contact():
     """S1002 on 60E1 (1:40), R = 150 m, free wheelset: the pure rolling line would need Delta r = 2 e0 r0 / R =
     4.6 mm, more than the tread gives, so the outer (right) wheel runs on its flange root: its patch has a contact
@@ -109,6 +127,7 @@ def _balance_scene(wear_dict, write_scene, **curve):
     return path
 
 
+@pytest.mark.slow
 def test_wear_scene_finds_and_records_the_position(wear_dict, write_scene, tmp_path):
     """``wheelset_position = "balance"``: result.json records y, psi and the residuals of the step, and the
     condition's balance inputs."""
