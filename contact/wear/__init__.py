@@ -4,7 +4,8 @@ Prandtl surface layer (units mm, N, MPa, s; distances in km where named so). Ref
 Modules (one concept each): :mod:`laws` (Archard with the Jendel map, USFD T-gamma), :mod:`collective` (load
 collective, steady curves' per-wheel loads), :mod:`collective_scene` (the ``[collective]`` tables, sweep or
 multibody export), :mod:`mbs_collective` (a multibody code's per-time-step export merged into a collective),
-:mod:`curving` (cant, unbalanced acceleration and load transfer in a steady curve), :mod:`scene` (the TOML "wear" scene), :mod:`condition` (one running condition solved and turned into
+:mod:`curving` (cant, unbalanced acceleration and load transfer in a steady curve), :mod:`quasi_static` (the
+wheelset's position, yaw and pitch rate in a steady curve from the quasi-static balance), :mod:`scene` (the TOML "wear" scene), :mod:`condition` (one running condition solved and turned into
 depths), :mod:`runner` (in-process, local processes or Dask), :mod:`layer_state` (the layer's state per profile
 position between steps), :mod:`profile_grid` (deposit, smoothing, profile update), :mod:`planning` (step length
 and the tasks of a step), :mod:`step` (one wear step), :mod:`state` (what a step hands to the next),
