@@ -167,3 +167,24 @@ def test_a_section_table_shows_each_keys_unit_and_bounds():
     assert "| `load.force_N` | `float` | `10.0` | N, > 0, <= 1e+06 | Normal force (N). |" in table
     assert '| `load.mode` | `str` | `"a"` | one of "a", "b" |  |' in table
     assert "| `load.cells` | `int` | `60` | >= 2 |  |" in table
+
+
+@dataclass(frozen=True)
+class WithDerived:
+    """A section with a value its reader derives.
+
+    Attributes
+    ----------
+    radius_mm : float
+        A key (mm).
+    derived : float
+        Computed by the reader, not a key.
+    """
+
+    radius_mm: float = 1.0
+    derived: float | None = field(default=None, metadata={keydoc.NOT_A_KEY: True})
+
+
+def test_derived_fields_are_not_keys():
+    table = keydoc.key_table(WithDerived, "s.")
+    assert "`s.radius_mm`" in table and "derived" not in table
