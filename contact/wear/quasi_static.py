@@ -66,7 +66,7 @@ SCAN_STEP_MM = 1.0
 SCAN_MAX_MM = 20.0
 #: First step (rad) of the attack-angle bracket; it doubles up to |psi| <= PSI_MAX_RAD.
 PSI_STEP_RAD = 1e-3
-PSI_MAX_RAD = 0.1
+PSI_MAX_RAD = 0.05
 #: A free wheelset's pitch rate: first step, largest change and tolerance of its root, relative to omega (-).
 OMEGA_STEP = 1e-5
 OMEGA_RANGE = 0.2
@@ -237,6 +237,7 @@ class QuasiStaticCurving:
         self.psi = 0.0
         self.jacobian: np.ndarray | None = None
         self.last: Evaluation | None = None
+        self.seen: dict[float, tuple[float, Evaluation | None]] = {}
 
     def evaluate(self, y: float, psi: float, omega: float) -> Evaluation:
         """Both wheels solved at (y, psi, omega) and the residuals there."""
@@ -321,13 +322,18 @@ class QuasiStaticCurving:
         return e
 
     def yaw_residual(self, y: float) -> float:
-        """g(y) = R_psi(y, psi(y)) (N mm); +-UNBALANCED where no attack angle balances the lateral force."""
-        e = self.newton(y) or self.bracketed(y)
-        if e is None:
-            r_y = self.evaluate(y, self.psi, self.omega).lateral_residual_N
-            return math.copysign(UNBALANCED, r_y)   # a force towards +Y still missing: the root lies at larger y
-        self.last = e
-        return e.yaw_residual_Nmm
+        """g(y) = R_psi(y, psi(y)) (N mm); +-UNBALANCED where no attack angle balances the lateral force. Kept
+        per y (Brent evaluates the bracket's ends again); ``self.last``: the inner balance at y (None: none)."""
+        if y not in self.seen:
+            e = self.newton(y) or self.bracketed(y)
+            if e is None:
+                r_y = self.evaluate(y, self.psi, self.omega).lateral_residual_N
+                # a force towards +Y still missing: the root lies at larger y
+                self.seen[y] = (math.copysign(UNBALANCED, r_y), None)
+            else:
+                self.seen[y] = (e.yaw_residual_Nmm, e)
+        g, self.last = self.seen[y]
+        return g
 
     def bracket(self) -> tuple[float, float]:
         """Two lateral positions (mm) about the root of g, stepping from 0 towards the side g points to."""
@@ -350,7 +356,6 @@ class QuasiStaticCurving:
         """The balanced (y, psi) and the residuals there; ConvergenceError when they exceed the tolerances."""
         lo, hi = self.bracket()
         y = float(brentq(self.yaw_residual, lo, hi, xtol=Y_XTOL_MM, rtol=4 * np.finfo(float).eps, maxiter=100))
-        self.last = None
         self.yaw_residual(y)           # the inner balance at the root itself (Brent's last point may be another)
         e = self.last
         torque = 0.0 if e is None or not self.free_pitch else e.forces.axle_torque_Nmm
