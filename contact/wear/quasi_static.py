@@ -325,7 +325,10 @@ class QuasiStaticCurving:
         """g(y) = R_psi(y, psi(y)) (N mm); +-UNBALANCED where no attack angle balances the lateral force. Kept
         per y (Brent evaluates the bracket's ends again); ``self.last``: the inner balance at y (None: none)."""
         if y not in self.seen:
-            e = self.newton(y) or self.bracketed(y)
+            e = self.newton(y)
+            if e is None:
+                self.jacobian = None     # Broyden's last update may be poor: a fresh one after the robust path
+                e = self.bracketed(y)
             if e is None:
                 r_y = self.evaluate(y, self.psi, self.omega).lateral_residual_N
                 # a force towards +Y still missing: the root lies at larger y
