@@ -99,6 +99,17 @@ def test_cant_deficiency_is_carried_by_the_creep_forces():
     assert found.yaw_rad < -1e-4    # vy ~ -psi > 0: the attack angle makes the inward creep force (towards -Y)
 
 
+def test_lateral_spring_force_is_carried_by_the_creep_forces():
+    """A lateral spring k_y = 500 N/mm to the centre line pulls the wheelset back by k_y y; as with cant
+    deficiency the creep forces then carry sum F_s cos(gamma) = k_y y cos^2(gamma), and y stays near the pure
+    rolling line (the yaw moment is still the longitudinal creep forces')."""
+    found, centred = conical_case(0.05, 1000.0, 0.0, lateral_stiffness_N_per_mm=500.0)
+    spring = 500.0 * found.lateral_mm
+    assert found.creep_lateral_N == pytest.approx(spring * math.cos(centred.contact_angle_rad) ** 2, abs=1e-4 * 2 * Q)
+    assert found.lateral_mm == pytest.approx(centred.Y_mm * R0 / (0.05 * 1e6), rel=0.02)
+    assert found.yaw_rad > 1e-4                # the outward creep force of a positive attack angle
+
+
 @pytest.mark.slow
 def test_tight_curve_presses_the_wheelset_into_flange_contact():
     """S1002 on 60E1 (1:40), R = 150 m, free wheelset: the pure rolling line would need Delta r = 2 e0 r0 / R =
