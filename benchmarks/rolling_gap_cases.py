@@ -218,9 +218,9 @@ def run_case(case: GapCase, out_dir: Path, progress=None, track: TrackSettings =
     return res
 
 
-def default_cases(n_passes: int = N_PASSES) -> list[GapCase]:
-    """Every case, position by position (both tractions, the three levels)."""
-    return [GapCase(pos, lv, c, n_passes) for pos in default_positions() for c in TRACTIONS for lv in LEVELS]
+def default_cases(n_passes: int = N_PASSES, levels: tuple[float, ...] = LEVELS) -> list[GapCase]:
+    """Every case, position by position (both tractions, the levels)."""
+    return [GapCase(pos, lv, c, n_passes) for pos in default_positions() for c in TRACTIONS for lv in levels]
 
 
 def mesh_check_cases(n_passes: int = 5) -> list[GapCase]:
@@ -236,14 +236,15 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.rolling_gap_cases", description=__doc__.splitlines()[0])
     ap.add_argument("out", type=Path)
     ap.add_argument("--passes", type=int, default=N_PASSES)
-    ap.add_argument("--only", default="", help="run only the positions whose name contains this")
+    ap.add_argument("--levels", type=float, nargs="+", default=list(LEVELS), help="levels p0 / p_y (default: LEVELS)")
+    ap.add_argument("--only", nargs="*", default=[], help="run only the positions whose name contains one of these")
     ap.add_argument("--mesh-check", action="store_true", help="run the mesh check cases instead")
     args = ap.parse_args(argv)
     from threadpoolctl import threadpool_limits  # one BLAS thread on the shared machine
 
     with threadpool_limits(limits=1):
-        for case in mesh_check_cases() if args.mesh_check else default_cases(args.passes):
-            if args.only and args.only not in case.position.name:
+        for case in mesh_check_cases() if args.mesh_check else default_cases(args.passes, tuple(args.levels)):
+            if args.only and not any(name in case.position.name for name in args.only):
                 continue
             t0 = time.perf_counter()
             res = run_case(case, args.out, progress=lambda s: print(s, flush=True))
