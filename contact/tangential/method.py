@@ -250,11 +250,14 @@ def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, fric
 def _one_patch(solution, k: int, patch: Patch, creepage: Creepage, friction, G_MPa, poisson, method, speed_mm_s,
                nx, flexibility, options, start: TangentialResult | None = None) -> TangentialResult:
     """Patch ``k`` of ``solution`` (``patch``: in the frame to solve in) by a strip method or, for a
-    Kik–Piotrowski solution, by the exact theory on the patch rasterised with ``nx`` cells. ``start``: FaStrip's
-    start (the same patch's earlier FaStrip solution, :func:`contact.tangential.fastrip.start_tractions`)."""
+    Kik–Piotrowski solution, by the exact theory on the patch rasterised with ``nx`` cells. ``start``: the same
+    patch's earlier solution by the same method: FaStrip's start (:func:`contact.tangential.fastrip.start_tractions`),
+    the exact theory's starting tractions when the raster has the same shape."""
     if method == "exact":
-        return solve_on_grid(PressureGrid.from_patch(patch, nx), creepage, friction, G_MPa, poisson, "exact",
-                             speed_mm_s, nx, options)[0]
+        grid = PressureGrid.from_patch(patch, nx)
+        same = start is not None and start.method == "exact" and start.tx_MPa.shape == grid.p_MPa.shape
+        return solve_on_grid(grid, creepage, friction, G_MPa, poisson, "exact", speed_mm_s, nx, options,
+                             [start] if same else None)[0]
     kw = {}
     if getattr(solution, "field", None) is not None:
         kw = {"pressure_cells_MPa": fastsim_pressure(solution, k, nx), "strip_centre_mm": strip_centres(solution, k)}
