@@ -108,8 +108,19 @@ def influence_table(grid: CoarseGrid, factor: float) -> np.ndarray:
 
 def resample(p: np.ndarray, old: CoarseGrid, new: CoarseGrid) -> np.ndarray:
     """A pressure of ``old`` on ``new``: bilinear in the cell centres, 0 outside (the CG's warm start)."""
-    along_x = np.array([np.interp(new.x, old.x, row, left=0.0, right=0.0) for row in p])
-    return np.array([np.interp(new.y, old.y, col, left=0.0, right=0.0) for col in along_x.T]).T
+    return _interp_rows(new.y, old.y, _interp_rows(new.x, old.x, p).T).T
+
+
+def _interp_rows(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
+    """``np.interp(x, xp, row, left=0, right=0)`` of every row of fp (rows, xp.size) at once, with numpy's
+    arithmetic (slope (f[j+1] - f[j]) / (xp[j+1] - xp[j]) times (x - xp[j]) plus f[j]; f[-1] at xp[-1]): the same
+    values."""
+    if xp.size < 2:
+        return np.array([np.interp(x, xp, row, left=0.0, right=0.0) for row in fp]).reshape(fp.shape[0], x.size)
+    j = np.clip(np.searchsorted(xp, x, side="right") - 1, 0, xp.size - 2)
+    slope = (fp[:, j + 1] - fp[:, j]) / (xp[j + 1] - xp[j])
+    out = np.where(x == xp[-1], fp[:, -1:], slope * (x - xp[j]) + fp[:, j])
+    return np.where((x >= xp[0]) & (x <= xp[-1]), out, 0.0)
 
 
 def separation_at(prob: NormalProblem, y: np.ndarray) -> np.ndarray:
