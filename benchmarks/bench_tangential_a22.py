@@ -4,7 +4,8 @@ coarse-grid exact normal solution), creep forces FX and FS of both wheels agains
 values, the time of the 21-case sweep, and every variant's largest deviation from the exact/exact sweep (p_max, area,
 FN, FX, FS of the main patch). The fast mode (``method.normal = "coarse_exact"`` with each tangential method)
 against the exact mode (exact/exact): per case and wheel, the deviations of the main patch and the CPU time ratio
-of the sweeps without output files (:data:`TIMED`, run :data:`TIMING_ROUNDS` times interleaved, medians).
+of the sweeps without output files (no VTK files, no frictional CSVs; :data:`TIMED`, run :data:`TIMING_ROUNDS`
+times interleaved, medians).
 ``--report FILE``: the fast-mode part of the validation report (docs/validation/tangential.md) replaced between its
 markers (:data:`BEGIN`, :data:`END`), stamped.
 
@@ -87,7 +88,8 @@ def against_exact(result: dict, exact: dict) -> dict[str, tuple[float, int, str]
 
 
 def timed_sweeps(out: pathlib.Path, rounds: int = TIMING_ROUNDS) -> dict[str, dict]:
-    """Each :data:`TIMED` sweep without output files, ``rounds`` times interleaved (after one untimed run of each,
+    """Each :data:`TIMED` sweep without output files (no VTK files, no frictional CSVs; result.json's record is
+    built), ``rounds`` times interleaved (after one untimed run of each,
     which compiles and loads the kernels): {"normal/tangential": {"result" (the first timed run's), "cpu_s" (the
     runs' CPU times), "load" (1-min load averages at their starts)}}."""
     runs: dict[str, dict] = {}
@@ -96,7 +98,7 @@ def timed_sweeps(out: pathlib.Path, rounds: int = TIMING_ROUNDS) -> dict[str, di
             name = f"{normal}/{tangential}"
             load = os.getloadavg()[0]
             res, _, cpu, err = run_scene(out / f"timed_{normal}_{tangential}", normal=normal, tangential=tangential,
-                                         vtk=False)
+                                         vtk=False, output={"frictional_csv": False})
             rec = runs.setdefault(name, {"result": None, "cpu_s": [], "load": [], "error": ""})
             if res is None:
                 rec["error"] = err
@@ -115,7 +117,8 @@ def fast_mode_markdown(runs: dict[str, dict]) -> tuple[str, dict]:
     titles = {"p_max_MPa": "p_max", "area_mm2": "area", "normal_force_N": "F_N", "Fx_N": "F_x / (mu F_N)",
               "Fy_N": "F_y / (mu F_N)"}
     loads = [v for rec in runs.values() for v in rec["load"]]
-    md = [f"CPU time of the sweep without output files (one process; median of {TIMING_ROUNDS} interleaved runs "
+    md = [f"CPU time of the sweep without output files (no VTK files, no frictional CSVs; the result record built; "
+          f"one process; median of {TIMING_ROUNDS} interleaved runs "
           f"after a warm-up run; 1-min load {min(loads):.1f}–{max(loads):.1f} on the 2 shared cores) and the "
           "largest deviation of the main patch from the exact/exact sweep over the 21 cases and both wheels (case "
           f"and wheel in brackets); targets: within {FAST_TOLERANCE:.0%} and {FAST_SPEEDUP:g} times faster:\n",
