@@ -36,9 +36,9 @@ VARIANTS = (("kik_piotrowski", "fastsim", ""), ("exact", "fastsim", ""), ("exact
 #: Main-patch quantities compared with the exact/exact sweep: (result key, relative to: "self" or "mu FN").
 AGAINST_EXACT = (("p_max_MPa", "self"), ("area_mm2", "self"), ("normal_force_N", "self"), ("Fx_N", "mu FN"),
                  ("Fy_N", "mu FN"))
-#: Sweeps timed without output files (VTK), the exact mode first: (method.normal, method.tangential).
-TIMED = (("exact", "exact"), ("coarse_exact", "fastsim"), ("coarse_exact", "fastrip"), ("coarse_exact", "exact"),
-         ("exact", "fastrip"))
+#: Sweeps timed without output files, the exact mode first: (method.normal, method.tangential, other [method] keys).
+TIMED = (("exact", "exact", {}), ("coarse_exact", "fastsim", {}), ("coarse_exact", "fastrip", {}),
+         ("coarse_exact", "exact", {}), ("coarse_exact", "exact", {"fastsim_cells": 24}), ("exact", "fastrip", {}))
 TIMING_ROUNDS = 3
 #: Strip width (mm) of the exact/exact sweep that checks the exact mode's own p_max and area (the scene's 0.1 mm
 #: leaves the flange patches 7-8 strips wide).
@@ -97,11 +97,12 @@ def timed_sweeps(out: pathlib.Path, rounds: int = TIMING_ROUNDS) -> dict[str, di
     runs' CPU times), "load" (1-min load averages at their starts)}}."""
     runs: dict[str, dict] = {}
     for r in range(rounds + 1):
-        for normal, tangential in TIMED:
-            name = f"{normal}/{tangential}"
+        for normal, tangential, keys in TIMED:
+            name = f"{normal}/{tangential}" + "".join(f" ({k} {v})" for k, v in keys.items())
             load = os.getloadavg()[0]
-            res, _, cpu, err = run_scene(out / f"timed_{normal}_{tangential}", normal=normal, tangential=tangential,
-                                         vtk=False, output={"frictional_csv": False})
+            folder = out / ("timed_" + "_".join([normal, tangential, *(f"{k}{v}" for k, v in keys.items())]))
+            res, _, cpu, err = run_scene(folder, normal=normal, tangential=tangential, vtk=False,
+                                         output={"frictional_csv": False}, **keys)
             rec = runs.setdefault(name, {"result": None, "cpu_s": [], "load": [], "error": ""})
             if res is None:
                 rec["error"] = err
