@@ -17,8 +17,8 @@ cos(gamma) <= mu |sin(gamma)| (flange climbing limit) is a ConvergenceError. Sev
 on the common Delta (started at the normal-only balance found by Brent's method), every candidate's N_i(delta_i)
 from its force-approach relation. Converged to |sum F_Z - Q| <= 1e-8 Q (the exact solvers' results are determined
 to about 1e-7 of the approach by their own tolerances; the balance stops below that). With the exact solvers each
-solve starts from the candidate's previous one (pressure field, tractions; the coarse-grid solver on its last grid,
-FaStrip from its strips' tractions), and the exact normal solve at the first point of the iteration is solved to a
+solve starts from the candidate's previous one (pressure field, tractions; the coarse-grid solver without a layer
+on its last grid, FaStrip from its strips' tractions), and the exact normal solve at the first point of the iteration is solved to a
 loose tolerance only (:data:`ROUGH_CG_TOL`). ``balance = "normal"``:
 sum N_i cos(gamma_i) = Q (the earlier model, kept for comparison; on the flange it overestimates N by 25-60 %).
 
@@ -140,11 +140,13 @@ class BalanceCandidate:
         """The keywords that start a normal solve of this candidate from its last one (KP: the approach; the
         exact solver: with ``rough`` the CG tolerance :data:`ROUGH_CG_TOL`, and without a layer the pressure field:
         with a layer the warm-started solve's noise, set by the layer tolerance, would stall the balance; the
-        coarse-grid solver: its last grid and pressure, :class:`contact.normal.coarse_exact.CoarseWarmStart`)."""
+        coarse-grid solver without a layer: its last grid and pressure,
+        :class:`contact.normal.coarse_exact.CoarseWarmStart`; with a layer the jumps between a kept and a refitted
+        grid stalled the balance on a flange case of scenes/wheel_rail_sweep_layers.toml)."""
         if method.name == "exact":
             return {"delta_guess_mm": self.delta_guess, "start": self.field_guess if self.pair is None else None,
                     "cg_tol": ROUGH_CG_TOL if rough else None}
-        if method.name == "coarse_exact":
+        if method.name == "coarse_exact" and self.pair is None:
             if self.coarse_warm is None:
                 from contact.normal.coarse_exact import CoarseWarmStart   # only this method needs it
 

@@ -164,7 +164,7 @@ def test_close_patches_merged_and_solved_on_one_exact_grid(rail60, s1002, placed
     assert abs(sol.vertical_force_N - 100000.0) / 100000.0 < 1e-6
 
 
-@pytest.mark.parametrize("method", ["kik_piotrowski", "exact"])
+@pytest.mark.parametrize("method", ["kik_piotrowski", "exact", "coarse_exact"])
 def test_layered_wheel_with_either_normal_method(rail60, s1002, placed, method):
     from wrlayer.characteristic import Characteristic
     from contact.scenes.layers import LayerSources
