@@ -60,9 +60,10 @@ def to_contact(patch: dict, side: str) -> dict[str, float]:
             "cksi": -patch["creepage_x"], "ceta": -patch["creepage_y"], "cphi_per_mm": -patch["spin_per_mm"]}
 
 
-def _scene_data(sweep: dict | None = None, workers: int = 1, **method) -> dict:
+def _scene_data(sweep: dict | None = None, workers: int = 1, output: dict | None = None, **method) -> dict:
     data = copy.deepcopy(tomllib.loads(SCENE.read_text(encoding="utf-8")))
     data["method"].update(method)
+    data.setdefault("output", {}).update(output or {})
     data["sweep"].update(sweep or {})
     if workers > 1:
         data.setdefault("run", {})["workers"] = workers
@@ -70,13 +71,14 @@ def _scene_data(sweep: dict | None = None, workers: int = 1, **method) -> dict:
 
 
 def run_scene(out: pathlib.Path, sweep: dict | None = None, vtk: bool | None = None, workers: int = 1,
-              **method) -> tuple[dict | None, float, float, str]:
+              output: dict | None = None, **method) -> tuple[dict | None, float, float, str]:
     """(result or None, wall time s, CPU time s of this process, error text) of the shipped scene with ``method``
     keys changed; ``vtk``: write the VTK files (None: the scene's default, as ``wrlayer simulate``); ``workers``:
-    the cases on that many local processes (their CPU time is not in this process's)."""
+    the cases on that many local processes (their CPU time is not in this process's); ``output``: [output] keys
+    changed (e.g. ``{"frictional_csv": False}``)."""
     t0, c0 = time.perf_counter(), time.process_time()
     try:
-        res = run_wheel_rail_scene(parse_wheel_rail_scene(_scene_data(sweep, workers, **method), SCENE), out,
+        res = run_wheel_rail_scene(parse_wheel_rail_scene(_scene_data(sweep, workers, output, **method), SCENE), out,
                                    plots=False, vtk=vtk).to_dict()
     except InputError as err:
         return None, time.perf_counter() - t0, time.process_time() - c0, str(err)

@@ -2,7 +2,12 @@
 normal solution (and FASTSIM on Kik–Piotrowski's, the shipped scene; FASTSIM and the exact theory on the
 coarse-grid exact normal solution), creep forces FX and FS of both wheels against CONTACT's published full-theory
 values, the time of the 21-case sweep, and every variant's largest deviation from the exact/exact sweep (p_max, area,
-FN, FX, FS of the main patch).
+FN, FX, FS of the main patch). The fast mode (``method.normal = "coarse_exact"`` with each tangential method)
+against the exact mode (exact/exact): per case and wheel, the deviations of the main patch and the CPU time ratio
+of the sweeps without output files (no VTK files, no frictional CSVs; :data:`TIMED`, run :data:`TIMING_ROUNDS`
+times interleaved, medians).
+``--report FILE``: the fast-mode part of the validation report (docs/validation/tangential.md) replaced between its
+markers (:data:`BEGIN`, :data:`END`), stamped.
 
 Units: N, s. The shipped scene ``scenes/manchester_a22.toml`` (both wheels, 21 cases) with ``method.normal`` and
 ``method.tangential`` changed (:func:`benchmarks.bench_manchester.run_scene`); CONTACT's reference output and the
@@ -13,22 +18,37 @@ reported apart.
 
 from __future__ import annotations
 
+import argparse
 import os
 import pathlib
-import sys
 
 import numpy as np
 
 from benchmarks.bench_manchester import MU, TWO_POINT_CASES, contact_reference, run_scene, to_contact
+from benchmarks.harness import command_line, report_stamp
+from wrlayer.atomic_write import atomic_write_text
 
 #: (method.normal, method.tangential) pairs measured, and how: "" as ``wrlayer simulate`` runs the scene (output
 #: files included, one process), "no VTK" without the VTK files, "2 workers" the cases on 2 worker processes.
 VARIANTS = (("kik_piotrowski", "fastsim", ""), ("exact", "fastsim", ""), ("exact", "fastrip", ""),
             ("exact", "exact", ""), ("exact", "exact", "no VTK"), ("exact", "exact", "2 workers"),
-            ("coarse_exact", "fastsim", ""), ("coarse_exact", "exact", ""))
+            ("coarse_exact", "fastsim", ""), ("coarse_exact", "fastrip", ""), ("coarse_exact", "exact", ""))
 #: Main-patch quantities compared with the exact/exact sweep: (result key, relative to: "self" or "mu FN").
 AGAINST_EXACT = (("p_max_MPa", "self"), ("area_mm2", "self"), ("normal_force_N", "self"), ("Fx_N", "mu FN"),
                  ("Fy_N", "mu FN"))
+#: Sweeps timed without output files, the exact mode first: (method.normal, method.tangential, other [method] keys).
+TIMED = (("exact", "exact", {}), ("coarse_exact", "fastsim", {}), ("coarse_exact", "fastrip", {}),
+         ("coarse_exact", "exact", {}), ("coarse_exact", "exact", {"fastsim_cells": 24}), ("exact", "fastrip", {}))
+TIMING_ROUNDS = 3
+#: Strip width (mm) of the exact/exact sweep that checks the exact mode's own p_max and area (the scene's 0.1 mm
+#: leaves the flange patches 7-8 strips wide).
+FINE_GRID_MM = 0.025
+#: The fast mode's targets against the exact mode: largest deviation (p_max, area, F_N relative; F_x, F_y / (mu
+#: F_N)) and CPU time ratio.
+FAST_TOLERANCE, FAST_SPEEDUP = 0.05, 3.0
+#: Markers of the generated part of the validation report.
+BEGIN, END = "<!-- bench_tangential_a22: begin -->", "<!-- bench_tangential_a22: end -->"
+COMMAND = "python -m benchmarks.bench_tangential_a22 out/bench --report docs/validation/tangential.md"
 
 
 def deviations(result: dict, ref: dict, side: str) -> dict[str, np.ndarray]:
@@ -44,22 +64,102 @@ def deviations(result: dict, ref: dict, side: str) -> dict[str, np.ndarray]:
     return out
 
 
-def against_exact(result: dict, exact: dict) -> dict[str, tuple[float, int, str]]:
-    """Largest deviation of each :data:`AGAINST_EXACT` quantity of the main patch from the exact/exact sweep over
-    the cases and wheels: (deviation, case 1..21, wheel); relative (p_max, area, FN) or / (mu FN)."""
-    worst = {key: (0.0, 0, "") for key, _ in AGAINST_EXACT}
+def per_case_against_exact(result: dict, exact: dict) -> list[tuple[int, str, dict[str, float]]]:
+    """(case 1..21, wheel, {key: deviation}) of the main patch from the exact/exact sweep for each
+    :data:`AGAINST_EXACT` quantity (relative: p_max, area, FN; / (mu FN): FX, FS), every case both sweeps solved."""
+    out = []
     for k, (case, ref) in enumerate(zip(result["cases"], exact["cases"])):
         if "wheels" not in case or "wheels" not in ref:
             continue
         for side in case["wheels"]:
             ours = max(case["wheels"][side]["patches"], key=lambda p: p["normal_force_N"])
             theirs = max(ref["wheels"][side]["patches"], key=lambda p: p["normal_force_N"])
-            for key, scale in AGAINST_EXACT:
-                den = theirs[key] if scale == "self" else MU * theirs["normal_force_N"]
-                dev = (ours[key] - theirs[key]) / den
-                if abs(dev) > abs(worst[key][0]):
-                    worst[key] = (float(dev), k + 1, side)
+            out.append((k + 1, side, {key: float((ours[key] - theirs[key]) / (
+                theirs[key] if scale == "self" else MU * theirs["normal_force_N"])) for key, scale in AGAINST_EXACT}))
+    return out
+
+
+def against_exact(result: dict, exact: dict) -> dict[str, tuple[float, int, str]]:
+    """Largest deviation of each :data:`AGAINST_EXACT` quantity of the main patch from the exact/exact sweep over
+    the cases and wheels: (deviation, case 1..21, wheel); relative (p_max, area, FN) or / (mu FN)."""
+    worst = {key: (0.0, 0, "") for key, _ in AGAINST_EXACT}
+    for case, side, dev in per_case_against_exact(result, exact):
+        for key, _ in AGAINST_EXACT:
+            if abs(dev[key]) > abs(worst[key][0]):
+                worst[key] = (dev[key], case, side)
     return worst
+
+
+def timed_sweeps(out: pathlib.Path, rounds: int = TIMING_ROUNDS) -> dict[str, dict]:
+    """Each :data:`TIMED` sweep without output files (no VTK files, no frictional CSVs; result.json's record is
+    built), ``rounds`` times interleaved (after one untimed run of each,
+    which compiles and loads the kernels): {"normal/tangential": {"result" (the first timed run's), "cpu_s" (the
+    runs' CPU times), "load" (1-min load averages at their starts)}}."""
+    runs: dict[str, dict] = {}
+    for r in range(rounds + 1):
+        for normal, tangential, keys in TIMED:
+            name = f"{normal}/{tangential}" + "".join(f" ({k} {v})" for k, v in keys.items())
+            load = os.getloadavg()[0]
+            folder = out / ("timed_" + "_".join([normal, tangential, *(f"{k}{v}" for k, v in keys.items())]))
+            res, _, cpu, err = run_scene(folder, normal=normal, tangential=tangential, vtk=False,
+                                         output={"frictional_csv": False}, **keys)
+            rec = runs.setdefault(name, {"result": None, "cpu_s": [], "load": [], "error": ""})
+            if res is None:
+                rec["error"] = err
+            elif r > 0:
+                rec["result"] = rec["result"] or res
+                rec["cpu_s"].append(cpu)
+                rec["load"].append(load)
+    return runs
+
+
+def fast_mode_markdown(runs: dict[str, dict], fine: dict | None) -> tuple[str, dict]:
+    """The fast mode against the exact mode: one row per timed variant (largest deviations, CPU time ratio; p_max
+    and area also against ``fine``, the exact/exact sweep on :data:`FINE_GRID_MM` strips), then the
+    coarse_exact/fastsim sweep per case and wheel."""
+    exact = runs["exact/exact"]
+    t_exact = float(np.median(exact["cpu_s"]))
+    titles = {"p_max_MPa": "p_max", "area_mm2": "area", "normal_force_N": "F_N", "Fx_N": "F_x / (mu F_N)",
+              "Fy_N": "F_y / (mu F_N)"}
+    loads = [v for rec in runs.values() for v in rec["load"]]
+    md = [f"CPU time of the sweep without output files (no VTK files, no frictional CSVs; the result record built; "
+          f"one process; median of {TIMING_ROUNDS} interleaved runs "
+          f"after a warm-up run; 1-min load {min(loads):.1f}–{max(loads):.1f} on the 2 shared cores) and the "
+          "largest deviation of the main patch from the exact/exact sweep over the 21 cases and both wheels (case "
+          f"and wheel in brackets); targets: within {FAST_TOLERANCE:.0%} and {FAST_SPEEDUP:g} times faster:\n",
+          "| method.normal / method.tangential | CPU [s] | exact/exact CPU / CPU | "
+          + " | ".join(titles.values()) + f" | p_max, area against exact/exact on {FINE_GRID_MM:g} mm strips |",
+          "|---|---|---|" + "---|" * (len(titles) + 1)]
+
+    def against_fine(res: dict) -> str:
+        if fine is None:
+            return "—"
+        worst = against_exact(res, fine)
+        return " / ".join(f"{worst[k][0]:+.2%} ({worst[k][1]} {worst[k][2]})" for k in ("p_max_MPa", "area_mm2"))
+
+    data = {}
+    for name, rec in runs.items():
+        if rec["result"] is None:
+            md.append(f"| {name} | failed: {rec['error'][:100]} |")
+            continue
+        cpu = float(np.median(rec["cpu_s"]))
+        data[name] = {"cpu_s": rec["cpu_s"], "load": rec["load"], "speedup": t_exact / cpu}
+        if name == "exact/exact":
+            md.append(f"| {name} | {cpu:.2f} | 1 |" + " — |" * len(titles) + f" {against_fine(rec['result'])} |")
+            continue
+        worst = against_exact(rec["result"], exact["result"])
+        data[name]["against_exact"] = worst
+        cells = [f"{worst[k][0]:+.2%} ({worst[k][1]} {worst[k][2]})" for k in titles] + [against_fine(rec["result"])]
+        md.append(f"| {name} | {cpu:.2f} | {t_exact / cpu:.2f} | " + " | ".join(cells) + " |")
+    fast = runs["coarse_exact/fastsim"]["result"]
+    if fast is not None:
+        md += ["\nThe fast mode coarse_exact/fastsim per case (deviation from exact/exact, main patch):\n",
+               "| case | wheel | " + " | ".join(titles.values()) + " |", "|---|---|" + "---|" * len(titles)]
+        rows = per_case_against_exact(fast, exact["result"])
+        data["coarse_exact/fastsim"]["per_case"] = rows
+        md += [f"| {case} | {side} | " + " | ".join(f"{dev[k]:+.2%}" for k in titles) + " |"
+               for case, side, dev in rows]
+    return "\n".join(md), data
 
 
 def _summary(dev: dict[str, np.ndarray]) -> dict[str, float]:
@@ -110,9 +210,36 @@ def run(mode: str, out: pathlib.Path) -> dict:
             data[name]["against_exact"] = worst
             md.append(f"| {name} | " + " | ".join(f"{worst[k][0]:+.2%} ({worst[k][1]} {worst[k][2]})"
                                                   for k, _ in AGAINST_EXACT) + " |")
+    fine, _, _, _ = run_scene(out / "exact_exact_fine", normal="exact", tangential="exact", vtk=False,
+                              output={"frictional_csv": False}, grid_mm=FINE_GRID_MM)
+    fast_md, fast = fast_mode_markdown(timed_sweeps(out), fine)
+    data["fast_mode"] = {**fast, "markdown": fast_md}
+    md += ["\n### The fast mode against the exact mode\n", fast_md]
     return {"title": "Manchester A-2.2: tangential methods vs CONTACT", "markdown": "\n".join(md), "figures": [],
             "data": data}
 
 
-if __name__ == "__main__":  # manual run: python -m benchmarks.bench_tangential_a22 [out_dir]
-    print(run("quick", pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "out/bench"))["markdown"])
+def write_report(path: pathlib.Path, markdown: str, command: str) -> None:
+    """Replace the generated part of the report at ``path`` (between :data:`BEGIN` and :data:`END`) by
+    ``markdown`` under a stamp; the rest of the report stays as written."""
+    text = path.read_text(encoding="utf-8")
+    head, rest = text.split(BEGIN, 1)
+    tail = rest.split(END, 1)[1]
+    atomic_write_text(path, f"{head}{BEGIN}\n{report_stamp(command)}\n\n{markdown.strip()}\n{END}{tail}")
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.bench_tangential_a22", description=__doc__.splitlines()[0])
+    ap.add_argument("out", nargs="?", type=pathlib.Path, default=pathlib.Path("out/bench"))
+    ap.add_argument("--report", type=pathlib.Path, default=None,
+                    help="the validation report whose generated part to replace (docs/validation/tangential.md)")
+    args = ap.parse_args(argv)
+    res = run("quick", args.out)
+    if args.report is not None:       # the fast-mode part (the CONTACT table above it is written by hand)
+        write_report(args.report, res["data"]["fast_mode"]["markdown"],
+                     command_line("python -m benchmarks.bench_tangential_a22", argv))
+    print(res["markdown"])
+
+
+if __name__ == "__main__":
+    main()

@@ -15,7 +15,9 @@ loaded lines (one lattice of spacing dy, no lines in the gaps between separated 
 stays exact; :mod:`contact.normal.coarse_grid`), moved out where the pressure reaches an end and refitted until
 no end moves by more than a cell. These solves stop at :data:`ROUGH_TOL`; the last one is solved again to ``tol``.
 Lines need not be strips: f is interpolated from the separation table as the problem does (no kinks between
-strips).
+strips). A grid's separation and influence tables are built once (:func:`contact.normal.coarse_grid.grid_tables`).
+With ``warm`` (:class:`CoarseWarmStart`, the wheel–rail balance's successive forces of one patch) the solve starts
+on the last solve's grid, to the full tolerance, and ends there when the loaded cells still fit it.
 
 Solve. Polonsky–Keer CG with the influence matrix applied from its table of cell offsets, in one compiled kernel
 (:mod:`contact.normal.coarse_cg`); with a layer, the exact solver's outer iteration (each cell's loading curve
@@ -40,10 +42,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact.layer.prandtl_layer import LayerPair
-from contact.normal.coarse_cg import dense_cg, influence_columns
-from contact.normal.coarse_grid import (MARGIN, CoarseGrid, influence_table, loaded_spans, merged, resample,
-                                        separation_at)
+from contact.normal.coarse_cg import dense_cg
+from contact.normal.coarse_grid import MARGIN, CoarseGrid, grid_tables, loaded_spans, merged, resample, separation_at
 from contact.normal.coarse_layer import LineLayers
+from contact.normal.coarse_warm import CoarseWarmStart
 from contact.normal.exact import layer_is_elastic, line_area
 from contact.normal.halfspace import compliance_factor
 from contact.normal.kik_piotrowski import hertz_like_guess
@@ -53,7 +55,7 @@ from contact.normal.solution import NormalSolution, RegionSolution
 from wrlayer.errors import ConvergenceError, InputError, require
 from wrlayer.jit import kernel
 
-__all__ = ["DEFAULT_CELLS", "MARGIN", "CoarseOptions", "solve_coarse_exact"]
+__all__ = ["DEFAULT_CELLS", "MARGIN", "CoarseOptions", "CoarseWarmStart", "solve_coarse_exact"]
 
 #: Default lines and cells of the coarse grid (``method.coarse_cells``), from the time-error study of
 #: ``benchmarks/bench_fast_normal.py``.
@@ -97,9 +99,8 @@ class CoarseOptions:
 def _solve_on(prob: NormalProblem, grid: CoarseGrid, layer: LineLayers, p_start: np.ndarray, opts: CoarseOptions,
               factor: float, stats: dict, rough: bool = False):
     """(p (ny, nx), delta (mm), u_L (ny, nx), f (ny, nx)) on the grid."""
-    f = separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
-    k = influence_table(grid, factor)
-    cols = influence_columns(k, grid.rows)
+    tables = grid_tables(prob, grid, factor)
+    f, k, cols = tables.f, tables.k, tables.cols
     area = grid.dx * grid.dy
     p = np.array(p_start, dtype=float)
     if not np.any(p > 0):
@@ -150,15 +151,19 @@ def _located(prob, layer, opts, factor, stats, shape, delta_box):
                            "rebuilds")
 
 
-def _fitted(prob, layer, opts, factor, stats, shape, grid, p):
+def _fitted(prob, layer, opts, factor, stats, shape, grid, p, fitted: tuple | None = None):
     """Solve with about shape[0] lines over the runs of loaded lines of ``p`` on ``grid`` and shape[1] cells over
     its loaded cells, plus :data:`MARGIN` (:func:`loaded_spans`), refitted to the new solution until no end moves
     by more than a cell; an interval end (or x end) the pressure reaches is moved out by half the interval: (grid,
-    p, delta, u_L, f)."""
-    spans, x_span = loaded_spans(grid, p)
-    for _ in range(opts.max_boxes):
-        new = CoarseGrid.over(prob, spans, x_span, shape, grid.box_delta)
-        p, delta, u_l, f = _solve_on(prob, new, layer, resample(p, grid, new), opts, factor, stats, rough=True)
+    p, delta, u_L, f, (spans, x span) the grid was fitted to). ``fitted``: the (spans, x span) ``grid`` itself was
+    fitted to (a warm start): the first solve is on ``grid``, to the full tolerance, and the last when the grid
+    need not move."""
+    spans, x_span = loaded_spans(grid, p) if fitted is None else fitted
+    for it in range(opts.max_boxes):
+        final = fitted is not None and it == 0
+        new = grid if final else CoarseGrid.over(prob, spans, x_span, shape, grid.box_delta)
+        p, delta, u_l, f = _solve_on(prob, new, layer, p if final else resample(p, grid, new), opts, factor, stats,
+                                     rough=not final)
         stats["boxes"] += 1
         grid = new
         loaded = p.max(axis=1) > 0
@@ -185,32 +190,37 @@ def _fitted(prob, layer, opts, factor, stats, shape, grid, p):
         if len(want) == len(spans) and all(abs(a - c) <= grid.dy and abs(b - d) <= grid.dy
                                            for (a, b), (c, d) in zip(want, spans)) \
                 and abs(want_x[0] - x_span[0]) <= grid.dx and abs(want_x[1] - x_span[1]) <= grid.dx:
-            p, delta, u_l, f = _solve_on(prob, grid, layer, p, opts, factor, stats)      # to the full tolerance
-            return grid, p, delta, u_l, f
+            if not final:
+                p, delta, u_l, f = _solve_on(prob, grid, layer, p, opts, factor, stats)      # to the full tolerance
+            return grid, p, delta, u_l, f, (spans, x_span)
         spans, x_span = want, want_x
     raise ConvergenceError(f"coarse exact normal solver: the grid still moved after {opts.max_boxes} "
                            "refits (contact at the grid border)")
 
 
 def solve_coarse_exact(prob: NormalProblem, layer: LayerPair | None = None, options: CoarseOptions = CoarseOptions(),
-                       delta_guess_mm: float | None = None) -> NormalSolution:
+                       delta_guess_mm: float | None = None, warm: CoarseWarmStart | None = None) -> NormalSolution:
     """Solve the normal contact on the coarse grid (module docstring); the layers are not modified.
     ``delta_guess_mm``: the approach of a nearby solve (mm; e.g. the previous step of the wheel-rail balance): the
-    first grid covers {f < delta_guess / 2} instead of a locating solve from the Hertz-like estimate."""
+    first grid covers {f < delta_guess / 2} instead of a locating solve from the Hertz-like estimate. ``warm``: the
+    last solve of the same problem at another force (:class:`CoarseWarmStart`; read and updated): when it matches,
+    the solve starts on its grid (``delta_guess_mm`` is then not needed)."""
     factor = compliance_factor(prob.E_MPa, prob.poisson)
     lay = LineLayers(layer, prob)
     stats = {"cg_iterations": 0, "layer_iterations": 0, "boxes": 0}
     shape = (options.cells, options.x_cells)
     half = (options.cells // 2, max(options.x_cells // 2, 4))
-    if delta_guess_mm is not None and delta_guess_mm > 0:
-        # a nearby solve's approach: the region {f < delta/2} (Hertz's contact for a circle) as the first loaded
-        # region, with a semi-ellipsoidal start, instead of a locating solve
-        grid = CoarseGrid.over_box(prob, GUESS_REGION * delta_guess_mm, half)
-        f0 = separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
-        p = np.sqrt(np.clip(1.0 - f0 / (GUESS_REGION * delta_guess_mm), 0.0, None))
-    if delta_guess_mm is None or delta_guess_mm <= 0 or not np.any(p > 0):
-        grid, p, _ = _located(prob, lay, options, factor, stats, half, 1.2 * hertz_like_guess(prob))
-    grid, p, delta, u_l, f = _fitted(prob, lay, options, factor, stats, shape, grid, p)
+    start = warm.start_for(prob, layer, options) if warm is not None else None
+    if start is not None:
+        warm.solves += 1
+        grid, p, delta, u_l, f, fitted = _fitted(prob, lay, options, factor, stats, shape, start[0], start[2],
+                                                 start[1])
+        warm.kept += int(grid is start[0])
+    else:
+        grid, p, delta, u_l, f, fitted = _fitted(prob, lay, options, factor, stats, shape,
+                                                 *_first_grid(prob, lay, options, factor, stats, half, delta_guess_mm))
+    if warm is not None:
+        warm.keep(prob, layer, options, grid, fitted, p)
     sol = _outputs(prob, lay, grid, p, delta, u_l, f)
     if options.extrapolate:
         coarse = CoarseGrid.over(prob, [(lo, hi) for _, lo, hi in grid.spans()],
@@ -219,6 +229,21 @@ def solve_coarse_exact(prob: NormalProblem, layer: LayerPair | None = None, opti
         sol = sol[:1] + tuple(_richardson(a, b) for a, b in zip(_outputs(prob, lay, coarse, ph, dh, uh, fh)[1:],
                                                                  sol[1:]))
     return _solution(prob, layer, sol, stats, options)
+
+
+def _first_grid(prob, lay, options, factor, stats, half, delta_guess_mm):
+    """(grid, pressure) of a cold solve's first fit: over {f < delta_guess / 2} with a semi-ellipsoidal pressure
+    when an approach guess is given, else the locating solve's (:func:`_located`)."""
+    if delta_guess_mm is not None and delta_guess_mm > 0:
+        # a nearby solve's approach: the region {f < delta/2} (Hertz's contact for a circle) as the first loaded
+        # region, with a semi-ellipsoidal start, instead of a locating solve
+        grid = CoarseGrid.over_box(prob, GUESS_REGION * delta_guess_mm, half)
+        f0 = separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
+        p = np.sqrt(np.clip(1.0 - f0 / (GUESS_REGION * delta_guess_mm), 0.0, None))
+        if np.any(p > 0):
+            return grid, p
+    grid, p, _ = _located(prob, lay, options, factor, stats, half, 1.2 * hertz_like_guess(prob))
+    return grid, p
 
 
 def _richardson(q_half, q_full):

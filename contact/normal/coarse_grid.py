@@ -10,14 +10,16 @@ pressure of one grid on another (a warm start).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from contact.normal.boussinesq import corner_antiderivative
+from contact.normal.coarse_cg import influence_columns
 from contact.normal.problem import NormalProblem
 
-__all__ = ["MARGIN", "CoarseGrid", "influence_table", "loaded_spans", "merged", "resample", "separation_at"]
+__all__ = ["MARGIN", "CoarseGrid", "GridTables", "grid_tables", "influence_table", "loaded_spans", "merged",
+           "resample", "separation_at"]
 
 #: Margin of the fitted grid around the loaded cells of a solution (relative to their extent).
 MARGIN = 0.12
@@ -36,6 +38,8 @@ class CoarseGrid:
     dx: float
     box_delta: float
     clipped: tuple = (False, False)
+    #: The tables of :func:`grid_tables` once built (the grid's solves share them; a warm start reuses them).
+    tables: "GridTables | None" = field(default=None, repr=False, compare=False)
 
     @classmethod
     def over_box(cls, prob: NormalProblem, delta: float, shape: tuple) -> "CoarseGrid":
@@ -70,6 +74,26 @@ class CoarseGrid:
                 for k in np.split(np.arange(self.y.size), cut)]
 
 
+@dataclass(frozen=True)
+class GridTables:
+    """What every solve on one grid of one problem needs: the separation f (ny, nx) at the cells (mm), the
+    influence table k (:func:`influence_table`, mm/MPa) and its expanded columns (:func:`influence_columns`)."""
+
+    f: np.ndarray
+    k: np.ndarray
+    cols: np.ndarray
+
+
+def grid_tables(prob: NormalProblem, grid: CoarseGrid, factor: float) -> GridTables:
+    """The grid's :class:`GridTables` for ``prob`` (built once per grid; f does not depend on the force, so a grid
+    kept for another force of the same separation keeps them)."""
+    if grid.tables is None:
+        f = separation_at(prob, grid.y)[:, None] + (grid.x * grid.x)[None, :] / (2.0 * prob.rolling_radius_mm)
+        k = influence_table(grid, factor)
+        grid.tables = GridTables(f, k, influence_columns(k, grid.rows))
+    return grid.tables
+
+
 def influence_table(grid: CoarseGrid, factor: float) -> np.ndarray:
     """(lattice rows spanned, 2 nx - 1) displacement at the centre of a cell (mm/MPa) per unit pressure on the cell
     at the offset (dj >= 0, di; column nx - 1 + di) (Love's closed form, :mod:`contact.normal.halfspace`;
@@ -84,28 +108,39 @@ def influence_table(grid: CoarseGrid, factor: float) -> np.ndarray:
 
 def resample(p: np.ndarray, old: CoarseGrid, new: CoarseGrid) -> np.ndarray:
     """A pressure of ``old`` on ``new``: bilinear in the cell centres, 0 outside (the CG's warm start)."""
-    along_x = np.array([np.interp(new.x, old.x, row, left=0.0, right=0.0) for row in p])
-    return np.array([np.interp(new.y, old.y, col, left=0.0, right=0.0) for col in along_x.T]).T
+    return _interp_rows(new.y, old.y, _interp_rows(new.x, old.x, p).T).T
+
+
+def _interp_rows(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
+    """``np.interp(x, xp, row, left=0, right=0)`` of every row of fp (rows, xp.size) at once, with numpy's
+    arithmetic (slope (f[j+1] - f[j]) / (xp[j+1] - xp[j]) times (x - xp[j]) plus f[j]; f[-1] at xp[-1]): the same
+    values."""
+    if xp.size < 2:
+        return np.array([np.interp(x, xp, row, left=0.0, right=0.0) for row in fp]).reshape(fp.shape[0], x.size)
+    j = np.clip(np.searchsorted(xp, x, side="right") - 1, 0, xp.size - 2)
+    slope = (fp[:, j + 1] - fp[:, j]) / (xp[j + 1] - xp[j])
+    out = np.where(x == xp[-1], fp[:, -1:], slope * (x - xp[j]) + fp[:, j])
+    return np.where((x >= xp[0]) & (x <= xp[-1]), out, 0.0)
 
 
 def separation_at(prob: NormalProblem, y: np.ndarray) -> np.ndarray:
     """f(y) at the lines (mm): the separation table interpolated as the problem does onto its strips (linear or
     PCHIP; straight from the table, so that lines between strips see no kinks), plus the strips' offset (dents,
-    linear between strips), shifted as the strip grid (its minimum 0). The PCHIP interpolant of the last problem
-    is kept (a solve evaluates it on every grid)."""
+    linear between strips), shifted as the strip grid (its minimum 0). The PCHIP interpolant of the last table
+    is kept (a solve evaluates it on every grid; the problems of one table at other forces share its arrays)."""
     if prob.interpolation == "linear":
         f = np.interp(y, prob.y_mm, prob.f_mm)
     else:
-        if _LAST_PCHIP[0] is not prob:
+        if _LAST_PCHIP[0] is not prob.y_mm or _LAST_PCHIP[1] is not prob.f_mm:
             from scipy.interpolate import PchipInterpolator   # here: slow to import, only "pchip" needs it
-            _LAST_PCHIP[:] = [prob, PchipInterpolator(prob.y_mm, prob.f_mm)]
-        f = _LAST_PCHIP[1](y)
+            _LAST_PCHIP[:] = [prob.y_mm, prob.f_mm, PchipInterpolator(prob.y_mm, prob.f_mm)]
+        f = _LAST_PCHIP[2](y)
     if prob.f_offset_mm is not None:
         f = f + np.interp(y, prob.strip_y_mm, prob.f_offset_mm)
     return f - prob.separation_unshifted_on_grid_mm.min()
 
 
-_LAST_PCHIP: list = [None, None]
+_LAST_PCHIP: list = [None, None, None]
 
 
 def loaded_spans(grid: CoarseGrid, p: np.ndarray) -> tuple[list, tuple]:

@@ -93,6 +93,9 @@ class LineLayers:
         return disp[rows, seg] + c * (p - knots[rows, seg]), c
 
     def check_coverage(self, p: np.ndarray, y: np.ndarray) -> None:
+        """InputError when a loaded line (p (ny, nx) at the lines y) has no layer element at its strip."""
+        if not self.present:
+            return
         for k, j in enumerate(self.strips(y)):
             if np.any(p[k] > 0) and self._curve(int(j)) is None:
                 raise InputError("layer", f"has no element at strip y = {self.ys[j]:.6g} mm (contact there): the "

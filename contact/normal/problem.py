@@ -145,6 +145,14 @@ class NormalProblem:
         out._set_offset(f_offset_mm)
         return out
 
+    def with_force(self, normal_force_N: float) -> "NormalProblem":
+        """The same problem at another normal force (N); the interpolated table is shared, not rebuilt."""
+        require(bool(np.isfinite(normal_force_N) and normal_force_N > 0), "normal_force_N",
+                f"must be a positive number, got {normal_force_N!r}")
+        out = copy.copy(self)
+        object.__setattr__(out, "normal_force_N", normal_force_N)
+        return out
+
     @property
     def elastic_compliance_factor(self) -> float:
         """2 (1 - nu^2) / (pi E) (1/MPa): elastic part of delta = factor * p_0 * I2 / x_l(0) (mm), eq. 13."""

@@ -130,10 +130,12 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
     slope = None
     for k in range(1, int(options.max_passes) + 1):
         current = prob if k == 1 else prob.with_offset(offset)
+        # KP's force-approach slope starts the next pass (KP and the exact solver, whose grid KP places); the
+        # coarse-grid solver has none
         sol = solve_normal_with(current, layers, method=method, delta_guess_mm=_next_delta_guess(deltas),
-                                loglog_slope_guess=slope)
+                                **({} if slope is None else {"loglog_slope_guess": slope}))
         deltas.append(sol.delta_mm)
-        slope = sol.iterations["loglog_slope"]
+        slope = sol.iterations.get("loglog_slope")
         ref = max(sol.regions, key=lambda r: r.p0_MPa).reference
         added = np.zeros_like(y)
         u0 = up0 = 0.0

@@ -53,7 +53,11 @@ from contact.tangential.fastsim import (
 from wrlayer.errors import ConvergenceError
 from wrlayer.jit import kernel
 
-__all__ = ["strip_flexibilities", "solve_fastrip"]
+__all__ = ["START_STRIPS", "solve_fastrip", "start_tractions", "strip_flexibilities"]
+
+#: A start (:func:`start_tractions`) is used while the patch's strip count differs from the earlier one's by at
+#: most this many strips (a balance step changes the patch by a strip or two).
+START_STRIPS = 3
 
 def _cell_integrals(c: np.ndarray, m: np.ndarray) -> np.ndarray:
     """(2/pi) Int_{m-1/2}^{m+1/2} asinh(c/|z|) dz for half-widths c (ny, 1) and offsets m (in cell widths)."""
@@ -84,16 +88,13 @@ def _model_coefficients(a_over_b: float, nx: int, ny: int = 41) -> tuple[float, 
     dx = 2.0 * xl / nx
     kap = strip_kernel(2.0 * b, dx, nx)
     idx = np.arange(nx + 1)
-    k_x = k_phi = 0.0
-    for j in range(ny):
-        K = kap[j][(idx[:, None] - idx[None, :]) + nx + 1] * dx[j]     # (nx+1)^2; index 0: the pad
-        M = K[1:, 1:] - K[0:1, 1:]
-        xm = xl[j] - (np.arange(nx) + 0.5) * dx[j]
-        rhs = -np.cumsum(np.stack([np.ones(nx), xm]) * dx[j], axis=1)
-        t = np.linalg.solve(M, rhs.T)
-        k_x -= t[:, 0].sum() * dx[j] * h
-        k_phi -= t[:, 1].sum() * dx[j] * h
-    return float(k_x), float(k_phi)
+    K = kap[:, (idx[:, None] - idx[None, :]) + nx + 1] * dx[:, None, None]     # (ny, nx+1, nx+1); index 0: the pad
+    M = K[:, 1:, 1:] - K[:, 0:1, 1:]
+    xm = xl[:, None] - (np.arange(nx) + 0.5)[None, :] * dx[:, None]
+    rhs = -np.cumsum(np.stack([np.ones((ny, nx)), xm], axis=2) * dx[:, None, None], axis=1)
+    t = np.linalg.solve(M, rhs)                                  # every strip's two full-adhesion solves at once
+    forces = -(t.sum(axis=1) * (dx * h)[:, None]).sum(axis=0)
+    return float(forces[0]), float(forces[1])
 
 
 def strip_flexibilities(a_mm: float, b_mm: float, C11: float, C22: float, C23: float, G_MPa: float, nx: int
@@ -108,14 +109,14 @@ def strip_flexibilities(a_mm: float, b_mm: float, C11: float, C22: float, C23: f
 
 
 @kernel()
-def _warm_start(tx, ty, ux, uy, j, prev, ratio, bound, kappa, cx, cy, h):  # pragma: no cover - compiled
-    """Strip j's traction := strip prev's, cell by cell, times ``ratio``, within the bound; ux, uy its
+def _warm_start(tx, ty, ux, uy, j, src_x, src_y, ratio, bound, kappa, cx, cy, h):  # pragma: no cover - compiled
+    """Strip j's traction := the traction src (nx,) cell by cell, times ``ratio``, within the bound; ux, uy its
     displacement (index 0: the pad)."""
     nx = tx.shape[1]
     c0 = nx + 1
     for k in range(nx):
-        tx[j, k] = tx[prev, k] * ratio
-        ty[j, k] = ty[prev, k] * ratio
+        tx[j, k] = src_x[k] * ratio
+        ty[j, k] = src_y[k] * ratio
         mag = math.sqrt(tx[j, k] ** 2 + ty[j, k] ** 2)
         if mag > bound[j, k]:
             tx[j, k] *= bound[j, k] / mag
@@ -128,9 +129,12 @@ def _warm_start(tx, ty, ux, uy, j, prev, ratio, bound, kappa, cx, cy, h):  # pra
 
 
 @kernel()
-def _strips(dx, wx, wy, bound, kappa, cx, cy, tol, max_sweeps):  # pragma: no cover - compiled
+def _strips(dx, wx, wy, bound, kappa, cx, cy, tol, max_sweeps, start_x, start_y, start_scale
+            ):  # pragma: no cover - compiled
     """Every strip's rolling problem (kernel table kappa (ny, 2 nx + 3), :func:`strip_kernel`); cells k = 0
-    (leading) .. nx-1, the free pad ahead of cell 0.
+    (leading) .. nx-1, the free pad ahead of cell 0. Strip j starts from start_x[j], start_y[j] (an earlier
+    solution's traction at the bound start_scale[j] (its largest mu p), scaled to this strip's) when
+    start_scale[j] > 0, else from the last solved strip's traction.
 
     Returns tx, ty, sx, sy (ny, nx), slip flags and the largest sweep count (-1 when a strip did not converge)."""
     ny, nx = wx.shape
@@ -153,8 +157,10 @@ def _strips(dx, wx, wy, bound, kappa, cx, cy, tol, max_sweeps):  # pragma: no co
             scale = max(scale, bound[j, k])
         if scale <= 0.0:
             continue
-        if prev >= 0:                            # start from the last solved strip's traction (35 % faster)
-            _warm_start(tx, ty, ux, uy, j, prev, scale / prev_scale, bound, kappa, cx, cy, h)
+        if start_scale[j] > 0.0:                 # an earlier solution of this strip (a balance's last step)
+            _warm_start(tx, ty, ux, uy, j, start_x[j], start_y[j], scale / start_scale[j], bound, kappa, cx, cy, h)
+        elif prev >= 0:                          # start from the last solved strip's traction (35 % faster)
+            _warm_start(tx, ty, ux, uy, j, tx[prev], ty[prev], scale / prev_scale, bound, kappa, cx, cy, h)
         prev, prev_scale = j, scale
         done = False
         for sweep in range(1, max_sweeps + 1):
@@ -199,12 +205,30 @@ def _strips(dx, wx, wy, bound, kappa, cx, cy, tol, max_sweeps):  # pragma: no co
     return tx, ty, sx, sy, slip, worst
 
 
+def start_tractions(start: TangentialResult | None, ny: int, nx: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(t_x, t_y (ny, nx), mu p_max per strip (ny,)) to start ``ny`` strips of ``nx`` cells from an earlier FaStrip
+    solution of nearly the same patch (the previous step of a balance iteration): strip j from the earlier strip
+    at the same relative position across the patch (the same strip when the count is unchanged), cell by cell;
+    zeros (no start) without one, for another cell count or for a strip count changed by more than
+    :data:`START_STRIPS`."""
+    tx, ty, scale = np.zeros((ny, nx)), np.zeros((ny, nx)), np.zeros(ny)
+    if start is None or start.method != "fastrip" or start.tx_MPa.shape[1] != nx \
+            or abs(start.tx_MPa.shape[0] - ny) > START_STRIPS:
+        return tx, ty, scale
+    m = start.tx_MPa.shape[0]
+    src = np.rint(np.arange(ny) * ((m - 1) / max(ny - 1, 1))).astype(int) if m != ny else np.arange(ny)
+    return (np.ascontiguousarray(start.tx_MPa[src]), np.ascontiguousarray(start.ty_MPa[src]),
+            start.friction * start.pn_MPa[src].max(axis=1))
+
+
 def solve_fastrip(patch: Patch, creepage: Creepage, G_MPa: float, poisson: float, friction: float,
                   speed_mm_s: float = 1000.0, nx: int = 60, pressure_cells_MPa: np.ndarray | None = None,
-                  strip_centre_mm: np.ndarray | None = None, tol: float = 1e-7, max_sweeps: int = 1000
-                  ) -> TangentialResult:
+                  strip_centre_mm: np.ndarray | None = None, tol: float = 1e-7, max_sweeps: int = 1000,
+                  start: TangentialResult | None = None) -> TangentialResult:
     """FaStrip on the patch's strips; arguments as :func:`contact.tangential.fastsim.solve_tangential` (without
-    ``flexibility``); tol, max_sweeps: the strip solver's stop (relative traction change) and limit.
+    ``flexibility``); tol, max_sweeps: the strip solver's stop (relative traction change) and limit; ``start``: an
+    earlier FaStrip solution of nearly the same patch to start the strips from (:func:`start_tractions`; the
+    same solution to the tolerance, in fewer sweeps). The result's ``iterations``: the most sweeps a strip took.
     ConvergenceError when a strip does not converge."""
     cells = strip_cells(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx, pressure_cells_MPa,
                         strip_centre_mm)
@@ -215,8 +239,8 @@ def solve_fastrip(patch: Patch, creepage: Creepage, G_MPa: float, poisson: float
     wx = np.ascontiguousarray(np.broadcast_to((creepage.vx - creepage.phi_per_mm * y)[:, None], x.shape))
     wy = np.ascontiguousarray(creepage.vy + creepage.phi_per_mm * spin_factor * (x - xc[:, None]))
     tx, ty, sx, sy, slip, sweeps = _strips(dx, wx, wy, np.ascontiguousarray(friction * pn),
-                                           strip_kernel(2.0 * ell.b_mm, dx, int(nx)),
-                                           cx, cy, float(tol), int(max_sweeps))
+                                           strip_kernel(2.0 * ell.b_mm, dx, int(nx)), cx, cy, float(tol),
+                                           int(max_sweeps), *start_tractions(start, y.size, int(nx)))
     if sweeps < 0:
         raise ConvergenceError(f"FaStrip: a strip did not converge in {max_sweeps} sweeps (tolerance {tol:g})")
     # spin-scaled lateral slip is the strip model's; the reported slip is the model's slip

@@ -136,6 +136,10 @@ def write_wheel_rail(sols: list, out_dir: Path) -> list[str]:
                 normals = getattr(p, "pass_normals", None) or [p.normal]
                 for npass, normal in enumerate(normals, start=1):
                     tang = p.tangential if npass == 1 else sol.pass_tangential(p, normal)
+                    if [t.WT_N_per_mm.size for t in tang] != [q.n_strips for q in normal.patches]:
+                        # pass 1 re-solved on other strips than the balance's last solve (the coarse-grid
+                        # solver's grid depends on its start): FASTSIM on that pass's solution, as for later passes
+                        tang = sol.pass_tangential(p, normal)
                     for ir, (patch, t) in enumerate(zip(normal.patches, tang)):
                         extra = {"y_rail_mm": np.interp(patch.y_mm, grid, p.rail_y_of_strip),
                                  "y_wheel_mm": np.interp(patch.y_mm, grid, p.wheel_y_of_strip)}

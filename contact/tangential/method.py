@@ -224,7 +224,8 @@ def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, fric
     (:meth:`PressureGrid.from_patch`; the patches then do not interact tangentially).
     InputError when a patch carries no pressure; ConvergenceError naming the patch when a solve does not converge.
     ``start``: an earlier result of the same solution's kind (e.g. the previous load of a balance iteration), the
-    exact theory's starting tractions on the exact grid (the same solution to the tolerance, in fewer sweeps).
+    exact theory's starting tractions on the exact grid, or per patch FaStrip's (the same solution to the
+    tolerance, in fewer sweeps).
     """
     require(method in TANGENTIAL_METHODS, "method.tangential", f"must be one of {TANGENTIAL_METHODS}, got {method!r}")
     patches = [p if origin_y_mm == 0.0 else Patch(p.grid_mm, p.y_mm - origin_y_mm, p.x_lead_mm, p.p_peak_MPa)
@@ -238,27 +239,32 @@ def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, fric
             return solve_on_grid(PressureGrid.from_exact(solution, y_ref_mm=origin_y_mm), creepage, friction, G_MPa,
                                  poisson, "exact", speed_mm_s, nx, options, start)
     out = []
+    same = start is not None and len(start) == len(patches)
     for k, patch in enumerate(patches):
         with _naming(f"patch {k + 1}", method):
             out.append(_one_patch(solution, k, patch, creepage, friction, G_MPa, poisson, method, speed_mm_s, nx,
-                                  flexibility, options))
+                                  flexibility, options, start[k] if same else None))
     return out
 
 
 def _one_patch(solution, k: int, patch: Patch, creepage: Creepage, friction, G_MPa, poisson, method, speed_mm_s,
-               nx, flexibility, options) -> TangentialResult:
+               nx, flexibility, options, start: TangentialResult | None = None) -> TangentialResult:
     """Patch ``k`` of ``solution`` (``patch``: in the frame to solve in) by a strip method or, for a
-    Kik–Piotrowski solution, by the exact theory on the patch rasterised with ``nx`` cells."""
+    Kik–Piotrowski solution, by the exact theory on the patch rasterised with ``nx`` cells. ``start``: the same
+    patch's earlier solution by the same method: FaStrip's start (:func:`contact.tangential.fastrip.start_tractions`),
+    the exact theory's starting tractions when the raster has the same shape."""
     if method == "exact":
-        return solve_on_grid(PressureGrid.from_patch(patch, nx), creepage, friction, G_MPa, poisson, "exact",
-                             speed_mm_s, nx, options)[0]
+        grid = PressureGrid.from_patch(patch, nx)
+        same = start is not None and start.method == "exact" and start.tx_MPa.shape == grid.p_MPa.shape
+        return solve_on_grid(grid, creepage, friction, G_MPa, poisson, "exact", speed_mm_s, nx, options,
+                             [start] if same else None)[0]
     kw = {}
     if getattr(solution, "field", None) is not None:
         kw = {"pressure_cells_MPa": fastsim_pressure(solution, k, nx), "strip_centre_mm": strip_centres(solution, k)}
     if method == "fastsim":
         return solve_about_centroid(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx,
                                     flexibility=flexibility, **kw)
-    return solve_fastrip(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx, **kw)
+    return solve_fastrip(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx, start=start, **kw)
 
 
 @contextmanager

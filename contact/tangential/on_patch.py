@@ -61,8 +61,8 @@ def solve_regions(solution: NormalSolution, creepage: Creepage, settings: Tangen
                   rolling: RollingOptions = RollingOptions()) -> list[TangentialResult]:
     """The tangential solution of every region of ``solution`` with ``creepage`` holding at ``origin_y_mm`` (mm,
     the solution's strip coordinate); results' strip y and Mz about that point. ``start``: an earlier result to
-    start the exact theory from (:func:`contact.tangential.method.solve_for_normal_solution`); ``rolling``: the
-    exact theory's iteration options (e.g. a loose tolerance for a first estimate)."""
+    start the exact theory or FaStrip from (:func:`contact.tangential.method.solve_for_normal_solution`);
+    ``rolling``: the exact theory's iteration options (e.g. a loose tolerance for a first estimate)."""
     return solve_for_normal_solution(solution, creepage, settings.friction,
                                      shear_modulus_MPa(settings.E_MPa, settings.poisson), settings.poisson,
                                      settings.method, settings.speed_mm_s, settings.cells, settings.flexibility,

@@ -17,8 +17,9 @@ cos(gamma) <= mu |sin(gamma)| (flange climbing limit) is a ConvergenceError. Sev
 on the common Delta (started at the normal-only balance found by Brent's method), every candidate's N_i(delta_i)
 from its force-approach relation. Converged to |sum F_Z - Q| <= 1e-8 Q (the exact solvers' results are determined
 to about 1e-7 of the approach by their own tolerances; the balance stops below that). With the exact solvers each
-solve starts from the candidate's previous one (pressure field, tractions), and the exact normal solve at the first
-point of the iteration is solved to a loose tolerance only (:data:`ROUGH_CG_TOL`). ``balance = "normal"``:
+solve starts from the candidate's previous one (pressure field, tractions; the coarse-grid solver without a layer
+on its last grid, FaStrip from its strips' tractions), and the exact normal solve at the first point of the iteration is solved to a
+loose tolerance only (:data:`ROUGH_CG_TOL`). ``balance = "normal"``:
 sum N_i cos(gamma_i) = Q (the earlier model, kept for comparison; on the flange it overestimates N by 25-60 %).
 
 Each patch is a separate normal problem in its own contact plane (no elastic interaction between patches), solved
@@ -88,7 +89,8 @@ def patch_tangential(normal: NormalSolution, kin: PatchKinematics, inputs: Wheel
     creepages ``kin`` evaluated at the reference point ``eta_ref_mm`` (mm, problem orientation; the origin of the
     results' strip coordinate and Mz); FASTSIM takes the spin about each region's force centroid with the
     creepages moved there from the reference point (:mod:`contact.tangential.spin_centre`). [] without friction.
-    ``start``: the previous solve of the balance iteration (the exact theory starts from its tractions)."""
+    ``start``: the previous solve of the balance iteration (the exact theory and FaStrip start from its
+    tractions)."""
     if inputs.friction == 0:
         return []
     settings = TangentialSettings(inputs.E_MPa, inputs.poisson, inputs.friction, inputs.speed_mm_s,
@@ -117,7 +119,8 @@ class BalanceCandidate:
     ``delta_guess`` the last approach (mm) solved, ``field_guess`` its exact pressure field (None with
     Kik–Piotrowski) and ``tangential_guess`` its tangential solution (the next solve's start);
     ``log_force_ratio``: log(N / N_KP) at the approach of the last inversion of another normal method's force
-    (:meth:`VerticalBalance.force_at_approach`; 0 before the first)."""
+    (:meth:`VerticalBalance.force_at_approach`; 0 before the first); ``coarse_warm``: the coarse-grid solver's
+    last grid (:class:`contact.normal.coarse_exact.CoarseWarmStart`; None before its first solve)."""
 
     cand: ContactCandidate
     pair: LayerPair | None
@@ -131,15 +134,30 @@ class BalanceCandidate:
     tangential_guess: list[TangentialResult] | None = None
     field_guess: ExactField | None = None
     log_force_ratio: float = 0.0
+    coarse_warm: object = None
 
     def normal_start(self, method: NormalMethod, rough: bool = False) -> dict:
         """The keywords that start a normal solve of this candidate from its last one (KP: the approach; the
         exact solver: with ``rough`` the CG tolerance :data:`ROUGH_CG_TOL`, and without a layer the pressure field:
-        with a layer the warm-started solve's noise, set by the layer tolerance, would stall the balance)."""
+        with a layer the warm-started solve's noise, set by the layer tolerance, would stall the balance; the
+        coarse-grid solver without a layer: its last grid and pressure,
+        :class:`contact.normal.coarse_exact.CoarseWarmStart`; with a layer the jumps between a kept and a refitted
+        grid stalled the balance on a flange case of scenes/wheel_rail_sweep_layers.toml)."""
         if method.name == "exact":
             return {"delta_guess_mm": self.delta_guess, "start": self.field_guess if self.pair is None else None,
                     "cg_tol": ROUGH_CG_TOL if rough else None}
+        if method.name == "coarse_exact" and self.pair is None:
+            if self.coarse_warm is None:
+                from contact.normal.coarse_exact import CoarseWarmStart   # only this method needs it
+
+                self.coarse_warm = CoarseWarmStart()
+            return {"delta_guess_mm": self.delta_guess, "warm": self.coarse_warm}
         return {"delta_guess_mm": self.delta_guess}
+
+    def problem_at(self, force: float) -> NormalProblem:
+        """The candidate's normal problem at the normal force ``force`` (N) (:func:`candidate_problem`'s, its
+        separation interpolated once)."""
+        return self.evaluator.prob.with_force(float(force))
 
     def remember(self, sol: NormalSolution) -> None:
         """Keep ``sol`` as the start of the next normal solve."""
@@ -215,7 +233,7 @@ class VerticalBalance:
         first point of the balance iteration, never its result)."""
         self.evaluations += 1
         inp = self.inputs
-        prob = candidate_problem(ctx.cand, self.sign, inp, force)
+        prob = ctx.problem_at(force)
         sol = solve_normal_with(prob, ctx.pair, method=inp.normal_method,
                                 **ctx.normal_start(inp.normal_method, rough))
         ctx.remember(sol)
@@ -235,7 +253,9 @@ class VerticalBalance:
         normal method than KP: KP's force-approach relation inverted for that method by a secant on log N,
         started at KP's force times the ratio the last inversion found (it varies slowly with the approach). Its
         solves start cold (from KP): a warm-started CG stops within its tolerance wherever it started, and that
-        noise (about 1e-7 of the approach) would stall the secant; the last one starts the next load."""
+        noise (about 1e-7 of the approach) would stall the secant; the last one starts the next load. The
+        coarse-grid solver's start on its kept grid is fixed while the grid stays (no such noise): its solves are
+        warm-started (:class:`contact.normal.coarse_exact.CoarseWarmStart`)."""
         if delta <= 0:
             return 0.0
         n_kp = ctx.evaluator.force_at(delta)
@@ -244,11 +264,12 @@ class VerticalBalance:
             return n_kp
 
         def miss(log_n: float) -> float:
-            prob = candidate_problem(ctx.cand, self.sign, self.inputs, math.exp(log_n))
-            sol = solve_normal_with(prob, ctx.pair, method=method)
+            sol = solve_normal_with(ctx.problem_at(math.exp(log_n)), ctx.pair, method=method, **warm)
             ctx.remember(sol)
             return sol.delta_mm - delta
 
+        # the coarse-grid solver keeps its grid and start (the solves on it are one function of N)
+        warm = {k: v for k, v in ctx.normal_start(method).items() if k == "warm"}
         x0 = math.log(n_kp) + ctx.log_force_ratio
         step = 0.05 if ctx.log_force_ratio == 0.0 else INVERSION_STEP
         x = secant(miss, x0, x0 + step, INVERSION_XTOL, 40, "approach of a patch", ftol=INVERSION_RTOL * delta)

@@ -106,3 +106,43 @@ def test_registry_and_errors():
     short = parabolic(460.0, 1e4, half=2.0)            # the patch (b = 3.1 mm) is wider than the table
     with pytest.raises(InputError, match="end of the separation table"):
         solve_coarse_exact(short)
+
+
+def test_a_warm_start_keeps_the_grid_of_the_last_solve_at_another_force():
+    """The balance's warm start (CoarseWarmStart): the next force of the same separation is solved on the kept grid
+    from the kept pressure, in one grid solve and fewer CG steps than a cold solve; the solution is the grid's,
+    within the grid's discretisation (a fraction of a cell) of the cold solve at that force; another separation
+    does not use it."""
+    from contact.normal.coarse_exact import CoarseWarmStart
+
+    warm = CoarseWarmStart()
+    prob = flat_topped(2e4)
+    first = solve_coarse_exact(prob, warm=warm)
+    assert warm.solves == 0 and warm.state is not None
+    nearby = prob.with_force(2.06e4)
+    again = solve_coarse_exact(nearby, warm=warm)
+    cold = solve_coarse_exact(nearby)
+    assert (warm.solves, warm.kept) == (1, 1)
+    assert again.iterations["boxes"] == 1 < cold.iterations["boxes"]
+    assert again.iterations["cg_iterations"] < cold.iterations["cg_iterations"]
+    assert again.iterations["grid_cells"] == first.iterations["grid_cells"]
+    assert again.normal_force_N == pytest.approx(2.06e4, rel=1e-6)
+    for key in ("p_max_MPa", "area_mm2", "delta_mm"):
+        assert getattr(again, key) == pytest.approx(getattr(cold, key), rel=0.02), key
+    # on the kept grid the start stays the pressure it was fitted with: the same force gives the same solution
+    assert solve_coarse_exact(nearby, warm=warm).delta_mm == again.delta_mm
+    solve_coarse_exact(parabolic(300.0, 2e4), warm=warm)              # another separation: a cold solve
+    assert warm.solves == 2
+
+
+def test_a_warm_start_refits_when_the_patch_outgrows_the_kept_grid():
+    from contact.normal.coarse_exact import CoarseWarmStart
+
+    warm = CoarseWarmStart()
+    prob = parabolic(100.0, 1e4)
+    solve_coarse_exact(prob, warm=warm)
+    big = solve_coarse_exact(prob.with_force(3e4), warm=warm)
+    cold = solve_coarse_exact(prob.with_force(3e4))
+    assert (warm.solves, warm.kept) == (1, 0)
+    for key in ("p_max_MPa", "area_mm2", "delta_mm"):
+        assert getattr(big, key) == pytest.approx(getattr(cold, key), rel=0.02), key

@@ -148,3 +148,23 @@ def test_spin_centre_defects_and_fix():
         assert len(res) == len(sol.patches) == 2
         assert sum(r.Fx_N for r in res) == pytest.approx(fx, rel=0.05)
         assert sum(r.Fy_N for r in res) == pytest.approx(fy, rel=0.07)
+
+
+def test_fastrip_warm_start_from_the_last_balance_step():
+    """Started from an earlier FaStrip solution (the balance's last step): its own solution is converged at once;
+    a nearby patch (1 % longer and more loaded, one strip more) converges to the cold solve's forces within the
+    strips' tolerance, in fewer sweeps; another cell count or method is no start."""
+    from contact.tangential.fastrip import start_tractions
+
+    creep = Creepage(1e-3, 5e-4, 4e-4)
+    patch = hertz_patch(5.0, 3.0, 1e4, 21)
+    cold = solve_fastrip(patch, creep, G_MPa, NU, MU)
+    assert solve_fastrip(patch, creep, G_MPa, NU, MU, start=cold).iterations <= 2 < cold.iterations
+    nearby = hertz_patch(5.05, 3.0, 1.02e4, 22)
+    cold2 = solve_fastrip(nearby, creep, G_MPa, NU, MU)
+    warm2 = solve_fastrip(nearby, creep, G_MPa, NU, MU, start=cold)
+    assert warm2.iterations < cold2.iterations
+    for key in ("Fx_N", "Fy_N", "Mz_Nmm"):
+        assert getattr(warm2, key) == pytest.approx(getattr(cold2, key), rel=1e-6), key
+    assert not start_tractions(cold, 21, 40)[2].any()
+    assert not start_tractions(solve_tangential(patch, creep, G_MPa, NU, MU), 21, 60)[2].any()

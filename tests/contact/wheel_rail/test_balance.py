@@ -164,7 +164,7 @@ def test_close_patches_merged_and_solved_on_one_exact_grid(rail60, s1002, placed
     assert abs(sol.vertical_force_N - 100000.0) / 100000.0 < 1e-6
 
 
-@pytest.mark.parametrize("method", ["kik_piotrowski", "exact"])
+@pytest.mark.parametrize("method", ["kik_piotrowski", "exact", "coarse_exact"])
 def test_layered_wheel_with_either_normal_method(rail60, s1002, placed, method):
     from wrlayer.characteristic import Characteristic
     from contact.scenes.layers import LayerSources
@@ -205,3 +205,42 @@ def test_warm_started_exact_balance_gives_the_cold_forces(rail60, s1002, placed,
         assert sum(getattr(t, key) for t in warm.tangential) == pytest.approx(
             sum(getattr(t, key) for t in cold.tangential), abs=1e-5 * scale)
     assert warm.normal.p_max_MPa == pytest.approx(cold.normal.p_max_MPa, rel=1e-4)
+
+
+def test_warm_started_coarse_and_fastrip_balance(rail60, s1002, placed, monkeypatch):
+    """coarse_exact/fastrip: the balance's solves start from the candidate's last (the coarse grid kept, FaStrip's
+    strips from their tractions; both counted) and give the cold solves' forces within the coarse grid's
+    discretisation (the kept grid differs from a cold fit by a fraction of a cell)."""
+    from contact.normal import coarse_exact
+    from contact.tangential import fastrip
+    from contact.wheel_rail import balance
+
+    used = {"grid": 0, "strips": 0}
+    start_for, solve = coarse_exact.CoarseWarmStart.start_for, fastrip.solve_fastrip
+
+    def counted_start(self, *args):
+        out = start_for(self, *args)
+        used["grid"] += out is not None
+        return out
+
+    def counted_solve(*args, start=None, **kw):
+        used["strips"] += start is not None
+        return solve(*args, start=start, **kw)
+
+    monkeypatch.setattr(coarse_exact.CoarseWarmStart, "start_for", counted_start)
+    monkeypatch.setattr("contact.tangential.method.solve_fastrip", counted_solve)
+    inputs = WheelRailInputs(pose=WheelsetPose(2.0, yaw_rad=0.002),
+                             method=WheelRailMethodSpec(normal="coarse_exact", tangential="fastrip"))
+    warm = solve_wheel(rail60, s1002, inputs, placed_rail=placed).patches[0]
+    assert used["grid"] >= 2 and used["strips"] >= 2
+    monkeypatch.setattr(balance.BalanceCandidate, "normal_start",
+                        lambda self, method, rough=False: {"delta_guess_mm": self.delta_guess})
+    tangential = balance.patch_tangential
+    monkeypatch.setattr(balance, "patch_tangential", lambda *args: tangential(*args[:4]))
+    cold = solve_wheel(rail60, s1002, inputs, placed_rail=placed).patches[0]
+    scale = 0.3 * cold.normal_force_N
+    assert warm.normal_force_N == pytest.approx(cold.normal_force_N, rel=1e-4)
+    for key in ("Fx_N", "Fy_N"):
+        assert sum(getattr(t, key) for t in warm.tangential) == pytest.approx(
+            sum(getattr(t, key) for t in cold.tangential), abs=2e-3 * scale)
+    assert warm.normal.p_max_MPa == pytest.approx(cold.normal.p_max_MPa, rel=5e-3)
