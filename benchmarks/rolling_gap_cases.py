@@ -34,7 +34,7 @@ from wrlayer.atomic_write import atomic_write_text
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The levels p0 / p_y and traction coefficients of the gap.
-LEVELS = (1.3, 1.7, 2.1)
+LEVELS = (1.15, 1.3, 1.5, 1.7, 2.1)
 TRACTIONS = (0.0, 0.2)
 #: The passes of each case.
 N_PASSES = 10
