@@ -15,20 +15,24 @@ two-grid Richardson extrapolation), coarse_exact started from its own solve at 2
 balance's warm start, :func:`solve_warm`) and the exact solver on a coarse x grid (``exact_cells`` 12: its lines
 stay the strips). Tangential check (``--full``): every normal + tangential pair (FASTSIM, FaStrip, Kalker's exact theory)
 on the patches without layer against exact/exact: F_x, F_y, M_z. Regenerate: ``python -m benchmarks --only
-fast_normal --out out/bench`` (``--full``: every method and the tangential check).
+fast_normal --out out/bench`` (``--full``: every method and the tangential check), or the stamped validation
+report docs/validation/fast-normal.md: ``python -m benchmarks.bench_fast_normal --report
+docs/validation/fast-normal.md`` (the shipped methods; ``--full`` as above).
 """
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import os
 import pathlib
+import sys
 import time
 
 import numpy as np
 
 from benchmarks.fast_normal_cases import CLASSES, patch_set
-from benchmarks.harness import median_time
+from benchmarks.harness import command_line, median_time, stamped_report
 from contact.layer.prandtl_layer import LayerPair, PrandtlLayer
 from contact.normal.coarse_exact import CoarseOptions, CoarseWarmStart, solve_coarse_exact
 from contact.normal.exact import ExactOptions, solve_exact
@@ -38,6 +42,7 @@ from contact.tangential.fastsim import Creepage
 from contact.tangential.method import solve_for_normal_solution
 
 COMMAND = "python -m benchmarks --only fast_normal --out out/bench"
+TITLE = "Fast normal methods: time against error on the 30-patch set"
 #: Strips across the narrowest patch of the reference solve (at least).
 REFERENCE_STRIPS = 24
 #: (row name, solve(problem, layer)) of every method measured.
@@ -230,5 +235,24 @@ def run(mode: str, out: pathlib.Path) -> dict:
              + summary(trows, TANGENTIAL_ERRORS) + "\n\n" + table(trows, TANGENTIAL_ERRORS) + "\n"
              if trows else "\nTangential check: `--full` only.\n")
           + ("\nFailed solves:\n\n" + "\n".join(f"- {f}" for f in failed) + "\n" if failed else ""))
-    return {"title": "Fast normal methods: time against error on the 30-patch set", "markdown": md,
+    return {"title": TITLE, "markdown": md,
             "figures": [], "data": {"rows": rows, "tangential": trows, "load": [load0, load1], "command": COMMAND}}
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.bench_fast_normal", description=__doc__.splitlines()[0])
+    ap.add_argument("--full", action="store_true", help="every method and the tangential check (longer)")
+    ap.add_argument("--report", type=pathlib.Path, default=None,
+                    help="write the stamped validation report here (docs/validation/fast-normal.md)")
+    args = ap.parse_args(argv)
+    res = run("full" if args.full else "quick", pathlib.Path("."))
+    text = stamped_report(TITLE, res["markdown"], command_line("python -m benchmarks.bench_fast_normal", argv))
+    if args.report:
+        args.report.parent.mkdir(parents=True, exist_ok=True)
+        args.report.write_text(text)
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -21,8 +21,9 @@ Public API (imported on first use: ``import contact`` loads no solver; the full 
   ``SceneResult``; ``.result.to_dict()`` is the result.json data), ``run_scene_file(path, out_dir, plots=False)``: any scene file (single contact, wheel-rail case or
   sweep) run into ``out_dir`` (result.json, cases.csv, pictures), returns the result dictionary.
 - Normal contact: ``NormalProblem`` (separation mm, force N, radius mm, ``E_MPa``, ``poisson``),
-  ``solve_normal(prob, layer)`` (Kik-Piotrowski), ``solve_normal_with(prob, layer, method=...)`` ("exact" or a
-  ``NormalMethod``) -> ``NormalSolution``; ``paper_problem()`` / ``paper_layers(prob)``: the paper's example.
+  ``solve_normal(prob, layer)`` (Kik-Piotrowski), ``solve_normal_with(prob, layer, method=...)`` ("auto", the
+  default: the exact half-space solver; "kik_piotrowski", "exact", "coarse_exact" or a ``NormalMethod``)
+  -> ``NormalSolution``; ``paper_problem()`` / ``paper_layers(prob)``: the paper's example.
 - Layer: ``Characteristic`` (p(u), MPa over mm), ``PrandtlLayer`` (elements along y), ``LayerPair`` (wheel, rail,
   combined), ``LayerTable`` (a calibration table file).
 - Passes: ``run_passes(prob, layer, PassesOptions(...), method=...)`` -> ``PassRecord`` per pass.

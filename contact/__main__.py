@@ -125,9 +125,12 @@ def _wear(args: argparse.Namespace) -> int:
     run, _ = run_wear_into(args.scene, args.out, plots=not args.no_plots, workers=args.workers,
                            scheduler=args.scheduler, show_progress=not args.quiet, force=args.force,
                            accept_unusual_profile=args.accept_unusual_profile)
+    from contact.result_warnings import method_warnings
     from contact.scenes.result_table import wear_summary
 
     print("\n".join(wear_summary(Path(args.scene).name, run.steps, Path(args.out) / "result.json")))
+    for line in method_warnings(Path(args.scene).name, run.scene.normal.name):
+        print(line, file=sys.stderr)
     return 0
 
 

@@ -64,8 +64,9 @@ def test_the_override_lets_the_value_through(tmp_path, capsys):
 
 def test_an_accepted_implausible_input_gives_result_warnings(tmp_path, capsys):
     """E = 210 MPa (GPa typed as MPa) let through: the solve runs (p_max 16.6 MPa, approach 8.4 mm, a 106 mm long
-    patch), each outside its plausible range, so result.json carries one warning per quantity and stderr prints
-    them; a plausible scene carries none."""
+    patch), each outside its plausible range, so result.json carries one warning per quantity after the line of
+    the method's approximate p_max (hertz_check names Kik-Piotrowski) and stderr prints them; a plausible scene
+    carries the method's line only."""
     import json
 
     path = _slipped(tmp_path, "hertz_check.toml", "E_MPa = 210000.0", "E_MPa = 210.0", override=True)
@@ -73,14 +74,16 @@ def test_an_accepted_implausible_input_gives_result_warnings(tmp_path, capsys):
     path.write_text(text, encoding="utf-8")
     out = tmp_path / "out"
     assert main(["simulate", str(path), "--out", str(out), "--no-vtk"]) == 0
-    warnings = json.loads((out / "result.json").read_text(encoding="utf-8"))["warnings"]
+    method_line, *warnings = json.loads((out / "result.json").read_text(encoding="utf-8"))["warnings"]
     err = capsys.readouterr().err
+    assert method_line.startswith('warning: hertz_check.toml: method.normal = "kik_piotrowski": p_max approximate')
     assert [w.split(": ")[2].split(" = ")[0] for w in warnings] == ["p_max_MPa", "approach_mm", "semi_axis_mm"]
     assert "p_max_MPa = 16.59 MPa" in warnings[0] and "(50..6000 MPa)" in warnings[0]
-    assert all(w in err for w in warnings) and all(w.startswith("warning: hertz_check.toml, pass 1: ")
-                                                   for w in warnings)
+    assert all(w in err for w in [method_line, *warnings]) and all(
+        w.startswith("warning: hertz_check.toml, pass 1: ") for w in warnings)
     assert main(["simulate", str(SCENES / "hertz_check.toml"), "--out", str(tmp_path / "plain"), "--no-vtk"]) == 0
-    assert "warnings" not in json.loads((tmp_path / "plain" / "result.json").read_text(encoding="utf-8"))
+    plain = json.loads((tmp_path / "plain" / "result.json").read_text(encoding="utf-8"))
+    assert plain["warnings"] == [method_line]
 
 
 def test_calibration_material_is_checked_too(tmp_path, capsys):

@@ -12,7 +12,9 @@
   built on :mod:`~contact.normal.halfspace` (Love coefficients, FFT), :mod:`~contact.normal.constrained_cg`
   (Polonsky–Keer) and :mod:`~contact.normal.exact_layer` (indentation / rolling layer); its pressure field and
   what FASTSIM takes from it: :mod:`~contact.normal.exact_field`; docs/exact-solver.md.
-- :mod:`~contact.normal.method`: the choice between the two (``solve_normal_with(prob, layer, method=...)``).
+- :mod:`~contact.normal.coarse_exact`: the same half-space problem on a coarse grid fitted to the patch.
+- :mod:`~contact.normal.method`: the choice between them (``solve_normal_with(prob, layer, method=...)``; the
+  default "auto" resolved once there: the exact solver).
 
 Depends on: contact.layer, wrlayer.
 Never imports contact.wheel_rail, contact.scenes or contact.tangential.

@@ -92,7 +92,8 @@ def _next_delta_guess(deltas: list[float]) -> float | None:
 
 def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOptions = PassesOptions(),
                on_pass: Callable[[PassRecord, NormalSolution], None] | None = None,
-               method: NormalMethod | str = NormalMethod()) -> tuple[list[PassRecord], np.ndarray]:
+               method: NormalMethod | str = NormalMethod(),
+               first: NormalSolution | None = None) -> tuple[list[PassRecord], np.ndarray]:
     """Passes at the same normal force until shakedown or ``options.max_passes`` (paper section 5).
 
     Parameters
@@ -107,6 +108,10 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
         ``on_pass(record, solution)`` after each pass (e.g. for the tangential solve).
     method : NormalMethod or str
         The normal solver (``method.normal``; the exact solver's p_peak is the largest pressure on each line y).
+    first : NormalSolution, optional
+        The first pass's solution when the caller has it (``prob`` with ``layer`` unloaded, e.g. the wheel–rail
+        balance's): pass 1 is then that solution. The half-space solvers' answer depends on where their grid
+        search starts (within their tolerance), so a re-solve would differ a little from the caller's.
 
     Returns
     -------
@@ -132,8 +137,9 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
         current = prob if k == 1 else prob.with_offset(offset)
         # KP's force-approach slope starts the next pass (KP and the exact solver, whose grid KP places); the
         # coarse-grid solver has none
-        sol = solve_normal_with(current, layers, method=method, delta_guess_mm=_next_delta_guess(deltas),
-                                **({} if slope is None else {"loglog_slope_guess": slope}))
+        sol = first if k == 1 and first is not None else solve_normal_with(
+            current, layers, method=method, delta_guess_mm=_next_delta_guess(deltas),
+            **({} if slope is None else {"loglog_slope_guess": slope}))
         deltas.append(sol.delta_mm)
         slope = sol.iterations.get("loglog_slope")
         ref = max(sol.regions, key=lambda r: r.p0_MPa).reference

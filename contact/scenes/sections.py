@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contact.normal.method import NORMAL_METHODS, NormalMethod
+from contact.normal.method import NORMAL_CHOICES, NormalMethod, resolve_normal_name
 from contact.normal.problem import ALPHA, GRID_MM, NormalProblem
 from contact.passes.passes import PassesOptions
 from contact.passes.rolling_memory import MEMORY_RULES
@@ -208,7 +208,9 @@ class MethodSpec(Record):
     fastsim_cells : int
         FASTSIM cells per strip (-).
     normal : str
-        The normal solver: "kik_piotrowski", "exact" or "coarse_exact" (the half-space on a coarse grid) (-).
+        The normal solver: "auto" (default: "exact", the FFT half-space solver), "kik_piotrowski" (the paper's;
+        p_max approximate), "exact" or "coarse_exact" (the half-space on a coarse grid) (-; held resolved, so a
+        result's inputs name the solver that ran).
     exact_cells : int | None
         Exact solver grid: cells along x over the patch length (-); None: the solver's default.
     layer_mode : str
@@ -221,10 +223,13 @@ class MethodSpec(Record):
     alpha: float = key(ALPHA, "-", ge=MIN_ALPHA, le=1.0)
     grid_mm: float = key(GRID_MM, "mm", ge=MIN_GRID_MM)
     fastsim_cells: int = key(60, ge=2, le=MAX_FASTSIM_CELLS)
-    normal: str = key(NormalMethod.name, choices=NORMAL_METHODS)
+    normal: str = key(NormalMethod.name, choices=NORMAL_CHOICES)
     exact_cells: int | None = key(NormalMethod.exact_cells, ge=1)
     layer_mode: str = key(NormalMethod.layer_mode)
     tangential: str = key("fastsim", choices=_tangential_methods)
+
+    def __post_init__(self):
+        object.__setattr__(self, "normal", resolve_normal_name(self.normal, self.layer_mode))
 
     def normal_method(self) -> NormalMethod:
         """The :class:`contact.normal.method.NormalMethod` of these keys."""

@@ -1,8 +1,9 @@
-"""Run a contact scene: normal contact (Kik–Piotrowski with the layer), passes, FASTSIM -> the result records.
+"""Run a contact scene: normal contact with the layer, passes, FASTSIM -> the result records.
 
 Steps (units mm, N, MPa, s):
-0. The normal solver is ``method.normal``: Kik–Piotrowski (default) or the exact half-space solver
-   (:func:`contact.normal.method.solve_normal_with`); everything below works with either.
+0. The normal solver is ``method.normal`` (:mod:`contact.normal.method`): "auto" (default: the exact half-space
+   solver), Kik–Piotrowski, the exact solver or the half-space on a coarse grid
+   (:func:`contact.normal.method.solve_normal_with`); everything below works with each.
 1. The separation table goes onto the solver's fixed strip grid (:class:`contact.normal.kik_piotrowski.NormalProblem`).
 2. Layers (if any) are built on that grid (:mod:`contact.scenes.scene_layers`): one combined characteristic (the
    paper's eq. 13 layer) or one per body; a per-body calibration table is read at ``position_mm + y``.
@@ -60,8 +61,8 @@ from wrlayer.short_repr import short_repr
 
 _NORMAL_METHOD_TEXT = {
     "kik_piotrowski": "Kik-Piotrowski virtual penetration with the Prandtl-body layer (paper eqs. 9-15); p_max "
-                      "approximate (up to 20 % below the exact half-space on Hertzian patches, 50 % on flat-topped "
-                      "ones: benchmarks/bench_fast_normal.py)",
+                      "approximate (up to 20 % below the exact half-space on Hertzian patches, 27 % on wheel-rail "
+                      "ones, 50 % on flat-topped ones: docs/validation/fast-normal.md)",
     "exact": "exact half-space (FFT boundary elements, Polonsky-Keer CG) with the Prandtl-body layer cell by cell "
              "(layer_mode {m.layer_mode}, exact_cells {cells})",
     "coarse_exact": "exact half-space on a coarse grid fitted to the patch (Polonsky-Keer CG) with the Prandtl-body "

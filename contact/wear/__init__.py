@@ -15,6 +15,6 @@ difference and equivalent conicity after EN 15302), :mod:`loop` (the step loop a
 (pictures); a wear scene is run into a folder by :func:`contact.run_files.run_wear_file` (``wrlayer wear``).
 
 Depends on: contact.wheel_rail, contact.geometry (the conicity formulas), contact.scenes, contact.passes,
-contact.normal, contact.tangential, contact.layer, meshes, calibration (the recalibration only, through its Python
-API).
+contact.normal, contact.tangential, contact.layer, contact.result_warnings (the method's line in result.json),
+meshes, calibration (the recalibration only, through its Python API).
 """

@@ -9,7 +9,8 @@ completed step. Each file is written atomically.
                                                     profile coordinates y (mm) of the initial profile
     steps.csv                                       one row per step, side and body: distance, wear and inelastic
                                                     max/location/area, mass loss, rolling-radius difference
-    result.json                                     inputs, units, every step's numbers, status: "complete",
+    result.json                                     inputs, units, every step's numbers, warnings (the
+                                                    method's approximate p_max), status: "complete",
                                                     "stopped: <reason naming the step>", "running: N steps
                                                     completed" (the run was killed after step N, or still runs),
                                                     "terminated (SIGTERM) after step N", "interrupted after step N";
@@ -24,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from contact.result_warnings import method_warnings
 from contact.scenes.result_io import code_version, read_result, write_result
 from contact.wear.records import StepRecord, WearRun
 from meshes.profiles.io import write_profile_files
@@ -122,6 +124,7 @@ class WrittenFiles:
 
 def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any]:
     sc = run.scene
+    warnings = method_warnings(Path(sc.path).name, sc.normal.name)
     return jsonable({
         "type": "wear", "status": status, "code_version": code_version(), "units": UNITS,
         "inputs": sc.to_dict(),
@@ -134,6 +137,7 @@ def result_dict(run: WearRun, files: WrittenFiles, status: str) -> dict[str, Any
                   for r in run.steps],
         "distance_done_km": run.steps[-1].end_km if run.steps else 0.0,
         "pictures": files.pictures,
+        **({"warnings": warnings} if warnings else {}),
     })
 
 

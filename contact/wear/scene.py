@@ -4,7 +4,8 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.parse`: [profiles], [
 [material], [tangential], [layers], [passes], [method]) except [sweep] and [output], plus::
 
     type = "wear"                                          (required)
-    [method]    normal = "kik_piotrowski" | "exact",       the method.normal choice of every scene; exact_cells,
+    [method]    normal = "auto" | "kik_piotrowski" |       the method.normal choice of every scene (default
+                "exact" | "coarse_exact",                  "auto" = "exact", contact.normal.method); exact_cells,
                 layer_mode                                 the exact solver's options (contact.normal.method)
     [wear]      law = "archard" | "usfd"                  the abrasive wear law (contact.wear.laws)
                 distance_km (required, > 0)                total running distance of the wheel

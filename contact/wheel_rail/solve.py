@@ -145,7 +145,7 @@ def _patch(lp: LoadedPatch, inputs: WheelRailInputs, layers: LayerSources | None
     if pair is not None:
         pass_normals = []
         records, _ = run_passes(lp.prob, pair, inputs.passes.options, on_pass=lambda rec, s: pass_normals.append(s),
-                                method=inputs.normal_method)
+                                method=inputs.normal_method, first=lp.normal)
     if not coords:
         eta = sign * lp.prob.strip_y_mm
         coords = {"rail": c.rail_coordinate(eta), "wheel": c.wheel_coordinate(eta)}

@@ -116,7 +116,8 @@ def test_absurd_scene_cost_is_refused_through_the_command_line(tmp_path, capsys)
     rc = main(["simulate", str(scene), "--out", str(out)])
     err = capsys.readouterr().err.strip()
     assert rc == 2 and "\n" not in err and not out.exists()
-    assert err.startswith("error: costly.toml: estimated cost 100000 passes x 8000 strips x 200 cells ~ ")
+    assert err.startswith("error: costly.toml: estimated cost 100000 passes x 8000 strips x 200 cells x 48 exact "
+                          "cells ~ ")                                   # the default normal method: exact
     assert "--force" in err
     assert __import__("time").perf_counter() - t0 < 30
 

@@ -131,11 +131,14 @@ def test_two_equal_valleys_share_the_load_on_one_grid():
     assert sol.regions[0].p0_MPa == pytest.approx(sol.regions[1].p0_MPa, rel=5e-3)
 
 
-def test_method_dispatch_and_kp_default():
+def test_method_dispatch_and_the_accurate_default():
+    """The default ("auto") is the exact solver in either layer mode."""
     prob, _ = _parabolic(1.0e4, 300.0, 80.0, 0.1)
-    kp = solve_normal_with(prob, method=NormalMethod())
+    kp = solve_normal_with(prob, method=NormalMethod("kik_piotrowski"))
     ex = solve_normal_with(prob, method=NormalMethod("exact", exact_cells=32))
     assert kp.method == "kik_piotrowski" and ex.method == "exact"
+    assert solve_normal_with(prob).method == solve_normal_with(prob, method="auto").method == "exact"
+    assert NormalMethod(layer_mode="rolling").name == NormalMethod().name == "exact"
     assert ex.iterations["grid_cells"][1] >= 32
     assert ex.p_peak_MPa.shape == kp.p_peak_MPa.shape == prob.strip_y_mm.shape
 

@@ -1,4 +1,5 @@
-"""solve_normal_with: problem, then layer, then the method as keyword; clear errors for wrong types."""
+"""solve_normal_with: problem, then layer, then the method as keyword; clear errors for wrong types; the default
+("auto") is the exact solver."""
 
 
 import pytest
@@ -14,12 +15,20 @@ def prob():
     return paper_problem()
 
 
-def test_method_by_name_object_or_default_gives_the_same_solution(prob):
+def test_method_by_name_or_object_gives_the_same_solution(prob):
     layer = paper_layers(prob)
     ref = solve_normal(prob, layer)
-    for method in (None, "kik_piotrowski", NormalMethod()):
+    for method in ("kik_piotrowski", NormalMethod("kik_piotrowski")):
         sol = solve_normal_with(prob, layer, method=method)
         assert sol.delta_mm == ref.delta_mm and sol.p_max_MPa == ref.p_max_MPa
+    default = solve_normal_with(prob, layer)
+    assert default.method == "exact"
+    assert default.delta_mm == solve_normal_with(prob, layer, method="auto").delta_mm
+
+
+def test_only_kik_piotrowski_has_an_approximate_p_max():
+    assert [NormalMethod(n).p_max_approximate for n in ("kik_piotrowski", "exact", "coarse_exact", "auto")] == [
+        True, False, False, False]
 
 
 def test_method_first_is_a_type_error_naming_the_order(prob):
@@ -47,7 +56,7 @@ def test_unknown_method_name_is_an_input_error(prob):
 
 
 def test_solution_reprs_show_numbers_not_arrays(prob):
-    sol = solve_normal_with(prob, paper_layers(prob))
+    sol = solve_normal_with(prob, paper_layers(prob), method="kik_piotrowski")
     for text in (repr(sol), repr(sol.regions[0]), repr(sol.patches[0]), repr(prob)):
         assert "array" not in text and len(text) < 300
     assert "delta=0.127109 mm" in repr(sol)

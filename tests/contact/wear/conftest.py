@@ -23,7 +23,7 @@ def wear_data(**over):
         "tangential": {"friction": 0.3},
         "layers": {"rail": str(TABLES / "rail_60E1_default.json"), "wheel": str(TABLES / "wheel_S1002_default.json")},
         "passes": {"max": 8},
-        "method": {"grid_mm": 0.2, "fastsim_cells": 16},
+        "method": {"normal": "kik_piotrowski", "grid_mm": 0.2, "fastsim_cells": 16},   # the loop's logic (limitations)
         "wear": {"law": "archard", "distance_km": 100.0, "steps": 1, "max_depth_per_step_mm": 10.0,
                  "smoothing_mm": 0.0, "grid_mm": 0.2},
         "collective": {"lateral_mm": [2.0], "yaw_rad": 0.002, "weights": [1.0]},

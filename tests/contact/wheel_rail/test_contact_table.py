@@ -31,6 +31,8 @@ poisson = 0.28
 [sweep]
 lateral_mm = [0.0, 3.0, 6.0, 25.0]
 yaw_rad = [0.0, 0.002, 0.004, 0.0]
+[method]
+normal = "kik_piotrowski"   # FASTSIM on KP's semi-elliptic strips is the equivalent ellipse's linear theory
 [output]
 contact_table = true
 vtk = false

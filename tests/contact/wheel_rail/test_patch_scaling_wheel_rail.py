@@ -12,7 +12,7 @@ from contact.wheel_rail.parse import parse_wheel_rail_scene
 from contact.run_files import run_wheel_rail_scene
 from contact.scenes.layers import LayerSources
 from contact.wheel_rail.inputs import WheelRailInputs
-from contact.wheel_rail.sections import WheelLoadSpec
+from contact.wheel_rail.sections import WheelLoadSpec, WheelRailMethodSpec
 from contact.wheel_rail.solve import BALANCE_RTOL, solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
 from wrlayer.errors import InputError
@@ -53,7 +53,8 @@ def tables():
 
 def test_each_patch_is_scaled_to_its_own_size(rail60, s1002, placed, tables):
     rail_t, wheel_t = (_Recording(t) for t in tables)
-    inputs = WheelRailInputs(pose=WheelsetPose(5.2), load=WheelLoadSpec(vertical_load_N=50000.0))
+    inputs = WheelRailInputs(pose=WheelsetPose(5.2), load=WheelLoadSpec(vertical_load_N=50000.0),
+                             method=WheelRailMethodSpec(normal="kik_piotrowski"))   # two patches (exact: merged)
     sol = solve_wheel(rail60, s1002, inputs, LayerSources(rail=rail_t, wheel=wheel_t, scale_to_patch=True),
                       placed_rail=placed)
     assert len(sol.patches) == 2  # tread and flange root: two patches of different size

@@ -11,7 +11,7 @@ from wrlayer.layer_table import LayerTable
 from contact.wheel_rail.deformed import deformed_profile, residual_on_profiles, rigid_roll
 from contact.scenes.layers import LayerSources
 from contact.wheel_rail.inputs import WheelRailInputs
-from contact.wheel_rail.sections import WheelLoadSpec
+from contact.wheel_rail.sections import WheelLoadSpec, WheelRailMethodSpec
 from contact.wheel_rail.solve import BALANCE_RTOL, solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
 from wrlayer.errors import InputError, PatchTruncated
@@ -121,8 +121,9 @@ def test_combined_layer_is_softer(rail60, s1002, placed):
 def test_heavy_load_widens_the_layer(rail60, s1002, placed):
     # the virtual penetration exceeds the first layer cap (0.3 mm): solved again with a wider layer, still balanced
     soft = LayerSources(combined=Characteristic(np.array([0, 0.5, 3.0]), np.array([0, 200.0, 800.0])))
-    sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(3.0), load=WheelLoadSpec(vertical_load_N=150000.0)), soft,
-                      placed_rail=placed)
+    inputs = WheelRailInputs(pose=WheelsetPose(3.0), load=WheelLoadSpec(vertical_load_N=150000.0),
+                             method=WheelRailMethodSpec(normal="kik_piotrowski"))   # delta0: KP's virtual penetration
+    sol = solve_wheel(rail60, s1002, inputs, soft, placed_rail=placed)
     p = sol.patches[0]
     assert p.normal.delta0_mm > 0.3
     assert abs(_vertical(sol) - 150000.0) / 150000.0 < BALANCE_RTOL
