@@ -115,10 +115,10 @@ def test_shipped_calibrated_tables_cover_the_shipped_layered_sweep(tmp_path):
             for values, baseline in zip(got, patches):
                 assert values == pytest.approx(baseline, rel=1e-6, abs=1e-6)
     flange = result.cases[2].wheels["right"].patches[0].passes[-1]
-    # the dents of the tables' rolling law (the tables of the operating-range calibration; Kik-Piotrowski gave
-    # 0.0099145 / 0.0046098 mm, with the paper fit's tables 0.0101113 / 0.0046365 mm)
+    # the dents of the tables' rolling law at five levels (tables of the operating-range calibration; the law at
+    # three levels gave 0.0068374 / 0.0031473 mm, Kik-Piotrowski 0.0099145 / 0.0046098 mm)
     assert flange.max_cumulative_residual_mm["rail"] == pytest.approx(0.006837411479704434, rel=1e-6)
-    assert flange.max_cumulative_residual_mm["wheel"] == pytest.approx(0.0031472766716406056, rel=1e-6)
+    assert flange.max_cumulative_residual_mm["wheel"] == pytest.approx(0.003133137550362834, rel=1e-6)
     assert len(result.cases[2].deformed_profiles) > 0
     tables = [json.loads((path.parent / "tables" / f).read_text()) for f in
               ("rail_60E1_default.json", "wheel_S1002_default.json")]
