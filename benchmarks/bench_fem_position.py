@@ -9,7 +9,9 @@ vector), factorisation (PARDISO analysis and numerical factorisations), Newton (
 tangent products, CG; ``of which solves``: the triangular solves), output (VTK/PNG fields, only with plots) and
 the rest. Counts: Newton iterations, triangular solves, factorisations, return-mapping calls and the quadrature
 points they evaluated. Every time is given with the 1-minute load average of the machine (``os.getloadavg``) and
-the process CPU time, because this machine is shared.
+the process CPU time, because this machine is shared. One BLAS/MKL thread (as a worker of a two-worker
+calibration): with two, the waiting OpenMP thread of PARDISO's solves counts as CPU time, and on a loaded machine
+that tripled the CPU seconds (measured: 50 s against 14 s at load 8).
 
 Same result: :func:`revision_result` computes the same position with the code of another git revision (extracted
 with ``git archive`` into a scratch folder and run there by a fresh interpreter, so nothing of this revision is
@@ -108,8 +110,9 @@ def timed_position(body: str = "rail", y_mm: float = 0.0, plots: bool = False) -
     """Run one position under cProfile: wall and CPU time, load average, the CPU split and the counts."""
     from benchmarks.bench_fem_memory import peak_rss_mb, reset_peak
     from calibration.tasks import run_position
+    from wrlayer.runner import limited_threads
 
-    with tempfile.TemporaryDirectory() as tmp:
+    with tempfile.TemporaryDirectory() as tmp, limited_threads(1):
         task = position_task(body, y_mm, plots, Path(tmp))
         load_before = os.getloadavg()[0]
         reset_peak()
