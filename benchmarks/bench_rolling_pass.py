@@ -33,9 +33,11 @@ CONFIG = "calibration/configs/rolling_halfspace.toml"
 SAME_GROOVE_RTOL = 5e-3
 
 
-def one_pass(level_py: float = 1.7, length_factor: float | None = None, config: str = CONFIG) -> dict:
-    """The first pass at ``level_py`` x p_y of ``config`` (track half-length ``length_factor`` x a; default the
-    configuration's): set-up and pass CPU seconds, counts and the groove profile (mm)."""
+def one_pass(level_py: float = 1.7, length_factor: float | None = None, config: str = CONFIG,
+             elements: float | None = None) -> dict:
+    """The first pass at ``level_py`` x p_y of ``config`` (track half-length ``length_factor`` x a, elements per
+    contact semi-axis ``elements``; default the configuration's): set-up and pass CPU seconds, counts and the
+    groove profile (mm)."""
     from threadpoolctl import threadpool_limits
 
     from calibration.fem.solver_state import SolverState
@@ -47,6 +49,8 @@ def one_pass(level_py: float = 1.7, length_factor: float | None = None, config: 
     cfg = load_rolling_config(Path(config))
     if length_factor is not None:
         cfg = replace(cfg, track=replace(cfg.track, length_factor=float(length_factor)))
+    if elements is not None:
+        cfg = replace(cfg, mesh=replace(cfg.mesh, elements_per_semi_axis=float(elements)))
     with threadpool_limits(limits=1):
         load = [os.getloadavg()[0]]
         c0 = time.process_time()
@@ -64,7 +68,8 @@ def one_pass(level_py: float = 1.7, length_factor: float | None = None, config: 
         pass_cpu = time.process_time() - c1
         load.append(os.getloadavg()[0])
     groove = model.probe.profile(done.state)
-    return {"level_py": level_py, "length_factor": cfg.track.length_factor, "n_dofs": int(model.disc.n_dofs),
+    return {"config": str(config), "level_py": level_py, "length_factor": cfg.track.length_factor,
+            "elements_per_semi_axis": cfg.mesh.elements_per_semi_axis, "substeps": cfg.track.substeps, "n_dofs": int(model.disc.n_dofs),
             "steps": done.n_steps, "setup_cpu_s": setup_cpu, "setup_solves": setup_solves, "pass_cpu_s": pass_cpu,
             "newton_iterations": done.newton_iters, "cg_iterations": done.cg_iters,
             "solves": model.prob.factor.n_solves - setup_solves,
@@ -79,7 +84,8 @@ def solver_target(x_mm: float, fraction: float):
     return Target(x_mm, fraction)
 
 
-def revision_pass(revision: str, level_py: float, length_factor: float | None) -> dict:
+def revision_pass(revision: str, level_py: float, length_factor: float | None, config: str = CONFIG,
+                  elements: float | None = None) -> dict:
     """:func:`one_pass` computed by the code of git ``revision`` (this file run inside its extracted tree)."""
     with tempfile.TemporaryDirectory() as tmp:
         tree = Path(tmp) / "tree"
@@ -91,9 +97,9 @@ def revision_pass(revision: str, level_py: float, length_factor: float | None) -
             tar.extractall(tree, filter="data")
         dest = Path(tmp) / "pass.json"
         args = [sys.executable, str(Path(__file__).resolve()), "--level", str(level_py), "--json", str(dest),
-                "--config", str(tree / CONFIG)]
-        if length_factor is not None:
-            args += ["--length", str(length_factor)]
+                "--config", str(tree / config) if not Path(config).is_absolute() else config, "--child"]
+        args += [] if length_factor is None else ["--length", str(length_factor)]
+        args += [] if elements is None else ["--elements", str(elements)]
         subprocess.run(args, cwd=tree, env={**os.environ, "PYTHONPATH": str(tree)}, check=True)
         return json.loads(dest.read_text())
 
@@ -109,9 +115,12 @@ def groove_difference(reference: dict, other: dict) -> float:
 
 def markdown(rows: dict[str, dict], difference: float | None) -> str:
     first = next(iter(rows.values()))
-    lines = [f"One pass at {first['level_py']:g} p_y of `{CONFIG}` ({first['n_dofs']} dofs, track half-length "
-             f"{first['length_factor']:g} a, {first['steps']} steps with their sub-steps), one BLAS thread. CPU "
-             "seconds of this process on a shared machine, with the load: compare the counts.", "",
+    config = Path(first["config"])
+    config = config.relative_to(REPO) if config.is_relative_to(REPO) else config.name
+    lines = [f"One pass at {first['level_py']:g} p_y of `{config}` ({first['n_dofs']} dofs, "
+             f"{first['elements_per_semi_axis']:g} elements per contact semi-axis, track half-length "
+             f"{first['length_factor']:g} a, {first['steps']} steps of {first['substeps']} material sub-steps), one "
+             "BLAS thread. CPU seconds of this process on a shared machine, with the load: compare the counts.", "",
              "| code | set-up CPU (s) | set-up solves | pass CPU (s) | load (1 min) | Newton iterations | CG iterations "
              "| triangular solves | factorisations | groove (mm) |", "|---" * 10 + "|"]
     for name, r in rows.items():
@@ -128,15 +137,22 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench_rolling_pass", description=__doc__.splitlines()[0])
     ap.add_argument("--level", type=float, default=1.7, help="load level in p_y (default 1.7)")
     ap.add_argument("--length", type=float, default=None, help="track half-length in a (default: the config's)")
-    ap.add_argument("--config", default=CONFIG, help=argparse.SUPPRESS)
+    ap.add_argument("--config", default=CONFIG, help=f"rolling configuration (default {CONFIG})")
+    ap.add_argument("--elements", type=float, default=None, help="elements per contact semi-axis (default: the "
+                                                                   "config's; 4 is the section at h = a/4)")
+    ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--against", metavar="REVISION", help="git revision whose pass is computed too")
     ap.add_argument("--json", type=Path, help="write the measurements there")
     ap.add_argument("--report", type=Path, help="write a stamped markdown report there")
     args = ap.parse_args(argv)
-    here = one_pass(args.level, args.length, args.config)
+    here = one_pass(args.level, args.length, args.config, args.elements)
+    if args.child:  # a run of another revision's code for --against: its measurements only
+        args.json.write_text(json.dumps(here))
+        return 0
     rows, difference = {"this revision": here}, None
     if args.against:
-        rows = {args.against: revision_pass(args.against, args.level, args.length), **rows}
+        rows = {args.against: revision_pass(args.against, args.level, args.length, args.config, args.elements),
+                **rows}
         difference = groove_difference(rows[args.against], here)
     text = markdown(rows, difference)
     if args.json:
