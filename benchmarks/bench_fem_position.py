@@ -205,8 +205,10 @@ def _markdown(rows: list[dict], check: dict | None) -> str:
             f"triangular solves, {c['factorisations']} factorisations, {c['return_mapping_calls']} return mappings.\n")
     if check is not None:
         worst = max(check["differences"].values())
-        text += (f"\nSame result as revision {check['revision']}: largest relative difference {worst:.1e} "
-                 f"(limit {SAME_RESULT_RTOL:.0e}).\n")
+        ref = check["counts"]
+        text += (f"\nRevision {check['revision']}: {ref['newton_iterations']} Newton iterations, "
+                 f"{ref['linear_solves']} triangular solves, {ref['factorisations']} factorisations. Same result: "
+                 f"largest relative difference {worst:.1e} (limit {SAME_RESULT_RTOL:.0e}).\n")
     return text
 
 
@@ -225,13 +227,21 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--against", metavar="REVISION", help="git revision whose result must be the same")
     ap.add_argument("--plots", action="store_true", help="also time the run with the VTK/PNG fields")
     ap.add_argument("--json", type=Path, help="write the measurements there")
+    ap.add_argument("--report", type=Path, help="write a stamped markdown report there")
     args = ap.parse_args(argv)
     rows = [timed_position(plots=False)] + ([timed_position(plots=True)] if args.plots else [])
     check = None
     if args.against:
         ref = revision_result(args.against)
-        check = {"revision": args.against, "differences": max_relative_difference(ref, rows[0]["result"])}
-    print(_markdown(rows, check))
+        check = {"revision": args.against, "differences": max_relative_difference(ref, rows[0]["result"]),
+                 "counts": {k: ref[k] for k in ("newton_iterations", "linear_solves", "factorisations")}}
+    text = _markdown(rows, check)
+    print(text)
+    if args.report:
+        from benchmarks.harness import command_line, stamped_report
+
+        args.report.write_text(stamped_report("FEM: one direct 3D calibration position, split and counts", text,
+                                              command_line("python -m benchmarks.bench_fem_position", argv)))
     if check:
         for key, d in sorted(check["differences"].items(), key=lambda kv: -kv[1]):
             print(f"  {key:40s} {d:.2e}")
