@@ -32,7 +32,6 @@ import os
 import pstats
 import subprocess
 import sys
-import tarfile
 import tempfile
 import time
 from pathlib import Path
@@ -148,17 +147,12 @@ def _first_factorisation(stats: pstats.Stats) -> float:
 
 def revision_result(revision: str, body: str = "rail", y_mm: float = 0.0) -> dict:
     """The position's IndentationResult (dict) computed by the code of git ``revision`` (no plots)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        tree = Path(tmp) / "tree"
-        tree.mkdir()
-        archive = subprocess.run(["git", "-C", str(REPO), "archive", "--format=tar", revision], check=True,
-                                 capture_output=True).stdout
-        tar_path = Path(tmp) / "tree.tar"
-        tar_path.write_bytes(archive)
-        with tarfile.open(tar_path) as tar:
-            tar.extractall(tree, filter="data")
-        dest = Path(tmp) / "result.json"
-        code = _SNIPPET.format(config=CONFIG, out=str(Path(tmp) / "out"), body=body, y=float(y_mm), dest=str(dest))
+    from benchmarks.harness import revision_tree
+
+    with revision_tree(revision) as tree:
+        dest = tree.parent / "result.json"
+        code = _SNIPPET.format(config=CONFIG, out=str(tree.parent / "out"), body=body, y=float(y_mm),
+                               dest=str(dest))
         env = {**os.environ, "PYTHONPATH": str(tree)}
         subprocess.run([sys.executable, "-c", code], cwd=tree, env=env, check=True)
         return json.loads(dest.read_text())

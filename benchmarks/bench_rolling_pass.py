@@ -21,8 +21,6 @@ import json
 import os
 import subprocess
 import sys
-import tarfile
-import tempfile
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -87,15 +85,10 @@ def solver_target(x_mm: float, fraction: float):
 def revision_pass(revision: str, level_py: float, length_factor: float | None, config: str = CONFIG,
                   elements: float | None = None) -> dict:
     """:func:`one_pass` computed by the code of git ``revision`` (this file run inside its extracted tree)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        tree = Path(tmp) / "tree"
-        tree.mkdir()
-        tar_path = Path(tmp) / "tree.tar"
-        tar_path.write_bytes(subprocess.run(["git", "-C", str(REPO), "archive", "--format=tar", revision],
-                                            check=True, capture_output=True).stdout)
-        with tarfile.open(tar_path) as tar:
-            tar.extractall(tree, filter="data")
-        dest = Path(tmp) / "pass.json"
+    from benchmarks.harness import revision_tree
+
+    with revision_tree(revision) as tree:
+        dest = tree.parent / "pass.json"
         args = [sys.executable, str(Path(__file__).resolve()), "--level", str(level_py), "--json", str(dest),
                 "--config", str(tree / config) if not Path(config).is_absolute() else config, "--child"]
         args += [] if length_factor is None else ["--length", str(length_factor)]
