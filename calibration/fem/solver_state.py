@@ -42,9 +42,10 @@ class SolverOptions:
     cg_rtol_max and at least cg_rtol, and the first iteration's cg_rtol_max: the early corrections of an increment
     are limited by the change of the plastic zone, not by the linear solve (:func:`calibration.fem.newton.
     cg_tolerance`); cg_target_fraction: no CG tolerance below cg_target_fraction * rtol / |r_k| (a correction
-    solved far below the Newton tolerance cannot converge sooner; 0: no such floor; measured with 'mismatch':
-    12 % fewer triangular solves on the direct 3D calibration position, 25 % on a rolling pass, same results
-    within 1e-7, benchmarks/bench_fem_position.py, docs/validation/fem-engine.md); elastic_predictor: start an
+    solved far below the Newton tolerance cannot converge sooner; 0: no such floor; measured with 'mismatch'
+    against 'adaptive' without the floor: 12 % fewer triangular solves on the direct 3D calibration position, 30 %
+    on a rolling pass of the shipped half-space, 11 % on the rolling section at h = a/4, the same results within
+    5e-8 and grooves within 6e-7, docs/validation/fem-speed.md); elastic_predictor: start an
     increment from a virgin state, and every unloading increment, from the elastic solution (the state plus
     (p_new - p_old) times the unit-load elastic displacement): elastic loading converges without an iteration,
     and so does an elastic unloading (the return mapping of the residual check verifies that no point re-yields;
