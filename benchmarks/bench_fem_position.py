@@ -9,7 +9,9 @@ vector), factorisation (PARDISO analysis and numerical factorisations), Newton (
 tangent products, CG; ``of which solves``: the triangular solves), output (VTK/PNG fields, only with plots) and
 the rest. Counts: Newton iterations, triangular solves, factorisations, return-mapping calls and the quadrature
 points they evaluated. Every time is given with the 1-minute load average of the machine (``os.getloadavg``) and
-the process CPU time, because this machine is shared.
+the process CPU time, because this machine is shared. One BLAS/MKL thread (as a worker of a two-worker
+calibration): with two, the waiting OpenMP thread of PARDISO's solves counts as CPU time, and on a loaded machine
+that tripled the CPU seconds (measured: 50 s against 14 s at load 8).
 
 Same result: :func:`revision_result` computes the same position with the code of another git revision (extracted
 with ``git archive`` into a scratch folder and run there by a fresh interpreter, so nothing of this revision is
@@ -30,7 +32,6 @@ import os
 import pstats
 import subprocess
 import sys
-import tarfile
 import tempfile
 import time
 from pathlib import Path
@@ -108,8 +109,9 @@ def timed_position(body: str = "rail", y_mm: float = 0.0, plots: bool = False) -
     """Run one position under cProfile: wall and CPU time, load average, the CPU split and the counts."""
     from benchmarks.bench_fem_memory import peak_rss_mb, reset_peak
     from calibration.tasks import run_position
+    from wrlayer.runner import limited_threads
 
-    with tempfile.TemporaryDirectory() as tmp:
+    with tempfile.TemporaryDirectory() as tmp, limited_threads(1):
         task = position_task(body, y_mm, plots, Path(tmp))
         load_before = os.getloadavg()[0]
         reset_peak()
@@ -145,17 +147,12 @@ def _first_factorisation(stats: pstats.Stats) -> float:
 
 def revision_result(revision: str, body: str = "rail", y_mm: float = 0.0) -> dict:
     """The position's IndentationResult (dict) computed by the code of git ``revision`` (no plots)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        tree = Path(tmp) / "tree"
-        tree.mkdir()
-        archive = subprocess.run(["git", "-C", str(REPO), "archive", "--format=tar", revision], check=True,
-                                 capture_output=True).stdout
-        tar_path = Path(tmp) / "tree.tar"
-        tar_path.write_bytes(archive)
-        with tarfile.open(tar_path) as tar:
-            tar.extractall(tree, filter="data")
-        dest = Path(tmp) / "result.json"
-        code = _SNIPPET.format(config=CONFIG, out=str(Path(tmp) / "out"), body=body, y=float(y_mm), dest=str(dest))
+    from benchmarks.harness import revision_tree
+
+    with revision_tree(revision) as tree:
+        dest = tree.parent / "result.json"
+        code = _SNIPPET.format(config=CONFIG, out=str(tree.parent / "out"), body=body, y=float(y_mm),
+                               dest=str(dest))
         env = {**os.environ, "PYTHONPATH": str(tree)}
         subprocess.run([sys.executable, "-c", code], cwd=tree, env=env, check=True)
         return json.loads(dest.read_text())
@@ -202,8 +199,10 @@ def _markdown(rows: list[dict], check: dict | None) -> str:
             f"triangular solves, {c['factorisations']} factorisations, {c['return_mapping_calls']} return mappings.\n")
     if check is not None:
         worst = max(check["differences"].values())
-        text += (f"\nSame result as revision {check['revision']}: largest relative difference {worst:.1e} "
-                 f"(limit {SAME_RESULT_RTOL:.0e}).\n")
+        ref = check["counts"]
+        text += (f"\nRevision {check['revision']}: {ref['newton_iterations']} Newton iterations, "
+                 f"{ref['linear_solves']} triangular solves, {ref['factorisations']} factorisations. Same result: "
+                 f"largest relative difference {worst:.1e} (limit {SAME_RESULT_RTOL:.0e}).\n")
     return text
 
 
@@ -222,13 +221,21 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--against", metavar="REVISION", help="git revision whose result must be the same")
     ap.add_argument("--plots", action="store_true", help="also time the run with the VTK/PNG fields")
     ap.add_argument("--json", type=Path, help="write the measurements there")
+    ap.add_argument("--report", type=Path, help="write a stamped markdown report there")
     args = ap.parse_args(argv)
     rows = [timed_position(plots=False)] + ([timed_position(plots=True)] if args.plots else [])
     check = None
     if args.against:
         ref = revision_result(args.against)
-        check = {"revision": args.against, "differences": max_relative_difference(ref, rows[0]["result"])}
-    print(_markdown(rows, check))
+        check = {"revision": args.against, "differences": max_relative_difference(ref, rows[0]["result"]),
+                 "counts": {k: ref[k] for k in ("newton_iterations", "linear_solves", "factorisations")}}
+    text = _markdown(rows, check)
+    print(text)
+    if args.report:
+        from benchmarks.harness import command_line, stamped_report
+
+        args.report.write_text(stamped_report("FEM: one direct 3D calibration position, split and counts", text,
+                                              command_line("python -m benchmarks.bench_fem_position", argv)))
     if check:
         for key, d in sorted(check["differences"].items(), key=lambda kv: -kv[1]):
             print(f"  {key:40s} {d:.2e}")

@@ -6,15 +6,19 @@ implementations should interleave their runs (see :func:`interleaved_medians`) a
 
 from __future__ import annotations
 
+import contextlib
 import os
 import platform
 import resource
 import statistics
 import subprocess
 import sys
+import tarfile
+import tempfile
 import time
 import tracemalloc
 from importlib import metadata
+from pathlib import Path
 from typing import Any, Callable
 
 
@@ -80,6 +84,23 @@ def _git_version() -> str:
                               check=True, cwd=os.path.dirname(__file__)).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
+
+
+@contextlib.contextmanager
+def revision_tree(revision: str):
+    """The source tree of git ``revision`` of this repository, extracted (``git archive``) into a scratch folder
+    that is removed afterwards: run another revision's code there (``PYTHONPATH`` = the yielded path)."""
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    with tempfile.TemporaryDirectory() as tmp:
+        tree = Path(tmp) / "tree"
+        tree.mkdir()
+        tar_path = Path(tmp) / "tree.tar"
+        tar_path.write_bytes(subprocess.run(["git", "-C", repo, "archive", "--format=tar", revision], check=True,
+                                            capture_output=True).stdout)
+        with tarfile.open(tar_path) as tar:
+            tar.extractall(tree, filter="data")
+        tar_path.unlink()
+        yield tree
 
 
 def report_stamp(command: str) -> str:

@@ -217,14 +217,15 @@ def preconditioned_cg(matvec, b: np.ndarray, precondition, rtol: float = 1e-10,
     """Conjugate gradients for the SPD operator ``matvec`` with preconditioner ``precondition`` (a solve).
 
     Returns (x, iterations); raises ConvergenceError when ``max_iter`` is reached. info: receives "rz0" =
-    b . precondition(b), the preconditioner's energy norm of b (the first step computes it anyway).
+    b . precondition(b), the preconditioner's energy norm of b (the first step computes it anyway), and
+    "residual" = |b - A x| of the returned x (CG's recursive residual).
     """
     x = np.zeros_like(b)
     r = b.copy()
     bnorm = np.linalg.norm(b)
     if bnorm == 0.0:
         if info is not None:
-            info["rz0"] = 0.0
+            info["rz0"] = info["residual"] = 0.0
         return x, 0
     z = precondition(r)
     p = z.copy()
@@ -239,7 +240,10 @@ def preconditioned_cg(matvec, b: np.ndarray, precondition, rtol: float = 1e-10,
         alpha = rz / pAp
         x += alpha * p
         r -= alpha * Ap
-        if np.linalg.norm(r) <= rtol * bnorm:
+        rnorm = np.linalg.norm(r)
+        if rnorm <= rtol * bnorm:
+            if info is not None:
+                info["residual"] = float(rnorm)
             return x, it
         z = precondition(r)
         rz_new = r @ z

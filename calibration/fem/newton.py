@@ -71,6 +71,7 @@ def newton_increment(prob: TangentProblem, state: SolverState, force: np.ndarray
     residuals, energies = [], []
     e0 = None
     cg_total = 0
+    linear = None  # |r_k - K_t du_k| / ref_k left by the last correction's CG (None: not known)
     for it in range(max_iter + 1):
         response = material(u)
         res = response.result
@@ -114,16 +115,18 @@ def newton_increment(prob: TangentProblem, state: SolverState, force: np.ndarray
             break
         plastic_elems = np.nonzero(response.plastic.any(axis=1))[0]
         try:
-            du, ncg, rz0 = prob.solve_correction(r, response.tangent_of(plastic_elems), plastic_elems,
-                                                 cg_tolerance(opts, it, rnorm, residuals))
+            step = prob.solve_correction(r, response.tangent_of(plastic_elems), plastic_elems,
+                                         cg_tolerance(opts, it, rnorm, residuals, linear))
         except ConvergenceError as err:
             residuals.append(float("nan"))
             if opts.verbose:
                 print(f"    linear solve failed: {err}")
             break
-        cg_total += ncg
-        if e0 is None and rz0 is not None:
-            e0 = abs(rz0)
+        cg_total += step.cg_iters
+        if e0 is None and step.rz0 is not None:
+            e0 = abs(step.rz0)
+        linear = None if step.linear_residual is None else step.linear_residual / ref
+        du = step.du
         du[prob.fixed] = 0.0
         u = u + du
     hist = ", ".join(f"{x:.3e}" for x in residuals)
@@ -131,12 +134,29 @@ def newton_increment(prob: TangentProblem, state: SolverState, force: np.ndarray
                            f"(relative residuals: {hist})")
 
 
-def cg_tolerance(opts: SolverOptions, it: int, rnorm: float, residuals: list[float]) -> float:
-    """The inner CG tolerance of Newton iteration ``it``: options.cg_rtol, or with adaptive forcing
-    (Eisenstat-Walker, choice 2, gamma = 0.9) gamma (|r_k| / |r_k-1|)^2 within [cg_rtol, cg_rtol_max]."""
-    if opts.cg_forcing != "adaptive":
+def cg_tolerance(opts: SolverOptions, it: int, rnorm: float, residuals: list[float],
+                 linear: float | None = None) -> float:
+    """The inner CG tolerance (relative to |r_k|) of Newton iteration ``it`` (rnorm = |r_k| / ref, residuals: the
+    relative residuals so far, r_k last; linear: |r_k-1 - K_t du_k-1| / ref, what the last CG left).
+
+    'fixed': options.cg_rtol. Adaptive forcing (Eisenstat & Walker 1996, SIAM J. Sci. Comput. 17(1)):
+    'adaptive', choice 2 (gamma = 0.9): eta = gamma (|r_k| / |r_k-1|)^2, which assumes Newton's quadratic
+    convergence; 'mismatch', choice 1: eta = | |r_k| - |r_k-1 - K_t du_k-1| | / |r_k-1|, how far the residual
+    found is from the one the last linear model predicted. Where the tangent is inexact (the sub-stepped rolling
+    material, :mod:`calibration.rolling.substeps`) Newton converges linearly and choice 2 solves every correction
+    to cg_rtol for nothing; where it is exact the mismatch is small and choice 1 solves as tightly. Then, for both,
+    no tighter than ``cg_target_fraction`` rtol / |r_k|: a correction solved below that fraction of the Newton
+    tolerance cannot make the iteration converge sooner. First iteration: cg_rtol_max; always within
+    [cg_rtol, cg_rtol_max]."""
+    if opts.cg_forcing == "fixed":
         return opts.cg_rtol
-    eta = opts.cg_rtol_max if it == 0 else 0.9 * (rnorm / residuals[-2]) ** 2
+    if it == 0:
+        eta = opts.cg_rtol_max
+    elif opts.cg_forcing == "mismatch" and linear is not None:
+        eta = abs(rnorm - linear) / residuals[-2]
+    else:
+        eta = 0.9 * (rnorm / residuals[-2]) ** 2
+    eta = max(eta, opts.cg_target_fraction * opts.rtol / max(rnorm, 1e-300))
     return min(opts.cg_rtol_max, max(opts.cg_rtol, eta))
 
 

@@ -6,6 +6,7 @@ of each strategy (:class:`calibration.fem.solver_state.SolverOptions`); the elas
 from __future__ import annotations
 
 import weakref
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -98,30 +99,42 @@ class TangentProblem:
         return matvec
 
     def solve_correction(self, r: np.ndarray, tangent: np.ndarray, plastic_elems: np.ndarray,
-                         cg_rtol: float | None = None) -> tuple[np.ndarray, int, float | None]:
-        """Newton correction for residual r (free dofs) with the chosen strategy; returns (du, cg iterations,
-        r . P^-1 r with the factorisation P at hand on entry, or None when not computed: the 'newton' strategy).
+                         cg_rtol: float | None = None) -> Correction:
+        """Newton correction for residual r (free dofs) with the chosen strategy (see :class:`Correction`).
         tangent: the consistent tangent (n_sel, n_qp, 6, 6) at the points of ``plastic_elems``; cg_rtol: the CG
         tolerance of this correction (default options.cg_rtol)."""
         cg_rtol = self.opts.cg_rtol if cg_rtol is None else cg_rtol
         strategy = self.opts.strategy
         if strategy == "modified":
             du = self.factor.solve(r)
-            return du, 0, float(r @ du)
+            return Correction(du, 0, float(r @ du))
         info: dict = {}
         if plastic_elems.size == 0 and self.factor_is_elastic:  # exact up to the Newton tolerance
-            return self.factor.solve_refined(r, self.Ke.dot, rtol=1e-2 * self.opts.rtol, info=info), 0, info["rz0"]
+            du = self.factor.solve_refined(r, self.Ke.dot, rtol=1e-2 * self.opts.rtol, info=info)
+            return Correction(du, 0, info["rz0"])
         if strategy == "newton":
             data = self.tangent_data(tangent, plastic_elems)
             self.factor.factorise(data)
             self.factor_is_elastic = plastic_elems.size == 0
-            return self.factor.solve_refined(r, self.disc.csr_matrix(data).dot, rtol=cg_rtol), 0, None
+            return Correction(self.factor.solve_refined(r, self.disc.csr_matrix(data).dot, rtol=cg_rtol), 0, None)
         du, iters = preconditioned_cg(self.tangent_matvec(tangent, plastic_elems), r, self.factor.solve,
                                       rtol=cg_rtol, max_iter=500, info=info)
         if iters > self.opts.cg_refresh_iters:
             self.factor.factorise(self.tangent_data(tangent, plastic_elems))
             self.factor_is_elastic = plastic_elems.size == 0
-        return du, iters, info["rz0"]
+        return Correction(du, iters, info["rz0"], info["residual"])
+
+
+@dataclass(frozen=True)
+class Correction:
+    """One Newton correction. du: the correction (mm); cg_iters: CG iterations (0 for a direct solve); rz0:
+    r . P^-1 r with the factorisation P at hand on entry (None when not computed: the 'newton' strategy);
+    linear_residual: |r - K_t du| (N) left by CG (None for a direct solve)."""
+
+    du: np.ndarray
+    cg_iters: int
+    rz0: float | None
+    linear_residual: float | None = None
 
 
 def elastic_first_yield(prob: TangentProblem, force: np.ndarray) -> tuple[float, np.ndarray]:
@@ -138,4 +151,4 @@ def elastic_first_yield(prob: TangentProblem, force: np.ndarray) -> tuple[float,
     return (prob.material.yield_MPa / peak if peak > 0 else float("inf")), u1
 
 
-__all__ = ["TangentProblem", "elastic_first_yield"]
+__all__ = ["Correction", "TangentProblem", "elastic_first_yield"]

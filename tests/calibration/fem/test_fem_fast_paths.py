@@ -137,7 +137,8 @@ def test_bad_fast_path_options_are_named(block_2d_coarse, disc_2d):
     from wrlayer.errors import InputError
 
     for kw, name in [(dict(cg_forcing="eager"), "cg_forcing"), (dict(factor_precision="half"), "factor_precision"),
-                     (dict(cg_rtol=0.5, cg_rtol_max=0.1), "cg_rtol")]:
+                     (dict(cg_rtol=0.5, cg_rtol_max=0.1), "cg_rtol"),
+                     (dict(cg_target_fraction=1.0), "cg_target_fraction")]:
         with pytest.raises(InputError, match=name):
             solve_load_path(block_2d_coarse, STEEL, LOAD, [1.0], disc=disc_2d,
                             options=SolverOptions(dirichlet=DIRICHLET_2D, **kw))
