@@ -50,6 +50,9 @@ __all__ = [
 ]
 
 SEPARATION_KINDS = ("flat", "parabola", "sharp", "quartic", "two_minima")
+#: The normal solver these invariants are written for (the Kik–Piotrowski strips whose solutions are checked;
+#: named, since a scene's default is the exact solver).
+STRESSED_METHOD = "kik_piotrowski"
 #: the solver's default relative force tolerance (solve_normal rtol_N)
 FORCE_RTOL = 1e-9
 #: the pass tolerance used by the stress cases (PassesOptions.tolerance_mm default)
@@ -266,7 +269,7 @@ def check_contact_case(case: ContactCase) -> str:
         layers = layer_pair(case, prob.strip_y_mm)
         records, _ = run_passes(prob, layers, PassesOptions(max_passes=case.passes, hardening=case.hardening,
                                                             tolerance_mm=PASS_TOLERANCE_MM),
-                                on_pass=lambda rec, sol: solutions.append(sol))
+                                on_pass=lambda rec, sol: solutions.append(sol), method=STRESSED_METHOD)
         for sol in solutions:
             _check_normal(case, sol, table_y)
         pass_stats = _check_passes(case, records)

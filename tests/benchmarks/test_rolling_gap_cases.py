@@ -57,12 +57,14 @@ def test_gap_rows_fit_the_group_law_and_stand_ins_scale():
     from calibration.rolling.law_fit import PassFit
     from wrlayer.layer_table import LayerTable
 
-    truth = {1.3: PassFit(0.97, 0.04, 0.3, 0.0, 0.0), 1.7: PassFit(0.95, 0.03, 0.3, 0.0, 0.0),
+    truth = {1.15: PassFit(1.04, 0.05, 0.22, 0.0, 0.0), 1.3: PassFit(0.97, 0.04, 0.3, 0.0, 0.0),
+             1.5: PassFit(0.94, 0.04, 0.3, 0.0001, 0.0), 1.7: PassFit(0.95, 0.03, 0.3, 0.0, 0.0),
              2.1: PassFit(0.9, 0.08, 0.5, 0.02, 0.0)}
+    assert sorted(truth) == list(gap_cases.LEVELS)  # the law is fitted only when every level is present
     results = [synthetic("rail crown", 7.161, lv, f, 0.02 * lv) for lv, f in truth.items()]
     both = gap.with_stand_ins(results)
     tread = [r for r in both if r.position == "wheel tread"]
-    assert len(tread) == 3 and "stand-in" in tread[0].key
+    assert len(tread) == len(truth) and "stand-in" in tread[0].key
     k = tread[0].a_mm / 7.161
     assert tread[0].groove_mm == pytest.approx([k * g for g in results[0].groove_mm])
     rows, laws = gap.gap_rows(results)
