@@ -90,6 +90,37 @@ def _next_delta_guess(deltas: list[float]) -> float | None:
     return 2.0 * deltas[-1] - deltas[-2]
 
 
+def _load_and_unload(sol: NormalSolution, bodies: dict, points: dict, rolling: dict, cumulative: dict
+                     ) -> tuple[np.ndarray, float, float, dict[str, float]]:
+    """One pass of every body's elements: each loaded to its strip's peak pressure p(0, y) and unloaded; the
+    residual increment (with a rolling law: the law's increment) added to ``cumulative`` (mm, per body, updated).
+    Returns the increment on the strip grid summed over the bodies (mm), the elements' displacement u0 and
+    residual increment up0 at the reference strip (mm) and each body's largest dissipated energy (N/mm)."""
+    ref = max(sol.regions, key=lambda r: r.p0_MPa).reference
+    added = np.zeros_like(sol.p_peak_MPa, dtype=float)
+    u0 = up0 = 0.0
+    energy = {}
+    for name, body_layer in bodies.items():
+        ix = points[name]
+        on = ix >= 0
+        p_points = np.zeros(body_layer.n_points)
+        p_points[ix[on]] = sol.p_peak_MPa[on]
+        before = body_layer.u_mm.copy()
+        loaded = body_layer.load_to(p_points)
+        residual = body_layer.unload() - before
+        if name in rolling:  # the relaxed element's static residual -> the rolling law's increment
+            residual = rolling[name].advance(p_points, residual)
+        inc = np.zeros_like(added)
+        inc[on] = residual[ix[on]]
+        cumulative[name] = cumulative[name] + inc
+        added += inc
+        if ix[ref] >= 0:
+            u0 += loaded[ix[ref]] - before[ix[ref]]
+            up0 += inc[ref]
+        energy[name] = float(body_layer.dissipated_energy_N_per_mm.max(initial=0.0))
+    return added, u0, up0, energy
+
+
 def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOptions = PassesOptions(),
                on_pass: Callable[[PassRecord, NormalSolution], None] | None = None,
                method: NormalMethod | str = NormalMethod(),
@@ -142,28 +173,7 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
             **({} if slope is None else {"loglog_slope_guess": slope}))
         deltas.append(sol.delta_mm)
         slope = sol.iterations.get("loglog_slope")
-        ref = max(sol.regions, key=lambda r: r.p0_MPa).reference
-        added = np.zeros_like(y)
-        u0 = up0 = 0.0
-        energy = {}
-        for name, body_layer in bodies.items():
-            ix = points[name]
-            on = ix >= 0
-            p_points = np.zeros(body_layer.n_points)
-            p_points[ix[on]] = sol.p_peak_MPa[on]
-            before = body_layer.u_mm.copy()
-            loaded = body_layer.load_to(p_points)
-            residual = body_layer.unload() - before
-            if name in rolling:  # the relaxed element's static residual -> the rolling law's increment
-                residual = rolling[name].advance(p_points, residual)
-            inc = np.zeros_like(y)
-            inc[on] = residual[ix[on]]
-            cumulative[name] = cumulative[name] + inc
-            added += inc
-            if ix[ref] >= 0:
-                u0 += loaded[ix[ref]] - before[ix[ref]]
-                up0 += inc[ref]
-            energy[name] = float(body_layer.dissipated_energy_N_per_mm.max(initial=0.0))
+        added, u0, up0, energy = _load_and_unload(sol, bodies, points, rolling, cumulative)
         max_added = float(np.max(np.abs(added))) if added.size else 0.0
         shakedown = max_added <= options.tolerance_mm
         rec = PassRecord.of(
