@@ -44,6 +44,25 @@ def return_mapped(prob: TangentProblem, state: SolverState) -> Callable[[np.ndar
     return response
 
 
+def _relative_energy(prob: TangentProblem, r: np.ndarray, it: int, rnorm: float, residuals: list[float],
+                     e0: float | None) -> tuple[float, float | None]:
+    """The energy norm r . P^-1 r of iteration ``it``'s residual relative to the reference e0 (P the current
+    factorisation), and the reference; nan where it is not evaluated. One back-substitution, so it is evaluated
+    only on the first iteration (the reference) and once the force residual has passed, unless the increment
+    started below the force tolerance, where the force criterion alone decides (measured: this halves the
+    triangular solves of a 3D indentation, benchmarks/bench_fem.py). The reference is the first preconditioner
+    application of the first correction (no solve of its own: 1.0 here, e0 set by the caller from the
+    correction), except with the 'newton' strategy, which refactorises first."""
+    opts = prob.opts
+    if it == 0 and opts.strategy != "newton":
+        return 1.0, e0
+    if it == 0 or (rnorm <= opts.rtol and residuals[0] > opts.rtol):
+        energy = abs(float(r @ prob.factor.solve(r)))
+        e0 = energy if e0 is None else e0
+        return energy / max(e0, 1e-300), e0
+    return float("nan"), e0
+
+
 def newton_increment(prob: TangentProblem, state: SolverState, force: np.ndarray, p_old: float, p_new: float,
                      max_iter: int, p_scale: float = 0.0, u_start: np.ndarray | None = None,
                      elastic_start: bool = False,
@@ -91,20 +110,8 @@ def newton_increment(prob: TangentProblem, state: SolverState, force: np.ndarray
         if elastic_exact or (it == 0 and rnorm <= max(1e-3 * opts.rtol, 1e-13)):
             energies.append(0.0)
             return _converged(u, res, p_new, it, residuals, energies, cg_total)
-        # energy norm of the residual (current factorisation): one back-substitution, so it is evaluated only
-        # on the first iteration (the reference) and once the force residual has passed, unless the increment
-        # started below the force tolerance, where the force criterion alone decides (measured: this halves the
-        # triangular solves of a 3D indentation, benchmarks/bench_fem.py). The reference r_0 . P^-1 r_0 is the
-        # first preconditioner application of the first correction (no solve of its own), except with the
-        # 'newton' strategy, which refactorises first.
-        if it == 0 and opts.strategy != "newton":
-            energies.append(1.0)  # e0 is set from the first correction below
-        elif it == 0 or (rnorm <= opts.rtol and residuals[0] > opts.rtol):
-            energy = abs(float(r @ prob.factor.solve(r)))
-            e0 = energy if e0 is None else e0
-            energies.append(energy / max(e0, 1e-300))
-        else:
-            energies.append(float("nan"))
+        energy, e0 = _relative_energy(prob, r, it, rnorm, residuals, e0)
+        energies.append(energy)
         if opts.verbose:
             print(f"    p0={p_new:.6g} it={it} |r|/ref={rnorm:.3e} energy={energies[-1]:.3e}")
         # an increment that started below the force tolerance (an exact elastic predictor) has a round-off energy
