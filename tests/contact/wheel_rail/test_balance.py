@@ -188,6 +188,17 @@ def test_every_pass_is_kept(rail60, s1002, placed):
     assert len(p.pass_normals) == len(p.passes) == 3
 
 
+def assert_same_patch(warm, cold, force_rel: float, creep_abs: float, p_max_rel: float) -> None:
+    """A warm-started balance's patch against the cold one: normal force (relative), creep forces F_x, F_y
+    (absolute, in units of mu N = 0.3 N) and p_max (relative)."""
+    scale = 0.3 * cold.normal_force_N
+    assert warm.normal_force_N == pytest.approx(cold.normal_force_N, rel=force_rel)
+    for key in ("Fx_N", "Fy_N"):
+        assert sum(getattr(t, key) for t in warm.tangential) == pytest.approx(
+            sum(getattr(t, key) for t in cold.tangential), abs=creep_abs * scale)
+    assert warm.normal.p_max_MPa == pytest.approx(cold.normal.p_max_MPa, rel=p_max_rel)
+
+
 def test_warm_started_exact_balance_gives_the_cold_forces(rail60, s1002, placed, monkeypatch):
     """The exact/exact balance with its warm starts and rough first point gives the forces of cold solves to full
     tolerance everywhere, within the solvers' tolerances."""
@@ -199,12 +210,7 @@ def test_warm_started_exact_balance_gives_the_cold_forces(rail60, s1002, placed,
     monkeypatch.setattr(balance.BalanceCandidate, "normal_start",
                         lambda self, method, rough=False: {"delta_guess_mm": self.delta_guess})
     cold = solve_wheel(rail60, s1002, inputs, placed_rail=placed).patches[0]
-    scale = 0.3 * cold.normal_force_N
-    assert warm.normal_force_N == pytest.approx(cold.normal_force_N, rel=1e-7)
-    for key in ("Fx_N", "Fy_N"):
-        assert sum(getattr(t, key) for t in warm.tangential) == pytest.approx(
-            sum(getattr(t, key) for t in cold.tangential), abs=1e-5 * scale)
-    assert warm.normal.p_max_MPa == pytest.approx(cold.normal.p_max_MPa, rel=1e-4)
+    assert_same_patch(warm, cold, force_rel=1e-7, creep_abs=1e-5, p_max_rel=1e-4)
 
 
 def test_warm_started_coarse_and_fastrip_balance(rail60, s1002, placed, monkeypatch):
@@ -238,9 +244,4 @@ def test_warm_started_coarse_and_fastrip_balance(rail60, s1002, placed, monkeypa
     tangential = balance.patch_tangential
     monkeypatch.setattr(balance, "patch_tangential", lambda *args: tangential(*args[:4]))
     cold = solve_wheel(rail60, s1002, inputs, placed_rail=placed).patches[0]
-    scale = 0.3 * cold.normal_force_N
-    assert warm.normal_force_N == pytest.approx(cold.normal_force_N, rel=1e-4)
-    for key in ("Fx_N", "Fy_N"):
-        assert sum(getattr(t, key) for t in warm.tangential) == pytest.approx(
-            sum(getattr(t, key) for t in cold.tangential), abs=2e-3 * scale)
-    assert warm.normal.p_max_MPa == pytest.approx(cold.normal.p_max_MPa, rel=5e-3)
+    assert_same_patch(warm, cold, force_rel=1e-4, creep_abs=2e-3, p_max_rel=5e-3)
