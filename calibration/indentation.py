@@ -84,7 +84,10 @@ def load_levels(p_y: float, load: LoadSettings) -> list[float]:
     """The loading levels p0 (MPa): 0.5 p_y, p_y, n_levels equal steps up to max_factor p_y, and the peaks."""
     above = p_y * np.linspace(1.0, load.max_factor, load.n_levels + 1)[1:]
     peaks = [f * p_y for f in load.unload_factors]
-    return sorted(set([0.5 * p_y, p_y] + above.tolist() + peaks))
+    levels = sorted(set([0.5 * p_y, p_y] + above.tolist() + peaks))
+    # one level where a step and a peak meet up to round-off (1.15 from the steps and from unload_factors): a
+    # step of zero length would stop the predictor's extrapolation
+    return [p for k, p in enumerate(levels) if k == 0 or p - levels[k - 1] > 1e-9 * p_y]
 
 
 @dataclass(frozen=True)

@@ -176,3 +176,13 @@ def test_increments_are_a_generator_the_caller_can_stop_and_resume(path_newton, 
     whole = [h for h in res.history if h.p0_MPa <= 2 * fy * (1 + 1e-12)][:1 + len(rest)]
     assert [h.p0_MPa for h in [first] + rest] == pytest.approx([h.p0_MPa for h in whole])
     assert rest[-1].u_centre_mm == pytest.approx(whole[-1].u_centre_mm, rel=1e-6)  # Newton tolerance
+
+
+def test_load_levels_merge_a_step_and_a_peak_equal_up_to_round_off():
+    from calibration.indentation import load_levels
+    from calibration.settings import LoadSettings
+
+    p_y = 700.0  # 1.7 from the steps (1 + 14 x 0.05) and from the peaks differ by 2e-13 MPa
+    levels = load_levels(p_y, LoadSettings(n_levels=40, unload_factors=(1.15, 1.4, 1.7, 2.2)))
+    assert np.all(np.diff(levels) > 1e-6 * p_y)
+    assert min(abs(np.array(levels) - 1.7 * p_y)) < 1e-9 * p_y and levels[-1] == pytest.approx(3.0 * p_y)
