@@ -288,10 +288,10 @@ def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = Fal
     points = gap_static.load_points(static_dir) if static_dir.exists() else []
     hs = max((p for p in points if p.position == gap_cases.HALF_SPACE.name), default=None,
              key=lambda p: p.elements_per_semi_axis)
-    halfspace = (hs.top_curve(), hs.p_y_MPa) if hs is not None else ()
-    rows, laws = gap.gap_rows(results, *halfspace)
+    halfspace = hs.reference() if hs is not None else None
+    rows, laws = gap.gap_rows(results, halfspace)
     fits = {g: gap.fit_group(results, g)[1] for g in laws}
-    statics = gap.layer_static_residuals(results, *halfspace)
+    statics = gap.layer_static_residuals(results, halfspace)
     conv = gap_static.converged_dents(points)
     mesh_dir = cases_dir.parent / (cases_dir.name + "_mesh")
     checks = gap_static.ratio_checks(results, gap.load_results(mesh_dir) if mesh_dir.exists() else [])

@@ -142,13 +142,49 @@ def group_of(position: str) -> str:
     return next(name for name, (members, _) in GROUPS.items() if position in members)
 
 
-def layer_static_residuals(results: list[GapCaseResult], halfspace_curve: StaticCurve | None = None,
-                           halfspace_p_y_MPa: float = 0.0) -> dict[tuple[str, float], float]:
+@dataclass(frozen=True)
+class HalfspaceStatic:
+    """The half-space block's static indentation its layer is fitted to (mm, MPa).
+
+    Attributes
+    ----------
+    curve : StaticCurve
+        The highest level's loading curve.
+    p_y_MPa : float
+        The block's FEM first-yield pressure (MPa).
+    levels : tuple of float
+        Peak pressures over p_y of the static dents (-).
+    dents_mm : tuple of float
+        The residual dent after load and unload at each level (mm).
+    """
+
+    curve: StaticCurve
+    p_y_MPa: float
+    levels: tuple[float, ...]
+    dents_mm: tuple[float, ...]
+
+    @classmethod
+    def of_cases(cls, mine: list[GapCaseResult]) -> HalfspaceStatic:
+        """From the cases themselves: the loading points of every case's static indentation together (one virgin
+        load path, so one curve; each level adds its own peak, which the highest level's steps of p_y / 10 miss
+        near first yield, where u_pl is most curved) and every level's static dent (the cases of one level share
+        it)."""
+        points = {round(p, 9): u for r in mine for p, u in zip(r.static_p_MPa, r.static_u_pl_mm)}
+        p = np.array(sorted(points))
+        top = max(mine, key=lambda r: r.p0_over_py)
+        dents = {r.p0_over_py: r.static_dent_mm for r in mine}
+        levels = tuple(sorted(dents))
+        curve = StaticCurve(p, np.array([points[k] for k in p]), top.static_dent_mm)
+        return cls(curve, top.p_y_MPa, levels, tuple(dents[lv] for lv in levels))
+
+
+def layer_static_residuals(results: list[GapCaseResult],
+                           halfspace: HalfspaceStatic | None = None) -> dict[tuple[str, float], float]:
     """The layer's static residual r (mm) per (position, p0 / p_y): the table's characteristic at the position
-    (p0 = level x its p_2), or for the half-space the characteristic fitted with the calibration's default fit
-    (``LAYER_FIT``) to the block's highest-level static curve: ``halfspace_curve`` with its first yield
-    ``halfspace_p_y_MPa`` (the finest mesh of :mod:`benchmarks.rolling_gap_static`) when given, else the cases'
-    own (coarse) curve."""
+    (p0 = level x its p_2), or for the half-space the characteristic fitted as the calibration fits (``LAYER_FIT``,
+    :func:`calibration.rolling.layer_prediction.layer_grooves`: the loaded curve and the residual dent at every
+    level) to ``halfspace`` (the finest mesh of :mod:`benchmarks.rolling_gap_static`) when given, else to the
+    cases' own (coarse) static indentations."""
     out = {}
     for pos in {r.position for r in results}:
         mine = [r for r in results if r.position == pos]
@@ -157,13 +193,11 @@ def layer_static_residuals(results: list[GapCaseResult], halfspace_curve: Static
             for lv in {r.p0_over_py for r in mine}:
                 out[(pos, lv)] = float(ch.unloading_residual(lv * ch.elastic_limit_MPa))
             continue
-        top = max(mine, key=lambda r: r.p0_over_py)
-        curve, p_y = halfspace_curve, halfspace_p_y_MPa
-        if curve is None:
-            curve = StaticCurve(np.array(top.static_p_MPa), np.array(top.static_u_pl_mm), top.static_dent_mm)
-            p_y = top.p_y_MPa
+        ref = halfspace if halfspace is not None else HalfspaceStatic.of_cases(mine)
         levels = sorted({r.p0_over_py for r in mine})
-        grooves = layer_grooves(curve, p_y, [lv * p_y for lv in levels], 1, LAYER_FIT.max_segments)
+        grooves = layer_grooves(ref.curve, ref.p_y_MPa, [lv * ref.p_y_MPa for lv in levels], 1,
+                                LAYER_FIT.max_segments, list(ref.dents_mm),
+                                [lv * ref.p_y_MPa for lv in ref.levels])
         out.update({(pos, lv): g.relaxed[0] for lv, g in zip(levels, grooves)})
     return out
 
@@ -189,8 +223,8 @@ def fit_group(results: list[GapCaseResult], group: str) -> tuple[RollingLaw, dic
     return rolling_law(list(LEVELS), tractions, fits, source), fits
 
 
-def gap_rows(results: list[GapCaseResult], halfspace_curve: StaticCurve | None = None,
-             halfspace_p_y_MPa: float = 0.0) -> tuple[list[GapRow], dict[str, RollingLaw]]:
+def gap_rows(results: list[GapCaseResult],
+             halfspace: HalfspaceStatic | None = None) -> tuple[list[GapRow], dict[str, RollingLaw]]:
     """The gap table's rows (cases with at least MIN_FEM_PASSES passes) and the laws of the groups; the half-space
     layer as in :func:`layer_static_residuals`."""
     laws = {}
@@ -199,7 +233,7 @@ def gap_rows(results: list[GapCaseResult], halfspace_curve: StaticCurve | None =
             laws[g] = fit_group(results, g)[0]
         except (KeyError, ValueError, IndexError):  # a group without a complete grid yet: no law
             continue
-    statics = layer_static_residuals(results, halfspace_curve, halfspace_p_y_MPa)
+    statics = layer_static_residuals(results, halfspace)
     rows = []
     n = np.array(REPORTED_PASSES)
     for r in results:
@@ -224,7 +258,7 @@ def write_law(table_rel: str, law: RollingLaw) -> Path:
     return table.write(path)[0]
 
 
-__all__ = ["GROUPS", "GapRow", "LAYER_FIT", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS", "TARGET", "fit_group",
+__all__ = ["GROUPS", "GapRow", "HalfspaceStatic", "LAYER_FIT", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS", "TARGET", "fit_group",
            "gap_rows",
            "group_of", "with_stand_ins",
            "layer_static_residuals", "load_results", "write_law"]

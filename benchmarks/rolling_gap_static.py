@@ -36,7 +36,7 @@ from calibration.fem.assembly import frees_its_meshes
 from calibration.rolling.config import TrackMeshSettings, TrackSettings
 from benchmarks.rolling_gap_cases import (GAP_MESH, GAP_TRACK, LEVELS, GapCase, GapCaseResult, GapPosition,
                                           default_positions)
-from benchmarks.rolling_gap import TARGET, GapRow
+from benchmarks.rolling_gap import TARGET, GapRow, HalfspaceStatic
 from calibration.rolling.layer_prediction import StaticCurve
 from calibration.rolling.run import build_model, static_dents
 from calibration.rolling.track_mesh import track_mesh
@@ -96,6 +96,10 @@ class StaticPoint:
     def top_curve(self) -> StaticCurve:
         """The highest level's loading curve (its dent included)."""
         return StaticCurve(np.array(self.top_p_MPa), np.array(self.top_u_pl_mm), self.dent_mm[-1])
+
+    def reference(self) -> HalfspaceStatic:
+        """The static indentation a half-space layer is fitted to: the top curve and every level's dent."""
+        return HalfspaceStatic(self.top_curve(), self.p_y_MPa, tuple(self.levels), tuple(self.dent_mm))
 
     def to_dict(self) -> dict:
         return {k: getattr(self, k) for k in self.__dataclass_fields__}

@@ -73,10 +73,12 @@ def static_curve(path: LoadPath, depth_at, compliance_mm_per_MPa: float) -> Stat
 
 
 def layer_grooves(top: StaticCurve, p_y_MPa: float, levels_MPa: list[float], n_passes: int, max_segments: int,
-                  dents_mm: list[float] | None = None) -> list[LayerGroove]:
+                  dents_mm: list[float] | None = None,
+                  dent_levels_MPa: list[float] | None = None) -> list[LayerGroove]:
     """The layer fitted, as the calibration fits (at most ``max_segments`` segments), to the highest level's
-    static curve ``top`` and to the static dents ``dents_mm`` at ``levels_MPa`` (None: ``top``'s own dent at the
-    highest level); its groove per level and pass."""
+    static curve ``top`` and to the static dents ``dents_mm`` at the peaks ``dent_levels_MPa`` (default
+    ``levels_MPa``; ``dents_mm`` None: ``top``'s own dent at the highest level); its groove per level of
+    ``levels_MPa`` and pass."""
     fit = FitSettings(max_segments=max_segments)
     u_pl = np.where(top.p_MPa <= p_y_MPa, np.maximum(top.u_pl_mm, 0.0), top.u_pl_mm)
     curve = replace(top, u_pl_mm=u_pl)
@@ -84,8 +86,9 @@ def layer_grooves(top: StaticCurve, p_y_MPa: float, levels_MPa: list[float], n_p
     if dents_mm is None:
         peaks, dents = np.array([float(np.max(top.p_MPa))]), np.array([top.dent_mm])
     else:
-        order = np.argsort(levels_MPa)
-        peaks = np.asarray(levels_MPa, dtype=float)[order]
+        at = levels_MPa if dent_levels_MPa is None else dent_levels_MPa
+        order = np.argsort(at)
+        peaks = np.asarray(at, dtype=float)[order]
         dents = np.asarray(dents_mm, dtype=float)[order]
     above = peaks > p_y_MPa
     res = fit_operating_range(curve.p_MPa, u_pl, s1, p_y_MPa, peaks[above], dents[above], fit.weight_range,

@@ -75,17 +75,46 @@ def test_static_point_is_the_cases_static_dent_and_round_trips(tmp_path):
     assert ext.method == "finest" and ext.value == pt.dent_at(2.1)
 
 
-def test_halfspace_layer_uses_the_given_curve_with_the_default_fit():
+def _halfspace_case(level: float, p_y: float, u_pl_of, n: int = 22) -> GapCaseResult:
+    p = np.linspace(0.0, level * p_y, n)
+    u = u_pl_of(p / p_y)
+    return GapCaseResult(f"hs_{level}", "half-space", "", 0.0, 1.0, 1.0, 0.0, level, p_y, float(u[-1]), p.tolist(),
+                         u.tolist())
+
+
+def test_halfspace_layer_uses_the_given_reference_with_the_default_fit():
     p_y = 800.0
-    p = np.linspace(0.0, 2.1 * p_y, 22)
-    u_pl = 1e-5 * np.maximum(p / p_y - 1.0, 0.0) ** 2
-    case = GapCaseResult("hs", "half-space", "", 0.0, 1.0, 1.0, 0.0, 2.1, p_y, 1e-5, p.tolist(), u_pl.tolist())
+    case = _halfspace_case(2.1, p_y, lambda x: 1e-5 * np.maximum(x - 1.0, 0.0) ** 2)
+    p, u_pl = np.array(case.static_p_MPa), np.array(case.static_u_pl_mm)
     own = gap.layer_static_residuals([case])
-    same = gap.layer_static_residuals([case], StaticCurve(p, u_pl, 1e-5), p_y)
-    double = gap.layer_static_residuals([case], StaticCurve(p, 2.0 * u_pl, 2e-5), p_y)
+    same = gap.layer_static_residuals([case], gap.HalfspaceStatic(StaticCurve(p, u_pl, 1e-5), p_y, (2.1,),
+                                                                  (case.static_dent_mm,)))
+    double = gap.layer_static_residuals([case], gap.HalfspaceStatic(StaticCurve(p, 2.0 * u_pl, 2e-5), p_y, (2.1,),
+                                                                    (2.0 * case.static_dent_mm,)))
     assert own == same and own[("half-space", 2.1)] > 0
     assert double[("half-space", 2.1)] == pytest.approx(2.0 * own[("half-space", 2.1)], rel=1e-3)
     assert gap.LAYER_FIT.mode == "operating_range"
+
+
+def test_halfspace_layer_sees_every_levels_peak_near_first_yield():
+    """The highest level's steps of p_y / 10 miss the curved onset of u_pl; the 1.15 level's own static curve
+    ends on its peak, and the layer fitted to all cases' points gives that level's dent (elastic unloading: the
+    dent is u_pl at the peak), where the highest curve alone makes it linear from p_y through 1.1 p_y."""
+    p_y = 800.0
+    u_pl_of = lambda x: 1e-3 * np.maximum(x - 1.0, 0.0) ** 3  # noqa: E731
+    cases = [_halfspace_case(lv, p_y, u_pl_of, n) for lv, n in ((1.15, 13), (1.5, 16), (2.1, 22))]
+    ref = gap.HalfspaceStatic.of_cases(cases)
+    assert ref.levels == (1.15, 1.5, 2.1)
+    assert np.isclose(ref.curve.p_MPa, 1.15 * p_y).any() and np.isclose(ref.curve.p_MPa, 2.1 * p_y).any()
+    r = gap.layer_static_residuals(cases)
+    dent = u_pl_of(1.15)
+    assert r[("half-space", 1.15)] == pytest.approx(dent, rel=0.02)
+    top_only = gap.layer_static_residuals(cases[2:], None)
+    assert ("half-space", 1.15) not in top_only
+    top_fit = gap.layer_static_residuals([replace(cases[0], static_p_MPa=cases[2].static_p_MPa,
+                                                  static_u_pl_mm=cases[2].static_u_pl_mm, p0_over_py=1.15),
+                                          cases[2]], None)
+    assert abs(top_fit[("half-space", 1.15)] / dent - 1.0) > 0.2
 
 
 def test_ratio_checks_pair_cases_and_count_the_target():
