@@ -186,9 +186,9 @@ class FitSettings:
         FEM's residual dents; "paper": ``n_segments`` segments fitted in absolute terms over the whole path, the
         paper's symmetric (Masing) element (the tables of earlier versions).
     n_segments : int
-        Segments N of the "paper" fit (2..8; p_2 is pinned to the FEM first yield).
+        Segments N of the "paper" fit (2..10; p_2 is pinned to the FEM first yield).
     max_segments : int
-        Most segments of the "operating_range" fit (2..8).
+        Most segments of the "operating_range" fit (2..10).
     target_error : float
         "operating_range": the fewest segments whose u_pl error at every level inside ``weight_range`` is at most
         this, relative to max(u_pl, u_pl(1.5 p_2) / 3) (-, in (0, 1)).
@@ -208,7 +208,7 @@ class FitSettings:
 
     mode: str = "operating_range"
     n_segments: int = 5
-    max_segments: int = 8
+    max_segments: int = 10
     target_error: float = 0.02
     weight_range: tuple[float, float] = (1.0, 3.0)
     elastic_tolerance: float = 0.01

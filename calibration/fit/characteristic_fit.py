@@ -22,7 +22,7 @@ from wrlayer.characteristic import Characteristic, PrandtlParameters
 from wrlayer.errors import InputError, require
 
 #: Allowed numbers of segments.
-N_SEGMENTS_RANGE = (1, 8)
+N_SEGMENTS_RANGE = (1, 10)
 #: Smallest hinge increment d_i relative to the mean compliance u_max/p_max (keeps slopes strictly decreasing).
 D_MIN_REL = 1e-6
 
@@ -69,13 +69,15 @@ def _checked_points(p_MPa, u_mm, n_segments, what: str, max_relative_error: floa
 def fit_characteristic(p_MPa, u_mm, n_segments: int, s1_N_per_mm3: float | None = None,
                        p2_MPa: float | None = None, what: str = "characteristic",
                        max_relative_error: float = 0.05, n_starts: int = 6, weights=None,
-                       reverse_factor: float = 1.0) -> CharacteristicFit:
+                       reverse_factor: float = 1.0, breakpoints_MPa=None) -> CharacteristicFit:
     """Fit N segments to the points (p_MPa, u_mm) (u at pressure p on monotonic loading).
 
     weights: per point (> 0, same order as the points; None: all 1), the least-squares weights of the fit.
     reverse_factor: the element's reverse slider threshold factor rho carried by the fitted characteristic.
 
     s1_N_per_mm3: fix the first slope S_1; p2_MPa: pin the first break point (elastic limit; needs N >= 2).
+    breakpoints_MPa: the N - 1 break points given (increasing, the first one p2_MPa when that is given): only the
+    slopes are fitted (:mod:`calibration.fit.chord_knots` places them).
     InputError naming ``what`` if the points are unusable (non-finite, not increasing) or if no concave
     characteristic with positive decreasing slopes fits them within ``max_relative_error`` of max(u).
     """
@@ -99,7 +101,14 @@ def fit_characteristic(p_MPa, u_mm, n_segments: int, s1_N_per_mm3: float | None 
         pinned = [float(p2_MPa)]
     d_min = D_MIN_REL * u_max / p_max
     n_free = n_segments - 1 - len(pinned)
-    q = best_breakpoints(p, u, pinned, n_free, c0_fixed, d_min, n_starts, w) if n_free > 0 else np.array(pinned)
+    if breakpoints_MPa is not None:
+        q = np.asarray(breakpoints_MPa, dtype=float)
+        require(q.size == n_segments - 1 and bool(np.all(np.diff(q) > 0)) and (not pinned or q[0] == pinned[0]),
+                what, f"{n_segments} segments need {n_segments - 1} increasing break points starting at p_2")
+    elif n_free > 0:
+        q = best_breakpoints(p, u, pinned, n_free, c0_fixed, d_min, n_starts, w)
+    else:
+        q = np.array(pinned)
     c0, d, r = solve_linear(p, u, q, c0_fixed, d_min, w)
     # drop break points that coincide or fall outside the data (degenerate segments)
     p_pts = np.concatenate([[0.0], q, [p_max]])
