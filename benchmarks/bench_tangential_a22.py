@@ -26,6 +26,7 @@ import numpy as np
 
 from benchmarks.bench_manchester import MU, TWO_POINT_CASES, contact_reference, run_scene, to_contact
 from benchmarks.harness import command_line, report_stamp
+from contact.tangential.fastrip import clear_node_cache
 from wrlayer.atomic_write import atomic_write_text
 
 #: (method.normal, method.tangential) pairs measured, and how: "" as ``wrlayer simulate`` runs the scene (output
@@ -40,9 +41,11 @@ AGAINST_EXACT = (("p_max_MPa", "self"), ("area_mm2", "self"), ("normal_force_N",
 #: The exact theory on the coarse normal solution rasterises each patch's strips with ``fastsim_cells`` cells along x
 #: (:data:`FAST_CELLS`: the raster's cost against its force error).
 FAST_CELLS = (24, 20, 16, 12)
+#: FaStrip's cells per strip in the second exact/fastrip row (its strip solves cost cells^2 per sweep).
+FASTRIP_CELLS = 30
 TIMED = (("exact", "exact", {}), ("coarse_exact", "fastsim", {}), ("coarse_exact", "fastrip", {}),
          ("coarse_exact", "exact", {}), *(("coarse_exact", "exact", {"fastsim_cells": n}) for n in FAST_CELLS),
-         ("exact", "fastrip", {}))
+         ("exact", "fastrip", {}), ("exact", "fastrip", {"fastsim_cells": FASTRIP_CELLS}))
 TIMING_ROUNDS = 3
 #: Strip width (mm) of the exact/exact sweep that checks the exact mode's own p_max and area (the scene's 0.1 mm
 #: leaves the flange patches 7-8 strips wide).
@@ -98,15 +101,16 @@ def against_exact(result: dict, exact: dict) -> dict[str, tuple[float, int, str]
 
 def timed_sweeps(out: pathlib.Path, rounds: int = TIMING_ROUNDS) -> dict[str, dict]:
     """Each :data:`TIMED` sweep without output files (no VTK files, no frictional CSVs; result.json's record is
-    built), ``rounds`` times interleaved (after one untimed run of each,
-    which compiles and loads the kernels): {"normal/tangential": {"result" (the first timed run's), "cpu_s" (the
-    runs' CPU times), "load" (1-min load averages at their starts)}}."""
+    built), ``rounds`` times interleaved (after one untimed run of each, which compiles and loads the kernels; each
+    run solves FaStrip's coefficient nodes afresh, as a sweep in a new process): {"normal/tangential": {"result"
+    (the first timed run's), "cpu_s" (the runs' CPU times), "load" (1-min load averages at their starts)}}."""
     runs: dict[str, dict] = {}
     for r in range(rounds + 1):
         for normal, tangential, keys in TIMED:
             name = f"{normal}/{tangential}" + "".join(f" ({k} {v})" for k, v in keys.items())
             load = os.getloadavg()[0]
             folder = out / ("timed_" + "_".join([normal, tangential, *(f"{k}{v}" for k, v in keys.items())]))
+            clear_node_cache()           # FaStrip's model coefficients: every sweep solves its own nodes
             res, _, cpu, err = run_scene(folder, normal=normal, tangential=tangential, vtk=False,
                                          output={"frictional_csv": False}, **keys)
             rec = runs.setdefault(name, {"result": None, "cpu_s": [], "load": [], "error": ""})
