@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact.normal.solution import NormalSolution
+from wrlayer.jit import kernel
 
 __all__ = ["ExactField", "fastsim_pressure", "strip_centres"]
 
@@ -46,23 +47,78 @@ def fastsim_pressure(solution: NormalSolution, region: int, nx: int) -> np.ndarr
     refined contact extent [x_t, x_l] is cut into nx equal cells from the leading edge, the pressure is
     interpolated linearly between the cell centres of the exact grid (0 at the refined ends) and scaled so that
     the strip keeps its exact force. Pass :func:`strip_centres` to FASTSIM as well: in rolling mode the lines'
-    extents are shifted towards the leading edge."""
+    extents are shifted towards the leading edge. The lines in one compiled loop (:func:`_line_pressures`, numpy's
+    interpolation arithmetic: the same values as ``np.interp`` line by line)."""
     fld: ExactField = solution.field
     reg = solution.regions[region]
     rows = np.searchsorted(fld.lines, reg.strips)
-    out = np.empty((rows.size, nx))
+    lo, hi = fld.x_extent_mm[rows, 0], fld.x_extent_mm[rows, 1]
     frac = (np.arange(nx) + 0.5) / nx
-    for k, r in enumerate(rows):
-        lo, hi = fld.x_extent_mm[r]
-        on = np.flatnonzero(fld.p_MPa[r] > 0)
-        xs = np.concatenate([[lo], fld.x_mm[on], [hi]])
-        ps = np.concatenate([[0.0], fld.p_MPa[r, on], [0.0]])
-        order = np.argsort(xs, kind="stable")
-        pc = np.interp(hi - frac * (hi - lo), xs[order], ps[order])
-        force = fld.p_MPa[r].sum() * fld.dx_mm
-        total = pc.sum() * (hi - lo) / nx
-        out[k] = pc * (force / total) if total > 0 else 0.0
+    at = hi[:, None] - frac[None, :] * (hi - lo)[:, None]
+    pc = _line_pressures(np.ascontiguousarray(fld.p_MPa), np.ascontiguousarray(fld.x_mm, dtype=float),
+                         rows.astype(np.int64), np.ascontiguousarray(lo), np.ascontiguousarray(hi), at)
+    force = fld.p_MPa[rows].sum(axis=1) * fld.dx_mm
+    total = pc.sum(axis=1) * (hi - lo) / nx
+    out = np.zeros((rows.size, nx))
+    ok = total > 0
+    out[ok] = pc[ok] * (force[ok] / total[ok])[:, None]
     return out
+
+
+@kernel()
+def _line_pressures(p, x, rows, lo, hi, at):  # pragma: no cover - compiled
+    """Per line r = rows[k]: the pressure through (lo[k], 0), the loaded cells (x, p[r]) and (hi[k], 0) (sorted by x,
+    ties in that order, as a stable argsort) interpolated linearly at at[k] (numpy's np.interp arithmetic)."""
+    out = np.empty(at.shape)
+    xs = np.empty(p.shape[1] + 2)
+    ps = np.empty(p.shape[1] + 2)
+    for k in range(rows.size):
+        r = rows[k]
+        xs[0], ps[0] = lo[k], 0.0
+        m = 1
+        for i in range(p.shape[1]):
+            if p[r, i] > 0:
+                xs[m], ps[m] = x[i], p[r, i]
+                m += 1
+        xs[m], ps[m] = hi[k], 0.0
+        m += 1
+        for i in range(1, m):                       # stable insertion sort by x
+            xv, pv, j = xs[i], ps[i], i - 1
+            while j >= 0 and xs[j] > xv:
+                xs[j + 1], ps[j + 1] = xs[j], ps[j]
+                j -= 1
+            xs[j + 1], ps[j + 1] = xv, pv
+        for c in range(at.shape[1]):
+            out[k, c] = _interp(at[k, c], xs, ps, m)
+    return out
+
+
+@kernel()
+def _interp(v, xp, fp, n):  # pragma: no cover - compiled
+    """np.interp(v, xp[:n], fp[:n]) with numpy's arithmetic (xp increasing; fp[0] / fp[n-1] outside)."""
+    if v != v:
+        return v
+    if v < xp[0]:
+        return fp[0]
+    if v > xp[n - 1]:
+        return fp[n - 1]
+    lo, hi = 0, n                                   # the largest j with xp[j] <= v
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if v >= xp[mid]:
+            lo = mid + 1
+        else:
+            hi = mid
+    j = lo - 1
+    if j == n - 1 or xp[j] == v:
+        return fp[j]
+    slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+    res = slope * (v - xp[j]) + fp[j]
+    if res != res:
+        res = slope * (v - xp[j + 1]) + fp[j + 1]
+        if res != res and fp[j] == fp[j + 1]:
+            res = fp[j]
+    return res
 
 
 def strip_centres(solution: NormalSolution, region: int) -> np.ndarray:

@@ -71,9 +71,27 @@ def weighted_angle(cand: ContactCandidate, delta_mm: float, rail: PlacedRail) ->
     w = _weights(cand, delta_mm)
     if w is None:
         return float(cand.contact_angle_rad)
+    return float(np.sum(rail_angles(cand, rail) * w) / w.sum())
+
+
+#: How many (candidate, rail) pairs :func:`rail_angles` keeps (a wheel's balance alternates between its candidates).
+RAIL_ANGLES_KEPT = 4
+_RAIL_ANGLES: list = []
+
+
+def rail_angles(cand: ContactCandidate, rail: PlacedRail) -> np.ndarray:
+    """The rail's local contact angle (rad, side frame) at each sample of ``cand``'s separation table (read-only).
+    The same for every approach: kept for the last :data:`RAIL_ANGLES_KEPT` (candidate, rail) pairs (by identity),
+    so that a balance iteration evaluates the rail's normals once per candidate, not once per load."""
+    for c, r, gamma in _RAIL_ANGLES:
+        if c is cand and r is rail:
+            return gamma
     n2 = rail.normal(cand.rail_coordinate(cand.eta_mm))
     gamma = np.arctan2(-n2[:, 0], n2[:, 1])
-    return float(np.sum(gamma * w) / w.sum())
+    gamma.setflags(write=False)
+    _RAIL_ANGLES.insert(0, (cand, rail, gamma))
+    del _RAIL_ANGLES[RAIL_ANGLES_KEPT:]
+    return gamma
 
 
 @dataclass(frozen=True)
@@ -114,5 +132,5 @@ def reference_point(kind: str, cand: ContactCandidate, delta_mm: float, wheel: P
                           np.array([lead, yz[0], yz[1]]), gamma, n, t)
 
 
-__all__ = ["CONTACT_POINTS", "ReferencePoint", "check_contact_point", "reference_point", "weighted_angle",
-           "weighted_centre_eta"]
+__all__ = ["CONTACT_POINTS", "RAIL_ANGLES_KEPT", "ReferencePoint", "check_contact_point", "rail_angles",
+           "reference_point", "weighted_angle", "weighted_centre_eta"]

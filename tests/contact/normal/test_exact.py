@@ -204,6 +204,39 @@ def test_fastsim_gets_the_exact_pressure_shape_and_force():
         solve_tangential(pt, cr, G, NU, 0.3, nx=nx, pressure_cells_MPa=pn[:, :-1])
 
 
+def _fastsim_pressure_line_by_line(sol, region, nx):
+    """fastsim_pressure as it was written with np.interp, line by line (the compiled loop's reference)."""
+    fld = sol.field
+    rows = np.searchsorted(fld.lines, sol.regions[region].strips)
+    out = np.empty((rows.size, nx))
+    frac = (np.arange(nx) + 0.5) / nx
+    for k, r in enumerate(rows):
+        lo, hi = fld.x_extent_mm[r]
+        on = np.flatnonzero(fld.p_MPa[r] > 0)
+        xs = np.concatenate([[lo], fld.x_mm[on], [hi]])
+        ps = np.concatenate([[0.0], fld.p_MPa[r, on], [0.0]])
+        order = np.argsort(xs, kind="stable")
+        pc = np.interp(hi - frac * (hi - lo), xs[order], ps[order])
+        total = pc.sum() * (hi - lo) / nx
+        out[k] = pc * (fld.p_MPa[r].sum() * fld.dx_mm / total) if total > 0 else 0.0
+    return out
+
+
+@pytest.mark.parametrize("nx", [7, 40, 60])
+def test_fastsim_pressure_is_np_interp_line_by_line_bit_for_bit(nx):
+    from contact.normal.exact import fastsim_pressure
+
+    prob, _ = _parabolic(1.0e4, 300.0, 80.0, 0.1)
+    sol = solve_exact(prob)
+    assert np.array_equal(fastsim_pressure(sol, 0, nx), _fastsim_pressure_line_by_line(sol, 0, nx))
+    fld = sol.field                         # extents inside the outer loaded cells (the sort puts them in order)
+    ext = fld.x_extent_mm.copy()
+    ext[:, 0] += 1.5 * fld.dx_mm
+    ext[:, 1] -= 0.25 * fld.dx_mm
+    moved = dataclasses.replace(sol, field=dataclasses.replace(fld, x_extent_mm=ext))
+    assert np.array_equal(fastsim_pressure(moved, 0, nx), _fastsim_pressure_line_by_line(moved, 0, nx))
+
+
 def test_offgrid_check_finds_a_second_valley_the_grid_misses():
     """The grid-placement check: a grid over the first valley only, with the converged pressure there, reports
     the strips of the second (equal) valley, where f + u_E(0, y) < delta."""

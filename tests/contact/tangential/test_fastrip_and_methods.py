@@ -168,3 +168,18 @@ def test_fastrip_warm_start_from_the_last_balance_step():
         assert getattr(warm2, key) == pytest.approx(getattr(cold2, key), rel=1e-6), key
     assert not start_tractions(cold, 21, 40)[2].any()
     assert not start_tractions(solve_tangential(patch, creep, G_MPa, NU, MU), 21, 60)[2].any()
+
+
+def test_fastrip_model_coefficients_interpolated_between_nodes():
+    """The strip model's full-adhesion coefficients, interpolated between the nodes a/b = 10^(k/32), within 1e-7 of
+    the direct solve (a/b from 0.08 to 12 and at a node itself), whatever was solved before."""
+    from contact.tangential import fastrip
+
+    rng = np.random.default_rng(7)
+    for r in [*np.exp(rng.uniform(np.log(0.08), np.log(12.0), 6)), 10.0 ** (5 / fastrip.NODES_PER_DECADE)]:
+        direct = fastrip._model_coefficients(float(r), 24)
+        fastrip.clear_node_cache()
+        first = fastrip.model_coefficients(float(r), 24)
+        assert np.allclose(first, direct, rtol=1e-7, atol=0.0)
+        fastrip.model_coefficients(float(r) * 1.3, 24)                    # other nodes in the cache
+        assert fastrip.model_coefficients(float(r), 24) == first

@@ -245,3 +245,23 @@ def test_warm_started_coarse_and_fastrip_balance(rail60, s1002, placed, monkeypa
     monkeypatch.setattr(balance, "patch_tangential", lambda *args: tangential(*args[:4]))
     cold = solve_wheel(rail60, s1002, inputs, placed_rail=placed).patches[0]
     assert_same_patch(warm, cold, force_rel=1e-4, creep_abs=2e-3, p_max_rel=5e-3)
+
+
+def test_rail_angles_are_evaluated_once_per_candidate(rail60, s1002, placed, monkeypatch):
+    """The weighted centre's angle reads the rail's local angles of a candidate from its kept table: the same
+    numbers as evaluating the rail's normals at every load, and the rail evaluated once per candidate."""
+    from contact.wheel_rail import reference_point as rp
+
+    sol = _solve(rail60, s1002, placed, 0.5, contact_point="weighted_centre", normal="kik_piotrowski")
+    c, delta = sol.patches[0].candidate, sol.patches[0].normal.delta_mm
+    n2 = placed.normal(c.rail_coordinate(c.eta_mm))
+    gamma = np.arctan2(-n2[:, 0], n2[:, 1])
+    w = np.maximum(delta - (c.f_mm - c.f_mm.min()), 0.0) ** 2.5
+    assert rp.weighted_angle(c, delta, placed) == float(np.sum(gamma * w) / w.sum())   # bit for bit
+    calls = []
+    monkeypatch.setattr(rp, "_RAIL_ANGLES", [])
+    real = type(placed).normal
+    monkeypatch.setattr(type(placed), "normal", lambda self, q: calls.append(1) or real(self, q))
+    first = [rp.weighted_angle(c, d, placed) for d in (0.5 * delta, delta, 1.5 * delta)]
+    assert len(calls) == 1 and first[1] == rp.weighted_angle(c, delta, placed)
+    assert np.array_equal(rp.rail_angles(c, placed), gamma)

@@ -64,3 +64,14 @@ def test_mirrored_pose():
     assert (p.lateral_mm, p.yaw_rad, p.roll_rad) == (-2.0, -0.01, 0.003)
     with pytest.raises(InputError, match="side"):
         WheelsetPose().for_side("middle")
+
+
+def test_cross3_is_numpy_cross_bit_for_bit():
+    from contact.wheel_rail.track_geometry import cross3
+
+    rng = np.random.default_rng(3)
+    a, b = rng.normal(size=3), rng.normal(size=(7, 3))
+    assert np.array_equal(cross3(a, b), np.cross(a, b))
+    assert np.array_equal(cross3(b, a), np.cross(b, a))
+    assert np.array_equal(cross3(a, b[0]), np.cross(a, b[0]))
+    assert cross3(a, b).shape == (7, 3) and cross3(a, b[0]).shape == (3,)
