@@ -114,8 +114,9 @@ def fit_loaded_branch(p: np.ndarray, u_pl: np.ndarray, s1: float, p2: float, wei
     inside = (x >= max(1.0, weight_range[0]) - 1e-9) & (x <= weight_range[1] + 1e-9)
     above = p > p2 * (1.0 + 1e-9)
     n_max = min(max_segments, N_SEGMENTS_RANGE[1])
-    knots_p = np.concatenate([[p2], p[above]])  # the element's u_pl is 0 at p2, its pinned first break point
-    knots = chord_knots(knots_p, np.concatenate([[0.0], u_pl[above]]), np.concatenate([[w[0]], w[above]]), n_max - 1)
+    # the polygon starts at p2 with u_pl = 0 (the pinned first break point; a vertex, so its weight is never used)
+    knots_p = np.concatenate([[p2], p[above]])
+    knots = chord_knots(knots_p, np.concatenate([[0.0], u_pl[above]]), np.concatenate([[1.0], w[above]]), n_max - 1)
     best, best_err, last_error = None, np.inf, None
     for n in range(2, n_max + 1):
         if n - 1 not in knots:
