@@ -47,8 +47,8 @@ def fastsim_pressure(solution: NormalSolution, region: int, nx: int) -> np.ndarr
     refined contact extent [x_t, x_l] is cut into nx equal cells from the leading edge, the pressure is
     interpolated linearly between the cell centres of the exact grid (0 at the refined ends) and scaled so that
     the strip keeps its exact force. Pass :func:`strip_centres` to FASTSIM as well: in rolling mode the lines'
-    extents are shifted towards the leading edge. The lines in one compiled loop (:func:`_line_pressures`, numpy's
-    interpolation arithmetic: the same values as ``np.interp`` line by line)."""
+    extents are shifted towards the leading edge. The lines in one compiled loop (:func:`_line_pressures`: the same
+    values as ``np.interp`` line by line)."""
     fld: ExactField = solution.field
     reg = solution.regions[region]
     rows = np.searchsorted(fld.lines, reg.strips)
@@ -68,7 +68,7 @@ def fastsim_pressure(solution: NormalSolution, region: int, nx: int) -> np.ndarr
 @kernel()
 def _line_pressures(p, x, rows, lo, hi, at):  # pragma: no cover - compiled
     """Per line r = rows[k]: the pressure through (lo[k], 0), the loaded cells (x, p[r]) and (hi[k], 0) (sorted by x,
-    ties in that order, as a stable argsort) interpolated linearly at at[k] (numpy's np.interp arithmetic)."""
+    ties in that order, as a stable argsort) interpolated linearly at at[k] (np.interp)."""
     out = np.empty(at.shape)
     xs = np.empty(p.shape[1] + 2)
     ps = np.empty(p.shape[1] + 2)
@@ -88,37 +88,8 @@ def _line_pressures(p, x, rows, lo, hi, at):  # pragma: no cover - compiled
                 xs[j + 1], ps[j + 1] = xs[j], ps[j]
                 j -= 1
             xs[j + 1], ps[j + 1] = xv, pv
-        for c in range(at.shape[1]):
-            out[k, c] = _interp(at[k, c], xs, ps, m)
+        out[k] = np.interp(at[k], xs[:m], ps[:m])
     return out
-
-
-@kernel()
-def _interp(v, xp, fp, n):  # pragma: no cover - compiled
-    """np.interp(v, xp[:n], fp[:n]) with numpy's arithmetic (xp increasing; fp[0] / fp[n-1] outside)."""
-    if v != v:
-        return v
-    if v < xp[0]:
-        return fp[0]
-    if v > xp[n - 1]:
-        return fp[n - 1]
-    lo, hi = 0, n                                   # the largest j with xp[j] <= v
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if v >= xp[mid]:
-            lo = mid + 1
-        else:
-            hi = mid
-    j = lo - 1
-    if j == n - 1 or xp[j] == v:
-        return fp[j]
-    slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
-    res = slope * (v - xp[j]) + fp[j]
-    if res != res:
-        res = slope * (v - xp[j + 1]) + fp[j + 1]
-        if res != res and fp[j] == fp[j + 1]:
-            res = fp[j]
-    return res
 
 
 def strip_centres(solution: NormalSolution, region: int) -> np.ndarray:
