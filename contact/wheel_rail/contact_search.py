@@ -62,9 +62,9 @@ the patch is in reality skewed, which this planar treatment does not represent.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
-import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -144,16 +144,13 @@ class SearchResult:
     flange_tip: tuple = ()
 
 
-_WHEEL_TABLES: weakref.WeakKeyDictionary[Profile, dict] = weakref.WeakKeyDictionary()
-
-
+# bounded, not keyed weakly by profile: a wear run keeps every step's profile in its records, and tables that live
+# as long as their profile grew its memory by about 0.2 MiB a step; a search uses a few (profile, spacing) pairs
+@functools.lru_cache(maxsize=16)
 def _wheel_table(wheel: Profile, spacing_mm: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(y, z(y), z'(y)) of the wheel at ``spacing_mm`` (cached per profile object: the profile is immutable)."""
-    tables = _WHEEL_TABLES.setdefault(wheel, {})
-    if spacing_mm not in tables:
-        y = wheel_sample_y(wheel, spacing_mm)
-        tables[spacing_mm] = (y, wheel.z(y), wheel.dz(y))
-    return tables[spacing_mm]
+    y = wheel_sample_y(wheel, spacing_mm)
+    return y, wheel.z(y), wheel.dz(y)
 
 
 def _gap_samples(rail: PlacedRail, wheel: Profile, layout: TrackLayout, pose: WheelsetPose, settings: SearchSettings):
