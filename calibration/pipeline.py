@@ -13,10 +13,11 @@ computes only what failed. Every file is written atomically.
 from __future__ import annotations
 
 import json
+import math
 import sys
 import time
-from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +27,7 @@ from calibration.position_fit import fit_position
 from calibration.results import IndentationResult, PositionFit
 from calibration.run_summary import CalibrationResult, FemSeconds, SimilaritySummary
 from calibration.settings import CalibrationConfig
+from calibration.similarity.anchor import DirectReference, anchor, anchored, applies
 from calibration.similarity.master import MasterCurves, master_key, master_tasks, stored_master
 from calibration.similarity.route import (METHOD_DIRECT, METHOD_SIMILARITY, SIMILARITY_SOURCES, Route, route,
                                           similarity_task, task_indentation)
@@ -88,19 +90,22 @@ class SimilarityRouting:
 
 def calibrate(config: CalibrationConfig, out_dir: str | Path, *, scheduler: str | None = None,
               plots: bool | None = None, show_progress: bool = True, log: Callable[[str], Any] = print,
-              force: bool = False) -> CalibrationResult:
+              force: bool = False, anchors: Mapping[tuple[str, float], DirectReference] | None = None
+              ) -> CalibrationResult:
     """Calibrate all bodies and positions of ``config`` into ``out_dir``: tables ``OUT/<body>_layer_table.json``
     and ``.csv``, ``summary.json``, the cache, and with ``plots`` (default: ``config.run.plots``) pictures and
     fields. ``scheduler``: a Dask scheduler address (default: ``config.run.scheduler``; "" or None there: local).
 
     Holds a lock on ``out_dir`` (a second run into it is refused); unusable cache entries are recomputed; the
     positions to compute are costed first and refused above the limit unless ``force`` (InputError). A failed
-    position does not raise: it is in ``result.failed`` and in its body's table."""
+    position does not raise: it is in ``result.failed`` and in its body's table. ``anchors`` {(body, y): direct
+    FEM of a reference profile}: under ``run.method = "similarity"`` a served position with an anchor takes the
+    master's value corrected by the master's error at the reference (:mod:`calibration.similarity.anchor`)."""
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"--out {out_dir}", "exists and is not a folder")
     with output_lock(out_dir):
-        return _run(config, out_dir, scheduler, plots, show_progress, log, force)
+        return _run(config, out_dir, scheduler, plots, show_progress, log, force, anchors or {})
 
 
 def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str | None = None,
@@ -171,14 +176,15 @@ def _fit(t: PositionTask, ind: IndentationResult, cfg: CalibrationConfig, cache:
     return FittedPosition(fit)
 
 
-def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress, log, force) -> CalibrationResult:
+def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress, log, force,
+         anchors: Mapping[tuple[str, float], DirectReference]) -> CalibrationResult:
     t_start = time.perf_counter()
     plots = cfg.run.plots if plots is None else plots
     scheduler = scheduler if scheduler is not None else (cfg.run.scheduler or "")
     tasks, failed, warnings = make_tasks(cfg, out_dir, plots)
     failed, warnings = tuple(failed), tuple(warnings)
     cache = out_dir / "cache"
-    routing = _similarity(cfg, tasks, out_dir, scheduler, show_progress, log, force) \
+    routing = _similarity(cfg, tasks, out_dir, scheduler, show_progress, log, force, anchors) \
         if cfg.run.method == "similarity" else None
     if routing is not None:
         tasks, warnings = list(routing.tasks), warnings + routing.warnings
@@ -242,7 +248,7 @@ def _tables(cfg: CalibrationConfig, tasks: list[PositionTask], results: dict[str
 
 
 def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path, scheduler: str, show_progress,
-                log, force: bool) -> SimilarityRouting:
+                log, force: bool, anchors: Mapping[tuple[str, float], DirectReference]) -> SimilarityRouting:
     """The similarity route: compute (or read) each material's master, then give every position it serves its
     characteristic from the master (keyed by its similarity key) and every position its route."""
     if cfg.run.model != "3d":
@@ -279,10 +285,18 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
         r = route(t, (master.aspect_range, master.convexity_range), outside) if master else \
             Route(METHOD_DIRECT, "the similarity master of its material failed")
         if r.method == METHOD_SIMILARITY:
-            t = similarity_task(t, master, r.convexity, code)
+            ref = anchors.get((t.body, t.y_mm))
+            why_not = applies(ref, t.geometry.a_mm, t.geometry.b_mm, r.convexity) if ref is not None else ""
+            ref = None if why_not else ref
+            t = similarity_task(t, master, r.convexity, code, ref)
             results[t.key] = task_indentation(master, t, r.convexity)
             if r.note:  # outside the master's domain, served from its nearest point: said in the entry
                 warnings.append(PositionNote(t.body, t.y_mm, f"similarity: {r.note}"))
+            if ref is not None:
+                length = math.sqrt(t.geometry.a_mm * t.geometry.b_mm)
+                results[t.key] = anchored(results[t.key], anchor(master, ref), length)
+            note = f"anchored to the direct FEM of {ref.source}" if ref is not None else why_not
+            r = replace(r, note="; ".join(n for n in (r.note, note) if n))
         routes[t.key] = r
         out.append(t)
     per_position = (time.perf_counter() - t0) / max(len(tasks), 1)

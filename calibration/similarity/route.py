@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
@@ -130,12 +130,14 @@ def task_indentation(master: MasterCurves, task: PositionTask, convexity: float)
     return similar_indentation(master, task.geometry.a_mm, task.geometry.b_mm, convexity)
 
 
-def similarity_task(task: PositionTask, master: MasterCurves, convexity: float, code: str | None = None
-                    ) -> PositionTask:
+def similarity_task(task: PositionTask, master: MasterCurves, convexity: float, code: str | None = None,
+                    reference=None) -> PositionTask:
     """``task`` keyed by the master, its geometry and its surface convexity instead of its own FEM inputs (the
-    fit's cache key)."""
+    fit's cache key), and by the direct FEM ``reference`` that anchors it
+    (:class:`calibration.similarity.anchor.DirectReference`; None: not anchored)."""
     key = inputs_hash({"similarity": master.key, "geometry": task.geometry.to_dict(), "convexity": convexity,
-                       "code": code or code_hash(SIMILARITY_SOURCES)})
+                       "code": code or code_hash(SIMILARITY_SOURCES),
+                       **({"anchor": asdict(reference)} if reference is not None else {})})
     return replace(task, key=key, fields_dir=None)
 
 

@@ -37,6 +37,7 @@ from pathlib import Path
 from calibration.config import BodySettings, CalibrationConfig, parse_config
 from calibration.cost import calibration_cost
 from calibration.pipeline import calibrate
+from calibration.similarity.anchor import DirectReference
 from calibration.similarity.route import METHOD_SIMILARITY
 from calibration.tables import with_rolling_law
 from calibration.tasks import make_tasks
@@ -72,6 +73,10 @@ class Recalibration:
     scene_tables : dict
         The scene's ``[layers]`` table of each body (LayerTable): under ``run.method = "similarity"`` a position
         without a contact geometry on the worn profile keeps its entry from it (not a scene key).
+    anchors : dict
+        {(body, y): :class:`calibration.similarity.anchor.DirectReference`}: the direct FEM entries of the scene's
+        tables calibrated on the scene's initial profiles (the table's profile named as the scene's); under
+        ``run.method = "similarity"`` each anchors its position's recalibration (not a scene key).
     """
 
     config: str
@@ -79,6 +84,7 @@ class Recalibration:
     calibration: CalibrationConfig
     every_steps: int = 1
     scene_tables: dict[str, LayerTable] = field(default_factory=dict)
+    anchors: dict[tuple[str, float], DirectReference] = field(default_factory=dict)
 
     @property
     def by_similarity(self) -> bool:
@@ -179,7 +185,7 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
         if recal.by_similarity:  # every position through the master, none by the FEM
             cfg = similarity_config(cfg, recal.scene_tables)
         result = calibrate(cfg, work / "tables", scheduler=scheduler or None, plots=False, show_progress=False,
-                           log=_quiet) if cfg.bodies else None
+                           log=_quiet, anchors=recal.anchors if recal.by_similarity else None) if cfg.bodies else None
     except InputError as err:
         raise InputError(what, f"calibration of the worn profiles failed: {err}") from None
     except ConvergenceError as err:

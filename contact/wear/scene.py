@@ -41,6 +41,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
+from calibration.similarity.anchor import table_references
 from contact.normal.method import NormalMethod
 from contact.scenes.scene import SceneKeys
 from contact.wear.collective import LoadCollective
@@ -258,7 +259,10 @@ def _recalibration(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> R
     if layers is None or layers.combined is not None:
         raise sub.error("config", "recalibration needs per-body [layers] tables (rail and/or wheel)")
     kept = {b: getattr(layers, b) for b in ("rail", "wheel") if getattr(layers, b) is not None}
-    return Recalibration(str(path), text, cfg, every, kept)
+    initial = {"wheel": wheel_rail.wheel_profile, "rail": wheel_rail.rail_profile}
+    anchors = {key: ref for b, table in kept.items() if table.profile_name == initial[b].name
+               for key, ref in table_references(table, initial[b]).items()}
+    return Recalibration(str(path), text, cfg, every, kept, anchors)
 
 
 def _law(wear: SceneKeys) -> WearLaw:

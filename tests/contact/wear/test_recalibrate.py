@@ -146,7 +146,7 @@ def test_worn_config_replaces_only_the_placeholders(make_scene, tmp_path):
 
 
 def _fake_calibration(calls, tables=("wheel",)):
-    def fake(cfg, out_dir, scheduler=None, plots=None, show_progress=True, log=print, force=False):
+    def fake(cfg, out_dir, scheduler=None, plots=None, show_progress=True, log=print, force=False, anchors=None):
         calls.append({"cfg": cfg, "out_dir": Path(out_dir), "scheduler": scheduler, "plots": plots,
                       "show_progress": show_progress})
         Path(out_dir).mkdir(parents=True, exist_ok=True)
@@ -253,7 +253,7 @@ def test_coarse_3d_template_on_one_rail_position(make_scene, tmp_path):
 
 def _fake_lawless_calibration(out_tables):
     """A calibration writing the shipped tables without their rolling law (as a fresh calibration does)."""
-    def fake(cfg, out_dir, scheduler=None, plots=None, show_progress=True, log=print, force=False):
+    def fake(cfg, out_dir, scheduler=None, plots=None, show_progress=True, log=print, force=False, anchors=None):
         Path(out_dir).mkdir(parents=True, exist_ok=True)
         written = {}
         for body in out_tables:

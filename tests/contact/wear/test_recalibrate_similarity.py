@@ -1,6 +1,7 @@
 """Recalibration by similarity in the wear loop: with ``run.method = "similarity"`` in the template every step's
 wheel table is recomputed from the master on the worn profile (no FEM once the master exists), every position of
-it, the concave tread and the conforming flange root included: none keeps the scene table's entry. A synthetic
+it, the concave tread and the conforming flange root included: none keeps the scene table's entry, and each whose patch
+is like the reference's is anchored to the scene table's direct FEM of the same position on the initial profile. A synthetic
 master in the master's cache stands in for the 3D FEM (benchmarks/bench_similarity.py compares the real one with
 the direct FEM)."""
 
@@ -82,6 +83,12 @@ def test_each_step_uses_the_worn_profiles_table_from_the_master(make_scene, tmp_
     assert len(run.steps) == 2
     summary = json.loads((tmp_path / "work" / "calibration" / "step_001_right" / "tables" / "summary.json").read_text())
     assert summary["positions_computed"] == 0 and summary["similarity"]["master_positions_computed"] == 0  # no FEM
+    notes = [d["note"] for d in summary["bodies"]["wheel"]["position_details"]]
+    wheel_anchors = [k for k in scene.settings.recalibrate.anchors if k[0] == "wheel"]
+    assert len(wheel_anchors) == len(LayerTable.read(TABLES / "wheel_S1002_default.json").positions)
+    anchored = [n for n in notes if "anchored to the direct FEM of" in n and "wheel_S1002_default.json" in n]
+    assert len(anchored) >= len(notes) - 1  # a patch unlike its reference's (here a/b 22 at y = -15) is not
+    assert all(n in anchored or "not anchored: the patch (a/b" in n for n in notes)
     (s1, initial), (s2, table) = seen
     assert (s1, s2) == (1, 2)
     scene_table = LayerTable.read(TABLES / "wheel_S1002_default.json")

@@ -1,0 +1,161 @@
+"""Similarity on worn profiles: the master alone and the master anchored to the new profile's direct FEM, against
+the direct 3D FEM of the worn profile (units mm, MPa, s).
+
+For every worn case (a calibration configuration of the worn profiles and its direct run's output folder) and every
+position the master serves: the errors of :func:`calibration.similarity.route.similar_indentation` ("master") and
+of the same anchored to the reference run's direct table at the same y (:mod:`calibration.similarity.anchor`,
+"anchored", what the wear loop's recalibration does), each against the worn profile's direct FEM at equal p0 (MPa),
+counted as :mod:`benchmarks.bench_similarity` counts them (p_y, u_pl at every level, residual at every peak;
+target 2 %). The reference is the configuration the shipped tables come from and its direct run's tables.
+
+    python -m benchmarks.bench_similarity_worn --reference-config calibration/configs/default.toml
+        --reference DIRECT_OUT --master MASTER_DIR --worn WORN.toml:WORN_DIRECT_OUT [...] [--report FILE]
+
+Each ``WORN_DIRECT_OUT`` is ``wrlayer calibrate WORN.toml --out WORN_DIRECT_OUT`` with ``run.method = "direct"``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import tempfile
+from pathlib import Path
+
+
+from benchmarks.bench_similarity import CONFIG, MASTER, TARGET, _config, _direct, _master, _pct, compare
+from benchmarks.harness import command_line, stamped_report
+
+
+def references(ref_config: Path, ref_out: Path) -> dict:
+    """{(body, y): DirectReference} of the reference run's direct tables (``REF_OUT/<body>_layer_table.json``),
+    each with its profile's convexity over the patch."""
+    from calibration.config import load_config, profile_of
+    from calibration.similarity.anchor import table_references
+    from wrlayer.layer_table import LayerTable
+
+    cfg = load_config(ref_config)
+    out = {}
+    for b in cfg.bodies:
+        table = LayerTable.read(Path(ref_out) / f"{b.body}_layer_table.json")
+        out.update(table_references(table, profile_of(b.profile)))
+    return out
+
+
+def worn_case(worn_config: Path, worn_out: Path, master, refs: dict) -> list[dict]:
+    """One row per position of ``worn_config``: the master's errors, the errors anchored everywhere and those of
+    the wear loop's rule (anchored where :func:`calibration.similarity.anchor.applies`, else the master's)."""
+    from calibration.similarity.anchor import anchor, anchored, applies
+    from calibration.similarity.route import route, task_indentation
+    from calibration.tasks import make_tasks
+
+    cfg = _config(worn_config, Path(tempfile.gettempdir()))
+    direct, missing = _direct(cfg, worn_out, quick=True)
+    if missing:
+        raise SystemExit(f"error: {worn_out}: {missing}")
+    tasks, _, _ = make_tasks(cfg, Path(tempfile.gettempdir()), False)
+    ranges = (master.aspect_range, master.convexity_range)
+    rows = []
+    for t in tasks:
+        r = route(t, ranges)
+        served = r.method == "similarity"
+        if not served:  # the wear loop's recalibration serves it from the master's nearest point
+            r = route(t, ranges, "nearest")
+        g = t.geometry
+        sim = task_indentation(master, t, r.convexity)
+        row = {"body": t.body, "y_mm": t.y_mm, "served": served, "convexity": r.convexity, "a_over_b": g.a_mm / g.b_mm,
+               "length_mm": math.sqrt(g.a_mm * g.b_mm), "master": compare(direct[t.body, t.y_mm], sim, cfg.load)}
+        ref = refs.get((t.body, t.y_mm))
+        row["loop"] = row["master"]
+        if ref is not None:
+            row["anchored"] = compare(direct[t.body, t.y_mm], anchored(sim, anchor(master, ref), row["length_mm"]),
+                                      cfg.load)
+            row["reference"] = {"convexity": ref.convexity, "a_over_b": ref.a_mm / ref.b_mm,
+                                "length_mm": ref.length_mm}
+            row["anchor_applies"] = not applies(ref, g.a_mm, g.b_mm, r.convexity)
+            row["loop"] = row["anchored"] if row["anchor_applies"] else row["master"]
+        rows.append(row)
+    return rows
+
+
+def _worst(err: dict) -> float:
+    return max(abs(err["p_y"]), err["u_pl"], err["residual"])
+
+
+KINDS = ("master", "anchored", "loop")
+
+
+def run_cases(ref_config: Path, ref_out: Path, master_dir: Path, worn: list[tuple[Path, Path]]) -> dict:
+    """The rows of every worn case and, over the served positions, the counts within the target and the worst
+    error of each kind (master, anchored everywhere, the loop's rule)."""
+    cfg = _config(ref_config, master_dir)
+    master, why = _master(cfg, quick=True)
+    if master is None:
+        raise SystemExit(f"error: {master_dir}: {why}")
+    refs = references(ref_config, ref_out)
+    cases = []
+    for config, out in worn:
+        rows = worn_case(config, out, master, refs)
+        served = [r for r in rows if r["served"]]
+        within = {k: sum(1 for r in served if k in r and _worst(r[k]) <= TARGET) for k in KINDS}
+        worst = {k: max((_worst(r[k]) for r in served if k in r), default=math.nan) for k in KINDS}
+        cases.append({"config": str(config), "rows": rows, "served": len(served), "within": within, "worst": worst,
+                      "anchors_applied": sum(1 for r in served if r.get("anchor_applies"))})
+    return {"cases": cases, "target": TARGET, "reference": str(ref_out)}
+
+
+def _errors(err: dict | None) -> str:
+    return f"{_pct(err['p_y'])}, {100 * err['u_pl']:.2f}, {100 * err['residual']:.2f}" if err else "no reference"
+
+
+def markdown(data: dict) -> str:
+    md = []
+    for case in data["cases"]:
+        md += [f"### {Path(case['config']).name}", "",
+               "| body | y [mm] | route | a/b, sqrt(ab) [mm], b/(2R): worn / new | master: p_y, u_pl, residual [%] | "
+               "anchored everywhere [%] | anchor applies |", "|---|---|---|---|---|---|---|"]
+        for r in case["rows"]:
+            ref = r.get("reference")
+            shape = (f"{r['a_over_b']:.2f}, {r['length_mm']:.2f}, {r['convexity']:+.3f} / "
+                     + (f"{ref['a_over_b']:.2f}, {ref['length_mm']:.2f}, {ref['convexity']:+.3f}" if ref else "-"))
+            md.append(f"| {r['body']} | {r['y_mm']:g} | {'served' if r['served'] else 'nearest point'} | {shape} | "
+                      f"{_errors(r['master'])} | {_errors(r.get('anchored'))} | "
+                      f"{'yes' if r.get('anchor_applies') else 'no'} |")
+        n, w, k = case["served"], case["worst"], case["within"]
+        md += ["", f"Served {n} of {len(case['rows'])} positions (the others reach past the profile's end: the wear "
+                   f"loop serves them from the master's nearest point; not counted). Within {100 * data['target']:g} % "
+                   f"on p_y, u_pl at every level and every residual: master {k['master']}, anchored everywhere "
+                   f"{k['anchored']}, the loop's rule (anchored at the {case['anchors_applied']} positions where the "
+                   f"anchor applies) {k['loop']}; worst: {100 * w['master']:.2f} %, {100 * w['anchored']:.2f} %, "
+                   f"{100 * w['loop']:.2f} %.", ""]
+    md.append("Errors at equal p0 (MPa) against the worn profile's direct FEM, relative as in the similarity report "
+              f"(p_y signed; u_pl and residual: worst over the levels); anchored to the direct tables in "
+              f"{data['reference']}.")
+    return "\n".join(md)
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.bench_similarity_worn", description=__doc__.splitlines()[0])
+    ap.add_argument("--reference-config", type=Path, default=CONFIG)
+    ap.add_argument("--reference", type=Path, required=True, help="the reference configuration's direct run folder")
+    ap.add_argument("--master", type=Path, default=MASTER, help="the master's FEM cache folder")
+    ap.add_argument("--worn", action="append", required=True, metavar="CONFIG:DIRECT_OUT",
+                    help="a worn profiles' configuration and its direct run folder (repeatable)")
+    ap.add_argument("--report", type=Path, default=None, help="write the report (markdown, stamped) here")
+    args = ap.parse_args(argv)
+    worn = []
+    for item in args.worn:
+        config, sep, out = item.partition(":")
+        if not sep:
+            ap.error(f"--worn {item}: expected CONFIG:DIRECT_OUT")
+        worn.append((Path(config), Path(out)))
+    data = run_cases(args.reference_config, args.reference, args.master, worn)
+    text = markdown(data)
+    if args.report:
+        args.report.parent.mkdir(parents=True, exist_ok=True)
+        args.report.write_text(stamped_report("Similarity on worn profiles", text,
+                                              command_line("python -m benchmarks.bench_similarity_worn", argv)))
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
