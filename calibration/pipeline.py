@@ -75,6 +75,15 @@ class WrittenTables:
 
 
 @dataclass(frozen=True)
+class Anchoring:
+    """The direct FEM ``references`` {(body, y): DirectReference} of a similarity run and whether a position whose
+    patch left its reference's is computed by the direct FEM (``reanchor``) or served by the master alone."""
+
+    references: Mapping[tuple[str, float], DirectReference]
+    reanchor: bool = False
+
+
+@dataclass(frozen=True)
 class SimilarityRouting:
     """What the similarity step returns: the ``tasks`` (the served ones re-keyed by their similarity key), the
     ``results`` {key: characteristic from the master} of the served positions, every position's ``routes``
@@ -90,8 +99,8 @@ class SimilarityRouting:
 
 def calibrate(config: CalibrationConfig, out_dir: str | Path, *, scheduler: str | None = None,
               plots: bool | None = None, show_progress: bool = True, log: Callable[[str], Any] = print,
-              force: bool = False, anchors: Mapping[tuple[str, float], DirectReference] | None = None
-              ) -> CalibrationResult:
+              force: bool = False, anchors: Mapping[tuple[str, float], DirectReference] | None = None,
+              reanchor: bool = False) -> CalibrationResult:
     """Calibrate all bodies and positions of ``config`` into ``out_dir``: tables ``OUT/<body>_layer_table.json``
     and ``.csv``, ``summary.json``, the cache, and with ``plots`` (default: ``config.run.plots``) pictures and
     fields. ``scheduler``: a Dask scheduler address (default: ``config.run.scheduler``; "" or None there: local).
@@ -100,12 +109,14 @@ def calibrate(config: CalibrationConfig, out_dir: str | Path, *, scheduler: str 
     positions to compute are costed first and refused above the limit unless ``force`` (InputError). A failed
     position does not raise: it is in ``result.failed`` and in its body's table. ``anchors`` {(body, y): direct
     FEM of a reference profile}: under ``run.method = "similarity"`` a served position with an anchor takes the
-    master's value corrected by the master's error at the reference (:mod:`calibration.similarity.anchor`)."""
+    master's value corrected by the master's error at the reference (:mod:`calibration.similarity.anchor`) while
+    its patch is like the reference's; with ``reanchor`` a position whose patch is not is computed by the direct
+    FEM instead (its entry then anchors the next recalibration), else served by the master alone."""
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"--out {out_dir}", "exists and is not a folder")
     with output_lock(out_dir):
-        return _run(config, out_dir, scheduler, plots, show_progress, log, force, anchors or {})
+        return _run(config, out_dir, scheduler, plots, show_progress, log, force, Anchoring(anchors or {}, reanchor))
 
 
 def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str | None = None,
@@ -177,14 +188,14 @@ def _fit(t: PositionTask, ind: IndentationResult, cfg: CalibrationConfig, cache:
 
 
 def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress, log, force,
-         anchors: Mapping[tuple[str, float], DirectReference]) -> CalibrationResult:
+         anchoring: Anchoring) -> CalibrationResult:
     t_start = time.perf_counter()
     plots = cfg.run.plots if plots is None else plots
     scheduler = scheduler if scheduler is not None else (cfg.run.scheduler or "")
     tasks, failed, warnings = make_tasks(cfg, out_dir, plots)
     failed, warnings = tuple(failed), tuple(warnings)
     cache = out_dir / "cache"
-    routing = _similarity(cfg, tasks, out_dir, scheduler, show_progress, log, force, anchors) \
+    routing = _similarity(cfg, tasks, out_dir, scheduler, show_progress, log, force, anchoring) \
         if cfg.run.method == "similarity" else None
     if routing is not None:
         tasks, warnings = list(routing.tasks), warnings + routing.warnings
@@ -248,7 +259,7 @@ def _tables(cfg: CalibrationConfig, tasks: list[PositionTask], results: dict[str
 
 
 def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path, scheduler: str, show_progress,
-                log, force: bool, anchors: Mapping[tuple[str, float], DirectReference]) -> SimilarityRouting:
+                log, force: bool, anchoring: Anchoring) -> SimilarityRouting:
     """The similarity route: compute (or read) each material's master, then give every position it serves its
     characteristic from the master (keyed by its similarity key) and every position its route."""
     if cfg.run.model != "3d":
@@ -285,18 +296,11 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
         r = route(t, (master.aspect_range, master.convexity_range), outside) if master else \
             Route(METHOD_DIRECT, "the similarity master of its material failed")
         if r.method == METHOD_SIMILARITY:
-            ref = anchors.get((t.body, t.y_mm))
-            why_not = applies(ref, t.geometry.a_mm, t.geometry.b_mm, r.convexity) if ref is not None else ""
-            ref = None if why_not else ref
-            t = similarity_task(t, master, r.convexity, code, ref)
-            results[t.key] = task_indentation(master, t, r.convexity)
-            if r.note:  # outside the master's domain, served from its nearest point: said in the entry
-                warnings.append(PositionNote(t.body, t.y_mm, f"similarity: {r.note}"))
-            if ref is not None:
-                length = math.sqrt(t.geometry.a_mm * t.geometry.b_mm)
-                results[t.key] = anchored(results[t.key], anchor(master, ref), length)
-            note = f"anchored to the direct FEM of {ref.source}" if ref is not None else why_not
-            r = replace(r, note="; ".join(n for n in (r.note, note) if n))
+            t, r, served, warning = _served(t, master, r, anchoring, code)
+            if served is not None:
+                results[t.key] = served
+            if warning:
+                warnings.append(PositionNote(t.body, t.y_mm, warning))
         routes[t.key] = r
         out.append(t)
     per_position = (time.perf_counter() - t0) / max(len(tasks), 1)
@@ -307,6 +311,27 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     summary = SimilaritySummary(served, len(tasks) - served, files, len(mtodo) - len(mfailed), n_mcached,
                                 sum(mc.fem_seconds for mc in masters.values() if mc), per_position)
     return SimilarityRouting(tuple(out), results, routes, tuple(warnings), summary)
+
+
+def _served(t: PositionTask, master: MasterCurves, r: Route, anchoring: Anchoring, code: str
+            ) -> tuple[PositionTask, Route, IndentationResult | None, str]:
+    """A position the master serves: (its task keyed by the similarity, its route with the anchoring noted, its
+    characteristic, a warning or ""); with ``anchoring.reanchor`` a position whose patch left its reference's is
+    routed to the direct FEM instead (task unchanged, no characteristic)."""
+    ref = anchoring.references.get((t.body, t.y_mm))
+    why_not = applies(ref, t.geometry.a_mm, t.geometry.b_mm, r.convexity) if ref is not None else ""
+    if why_not and anchoring.reanchor:  # the patch left its anchor's: its own FEM, the next anchor
+        return t, Route(METHOD_DIRECT, f"{why_not}; computed by the direct FEM (the position's new anchor)",
+                        r.convexity), None, ""
+    ref = None if why_not else ref
+    t = similarity_task(t, master, r.convexity, code, ref)
+    served = task_indentation(master, t, r.convexity)
+    # outside the master's domain, served from its nearest point: said in the entry's warnings
+    warning = f"similarity: {r.note}" if r.note else ""
+    if ref is not None:
+        served = anchored(served, anchor(master, ref), math.sqrt(t.geometry.a_mm * t.geometry.b_mm))
+    note = f"anchored to the direct FEM of {ref.source}" if ref is not None else why_not
+    return t, replace(r, note="; ".join(n for n in (r.note, note) if n)), served, warning
 
 
 def _report(result: CalibrationResult, model: str, out_dir: Path, log) -> None:

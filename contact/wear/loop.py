@@ -67,13 +67,14 @@ def recalibrated(scene: WearScene, state: WearState, record: StepRecord, work_di
                  ) -> tuple[WearState, StepRecord]:
     """The state with the tables recalibrated on the profiles after ``record`` and the record noting it."""
     t0 = time.perf_counter()
-    tables = {**state.tables, **recalibrate_sides(scene.settings.recalibrate, state.profiles, record.index,
-                                                  work_dir, scene.settings.scheduler)}
+    found, anchors = recalibrate_sides(scene.settings.recalibrate, state.profiles, record.index, work_dir,
+                                       scene.settings.scheduler, state.anchors)
+    tables = {**state.tables, **found}
     note = (f"layer tables recalibrated on the profiles after step {record.index} "
             f"({', '.join(sorted({f'{s} {b}' for s, b in tables}))})")
     record = dataclasses.replace(record, timings={**record.timings, "recalibration_s": time.perf_counter() - t0},
                                  notes=record.notes + (note,))
-    return dataclasses.replace(state, tables=tables), record
+    return dataclasses.replace(state, tables=tables, anchors=anchors), record
 
 
 def wear_steps(run: WearRun, work_dir: Path | None = None, show_progress: bool = True) -> Iterator[StepRecord]:

@@ -34,10 +34,10 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from calibration.config import BodySettings, CalibrationConfig, parse_config
+from calibration.config import BodySettings, CalibrationConfig, parse_config, profile_of
 from calibration.cost import calibration_cost
 from calibration.pipeline import calibrate
-from calibration.similarity.anchor import DirectReference
+from calibration.similarity.anchor import DirectReference, table_references
 from calibration.similarity.route import METHOD_SIMILARITY
 from calibration.tables import with_rolling_law
 from calibration.tasks import make_tasks
@@ -77,6 +77,10 @@ class Recalibration:
         {(body, y): :class:`calibration.similarity.anchor.DirectReference`}: the direct FEM entries of the scene's
         tables calibrated on the scene's initial profiles (the table's profile named as the scene's); under
         ``run.method = "similarity"`` each anchors its position's recalibration (not a scene key).
+    reanchor : bool
+        Under ``run.method = "similarity"``: a position whose worn patch has left its anchor's (about one master
+        grid cell, :func:`calibration.similarity.anchor.applies`) is computed by the direct FEM, and that entry
+        anchors the side's later recalibrations; false: such a position is served by the master alone.
     """
 
     config: str
@@ -85,6 +89,7 @@ class Recalibration:
     every_steps: int = 1
     scene_tables: dict[str, LayerTable] = field(default_factory=dict)
     anchors: dict[tuple[str, float], DirectReference] = field(default_factory=dict)
+    reanchor: bool = True
 
     @property
     def by_similarity(self) -> bool:
@@ -168,13 +173,26 @@ def worn_config(cfg: CalibrationConfig, files: dict[str, Path]) -> CalibrationCo
     return dataclasses.replace(cfg, bodies=bodies)
 
 
+@dataclass(frozen=True)
+class SideTables:
+    """One side's recalibration: ``tables`` {body: LayerTable} and ``anchors`` {(body, y): DirectReference}, the
+    side's anchors for its next recalibration (those it had, with the positions this one computed by the direct
+    FEM on the worn profile in their place)."""
+
+    tables: dict[str, LayerTable]
+    anchors: dict[tuple[str, float], DirectReference]
+
+
 def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: Path, scheduler: str = "",
-                     what: str = "wear.recalibrate") -> dict[str, LayerTable]:
+                     what: str = "wear.recalibrate",
+                     anchors: dict[tuple[str, float], DirectReference] | None = None) -> SideTables:
     """Calibrate the bodies of the template on ``profiles[body]`` (the current profiles of one side) in ``work``;
-    returns {body: LayerTable} of the bodies the template calibrates (by similarity: every position from the
-    master, those without a geometry on the worn profile kept from the scene's table by :func:`merged_table`).
+    returns the tables of the bodies the template calibrates (by similarity: every position from the master,
+    anchored to ``anchors`` (default: the scene tables' ``recal.anchors``), those without a geometry on the worn
+    profile kept from the scene's table by :func:`merged_table`) and the side's anchors after it.
     InputError/ConvergenceError ``what: ...``."""
     work = Path(work)
+    anchors = recal.anchors if anchors is None else anchors
     files = write_profiles(profiles, work, "worn")
     cfg = worn_config(recal.calibration, files)
     try:
@@ -182,16 +200,19 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
             worn = profiles[_placeholder_body(b.profile)] if b.profile in PLACEHOLDERS.values() else None
             for y in b.positions_mm if worn is not None else ():
                 worn.check_y(y, f"position y = {y:g} mm on the worn {b.body} profile")
-        if recal.by_similarity:  # every position through the master, none by the FEM
+        if recal.by_similarity:  # every position through the master; by the FEM only to re-anchor
             cfg = similarity_config(cfg, recal.scene_tables)
         result = calibrate(cfg, work / "tables", scheduler=scheduler or None, plots=False, show_progress=False,
-                           log=_quiet, anchors=recal.anchors if recal.by_similarity else None) if cfg.bodies else None
+                           log=_quiet, anchors=anchors if recal.by_similarity else None,
+                           reanchor=recal.reanchor) if cfg.bodies else None
     except InputError as err:
         raise InputError(what, f"calibration of the worn profiles failed: {err}") from None
     except ConvergenceError as err:
         raise ConvergenceError(f"{what}: calibration of the worn profiles failed: {err}") from None
     tables = {body: LayerTable.read(path) for body, path in (result.tables.items() if result else ())}
-    if recal.by_similarity:
+    if recal.by_similarity:  # the positions computed by the FEM on the worn profile anchor the next ones
+        anchors = {**anchors, **{key: ref for b in cfg.bodies if b.body in tables
+                                 for key, ref in table_references(tables[b.body], profile_of(b.profile)).items()}}
         direct = {(f.body, f.y_mm): f.message for f in (result.failed if result else ())}  # e.g. no geometry
         bodies = {b.body for b in recal.calibration.bodies}
         tables = {body: merged_table(recal.scene_tables[body], tables.get(body), direct)
@@ -201,7 +222,8 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
         raise InputError(what, f"the calibration wrote no layer table into {work / 'tables'}: "
                          f"{'; '.join(f.message for f in result.failed) if result else ''}"
                          f"{'' if result and result.failed else 'no position calibrated'}")
-    return {body: with_rolling_law(table, recal.scene_tables.get(body)) for body, table in tables.items()}
+    return SideTables({body: with_rolling_law(table, recal.scene_tables.get(body)) for body, table in tables.items()},
+                      anchors)
 
 
 def similarity_config(cfg: CalibrationConfig, scene_tables: dict[str, LayerTable]) -> CalibrationConfig:
@@ -236,21 +258,27 @@ def merged_table(scene: LayerTable, new: LayerTable | None, direct: dict[tuple[s
 
 
 def recalibrate_sides(recal: Recalibration, profiles: dict[str, dict[str, Profile]], step: int,
-                      work_dir: Path | None, scheduler: str = "") -> dict[tuple[str, str], LayerTable]:
-    """The tables of every side recalibrated on its current profiles after ``step``, as {(side, body): table};
-    the files go to ``work_dir``/calibration/step_NNN_<side> (default: a new temporary folder)."""
+                      work_dir: Path | None, scheduler: str = "",
+                      anchors: dict[str, dict[tuple[str, float], DirectReference]] | None = None
+                      ) -> tuple[dict[tuple[str, str], LayerTable], dict[str, dict[tuple[str, float], DirectReference]]]:
+    """The tables of every side recalibrated on its current profiles after ``step``, as {(side, body): table},
+    and every side's anchors after it ({side: {(body, y): reference}}; ``anchors``: before it, a side not listed
+    starts from the scene tables'); the files go to ``work_dir``/calibration/step_NNN_<side> (default: a new
+    temporary folder)."""
     base = Path(work_dir) if work_dir is not None else Path(tempfile.mkdtemp(prefix="wrlayer-recal-"))
-    tables = {}
+    tables, after = {}, {}
     for side, prof in profiles.items():
         found = recalibrate_side(recal, prof, base / "calibration" / f"step_{step:03d}_{side}", scheduler,
-                                 what=f"step {step}: wear.recalibrate ({side} side)")
-        tables.update({(side, body): table for body, table in found.items()})
-    return tables
+                                 what=f"step {step}: wear.recalibrate ({side} side)",
+                                 anchors=(anchors or {}).get(side))
+        tables.update({(side, body): table for body, table in found.tables.items()})
+        after[side] = found.anchors
+    return tables, after
 
 
 def _quiet(message: str) -> None:
     """The calibration's progress lines are not shown inside a wear run (its summary.json records the run)."""
 
 
-__all__ = ["PLACEHOLDERS", "Recalibration", "merged_table", "read_template", "recalibrate_side", "recalibrate_sides",
+__all__ = ["PLACEHOLDERS", "Recalibration", "SideTables", "merged_table", "read_template", "recalibrate_side", "recalibrate_sides",
            "similarity_config", "worn_config", "write_profiles"]

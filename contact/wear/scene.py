@@ -27,7 +27,9 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.parse`: [profiles], [
                                                            k_mid_speed, k_high_speed, v_low_m_s, v_high_m_s)
     [wear.recalibrate] config = "template.toml", every_steps = 1   recalibrate the layer tables on the worn profiles
                                                            (contact.wear.recalibrate; placeholders @wheel_profile@,
-                                                           @rail_profile@ as [[bodies]] profile or mate)
+                                                           @rail_profile@ as [[bodies]] profile or mate);
+                                  reanchor = true          by similarity: a position whose patch left its anchor's
+                                                           by the direct FEM (false: by the master alone)
     [wear.usfd]  wheel = "R8T", rail = "R8T"              a published material, or a table {t1, t2, mild_slope,
                                                            severe_rate, cat_slope, cat_offset}
     [collective] [[collective.condition]] tables (straight track or a steady curve), a sweep (lateral_mm, yaw_rad,
@@ -243,7 +245,7 @@ def _recalibration(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> R
     sub = wear.sub("recalibrate") if "recalibrate" in wear.table else None
     if sub is None:
         return None
-    sub.check_known(("config", "every_steps"))
+    sub.check_known(("config", "every_steps", "reanchor"))
     rel = sub.text("config")
     try:
         path = (base / rel).resolve()
@@ -252,6 +254,7 @@ def _recalibration(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> R
     if not path.exists() and not path.is_symlink():
         raise sub.error("config", f"no such calibration template {rel!r} (looked at {path})")
     every = sub.integer("every_steps", 1, ge=1)
+    reanchor = sub.boolean("reanchor", True)
     layers = wheel_rail.solver_layers
     text, cfg = read_template(path, sub.what("config"), {"wheel": wheel_rail.wheel_profile,
                                                          "rail": wheel_rail.rail_profile},
@@ -262,7 +265,7 @@ def _recalibration(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> R
     initial = {"wheel": wheel_rail.wheel_profile, "rail": wheel_rail.rail_profile}
     anchors = {key: ref for b, table in kept.items() if table.profile_name == initial[b].name
                for key, ref in table_references(table, initial[b]).items()}
-    return Recalibration(str(path), text, cfg, every, kept, anchors)
+    return Recalibration(str(path), text, cfg, every, kept, anchors, reanchor)
 
 
 def _law(wear: SceneKeys) -> WearLaw:

@@ -15,6 +15,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
+from calibration.similarity.anchor import DirectReference
 from wrlayer.layer_table import LayerTable
 from contact.wear.layer_state import History, virgin_history
 from contact.wear.planning import distance_left
@@ -35,6 +36,9 @@ class WearState:
         far (MPa)).
     tables : dict
         ``tables[(side, body)]``: layer tables recalibrated on the worn profiles (empty: the scene's tables).
+    anchors : dict
+        ``anchors[side][(body, y)]``: the direct FEM references of the side's recalibration by similarity
+        (:mod:`contact.wear.recalibrate`; a side not listed: the scene tables').
     done_km : float
         Running distance of the completed steps (km).
     steps_done : int
@@ -44,6 +48,7 @@ class WearState:
     profiles: Profiles
     history: History
     tables: dict[tuple[str, str], LayerTable] = field(default_factory=dict)
+    anchors: dict[str, dict[tuple[str, float], DirectReference]] = field(default_factory=dict)
     done_km: float = 0.0
     steps_done: int = 0
 

@@ -146,7 +146,8 @@ def test_worn_config_replaces_only_the_placeholders(make_scene, tmp_path):
 
 
 def _fake_calibration(calls, tables=("wheel",)):
-    def fake(cfg, out_dir, scheduler=None, plots=None, show_progress=True, log=print, force=False, anchors=None):
+    def fake(cfg, out_dir, scheduler=None, plots=None, show_progress=True, log=print, force=False, anchors=None,
+             reanchor=False):
         calls.append({"cfg": cfg, "out_dir": Path(out_dir), "scheduler": scheduler, "plots": plots,
                       "show_progress": show_progress})
         Path(out_dir).mkdir(parents=True, exist_ok=True)
@@ -202,7 +203,7 @@ def test_recalibrate_side_returns_the_written_tables(make_scene, tmp_path, monke
     monkeypatch.setattr(recal_mod, "calibrate", _fake_calibration([], tables=("wheel", "rail")))
     scene = _recal_scene(make_scene, _template(tmp_path))
     profiles = {"wheel": scene.wheel_rail.wheel_profile, "rail": scene.wheel_rail.rail_profile}
-    tables = recalibrate_side(scene.settings.recalibrate, profiles, tmp_path / "side")
+    tables = recalibrate_side(scene.settings.recalibrate, profiles, tmp_path / "side").tables
     assert sorted(tables) == ["rail", "wheel"] and tables["rail"].body == "rail"
     monkeypatch.setattr(recal_mod, "calibrate", _fake_calibration([], tables=()))
     with pytest.raises(InputError, match=r"here: the calibration wrote no layer table .*: no table"):
@@ -246,14 +247,15 @@ def test_coarse_3d_template_on_one_rail_position(make_scene, tmp_path):
     text = text.replace('mate = "S1002"', 'mate = "@wheel_profile@"\nwheel_radius_mm = 460.0')
     scene = _recal_scene(make_scene, _template(tmp_path, text))
     profiles = {"wheel": scene.wheel_rail.wheel_profile, "rail": scene.wheel_rail.rail_profile}
-    tables = recalibrate_side(scene.settings.recalibrate, profiles, tmp_path / "side")
+    tables = recalibrate_side(scene.settings.recalibrate, profiles, tmp_path / "side").tables
     assert list(tables) == ["rail"] and tables["rail"].y_range_mm == (0.0, 0.0)
     assert tables["rail"].characteristic_at(0.0).elastic_limit_MPa > 0
 
 
 def _fake_lawless_calibration(out_tables):
     """A calibration writing the shipped tables without their rolling law (as a fresh calibration does)."""
-    def fake(cfg, out_dir, scheduler=None, plots=None, show_progress=True, log=print, force=False, anchors=None):
+    def fake(cfg, out_dir, scheduler=None, plots=None, show_progress=True, log=print, force=False, anchors=None,
+             reanchor=False):
         Path(out_dir).mkdir(parents=True, exist_ok=True)
         written = {}
         for body in out_tables:
@@ -275,7 +277,7 @@ def test_recalibrated_tables_keep_the_scene_tables_rolling_law(make_scene, tmp_p
     recal = scene.settings.recalibrate
     assert all(t.rolling_law is not None for t in recal.scene_tables.values())
     profiles = {"wheel": scene.wheel_rail.wheel_profile, "rail": scene.wheel_rail.rail_profile}
-    tables = recalibrate_side(recal, profiles, tmp_path / "side")
+    tables = recalibrate_side(recal, profiles, tmp_path / "side").tables
     assert LayerTable.read(tmp_path / "side" / "tables" / "rail_layer_table.json").rolling_law is None
     for body, table in tables.items():
         assert table.rolling_law is recal.scene_tables[body].rolling_law

@@ -10,6 +10,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from calibration.cache import fem_entry, save_entry
 from calibration.indentation import load_levels
@@ -62,15 +63,19 @@ def _fake_indentation(a_mm, b_mm, load, convexity) -> IndentationResult:
                              p_y, p_y, 1.4e-5 * length, 1e-5, peaks, res.tolist(), [0.0] * len(peaks), 100, 10, 5, 1.0)
 
 
+def _fake_master(scene, folder: Path) -> None:
+    """The synthetic master of the scene's template written into its cache ``folder``."""
+    cfg = scene.settings.recalibrate.calibration
+    for (c, _, _), t in zip(grid_points(), master_tasks(cfg, cfg.bodies[0].material)):
+        save_entry(fem_entry(folder, t.key), _fake_indentation(t.geometry.a_mm, t.geometry.b_mm, cfg.load, c))
+
+
 def test_each_step_uses_the_worn_profiles_table_from_the_master(make_scene, tmp_path, monkeypatch):
     template = tmp_path / "recal.toml"
     template.write_text(TEMPLATE.format(master=tmp_path / "master"))
-    scene = make_scene(wear={"distance_km": 100.0, "steps": 2, "recalibrate": {"config": str(template)}},
-                       passes={"max": 3})
-    cfg = scene.settings.recalibrate.calibration
-    for (c, _, _), t in zip(grid_points(), master_tasks(cfg, cfg.bodies[0].material)):
-        save_entry(fem_entry(tmp_path / "master", t.key),
-                   _fake_indentation(t.geometry.a_mm, t.geometry.b_mm, cfg.load, c))
+    scene = make_scene(wear={"distance_km": 100.0, "steps": 2,
+                             "recalibrate": {"config": str(template), "reanchor": False}}, passes={"max": 3})
+    _fake_master(scene, tmp_path / "master")
     seen = []
     real = condition_mod.solve_condition
 
@@ -103,3 +108,42 @@ def test_each_step_uses_the_worn_profiles_table_from_the_master(make_scene, tmp_
         assert by_y[y]["first_yield_fem_MPa"] != p["first_yield_fem_MPa"]
         assert not any("not recalibrated" in w for w in by_y[y].get("warnings", []))
     assert sorted(y for y in by_y if y in POSITIONS) == sorted(POSITIONS)
+
+
+def test_a_patch_that_left_its_anchor_is_computed_by_the_fem_and_anchors_the_next_recalibration(make_scene,
+                                                                                                 tmp_path, monkeypatch):
+    """reanchor (the default): the one position whose worn patch is unlike its scene-table reference (a/b 22
+    against 1.8 at y = -15 mm) is computed by the FEM after step 1 (a synthetic FEM stands in, counted); after step
+    2 it is anchored to that entry of step 1's table, or computed again if its patch moved on, the others as
+    before."""
+    from calibration import pipeline
+    from calibration.tasks import PositionOutcome
+
+    template = tmp_path / "recal.toml"
+    template.write_text(TEMPLATE.format(master=tmp_path / "master"))
+    scene = make_scene(wear={"distance_km": 150.0, "steps": 3, "recalibrate": {"config": str(template)}},
+                       passes={"max": 3})
+    assert scene.settings.recalibrate.reanchor
+    _fake_master(scene, tmp_path / "master")
+    computed = []
+
+    def fem(task):
+        computed.append((task.body, task.y_mm))
+        return PositionOutcome(task.key, _fake_indentation(task.geometry.a_mm, task.geometry.b_mm, task.load, 0.0))
+
+    monkeypatch.setattr(pipeline, "run_position", fem)
+    run_wear(scene, show_progress=False, work_dir=tmp_path / "work")
+    step = {k: json.loads((tmp_path / "work" / "calibration" / f"step_00{k}_right" / "tables" / "summary.json")
+                          .read_text()) for k in (1, 2)}
+    assert step[1]["positions_computed"] == 1 and computed[0] == ("wheel", -15.0)
+    first = {d["y_mm"]: d for d in step[1]["bodies"]["wheel"]["position_details"]}
+    assert first[-15.0]["method"] == "direct"
+    assert "computed by the direct FEM (the position's new anchor)" in first[-15.0]["note"]
+    assert all("anchored to the direct FEM of" in d["note"] for y, d in first.items() if y != -15.0)
+    table = LayerTable.read(tmp_path / "work" / "calibration" / "step_001_right" / "tables" / "wheel_layer_table.json")
+    assert {p["y_mm"]: p["method"] for p in table.positions}[-15.0] == "direct"
+    second = {d["y_mm"]: d for d in step[2]["bodies"]["wheel"]["position_details"]}[-15.0]
+    # its reference is now step 1's FEM entry: anchored to it, or its patch compared with that entry's
+    step_1_patch = f"is not the reference's (a/b {first[-15.0]['a_mm'] / first[-15.0]['b_mm']:.3g},"
+    assert ("step_001_right" in second["note"] and "anchored to the direct FEM of" in second["note"]) or \
+        (second["method"] == "direct" and step_1_patch in second["note"]), second
