@@ -5,7 +5,7 @@ For every worn case (a calibration configuration of the worn profiles and its di
 position the master serves: the errors of :func:`calibration.similarity.route.similar_indentation` ("master") and
 of the same anchored to the reference run's direct table at the same y (:mod:`calibration.similarity.anchor`,
 "anchored everywhere"), and the wear loop's rule: anchored where the patch is like the reference's, else the
-master's ("reanchor = false") or the direct FEM (``reanchor = true``, the default: then exact, at the cost of one
+master's (``reanchor = false``, the default) or the direct FEM (``reanchor = true``: then exact, at the cost of one
 FEM position each), each against the worn profile's direct FEM at equal p0 (MPa), counted as
 :mod:`benchmarks.bench_similarity` counts them (p_y, u_pl at every level, residual at every peak; target 2 %). The
 reference is the configuration the shipped tables come from and its direct run's tables.
@@ -129,8 +129,8 @@ def markdown(data: dict) -> str:
                    f"loop serves them from the master's nearest point; not counted). Within {100 * data['target']:g} % "
                    f"on p_y, u_pl at every level and every residual: master {k['master']}, anchored everywhere "
                    f"{k['anchored']}, the loop's rule (anchored at the {case['anchors_applied']} positions where the "
-                   f"anchor applies) {k['loop']} with `reanchor = false`; worst: {100 * w['master']:.2f} %, "
-                   f"{100 * w['anchored']:.2f} %, {100 * w['loop']:.2f} %. With `reanchor = true` (the default) the "
+                   f"anchor applies) {k['loop']} with `reanchor = false` (the default); worst: {100 * w['master']:.2f} %, "
+                   f"{100 * w['anchored']:.2f} %, {100 * w['loop']:.2f} %. With `reanchor = true` the "
                    f"{n - case['anchors_applied']} others are computed by the direct FEM: "
                    f"{k['loop'] + sum(1 for r in case['rows'] if r['served'] and not r.get('anchor_applies') and _worst(r['loop']) > data['target'])} "
                    f"of {n} within {100 * data['target']:g} %, for {n - case['anchors_applied']} FEM positions.", ""]

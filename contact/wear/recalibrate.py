@@ -80,7 +80,8 @@ class Recalibration:
     reanchor : bool
         Under ``run.method = "similarity"``: a position whose worn patch has left its anchor's (about one master
         grid cell, :func:`calibration.similarity.anchor.applies`) is computed by the direct FEM, and that entry
-        anchors the side's later recalibrations; false: such a position is served by the master alone.
+        anchors the side's later recalibrations; false (default): such a position is served by the master alone
+        (the wear example: x1.18 the run without recalibration; with re-anchoring x5.1, 8 FEM positions).
     """
 
     config: str
@@ -89,7 +90,7 @@ class Recalibration:
     every_steps: int = 1
     scene_tables: dict[str, LayerTable] = field(default_factory=dict)
     anchors: dict[tuple[str, float], DirectReference] = field(default_factory=dict)
-    reanchor: bool = True
+    reanchor: bool = False
 
     @property
     def by_similarity(self) -> bool:

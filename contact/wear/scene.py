@@ -28,8 +28,8 @@ Everything of a wheel_rail scene (:mod:`contact.wheel_rail.parse`: [profiles], [
     [wear.recalibrate] config = "template.toml", every_steps = 1   recalibrate the layer tables on the worn profiles
                                                            (contact.wear.recalibrate; placeholders @wheel_profile@,
                                                            @rail_profile@ as [[bodies]] profile or mate);
-                                  reanchor = true          by similarity: a position whose patch left its anchor's
-                                                           by the direct FEM (false: by the master alone)
+                                  reanchor = false         by similarity: a position whose patch left its anchor's
+                                                           by the master alone (true: by the direct FEM)
     [wear.usfd]  wheel = "R8T", rail = "R8T"              a published material, or a table {t1, t2, mild_slope,
                                                            severe_rate, cat_slope, cat_offset}
     [collective] [[collective.condition]] tables (straight track or a steady curve), a sweep (lateral_mm, yaw_rad,
@@ -254,7 +254,7 @@ def _recalibration(wear: SceneKeys, base: Path, wheel_rail: WheelRailScene) -> R
     if not path.exists() and not path.is_symlink():
         raise sub.error("config", f"no such calibration template {rel!r} (looked at {path})")
     every = sub.integer("every_steps", 1, ge=1)
-    reanchor = sub.boolean("reanchor", True)
+    reanchor = sub.boolean("reanchor", False)
     layers = wheel_rail.solver_layers
     text, cfg = read_template(path, sub.what("config"), {"wheel": wheel_rail.wheel_profile,
                                                          "rail": wheel_rail.rail_profile},

@@ -73,8 +73,9 @@ def _fake_master(scene, folder: Path) -> None:
 def test_each_step_uses_the_worn_profiles_table_from_the_master(make_scene, tmp_path, monkeypatch):
     template = tmp_path / "recal.toml"
     template.write_text(TEMPLATE.format(master=tmp_path / "master"))
-    scene = make_scene(wear={"distance_km": 100.0, "steps": 2,
-                             "recalibrate": {"config": str(template), "reanchor": False}}, passes={"max": 3})
+    scene = make_scene(wear={"distance_km": 100.0, "steps": 2, "recalibrate": {"config": str(template)}},
+                       passes={"max": 3})
+    assert not scene.settings.recalibrate.reanchor  # the default: the master alone where an anchor does not apply
     _fake_master(scene, tmp_path / "master")
     seen = []
     real = condition_mod.solve_condition
@@ -112,7 +113,7 @@ def test_each_step_uses_the_worn_profiles_table_from_the_master(make_scene, tmp_
 
 def test_a_patch_that_left_its_anchor_is_computed_by_the_fem_and_anchors_the_next_recalibration(make_scene,
                                                                                                  tmp_path, monkeypatch):
-    """reanchor (the default): the one position whose worn patch is unlike its scene-table reference (a/b 22
+    """reanchor = true: the one position whose worn patch is unlike its scene-table reference (a/b 22
     against 1.8 at y = -15 mm) is computed by the FEM after step 1 (a synthetic FEM stands in, counted); after step
     2 it is anchored to that entry of step 1's table, or computed again if its patch moved on, the others as
     before."""
@@ -121,8 +122,8 @@ def test_a_patch_that_left_its_anchor_is_computed_by_the_fem_and_anchors_the_nex
 
     template = tmp_path / "recal.toml"
     template.write_text(TEMPLATE.format(master=tmp_path / "master"))
-    scene = make_scene(wear={"distance_km": 150.0, "steps": 3, "recalibrate": {"config": str(template)}},
-                       passes={"max": 3})
+    scene = make_scene(wear={"distance_km": 150.0, "steps": 3,
+                             "recalibrate": {"config": str(template), "reanchor": True}}, passes={"max": 3})
     assert scene.settings.recalibrate.reanchor
     _fake_master(scene, tmp_path / "master")
     computed = []
