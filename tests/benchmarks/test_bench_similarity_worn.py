@@ -1,0 +1,72 @@
+"""benchmarks/bench_similarity_worn.py end to end on synthetic FEM: a 'direct' run (a fake FEM 1 % below the master
+in p_y and 5 % above it in u_pl) is both the reference and the 'worn' case, so the master alone misses it and the
+anchored master reproduces it; the report counts both and names the positions."""
+
+import dataclasses
+import math
+
+import numpy as np
+
+from benchmarks.bench_similarity_worn import markdown, run_cases
+from calibration import pipeline
+from calibration.config import load_config
+from calibration.pipeline import calibrate
+from calibration.tasks import PositionOutcome
+from tests.calibration.test_similarity import _fake_indentation, _fake_master
+
+CONFIG = """
+[run]
+model = "3d"
+workers = 1
+plots = false
+[load]
+max_factor = 2.0
+n_levels = 3
+unload_factors = [1.5, 2.0]
+max_increment_factor = 0.3
+[mesh]
+elements_per_semi_axis = 2
+h_max_mm = 12.0
+[fit]
+n_segments = 3
+max_relative_error = 0.2
+[[bodies]]
+body = "rail"
+profile = "60E1"
+mate = "S1002"
+positions_mm = [-5.0, 0.0]
+"""
+
+
+def test_the_anchored_master_reproduces_its_reference_where_the_master_alone_misses(tmp_path, monkeypatch):
+    config = tmp_path / "case.toml"
+    config.write_text(CONFIG)
+    cfg = load_config(config)
+    sim_cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, method="similarity",
+                                                               master_dir=str(tmp_path / "master")))
+    _fake_master(sim_cfg)
+
+    def fem(task):  # the 'direct FEM': p_y 1 % lower, u_pl 5 % higher than the fake master's law
+        ind = _fake_indentation(task.geometry.a_mm, task.geometry.b_mm, cfg, 0.0)
+        scale = 0.99
+        p = (np.asarray(ind.p_MPa) * scale).tolist()
+        u_pl = (1.05 * np.asarray(ind.u_pl_mm)).tolist()
+        peaks = (np.asarray(ind.unload_peaks_MPa) * scale).tolist()
+        res = (1.05 * np.asarray(ind.residual_fem_mm)).tolist()
+        return PositionOutcome(task.key, dataclasses.replace(
+            ind, p_MPa=p, u_pl_mm=u_pl, u_fem_mm=(np.asarray(p) * ind.fem_elastic_compliance_mm_per_MPa
+                                                 + np.asarray(u_pl)).tolist(),
+            first_yield_MPa=ind.first_yield_MPa * scale, first_yield_anywhere_MPa=ind.first_yield_MPa * scale,
+            unload_peaks_MPa=peaks, residual_fem_mm=res))
+
+    monkeypatch.setattr(pipeline, "run_position", fem)
+    calibrate(cfg, tmp_path / "direct", show_progress=False, log=lambda *a: None)
+    data = run_cases(config, tmp_path / "direct", tmp_path / "master", [(config, tmp_path / "direct")])
+    case = data["cases"][0]
+    assert case["served"] == 2 and case["anchors_applied"] == 2
+    assert case["within"]["anchored"] == 2 and case["within"]["loop"] == 2 and case["within"]["master"] == 0
+    assert case["worst"]["anchored"] < 1e-9 < 0.02 < case["worst"]["master"]
+    assert all(math.isclose(r["reference"]["convexity"], r["convexity"]) for r in case["rows"])
+    text = markdown(data)
+    assert "| rail | -5 | served |" in text and "Served 2 of 2 positions" in text
+    assert "master 0, anchored everywhere 2, the loop's rule (anchored at the 2 positions" in text
