@@ -137,6 +137,9 @@ def test_a_patch_that_left_its_anchor_is_computed_by_the_fem_and_anchors_the_nex
     step = {k: json.loads((tmp_path / "work" / "calibration" / f"step_00{k}_right" / "tables" / "summary.json")
                           .read_text()) for k in (1, 2)}
     assert step[1]["positions_computed"] == 1 and computed[0] == ("wheel", -15.0)
+    shared = tmp_path / "work" / "calibration" / "cache"  # one FEM cache for the sides and steps of the run
+    assert (tmp_path / "work" / "calibration" / "step_001_right" / "tables" / "cache").resolve() == shared.resolve()
+    assert any(not p.name.startswith("fit-") for p in shared.iterdir())  # the FEM entry is there
     first = {d["y_mm"]: d for d in step[1]["bodies"]["wheel"]["position_details"]}
     assert first[-15.0]["method"] == "direct"
     assert "computed by the direct FEM (the position's new anchor)" in first[-15.0]["note"]
