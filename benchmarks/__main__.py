@@ -62,6 +62,11 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         try:
             mod = importlib.import_module(f"benchmarks.{name}")
+            if not callable(getattr(mod, "run", None)):  # its own command line: long runs, or a comparison
+                sections.append(f"## {name}\n\nA command-line benchmark, not run here: `python -m benchmarks.{name} "
+                                "--help`.\n")
+                print(f"[bench] {name}: command line only (python -m benchmarks.{name})", flush=True)
+                continue
             res = mod.run(run_mode, args.out)
         except Exception:  # a failing benchmark is reported, the others still run
             failed.append(name)

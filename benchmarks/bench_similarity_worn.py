@@ -26,8 +26,14 @@ import tempfile
 from pathlib import Path
 
 
-from benchmarks.bench_similarity import CONFIG, MASTER, TARGET, _config, _direct, _master, _pct, compare
+from benchmarks.bench_similarity import (CONFIG, DIRECT_OUT, MASTER, ROOT, TARGET, _config, _direct, _master, _pct,
+                                         compare)
 from benchmarks.harness import command_line, stamped_report
+
+#: The worn cases of the report: configurations in benchmarks/data/similarity_worn, direct runs in out/similarity_worn.
+WORN_CASES = ("worn_3000km", "worn_x5")
+WORN_DATA = ROOT / "benchmarks" / "data" / "similarity_worn"
+WORN_OUT = ROOT / "out" / "similarity_worn"
 
 
 def references(ref_config: Path, ref_out: Path) -> dict:
@@ -138,6 +144,24 @@ def markdown(data: dict) -> str:
               f"(p_y signed; u_pl and residual: worst over the levels); anchored to the direct tables in "
               f"{data['reference']}.")
     return "\n".join(md)
+
+
+def run(mode: str, out: Path) -> dict:
+    """``python -m benchmarks``: the report's cases from the default folders (the reference's direct run in
+    ``out/calibration_direct``, the master in ``out/calibration/cache``, the worn runs in ``out/similarity_worn``);
+    the full mode computes what is missing (about 5 min of FEM per worn case on 2 cores, more for the reference and
+    the master), the quick mode says what is missing."""
+    worn = [(WORN_DATA / f"{name}.toml", WORN_OUT / name) for name in WORN_CASES]
+    quick = mode != "full"
+    missing = [why for why in (_master(_config(CONFIG, MASTER), quick)[1],
+                               _direct(_config(CONFIG, MASTER), DIRECT_OUT, quick)[1]) if why]
+    missing += [why for config, folder in worn if (why := _direct(_config(config, MASTER), folder, quick)[1])]
+    title = "Similarity on worn profiles"
+    if missing:
+        return {"title": title, "markdown": f"Not measured: {'; '.join(missing)} (run the full mode).",
+                "figures": [], "data": {"missing": missing}}
+    data = run_cases(CONFIG, DIRECT_OUT, MASTER, worn)
+    return {"title": title, "markdown": markdown(data), "figures": [], "data": data}
 
 
 def main(argv: list[str] | None = None) -> None:

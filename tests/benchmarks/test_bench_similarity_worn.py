@@ -70,3 +70,13 @@ def test_the_anchored_master_reproduces_its_reference_where_the_master_alone_mis
     text = markdown(data)
     assert "| rail | -5 | served |" in text and "Served 2 of 2 positions" in text
     assert "master 0, anchored everywhere 2, the loop's rule (anchored at the 2 positions" in text
+
+
+def test_the_quick_mode_says_what_is_missing(tmp_path, monkeypatch):
+    import benchmarks.bench_similarity_worn as worn
+
+    for name in ("DIRECT_OUT", "MASTER", "WORN_OUT"):
+        monkeypatch.setattr(worn, name, tmp_path / name.lower())
+    res = worn.run("quick", tmp_path / "bench")
+    assert res["markdown"].startswith("Not measured: ") and "(run the full mode)" in res["markdown"]
+    assert len(res["data"]["missing"]) == 2 + len(worn.WORN_CASES)  # master, reference, each worn case
