@@ -31,7 +31,7 @@ MAX_POSITIONS = 500
 _TOP_KEYS = ("accept_implausible", "run", "material", "load", "mesh", "fit", "bodies")
 _BODY_KEYS = ("body", "profile", "mate", "positions_mm", "positions", "semi_axes_mm", "inclination",
               "inclination_rad", "rail_cant_rad", "max_lateral_radius_mm", "wheel_radius_mm", "material",
-              "accept_unusual_profile", "units")
+              "accept_unusual_profile", "units", "anchor_table")
 
 
 def _names(cls) -> tuple[str, ...]:
@@ -234,10 +234,28 @@ def _body(k: Keys, base: Path, material: MaterialSettings, accept_unusual_profil
     kw = _numbers(k, {"max_lateral_radius_mm": dict(gt=0.0), "wheel_radius_mm": dict(gt=0.0)})
     kw.update(_inclination(k))
     mat = _material(k.sub("material"), material) if "material" in k.table else material
+    anchor = _anchor_table(k, base, body) if "anchor_table" in k.table else None
     settings = BodySettings(body, spec, mate, ys, semi, material=mat, accept_unusual_profile=unusual, units=units,
-                            **kw)
+                            anchor_table=anchor, **kw)
     cant_rad(settings, f"{k.file}: {k.prefix}")  # a rail of unknown placement: refused here
     return settings
+
+
+def _anchor_table(k: Keys, base: Path, body: str) -> str:
+    """``anchor_table``: the resolved path of a readable layer table of ``body`` whose reference profile can be
+    read (InputError naming the key otherwise)."""
+    from wrlayer.layer_table import LayerTable
+
+    rel = k.text("anchor_table")
+    path = Path(rel) if Path(rel).is_absolute() else base / rel
+    try:
+        table = LayerTable.read(path)
+        if table.body != body:
+            raise InputError(str(path), f"is a {table.body} table, not a {body} table")
+        get_profile(table.header.get("profile_source") or table.profile_name)
+    except InputError as err:
+        raise k.error("anchor_table", str(err)) from None
+    return str(path.resolve())
 
 
 def _inclination(k: Keys) -> dict[str, float]:

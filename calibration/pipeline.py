@@ -27,7 +27,7 @@ from calibration.position_fit import fit_position
 from calibration.results import IndentationResult, PositionFit
 from calibration.run_summary import CalibrationResult, FemSeconds, SimilaritySummary
 from calibration.settings import CalibrationConfig
-from calibration.similarity.anchor import DirectReference, anchor, anchored, applies
+from calibration.similarity.anchor import DirectReference, anchor, anchored, applies, configured_references
 from calibration.similarity.master import MasterCurves, master_key, master_tasks, stored_master
 from calibration.similarity.route import (METHOD_DIRECT, METHOD_SIMILARITY, SIMILARITY_SOURCES, Route, route,
                                           similarity_task, task_indentation)
@@ -108,7 +108,7 @@ def calibrate(config: CalibrationConfig, out_dir: str | Path, *, scheduler: str 
     Holds a lock on ``out_dir`` (a second run into it is refused); unusable cache entries are recomputed; the
     positions to compute are costed first and refused above the limit unless ``force`` (InputError). A failed
     position does not raise: it is in ``result.failed`` and in its body's table. ``anchors`` {(body, y): direct
-    FEM of a reference profile}: under ``run.method = "similarity"`` a served position with an anchor takes the
+    FEM of a reference profile}, added to those of the bodies' ``anchor_table``: under ``run.method = "similarity"`` a served position with an anchor takes the
     master's value corrected by the master's error at the reference (:mod:`calibration.similarity.anchor`) while
     its patch is like the reference's; with ``reanchor`` a position whose patch is not is computed by the direct
     FEM instead (its entry then anchors the next recalibration), else served by the master alone."""
@@ -116,7 +116,8 @@ def calibrate(config: CalibrationConfig, out_dir: str | Path, *, scheduler: str 
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"--out {out_dir}", "exists and is not a folder")
     with output_lock(out_dir):
-        return _run(config, out_dir, scheduler, plots, show_progress, log, force, Anchoring(anchors or {}, reanchor))
+        references = {**configured_references(config.bodies), **(anchors or {})}  # those given here win
+        return _run(config, out_dir, scheduler, plots, show_progress, log, force, Anchoring(references, reanchor))
 
 
 def run_calibration(cfg: CalibrationConfig, out_dir: str | Path, scheduler: str | None = None,

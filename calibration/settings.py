@@ -253,6 +253,10 @@ class BodySettings:
     units : str or None
         Length unit of the body's and the mate's profile files ("mm" or "m"; None: mm for text, CSV and MiniProf
         files, the header's ``units.len.f`` for SIMPACK files).
+    anchor_table : str or None
+        A direct 3D layer table of this body (e.g. the new profile's shipped table; path relative to the
+        configuration file): under ``run.method = "similarity"`` each of its positions anchors the same position
+        here (:mod:`calibration.similarity.anchor`); its reference profile is its header's ``profile_source``.
     """
 
     body: str
@@ -267,6 +271,7 @@ class BodySettings:
     material: MaterialSettings = MaterialSettings()
     accept_unusual_profile: bool = False
     units: str | None = None
+    anchor_table: str | None = None
 
 
 @dataclass(frozen=True)

@@ -148,6 +148,19 @@ def table_references(table: LayerTable, profile: Profile) -> dict[tuple[str, flo
     return out
 
 
+def configured_references(bodies) -> dict[tuple[str, float], DirectReference]:
+    """The references of the bodies' ``anchor_table`` (:class:`calibration.settings.BodySettings`), each table on
+    the profile its header names (``profile_source``)."""
+    from meshes.profiles import get_profile
+
+    out = {}
+    for b in bodies:
+        if b.anchor_table:
+            table = LayerTable.read(b.anchor_table)
+            out.update(table_references(table, get_profile(table.header.get("profile_source") or table.profile_name)))
+    return out
+
+
 @dataclass(frozen=True)
 class Anchor:
     """The master's error at one position of the reference profile, dimensionless (see the module): ``p_y_ratio``
@@ -196,4 +209,4 @@ def anchored(sim: IndentationResult, anc: Anchor, length_mm: float) -> Indentati
 
 
 __all__ = ["MAX_ASPECT_FACTOR", "MAX_CONVEXITY_CHANGE", "MAX_SIZE_FACTOR", "Anchor", "DirectReference", "anchor",
-           "anchored", "applies", "reference_of_entry", "table_references"]
+           "anchored", "applies", "configured_references", "reference_of_entry", "table_references"]

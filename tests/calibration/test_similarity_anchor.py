@@ -7,6 +7,7 @@ profiles)."""
 
 import dataclasses
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -153,3 +154,23 @@ def test_on_a_coarse_mesh_an_anchor_moves_a_nearby_patch_towards_its_own_fem(tmp
                    float(np.max(np.abs(np.interp(levels, sim.p_MPa, sim.u_pl_mm) / u_worn - 1))))
 
     assert error(fixed) < error(plain) and error(fixed) < 0.04, (error(fixed), error(plain))
+
+
+def test_a_bodys_anchor_table_anchors_a_similarity_run_and_a_bad_one_is_refused(tmp_path):
+    from calibration.config import parse_config
+
+    cfg = _sim_cfg(tmp_path, positions=(0.0, 5.0))
+    _fake_master(cfg)
+    table = TABLES / "rail_60E1_default.json"
+    anchored_cfg = dataclasses.replace(cfg, bodies=(dataclasses.replace(cfg.bodies[0], anchor_table=str(table)),))
+    result = calibrate(anchored_cfg, tmp_path / "out", show_progress=False, log=lambda *a: None)
+    notes = [d["note"] for d in result.to_dict()["bodies"]["rail"]["position_details"]]
+    assert len(notes) == 2 and all("anchored to the direct FEM of" in n and "rail_60E1_default.json" in n
+                                   for n in notes)
+    body = {"body": "rail", "profile": "60E1", "mate": "S1002", "positions_mm": [0.0]}
+    ok = parse_config({"bodies": [dict(body, anchor_table=str(table))]}, "c.toml", tmp_path)
+    assert ok.bodies[0].anchor_table == str(table.resolve())
+    for value, message in ((str(tmp_path / "none.json"), re.escape("c.toml: bodies[0].anchor_table: ")),
+                           (str(TABLES / "wheel_S1002_default.json"), "is a wheel table, not a rail table")):
+        with pytest.raises(InputError, match=message):
+            parse_config({"bodies": [dict(body, anchor_table=value)]}, "c.toml", tmp_path)
