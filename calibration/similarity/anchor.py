@@ -37,7 +37,7 @@ from calibration.results import IndentationResult
 from calibration.similarity.master import MasterCurves
 from calibration.similarity.route import similar_indentation
 from calibration.similarity.sections import patch_convexity
-from meshes.profiles import Profile
+from meshes.profiles import Profile, get_profile
 from wrlayer.errors import InputError
 from wrlayer.layer_table import LayerTable
 
@@ -151,8 +151,6 @@ def table_references(table: LayerTable, profile: Profile) -> dict[tuple[str, flo
 def configured_references(bodies) -> dict[tuple[str, float], DirectReference]:
     """The references of the bodies' ``anchor_table`` (:class:`calibration.settings.BodySettings`), each table on
     the profile its header names (``profile_source``)."""
-    from meshes.profiles import get_profile
-
     out = {}
     for b in bodies:
         if b.anchor_table:
