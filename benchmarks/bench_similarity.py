@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.harness import command_line, stamped_report
+from benchmarks.harness import command_line, write_report
 
 ROOT = Path(__file__).resolve().parent.parent
 DIRECT_OUT = ROOT / "out" / "calibration_direct"
@@ -303,9 +303,8 @@ def main(argv: list[str] | None = None) -> None:
         args.json.write_text(json.dumps(data, indent=1) + "\n")
     text = _markdown(data)
     if args.report:
-        args.report.parent.mkdir(parents=True, exist_ok=True)
-        args.report.write_text(stamped_report("Calibration by similarity against the direct 3D FEM", text,
-                                              command_line("python -m benchmarks.bench_similarity", argv)))
+        write_report(args.report, "Calibration by similarity against the direct 3D FEM", text,
+                     command_line("python -m benchmarks.bench_similarity", argv))
     print(text)
 
 

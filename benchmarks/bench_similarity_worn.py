@@ -28,7 +28,7 @@ from pathlib import Path
 
 from benchmarks.bench_similarity import (CONFIG, DIRECT_OUT, MASTER, ROOT, TARGET, _config, _direct, _master, _pct,
                                          compare)
-from benchmarks.harness import command_line, stamped_report
+from benchmarks.harness import command_line, write_report
 
 #: The worn cases of the report: configurations in benchmarks/data/similarity_worn, direct runs in out/similarity_worn.
 WORN_CASES = ("worn_3000km", "worn_x5")
@@ -182,9 +182,8 @@ def main(argv: list[str] | None = None) -> None:
     data = run_cases(args.reference_config, args.reference, args.master, worn)
     text = markdown(data)
     if args.report:
-        args.report.parent.mkdir(parents=True, exist_ok=True)
-        args.report.write_text(stamped_report("Similarity on worn profiles", text,
-                                              command_line("python -m benchmarks.bench_similarity_worn", argv)))
+        write_report(args.report, "Similarity on worn profiles", text,
+                     command_line("python -m benchmarks.bench_similarity_worn", argv))
     print(text)
 
 

@@ -116,6 +116,13 @@ def stamped_report(title: str, markdown: str, command: str) -> str:
     return f"# {title}\n\n{report_stamp(command)} Units: mm, N, MPa, s.\n\n{markdown.rstrip()}\n"
 
 
+def write_report(path: Path, title: str, markdown: str, command: str) -> Path:
+    """Write the :func:`stamped_report` of ``markdown`` to ``path`` (its folder created); returns ``path``."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(stamped_report(title, markdown, command))
+    return path
+
+
 def command_line(program: str, argv: list[str] | None) -> str:
     """The command that ran this benchmark: ``program`` and its arguments (``sys.argv[1:]`` when ``argv`` is None)."""
     return " ".join([program, *(sys.argv[1:] if argv is None else argv)])

@@ -244,6 +244,7 @@ def _body(k: Keys, base: Path, material: MaterialSettings, accept_unusual_profil
 def _anchor_table(k: Keys, base: Path, body: str) -> str:
     """``anchor_table``: the resolved path of a readable layer table of ``body`` whose reference profile can be
     read (InputError naming the key otherwise)."""
+    from calibration.similarity.anchor import table_profile  # the similarity package reads configurations
     from wrlayer.layer_table import LayerTable
 
     rel = k.text("anchor_table")
@@ -252,7 +253,7 @@ def _anchor_table(k: Keys, base: Path, body: str) -> str:
         table = LayerTable.read(path)
         if table.body != body:
             raise InputError(str(path), f"is a {table.body} table, not a {body} table")
-        get_profile(table.header.get("profile_source") or table.profile_name)
+        table_profile(table)
     except InputError as err:
         raise k.error("anchor_table", str(err)) from None
     return str(path.resolve())

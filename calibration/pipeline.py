@@ -108,10 +108,11 @@ def calibrate(config: CalibrationConfig, out_dir: str | Path, *, scheduler: str 
     Holds a lock on ``out_dir`` (a second run into it is refused); unusable cache entries are recomputed; the
     positions to compute are costed first and refused above the limit unless ``force`` (InputError). A failed
     position does not raise: it is in ``result.failed`` and in its body's table. ``anchors`` {(body, y): direct
-    FEM of a reference profile}, added to those of the bodies' ``anchor_table``: under ``run.method = "similarity"`` a served position with an anchor takes the
-    master's value corrected by the master's error at the reference (:mod:`calibration.similarity.anchor`) while
-    its patch is like the reference's; with ``reanchor`` a position whose patch is not is computed by the direct
-    FEM instead (its entry then anchors the next recalibration), else served by the master alone."""
+    FEM of a reference profile}, added to those of the bodies' ``anchor_table``: under ``run.method =
+    "similarity"`` a served position with an anchor takes the master's value corrected by the master's error at
+    the reference (:mod:`calibration.similarity.anchor`) while its patch is like the reference's; with
+    ``reanchor`` a position whose patch is not is computed by the direct FEM instead (its entry then anchors the
+    next recalibration), else served by the master alone."""
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"--out {out_dir}", "exists and is not a folder")

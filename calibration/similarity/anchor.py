@@ -148,14 +148,20 @@ def table_references(table: LayerTable, profile: Profile) -> dict[tuple[str, flo
     return out
 
 
+def table_profile(table: LayerTable) -> Profile:
+    """The profile a table was calibrated on, as its header names it (``profile_source``: a builtin name or a
+    file); InputError when it cannot be read."""
+    return get_profile(table.header.get("profile_source") or table.profile_name)
+
+
 def configured_references(bodies) -> dict[tuple[str, float], DirectReference]:
     """The references of the bodies' ``anchor_table`` (:class:`calibration.settings.BodySettings`), each table on
-    the profile its header names (``profile_source``)."""
+    the profile it was calibrated on (:func:`table_profile`)."""
     out = {}
     for b in bodies:
         if b.anchor_table:
             table = LayerTable.read(b.anchor_table)
-            out.update(table_references(table, get_profile(table.header.get("profile_source") or table.profile_name)))
+            out.update(table_references(table, table_profile(table)))
     return out
 
 
@@ -207,4 +213,4 @@ def anchored(sim: IndentationResult, anc: Anchor, length_mm: float) -> Indentati
 
 
 __all__ = ["MAX_ASPECT_FACTOR", "MAX_CONVEXITY_CHANGE", "MAX_SIZE_FACTOR", "Anchor", "DirectReference", "anchor",
-           "anchored", "applies", "configured_references", "reference_of_entry", "table_references"]
+           "anchored", "applies", "configured_references", "table_profile", "reference_of_entry", "table_references"]

@@ -4,6 +4,7 @@ anchored master reproduces it; the report counts both and names the positions.""
 
 import dataclasses
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -14,33 +15,13 @@ from calibration.pipeline import calibrate
 from calibration.tasks import PositionOutcome
 from tests.calibration.test_similarity import _fake_indentation, _fake_master
 
-CONFIG = """
-[run]
-model = "3d"
-workers = 1
-plots = false
-[load]
-max_factor = 2.0
-n_levels = 3
-unload_factors = [1.5, 2.0]
-max_increment_factor = 0.3
-[mesh]
-elements_per_semi_axis = 2
-h_max_mm = 12.0
-[fit]
-n_segments = 3
-max_relative_error = 0.2
-[[bodies]]
-body = "rail"
-profile = "60E1"
-mate = "S1002"
-positions_mm = [-5.0, 0.0]
-"""
+#: The coarse test configuration at two rail positions.
+COARSE = Path(__file__).resolve().parents[2] / "calibration" / "configs" / "test_coarse.toml"
 
 
 def test_the_anchored_master_reproduces_its_reference_where_the_master_alone_misses(tmp_path, monkeypatch):
     config = tmp_path / "case.toml"
-    config.write_text(CONFIG)
+    config.write_text(COARSE.read_text().replace("positions_mm = [0.0]", "positions_mm = [-5.0, 0.0]"))
     cfg = load_config(config)
     sim_cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, method="similarity",
                                                                master_dir=str(tmp_path / "master")))
