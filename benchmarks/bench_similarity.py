@@ -169,9 +169,36 @@ def _timing(cfg, master, tasks) -> dict:
     return {"route_and_interpolation_s": route_s, "with_fit_s": fit_s, "load": os.getloadavg()[0]}
 
 
+def section_rows(cfg, master, tasks, direct: dict, direct_out: Path, workers: int = 2) -> list[dict]:
+    """The served positions with p_y and c_el from their section's elastic solve
+    (:mod:`calibration.similarity.elastic`; solved on ``workers`` processes, cached in ``direct_out/cache``):
+    :func:`compare` against the direct FEM, and each solve's time (s)."""
+    from calibration.similarity.anchor import anchored
+    from calibration.similarity.elastic import section_elastics, with_section
+    from calibration.similarity.route import route, task_indentation
+
+    ranges = (master.aspect_range, master.convexity_range)
+    served = [(t, r) for t in tasks if (r := route(t, ranges)).method == "similarity"]
+    elastics, failed = section_elastics([t for t, _ in served], Path(direct_out) / "cache", workers, "",
+                                        lambda *a: None)
+    rows = []
+    for t, r in served:
+        if t.key in failed:
+            rows.append({"body": t.body, "y_mm": t.y_mm, "failed": failed[t.key]})
+            continue
+        el = elastics[t.key]
+        sim = anchored(task_indentation(master, t, r.convexity), with_section(None, master, t, r.convexity, el),
+                       float(np.sqrt(t.geometry.a_mm * t.geometry.b_mm)))
+        row = {"body": t.body, "y_mm": t.y_mm, "seconds": el.seconds, "n_dofs": el.n_dofs}
+        row.update(compare(direct[t.body, t.y_mm], sim, cfg.load))
+        rows.append(row)
+    return rows
+
+
 def compare_runs(config: Path, direct_out: Path, master_dir: Path, quick: bool = True,
-                 keys_file: Path | None = None) -> dict:
-    """The comparison and timings (``data`` of the report), or what is missing."""
+                 keys_file: Path | None = None, sections: bool = False) -> dict:
+    """The comparison and timings (``data`` of the report), or what is missing; with ``sections`` also the
+    served positions with their section's elastic solve (:func:`section_rows`)."""
     from calibration.similarity.route import route, task_indentation
     from calibration.tasks import make_tasks
 
@@ -198,7 +225,8 @@ def compare_runs(config: Path, direct_out: Path, master_dir: Path, quick: bool =
     return {"config": str(config), "rows": rows, "worst": worst, "served": len(served), "within": len(within),
             "master_fem_s": master.fem_seconds, "master_grid_points": n_fem,
             "master_positions": _master_count(cfg), "substituted": master.substituted,
-            "timing": _timing(cfg, master, tasks), "target": TARGET}
+            "timing": _timing(cfg, master, tasks), "target": TARGET,
+            **({"sections": section_rows(cfg, master, tasks, direct, direct_out)} if sections else {})}
 
 
 def _master_count(cfg) -> int:
@@ -267,6 +295,8 @@ def _markdown(data: dict) -> str:
            f"{data['master_fem_s']:.0f} s of FEM (one worker, machine shared){'; ' + '; '.join(data['substituted']) if data['substituted'] else ''}. "
            f"Per position once the master exists (load {tm['load']:.1f} on 2 cores): route and interpolation "
            f"{1e3 * tm['route_and_interpolation_s']:.1f} ms, with the Prandtl fit {1e3 * tm['with_fit_s']:.0f} ms."]
+    if "sections" in data:
+        md += ["", *_sections_markdown(data["sections"])]
     if "wear" in data:
         w = data["wear"]
         md.append(f"Wear example, tables recalibrated by similarity after every step: {w['recalibrated_s']:.0f} s "
@@ -275,6 +305,31 @@ def _markdown(data: dict) -> str:
                   f"x{w['ratio']:.2f} (target < x{WEAR_TARGET:g}; load {w['runs']['plain']['load_before']:.1f} / "
                   f"{w['runs']['recalibrated']['load_before']:.1f}).")
     return "\n".join(md)
+
+
+def _sections_markdown(rows: list[dict]) -> list[str]:
+    ok = [r for r in rows if "failed" not in r]
+    within = [r for r in ok if max(abs(r["p_y"]), r["u_pl"], r["residual"]) <= TARGET]
+    md = ["With p_y and c_el from each served position's own section (`[run] similarity_elastic = true`: an "
+          "elastic solve of the direct FEM's mesh; the plastic curves from the master at equal p0/p_y), at equal "
+          "p0 as above:", "",
+          "| body | y [mm] | p_y [%] | u_pl worst [%] | u_pl per level [%] | residual worst [%] | "
+          "residual per peak [%] | elastic solve [s] |", "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if "failed" in r:
+            md.append(f"| {r['body']} | {r['y_mm']:g} | failed: {r['failed']} | | | | | |")
+            continue
+        md.append(f"| {r['body']} | {r['y_mm']:g} | {_pct(r['p_y'])} | {100 * r['u_pl']:.2f} | "
+                  f"{' '.join(_pct(e) for e in r['u_pl_per_level'])} | {100 * r['residual']:.2f} | "
+                  f"{' '.join(_pct(e) for e in r['residual_per_peak'])} | {r['seconds']:.1f} |")
+    secs = sorted(r["seconds"] for r in ok)
+    worst = {k: max((abs(r[k]) for r in ok), default=float("nan")) for k in ("p_y", "u_pl", "residual")}
+    md += ["", f"With the sections' elastic solves: within {100 * TARGET:g} % on p_y, u_pl at every level and "
+               f"every residual: {len(within)} of {len(rows)} served positions; worst p_y {100 * worst['p_y']:.2f} %, "
+               f"u_pl {100 * worst['u_pl']:.2f} %, residual {100 * worst['residual']:.2f} %. Elastic solve per "
+               f"position (meshing included, wall time beside the other worker): median {secs[len(secs) // 2] if secs else float('nan'):.1f} s, "
+               f"largest {secs[-1] if secs else float('nan'):.1f} s."]
+    return md
 
 
 def run(mode: str, out: Path) -> dict:
@@ -293,10 +348,13 @@ def main(argv: list[str] | None = None) -> None:
                     help='JSON {"body:y": cache key} of the direct run (when another revision computed it)')
     ap.add_argument("--master", type=Path, default=MASTER, help="the master's FEM cache folder")
     ap.add_argument("--wear", action="store_true", help="also time the wear example with and without recalibration")
+    ap.add_argument("--sections", action="store_true",
+                    help="also serve the positions with p_y and c_el from their sections' elastic solves")
     ap.add_argument("--json", type=Path, default=None, help="also write the numbers here")
     ap.add_argument("--report", type=Path, default=None, help="write the report (markdown, stamped) here")
     args = ap.parse_args(argv)
-    data = compare_runs(args.config, args.direct, args.master, quick=True, keys_file=args.direct_keys)
+    data = compare_runs(args.config, args.direct, args.master, quick=True, keys_file=args.direct_keys,
+                        sections=args.sections)
     if args.wear and "missing" not in data:
         data["wear"] = wear_timing(args.config, args.master)
     if args.json:

@@ -41,7 +41,8 @@ def entry_exists(path: Path) -> bool:
     return path.exists() or path.is_symlink()
 
 
-def _read_json(path: Path) -> tuple[Any, str | None]:
+def read_json_entry(path: Path) -> tuple[Any, str | None]:
+    """(the JSON of the cache entry at ``path``, None), or (None, why it is not usable) through the safe reader."""
     if not entry_exists(path):
         return None, "missing"
     try:
@@ -58,7 +59,7 @@ def _read_json(path: Path) -> tuple[Any, str | None]:
 
 def load_indentation(path: Path) -> tuple[IndentationResult | None, str | None]:
     """(result, None) for a usable FEM cache entry at ``path``, else (None, why it is not usable)."""
-    data, why = _read_json(path)
+    data, why = read_json_entry(path)
     if why:
         return None, why
     try:
@@ -70,7 +71,7 @@ def load_indentation(path: Path) -> tuple[IndentationResult | None, str | None]:
 def load_fit(path: Path, y_mm: float) -> tuple[PositionFit | None, str | None]:
     """(fit, None) for a usable fit cache entry of position ``y_mm`` at ``path``, else (None, why not). The
     characteristic and its parameters are checked as a layer table checks them."""
-    data, why = _read_json(path)
+    data, why = read_json_entry(path)
     if why:
         return None, why
     try:
@@ -82,11 +83,13 @@ def load_fit(path: Path, y_mm: float) -> tuple[PositionFit | None, str | None]:
         return None, str(err)
 
 
-def save_entry(path: Path, record: IndentationResult | PositionFit) -> Path:
-    """Write ``record`` as the cache entry ``path`` (atomically), replacing a folder or file of the wrong kind."""
+def save_entry(path: Path, record) -> Path:
+    """Write ``record`` (a typed record with ``to_dict``: :class:`IndentationResult`, :class:`PositionFit`, a
+    section's elastic solution) as the cache entry ``path`` (atomically), replacing a folder or file of the wrong
+    kind."""
     if path.is_dir() and not path.is_symlink():
         shutil.rmtree(path)
     return atomic_write_text(path, json.dumps(record.to_dict()))
 
 
-__all__ = ["entry_exists", "fem_entry", "fit_entry", "load_fit", "load_indentation", "save_entry"]
+__all__ = ["entry_exists", "fem_entry", "fit_entry", "load_fit", "load_indentation", "read_json_entry", "save_entry"]

@@ -1,0 +1,90 @@
+"""The section's elastic solve of a similarity position: it gives the direct FEM's p_y and elastic compliance (the
+same mesh, load and first-yield search), is cached and read back through the safe reader (an unusable entry is
+solved again), and a similarity result corrected by it takes them while its plastic curves stay the master's at
+equal p0 / p_y (a synthetic master stands in for the 3D FEM master; benchmarks/bench_similarity.py --sections
+measures the real one)."""
+
+import dataclasses
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from calibration.config import load_config, profile_of
+from calibration.fem.material import J2Material
+from calibration.indentation import elastic_response, position_model
+from calibration.similarity.anchor import anchored
+from calibration.similarity.elastic import (SectionElastic, elastic_entry, section_elastic, section_elastics,
+                                            with_section)
+from calibration.similarity.route import route, similar_indentation
+from calibration.tasks import make_tasks
+from wrlayer.errors import InputError
+
+from tests.calibration.test_similarity import _fake_master, _sim_cfg
+
+COARSE = Path(__file__).resolve().parents[2] / "calibration" / "configs" / "test_coarse.toml"
+
+
+def _task(tmp_path):
+    cfg = load_config(COARSE)
+    return cfg, make_tasks(cfg, tmp_path, False)[0][0]
+
+
+def test_the_sections_elastic_solve_gives_the_direct_fems_p_y_and_compliance(tmp_path):
+    cfg, task = _task(tmp_path)
+    got = section_elastic(task)
+    pm = position_model(profile_of(task.profile), task.geometry, task.model, task.mesh)
+    direct = elastic_response(pm, J2Material(**dataclasses.asdict(task.material)), task.geometry, task.mesh,
+                              task.linear_solver)
+    assert got.p_y_MPa == pytest.approx(direct.p_y_MPa, rel=1e-9)
+    assert got.compliance_mm_per_MPa == pytest.approx(direct.compliance_mm_per_MPa["ref"], rel=1e-9)
+    assert got.n_dofs == pm.disc.n_dofs and got.seconds > 0
+
+
+def test_solves_are_cached_and_an_unusable_entry_is_solved_again(tmp_path):
+    cfg, task = _task(tmp_path)
+    cache = tmp_path / "cache"
+    said = []
+    first, failed = section_elastics([task], cache, 1, "", said.append)
+    assert not failed and elastic_entry(cache, task).is_file()
+    again, _ = section_elastics([task], cache, 1, "", said.append)
+    assert again[task.key] == first[task.key] and len(said) == 1  # read back, not solved
+    for bad in ("{}", '{"p_y_MPa": -1}', "not json"):
+        elastic_entry(cache, task).write_text(bad)
+        fresh, _ = section_elastics([task], cache, 1, "", said.append)
+        assert fresh[task.key].p_y_MPa == pytest.approx(first[task.key].p_y_MPa)
+        assert "is invalid" in said[-2] and said[-1].startswith("calibration: elastic solves of 1")
+    elastic_entry(cache, task).unlink()
+    os.mkfifo(elastic_entry(cache, task))  # never a hang: a miss, solved again
+    fresh, _ = section_elastics([task], cache, 1, "", said.append)
+    assert fresh[task.key].p_y_MPa == pytest.approx(first[task.key].p_y_MPa)
+
+
+def test_an_entry_is_validated_field_by_field():
+    good = {"p_y_MPa": 900.0, "compliance_mm_per_MPa": 1e-5, "n_dofs": 10, "seconds": 1.0}
+    assert SectionElastic.from_dict(good) == SectionElastic(900.0, 1e-5, 10, 1.0)
+    for name, value in (("p_y_MPa", 0.0), ("compliance_mm_per_MPa", float("nan")), ("n_dofs", 1.5),
+                        ("seconds", "x"), ("p_y_MPa", True)):
+        with pytest.raises(InputError, match=name):
+            SectionElastic.from_dict(dict(good, **{name: value}), "e.json")
+    with pytest.raises(InputError, match="other"):
+        SectionElastic.from_dict(dict(good, other=1), "e.json")
+
+
+def test_a_similarity_result_takes_the_sections_p_y_and_compliance_and_keeps_the_masters_curves(tmp_path):
+    cfg = _sim_cfg(tmp_path, positions=(0.0,))
+    master = _fake_master(cfg)
+    task = make_tasks(cfg, tmp_path, False)[0][0]
+    c = route(task).convexity
+    plain = similar_indentation(master, task.geometry.a_mm, task.geometry.b_mm, c)
+    el = SectionElastic(0.97 * plain.first_yield_MPa, 1.03 * plain.fem_elastic_compliance_mm_per_MPa, 1, 1.0)
+    length = math.sqrt(task.geometry.a_mm * task.geometry.b_mm)
+    got = anchored(plain, with_section(None, master, task, c, el), length)
+    assert got.first_yield_MPa == pytest.approx(el.p_y_MPa)
+    assert got.fem_elastic_compliance_mm_per_MPa == pytest.approx(el.compliance_mm_per_MPa)
+    q_plain = np.asarray(plain.p_MPa) / plain.first_yield_MPa
+    assert np.allclose(np.asarray(got.p_MPa) / got.first_yield_MPa, q_plain)  # the same levels q = p0 / p_y
+    assert np.allclose(got.u_pl_mm, plain.u_pl_mm) and np.allclose(got.residual_fem_mm, plain.residual_fem_mm)
+    assert np.allclose(got.unload_peaks_MPa, 0.97 * np.asarray(plain.unload_peaks_MPa))
