@@ -47,6 +47,8 @@ def _run(k: Keys) -> RunSettings:
         kw["method"] = k.text("method", choices=METHODS)
     if "similarity_outside" in k.table:
         kw["similarity_outside"] = k.text("similarity_outside", choices=SIMILARITY_OUTSIDE)
+    if "similarity_elastic" in k.table:
+        kw["similarity_elastic"] = k.boolean("similarity_elastic", False)
     if "master_dir" in k.table:
         kw["master_dir"] = k.text("master_dir")
     if "workers" in k.table:

@@ -28,6 +28,7 @@ from calibration.results import IndentationResult, PositionFit
 from calibration.run_summary import CalibrationResult, FemSeconds, SimilaritySummary
 from calibration.settings import CalibrationConfig
 from calibration.similarity.anchor import DirectReference, anchor, anchored, applies, configured_references
+from calibration.similarity.elastic import SectionElastic, section_elastics, with_section
 from calibration.similarity.master import MasterCurves, master_key, master_tasks, stored_master
 from calibration.similarity.route import (METHOD_DIRECT, METHOD_SIMILARITY, SIMILARITY_SOURCES, Route, route,
                                           similarity_task, task_indentation)
@@ -292,13 +293,14 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
             mc.write(mcache)
     files = tuple(str(mc.write(out_dir)) for mc in masters.values() if mc is not None)
     out, code = [], code_hash(SIMILARITY_SOURCES)
+    elastics = _section_elastics(cfg, tasks, masters, out_dir, scheduler, log, warnings)
     t0 = time.perf_counter()
     for t in tasks:
         master = masters[t.material]
         r = route(t, (master.aspect_range, master.convexity_range), outside) if master else \
             Route(METHOD_DIRECT, "the similarity master of its material failed")
         if r.method == METHOD_SIMILARITY:
-            t, r, served, warning = _served(t, master, r, anchoring, code)
+            t, r, served, warning = _served(t, master, r, anchoring, code, elastics.get(t.key))
             if served is not None:
                 results[t.key] = served
             if warning:
@@ -315,25 +317,46 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     return SimilarityRouting(tuple(out), results, routes, tuple(warnings), summary)
 
 
-def _served(t: PositionTask, master: MasterCurves, r: Route, anchoring: Anchoring, code: str
-            ) -> tuple[PositionTask, Route, IndentationResult | None, str]:
+def _section_elastics(cfg: CalibrationConfig, tasks: list[PositionTask], masters: dict, out_dir: Path,
+                      scheduler: str, log, warnings: list[PositionNote]) -> dict[str, SectionElastic]:
+    """{task key: its section's elastic solution} of the positions the masters serve, with
+    ``run.similarity_elastic`` ({} without); a failed solve leaves its position to the master alone, in
+    ``warnings``."""
+    if not cfg.run.similarity_elastic:
+        return {}
+    outside = cfg.run.similarity_outside
+    served = [t for t in tasks if (m := masters[t.material]) is not None
+              and route(t, (m.aspect_range, m.convexity_range), outside).method == METHOD_SIMILARITY]
+    done, failed = section_elastics(served, out_dir / "cache", cfg.run.workers, scheduler, log)
+    warnings.extend(PositionNote(t.body, t.y_mm, f"similarity: the section's elastic solve failed ({failed[t.key]}); "
+                                                 "p_y and c_el from the master") for t in served if t.key in failed)
+    return done
+
+
+def _served(t: PositionTask, master: MasterCurves, r: Route, anchoring: Anchoring, code: str,
+            elastic: SectionElastic | None = None) -> tuple[PositionTask, Route, IndentationResult | None, str]:
     """A position the master serves: (its task keyed by the similarity, its route with the anchoring noted, its
     characteristic, a warning or ""); with ``anchoring.reanchor`` a position whose patch left its reference's is
-    routed to the direct FEM instead (task unchanged, no characteristic)."""
+    routed to the direct FEM instead (task unchanged, no characteristic). ``elastic``: its section's elastic
+    solution, which gives p_y and c_el (:mod:`calibration.similarity.elastic`)."""
     ref = anchoring.references.get((t.body, t.y_mm))
     why_not = applies(ref, t.geometry.a_mm, t.geometry.b_mm, r.convexity) if ref is not None else ""
     if why_not and anchoring.reanchor:  # the patch left its anchor's: its own FEM, the next anchor
         return t, Route(METHOD_DIRECT, f"{why_not}; computed by the direct FEM (the position's new anchor)",
                         r.convexity), None, ""
     ref = None if why_not else ref
-    t = similarity_task(t, master, r.convexity, code, ref)
+    correction = anchor(master, ref) if ref is not None else None
+    if elastic is not None:
+        correction = with_section(correction, master, t, r.convexity, elastic)
+    t = similarity_task(t, master, r.convexity, code, ref, elastic)
     served = task_indentation(master, t, r.convexity)
     # outside the master's domain, served from its nearest point: said in the entry's warnings
     warning = f"similarity: {r.note}" if r.note else ""
-    if ref is not None:
-        served = anchored(served, anchor(master, ref), math.sqrt(t.geometry.a_mm * t.geometry.b_mm))
+    if correction is not None:
+        served = anchored(served, correction, math.sqrt(t.geometry.a_mm * t.geometry.b_mm))
     note = f"anchored to the direct FEM of {ref.source}" if ref is not None else why_not
-    return t, replace(r, note="; ".join(n for n in (r.note, note) if n)), served, warning
+    section = "p_y and c_el from the section's elastic solve" if elastic is not None else ""
+    return t, replace(r, note="; ".join(n for n in (r.note, note, section) if n)), served, warning
 
 
 def _report(result: CalibrationResult, model: str, out_dir: Path, log) -> None:

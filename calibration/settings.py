@@ -43,6 +43,11 @@ class RunSettings:
     similarity_outside : str
         "direct" (a position outside the master's domain by its own FEM) or "nearest" (from the master at the
         nearest point of its domain, the reason in the entry's warnings; the wear loop's recalibration).
+    similarity_elastic : bool
+        Under "similarity": each served position's first-yield pressure p_y and elastic compliance from an elastic
+        solve of its own section (meshing, one factorisation, one solve: a few seconds a position, cached in
+        OUT/cache) instead of the master's; the plastic curves from the master at equal p0 / p_y
+        (:mod:`calibration.similarity.elastic`; docs/calibration.md, "Calibration by similarity").
     master_dir : str
         Folder of the similarity master's FEM cache, shared between runs ("" : the run's own OUT/cache).
     workers : int
@@ -58,6 +63,7 @@ class RunSettings:
     model: str = "3d"
     method: str = "direct"
     similarity_outside: str = "direct"
+    similarity_elastic: bool = False
     master_dir: str = ""
     workers: int = 2
     scheduler: str = ""

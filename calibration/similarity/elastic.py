@@ -6,7 +6,7 @@ block (the rail's gauge side, the wheel's rim; ``docs/validation/similarity.md``
 about ten times as much, because the load levels are multiples of p_y. p_y and the elastic centre compliance c_el
 are properties of the elastic solution alone: one elastic solve of the position's own mesh (the direct FEM's mesh,
 load and first-yield search, :func:`calibration.indentation.local_first_yield_MPa`) gives them exactly as the
-direct FEM does, for the cost of meshing, one factorisation and one solve (about a fifth of a direct position).
+direct FEM does, for the cost of meshing, one factorisation and one solve (about a quarter of a direct position).
 The master then gives the plastic part at equal p0 / p_y:
 
     p_y = p_y,section,   c_el = c_el,section,   u_pl(q p_y) = L U_m(q),   residual(f p_y) = L R_m(f)

@@ -131,13 +131,16 @@ def task_indentation(master: MasterCurves, task: PositionTask, convexity: float)
 
 
 def similarity_task(task: PositionTask, master: MasterCurves, convexity: float, code: str | None = None,
-                    reference=None) -> PositionTask:
+                    reference=None, elastic=None) -> PositionTask:
     """``task`` keyed by the master, its geometry and its surface convexity instead of its own FEM inputs (the
-    fit's cache key), and by the direct FEM ``reference`` that anchors it
-    (:class:`calibration.similarity.anchor.DirectReference`; None: not anchored)."""
+    fit's cache key), by the direct FEM ``reference`` that anchors it
+    (:class:`calibration.similarity.anchor.DirectReference`; None: not anchored) and by its section's elastic
+    solution (:class:`calibration.similarity.elastic.SectionElastic`; None: none)."""
     key = inputs_hash({"similarity": master.key, "geometry": task.geometry.to_dict(), "convexity": convexity,
                        "code": code or code_hash(SIMILARITY_SOURCES),
-                       **({"anchor": asdict(reference)} if reference is not None else {})})
+                       **({"anchor": asdict(reference)} if reference is not None else {}),
+                       **({"section": [elastic.p_y_MPa, elastic.compliance_mm_per_MPa]} if elastic is not None
+                          else {})})
     return replace(task, key=key, fields_dir=None)
 
 

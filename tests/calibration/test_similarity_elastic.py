@@ -88,3 +88,23 @@ def test_a_similarity_result_takes_the_sections_p_y_and_compliance_and_keeps_the
     assert np.allclose(np.asarray(got.p_MPa) / got.first_yield_MPa, q_plain)  # the same levels q = p0 / p_y
     assert np.allclose(got.u_pl_mm, plain.u_pl_mm) and np.allclose(got.residual_fem_mm, plain.residual_fem_mm)
     assert np.allclose(got.unload_peaks_MPa, 0.97 * np.asarray(plain.unload_peaks_MPa))
+
+
+def test_a_similarity_run_with_similarity_elastic_takes_each_sections_p_y_and_says_so(tmp_path):
+    from calibration.pipeline import calibrate
+    from wrlayer.layer_table import LayerTable
+
+    cfg = _sim_cfg(tmp_path, positions=(0.0,))
+    cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, similarity_elastic=True))
+    _fake_master(cfg)
+    result = calibrate(cfg, tmp_path / "out", show_progress=False, log=lambda *a: None)
+    entry = LayerTable.read(result.tables["rail"]).positions[0]
+    own = section_elastic(make_tasks(cfg, tmp_path, False)[0][0])
+    assert entry["method"] == "similarity"
+    assert entry["first_yield_fem_MPa"] == pytest.approx(own.p_y_MPa, rel=1e-9)
+    assert entry["fem"]["fem_elastic_compliance_mm_per_MPa"] == pytest.approx(own.compliance_mm_per_MPa, rel=1e-9)
+    note = result.to_dict()["bodies"]["rail"]["position_details"][0]["note"]
+    assert "p_y and c_el from the section's elastic solve" in note
+    said = []
+    calibrate(cfg, tmp_path / "out", show_progress=False, log=said.append)
+    assert not any("elastic solves" in s for s in said)  # cached: nothing solved again
