@@ -27,9 +27,8 @@ from typing import Any
 
 from calibration.cache import entry_exists, read_json_entry, save_entry
 from calibration.config import profile_of
-from calibration.fem.elastoplastic_solver import SolverOptions, solve_load_path
 from calibration.fem.material import J2Material
-from calibration.indentation import local_first_yield_MPa, position_model
+from calibration.indentation import elastic_response, position_model
 from calibration.similarity.anchor import Anchor
 from calibration.similarity.master import MasterCurves
 from calibration.similarity.route import similar_indentation
@@ -82,19 +81,14 @@ class SectionElastic:
 
 
 def section_elastic(task: PositionTask) -> SectionElastic:
-    """The elastic solve of ``task``'s own 3D model (its mesh, Dirichlet map and probes as the direct FEM builds
-    them). Raises InputError (mesh) or ConvergenceError."""
+    """The elastic solve of ``task``'s own 3D model (:func:`calibration.indentation.elastic_response` on the mesh,
+    Dirichlet map and probes the direct FEM builds). Raises InputError (mesh, degenerate solution) or
+    ConvergenceError."""
     t0 = time.perf_counter()
-    material = J2Material(**asdict(task.material))
     pm = position_model(profile_of(task.profile), task.geometry, task.model, task.mesh)
-    elastic = solve_load_path(pm.mesh, material, pm.load, [1.0], disc=pm.disc, probes=pm.probes,
-                              options=SolverOptions(dirichlet=pm.dirichlet, linear_solver=task.linear_solver))
-    p_y = local_first_yield_MPa(pm.disc, elastic, material, task.mesh.yield_search_radius_factor * task.geometry.b_mm)
-    h = elastic.history[-1]
-    c_el = h.u_centre_mm - h.probes_mm["ref"]
-    if not (math.isfinite(p_y) and p_y > 0 and math.isfinite(c_el) and c_el > 0):
-        raise InputError(task.label, f"the section's elastic solution is degenerate (p_y = {p_y}, compliance {c_el})")
-    return SectionElastic(float(p_y), float(c_el), int(pm.disc.n_dofs), time.perf_counter() - t0)
+    el = elastic_response(pm, J2Material(**asdict(task.material)), task.geometry, task.mesh, task.linear_solver)
+    return SectionElastic(float(el.p_y_MPa), float(el.compliance_mm_per_MPa["ref"]), int(pm.disc.n_dofs),
+                          time.perf_counter() - t0)
 
 
 @dataclass(frozen=True)
