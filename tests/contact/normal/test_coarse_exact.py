@@ -146,3 +146,22 @@ def test_a_warm_start_refits_when_the_patch_outgrows_the_kept_grid():
     assert (warm.solves, warm.kept) == (1, 0)
     for key in ("p_max_MPa", "area_mm2", "delta_mm"):
         assert getattr(big, key) == pytest.approx(getattr(cold, key), rel=0.02), key
+
+
+def test_a_rough_solve_stops_on_the_fitted_grid_and_a_warm_solve_finishes_it():
+    """``rough`` (the balance's first point): the same fitted grid as the full solve, without the last solve to the
+    tolerance (fewer CG steps, p_max within the placing tolerance); a warm solve started from it at the same
+    force gives the full solve's solution within the CG tolerance."""
+    from contact.normal.coarse_exact import CoarseWarmStart
+
+    prob = flat_topped()
+    full = solve_coarse_exact(prob)
+    warm = CoarseWarmStart()
+    rough = solve_coarse_exact(prob, warm=warm, rough=True)
+    assert rough.iterations["grid_cells"] == full.iterations["grid_cells"]
+    assert rough.iterations["cg_iterations"] < full.iterations["cg_iterations"]
+    assert rough.p_max_MPa == pytest.approx(full.p_max_MPa, rel=1e-2)
+    again = solve_coarse_exact(prob, warm=warm)
+    assert (warm.solves, warm.kept) == (1, 1)
+    for key in ("p_max_MPa", "area_mm2", "delta_mm"):
+        assert getattr(again, key) == pytest.approx(getattr(full, key), rel=1e-4), key
