@@ -165,3 +165,18 @@ def test_a_rough_solve_stops_on_the_fitted_grid_and_a_warm_solve_finishes_it():
     assert (warm.solves, warm.kept) == (1, 1)
     for key in ("p_max_MPa", "area_mm2", "delta_mm"):
         assert getattr(again, key) == pytest.approx(getattr(full, key), rel=1e-4), key
+
+
+def test_expanded_columns_are_the_tables_columns():
+    """The influence matrix expanded for the CG (lines on a lattice with a gap) holds exactly the table's columns."""
+    from contact.normal.coarse_cg import _add_column, influence_columns
+    from contact.normal.coarse_grid import CoarseGrid, influence_table
+
+    rows = np.array([0, 1, 2, 5, 6])
+    grid = CoarseGrid(0.2 * rows, rows, 0.5 * np.arange(4), 0.2, 0.5, 0.1)
+    k = influence_table(grid, 1e-5)
+    cols = influence_columns(k, rows)
+    for j in range(rows.size * 4):
+        expected = np.zeros(rows.size * 4)
+        _add_column(k, rows, 4, j, 1.0, expected)
+        np.testing.assert_array_equal(cols[j], expected)
