@@ -180,3 +180,16 @@ def test_expanded_columns_are_the_tables_columns():
         expected = np.zeros(rows.size * 4)
         _add_column(k, rows, 4, j, 1.0, expected)
         np.testing.assert_array_equal(cols[j], expected)
+
+
+def test_resampling_is_numpys_interpolation_row_by_row():
+    """The compiled resampling of a pressure between grids gives np.interp's values (0 outside) bit for bit."""
+    from contact.normal.coarse_grid import _interp_rows
+
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        xp = np.unique(rng.uniform(-3.0, 3.0, int(rng.integers(2, 30))))
+        x = np.sort(np.concatenate([rng.uniform(-4.0, 4.0, int(rng.integers(1, 30))), xp[[0, -1]]]))
+        fp = rng.uniform(0.0, 5.0, (int(rng.integers(1, 20)), xp.size))
+        expected = np.array([np.interp(x, xp, row, left=0.0, right=0.0) for row in fp])
+        np.testing.assert_array_equal(_interp_rows(x, xp, fp), expected)
