@@ -189,8 +189,8 @@ def test_exact_theory_on_the_coarse_grid_of_a_coarse_solution():
     """A coarse-grid normal solution (coarse_exact) is solved by the exact theory on the coarse grid itself (its
     lines, not the strips; its pressure, not a raster of the strips): the rows are the grid's loaded lines, and the
     creep forces are within 3 % of mu N of the exact theory on the exact normal solution (0.1 mm strips, 48 cells;
-    measured 2.4 %: the first-order error of the rolling slip on 12 cells along x, which a raster of the strips
-    with 12 cells shares, 2.0 %); two separated regions of a coarse grid (no lines in the gap) give one result each."""
+    measured 2.4 %: mostly the first-order error of the rolling slip on 12 cells along x; a raster of the strips
+    with 12 cells, the earlier way, 1.2 %); two separated regions of a coarse grid (no lines in the gap) give one result each."""
     from contact.normal.coarse_exact import solve_coarse_exact
     from contact.normal.exact import solve_exact
     from contact.normal.kik_piotrowski import NormalProblem
