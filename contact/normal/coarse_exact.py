@@ -51,7 +51,7 @@ from contact.normal.halfspace import compliance_factor
 from contact.normal.kik_piotrowski import hertz_like_guess
 from contact.normal.patch import Patch
 from contact.normal.problem import NormalProblem
-from contact.normal.solution import NormalSolution, RegionSolution
+from contact.normal.solution import GridPressure, NormalSolution, RegionSolution
 from wrlayer.errors import ConvergenceError, InputError, require
 from wrlayer.jit import kernel
 
@@ -151,13 +151,13 @@ def _located(prob, layer, opts, factor, stats, shape, delta_box):
                            "rebuilds")
 
 
-def _fitted(prob, layer, opts, factor, stats, shape, grid, p, fitted: tuple | None = None):
+def _fitted(prob, layer, opts, factor, stats, shape, grid, p, fitted: tuple | None = None, rough: bool = False):
     """Solve with about shape[0] lines over the runs of loaded lines of ``p`` on ``grid`` and shape[1] cells over
     its loaded cells, plus :data:`MARGIN` (:func:`loaded_spans`), refitted to the new solution until no end moves
     by more than a cell; an interval end (or x end) the pressure reaches is moved out by half the interval: (grid,
     p, delta, u_L, f, (spans, x span) the grid was fitted to). ``fitted``: the (spans, x span) ``grid`` itself was
     fitted to (a warm start): the first solve is on ``grid``, to the full tolerance, and the last when the grid
-    need not move."""
+    need not move. ``rough``: the fitted grid's solution at :data:`ROUGH_TOL` is the last (not solved to ``tol``)."""
     spans, x_span = loaded_spans(grid, p) if fitted is None else fitted
     for it in range(opts.max_boxes):
         final = fitted is not None and it == 0
@@ -190,7 +190,7 @@ def _fitted(prob, layer, opts, factor, stats, shape, grid, p, fitted: tuple | No
         if len(want) == len(spans) and all(abs(a - c) <= grid.dy and abs(b - d) <= grid.dy
                                            for (a, b), (c, d) in zip(want, spans)) \
                 and abs(want_x[0] - x_span[0]) <= grid.dx and abs(want_x[1] - x_span[1]) <= grid.dx:
-            if not final:
+            if not final and not rough:
                 p, delta, u_l, f = _solve_on(prob, grid, layer, p, opts, factor, stats)      # to the full tolerance
             return grid, p, delta, u_l, f, (spans, x_span)
         spans, x_span = want, want_x
@@ -199,12 +199,15 @@ def _fitted(prob, layer, opts, factor, stats, shape, grid, p, fitted: tuple | No
 
 
 def solve_coarse_exact(prob: NormalProblem, layer: LayerPair | None = None, options: CoarseOptions = CoarseOptions(),
-                       delta_guess_mm: float | None = None, warm: CoarseWarmStart | None = None) -> NormalSolution:
+                       delta_guess_mm: float | None = None, warm: CoarseWarmStart | None = None,
+                       rough: bool = False) -> NormalSolution:
     """Solve the normal contact on the coarse grid (module docstring); the layers are not modified.
     ``delta_guess_mm``: the approach of a nearby solve (mm; e.g. the previous step of the wheel-rail balance): the
     first grid covers {f < delta_guess / 2} instead of a locating solve from the Hertz-like estimate. ``warm``: the
     last solve of the same problem at another force (:class:`CoarseWarmStart`; read and updated): when it matches,
-    the solve starts on its grid (``delta_guess_mm`` is then not needed)."""
+    the solve starts on its grid (``delta_guess_mm`` is then not needed). ``rough``: a start only (the wheel–rail
+    balance's first point, never its result): a cold solve ends on its fitted grid at :data:`ROUGH_TOL` (not
+    solved again to ``tol``; a warm solve started from it is)."""
     factor = compliance_factor(prob.E_MPa, prob.poisson)
     lay = LineLayers(layer, prob)
     stats = {"cg_iterations": 0, "layer_iterations": 0, "boxes": 0}
@@ -218,7 +221,8 @@ def solve_coarse_exact(prob: NormalProblem, layer: LayerPair | None = None, opti
         warm.kept += int(grid is start[0])
     else:
         grid, p, delta, u_l, f, fitted = _fitted(prob, lay, options, factor, stats, shape,
-                                                 *_first_grid(prob, lay, options, factor, stats, half, delta_guess_mm))
+                                                 *_first_grid(prob, lay, options, factor, stats, half, delta_guess_mm),
+                                                 rough=rough)
     if warm is not None:
         warm.keep(prob, layer, options, grid, fitted, p)
     sol = _outputs(prob, lay, grid, p, delta, u_l, f)
@@ -346,11 +350,19 @@ def _outputs(prob, lay: LineLayers, grid: CoarseGrid, p, delta, u_l, f):
         ir = int(np.argmax(p[kr]))
         strips.append((grid.y[run], line_max[run], half, p[run].sum(axis=1) * grid.dx, y_lo, y_hi,
                        float(u_l[kr, ir]), float(delta - f[kr, ir])))
-    return grid, float(p.max()), float(delta), float(area), length, width, strips
+    return grid, float(p.max()), float(delta), float(area), length, width, strips, _grid_pressure(grid, p)
+
+
+def _grid_pressure(grid: CoarseGrid, p: np.ndarray) -> GridPressure:
+    """The grid's pressure on every lattice line from its first to its last (zeros in the gaps between runs)."""
+    full = np.zeros((int(grid.rows[-1] - grid.rows[0]) + 1, grid.x.size))
+    full[grid.rows - grid.rows[0]] = p
+    y = grid.y[0] + (np.arange(full.shape[0])) * grid.dy
+    return GridPressure(grid.x.copy(), y, full)
 
 
 def _solution(prob: NormalProblem, layer, out, stats, options) -> NormalSolution:
-    grid, p_max, delta, area, length, width, runs = out
+    grid, p_max, delta, area, length, width, runs, on_grid = out
     ys, h = prob.strip_y_mm, prob.grid_mm
     p_peak = np.zeros(ys.size)
     patches, regions = [], []
@@ -381,4 +393,5 @@ def _solution(prob: NormalProblem, layer, out, stats, options) -> NormalSolution
         patches=patches, regions=regions, delta_mm=delta, delta0_mm=float(prob.alpha * delta), p_max_MPa=p_max,
         length_mm=length, width_mm=width, area_mm2=area, u0_mm=float(main.u_layer_mm), strip_y_mm=ys,
         p_peak_MPa=p_peak, iterations=iterations, residual_N=n_total - prob.normal_force_N,
-        elastic=layer_is_elastic(layer, ys, h, p_peak), normal_force_N=n_total, method="coarse_exact", field=None)
+        elastic=layer_is_elastic(layer, ys, h, p_peak), normal_force_N=n_total, method="coarse_exact", field=None,
+        grid_pressure=on_grid)

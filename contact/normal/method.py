@@ -124,7 +124,7 @@ def solve_normal_with(prob: NormalProblem, layer: LayerPair | None = None, *extr
     **kwargs
         Passed on to :func:`~contact.normal.kik_piotrowski.solve_normal` (``delta_guess_mm``, ``rtol_N``,
         ``loglog_slope_guess``) or :func:`~contact.normal.exact.solve_exact` (the same, for its KP start, and
-        ``start``, ``cg_tol``); "coarse_exact" takes ``delta_guess_mm`` and ``warm`` only (the others are KP's).
+        ``start``, ``cg_tol``); "coarse_exact" takes ``delta_guess_mm``, ``warm`` and ``rough`` only (the others are KP's).
 
     Returns
     -------
@@ -153,7 +153,8 @@ def solve_normal_with(prob: NormalProblem, layer: LayerPair | None = None, *extr
 
         # it starts from a nearby approach and the balance's last grid (warm); the KP iteration's guesses
         # (loglog_slope_guess, rtol_N) are not its
-        return solve_coarse_exact(prob, layer, delta_guess_mm=kwargs.get("delta_guess_mm"), warm=kwargs.get("warm"))
+        return solve_coarse_exact(prob, layer, delta_guess_mm=kwargs.get("delta_guess_mm"), warm=kwargs.get("warm"),
+                                  rough=bool(kwargs.get("rough", False)))
     # exact.py is imported here: the Kik-Piotrowski path does not need it
     from contact.normal.exact import solve_exact
 

@@ -7,13 +7,14 @@ arrays stay available as attributes). Units: mm, N, MPa.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from contact.normal.patch import Patch
 
-__all__ = ["NormalNumbers", "NormalSolution", "RegionSolution"]
+__all__ = ["GridPressure", "NormalNumbers", "NormalSolution", "RegionSolution"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -61,6 +62,21 @@ class RegionSolution:
     def __repr__(self) -> str:
         return (f"RegionSolution(strips {int(self.strips[0])}..{int(self.strips[-1])}, reference={self.reference}, "
                 f"p0={self.p0_MPa:.6g} MPa, N={self.normal_force_N:.6g} N, u_layer={self.u_layer_mm:.6g} mm)")
+
+
+@dataclass(frozen=True, repr=False)
+class GridPressure:
+    """A pressure on a uniform grid of cells: x_mm (nx,) cell centres along the rolling direction, y_mm (ny,)
+    line centres (the solution's strip coordinate; a line of no contact carries zeros), p_MPa (ny, nx) (mm, MPa).
+    The coarse-grid solver's own grid (:mod:`contact.normal.coarse_exact`), on which the exact tangential theory
+    solves its patches (:mod:`contact.tangential.method`)."""
+
+    x_mm: np.ndarray
+    y_mm: np.ndarray
+    p_MPa: np.ndarray
+
+    def __repr__(self) -> str:
+        return f"GridPressure({self.y_mm.size} lines x {self.x_mm.size} cells)"
 
 
 @dataclass(frozen=True, kw_only=True, repr=False)
@@ -128,12 +144,15 @@ class NormalSolution(NormalNumbers):
         The normal solver that produced it: "kik_piotrowski" or "exact".
     field : ExactField or None
         The exact solver's pressure grid (:class:`contact.normal.exact_field.ExactField`), None for Kik-Piotrowski.
+    grid_pressure : GridPressure or None
+        The coarse-grid solver's pressure on its own grid (its lines need not be strips), None for the others.
     """
 
     patches: list[Patch]
     regions: list[RegionSolution]
     method: str = "kik_piotrowski"
     field: object = None
+    grid_pressure: GridPressure | None = dataclasses.field(default=None, compare=False)  # `field` is taken above
 
     def __repr__(self) -> str:
         return (f"NormalSolution({self.method}: N={self.normal_force_N:.6g} N, delta={self.delta_mm:.6g} mm, "

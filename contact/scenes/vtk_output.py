@@ -29,6 +29,7 @@ import numpy as np
 
 from contact.normal.patch import Patch
 from contact.tangential.fastsim import TangentialResult, sample_on_grid
+from contact.tangential.method import strip_rows
 
 #: The folder (inside a result folder) of the VTK files and the collection's name.
 VTK_DIR = "vtk"
@@ -140,10 +141,11 @@ def scene_items(run) -> list[PatchFields]:
         added = None if total is None else total - (0.0 if previous is None else previous)
         previous = total
         y = snap.solution.strip_y_mm
+        tangential = strip_rows(snap.tangential, snap.solution)
         for i, patch in enumerate(snap.solution.patches):
             def on_strips(v):
                 return None if v is None else np.interp(patch.y_mm, y, v)
-            items.append(PatchFields(patch, snap.tangential[i], on_strips(total), on_strips(added), snap.number,
+            items.append(PatchFields(patch, tangential[i], on_strips(total), on_strips(added), snap.number,
                                      f"patch{i}", f"pass{snap.number:03d}_patch{i}"))
     return items
 
@@ -166,7 +168,8 @@ def sweep_patches(all_sols: list) -> Iterator[tuple]:
                 total = _layer_sum(recs[-1]) if recs else None
                 before = _layer_sum(recs[-2]) if len(recs) > 1 else None
                 added = None if total is None else total - (0.0 if before is None else before)
-                tangential = p.tangential or [None] * len(p.normal.patches)     # [] without friction
+                tangential = strip_rows(p.tangential or [None] * len(p.normal.patches),     # [] without friction
+                                        p.normal, p.eta_ref_mm)
                 for r, (patch, tang) in enumerate(zip(p.normal.patches, tangential)):
                     def on_strips(v):
                         return None if v is None else np.interp(patch.y_mm, y, v)

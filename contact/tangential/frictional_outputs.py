@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from contact.tangential.fastsim import TangentialResult
+from contact.tangential.method import strip_rows
 from wrlayer.atomic_write import atomic_write_text
 
 STRIP_FILE = "frictional_strips.csv"
@@ -115,7 +116,7 @@ def write_scene_run(run, out_dir: Path) -> list[str]:
     snaps = getattr(run, "every_pass", None) or [run.first] + ([run.last] if run.last is not run.first else [])
     items = []
     for snap in snaps:
-        for i, (lp, t) in enumerate(zip(snap.local_patches, snap.tangential)):
+        for i, (lp, t) in enumerate(zip(snap.local_patches, strip_rows(snap.tangential, snap.solution))):
             items.append(({"pass": snap.number, "region": i}, t, lp.y_mm + snap.y_ref_mm[i], lp.x_lead_mm,
                           lp.p_peak_MPa, {}))
     return write_tables(out_dir, frictional_tables(items))
@@ -136,6 +137,7 @@ def write_wheel_rail(sols: list, out_dir: Path) -> list[str]:
                 normals = getattr(p, "pass_normals", None) or [p.normal]
                 for npass, normal in enumerate(normals, start=1):
                     tang = p.tangential if npass == 1 else sol.pass_tangential(p, normal)
+                    tang = strip_rows(tang, normal, p.eta_ref_mm)
                     if [t.WT_N_per_mm.size for t in tang] != [q.n_strips for q in normal.patches]:
                         # pass 1 re-solved on other strips than the balance's last solve (the coarse-grid
                         # solver's grid depends on its start): FASTSIM on that pass's solution, as for later passes

@@ -31,10 +31,14 @@ from contact.tangential.fastsim import Creepage, StripCells, TangentialResult, e
 from contact.tangential.spin_centre import solve_about_centroid
 from wrlayer.errors import ConvergenceError, require
 
-__all__ = ["TANGENTIAL_METHODS", "PressureGrid", "solve_on_grid", "solve_for_normal_solution"]
+__all__ = ["ROW_FIELDS", "TANGENTIAL_METHODS", "PressureGrid", "on_strips", "solve_on_grid", "solve_for_normal_solution",
+           "strip_rows"]
 
 #: Values of ``method.tangential``.
 TANGENTIAL_METHODS = ("fastsim", "fastrip", "exact")
+#: The per-row fields of a TangentialResult (one row per strip or grid line).
+ROW_FIELDS = ("dx_mm", "x_mm", "pn_MPa", "tx_MPa", "ty_MPa", "slip", "slip_velocity_mm_s", "PT_W_per_mm2",
+              "WT_field_N_per_mm", "WT_N_per_mm")
 
 
 @dataclass(frozen=True)
@@ -234,10 +238,12 @@ def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, fric
         require(bool(np.any(p.p_peak_MPa > 0) and np.any(p.x_lead_mm > 0)), f"patch {k + 1}",
                 f"carries no pressure: no tangential solution ({method})")
     exact_field = getattr(solution, "field", None) is not None
-    if method == "exact" and exact_field:
+    on_grid = getattr(solution, "grid_pressure", None)
+    if method == "exact" and (exact_field or on_grid is not None):
+        grid = PressureGrid.from_exact(solution, y_ref_mm=origin_y_mm) if exact_field else \
+            PressureGrid(on_grid.x_mm, on_grid.y_mm - origin_y_mm, on_grid.p_MPa)
         with _naming("patches 1.." + str(len(patches)), method):
-            return solve_on_grid(PressureGrid.from_exact(solution, y_ref_mm=origin_y_mm), creepage, friction, G_MPa,
-                                 poisson, "exact", speed_mm_s, nx, options, start)
+            return solve_on_grid(grid, creepage, friction, G_MPa, poisson, "exact", speed_mm_s, nx, options, start)
     out = []
     same = start is not None and len(start) == len(patches)
     for k, patch in enumerate(patches):
@@ -265,6 +271,26 @@ def _one_patch(solution, k: int, patch: Patch, creepage: Creepage, friction, G_M
         return solve_about_centroid(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx,
                                     flexibility=flexibility, **kw)
     return solve_fastrip(patch, creepage, G_MPa, poisson, friction, speed_mm_s, nx, start=start, **kw)
+
+
+def on_strips(result: TangentialResult, y_mm: np.ndarray) -> TangentialResult:
+    """``result`` with one row per strip at ``y_mm`` (mm, the frame of ``result.y_mm``): each strip takes the row of
+    the result's line nearest to it; the totals (forces, moment, areas, maxima) stay the solve's."""
+    y = np.asarray(y_mm, dtype=float)
+    k = np.abs(np.asarray(result.y_mm)[None, :] - y[:, None]).argmin(axis=1)
+    return replace(result, y_mm=y, **{name: np.asarray(getattr(result, name))[k] for name in ROW_FIELDS})
+
+
+def strip_rows(results: list, solution: NormalSolution, origin_y_mm: float = 0.0) -> list:
+    """The tangential results of ``solution``'s patches (its order; None entries kept) with one row per strip, for
+    the writers that pair them with the strips: the exact theory on a coarse-grid solution solved on the grid's
+    lines (:func:`solve_for_normal_solution`), so each strip takes its nearest line (:func:`on_strips`); other
+    results are returned as they are. ``origin_y_mm``: the results' strip origin in the solution's strip
+    coordinate (mm)."""
+    if getattr(solution, "grid_pressure", None) is None:
+        return list(results)
+    return [on_strips(t, q.y_mm - origin_y_mm) if t is not None and t.method == "exact" else t
+            for q, t in zip(solution.patches, results)]
 
 
 @contextmanager

@@ -56,6 +56,11 @@ class PatchSolution:
                 f"passes={len(self.passes)})")
 
     @property
+    def eta_ref_mm(self) -> float:
+        """The reference point in the problem's strip coordinate (mm): the tangential results' strip origin."""
+        return self.strip_sign * self.reference.eta_mm if self.reference is not None else 0.0
+
+    @property
     def vertical_N(self) -> float:
         """Z component of the contact force on the wheel (track frame): N cos(gamma) + F_s sin(gamma) (N)."""
         return float(self.force_track_N()[2])
@@ -110,8 +115,7 @@ class WheelRailSolution:
     def pass_tangential(self, patch: PatchSolution, normal: NormalSolution) -> list[TangentialResult]:
         """FASTSIM on another pass's normal solution of ``patch``, exactly as the balance solved its first pass (the
         same creepages, reference point and, with the exact solver, pressures)."""
-        eta_ref = patch.strip_sign * patch.reference.eta_mm if patch.reference is not None else 0.0
-        return patch_tangential(normal, patch.kinematics, self.inputs, eta_ref)
+        return patch_tangential(normal, patch.kinematics, self.inputs, patch.eta_ref_mm)
 
 
 __all__ = ["PatchSolution", "WheelRailSolution"]

@@ -146,3 +146,50 @@ def test_a_warm_start_refits_when_the_patch_outgrows_the_kept_grid():
     assert (warm.solves, warm.kept) == (1, 0)
     for key in ("p_max_MPa", "area_mm2", "delta_mm"):
         assert getattr(big, key) == pytest.approx(getattr(cold, key), rel=0.02), key
+
+
+def test_a_rough_solve_stops_on_the_fitted_grid_and_a_warm_solve_finishes_it():
+    """``rough`` (the balance's first point): the same fitted grid as the full solve, without the last solve to the
+    tolerance (fewer CG steps, p_max within the placing tolerance); a warm solve started from it at the same
+    force gives the full solve's solution within the CG tolerance."""
+    from contact.normal.coarse_exact import CoarseWarmStart
+
+    prob = flat_topped()
+    full = solve_coarse_exact(prob)
+    warm = CoarseWarmStart()
+    rough = solve_coarse_exact(prob, warm=warm, rough=True)
+    assert rough.iterations["grid_cells"] == full.iterations["grid_cells"]
+    assert rough.iterations["cg_iterations"] < full.iterations["cg_iterations"]
+    assert rough.p_max_MPa == pytest.approx(full.p_max_MPa, rel=1e-2)
+    again = solve_coarse_exact(prob, warm=warm)
+    assert (warm.solves, warm.kept) == (1, 1)
+    for key in ("p_max_MPa", "area_mm2", "delta_mm"):
+        assert getattr(again, key) == pytest.approx(getattr(full, key), rel=1e-4), key
+
+
+def test_expanded_columns_are_the_tables_columns():
+    """The influence matrix expanded for the CG (lines on a lattice with a gap) holds exactly the table's columns."""
+    from contact.normal.coarse_cg import _add_column, influence_columns
+    from contact.normal.coarse_grid import CoarseGrid, influence_table
+
+    rows = np.array([0, 1, 2, 5, 6])
+    grid = CoarseGrid(0.2 * rows, rows, 0.5 * np.arange(4), 0.2, 0.5, 0.1)
+    k = influence_table(grid, 1e-5)
+    cols = influence_columns(k, rows)
+    for j in range(rows.size * 4):
+        expected = np.zeros(rows.size * 4)
+        _add_column(k, rows, 4, j, 1.0, expected)
+        np.testing.assert_array_equal(cols[j], expected)
+
+
+def test_resampling_is_numpys_interpolation_row_by_row():
+    """The compiled resampling of a pressure between grids gives np.interp's values (0 outside) bit for bit."""
+    from contact.normal.coarse_grid import _interp_rows
+
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        xp = np.unique(rng.uniform(-3.0, 3.0, int(rng.integers(2, 30))))
+        x = np.sort(np.concatenate([rng.uniform(-4.0, 4.0, int(rng.integers(1, 30))), xp[[0, -1]]]))
+        fp = rng.uniform(0.0, 5.0, (int(rng.integers(1, 20)), xp.size))
+        expected = np.array([np.interp(x, xp, row, left=0.0, right=0.0) for row in fp])
+        np.testing.assert_array_equal(_interp_rows(x, xp, fp), expected)
