@@ -11,7 +11,11 @@ FEM position each), each against the worn profile's direct FEM at equal p0 (MPa)
 reference is the configuration the shipped tables come from and its direct run's tables.
 
     python -m benchmarks.bench_similarity_worn --reference-config calibration/configs/default.toml
-        --reference DIRECT_OUT --master MASTER_DIR --worn WORN.toml:WORN_DIRECT_OUT [...] [--report FILE]
+        --reference DIRECT_OUT --master MASTER_DIR --worn WORN.toml:WORN_DIRECT_OUT [...] [--sections]
+        [--report FILE]
+
+(``--sections``: also the loop's rule with p_y and c_el from each position's own section,
+:mod:`calibration.similarity.elastic`.)
 
 Each ``WORN_DIRECT_OUT`` is ``wrlayer calibrate WORN.toml --out WORN_DIRECT_OUT`` with ``run.method = "direct"``;
 the worn cases of the report are ``benchmarks/data/similarity_worn/worn_3000km.toml`` (the wear example's profiles
@@ -51,10 +55,13 @@ def references(ref_config: Path, ref_out: Path) -> dict:
     return out
 
 
-def worn_case(worn_config: Path, worn_out: Path, master, refs: dict) -> list[dict]:
+def worn_case(worn_config: Path, worn_out: Path, master, refs: dict, sections: bool = False) -> list[dict]:
     """One row per position of ``worn_config``: the master's errors, the errors anchored everywhere and those of
-    the wear loop's rule (anchored where :func:`calibration.similarity.anchor.applies`, else the master's)."""
+    the wear loop's rule (anchored where :func:`calibration.similarity.anchor.applies`, else the master's); with
+    ``sections`` also the loop's rule with p_y and c_el from each position's own section
+    (:mod:`calibration.similarity.elastic`, solved on 2 workers and cached in ``worn_out/cache``)."""
     from calibration.similarity.anchor import anchor, anchored, applies
+    from calibration.similarity.elastic import section_elastics, with_section
     from calibration.similarity.route import route, task_indentation
     from calibration.tasks import make_tasks
 
@@ -64,6 +71,7 @@ def worn_case(worn_config: Path, worn_out: Path, master, refs: dict) -> list[dic
         raise SystemExit(f"error: {worn_out}: {missing}")
     tasks, _, _ = make_tasks(cfg, Path(tempfile.gettempdir()), False)
     ranges = (master.aspect_range, master.convexity_range)
+    elastics = section_elastics(tasks, Path(worn_out) / "cache", 2, "", lambda *a: None)[0] if sections else {}
     rows = []
     for t in tasks:
         r = route(t, ranges)
@@ -83,6 +91,10 @@ def worn_case(worn_config: Path, worn_out: Path, master, refs: dict) -> list[dic
                                 "length_mm": ref.length_mm}
             row["anchor_applies"] = not applies(ref, g.a_mm, g.b_mm, r.convexity)
             row["loop"] = row["anchored"] if row["anchor_applies"] else row["master"]
+        if t.key in elastics:  # the loop's rule with the section's p_y and c_el
+            correction = anchor(master, ref) if row.get("anchor_applies") else None
+            fixed = anchored(sim, with_section(correction, master, t, r.convexity, elastics[t.key]), row["length_mm"])
+            row["loop_section"] = compare(direct[t.body, t.y_mm], fixed, cfg.load)
         rows.append(row)
     return rows
 
@@ -91,12 +103,14 @@ def _worst(err: dict) -> float:
     return max(abs(err["p_y"]), err["u_pl"], err["residual"])
 
 
-KINDS = ("master", "anchored", "loop")
+KINDS = ("master", "anchored", "loop", "loop_section")
 
 
-def run_cases(ref_config: Path, ref_out: Path, master_dir: Path, worn: list[tuple[Path, Path]]) -> dict:
+def run_cases(ref_config: Path, ref_out: Path, master_dir: Path, worn: list[tuple[Path, Path]],
+              sections: bool = False) -> dict:
     """The rows of every worn case and, over the served positions, the counts within the target and the worst
-    error of each kind (master, anchored everywhere, the loop's rule)."""
+    error of each kind (master, anchored everywhere, the loop's rule, with ``sections`` that rule with each
+    section's elastic solve)."""
     cfg = _config(ref_config, master_dir)
     master, why = _master(cfg, quick=True)
     if master is None:
@@ -104,7 +118,7 @@ def run_cases(ref_config: Path, ref_out: Path, master_dir: Path, worn: list[tupl
     refs = references(ref_config, ref_out)
     cases = []
     for config, out in worn:
-        rows = worn_case(config, out, master, refs)
+        rows = worn_case(config, out, master, refs, sections)
         served = [r for r in rows if r["served"]]
         within = {k: sum(1 for r in served if k in r and _worst(r[k]) <= TARGET) for k in KINDS}
         worst = {k: max((_worst(r[k]) for r in served if k in r), default=math.nan) for k in KINDS}
@@ -139,11 +153,25 @@ def markdown(data: dict) -> str:
                    f"{100 * w['anchored']:.2f} %, {100 * w['loop']:.2f} %. With `reanchor = true` the "
                    f"{n - case['anchors_applied']} others are computed by the direct FEM: "
                    f"{k['loop'] + sum(1 for r in case['rows'] if r['served'] and not r.get('anchor_applies') and _worst(r['loop']) > data['target'])} "
-                   f"of {n} within {100 * data['target']:g} %, for {n - case['anchors_applied']} FEM positions.", ""]
+                   f"of {n} within {100 * data['target']:g} %, for {n - case['anchors_applied']} FEM positions."]
+        if any("loop_section" in r for r in case["rows"]):
+            md.append(_sections_line(case, data["target"]))
+        md.append("")
     md.append("Errors at equal p0 (MPa) against the worn profile's direct FEM, relative as in the similarity report "
               f"(p_y signed; u_pl and residual: worst over the levels); anchored to the direct tables in "
               f"{data['reference']}.")
     return "\n".join(md)
+
+
+def _sections_line(case: dict, target: float) -> str:
+    """The loop's rule with each section's elastic solve (``similarity_elastic = true``): count, worst, misses."""
+    served = [r for r in case["rows"] if r["served"] and "loop_section" in r]
+    misses = [f"{r['body']} {r['y_mm']:g} ({100 * _worst(r['loop_section']):.1f} %)" for r in served
+              if _worst(r["loop_section"]) > target]
+    return (f"The loop's rule with p_y and c_el from each position's own section (`similarity_elastic = true`, an "
+            f"elastic solve a position): {case['within']['loop_section']} of {len(served)} within "
+            f"{100 * target:g} %, worst {100 * case['worst']['loop_section']:.2f} %"
+            + (f"; misses: {', '.join(misses)}." if misses else "."))
 
 
 def run(mode: str, out: Path) -> dict:
@@ -171,6 +199,8 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--master", type=Path, default=MASTER, help="the master's FEM cache folder")
     ap.add_argument("--worn", action="append", required=True, metavar="CONFIG:DIRECT_OUT",
                     help="a worn profiles' configuration and its direct run folder (repeatable)")
+    ap.add_argument("--sections", action="store_true",
+                    help="also the loop's rule with p_y and c_el from each position's own section's elastic solve")
     ap.add_argument("--report", type=Path, default=None, help="write the report (markdown, stamped) here")
     args = ap.parse_args(argv)
     worn = []
@@ -179,7 +209,7 @@ def main(argv: list[str] | None = None) -> None:
         if not sep:
             ap.error(f"--worn {item}: expected CONFIG:DIRECT_OUT")
         worn.append((Path(config), Path(out)))
-    data = run_cases(args.reference_config, args.reference, args.master, worn)
+    data = run_cases(args.reference_config, args.reference, args.master, worn, args.sections)
     text = markdown(data)
     if args.report:
         write_report(args.report, "Similarity on worn profiles", text,

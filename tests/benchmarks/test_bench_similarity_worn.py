@@ -1,18 +1,23 @@
 """benchmarks/bench_similarity_worn.py end to end on synthetic FEM: a 'direct' run (a fake FEM 1 % below the master
 in p_y and 5 % above it in u_pl) is both the reference and the 'worn' case, so the master alone misses it and the
-anchored master reproduces it; the report counts both and names the positions."""
+anchored master reproduces it; the report counts both and names the positions; with --sections each position's p_y
+is its own section's."""
 
 import dataclasses
+import json
 import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 
+from benchmarks.bench_similarity import _config
 from benchmarks.bench_similarity_worn import markdown, run_cases
 from calibration import pipeline
+from calibration.cache import fem_entry, load_indentation
 from calibration.config import load_config
 from calibration.pipeline import calibrate
-from calibration.tasks import PositionOutcome
+from calibration.tasks import PositionOutcome, make_tasks
 from tests.calibration.test_similarity import _fake_indentation, _fake_master
 
 #: The coarse test configuration at two rail positions.
@@ -51,6 +56,17 @@ def test_the_anchored_master_reproduces_its_reference_where_the_master_alone_mis
     text = markdown(data)
     assert "| rail | -5 | served |" in text and "Served 2 of 2 positions" in text
     assert "master 0, anchored everywhere 2, the loop's rule (anchored at the 2 positions" in text
+    # with the sections' elastic solves: p_y is the section's (the real coarse mesh's, not the fake FEM's)
+    from calibration.similarity.elastic import SectionElastic, elastic_entry
+
+    data = run_cases(config, tmp_path / "direct", tmp_path / "master", [(config, tmp_path / "direct")], True)
+    case = data["cases"][0]
+    tasks = make_tasks(_config(config, tmp_path / "master"), tmp_path, False)[0]
+    for r, t in zip(case["rows"], tasks):
+        own = SectionElastic.from_dict(json.loads(elastic_entry(tmp_path / "direct" / "cache", t).read_text()))
+        direct_p_y = load_indentation(fem_entry(tmp_path / "direct" / "cache", t.key))[0].first_yield_MPa
+        assert r["loop_section"]["p_y"] == pytest.approx(own.p_y_MPa / direct_p_y - 1.0, rel=1e-9)
+    assert "The loop's rule with p_y and c_el from each position's own section" in markdown(data)
 
 
 def test_the_quick_mode_says_what_is_missing(tmp_path, monkeypatch):
