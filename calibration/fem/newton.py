@@ -23,11 +23,23 @@ class MaterialResponse:
     """The material's answer to a displacement iterate u (mm): ``result``, the return mapping whose stress gives
     the internal forces and whose internal variables the converged state; ``plastic``: the points (n_elem, n_qp)
     that decide the elastic-predictor test and carry a plastic tangent (with material sub-steps: plastic in any
-    sub-step); ``tangent_of``: plastic elements -> the consistent tangent at their points (n_sel, n_qp, 6, 6)."""
+    sub-step); ``tangent_of``: plastic elements -> the consistent tangent at their points (n_sel, n_qp, 6, 6).
+    A material that evaluates only the points that can be plastic gives ``f_int`` (the internal forces, N) and
+    ``complete`` (makes the full result, called once the iterate has converged) instead of ``result``."""
 
-    result: ReturnResult
+    result: ReturnResult | None
     plastic: np.ndarray
     tangent_of: Callable[[np.ndarray], np.ndarray | None]
+    f_int: np.ndarray | None = None
+    complete: Callable[[], ReturnResult] | None = None
+
+    def internal_force(self, prob: TangentProblem) -> np.ndarray:
+        """The internal forces (N) of the iterate."""
+        return self.f_int if self.f_int is not None else prob.disc.internal_force(self.result.stress_MPa)
+
+    def full_result(self) -> ReturnResult:
+        """The return mapping at every point (made by ``complete`` where the material gave none)."""
+        return self.result if self.result is not None else self.complete()
 
 
 def return_mapped(prob: TangentProblem, state: SolverState) -> Callable[[np.ndarray], MaterialResponse]:
@@ -79,7 +91,7 @@ def newton_increment(prob: TangentProblem, state: SolverState, force: np.ndarray
     accepted without iteration when no point yields and the force residual passes). ``material``: the material
     response of an iterate (default :func:`return_mapped`: one radial return from ``state``).
     """
-    disc, opts = prob.disc, prob.opts
+    opts = prob.opts
     material = return_mapped(prob, state) if material is None else material
     free = ~prob.fixed
     u = (state.u_mm if u_start is None else u_start).copy()
@@ -93,8 +105,7 @@ def newton_increment(prob: TangentProblem, state: SolverState, force: np.ndarray
     linear = None  # |r_k - K_t du_k| / ref_k left by the last correction's CG (None: not known)
     for it in range(max_iter + 1):
         response = material(u)
-        res = response.result
-        f_int = disc.internal_force(res.stress_MPa)
+        f_int = response.internal_force(prob)
         r = f_ext - f_int
         r[prob.fixed] = 0.0
         ref = max(f_ref_ext, np.linalg.norm(f_int[free]), 1e-300)
@@ -109,7 +120,7 @@ def newton_increment(prob: TangentProblem, state: SolverState, force: np.ndarray
         elastic_exact = elastic_start and it == 0 and rnorm <= opts.rtol and not response.plastic.any()
         if elastic_exact or (it == 0 and rnorm <= max(1e-3 * opts.rtol, 1e-13)):
             energies.append(0.0)
-            return _converged(u, res, p_new, it, residuals, energies, cg_total)
+            return _converged(u, response.full_result(), p_new, it, residuals, energies, cg_total)
         energy, e0 = _relative_energy(prob, r, it, rnorm, residuals, e0)
         energies.append(energy)
         if opts.verbose:
@@ -117,7 +128,7 @@ def newton_increment(prob: TangentProblem, state: SolverState, force: np.ndarray
         # an increment that started below the force tolerance (an exact elastic predictor) has a round-off energy
         # reference: after one correction the force criterion alone decides
         if rnorm <= opts.rtol and (energies[-1] <= opts.etol or (it >= 1 and residuals[0] <= opts.rtol)):
-            return _converged(u, res, p_new, it, residuals, energies, cg_total)
+            return _converged(u, response.full_result(), p_new, it, residuals, energies, cg_total)
         if it == max_iter or rnorm > 1e6 or (it >= 4 and rnorm > 10 * residuals[0]):
             break
         plastic_elems = np.nonzero(response.plastic.any(axis=1))[0]
