@@ -143,10 +143,10 @@ class SubstepSolver(RollingSolver):
 
     def start(self, state: SolverState, a: Target, b: Target) -> tuple[np.ndarray, bool, MaterialFn | None]:
         """(first iterate: the state plus the elastic path's end, exact for an elastic step; the sub-stepped
-        material response of an iterate, :class:`BoundedPath`) of the increment from ``a`` to ``b``; the plain
-        step for substeps = 1."""
-        if self.substeps == 1:
-            return super().start(state, a, b)
+        material response of an iterate, :class:`BoundedPath`) of the increment from ``a`` to ``b``. With
+        substeps = 1 this is the plain backward-Euler step of :class:`RollingSolver` (the same first iterate from
+        the kept unit responses instead of a solve of its own, the same return mapping), evaluated only where it
+        can be plastic."""
         du_path = self.elastic_path(a, b)
         return state.u_mm + du_path[-1], True, BoundedPath(self, state, du_path)
 
