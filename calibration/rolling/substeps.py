@@ -22,7 +22,8 @@ plastic correction.
 Cost: no factorisation of its own. The unit responses K_e^-1 F(x) are computed once per load position on the
 sub-step grid and kept (back-substitutions with the kept elastic factorisation, or CG preconditioned by the kept
 tangent one) and shared by all passes and levels (the response is linear in p0); each Newton iteration runs the
-return mapping m times instead of once. The Newton tangent is carried through the sub-steps
+return mapping m times instead of once, only at the points that can be plastic
+(:mod:`calibration.rolling.bounded_path`). The Newton tangent is carried through the sub-steps
 (:meth:`SubstepSolver.material_path`), so the iteration keeps the engine's convergence.
 """
 
