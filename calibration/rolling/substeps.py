@@ -23,7 +23,7 @@ Cost: no factorisation of its own. The unit responses K_e^-1 F(x) are computed o
 sub-step grid and kept (back-substitutions with the kept elastic factorisation, or CG preconditioned by the kept
 tangent one) and shared by all passes and levels (the response is linear in p0); each Newton iteration runs the
 return mapping m times instead of once, only at the points that can be plastic
-(:mod:`calibration.rolling.bounded_path`). The Newton tangent is carried through the sub-steps
+(:mod:`calibration.fem.bounded_material`). The Newton tangent is carried through the sub-steps
 (:meth:`SubstepSolver.material_path`), so the iteration keeps the engine's convergence.
 """
 
@@ -31,11 +31,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from calibration.fem.bounded_material import BoundedMaterial, Evaluation, rows
 from calibration.fem.linear_solvers import preconditioned_cg
 from calibration.fem.problem import TangentProblem
 from calibration.fem.return_mapping import radial_return
 from calibration.fem.solver_state import SolverState
-from calibration.rolling.bounded_path import BoundedPath
 from calibration.rolling.moving_load import SurfaceForces
 from calibration.rolling.passes import PREDICTOR_RTOL, MaterialFn, RollingSolver, Target
 from wrlayer.errors import require
@@ -144,12 +144,22 @@ class SubstepSolver(RollingSolver):
 
     def start(self, state: SolverState, a: Target, b: Target) -> tuple[np.ndarray, bool, MaterialFn | None]:
         """(first iterate: the state plus the elastic path's end, exact for an elastic step; the sub-stepped
-        material response of an iterate, :class:`BoundedPath`) of the increment from ``a`` to ``b``. With
+        material response of an iterate, evaluated only where it can be plastic,
+        :class:`~calibration.fem.bounded_material.BoundedMaterial`) of the increment from ``a`` to ``b``. With
         substeps = 1 this is the plain backward-Euler step of :class:`RollingSolver` (the same first iterate from
-        the kept unit responses instead of a solve of its own, the same return mapping), evaluated only where it
-        can be plastic."""
+        the kept unit responses instead of a solve of its own, the same return mapping)."""
+        disc = self.prob.disc
         du_path = self.elastic_path(a, b)
-        return state.u_mm + du_path[-1], True, BoundedPath(self, state, du_path)
+        eps_a = disc.strain(state.u_mm)
+        eps_path = [disc.strain(d) for d in du_path]
+
+        def evaluate(eps_b: np.ndarray, elements: np.ndarray | None) -> Evaluation:
+            return Evaluation(*self.return_path(eps_b, rows(eps_a, elements), [rows(e, elements) for e in eps_path],
+                                                rows(state.plastic_strain, elements),
+                                                rows(state.back_stress_MPa, elements),
+                                                rows(state.eq_plastic_strain, elements)))
+
+        return state.u_mm + du_path[-1], True, BoundedMaterial(self.prob, state, evaluate)
 
 
-__all__ = ["BoundedPath", "MAX_NEWTON", "SubstepSolver", "UnitResponses"]
+__all__ = ["MAX_NEWTON", "SubstepSolver", "UnitResponses"]

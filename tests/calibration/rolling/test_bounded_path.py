@@ -1,13 +1,15 @@
-"""The sub-stepped material evaluated only where it can be plastic (calibration.rolling.bounded_path): on a tiny 2D
-line contact above the shakedown limit, an iterate near the reference is return-mapped on a small part of the block
-and gives the same internal forces, plastic points, tangent and converged result as the evaluation at every point;
-an iterate far from it is evaluated everywhere; a pass gives the same groove with and without the bound."""
+"""The sub-stepped rolling material evaluated only where it can be plastic (calibration.fem.bounded_material, from
+calibration.rolling.substeps): on a tiny 2D line contact above the shakedown limit, an iterate near the reference is
+return-mapped on a small part of the block and gives the same internal forces, plastic points, tangent and
+converged result as the evaluation at every point; an iterate far from it is evaluated everywhere; a pass gives the
+same groove with and without the bound."""
 
 import numpy as np
 import pytest
 
+from calibration.fem import bounded_material
+from calibration.fem.return_mapping import tangent_of_elements
 from calibration.fem.solver_state import SolverState
-from calibration.rolling import bounded_path
 from calibration.rolling.passes import MovingLoadPass, Target, roll
 from calibration.rolling.run import build_model, level_pressures
 from calibration.rolling.substeps import SubstepSolver, UnitResponses
@@ -38,13 +40,14 @@ def test_restricted_iterate_is_the_full_one(loaded):
     u = u0 + 1e-3 * np.abs(u0).max() * rng.standard_normal(u0.size) * ~model.prob.fixed
     restricted = path(u)
     assert restricted.result is None and path.evaluated < 1.5 * model.disc.n_elements
-    r, yielded, tangent, elastic = solver.material_path(state, path.eps_a, path.eps_path, u)
+    disc = model.disc
+    eps_path = [disc.strain(d) for d in solver.elastic_path(a, b)]
+    r, yielded, tangent, elastic = solver.material_path(state, disc.strain(state.u_mm), eps_path, u)
     assert restricted.plastic.any() and np.array_equal(restricted.plastic, yielded)
-    f_full = model.disc.internal_force(r.stress_MPa)
+    f_full = disc.internal_force(r.stress_MPa)
     free = ~model.prob.fixed
     assert np.abs(restricted.f_int - f_full)[free].max() <= 1e-9 * np.abs(f_full[free]).max()
     elems = np.flatnonzero(yielded.any(axis=1))
-    from calibration.fem.return_mapping import tangent_of_elements
     assert np.allclose(restricted.tangent_of(elems), tangent_of_elements(elems, yielded, tangent, elastic),
                        rtol=1e-12, atol=1e-9)
     done = restricted.full_result()
@@ -73,7 +76,7 @@ def test_pass_groove_is_the_same_with_and_without_the_bound(loaded, monkeypatch)
         return model.probe.profile(st).groove_mm
 
     bounded = groove()
-    monkeypatch.setattr(bounded_path, "FULL_FRACTION", -1.0)  # every iterate evaluated everywhere
+    monkeypatch.setattr(bounded_material, "FULL_FRACTION", -1.0)  # every iterate evaluated everywhere
     everywhere = groove()
     # the internal forces differ by round-off, so the Newton iterations stop at slightly different iterates:
     # the grooves agree to about the Newton tolerance (rtol 1e-8; measured 3.6e-8), not to round-off
