@@ -95,21 +95,35 @@ class Discretisation:
     def n_qp(self) -> int:
         return self.B.shape[1]
 
-    def strain(self, u: np.ndarray) -> np.ndarray:
-        """Mandel strains (n_elem, n_qp, 6) of the nodal displacement vector ``u`` (mm)."""
-        n_el, n_qp, n_c, n_i = self.B.shape
+    def strain(self, u: np.ndarray, elements: np.ndarray | None = None) -> np.ndarray:
+        """Mandel strains (n_elem, n_qp, 6) of the nodal displacement vector ``u`` (mm); with ``elements``: at
+        the points of those elements only (n_sel, n_qp, 6)."""
+        B, edofs = (self.B, self.element_dofs) if elements is None else (self.B[elements],
+                                                                         self.element_dofs[elements])
+        n_el, n_qp, n_c, n_i = B.shape
         eps = np.zeros((n_el, n_qp, 6))
         # batched matmul over elements (B is C-contiguous: the reshape is a view); 1.1-1.8x numpy's einsum here
-        eps[..., self.components] = np.matmul(self.B.reshape(n_el, n_qp * n_c, n_i),
-                                              u[self.element_dofs][:, :, None]).reshape(n_el, n_qp, n_c)
+        eps[..., self.components] = np.matmul(B.reshape(n_el, n_qp * n_c, n_i),
+                                              u[edofs][:, :, None]).reshape(n_el, n_qp, n_c)
         return eps
 
-    def internal_force(self, stress: np.ndarray) -> np.ndarray:
-        """Nodal internal forces f = sum B^T sigma dx (N) of Mandel stresses (n_elem, n_qp, 6) in MPa."""
-        n_el, n_qp, n_c, n_i = self.B.shape
-        weighted = (stress[..., self.components] * self.dx[:, :, None]).reshape(n_el, 1, n_qp * n_c)
-        fe = np.matmul(weighted, self.B.reshape(n_el, n_qp * n_c, n_i))  # 3-7x numpy's einsum here
-        return np.bincount(self.element_dofs.ravel(), weights=fe.ravel(), minlength=self.n_dofs)
+    def internal_force(self, stress: np.ndarray, elements: np.ndarray | None = None) -> np.ndarray:
+        """Nodal internal forces f = sum B^T sigma dx (N) of Mandel stresses (n_elem, n_qp, 6) in MPa; with
+        ``elements``: the forces of those elements' stresses (n_sel, n_qp, 6) alone."""
+        B, dx, edofs = ((self.B, self.dx, self.element_dofs) if elements is None else
+                        (self.B[elements], self.dx[elements], self.element_dofs[elements]))
+        n_el, n_qp, n_c, n_i = B.shape
+        weighted = (stress[..., self.components] * dx[:, :, None]).reshape(n_el, 1, n_qp * n_c)
+        fe = np.matmul(weighted, B.reshape(n_el, n_qp * n_c, n_i))  # 3-7x numpy's einsum here
+        return np.bincount(edofs.ravel(), weights=fe.ravel(), minlength=self.n_dofs)
+
+    @functools.cached_property
+    def strain_bound(self) -> np.ndarray:
+        """Per element, the largest spectral norm over its points of the strain-displacement matrix (1/mm,
+        (n_elem,)): |eps(u) at any point of element e| <= strain_bound[e] |u_e| (Mandel norm, u_e: the element's
+        nodal displacements). Bounds how far an iterate's strain can have moved from a reference's."""
+        BBt = np.matmul(self.B, self.B.transpose(0, 1, 3, 2))  # (n_el, n_qp, n_c, n_c)
+        return np.sqrt(np.linalg.eigvalsh(BBt)[..., -1].max(axis=1))
 
     def element_matrices(self, tangent: np.ndarray, elements: np.ndarray | None = None,
                          selected: bool = False) -> np.ndarray:

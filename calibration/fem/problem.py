@@ -9,6 +9,7 @@ import weakref
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 from calibration.fem.assembly import Discretisation
 from calibration.fem.linear_solvers import Factoriser, preconditioned_cg
@@ -44,6 +45,9 @@ class TangentProblem:
         self.Ke_data = disc.csr_data(disc.element_matrices(self.C_qp))
         self.Ke_bc_data = self._bc(self.Ke_data.copy())  # with the Dirichlet rows/cols replaced
         self.Ke = disc.csr_matrix(self.Ke_bc_data)  # shares the array (never written after this): one copy less
+        # without the constraints (internal forces K_e u: the residual's constrained rows are zeroed anyway); it
+        # shares K_e's arrays
+        self.Ke_free = sp.csr_matrix((self.Ke_data, self.Ke.indices, self.Ke.indptr), shape=self.Ke.shape)
         self.factor = Factoriser(disc.csr_indptr, disc.csr_indices, n, opts.linear_solver, opts.factor_precision)
         self.factor.factorise(self.Ke_bc_data)
         self.factor_is_elastic = True

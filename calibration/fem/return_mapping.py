@@ -30,6 +30,8 @@ class ReturnResult:
     plastic: np.ndarray             # (...) bool: this step is plastic (yield surface active)
     plastic_tangent_MPa: np.ndarray | None = None   # (n_plastic, 6, 6) consistent tangent d stress / d strain
     elastic_MPa: np.ndarray | None = None           # (6, 6)
+    #: the trial yield function |dev sigma_trial - back stress| - sqrt(2/3) radius at every point (...), MPa
+    trial_yield_MPa: np.ndarray | None = None
 
     @property
     def tangent_MPa(self) -> np.ndarray | None:
@@ -90,10 +92,10 @@ def radial_return(material: J2Material, strain: np.ndarray, plastic_strain_old: 
     back_stress[plastic] += (2.0 / 3.0) * material.H_kin_MPa * dg * n
     eq_plastic_strain[plastic] += SQRT23 * dgamma
     if not with_tangent:
-        return ReturnResult(stress, plastic_strain, back_stress, eq_plastic_strain, plastic)
+        return ReturnResult(stress, plastic_strain, back_stress, eq_plastic_strain, plastic, trial_yield_MPa=f_trial)
     theta = 1.0 - 2.0 * G * dgamma / norm_xi[plastic]
     theta_bar = 1.0 / (1.0 + H / (3.0 * G)) - (1.0 - theta)
     tangent = (K * np.outer(IDENTITY_M, IDENTITY_M)
                + 2.0 * G * theta[:, None, None] * DEVIATOR_M
                - 2.0 * G * theta_bar[:, None, None] * n[:, :, None] * n[:, None, :])
-    return ReturnResult(stress, plastic_strain, back_stress, eq_plastic_strain, plastic, tangent, C)
+    return ReturnResult(stress, plastic_strain, back_stress, eq_plastic_strain, plastic, tangent, C, f_trial)

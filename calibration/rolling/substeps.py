@@ -22,7 +22,8 @@ plastic correction.
 Cost: no factorisation of its own. The unit responses K_e^-1 F(x) are computed once per load position on the
 sub-step grid and kept (back-substitutions with the kept elastic factorisation, or CG preconditioned by the kept
 tangent one) and shared by all passes and levels (the response is linear in p0); each Newton iteration runs the
-return mapping m times instead of once. The Newton tangent is carried through the sub-steps
+return mapping m times instead of once, only at the points that can be plastic
+(:mod:`calibration.fem.bounded_material`). The Newton tangent is carried through the sub-steps
 (:meth:`SubstepSolver.material_path`), so the iteration keeps the engine's convergence.
 """
 
@@ -30,10 +31,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from calibration.fem.bounded_material import BoundedMaterial, Evaluation, rows
 from calibration.fem.linear_solvers import preconditioned_cg
-from calibration.fem.newton import MaterialResponse
 from calibration.fem.problem import TangentProblem
-from calibration.fem.return_mapping import radial_return, tangent_of_elements
+from calibration.fem.return_mapping import radial_return
 from calibration.fem.solver_state import SolverState
 from calibration.rolling.moving_load import SurfaceForces
 from calibration.rolling.passes import PREDICTOR_RTOL, MaterialFn, RollingSolver, Target
@@ -91,10 +92,20 @@ class SubstepSolver(RollingSolver):
         return out
 
     def material_path(self, state: SolverState, eps_a: np.ndarray, eps_path: list[np.ndarray], u: np.ndarray):
-        """Return mapping through the sub-steps for the end displacement u: (the last sub-step's ReturnResult,
-        the points plastic in any sub-step (bool (n_elem, n_qp)), the tangent d sigma_m / d eps_b through all
-        sub-steps at those points (n_yielded, 6, 6) in the order of ``np.nonzero``, MPa; symmetrised, and the
-        tangent of every other point: C, summed as m times C / m).
+        """Return mapping through the sub-steps for the end displacement u at every point: (the last sub-step's
+        ReturnResult, the points plastic in any sub-step (bool (n_elem, n_qp)), the tangent d sigma_m / d eps_b
+        through all sub-steps at those points (n_yielded, 6, 6) in the order of ``np.nonzero``, MPa; symmetrised,
+        and the tangent of every other point: C, summed as m times C / m); see :meth:`return_path`."""
+        r, yielded, tangent, elastic, _ = self.return_path(
+            self.prob.disc.strain(u), eps_a, eps_path, state.plastic_strain, state.back_stress_MPa,
+            state.eq_plastic_strain)
+        return r, yielded, tangent, elastic
+
+    def return_path(self, eps_b: np.ndarray, eps_a: np.ndarray, eps_path: list[np.ndarray], ps: np.ndarray,
+                    bs: np.ndarray, eq: np.ndarray):
+        """:meth:`material_path` on arrays of points (any leading shape (n, n_qp)): the end strain eps_b, the
+        start strain eps_a, the elastic path's strains and the internal variables at the start; also returns the
+        largest trial yield function of each point over the sub-steps (MPa, (n, n_qp)).
 
         Tangent: the trial stress of sub-step k is sigma_k-1 + C (eps_k - eps_k-1) and eps_k depends on eps_b with
         weight t_k, so T_k = R_k (T_k-1 + C (t_k - t_k-1)), T_0 = 0, with R_k = C_ep,k C^-1 the return's
@@ -102,12 +113,10 @@ class SubstepSolver(RollingSolver):
         dependence on eps_b is left out). T_m is the consistent tangent C_ep for m = 1. A point elastic so far has
         T_k = t_k C, so T is carried only at the points that have yielded (a small part of the block), from the
         sub-step at which they first yield."""
-        disc, mat, m = self.prob.disc, self.prob.material, self.substeps
-        C = self.prob.C
-        eps_b = disc.strain(u)
+        mat, m, C = self.prob.material, self.substeps, self.prob.C
         rest = eps_b - eps_a - eps_path[-1]          # strain of the linearly interpolated correction D
-        ps, bs, eq = state.plastic_strain, state.back_stress_MPa, state.eq_plastic_strain
         yielded = np.zeros(eps_b.shape[:-1], dtype=bool)
+        f_max = np.full(eps_b.shape[:-1], -np.inf)
         points = np.zeros(0, dtype=np.int64)         # flat indices of the yielded points (ascending)
         tangent = np.zeros((0, 6, 6))                # T at those points
         elastic = np.zeros((6, 6))                   # T_k of a point elastic so far (sum of the C / m)
@@ -115,6 +124,7 @@ class SubstepSolver(RollingSolver):
             eps_k = eps_b if k == m else eps_a + eps_path[k - 1] + (k / m) * rest
             r = radial_return(mat, eps_k, ps, bs, eq, with_tangent=True)
             ps, bs, eq = r.plastic_strain, r.back_stress_MPa, r.eq_plastic_strain
+            np.maximum(f_max, r.trial_yield_MPa, out=f_max)
             plastic = np.flatnonzero(r.plastic)
             new = plastic[~yielded.ravel()[plastic]]
             if new.size:  # points yielding for the first time join with T_k-1 of an elastic point
@@ -130,24 +140,26 @@ class SubstepSolver(RollingSolver):
                 at = np.searchsorted(points, plastic)
                 tangent[at] = r.plastic_tangent_MPa @ self.C_inv @ tangent[at]
         tangent = 0.5 * (tangent + np.swapaxes(tangent, -1, -2))
-        return r, yielded, tangent, elastic
+        return r, yielded, tangent, elastic, f_max
 
     def start(self, state: SolverState, a: Target, b: Target) -> tuple[np.ndarray, bool, MaterialFn | None]:
         """(first iterate: the state plus the elastic path's end, exact for an elastic step; the sub-stepped
-        material response of an iterate) of the increment from ``a`` to ``b``; the plain step for substeps = 1."""
-        if self.substeps == 1:
-            return super().start(state, a, b)
+        material response of an iterate, evaluated only where it can be plastic,
+        :class:`~calibration.fem.bounded_material.BoundedMaterial`) of the increment from ``a`` to ``b``. With
+        substeps = 1 this is the plain backward-Euler step of :class:`RollingSolver` (the same first iterate from
+        the kept unit responses instead of a solve of its own, the same return mapping)."""
         disc = self.prob.disc
         du_path = self.elastic_path(a, b)
         eps_a = disc.strain(state.u_mm)
         eps_path = [disc.strain(d) for d in du_path]
 
-        def response(u: np.ndarray) -> MaterialResponse:
-            res, yielded, yielded_tangent, elastic_tangent = self.material_path(state, eps_a, eps_path, u)
-            return MaterialResponse(res, yielded, lambda elems: tangent_of_elements(elems, yielded, yielded_tangent,
-                                                                                    elastic_tangent))
+        def evaluate(eps_b: np.ndarray, elements: np.ndarray | None) -> Evaluation:
+            return Evaluation(*self.return_path(eps_b, rows(eps_a, elements), [rows(e, elements) for e in eps_path],
+                                                rows(state.plastic_strain, elements),
+                                                rows(state.back_stress_MPa, elements),
+                                                rows(state.eq_plastic_strain, elements)))
 
-        return state.u_mm + du_path[-1], True, response
+        return state.u_mm + du_path[-1], True, BoundedMaterial(self.prob, state, evaluate)
 
 
 __all__ = ["MAX_NEWTON", "SubstepSolver", "UnitResponses"]
