@@ -13,7 +13,10 @@ point (``[run] similarity_outside``), reported per position.
 - :mod:`calibration.similarity.sections`: the synthetic sections and the convexity of a position's surface.
 - :mod:`calibration.similarity.master`: the master grid's FEM tasks and the master curves (versioned JSON).
 - :mod:`calibration.similarity.route`: which positions the master serves, and their characteristic from it.
+- :mod:`calibration.similarity.anchor`: a worn position corrected by the master's error at a direct FEM reference.
+- :mod:`calibration.similarity.elastic`: a served position's p_y and elastic compliance from its own section's
+  elastic solve (``[run] similarity_elastic``).
 
 Depends on: calibration.config, calibration.settings, calibration.hertz, calibration.results, calibration.tasks,
-meshes.
+calibration.cache, calibration.fem, calibration.indentation, meshes.
 """
