@@ -110,6 +110,12 @@ class PositionOutcome:
     error: str | None = None
 
 
+def task_failure(task: PositionTask, err: Exception) -> str:
+    """The one-line error of a worker's failed position, naming it (a project error as it is, any other with its
+    type)."""
+    return f"{task.label}: {err}" if isinstance(err, WrLayerError) else f"{task.label}: {type(err).__name__}: {err}"
+
+
 def run_position(task: PositionTask) -> PositionOutcome:
     """Worker: the FEM indentation of one position (progress through :func:`wrlayer.runner.report_progress`).
     Never raises for a failed position: the error is returned with the position named."""
@@ -120,10 +126,8 @@ def run_position(task: PositionTask) -> PositionOutcome:
                              load=task.load, linear_solver=task.linear_solver)
         res = indent(job, out_dir=fields_dir, progress=report_progress)
         return PositionOutcome(task.key, res)
-    except WrLayerError as err:
-        return PositionOutcome(task.key, None, f"{task.label}: {err}")
     except Exception as err:  # a failed position must not stop the others; report the cause
-        return PositionOutcome(task.key, None, f"{task.label}: {type(err).__name__}: {err}")
+        return PositionOutcome(task.key, None, task_failure(task, err))
 
 
 def position_geometry(b: BodySettings, profile, mate, y: float, reference_load_N: float):
@@ -217,4 +221,4 @@ def position_task(cfg: CalibrationConfig, body: str, profile: Any, geometry: Loc
 
 __all__ = ["FEM_SOURCES", "PositionNote", "PositionOutcome", "PositionTask", "check_mesh_settings", "code_hash",
            "inputs_hash", "make_tasks", "position_geometry", "position_task", "profile_identity", "profile_label", "profile_source",
-           "run_position"]
+           "run_position", "task_failure"]

@@ -61,7 +61,7 @@ class MaterialResponse:
 
 
 @dataclass(frozen=True)
-class Evaluation:
+class MaterialAtPoints:
     """The material at the points of some elements: ``result`` (the last sub-step's return mapping there),
     ``plastic`` (n_sel, n_qp: the points with a plastic tangent), ``tangent`` (MPa, at those points in the order of
     ``np.nonzero``; None without tangent), ``default`` (the tangent of every other point, 6 x 6; None without),
@@ -75,7 +75,7 @@ class Evaluation:
 
 
 #: (end strains (n_sel, n_qp, 6), the elements or None for all) -> the material's evaluation at their points
-Evaluate = Callable[[np.ndarray, "np.ndarray | None"], Evaluation]
+Evaluate = Callable[[np.ndarray, "np.ndarray | None"], MaterialAtPoints]
 
 
 class BoundedMaterial:
@@ -101,7 +101,7 @@ class BoundedMaterial:
                 return self._restricted(u, candidates)
         return self._everywhere(u)
 
-    def _tangent_of(self, ev: Evaluation, plastic: np.ndarray) -> Callable[[np.ndarray], np.ndarray | None]:
+    def _tangent_of(self, ev: MaterialAtPoints, plastic: np.ndarray) -> Callable[[np.ndarray], np.ndarray | None]:
         if ev.default is None:
             return lambda elems: None
         return lambda elems: tangent_of_elements(elems, plastic, ev.tangent, ev.default)
@@ -144,4 +144,4 @@ def rows(array: np.ndarray, elements: np.ndarray | None) -> np.ndarray:
     return array if elements is None else array[elements]
 
 
-__all__ = ["BoundedMaterial", "Evaluate", "Evaluation", "FULL_FRACTION", "MARGIN", "MaterialResponse", "rows"]
+__all__ = ["BoundedMaterial", "Evaluate", "MaterialAtPoints", "FULL_FRACTION", "MARGIN", "MaterialResponse", "rows"]

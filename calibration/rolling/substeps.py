@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from calibration.fem.bounded_material import BoundedMaterial, Evaluation, rows
+from calibration.fem.bounded_material import BoundedMaterial, MaterialAtPoints, rows
 from calibration.fem.linear_solvers import preconditioned_cg
 from calibration.fem.problem import TangentProblem
 from calibration.fem.return_mapping import radial_return
@@ -153,8 +153,8 @@ class SubstepSolver(RollingSolver):
         eps_a = disc.strain(state.u_mm)
         eps_path = [disc.strain(d) for d in du_path]
 
-        def evaluate(eps_b: np.ndarray, elements: np.ndarray | None) -> Evaluation:
-            return Evaluation(*self.return_path(eps_b, rows(eps_a, elements), [rows(e, elements) for e in eps_path],
+        def evaluate(eps_b: np.ndarray, elements: np.ndarray | None) -> MaterialAtPoints:
+            return MaterialAtPoints(*self.return_path(eps_b, rows(eps_a, elements), [rows(e, elements) for e in eps_path],
                                                 rows(state.plastic_strain, elements),
                                                 rows(state.back_stress_MPa, elements),
                                                 rows(state.eq_plastic_strain, elements)))

@@ -32,9 +32,9 @@ from calibration.indentation import elastic_response, position_model
 from calibration.similarity.anchor import Anchor
 from calibration.similarity.master import MasterCurves
 from calibration.similarity.route import similar_indentation
-from calibration.tasks import PositionTask, inputs_hash
+from calibration.tasks import PositionTask, inputs_hash, task_failure
 from wrlayer import validate
-from wrlayer.errors import InputError, WrLayerError
+from wrlayer.errors import InputError
 from wrlayer.runner import Runner
 
 
@@ -104,10 +104,8 @@ def run_section_elastic(task: PositionTask) -> ElasticOutcome:
     """Worker: :func:`section_elastic` of one position; never raises (the error names the position)."""
     try:
         return ElasticOutcome(task.key, section_elastic(task))
-    except WrLayerError as err:
-        return ElasticOutcome(task.key, None, f"{task.label}: {err}")
     except Exception as err:  # one failed section must not stop the others
-        return ElasticOutcome(task.key, None, f"{task.label}: {type(err).__name__}: {err}")
+        return ElasticOutcome(task.key, None, task_failure(task, err))
 
 
 def elastic_entry(cache: Path, task: PositionTask) -> Path:
