@@ -160,11 +160,13 @@ def _timing(cfg, master, tasks) -> dict:
     t0 = time.perf_counter()
     for _ in range(5):
         for t in tasks:
-            task_indentation(master, t, route(t, ranges, "nearest").convexity)
+            r = route(t, ranges, "nearest")
+            task_indentation(master, t, r.convexity, r.plastic_convexity)
     route_s = (time.perf_counter() - t0) / (5 * len(tasks))
     t0 = time.perf_counter()
     for t in tasks:
-        fit_position(task_indentation(master, t, route(t, ranges, "nearest").convexity), t.geometry, cfg.fit, t.label)
+        r = route(t, ranges, "nearest")
+        fit_position(task_indentation(master, t, r.convexity, r.plastic_convexity), t.geometry, cfg.fit, t.label)
     fit_s = (time.perf_counter() - t0) / len(tasks)
     return {"route_and_interpolation_s": route_s, "with_fit_s": fit_s, "load": os.getloadavg()[0]}
 
@@ -187,7 +189,8 @@ def section_rows(cfg, master, tasks, direct: dict, direct_out: Path, workers: in
             rows.append({"body": t.body, "y_mm": t.y_mm, "failed": failed[t.key]})
             continue
         el = elastics[t.key]
-        sim = anchored(task_indentation(master, t, r.convexity), with_section(None, master, t, r.convexity, el),
+        sim = anchored(task_indentation(master, t, r.convexity, r.plastic_convexity),
+                       with_section(None, master, t, r.convexity, el),
                        float(np.sqrt(t.geometry.a_mm * t.geometry.b_mm)))
         row = {"body": t.body, "y_mm": t.y_mm, "seconds": el.seconds, "n_dofs": el.n_dofs}
         row.update(compare(direct[t.body, t.y_mm], sim, cfg.load))
@@ -216,7 +219,8 @@ def compare_runs(config: Path, direct_out: Path, master_dir: Path, quick: bool =
         row = {"body": t.body, "y_mm": t.y_mm, "a_over_b": t.geometry.a_mm / t.geometry.b_mm,
                "length_mm": float(np.sqrt(t.geometry.a_mm * t.geometry.b_mm)), "convexity": r.convexity,
                "method": r.method, "note": r.note}
-        row.update(compare(direct[t.body, t.y_mm], task_indentation(master, t, served.convexity), cfg.load))
+        row.update(compare(direct[t.body, t.y_mm], task_indentation(master, t, served.convexity, served.plastic_convexity),
+                                   cfg.load))
         rows.append(row)
     served = [r for r in rows if r["method"] == "similarity"]
     within = [r for r in served if max(abs(r["p_y"]), r["u_pl"], r["residual"]) <= TARGET]

@@ -79,7 +79,7 @@ def worn_case(worn_config: Path, worn_out: Path, master, refs: dict, sections: b
         if not served:  # the wear loop's recalibration serves it from the master's nearest point
             r = route(t, ranges, "nearest")
         g = t.geometry
-        sim = task_indentation(master, t, r.convexity)
+        sim = task_indentation(master, t, r.convexity, r.plastic_convexity)
         row = {"body": t.body, "y_mm": t.y_mm, "served": served, "convexity": r.convexity, "a_over_b": g.a_mm / g.b_mm,
                "length_mm": math.sqrt(g.a_mm * g.b_mm), "master": compare(direct[t.body, t.y_mm], sim, cfg.load)}
         ref = refs.get((t.body, t.y_mm))

@@ -348,8 +348,8 @@ def _served(t: PositionTask, master: MasterCurves, r: Route, anchoring: Anchorin
     correction = anchor(master, ref) if ref is not None else None
     if elastic is not None:
         correction = with_section(correction, master, t, r.convexity, elastic)
-    t = similarity_task(t, master, r.convexity, code, ref, elastic)
-    served = task_indentation(master, t, r.convexity)
+    t = similarity_task(t, master, r.convexity, code, ref, elastic, r.plastic_convexity)
+    served = task_indentation(master, t, r.convexity, r.plastic_convexity)
     # outside the master's domain, served from its nearest point: said in the entry's warnings
     warning = f"similarity: {r.note}" if r.note else ""
     if correction is not None:

@@ -36,7 +36,7 @@ import numpy as np
 from calibration.results import IndentationResult
 from calibration.similarity.master import MasterCurves
 from calibration.similarity.route import similar_indentation
-from calibration.similarity.sections import patch_convexity
+from calibration.similarity.sections import patch_convexity, plastic_convexity
 from meshes.profiles import Profile, get_profile
 from wrlayer.errors import InputError
 from wrlayer.layer_table import LayerTable
@@ -74,6 +74,9 @@ class DirectReference:
         The FEM mesh's elastic centre compliance (mm/MPa).
     source : str
         Where the entry comes from (a table file), for the entry's notes.
+    plastic_convexity : float or None
+        The convexity of the reference profile the plastic curves are taken at
+        (:func:`calibration.similarity.sections.plastic_convexity`; None: ``convexity``) (-).
     """
 
     body: str
@@ -88,6 +91,7 @@ class DirectReference:
     residual_mm: tuple[float, ...]
     compliance_mm_per_MPa: float
     source: str = ""
+    plastic_convexity: float | None = None
 
     @property
     def length_mm(self) -> float:
@@ -108,7 +112,8 @@ def applies(ref: DirectReference, a_mm: float, b_mm: float, convexity: float) ->
     return ""
 
 
-def reference_of_entry(body: str, entry: dict, convexity: float, source: str) -> DirectReference | None:
+def reference_of_entry(body: str, entry: dict, convexity: float, source: str,
+                       plastic_convexity: float | None = None) -> DirectReference | None:
     """The :class:`DirectReference` of a layer table's position entry (as :class:`wrlayer.layer_table.LayerTable`
     reads it), or None when the entry holds no direct 3D FEM (a similarity entry, a 2D or an older table).
     InputError naming the entry when its FEM fields are malformed."""
@@ -122,7 +127,7 @@ def reference_of_entry(body: str, entry: dict, convexity: float, source: str) ->
                               float(entry["first_yield_fem_MPa"]), tuple(map(float, fem["p_MPa"])),
                               tuple(map(float, fem["u_pl_mm"])), tuple(map(float, entry["residual_peaks_MPa"])),
                               tuple(map(float, entry["residual_fem_mm"])),
-                              float(fem["fem_elastic_compliance_mm_per_MPa"]), source)
+                              float(fem["fem_elastic_compliance_mm_per_MPa"]), source, plastic_convexity)
     except (KeyError, TypeError, ValueError) as err:
         raise InputError(where, f"its direct FEM fields cannot anchor a similarity result ({err!r})") from None
     numbers = (ref.a_mm, ref.b_mm, ref.p_y_MPa, ref.compliance_mm_per_MPa)
@@ -141,8 +146,9 @@ def table_references(table: LayerTable, profile: Profile) -> dict[tuple[str, flo
         geo = entry.get("geometry")
         if not isinstance(geo, dict) or "b_mm" not in geo:
             continue
-        convexity = patch_convexity(profile, float(entry["y_mm"]), float(geo["b_mm"]))
-        ref = reference_of_entry(table.body, entry, convexity, table.source)
+        y, b = float(entry["y_mm"]), float(geo["b_mm"])
+        ref = reference_of_entry(table.body, entry, patch_convexity(profile, y, b), table.source,
+                                 plastic_convexity(profile, y, b))
         if ref is not None:
             out[ref.body, ref.y_mm] = ref
     return out
@@ -180,7 +186,7 @@ class Anchor:
 
 def anchor(master: MasterCurves, ref: DirectReference) -> Anchor:
     """The master's error at ``ref`` (the master evaluated at the reference's semi-axes and convexity)."""
-    base = similar_indentation(master, ref.a_mm, ref.b_mm, ref.convexity)
+    base = similar_indentation(master, ref.a_mm, ref.b_mm, ref.convexity, ref.plastic_convexity)
     q, f = np.asarray(master.q), np.asarray(master.unload_factors)
     length = ref.length_mm
     u_direct = np.interp(q * ref.p_y_MPa, ref.p_MPa, ref.u_pl_mm) / length

@@ -11,7 +11,8 @@ position's characteristic is the master's at its convexity c, a/b and patch size
 log(a/b) and log L between the grid's values; a/b < 1 on a flat surface as max(a/b, b/a) by the half-space's
 symmetry; L outside the master's sizes takes the nearest size's curves, pure similarity) scaled by L:
 p_y = (p_y / Y)(c, r, L) Y, u_pl(q p_y) = L U(q; c, r, L), residual dents L R(c, r, L), elastic compliance
-L C(c, r, L) / E. The result is an :class:`IndentationResult` as the FEM's (no mesh: n_dofs = 0), so the fit and
+L C(c, r, L) / E, where U and R are taken at the wider convexity c_p
+(:func:`calibration.similarity.sections.plastic_convexity`, over 3 b: the plastic zone's surface). The result is an :class:`IndentationResult` as the FEM's (no mesh: n_dofs = 0), so the fit and
 the tables treat both routes alike.
 """
 
@@ -27,7 +28,7 @@ from calibration.config import profile_of
 from calibration.hertz.geometry import halfspace_centre_compliance_mm_per_MPa
 from calibration.results import IndentationResult
 from calibration.similarity.master import ASPECTS, CONVEXITIES, MasterCurves
-from calibration.similarity.sections import patch_convexity
+from calibration.similarity.sections import patch_convexity, plastic_convexity
 from calibration.tasks import PositionTask, code_hash, inputs_hash
 
 #: Sources that determine a similarity result (its cache key for the fit includes their content).
@@ -41,11 +42,13 @@ FLAT_CONVEXITY = 0.005
 @dataclass(frozen=True)
 class Route:
     """How one position is calibrated: ``method`` "similarity" or "direct", ``note`` why the direct FEM is used
-    ("" when the master serves it) and the position's surface convexity b / (2 R) over the patch (-)."""
+    ("" when the master serves it), the position's surface convexity b / (2 R) over the patch (-) and the one the
+    plastic curves are taken at (:func:`calibration.similarity.sections.plastic_convexity`; None: ``convexity``)."""
 
     method: str
     note: str = ""
     convexity: float = 0.0
+    plastic_convexity: float | None = None
 
 
 def route(task: PositionTask, master_ranges: tuple[tuple[float, float], tuple[float, float]] | None = None,
@@ -58,11 +61,13 @@ def route(task: PositionTask, master_ranges: tuple[tuple[float, float], tuple[fl
     c, why = _shape(task, (lo, hi))
     if not why and not c_lo - 1e-9 <= c <= c_hi + 1e-9:
         why = f"surface convexity b/(2R) = {c:+.3f} over the patch outside the master's range {c_lo:+g}..{c_hi:+g}"
+    if why and outside != "nearest":
+        return Route(METHOD_DIRECT, why, c)
+    wide = plastic_convexity(profile_of(task.profile), task.geometry.y_mm, task.geometry.b_mm)
+    clamp = (lambda v: min(max(v, c_lo), c_hi))  # noqa: E731
     if not why:
-        return Route(METHOD_SIMILARITY, "", c)
-    if outside == "nearest":
-        return Route(METHOD_SIMILARITY, f"{why}; served from the master's nearest point", min(max(c, c_lo), c_hi))
-    return Route(METHOD_DIRECT, why, c)
+        return Route(METHOD_SIMILARITY, "", c, clamp(wide))
+    return Route(METHOD_SIMILARITY, f"{why}; served from the master's nearest point", clamp(c), clamp(wide))
 
 
 def _shape(task: PositionTask, aspect_range: tuple[float, float]) -> tuple[float, str]:
@@ -95,48 +100,53 @@ def _weights(grid_values: list[float], x: float, log: bool = True) -> tuple[int,
     return i, j, t
 
 
-def similar_indentation(master: MasterCurves, a_mm: float, b_mm: float, convexity: float = 0.0
-                        ) -> IndentationResult:
+def similar_indentation(master: MasterCurves, a_mm: float, b_mm: float, convexity: float = 0.0,
+                        plastic_convexity: float | None = None) -> IndentationResult:
     """The FEM indentation of the patch a x b (mm) on a surface of convexity b / (2 R) = ``convexity`` (-) from the
-    master (in the master's range)."""
+    master (in the master's range): p_y and the elastic compliance at ``convexity``, the plastic curves (u_pl and the
+    residual dents at the levels q p_y, dimensionless) at ``plastic_convexity`` (None: ``convexity``)."""
     t0 = time.perf_counter()
     length = math.sqrt(a_mm * b_mm)
     i, j, t = _weights(master.aspects, max(a_mm / b_mm, b_mm / a_mm))
     k, m, s = _weights(master.lengths_mm, length)
-    g, h, v = _weights(master.convexities, convexity, log=False)
+    elastic = _weights(master.convexities, convexity, log=False)
+    plastic = elastic if plastic_convexity is None else _weights(master.convexities, plastic_convexity, log=False)
 
-    def at(values) -> np.ndarray:
+    def at(values, shape=elastic) -> np.ndarray:
         def plane(w):  # one convexity: bilinear in log L and log(a/b)
             by_size = [(1 - t) * np.asarray(w[n][i], dtype=float) + t * np.asarray(w[n][j], dtype=float)
                        for n in (k, m)]
             return (1 - s) * by_size[0] + s * by_size[1]
+        g, h, v = shape
         return (1 - v) * plane(values[g]) + v * plane(values[h])
 
     mat = master.material
     p_y = float(at(master.first_yield_over_yield)) * mat.yield_MPa
     c_el = float(at(master.elastic_compliance)) * length / mat.E_MPa
     p = np.asarray(master.q) * p_y
-    u_pl = at(master.u_pl_over_length) * length
+    u_pl = at(master.u_pl_over_length, plastic) * length
     peaks = [f * p_y for f in master.unload_factors]
-    residual = at(master.residual_over_length) * length
+    residual = at(master.residual_over_length, plastic) * length
     c_hs = halfspace_centre_compliance_mm_per_MPa(a_mm, b_mm, mat.E_MPa, mat.poisson)
     return IndentationResult("3d", p.tolist(), (c_el * p + u_pl).tolist(), u_pl.tolist(), p_y, p_y, c_el, c_hs,
                              peaks, residual.tolist(), (residual - np.interp(peaks, p, u_pl)).tolist(), 0, 0, 0,
                              time.perf_counter() - t0)
 
 
-def task_indentation(master: MasterCurves, task: PositionTask, convexity: float) -> IndentationResult:
-    """:func:`similar_indentation` at ``task``'s semi-axes and the surface convexity of its route."""
-    return similar_indentation(master, task.geometry.a_mm, task.geometry.b_mm, convexity)
+def task_indentation(master: MasterCurves, task: PositionTask, convexity: float,
+                     plastic_convexity: float | None = None) -> IndentationResult:
+    """:func:`similar_indentation` at ``task``'s semi-axes and the surface convexities of its route."""
+    return similar_indentation(master, task.geometry.a_mm, task.geometry.b_mm, convexity, plastic_convexity)
 
 
 def similarity_task(task: PositionTask, master: MasterCurves, convexity: float, code: str | None = None,
-                    reference=None, elastic=None) -> PositionTask:
+                    reference=None, elastic=None, plastic_convexity: float | None = None) -> PositionTask:
     """``task`` keyed by the master, its geometry and its surface convexity instead of its own FEM inputs (the
     fit's cache key), by the direct FEM ``reference`` that anchors it
     (:class:`calibration.similarity.anchor.DirectReference`; None: not anchored) and by its section's elastic
     solution (:class:`calibration.similarity.elastic.SectionElastic`; None: none)."""
     key = inputs_hash({"similarity": master.key, "geometry": task.geometry.to_dict(), "convexity": convexity,
+                       **({"plastic_convexity": plastic_convexity} if plastic_convexity is not None else {}),
                        "code": code or code_hash(SIMILARITY_SOURCES),
                        **({"anchor": asdict(reference)} if reference is not None else {}),
                        **({"section": [elastic.p_y_MPa, elastic.compliance_mm_per_MPa]} if elastic is not None

@@ -21,7 +21,8 @@ def test_sections_rows_compare_at_the_sections_p_y_and_count_the_misses(tmp_path
     tasks = make_tasks(cfg, tmp_path, False)[0]
     t = tasks[0]
     el = section_elastics([t], tmp_path / "direct" / "cache", 1, "", lambda *a: None)[0][t.key]
-    sim = task_indentation(master, t, route(t).convexity)
+    r = route(t)
+    sim = task_indentation(master, t, r.convexity, r.plastic_convexity)
     s = el.p_y_MPa / sim.first_yield_MPa
     exact = DirectFem(el.p_y_MPa, np.asarray(sim.p_MPa) * s, np.asarray(sim.u_pl_mm),
                       np.asarray(sim.unload_peaks_MPa) * s, np.asarray(sim.residual_fem_mm))

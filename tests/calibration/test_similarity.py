@@ -23,7 +23,7 @@ from calibration.similarity import master as master_mod
 from calibration.similarity.master import (ASPECTS, CONVEXITIES, MasterCurves, MasterFormatError, grid_points,
                                            master_key, master_tasks, stored_master)
 from calibration.similarity.route import route, similar_indentation
-from calibration.similarity.sections import arc_section, patch_convexity
+from calibration.similarity.sections import arc_section, patch_convexity, plastic_convexity
 from calibration.tasks import make_tasks, position_task, run_position
 from wrlayer.layer_table import LayerTable
 from meshes.profiles import get_profile
@@ -126,6 +126,27 @@ def test_patch_convexity_of_a_circle_is_b_over_2r():
     rail, wheel = get_profile("60E1"), get_profile("S1002")
     assert patch_convexity(rail, 0.0, 5.0) == pytest.approx(5.0 / 600.0, rel=0.02)  # crown R300: convex
     assert patch_convexity(wheel, -37.5, 2.6) < -0.05  # flange root: concave
+
+
+def test_plastic_curves_come_from_the_wider_convexity_p_y_from_the_patchs(tmp_path):
+    """The plastic convexity is the patch's own on a circle (the arc spans 4 b), larger where the 60E1 head's
+    curvature grows across the patch towards the gauge corner; the master's p_y and c_el are taken at the patch's
+    convexity, u_pl and the residual (at the same multiples of p_y) at the plastic one."""
+    for c in (-0.05, 0.05):
+        assert plastic_convexity(arc_section(c, 2.0), 0.0, 2.0) == pytest.approx(c, abs=2e-3)
+    rail = get_profile("60E1")
+    assert plastic_convexity(rail, -25.0, 5.4) > patch_convexity(rail, -25.0, 5.4) + 0.02
+    master = _fake_master(_sim_cfg(tmp_path))
+    mixed = similar_indentation(master, 6.0, 3.0, 0.1, -0.1)
+    elastic, plastic = similar_indentation(master, 6.0, 3.0, 0.1), similar_indentation(master, 6.0, 3.0, -0.1)
+    assert mixed.first_yield_MPa == elastic.first_yield_MPa != plastic.first_yield_MPa
+    assert mixed.fem_elastic_compliance_mm_per_MPa == elastic.fem_elastic_compliance_mm_per_MPa
+    assert mixed.p_MPa == elastic.p_MPa and mixed.u_pl_mm == plastic.u_pl_mm != elastic.u_pl_mm
+    assert mixed.residual_fem_mm == plastic.residual_fem_mm
+    assert similar_indentation(master, 6.0, 3.0, 0.1, None).u_pl_mm == elastic.u_pl_mm
+    served = route(next(t for t in make_tasks(load_config(DEFAULT), tmp_path, False)[0]
+                        if (t.body, t.y_mm) == ("rail", -25.0)))
+    assert served.plastic_convexity > served.convexity + 0.02
 
 
 def test_similarity_run_with_a_cached_master_computes_no_fem(tmp_path):
