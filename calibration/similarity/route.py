@@ -11,9 +11,10 @@ position's characteristic is the master's at its convexity c, a/b and patch size
 log(a/b) and log L between the grid's values; a/b < 1 on a flat surface as max(a/b, b/a) by the half-space's
 symmetry; L outside the master's sizes takes the nearest size's curves, pure similarity) scaled by L:
 p_y = (p_y / Y)(c, r, L) Y, u_pl(q p_y) = L U(q; c, r, L), residual dents L R(c, r, L), elastic compliance
-L C(c, r, L) / E, where U and R are taken at the wider convexity c_p
-(:func:`calibration.similarity.sections.plastic_convexity`, over 3 b: the plastic zone's surface). The result is an :class:`IndentationResult` as the FEM's (no mesh: n_dofs = 0), so the fit and
-the tables treat both routes alike.
+L C(c, r, L) / E, where U and R are taken at the convexity c_p over 3 b
+(:func:`calibration.similarity.sections.plastic_convexity`: the plastic zone's surface; c itself for a/b < 1, whose
+long axis lies across the profile). The result is an :class:`IndentationResult` as the FEM's (no mesh: n_dofs = 0),
+so the fit and the tables treat both routes alike.
 """
 
 from __future__ import annotations
@@ -63,7 +64,8 @@ def route(task: PositionTask, master_ranges: tuple[tuple[float, float], tuple[fl
         why = f"surface convexity b/(2R) = {c:+.3f} over the patch outside the master's range {c_lo:+g}..{c_hi:+g}"
     if why and outside != "nearest":
         return Route(METHOD_DIRECT, why, c)
-    wide = plastic_convexity(profile_of(task.profile), task.geometry.y_mm, task.geometry.b_mm)
+    geo = task.geometry
+    wide = plastic_convexity(profile_of(task.profile), geo.y_mm, geo.b_mm) if geo.a_mm >= geo.b_mm else c
     clamp = (lambda v: min(max(v, c_lo), c_hi))  # noqa: E731
     if not why:
         return Route(METHOD_SIMILARITY, "", c, clamp(wide))
