@@ -23,7 +23,7 @@ import sys
 
 from benchmarks import tamaas_rolling
 from benchmarks.harness import command_line, stamped_report
-from benchmarks.rolling_verification_cases import Case, CaseResult, CaseRunner
+from benchmarks.rolling_verification_cases import Case, VerificationResult, CaseRunner
 from benchmarks.tamaas_reference import tamaas_version
 
 #: The step study's level (p0 / p_y, 3D) and the 2D one (p0 / k).
@@ -83,7 +83,7 @@ def _pct(a: float, b: float) -> float:
     return 100.0 * (a / b - 1.0)
 
 
-def limits(rows: list[CaseResult]) -> dict[str, float]:
+def limits(rows: list[VerificationResult]) -> dict[str, float]:
     """ds -> 0 limits of the first-pass groove, first order from the two finest steps of each method (mm)."""
     out = {}
     for label, m in (("plain", 1), ("sub-steps", 4)):
@@ -94,7 +94,7 @@ def limits(rows: list[CaseResult]) -> dict[str, float]:
     return out
 
 
-def study_markdown(rows: list[CaseResult], title: str) -> list[str]:
+def study_markdown(rows: list[VerificationResult], title: str) -> list[str]:
     lim = limits(rows)
     ref = lim.get("plain", rows[0].groove_mm[0])
     dent = next((r.static_dent_mm for r in rows if r.static_dent_mm > 0), 0.0)
@@ -113,7 +113,7 @@ def study_markdown(rows: list[CaseResult], title: str) -> list[str]:
     return md
 
 
-def line_contact_markdown(rows: list[CaseResult]) -> list[str]:
+def line_contact_markdown(rows: list[VerificationResult]) -> list[str]:
     md = ["2D plane strain, frictionless, elastic-perfectly plastic; per pass: groove (mm), net plastic strain "
           "change (largest below |x| <= a, -), growth of the largest equivalent plastic strain (-), surface shift "
           "increment (mm).", "",
@@ -131,7 +131,7 @@ def line_contact_markdown(rows: list[CaseResult]) -> list[str]:
     return md
 
 
-def shipped_markdown(rows: list[CaseResult]) -> list[str]:
+def shipped_markdown(rows: list[VerificationResult]) -> list[str]:
     if not rows:
         return []
     md = [f"Shipped mesh ({rows[0].n_dofs} dofs), 4 material sub-steps; CPU: process time per pass (the first "

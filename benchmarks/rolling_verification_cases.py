@@ -63,7 +63,7 @@ class Case:
 
 
 @dataclass(frozen=True)
-class CaseResult:
+class VerificationResult:
     """What a case measured: p_y and p0 (MPa), dofs, static dent (mm; 0 when not measured), per pass the groove,
     surface shift (mm), largest equivalent plastic strain (-), the largest NET plastic strain change of the pass
     (-, the equivalent measure sqrt(2/3 de:de) of the plastic strain tensor's change below |x| <= a: zero for a
@@ -84,7 +84,7 @@ class CaseResult:
     newton_iterations: list[int] = field(default_factory=list)
     load_average: list[float] = field(default_factory=list)
 
-    def with_pass(self, prof: GrooveProfile, net: float, rec: MovingLoadPass, cpu_s: float) -> CaseResult:
+    def with_pass(self, prof: GrooveProfile, net: float, rec: MovingLoadPass, cpu_s: float) -> VerificationResult:
         """This result with one more pass: its groove profile, net plastic change (-) and record, CPU time (s)."""
         return replace(self, groove_mm=self.groove_mm + [prof.groove_mm], shift_mm=self.shift_mm + [prof.shift_mm],
                        max_eq_plastic_strain=self.max_eq_plastic_strain + [prof.max_eq_plastic_strain],
@@ -97,7 +97,7 @@ class CaseResult:
         return asdict(self)
 
     @classmethod
-    def from_dict(cls, d: dict) -> CaseResult:
+    def from_dict(cls, d: dict) -> VerificationResult:
         return cls(**{**d, "case": Case(**d["case"])})
 
 
@@ -119,17 +119,17 @@ class CaseRunner:
             self.key = case.block_key()
         return self.model
 
-    def __call__(self, case: Case) -> CaseResult:
+    def __call__(self, case: Case) -> VerificationResult:
         path = self.out_dir / f"{case.name}.json"
         if path.exists():
-            res = CaseResult.from_dict(json.loads(path.read_text()))
+            res = VerificationResult.from_dict(json.loads(path.read_text()))
             if res.case == case:
                 return res
         res = self.run(case)
         atomic_write_text(path, json.dumps(res.to_dict(), indent=1))
         return res
 
-    def run(self, case: Case) -> CaseResult:
+    def run(self, case: Case) -> VerificationResult:
         load = list(os.getloadavg())
         cfg = case.config()
         model = self.block(case)
@@ -140,7 +140,7 @@ class CaseRunner:
             if key not in self.dents:
                 self.dents[key] = static_dents(model, cfg, [p0])[0].dent_mm
             dent = self.dents[key]
-        res = CaseResult(case, model.p_y_MPa, p0, int(model.disc.n_dofs), dent, load_average=load)
+        res = VerificationResult(case, model.p_y_MPa, p0, int(model.disc.n_dofs), dent, load_average=load)
         solver = SubstepSolver(model.prob, model.forces, p0, case.substeps, responses=self.responses)
         positions = [x * cfg.contact.a_mm for x in cfg.track.positions_over_a()]
         t0 = time.perf_counter()
@@ -161,4 +161,4 @@ class CaseRunner:
         return res
 
 
-__all__ = ["Case", "CaseResult", "CaseRunner"]
+__all__ = ["Case", "VerificationResult", "CaseRunner"]
