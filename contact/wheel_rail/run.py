@@ -34,7 +34,7 @@ from contact.wheel_rail.deformed import deformed_profile, residual_on_profiles, 
 from contact.wheel_rail.solution import WheelRailSolution
 from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import PlacedRail, WheelsetPose, place_rail
-from wrlayer.errors import ConvergenceError, InputError
+from wrlayer.errors import ConvergenceError, InputError, check_terminated
 from wrlayer.progress import progress
 
 
@@ -154,6 +154,9 @@ def solve_cases(scene: WheelRailScene, placed: PlacedRail, out_dir: Path, keep: 
         solved = map(solve_one, progress([(scene, placed, k, keep) for k in range(len(scene.cases))],
                                          desc=scene.path.stem, total=len(scene.cases), unit="case", leave=False))
     for one in solved:
+        # a SIGTERM that arrived inside a C callback (numba compiling a kernel on a first run) was dropped there:
+        # its flag ends the sweep after the case, not after all of them
+        check_terminated()
         yield with_deformed_profiles(scene, one, out_dir)
 
 

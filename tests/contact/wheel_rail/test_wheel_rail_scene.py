@@ -149,3 +149,19 @@ def test_sweep_picture_abscissa_and_panels(tmp_path):
     for result, name in ((varying, "a.png"), (fixed, "b.png")):
         path = _sweep_plot(result, tmp_path / name)
         assert path.stat().st_size > 10_000
+
+
+def test_a_sigterm_dropped_inside_a_c_callback_ends_the_sweep_after_the_case(tmp_path, monkeypatch):
+    """A SIGTERM whose exception a C callback swallowed (numba compiling a kernel on a clean checkout) leaves only its
+    flag: the sweep stops after the case it arrived in, not after all of them (a kill during a first run's
+    compilation once let a 201-case sweep run on for more than 60 s)."""
+    from contact.wheel_rail.run import solve_cases
+    from contact.wheel_rail.track_geometry import place_rail
+    from wrlayer import errors
+
+    scene = parse_wheel_rail_scene(_scene(sweep={"lateral_mm": [0.0, 1.0, 2.0]}), tmp_path / "s.toml")
+    cases = solve_cases(scene, place_rail(scene.rail_profile, scene.layout), tmp_path)
+    assert next(cases)[0].error is None
+    monkeypatch.setattr(errors, "_terminated", True)
+    with pytest.raises(errors.Terminated):
+        next(cases)
