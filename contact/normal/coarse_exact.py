@@ -29,8 +29,9 @@ where the parabola through the outer three cells' p^2 (p with a layer: linear ne
 from these extents as the exact solver's (:func:`contact.normal.exact.line_area`). The lines' peak pressure,
 half-length and force per width are interpolated linearly onto the problem's strips inside each run's y extent
 (each strip a semi-ellipse carrying its share of the run's force, for the passes and FASTSIM; ``field`` is None).
-``grid_pressure``: the grid's pressure with each cell cut into :data:`TANGENTIAL_X_REFINE` along x and
-:data:`TANGENTIAL_Y_MERGE` lines merged, the grid of the exact tangential theory on this solution.
+``grid_pressure``: the grid's pressure; the exact tangential theory solves on it refined by
+:func:`tangential_grid` (each cell cut into :data:`TANGENTIAL_X_REFINE` along x, :data:`TANGENTIAL_Y_MERGE` lines
+merged).
 With ``extrapolate`` the scalar outputs (p_max, delta, area, length, width) are Richardson-extrapolated from the
 final grid solved with half the lines and cells (Q = Q_n + (Q_n - Q_{n/2}) / 3; measured worse on the benchmark
 set, not the default). ConvergenceError when the CG, the layer iteration or the grid placement does not converge;
@@ -57,7 +58,7 @@ from contact.normal.solution import GridPressure, NormalSolution, RegionSolution
 from wrlayer.errors import ConvergenceError, InputError, require
 from wrlayer.jit import kernel
 
-__all__ = ["DEFAULT_CELLS", "MARGIN", "CoarseOptions", "CoarseWarmStart", "solve_coarse_exact"]
+__all__ = ["DEFAULT_CELLS", "MARGIN", "CoarseOptions", "CoarseWarmStart", "solve_coarse_exact", "tangential_grid"]
 
 #: Default lines and cells of the coarse grid (``method.coarse_cells``), from the time-error study of
 #: ``benchmarks/bench_fast_normal.py``.
@@ -66,9 +67,9 @@ DEFAULT_CELLS = 32
 #: is nearly semi-elliptic along x and needs fewer cells than the profile-shaped y direction.
 DEFAULT_X_CELLS = 12
 CELLS_RANGE = (6, 128)
-#: Cells of the exact tangential theory's grid per cell of the normal grid along x (:func:`_grid_pressure`).
+#: Cells of the exact tangential theory's grid per cell of the normal grid along x (:func:`tangential_grid`).
 TANGENTIAL_X_REFINE = 4
-#: Lines of the coarse grid merged into one line of the exact tangential theory's grid (:func:`_grid_pressure`).
+#: Lines of the coarse grid merged into one line of the exact tangential theory's grid (:func:`tangential_grid`).
 TANGENTIAL_Y_MERGE = 2
 #: CG and layer tolerance of the solves that only place the grid (the last solve uses ``tol``, ``layer_rtol``).
 ROUGH_TOL = 1e-3
@@ -360,39 +361,50 @@ def _outputs(prob, lay: LineLayers, grid: CoarseGrid, p, delta, u_l, f):
 
 
 def _grid_pressure(grid: CoarseGrid, p: np.ndarray, power: int) -> GridPressure:
-    """The grid's pressure on every lattice line from its first to its last (zeros in the gaps between runs), each
-    cell cut into :data:`TANGENTIAL_X_REFINE` along x (:func:`_refined_along_x`) and every
-    :data:`TANGENTIAL_Y_MERGE` lines merged into one (their mean pressure over their width: the same force): the exact
-    tangential theory solves on this grid, and the rolling slip's tractions vary along x more than the pressure
-    does, across y less (with spin alone, on the 12 cells of the normal grid F_y and M_z of a flange patch were 17 %
-    of mu N and 25 % of mu N a off the converged solution; on 48 cells and 16 lines 4.1 % and 3.4 %, every force of
-    the 30-patch set at six creepages within 4.1 %, at 0.8 times the time of 48 cells on 32 lines:
-    ``benchmarks/bench_fast_normal.py``)."""
-    x, fine = _refined_along_x(grid, p, power, TANGENTIAL_X_REFINE)
-    n, m = int(grid.rows[-1] - grid.rows[0]) + 1, TANGENTIAL_Y_MERGE
-    full = np.zeros((-(-n // m) * m, x.size))
-    full[grid.rows - grid.rows[0]] = fine
+    """The grid's pressure on every lattice line from its first to its last (zeros in the gaps between runs)."""
+    full = np.zeros((int(grid.rows[-1] - grid.rows[0]) + 1, grid.x.size))
+    full[grid.rows - grid.rows[0]] = p
     y = grid.y[0] + np.arange(full.shape[0]) * grid.dy
-    return GridPressure(x, y.reshape(-1, m).mean(axis=1), full.reshape(-1, m, x.size).mean(axis=1))
+    return GridPressure(grid.x.copy(), y, full, power)
 
 
-def _refined_along_x(grid: CoarseGrid, p: np.ndarray, power: int, factor: int) -> tuple[np.ndarray, np.ndarray]:
-    """(x (nx factor,), p (lines, nx factor)): every cell of ``grid`` cut into ``factor`` along x; on each loaded
-    line p^power interpolated linearly between the cell centres and to zero at the line's contact ends (the
-    parabola rule of :func:`_ends`: Hertz's p^2 is quadratic in x, a layer's p linear near the edge), then scaled so
-    that the line keeps its force (MPa mm)."""
-    x = grid.x[0] - 0.5 * grid.dx + (np.arange(grid.x.size * factor) + 0.5) * (grid.dx / factor)
+def tangential_grid(on: GridPressure) -> GridPressure:
+    """The grid the exact tangential theory solves a coarse solution's pressure ``on`` on: each cell cut into
+    :data:`TANGENTIAL_X_REFINE` along x (:func:`_refined_along_x`) and every :data:`TANGENTIAL_Y_MERGE` lines merged
+    into one (their mean pressure over their width: the same force). The rolling slip's tractions vary along x
+    more than the pressure does, across y less (with spin alone, on the 12 cells of the normal grid F_y and M_z of a
+    flange patch were 17 % of mu N and 25 % of mu N a off the converged solution; on 48 cells and 16 lines 4.1 % and
+    3.4 %, every force of the 30-patch set at six creepages within 4.1 %, at 0.8 times the time of 48 cells on 32
+    lines: ``benchmarks/bench_fast_normal.py``). Built only when that theory runs (it costs about a fifth of a cold
+    coarse solve)."""
+    x, fine = _refined_along_x(on.x_mm, on.p_MPa, on.edge_power, TANGENTIAL_X_REFINE)
+    m = TANGENTIAL_Y_MERGE
+    n = on.y_mm.size
+    full = np.zeros((-(-n // m) * m, x.size))
+    full[:n] = fine
+    dy = float(on.y_mm[1] - on.y_mm[0]) if n > 1 else 0.0
+    y = on.y_mm[0] + np.arange(full.shape[0]) * dy
+    return GridPressure(x, y.reshape(-1, m).mean(axis=1), full.reshape(-1, m, x.size).mean(axis=1), on.edge_power)
+
+
+def _refined_along_x(xs: np.ndarray, p: np.ndarray, power: int, factor: int) -> tuple[np.ndarray, np.ndarray]:
+    """(x (nx factor,), p (lines, nx factor)): every cell of the uniform cells ``xs`` (mm) cut into ``factor``
+    along x; on each loaded line p^power interpolated linearly between the cell centres and to zero at the line's
+    contact ends (the parabola rule of :func:`_ends`: Hertz's p^2 is quadratic in x, a layer's p linear near the
+    edge), then scaled so that the line keeps its force (MPa mm)."""
+    dx = float(xs[1] - xs[0]) if xs.size > 1 else 1.0
+    x = xs[0] - 0.5 * dx + (np.arange(xs.size * factor) + 0.5) * (dx / factor)
     fine = np.zeros((p.shape[0], x.size))
     loaded = np.flatnonzero(p.max(axis=1) > 0)
     if loaded.size == 0:
         return x, fine
-    lo, hi = _ends(p[loaded], grid.x, grid.dx, power)
+    lo, hi = _ends(p[loaded], xs, dx, power)
     for k, row in enumerate(loaded):
         q = np.concatenate([[0.0], p[row] ** power, [0.0]])
-        xs = np.concatenate([[lo[k]], grid.x, [hi[k]]])
-        inside = (grid.x > lo[k]) & (grid.x < hi[k])
+        at = np.concatenate([[lo[k]], xs, [hi[k]]])
+        inside = (xs > lo[k]) & (xs < hi[k])
         keep = np.concatenate([[True], inside | (p[row] > 0), [True]])
-        line = np.interp(x, xs[keep], q[keep], left=0.0, right=0.0) ** (1.0 / power)
+        line = np.interp(x, at[keep], q[keep], left=0.0, right=0.0) ** (1.0 / power)
         line[(x <= lo[k]) | (x >= hi[k])] = 0.0
         total = float(line.sum())
         if total > 0.0:

@@ -67,13 +67,15 @@ class RegionSolution:
 @dataclass(frozen=True, repr=False)
 class GridPressure:
     """A pressure on a uniform grid of cells: x_mm (nx,) cell centres along the rolling direction, y_mm (ny,)
-    line centres (the solution's strip coordinate; a line of no contact carries zeros), p_MPa (ny, nx) (mm, MPa).
-    The coarse-grid solver's own grid (:mod:`contact.normal.coarse_exact`), on which the exact tangential theory
-    solves its patches (:mod:`contact.tangential.method`)."""
+    line centres (the solution's strip coordinate; a line of no contact carries zeros), p_MPa (ny, nx) (mm, MPa);
+    edge_power: the power of p that is linear near a contact end (2: Hertz's p^2; 1 with a layer). The coarse-grid
+    solver's own grid (:mod:`contact.normal.coarse_exact`); the exact tangential theory solves its patches on this
+    grid refined (:func:`contact.normal.coarse_exact.tangential_grid`, :mod:`contact.tangential.method`)."""
 
     x_mm: np.ndarray
     y_mm: np.ndarray
     p_MPa: np.ndarray
+    edge_power: int = 2
 
     def __repr__(self) -> str:
         return f"GridPressure({self.y_mm.size} lines x {self.x_mm.size} cells)"

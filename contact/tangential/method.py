@@ -22,6 +22,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from contact.normal.coarse_exact import tangential_grid
 from contact.normal.exact import fastsim_pressure, strip_centres
 from contact.normal.kik_piotrowski import NormalSolution
 from contact.normal.patch import Patch
@@ -240,8 +241,11 @@ def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, fric
     exact_field = getattr(solution, "field", None) is not None
     on_grid = getattr(solution, "grid_pressure", None)
     if method == "exact" and (exact_field or on_grid is not None):
-        grid = PressureGrid.from_exact(solution, y_ref_mm=origin_y_mm) if exact_field else \
-            PressureGrid(on_grid.x_mm, on_grid.y_mm - origin_y_mm, on_grid.p_MPa)
+        if exact_field:
+            grid = PressureGrid.from_exact(solution, y_ref_mm=origin_y_mm)
+        else:
+            fine = tangential_grid(on_grid)
+            grid = PressureGrid(fine.x_mm, fine.y_mm - origin_y_mm, fine.p_MPa)
         with _naming("patches 1.." + str(len(patches)), method):
             return solve_on_grid(grid, creepage, friction, G_MPa, poisson, "exact", speed_mm_s, nx, options, start)
     out = []

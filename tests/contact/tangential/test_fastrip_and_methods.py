@@ -205,8 +205,13 @@ def test_exact_theory_on_the_coarse_grid_of_a_coarse_solution():
     fast = solve_for_normal_solution(coarse, cr, MU, G_MPa, NU, "exact")
     ref = solve_for_normal_solution(exact, cr, MU, G_MPa, NU, "exact")
     assert len(fast) == len(ref) == 1
-    assert np.diff(fast[0].y_mm) == pytest.approx(on.y_mm[1] - on.y_mm[0])
-    assert fast[0].y_mm.size == int(np.count_nonzero(on.p_MPa.max(axis=1) > 0)) < prob.strip_y_mm.size
+    from contact.normal.coarse_exact import tangential_grid
+
+    lines = tangential_grid(on)  # the grid the exact theory solves on: the coarse cells refined along x
+    assert float(lines.p_MPa.sum() * (lines.x_mm[1] - lines.x_mm[0]) * (lines.y_mm[1] - lines.y_mm[0])) == \
+        pytest.approx(2e4, rel=1e-9)
+    assert np.diff(fast[0].y_mm) == pytest.approx(lines.y_mm[1] - lines.y_mm[0])
+    assert fast[0].y_mm.size == int(np.count_nonzero(lines.p_MPa.max(axis=1) > 0)) < prob.strip_y_mm.size
     for key in ("Fx_N", "Fy_N"):
         assert getattr(fast[0], key) == pytest.approx(getattr(ref[0], key), abs=0.03 * MU * 2e4), key
     # for the writers: one row per strip, each the nearest line's, the totals the solve's
