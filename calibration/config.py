@@ -15,8 +15,8 @@ from typing import Any
 from calibration.fit.characteristic_fit import N_SEGMENTS_RANGE
 from calibration.placement import MIN_INCLINATION_RATIO, cant_rad
 from calibration.settings import (FIT_MODES, LINEAR_SOLVERS, MESH_STYLES, METHODS, MODELS, REFERENCE_LOAD_N,
-                                  SIMILARITY_OUTSIDE, BodySettings, CalibrationConfig, FitSettings, LoadSettings,
-                                  MaterialSettings, MeshSettings, RunSettings)
+                                  SIMILARITY_ELASTIC, SIMILARITY_OUTSIDE, BodySettings, CalibrationConfig,
+                                  FitSettings, LoadSettings, MaterialSettings, MeshSettings, RunSettings)
 from meshes.profiles import PROFILE_FILE_SUFFIXES, PROFILE_UNITS, Profile, get_profile, named_profile
 from wrlayer import validate
 from wrlayer.errors import InputError
@@ -48,7 +48,9 @@ def _run(k: Keys) -> RunSettings:
     if "similarity_outside" in k.table:
         kw["similarity_outside"] = k.text("similarity_outside", choices=SIMILARITY_OUTSIDE)
     if "similarity_elastic" in k.table:
-        kw["similarity_elastic"] = k.boolean("similarity_elastic", False)
+        flag = k.table["similarity_elastic"]  # the boolean form of earlier configurations
+        kw["similarity_elastic"] = {True: "all", False: "none"}[flag] if isinstance(flag, bool) else \
+            k.text("similarity_elastic", choices=SIMILARITY_ELASTIC)
     if "master_dir" in k.table:
         kw["master_dir"] = k.text("master_dir")
     if "workers" in k.table:

@@ -293,7 +293,7 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
             mc.write(mcache)
     files = tuple(str(mc.write(out_dir)) for mc in masters.values() if mc is not None)
     out, code = [], code_hash(SIMILARITY_SOURCES)
-    elastics = _section_elastics(cfg, tasks, masters, out_dir, scheduler, log, warnings)
+    elastics = _section_elastics(cfg, tasks, masters, anchoring, out_dir, scheduler, log, warnings)
     t0 = time.perf_counter()
     for t in tasks:
         master = masters[t.material]
@@ -317,20 +317,32 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     return SimilarityRouting(tuple(out), results, routes, tuple(warnings), summary)
 
 
-def _section_elastics(cfg: CalibrationConfig, tasks: list[PositionTask], masters: dict, out_dir: Path,
-                      scheduler: str, log, warnings: list[PositionNote]) -> dict[str, SectionElastic]:
-    """{task key: its section's elastic solution} of the positions the masters serve, with
-    ``run.similarity_elastic`` ({} without); a failed solve leaves its position to the master alone, in
-    ``warnings``."""
-    if not cfg.run.similarity_elastic:
+def _section_elastics(cfg: CalibrationConfig, tasks: list[PositionTask], masters: dict, anchoring: Anchoring,
+                      out_dir: Path, scheduler: str, log, warnings: list[PositionNote]) -> dict[str, SectionElastic]:
+    """{task key: its section's elastic solution} of the positions the masters serve, as ``run.similarity_elastic``
+    says ({} with "none"; with "unanchored" only those without an anchor that applies); a failed solve leaves its
+    position to the master alone, in ``warnings``."""
+    if cfg.run.similarity_elastic == "none":
         return {}
     outside = cfg.run.similarity_outside
-    served = [t for t in tasks if (m := masters[t.material]) is not None
-              and route(t, (m.aspect_range, m.convexity_range), outside).method == METHOD_SIMILARITY]
+    served = []
+    for t in tasks:
+        m = masters[t.material]
+        r = route(t, (m.aspect_range, m.convexity_range), outside) if m is not None else None
+        if r is not None and r.method == METHOD_SIMILARITY and \
+                (cfg.run.similarity_elastic == "all" or _anchor_misses(t, r, anchoring)):
+            served.append(t)
     done, failed = section_elastics(served, out_dir / "cache", cfg.run.workers, scheduler, log)
     warnings.extend(PositionNote(t.body, t.y_mm, f"similarity: the section's elastic solve failed ({failed[t.key]}); "
                                                  "p_y and c_el from the master") for t in served if t.key in failed)
     return done
+
+
+def _anchor_misses(t: PositionTask, r: Route, anchoring: Anchoring) -> str:
+    """Why the position's direct reference does not anchor it ("no direct reference", or the patch that left the
+    reference's, :func:`calibration.similarity.anchor.applies`); "" when it does."""
+    ref = anchoring.references.get((t.body, t.y_mm))
+    return "no direct reference" if ref is None else applies(ref, t.geometry.a_mm, t.geometry.b_mm, r.convexity)
 
 
 def _served(t: PositionTask, master: MasterCurves, r: Route, anchoring: Anchoring, code: str,
@@ -340,7 +352,7 @@ def _served(t: PositionTask, master: MasterCurves, r: Route, anchoring: Anchorin
     routed to the direct FEM instead (task unchanged, no characteristic). ``elastic``: its section's elastic
     solution, which gives p_y and c_el (:mod:`calibration.similarity.elastic`)."""
     ref = anchoring.references.get((t.body, t.y_mm))
-    why_not = applies(ref, t.geometry.a_mm, t.geometry.b_mm, r.convexity) if ref is not None else ""
+    why_not = _anchor_misses(t, r, anchoring) if ref is not None else ""
     if why_not and anchoring.reanchor:  # the patch left its anchor's: its own FEM, the next anchor
         return t, Route(METHOD_DIRECT, f"{why_not}; computed by the direct FEM (the position's new anchor)",
                         r.convexity), None, ""

@@ -20,6 +20,8 @@ MODELS = ("2d", "3d")
 METHODS = ("direct", "similarity")
 #: What RunSettings.similarity_outside does with a position outside the similarity master's domain.
 SIMILARITY_OUTSIDE = ("direct", "nearest")
+#: Which served positions get their own section's elastic solve (``[run] similarity_elastic``).
+SIMILARITY_ELASTIC = ("none", "all", "unanchored")
 #: The linear solvers of RunSettings.linear_solver.
 LINEAR_SOLVERS = ("auto", "pardiso", "scipy")
 #: The 3D mesh styles of MeshSettings.style.
@@ -43,11 +45,13 @@ class RunSettings:
     similarity_outside : str
         "direct" (a position outside the master's domain by its own FEM) or "nearest" (from the master at the
         nearest point of its domain, the reason in the entry's warnings; the wear loop's recalibration).
-    similarity_elastic : bool
-        Under "similarity": each served position's first-yield pressure p_y and elastic compliance from an elastic
-        solve of its own section (meshing, one factorisation, one solve: a few seconds a position, cached in
-        OUT/cache) instead of the master's; the plastic curves from the master at equal p0 / p_y
-        (:mod:`calibration.similarity.elastic`; docs/calibration.md, "Calibration by similarity").
+    similarity_elastic : str
+        Under "similarity", which served positions take their first-yield pressure p_y and elastic compliance
+        from an elastic solve of their own section (meshing, one factorisation, one solve: a few seconds a
+        position, cached in OUT/cache) instead of the master's, the plastic curves from the master at equal
+        p0 / p_y (:mod:`calibration.similarity.elastic`): "none", "all", or "unanchored" (only those without a
+        direct reference whose patch is like theirs, :func:`calibration.similarity.anchor.applies`; the anchored
+        ones take p_y and c_el from the reference's correction). true / false read as "all" / "none".
     master_dir : str
         Folder of the similarity master's FEM cache, shared between runs ("" : the run's own OUT/cache).
     workers : int
@@ -63,7 +67,7 @@ class RunSettings:
     model: str = "3d"
     method: str = "direct"
     similarity_outside: str = "direct"
-    similarity_elastic: bool = False
+    similarity_elastic: str = "none"
     master_dir: str = ""
     workers: int = 2
     scheduler: str = ""

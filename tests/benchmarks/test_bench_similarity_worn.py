@@ -66,7 +66,10 @@ def test_the_anchored_master_reproduces_its_reference_where_the_master_alone_mis
         own = SectionElastic.from_dict(json.loads(elastic_entry(tmp_path / "direct" / "cache", t).read_text()))
         direct_p_y = load_indentation(fem_entry(tmp_path / "direct" / "cache", t.key))[0].first_yield_MPa
         assert r["loop_section"]["p_y"] == pytest.approx(own.p_y_MPa / direct_p_y - 1.0, rel=1e-9)
-    assert "The loop's rule with p_y and c_el from each position's own section" in markdown(data)
+    assert "The loop's rule with p_y and c_el from the position's own section" in markdown(data)
+    # "unanchored": both anchors apply, so no section is solved and the rows are the loop's own
+    assert all(r["loop_unanchored"] == r["loop"] for r in case["rows"])
+    assert 'similarity_elastic = "unanchored"`: an elastic solve at the 0 positions' in markdown(data)
 
 
 def test_the_quick_mode_says_what_is_missing(tmp_path, monkeypatch):

@@ -95,7 +95,7 @@ def test_a_similarity_run_with_similarity_elastic_takes_each_sections_p_y_and_sa
     from wrlayer.layer_table import LayerTable
 
     cfg = _sim_cfg(tmp_path, positions=(0.0,))
-    cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, similarity_elastic=True))
+    cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, similarity_elastic="all"))
     _fake_master(cfg)
     result = calibrate(cfg, tmp_path / "out", show_progress=False, log=lambda *a: None)
     entry = LayerTable.read(result.tables["rail"]).positions[0]
@@ -108,3 +108,36 @@ def test_a_similarity_run_with_similarity_elastic_takes_each_sections_p_y_and_sa
     said = []
     calibrate(cfg, tmp_path / "out", show_progress=False, log=said.append)
     assert not any("elastic solves" in s for s in said)  # cached: nothing solved again
+
+
+def test_unanchored_solves_only_the_sections_without_an_anchor_that_applies(tmp_path):
+    from calibration.pipeline import calibrate
+    from calibration.similarity.route import route
+    from wrlayer.layer_table import LayerTable
+
+    from tests.calibration.test_similarity_anchor import _direct_like
+
+    cfg = _sim_cfg(tmp_path, positions=(-5.0, 0.0))
+    cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, similarity_elastic="unanchored"))
+    master = _fake_master(cfg)
+    tasks = make_tasks(cfg, tmp_path, False)[0]
+    at0 = next(t for t in tasks if t.y_mm == 0.0)
+    ref = dataclasses.replace(_direct_like(master, at0.geometry.a_mm, at0.geometry.b_mm, route(at0).convexity),
+                              y_mm=0.0)
+    said = []
+    result = calibrate(cfg, tmp_path / "out", show_progress=False, log=said.append, anchors={("rail", 0.0): ref})
+    assert any(s.startswith("calibration: elastic solves of 1 ") for s in said)  # y = -5 mm only
+    by_y = {e["y_mm"]: e for e in LayerTable.read(result.tables["rail"]).positions}
+    own = section_elastic(next(t for t in tasks if t.y_mm == -5.0))
+    assert by_y[-5.0]["first_yield_fem_MPa"] == pytest.approx(own.p_y_MPa, rel=1e-9)
+    assert by_y[0.0]["first_yield_fem_MPa"] == pytest.approx(ref.p_y_MPa)  # the anchor's, not a solve's
+    notes = {d["y_mm"]: d["note"] for d in result.to_dict()["bodies"]["rail"]["position_details"]}
+    assert "elastic solve" in notes[-5.0] and "elastic solve" not in notes[0.0]
+
+
+def test_the_boolean_form_still_reads(tmp_path):
+    text = COARSE.read_text().replace("[run]", '[run]\nmethod = "similarity"\nsimilarity_elastic = true', 1)
+    (tmp_path / "c.toml").write_text(text)
+    assert load_config(tmp_path / "c.toml").run.similarity_elastic == "all"
+    (tmp_path / "c.toml").write_text(text.replace("similarity_elastic = true", 'similarity_elastic = "unanchored"'))
+    assert load_config(tmp_path / "c.toml").run.similarity_elastic == "unanchored"
