@@ -19,8 +19,10 @@ reported apart.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import pathlib
+import time
 
 import numpy as np
 
@@ -98,11 +100,34 @@ def against_exact(result: dict, exact: dict) -> dict[str, tuple[float, int, str]
     return worst
 
 
+@contextlib.contextmanager
+def tangential_clock():
+    """Accumulates the CPU time (s) of the balance's tangential solves (``contact.wheel_rail.balance.solve_regions``,
+    the one call a load's tangential solve goes through) into the yielded list's single entry."""
+    from contact.wheel_rail import balance
+
+    spent, solve = [0.0], balance.solve_regions
+
+    def timed(*args, **kwargs):
+        c0 = time.process_time()
+        try:
+            return solve(*args, **kwargs)
+        finally:
+            spent[0] += time.process_time() - c0
+
+    balance.solve_regions = timed
+    try:
+        yield spent
+    finally:
+        balance.solve_regions = solve
+
+
 def timed_sweeps(out: pathlib.Path, rounds: int = TIMING_ROUNDS) -> dict[str, dict]:
     """Each :data:`TIMED` sweep without output files (no VTK files, no frictional CSVs; result.json's record is
     built), ``rounds`` times interleaved (after one untimed run of each, which compiles and loads the kernels; each
     run solves FaStrip's coefficient nodes afresh, as a sweep in a new process): {"normal/tangential": {"result"
-    (the first timed run's), "cpu_s" (the runs' CPU times), "load" (1-min load averages at their starts)}}."""
+    (the first timed run's), "cpu_s" (the runs' CPU times), "tangential_cpu_s" (of which the tangential solves,
+    :func:`tangential_clock`), "load" (1-min load averages at their starts)}}."""
     runs: dict[str, dict] = {}
     for r in range(rounds + 1):
         for normal, tangential, keys in TIMED:
@@ -110,14 +135,17 @@ def timed_sweeps(out: pathlib.Path, rounds: int = TIMING_ROUNDS) -> dict[str, di
             load = os.getloadavg()[0]
             folder = out / ("timed_" + "_".join([normal, tangential, *(f"{k}{v}" for k, v in keys.items())]))
             clear_node_cache()           # FaStrip's model coefficients: every sweep solves its own nodes
-            res, _, cpu, err = run_scene(folder, normal=normal, tangential=tangential, vtk=False,
-                                         output={"frictional_csv": False}, **keys)
-            rec = runs.setdefault(name, {"result": None, "cpu_s": [], "load": [], "error": ""})
+            with tangential_clock() as spent:
+                res, _, cpu, err = run_scene(folder, normal=normal, tangential=tangential, vtk=False,
+                                             output={"frictional_csv": False}, **keys)
+            rec = runs.setdefault(name, {"result": None, "cpu_s": [], "tangential_cpu_s": [], "load": [],
+                                         "error": ""})
             if res is None:
                 rec["error"] = err
             elif r > 0:
                 rec["result"] = rec["result"] or res
                 rec["cpu_s"].append(cpu)
+                rec["tangential_cpu_s"].append(spent[0])
                 rec["load"].append(load)
     return runs
 
@@ -150,9 +178,9 @@ def fast_mode_markdown(runs: dict[str, dict], fine: dict | None) -> tuple[str, d
           f"after a warm-up run; 1-min load {min(loads):.1f}–{max(loads):.1f} on the 2 shared cores) and the "
           "largest deviation of the main patch from the exact/exact sweep over the 21 cases and both wheels (case "
           f"and wheel in brackets); targets: within {FAST_TOLERANCE:.0%} and {FAST_SPEEDUP:g} times faster:\n",
-          "| method.normal / method.tangential | CPU [s] | exact/exact CPU / CPU | "
+          "| method.normal / method.tangential | CPU [s] | tangential solves CPU [s] | exact/exact CPU / CPU | "
           + " | ".join(titles.values()) + f" | p_max, area against exact/exact on {FINE_GRID_MM:g} mm strips | "
-          "targets met |", "|---|---|---|" + "---|" * (len(titles) + 2)]
+          "targets met |", "|---|---|---|---|" + "---|" * (len(titles) + 2)]
 
     def against_fine(res: dict) -> tuple[str, dict | None]:
         if fine is None:
@@ -165,18 +193,19 @@ def fast_mode_markdown(runs: dict[str, dict], fine: dict | None) -> tuple[str, d
         if rec["result"] is None:
             md.append(f"| {name} | failed: {rec['error'][:100]} |")
             continue
-        cpu = float(np.median(rec["cpu_s"]))
-        data[name] = {"cpu_s": rec["cpu_s"], "load": rec["load"], "speedup": t_exact / cpu}
+        cpu, tangential = float(np.median(rec["cpu_s"])), float(np.median(rec["tangential_cpu_s"]))
+        data[name] = {"cpu_s": rec["cpu_s"], "tangential_cpu_s": rec["tangential_cpu_s"], "load": rec["load"],
+                      "speedup": t_exact / cpu}
         fine_text, fine_worst = against_fine(rec["result"])
         if name == "exact/exact":
-            md.append(f"| {name} | {cpu:.2f} | 1 |" + " — |" * len(titles) + f" {fine_text} | — |")
+            md.append(f"| {name} | {cpu:.2f} | {tangential:.2f} | 1 |" + " — |" * len(titles) + f" {fine_text} | — |")
             continue
         worst = against_exact(rec["result"], exact["result"])
         data[name]["against_exact"] = worst
         data[name]["targets"] = targets_met(worst, fine_worst, t_exact / cpu)
         cells = [f"{worst[k][0]:+.2%} ({worst[k][1]} {worst[k][2]})" for k in titles] + [fine_text,
                                                                                          data[name]["targets"]]
-        md.append(f"| {name} | {cpu:.2f} | {t_exact / cpu:.2f} | " + " | ".join(cells) + " |")
+        md.append(f"| {name} | {cpu:.2f} | {tangential:.2f} | {t_exact / cpu:.2f} | " + " | ".join(cells) + " |")
     fast = runs["coarse_exact/fastsim"]["result"]
     if fast is not None:
         md += ["\nThe fast mode coarse_exact/fastsim per case (deviation from exact/exact, main patch):\n",

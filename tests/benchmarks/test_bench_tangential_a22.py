@@ -22,3 +22,17 @@ def test_the_patch_judged_against_the_fine_strips_when_the_exact_mode_is_off():
     assert targets_met(off, None, 4.0).endswith("p_max and area no")
     assert targets_met(off, _worst(area=-0.017), 4.0).endswith("p_max and area against 0.025 mm strips only")
     assert targets_met(off, _worst(p_max=0.06), 4.0).endswith("p_max and area no")
+
+
+def test_the_tangential_clock_adds_the_solves_cpu_time_and_puts_the_solver_back(monkeypatch):
+    from benchmarks.bench_tangential_a22 import tangential_clock
+    from contact.wheel_rail import balance
+
+    def busy(n):
+        return sum(i * i for i in range(n))
+
+    monkeypatch.setattr(balance, "solve_regions", busy)
+    with tangential_clock() as spent:
+        assert balance.solve_regions is not busy
+        assert balance.solve_regions(200000) == busy(200000)
+    assert spent[0] > 0 and balance.solve_regions is busy
