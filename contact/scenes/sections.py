@@ -36,12 +36,6 @@ def _tangential_methods() -> tuple[str, ...]:
     return TANGENTIAL_METHODS
 
 
-def _strip_cells(method: str) -> int:
-    from contact.tangential.method import STRIP_CELLS  # here: the tangential solvers compile with numba
-
-    return STRIP_CELLS[method]
-
-
 def _flexibility_rules() -> tuple[str, ...]:
     from contact.tangential.fastsim import FLEXIBILITY_RULES  # here: fastsim compiles with numba
 
@@ -211,10 +205,8 @@ class MethodSpec(Record):
         Kik–Piotrowski's virtual penetration factor (-, paper eq. 9).
     grid_mm : float
         Strip grid spacing (mm).
-    fastsim_cells : int | None
-        Cells per strip of the strip methods (FASTSIM, FaStrip) and of the exact theory's raster of a
-        Kik–Piotrowski patch (-); none given: the method's own (FASTSIM and the raster 60, FaStrip 30:
-        ``contact.tangential.method.STRIP_CELLS``; held resolved, so a result's inputs name the cells that ran).
+    fastsim_cells : int
+        FASTSIM cells per strip (-).
     normal : str
         The normal solver: "auto" (default: "exact", the FFT half-space solver), "kik_piotrowski" (the paper's;
         p_max approximate), "exact" or "coarse_exact" (the half-space on a coarse grid) (-; held resolved, so a
@@ -230,7 +222,7 @@ class MethodSpec(Record):
 
     alpha: float = key(ALPHA, "-", ge=MIN_ALPHA, le=1.0)
     grid_mm: float = key(GRID_MM, "mm", ge=MIN_GRID_MM)
-    fastsim_cells: int | None = key(None, ge=2, le=MAX_FASTSIM_CELLS)
+    fastsim_cells: int = key(60, ge=2, le=MAX_FASTSIM_CELLS)
     normal: str = key(NormalMethod.name, choices=NORMAL_CHOICES)
     exact_cells: int | None = key(NormalMethod.exact_cells, ge=1)
     layer_mode: str = key(NormalMethod.layer_mode)
@@ -238,8 +230,6 @@ class MethodSpec(Record):
 
     def __post_init__(self):
         object.__setattr__(self, "normal", resolve_normal_name(self.normal, self.layer_mode))
-        if self.fastsim_cells is None:
-            object.__setattr__(self, "fastsim_cells", _strip_cells(self.tangential))
 
     def normal_method(self) -> NormalMethod:
         """The :class:`contact.normal.method.NormalMethod` of these keys."""

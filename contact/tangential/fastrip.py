@@ -54,7 +54,7 @@ from contact.tangential.fastsim import (
 from wrlayer.errors import ConvergenceError
 from wrlayer.jit import kernel
 
-__all__ = ["FASTRIP_CELLS", "NODES_PER_DECADE", "START_STRIPS", "STRIP_TOL", "clear_node_cache", "model_coefficients",
+__all__ = ["NODES_PER_DECADE", "START_STRIPS", "STRIP_TOL", "clear_node_cache", "model_coefficients",
            "solve_fastrip", "start_tractions", "strip_flexibilities"]
 
 #: The strip solver's stop: the largest traction change of a sweep below STRIP_TOL times the strip's traction scale
@@ -62,11 +62,6 @@ __all__ = ["FASTRIP_CELLS", "NODES_PER_DECADE", "START_STRIPS", "STRIP_TOL", "cl
 #: coarse_exact/fastrip) of solves to 1e-7, with 8 sweeps per strip on average instead of 15 (1e-6: 4.5e-8 mu F_N,
 #: 11 sweeps).
 STRIP_TOL = 1e-5
-#: FaStrip's cells per strip when none are given (-): its strips are solved exactly cell by cell (nx^2 work per
-#: sweep). On the A-2.2 sweep (exact normal solution) 30 cells leave the creep forces within 0.32 % (F_x) and 0.61 %
-#: (F_y) of mu F_N of 240 cells (60 cells: 0.15 / 0.28 %; 120: 0.06 / 0.10 %), far inside the strip model's own
-#: error (about 8 % of mu F_N against the exact theory), at half the tangential solves' time of 60 cells.
-FASTRIP_CELLS = 30
 #: A start (:func:`start_tractions`) is used while the patch's strip count differs from the earlier one's by at
 #: most this many strips (a balance step changes the patch by a strip or two).
 START_STRIPS = 3
@@ -274,7 +269,7 @@ def start_tractions(start: TangentialResult | None, ny: int, nx: int) -> tuple[n
 
 
 def solve_fastrip(patch: Patch, creepage: Creepage, G_MPa: float, poisson: float, friction: float,
-                  speed_mm_s: float = 1000.0, nx: int = FASTRIP_CELLS, pressure_cells_MPa: np.ndarray | None = None,
+                  speed_mm_s: float = 1000.0, nx: int = 60, pressure_cells_MPa: np.ndarray | None = None,
                   strip_centre_mm: np.ndarray | None = None, tol: float = STRIP_TOL, max_sweeps: int = 1000,
                   start: TangentialResult | None = None) -> TangentialResult:
     """FaStrip on the patch's strips; arguments as :func:`contact.tangential.fastsim.solve_tangential` (without

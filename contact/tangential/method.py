@@ -27,19 +27,16 @@ from contact.normal.exact import fastsim_pressure, strip_centres
 from contact.normal.kik_piotrowski import NormalSolution
 from contact.normal.patch import Patch
 from contact.tangential.exact_rolling import RollingOptions, solve_rolling
-from contact.tangential.fastrip import FASTRIP_CELLS, solve_fastrip
+from contact.tangential.fastrip import solve_fastrip
 from contact.tangential.fastsim import Creepage, StripCells, TangentialResult, equivalent_ellipse
 from contact.tangential.spin_centre import solve_about_centroid
 from wrlayer.errors import ConvergenceError, require
 
-__all__ = ["ROW_FIELDS", "STRIP_CELLS", "TANGENTIAL_METHODS", "PressureGrid", "on_strips", "solve_on_grid",
-           "solve_for_normal_solution", "strip_rows"]
+__all__ = ["ROW_FIELDS", "TANGENTIAL_METHODS", "PressureGrid", "on_strips", "solve_on_grid", "solve_for_normal_solution",
+           "strip_rows"]
 
 #: Values of ``method.tangential``.
 TANGENTIAL_METHODS = ("fastsim", "fastrip", "exact")
-#: Cells per strip of each method when none are given (``method.fastsim_cells`` absent): FASTSIM's strips, FaStrip's
-#: (:data:`contact.tangential.fastrip.FASTRIP_CELLS`) and the exact theory's raster of a Kik–Piotrowski patch (-).
-STRIP_CELLS = {"fastsim": 60, "fastrip": FASTRIP_CELLS, "exact": 60}
 #: The per-row fields of a TangentialResult (one row per strip or grid line).
 ROW_FIELDS = ("dx_mm", "x_mm", "pn_MPa", "tx_MPa", "ty_MPa", "slip", "slip_velocity_mm_s", "PT_W_per_mm2",
               "WT_field_N_per_mm", "WT_N_per_mm")
@@ -189,7 +186,7 @@ def _exact(grid: PressureGrid, creepage: Creepage, G_MPa, poisson, friction, spe
 
 
 def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa: float, poisson: float,
-                  method: str = "exact", speed_mm_s: float = 1000.0, nx: int | None = None,
+                  method: str = "exact", speed_mm_s: float = 1000.0, nx: int = 60,
                   options: RollingOptions = RollingOptions(), start: list[TangentialResult] | None = None
                   ) -> list[TangentialResult]:
     """The tangential solution of ``method`` ("fastsim", "fastrip" or "exact") on the grid's pressure: one
@@ -197,8 +194,8 @@ def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa
     they add up).
 
     creepage: about the grid frame's origin; friction: Coulomb mu; G_MPa, poisson: the common material (shear
-    modulus E / (2 (1 + nu)) in MPa); speed_mm_s: rolling speed V; nx: cells per strip of the strip methods
-    (None: :data:`STRIP_CELLS`); options: the exact solver's. FASTSIM takes the spin about each region's force centroid
+    modulus E / (2 (1 + nu)) in MPa); speed_mm_s: rolling speed V; nx: cells per strip of the strip methods;
+    options: the exact solver's. FASTSIM takes the spin about each region's force centroid
     (:func:`contact.tangential.spin_centre.solve_about_centroid`). ConvergenceError when the exact solver or a
     FaStrip strip does not converge. ``start``: the exact solver's starting tractions (see :func:`_exact`).
     """
@@ -206,7 +203,6 @@ def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa
     if method == "exact":
         return _exact(grid, creepage, G_MPa, poisson, friction, speed_mm_s, options, start)
     solver = solve_about_centroid if method == "fastsim" else solve_fastrip
-    nx = STRIP_CELLS[method] if nx is None else nx
     out = []
     for rows in grid.regions():
         patch, pn, xc = grid.strips(rows, nx)
@@ -216,8 +212,7 @@ def solve_on_grid(grid: PressureGrid, creepage: Creepage, friction: float, G_MPa
 
 
 def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, friction: float, G_MPa: float,
-                              poisson: float, method: str = "fastsim", speed_mm_s: float = 1000.0,
-                              nx: int | None = None,
+                              poisson: float, method: str = "fastsim", speed_mm_s: float = 1000.0, nx: int = 60,
                               flexibility: str = "three", options: RollingOptions = RollingOptions(),
                               origin_y_mm: float = 0.0, start: list[TangentialResult] | None = None
                               ) -> list[TangentialResult]:
@@ -235,11 +230,9 @@ def solve_for_normal_solution(solution: NormalSolution, creepage: Creepage, fric
     InputError when a patch carries no pressure; ConvergenceError naming the patch when a solve does not converge.
     ``start``: an earlier result of the same solution's kind (e.g. the previous load of a balance iteration), the
     exact theory's starting tractions on the exact grid, or per patch FaStrip's (the same solution to the
-    tolerance, in fewer sweeps). ``nx``: cells per strip of the strip methods and of the raster (None:
-    :data:`STRIP_CELLS`).
+    tolerance, in fewer sweeps).
     """
     require(method in TANGENTIAL_METHODS, "method.tangential", f"must be one of {TANGENTIAL_METHODS}, got {method!r}")
-    nx = STRIP_CELLS[method] if nx is None else nx
     patches = [p if origin_y_mm == 0.0 else Patch(p.grid_mm, p.y_mm - origin_y_mm, p.x_lead_mm, p.p_peak_MPa)
                for p in solution.patches]
     for k, p in enumerate(patches):

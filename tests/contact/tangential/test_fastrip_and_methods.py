@@ -252,17 +252,3 @@ def test_exact_theory_on_a_coarse_solution_resolves_the_spin_of_a_narrow_patch(m
     assert abs(fy) < 0.05 and abs(mz) < 0.05
     monkeypatch.setattr(coarse_exact, "TANGENTIAL_X_REFINE", 1)
     assert max(map(abs, errors())) > 0.1
-
-
-def test_each_strip_method_has_its_own_default_cells_and_a_given_count_wins():
-    from contact.scenes.sections import MethodSpec
-    from contact.tangential.fastrip import FASTRIP_CELLS
-    from contact.tangential.method import STRIP_CELLS
-
-    assert FASTRIP_CELLS == 30 and STRIP_CELLS == {"fastsim": 60, "fastrip": 30, "exact": 60}
-    assert MethodSpec().fastsim_cells == 60 and MethodSpec(tangential="exact").fastsim_cells == 60
-    assert MethodSpec(tangential="fastrip").fastsim_cells == FASTRIP_CELLS  # held resolved: the result names it
-    assert MethodSpec(tangential="fastrip", fastsim_cells=60).fastsim_cells == 60
-    patch = hertz_patch(6.0, 4.0, 1e5, 21)
-    default = solve_fastrip(patch, Creepage(1e-3, 0, 0), G_MPa, NU, MU)
-    assert default.tx_MPa.shape[1] == FASTRIP_CELLS
