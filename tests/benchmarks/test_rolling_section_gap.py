@@ -4,19 +4,20 @@ rolling.json, and the configurations it runs (parsed by the rolling reader)."""
 import pytest
 
 from benchmarks import bench_rolling_section_gap as sg
+from benchmarks import rolling_section_cases as cases
 from wrlayer.layer_table import LayerTable
 
 
 def test_every_configuration_is_a_valid_section_run():
-    for _, table, y_mm, _ in sg.POSITIONS:
-        for c in sg.TRACTIONS:
-            cfg = sg.section_config(table, y_mm, c)
+    for _, table, y_mm, _ in cases.POSITIONS:
+        for c in cases.TRACTIONS:
+            cfg = cases.section_config(table, y_mm, c)
             assert cfg.contact.body == "section" and cfg.contact.y_mm == y_mm
-            assert cfg.track.n_passes == sg.N_PASSES and tuple(cfg.contact.levels) == sg.LEVELS
+            assert cfg.track.n_passes == cases.N_PASSES and tuple(cfg.contact.levels) == cases.LEVELS
 
 
 def test_layer_groove_is_the_tables_residual_times_its_law():
-    name, table_rel, y_mm, label = sg.POSITIONS[0]
+    name, table_rel, y_mm, label = cases.POSITIONS[0]
     table = LayerTable.read(sg.ROOT / table_rel)
     ch = table.characteristic_at(y_mm)
     run = {"p_y_MPa": 800.0, "levels": [
@@ -28,8 +29,8 @@ def test_layer_groove_is_the_tables_residual_times_its_law():
     row = rows[0]
     assert row.table_residual_mm == pytest.approx(r)
     assert row.fem_mm == (0.019, 0.020, 0.0205)
-    for n, law in zip(sg.COMPARED, row.law_mm):
+    for n, law in zip(cases.COMPARED, row.law_mm):
         assert law == pytest.approx(r * float(table.rolling_law.factor(n, 1.7 * 800.0 / ch.elastic_limit_MPa, 0.2)))
-    assert row.relaxed_mm == pytest.approx(tuple(n * r for n in sg.COMPARED))
+    assert row.relaxed_mm == pytest.approx(tuple(n * r for n in cases.COMPARED))
     text = sg.table_markdown(rows)
     assert f"| {label} | 0.2 | 1.7 |" in text and "of 1 cases" in text
