@@ -2,8 +2,9 @@
 and log(a/b); the route serves concave, flat and convex positions (conforming ones too) and sends the others to the
 direct FEM, naming why, or serves them from the master's nearest point; a master file of another format version is
 rebuilt, never read; a run with the master cached computes no FEM (a synthetic master, written into the master's
-cache, stands in for the 3D FEM here); on a coarse mesh a synthetic concave position from a small master agrees
-with its own FEM (benchmarks/bench_similarity.py compares the real master with the direct FEM)."""
+cache, stands in for the 3D FEM here); a concave position between a small real master's grid points against its own
+FEM: tests/calibration/test_similarity_anchor.py (benchmarks/bench_similarity.py compares the real master with the
+direct FEM)."""
 
 import dataclasses
 import json
@@ -19,12 +20,11 @@ from calibration.hertz.geometry import given_geometry
 from calibration.indentation import load_levels
 from calibration.pipeline import calibrate
 from calibration.results import IndentationResult
-from calibration.similarity import master as master_mod
 from calibration.similarity.master import (ASPECTS, CONVEXITIES, MasterCurves, MasterFormatError, grid_points,
-                                           master_key, master_tasks, stored_master)
+                                           master_tasks, stored_master)
 from calibration.similarity.route import route, similar_indentation
 from calibration.similarity.sections import arc_section, patch_convexity, plastic_convexity
-from calibration.tasks import make_tasks, position_task, run_position
+from calibration.tasks import make_tasks
 from wrlayer.layer_table import LayerTable
 from meshes.profiles import get_profile
 from wrlayer.errors import InputError
@@ -199,29 +199,3 @@ def test_a_folder_of_profiles_is_costed_first_then_calibrated_from_the_master(tm
     with pytest.raises(InputError, match="no profile file"):
         calibrate_profiles([tmp_path / "nothing*.prr"], cfg, tmp_path / "out3")
 
-
-@pytest.mark.slow
-def test_a_concave_position_from_a_small_master_agrees_with_its_own_fem(tmp_path, monkeypatch):
-    """Coarse mesh, a 2 x 2 master (flat and concave c = -0.08, a/b = 1 and 2, L = 3 mm): a concave position
-    between its grid points (c = -0.04, a/b = 1.4, L = 3 mm) against its own FEM."""
-    for name, value in (("CONVEXITIES", (-0.08, 0.0)), ("ASPECTS", (1.0, 2.0)), ("SHAPE_ASPECTS", (1.0, 2.0)),
-                        ("LENGTHS_MM", (3.0,)), ("SHAPE_LENGTH_MM", 3.0)):
-        monkeypatch.setattr(master_mod, name, value)
-    cfg = load_config(COARSE)
-    material = cfg.bodies[0].material
-    tasks = master_tasks(cfg, material)
-    assert len(tasks) == 4
-    results = {t.key: run_position(t).indentation for t in tasks}
-    master = MasterCurves.build(cfg, material, tasks, results)
-    r, length, c = 1.4, 3.0, -0.04
-    a, b = length * math.sqrt(r), length / math.sqrt(r)
-    section = arc_section(c, b)
-    direct = run_position(position_task(cfg, "rail", section, given_geometry(section, 0.0, a, b), material)).indentation
-    sim = similar_indentation(master, a, b, patch_convexity(section, 0.0, b))
-    assert sim.first_yield_MPa == pytest.approx(direct.first_yield_MPa, rel=0.02)
-    levels = [p for p in load_levels(direct.first_yield_MPa, cfg.load) if p > 1.2 * direct.first_yield_MPa]
-    u_d, u_s = np.interp(levels, direct.p_MPa, direct.u_pl_mm), np.interp(levels, sim.p_MPa, sim.u_pl_mm)
-    assert np.allclose(u_s, u_d, rtol=0.04)
-    res_s = np.interp(direct.unload_peaks_MPa, sim.unload_peaks_MPa, sim.residual_fem_mm)
-    assert np.allclose(res_s, direct.residual_fem_mm, rtol=0.04)
-    assert master_key(tasks) == master.key

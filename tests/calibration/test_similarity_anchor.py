@@ -114,14 +114,16 @@ def test_a_patch_unlike_the_references_is_not_anchored_and_says_why(tmp_path):
 @pytest.mark.slow
 def test_on_a_coarse_mesh_an_anchor_moves_a_nearby_patch_towards_its_own_fem(tmp_path, monkeypatch):
     """A 2 x 2 master (flat and concave c = -0.08, a/b = 1 and 2, L = 3 mm), a 'new' concave position (c = -0.04,
-    a/b = 1.4) computed directly as the reference, and a 'worn' one nearby (c = -0.05, a/b = 1.6, L = 3.3 mm)
-    against its own FEM: anchored, p_y and u_pl above 1.2 p_y are closer to it than the master's alone."""
+    a/b = 1.4, between the master's grid points) computed directly as the reference, and a 'worn' one nearby
+    (c = -0.05, a/b = 1.6, L = 3.3 mm) against its own FEM: the master alone agrees with the 'new' position's own
+    FEM (p_y within 2 %, u_pl above 1.2 p_y and the residuals within 4 %), and anchored, p_y and u_pl above 1.2 p_y
+    of the 'worn' one are closer to its FEM than the master's alone."""
     from calibration.config import load_config
     from calibration.hertz.geometry import given_geometry
     from calibration.indentation import load_levels
     from calibration.similarity import master as master_mod
-    from calibration.similarity.master import MasterCurves, master_tasks
-    from calibration.similarity.sections import arc_section
+    from calibration.similarity.master import MasterCurves, master_key, master_tasks
+    from calibration.similarity.sections import arc_section, patch_convexity
     from calibration.tasks import position_task, run_position
 
     for name, value in (("CONVEXITIES", (-0.08, 0.0)), ("ASPECTS", (1.0, 2.0)), ("SHAPE_ASPECTS", (1.0, 2.0)),
@@ -139,6 +141,13 @@ def test_on_a_coarse_mesh_an_anchor_moves_a_nearby_patch_towards_its_own_fem(tmp
         return a, b, ind.indentation
 
     a0, b0, new = direct(-0.04, 1.4, 3.0)
+    assert len(tasks) == 4 and master_key(tasks) == master.key
+    sim = similar_indentation(master, a0, b0, patch_convexity(arc_section(-0.04, b0), 0.0, b0))
+    assert sim.first_yield_MPa == pytest.approx(new.first_yield_MPa, rel=0.02)
+    above = [p for p in load_levels(new.first_yield_MPa, cfg.load) if p > 1.2 * new.first_yield_MPa]
+    assert np.allclose(np.interp(above, sim.p_MPa, sim.u_pl_mm), np.interp(above, new.p_MPa, new.u_pl_mm), rtol=0.04)
+    assert np.allclose(np.interp(new.unload_peaks_MPa, sim.unload_peaks_MPa, sim.residual_fem_mm),
+                       new.residual_fem_mm, rtol=0.04)
     ref = DirectReference("rail", 0.0, a0, b0, -0.04, new.first_yield_MPa, tuple(new.p_MPa), tuple(new.u_pl_mm),
                           tuple(new.unload_peaks_MPa), tuple(new.residual_fem_mm),
                           new.fem_elastic_compliance_mm_per_MPa, "new")
