@@ -36,7 +36,8 @@ def test_mesh_factor_and_the_corrected_gap(tmp_path):
     assert ss.mesh_factor(study, "crown", 1.15) == pytest.approx(0.0009 / 0.0008)
     assert ss.mesh_factor(study, "crown", 1.7) is None and ss.mesh_factor(study, "tread", 1.15) is None
     text = ss.study_markdown(study)
-    assert "| crown | 1.15 | 900 | 0.800 | 0.850 | 0.900 |" in text
+    fit_over_fem = 0.001 / ss.table_fem_residual("crown", 900.0)
+    assert f"| crown | 1.15 | 900 | {fit_over_fem:.3f} | 0.800 | 0.850 | 0.900 |" in text
     row = sg.SectionGapRow("rail crown", 0.0, 1.15, 800.0, 800.0, 0.0008, 0.001, (0.001, 0.001, 0.001),
                            (0.0011, 0.0011, 0.0011), (0.001, 0.002, 0.005), (0.001, 0.001, 0.001))
     out = sg.corrected_markdown([row], study)  # 1.1 of the a/2 groove, 1.1 / 1.125 of the corrected one
