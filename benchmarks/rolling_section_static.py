@@ -102,9 +102,9 @@ def mesh_factor(study: dict[tuple[str, float], SectionStatic], position: str, le
     the one on the gap's a/2 mesh (the factor that corrects the gap's a/2 FEM groove for its mesh, when the groove
     over the static dent is mesh-converged); None without both."""
     meshes = sorted(n for (pos, n) in study if pos == position)
-    if level not in LEVELS or 2.0 not in meshes or meshes[-1] == 2.0:
+    k = next((i for i, x in enumerate(LEVELS) if abs(x - level) <= 1e-9 * x), None)  # levels read from JSON
+    if k is None or 2.0 not in meshes or meshes[-1] == 2.0:
         return None
-    k = LEVELS.index(level)
     return study[position, meshes[-1]].dent_mm[k] / study[position, 2.0].dent_mm[k]
 
 

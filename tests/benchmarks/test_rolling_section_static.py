@@ -34,6 +34,7 @@ def test_mesh_factor_and_the_corrected_gap(tmp_path):
         (tmp_path / f"crown_h{n:g}.json").write_text(json.dumps(asdict(_point("crown", n, dents))))
     study = ss.read_study(tmp_path)
     assert ss.mesh_factor(study, "crown", 1.15) == pytest.approx(0.0009 / 0.0008)
+    assert ss.mesh_factor(study, "crown", 1.1500000000001) == ss.mesh_factor(study, "crown", 1.15)
     assert ss.mesh_factor(study, "crown", 1.7) is None and ss.mesh_factor(study, "tread", 1.15) is None
     text = ss.study_markdown(study)
     fit_over_fem = 0.001 / ss.table_fem_residual("crown", 900.0)
