@@ -43,3 +43,4 @@ def test_mesh_factor_and_the_corrected_gap(tmp_path):
                            (0.0011, 0.0011, 0.0011), (0.001, 0.002, 0.005), (0.001, 0.001, 0.001))
     out = sg.corrected_markdown([row], study)  # 1.1 of the a/2 groove, 1.1 / 1.125 of the corrected one
     assert "within 5% after passes 1, 2, 5 in 1 of 1 cases" in out and "-2.2% (rail crown" in out
+    assert "(within 10%: 1; against the a/2 groove 0 and 1)" in out
