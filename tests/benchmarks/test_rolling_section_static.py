@@ -40,7 +40,7 @@ def test_mesh_factor_and_the_corrected_gap(tmp_path):
     fit_over_fem = 0.001 / ss.table_fem_residual("crown", 900.0)
     assert f"| crown | 1.15 | 900 | {fit_over_fem:.3f} | 0.800 | 0.850 | 0.900 |" in text
     row = sg.SectionGapRow("rail crown", 0.0, 1.15, 800.0, 800.0, 0.0008, 0.001, (0.001, 0.001, 0.001),
-                           (0.0011, 0.0011, 0.0011), (0.001, 0.002, 0.005), (0.001, 0.001, 0.001))
-    out = sg.corrected_markdown([row], study)  # 1.1 of the a/2 groove, 1.1 / 1.125 of the corrected one
-    assert "within 5% after passes 1, 2, 5 in 1 of 1 cases" in out and "-2.2% (rail crown" in out
+                           (0.00108, 0.00108, 0.00108), (0.001, 0.002, 0.005), (0.001, 0.001, 0.001))
+    out = sg.corrected_markdown([row], study)  # 1.08 of the a/2 groove, 1.08 / 1.125 of the corrected one
+    assert "within 5% after passes 1, 2, 5 in 1 of 1 cases" in out and "-4.0% (rail crown" in out
     assert "(within 10%: 1; against the a/2 groove 0 and 1)" in out
