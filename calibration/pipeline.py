@@ -28,7 +28,7 @@ from calibration.results import IndentationResult, PositionFit
 from calibration.run_summary import CalibrationResult, FemSeconds, SimilaritySummary
 from calibration.settings import CalibrationConfig
 from calibration.similarity.anchor import DirectReference, anchor, anchored, applies, configured_references
-from calibration.similarity.elastic import SectionElastic, section_elastics, with_section
+from calibration.similarity.elastic import SectionElastic, section_elastics, section_reference, with_section
 from calibration.similarity.master import MasterCurves, master_key, master_tasks, stored_master
 from calibration.similarity.route import (METHOD_DIRECT, METHOD_SIMILARITY, SIMILARITY_SOURCES, Route, route,
                                           similarity_task, task_indentation)
@@ -89,13 +89,15 @@ class SimilarityRouting:
     """What the similarity step returns: the ``tasks`` (the served ones re-keyed by their similarity key), the
     ``results`` {key: characteristic from the master} of the served positions, every position's ``routes``
     {key: Route}, the ``warnings`` it raised (failed master points, positions served from outside the master's
-    domain) and the route's ``summary``."""
+    domain), the route's ``summary`` and the ``section_references`` {(body, y): reference} of the positions
+    served with their section's elastic solve (:func:`calibration.similarity.elastic.section_reference`)."""
 
     tasks: tuple[PositionTask, ...]
     results: dict[str, IndentationResult]
     routes: dict[str, Route]
     warnings: tuple[PositionNote, ...]
     summary: SimilaritySummary
+    section_references: dict[tuple[str, float], DirectReference]
 
 
 def calibrate(config: CalibrationConfig, out_dir: str | Path, *, scheduler: str | None = None,
@@ -227,7 +229,8 @@ def _run(cfg: CalibrationConfig, out_dir: Path, scheduler, plots, show_progress,
     worst = max([s.max_relative_fit_error for s in bodies.values() if s.table is not None], default=0.0)
     result = CalibrationResult(bodies, len(todo), n_cached, fem_seconds, failed + tables.failed, warnings, worst,
                                time.perf_counter() - t_start, tables.files,
-                               routing.summary if routing is not None else None)
+                               routing.summary if routing is not None else None,
+                               routing.section_references if routing is not None else {})
     # a run that computed nothing (all cached) writes its own record beside the one of the run that computed:
     # the cold run's times and counts stay where the benchmark reads them
     name = SUMMARY_CACHED if not todo and (out_dir / SUMMARY).is_file() else SUMMARY
@@ -287,6 +290,7 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     warnings = [PositionNote("master", n.y_mm, f"similarity master: {n.message}") for n in mfailed]
     results: dict[str, IndentationResult] = {}
     routes: dict[str, Route] = {}
+    sections: dict[tuple[str, float], DirectReference] = {}
     masters = {m: stored[m] or MasterCurves.build(cfg, m, mtasks[m], mresults) for m in materials}
     for m, mc in masters.items():
         if mc is not None and stored[m] is None and not mfailed:  # a master with failed points is not kept
@@ -300,9 +304,13 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
         r = route(t, (master.aspect_range, master.convexity_range), outside) if master else \
             Route(METHOD_DIRECT, "the similarity master of its material failed")
         if r.method == METHOD_SIMILARITY:
-            t, r, served, warning = _served(t, master, r, anchoring, code, elastics.get(t.key))
+            elastic = elastics.get(t.key)
+            t, r, served, warning = _served(t, master, r, anchoring, code, elastic)
             if served is not None:
                 results[t.key] = served
+                if elastic is not None:
+                    sections[t.body, t.y_mm] = section_reference(t, served, r.convexity, r.plastic_convexity,
+                                                                 str(out_dir))
             if warning:
                 warnings.append(PositionNote(t.body, t.y_mm, warning))
         routes[t.key] = r
@@ -314,7 +322,7 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     served = sum(r.method == METHOD_SIMILARITY for r in routes.values())
     summary = SimilaritySummary(served, len(tasks) - served, files, len(mtodo) - len(mfailed), n_mcached,
                                 sum(mc.fem_seconds for mc in masters.values() if mc), per_position)
-    return SimilarityRouting(tuple(out), results, routes, tuple(warnings), summary)
+    return SimilarityRouting(tuple(out), results, routes, tuple(warnings), summary, sections)
 
 
 def _section_elastics(cfg: CalibrationConfig, tasks: list[PositionTask], masters: dict, anchoring: Anchoring,
@@ -366,7 +374,7 @@ def _served(t: PositionTask, master: MasterCurves, r: Route, anchoring: Anchorin
     warning = f"similarity: {r.note}" if r.note else ""
     if correction is not None:
         served = anchored(served, correction, math.sqrt(t.geometry.a_mm * t.geometry.b_mm))
-    note = f"anchored to the direct FEM of {ref.source}" if ref is not None else why_not
+    note = f"anchored to the {ref.kind} of {ref.source}" if ref is not None else why_not
     section = "p_y and c_el from the section's elastic solve" if elastic is not None else ""
     return t, replace(r, note="; ".join(n for n in (r.note, note, section) if n)), served, warning
 

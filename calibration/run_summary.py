@@ -4,7 +4,8 @@ outcome per body (units s, mm).
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -93,6 +94,9 @@ class CalibrationResult:
         Files written (tables, pictures).
     similarity : SimilaritySummary or None
         The similarity route's summary (None, and absent from the file: ``run.method = "direct"``).
+    section_references : dict
+        {(body, y): :class:`calibration.similarity.anchor.DirectReference`} of the positions served with their
+        section's elastic solve, to anchor a later recalibration of the same positions (not in the file).
     """
 
     bodies: dict[str, BodySummary]
@@ -105,6 +109,7 @@ class CalibrationResult:
     seconds: float
     files: tuple[str, ...]
     similarity: SimilaritySummary | None = None
+    section_references: Mapping[tuple[str, float], Any] = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:

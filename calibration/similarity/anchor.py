@@ -77,6 +77,10 @@ class DirectReference:
     plastic_convexity : float or None
         The convexity of the reference profile the plastic curves are taken at
         (:func:`calibration.similarity.sections.plastic_convexity`; None: ``convexity``) (-).
+    kind : str
+        What the reference's numbers are, for the notes: "direct FEM", or "section's elastic solve" (a served
+        position whose p_y and c_el came from its own section: its curves are the master's at those, so it anchors
+        p_y and c_el only; :func:`calibration.similarity.elastic.section_reference`).
     """
 
     body: str
@@ -92,6 +96,7 @@ class DirectReference:
     compliance_mm_per_MPa: float
     source: str = ""
     plastic_convexity: float | None = None
+    kind: str = "direct FEM"
 
     @property
     def length_mm(self) -> float:

@@ -29,7 +29,8 @@ from calibration.cache import entry_exists, read_json_entry, save_entry
 from calibration.config import profile_of
 from calibration.fem.material import J2Material
 from calibration.indentation import elastic_response, position_model
-from calibration.similarity.anchor import Anchor
+from calibration.results import IndentationResult
+from calibration.similarity.anchor import Anchor, DirectReference
 from calibration.similarity.master import MasterCurves
 from calibration.similarity.route import similar_indentation
 from calibration.tasks import PositionTask, inputs_hash, task_failure
@@ -159,5 +160,21 @@ def with_section(anc: Anchor | None, master: MasterCurves, task: PositionTask, c
                   "; ".join(s for s in ((anc.source if anc is not None else ""), "the section's elastic solve") if s))
 
 
+def section_reference(task: PositionTask, served: IndentationResult, convexity: float,
+                      plastic_convexity: float | None, source: str) -> DirectReference:
+    """The reference a served position with its section's elastic solve leaves for a later recalibration of the
+    same position (the wear loop's next step): ``served`` (its characteristic: the master's curves at the section's
+    p_y and c_el) at its patch and convexities. Anchored to it, a nearby patch takes the master's value with the
+    section's p_y / master ratio (and c_el's) and the master's curves unchanged (their difference at the reference
+    is zero), without a solve of its own (:func:`calibration.similarity.anchor.applies` decides "nearby")."""
+    g = task.geometry
+    return DirectReference(task.body, float(task.y_mm), float(g.a_mm), float(g.b_mm), float(convexity),
+                           float(served.first_yield_MPa), tuple(map(float, served.p_MPa)),
+                           tuple(map(float, served.u_pl_mm)), tuple(map(float, served.unload_peaks_MPa)),
+                           tuple(map(float, served.residual_fem_mm)),
+                           float(served.fem_elastic_compliance_mm_per_MPa), source, plastic_convexity,
+                           kind="section's elastic solve")
+
+
 __all__ = ["ElasticOutcome", "SectionElastic", "elastic_entry", "run_section_elastic", "section_elastic",
-           "section_elastics", "with_section"]
+           "section_elastics", "section_reference", "with_section"]

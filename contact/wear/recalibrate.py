@@ -178,7 +178,7 @@ def worn_config(cfg: CalibrationConfig, files: dict[str, Path]) -> CalibrationCo
 class SideTables:
     """One side's recalibration: ``tables`` {body: LayerTable} and ``anchors`` {(body, y): DirectReference}, the
     side's anchors for its next recalibration (those it had, with the positions this one computed by the direct
-    FEM on the worn profile in their place)."""
+    FEM on the worn profile, or served with their section's elastic solve, in their place)."""
 
     tables: dict[str, LayerTable]
     anchors: dict[tuple[str, float], DirectReference]
@@ -212,9 +212,11 @@ def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: P
     except ConvergenceError as err:
         raise ConvergenceError(f"{what}: calibration of the worn profiles failed: {err}") from None
     tables = {body: LayerTable.read(path) for body, path in (result.tables.items() if result else ())}
-    if recal.by_similarity:  # the positions computed by the FEM on the worn profile anchor the next ones
+    if recal.by_similarity:  # the positions computed by the FEM, or by their section's elastic solve, on the worn
+        # profile anchor the next ones
         anchors = {**anchors, **{key: ref for b in cfg.bodies if b.body in tables
-                                 for key, ref in table_references(tables[b.body], profile_of(b.profile)).items()}}
+                                 for key, ref in table_references(tables[b.body], profile_of(b.profile)).items()},
+                   **(result.section_references if result else {})}
         direct = {(f.body, f.y_mm): f.message for f in (result.failed if result else ())}  # e.g. no geometry
         bodies = {b.body for b in recal.calibration.bodies}
         tables = {body: merged_table(recal.scene_tables[body], tables.get(body), direct)

@@ -141,3 +141,24 @@ def test_the_boolean_form_still_reads(tmp_path):
     assert load_config(tmp_path / "c.toml").run.similarity_elastic == "all"
     (tmp_path / "c.toml").write_text(text.replace("similarity_elastic = true", 'similarity_elastic = "unanchored"'))
     assert load_config(tmp_path / "c.toml").run.similarity_elastic == "unanchored"
+
+
+def test_a_section_solve_anchors_the_next_recalibration_of_its_position_without_a_solve(tmp_path):
+    from calibration.pipeline import calibrate
+    from wrlayer.layer_table import LayerTable
+
+    cfg = _sim_cfg(tmp_path, positions=(0.0,))
+    cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, similarity_elastic="unanchored"))
+    _fake_master(cfg)
+    said = []
+    first = calibrate(cfg, tmp_path / "step1", show_progress=False, log=said.append)  # no anchor: solved
+    assert any(s.startswith("calibration: elastic solves of 1 ") for s in said)
+    ref = first.section_references["rail", 0.0]
+    assert ref.kind == "section's elastic solve" and ref.source == str(tmp_path / "step1")
+    said.clear()
+    second = calibrate(cfg, tmp_path / "step2", show_progress=False, log=said.append, anchors=first.section_references)
+    assert not any("elastic solves" in s for s in said) and second.section_references == {}
+    p_y = [LayerTable.read(r.tables["rail"]).positions[0]["first_yield_fem_MPa"] for r in (first, second)]
+    assert p_y[1] == pytest.approx(p_y[0], rel=1e-9)  # the same patch: the section's p_y through the ratio
+    note = second.to_dict()["bodies"]["rail"]["position_details"][0]["note"]
+    assert f"anchored to the section's elastic solve of {tmp_path / 'step1'}" in note
