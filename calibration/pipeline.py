@@ -347,8 +347,9 @@ def _section_elastics(cfg: CalibrationConfig, tasks: list[PositionTask], masters
 
 
 def _anchor_misses(t: PositionTask, r: Route, anchoring: Anchoring) -> str:
-    """Why the position's direct reference does not anchor it ("no direct reference", or the patch that left the
-    reference's, :func:`calibration.similarity.anchor.applies`); "" when it does."""
+    """Why the position's reference (a direct FEM, or an earlier section solve) does not anchor it ("no direct
+    reference", or the patch that left the reference's, :func:`calibration.similarity.anchor.applies`); "" when it
+    does."""
     ref = anchoring.references.get((t.body, t.y_mm))
     return "no direct reference" if ref is None else applies(ref, t.geometry.a_mm, t.geometry.b_mm, r.convexity)
 

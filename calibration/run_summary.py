@@ -7,10 +7,13 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from calibration.tables import BodySummary
 from calibration.tasks import PositionNote
+
+if TYPE_CHECKING:  # the anchor's module needs the similarity master's, which a run summary does not
+    from calibration.similarity.anchor import DirectReference
 
 
 @dataclass(frozen=True)
@@ -109,7 +112,7 @@ class CalibrationResult:
     seconds: float
     files: tuple[str, ...]
     similarity: SimilaritySummary | None = None
-    section_references: Mapping[tuple[str, float], Any] = field(default_factory=dict)
+    section_references: Mapping[tuple[str, float], DirectReference] = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
