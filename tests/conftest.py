@@ -26,3 +26,9 @@ def reference_dir() -> Path:
     if not (ref / "profiles").is_dir():
         pytest.fail(f"reference material not found at {ref} (set WRLAYER_REFERENCE)")
     return ref
+
+
+def pytest_collection_modifyitems(config, items):
+    """The slow tests first (the sort keeps the collection order within each group): on the two workers of
+    ``make test`` a long test collected late kept one worker busy after the other had run out of tests."""
+    items.sort(key=lambda item: item.get_closest_marker("slow") is None)

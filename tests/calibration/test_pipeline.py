@@ -98,6 +98,7 @@ def test_second_run_uses_the_cache_and_fit_changes_need_no_fem(coarse_run, tmp_p
     assert LayerTable.read(work / "rail_layer_table.json").characteristic_at(0.0).n_segments == 2
 
 
+@pytest.mark.slow
 def test_new_position_is_computed_alone_and_a_failure_keeps_the_others(coarse_run, tmp_path, monkeypatch):
     cfg, out, _ = coarse_run
     work = tmp_path / "copy"

@@ -90,6 +90,7 @@ def test_2d_ratcheting_at_5_k(rolling_2d):
     assert eq[-1] == pytest.approx(eq[-2], rel=0.3)
 
 
+@pytest.mark.slow
 def test_coarse_3d_pass(tmp_path):
     cfg = config("3d", levels=(1.7,), unit="p_y", n=2.0, length=1.0, step=0.5, size=3.0)
     res = run_rolling(cfg, tmp_path)

@@ -62,6 +62,7 @@ def test_load_that_does_not_move_is_the_static_indentation():
     assert m.probe.depth_at(state.u_mm, 0.0) == pytest.approx(static.dent_mm, rel=5e-3)
 
 
+@pytest.mark.slow
 def test_tiny_section_pass(tmp_path):
     cfg = config(0.0, levels=(1.5,), step=1.0)
     res = run_rolling(cfg, tmp_path)
