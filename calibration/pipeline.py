@@ -297,12 +297,14 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
             mc.write(mcache)
     files = tuple(str(mc.write(out_dir)) for mc in masters.values() if mc is not None)
     out, code = [], code_hash(SIMILARITY_SOURCES)
-    elastics = _section_elastics(cfg, tasks, masters, anchoring, out_dir, scheduler, log, warnings)
     t0 = time.perf_counter()
+    first = {t.key: route(t, (m.aspect_range, m.convexity_range), outside) if (m := masters[t.material]) else
+             Route(METHOD_DIRECT, "the similarity master of its material failed") for t in tasks}
+    routing_s = time.perf_counter() - t0
+    elastics = _section_elastics(cfg, tasks, first, anchoring, out_dir, scheduler, log, warnings)
+    t0 = time.perf_counter()  # the elastic solves are not the route's cost per position
     for t in tasks:
-        master = masters[t.material]
-        r = route(t, (master.aspect_range, master.convexity_range), outside) if master else \
-            Route(METHOD_DIRECT, "the similarity master of its material failed")
+        master, r = masters[t.material], first[t.key]
         if r.method == METHOD_SIMILARITY:
             elastic = elastics.get(t.key)
             t, r, served, warning = _served(t, master, r, anchoring, code, elastic)
@@ -315,7 +317,7 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
                 warnings.append(PositionNote(t.body, t.y_mm, warning))
         routes[t.key] = r
         out.append(t)
-    per_position = (time.perf_counter() - t0) / max(len(tasks), 1)
+    per_position = (routing_s + time.perf_counter() - t0) / max(len(tasks), 1)
     for t in out:
         if routes[t.key].method == METHOD_DIRECT:
             log(f"calibration: {t.body} y = {t.y_mm:g} mm by the direct FEM: {routes[t.key].note}")
@@ -325,21 +327,16 @@ def _similarity(cfg: CalibrationConfig, tasks: list[PositionTask], out_dir: Path
     return SimilarityRouting(tuple(out), results, routes, tuple(warnings), summary, sections)
 
 
-def _section_elastics(cfg: CalibrationConfig, tasks: list[PositionTask], masters: dict, anchoring: Anchoring,
-                      out_dir: Path, scheduler: str, log, warnings: list[PositionNote]) -> dict[str, SectionElastic]:
-    """{task key: its section's elastic solution} of the positions the masters serve, as ``run.similarity_elastic``
-    says ({} with "none"; with "unanchored" only those without an anchor that applies); a failed solve leaves its
-    position to the master alone, in ``warnings``."""
+def _section_elastics(cfg: CalibrationConfig, tasks: list[PositionTask], routes: dict[str, Route],
+                      anchoring: Anchoring, out_dir: Path, scheduler: str, log,
+                      warnings: list[PositionNote]) -> dict[str, SectionElastic]:
+    """{task key: its section's elastic solution} of the positions the masters serve (``routes``: {task key:
+    Route}), as ``run.similarity_elastic`` says ({} with "none"; with "unanchored" only those without an anchor that
+    applies); a failed solve leaves its position to the master alone, in ``warnings``."""
     if cfg.run.similarity_elastic == "none":
         return {}
-    outside = cfg.run.similarity_outside
-    served = []
-    for t in tasks:
-        m = masters[t.material]
-        r = route(t, (m.aspect_range, m.convexity_range), outside) if m is not None else None
-        if r is not None and r.method == METHOD_SIMILARITY and \
-                (cfg.run.similarity_elastic == "all" or _anchor_misses(t, r, anchoring)):
-            served.append(t)
+    served = [t for t in tasks if routes[t.key].method == METHOD_SIMILARITY
+              and (cfg.run.similarity_elastic == "all" or _anchor_misses(t, routes[t.key], anchoring))]
     done, failed = section_elastics(served, out_dir / "cache", cfg.run.workers, scheduler, log)
     warnings.extend(PositionNote(t.body, t.y_mm, f"similarity: the section's elastic solve failed ({failed[t.key]}); "
                                                  "p_y and c_el from the master") for t in served if t.key in failed)
