@@ -29,9 +29,8 @@ where the parabola through the outer three cells' p^2 (p with a layer: linear ne
 from these extents as the exact solver's (:func:`contact.normal.exact.line_area`). The lines' peak pressure,
 half-length and force per width are interpolated linearly onto the problem's strips inside each run's y extent
 (each strip a semi-ellipse carrying its share of the run's force, for the passes and FASTSIM; ``field`` is None).
-``grid_pressure``: the grid's pressure; the exact tangential theory solves on it refined by
-:func:`tangential_grid` (each cell cut into :data:`TANGENTIAL_X_REFINE` along x, :data:`TANGENTIAL_Y_MERGE` lines
-merged).
+``grid_pressure``: the grid's pressure; the exact tangential theory solves on it refined
+(:func:`contact.normal.coarse_tangential.tangential_grid`).
 With ``extrapolate`` the scalar outputs (p_max, delta, area, length, width) are Richardson-extrapolated from the
 final grid solved with half the lines and cells (Q = Q_n + (Q_n - Q_{n/2}) / 3; measured worse on the benchmark
 set, not the default). ConvergenceError when the CG, the layer iteration or the grid placement does not converge;
@@ -46,6 +45,7 @@ import numpy as np
 
 from contact.layer.prandtl_layer import LayerPair
 from contact.normal.coarse_cg import dense_cg
+from contact.normal.coarse_ends import line_ends
 from contact.normal.coarse_grid import MARGIN, CoarseGrid, grid_tables, loaded_spans, merged, resample, separation_at
 from contact.normal.coarse_layer import LineLayers
 from contact.normal.coarse_warm import CoarseWarmStart
@@ -56,9 +56,8 @@ from contact.normal.patch import Patch
 from contact.normal.problem import NormalProblem
 from contact.normal.solution import GridPressure, NormalSolution, RegionSolution
 from wrlayer.errors import ConvergenceError, InputError, require
-from wrlayer.jit import kernel
 
-__all__ = ["DEFAULT_CELLS", "MARGIN", "CoarseOptions", "CoarseWarmStart", "solve_coarse_exact", "tangential_grid"]
+__all__ = ["DEFAULT_CELLS", "MARGIN", "CoarseOptions", "CoarseWarmStart", "solve_coarse_exact"]
 
 #: Default lines and cells of the coarse grid (``method.coarse_cells``), from the time-error study of
 #: ``benchmarks/bench_fast_normal.py``.
@@ -67,10 +66,6 @@ DEFAULT_CELLS = 32
 #: is nearly semi-elliptic along x and needs fewer cells than the profile-shaped y direction.
 DEFAULT_X_CELLS = 12
 CELLS_RANGE = (6, 128)
-#: Cells of the exact tangential theory's grid per cell of the normal grid along x (:func:`tangential_grid`).
-TANGENTIAL_X_REFINE = 4
-#: Lines of the coarse grid merged into one line of the exact tangential theory's grid (:func:`tangential_grid`).
-TANGENTIAL_Y_MERGE = 2
 #: CG and layer tolerance of the solves that only place the grid (the last solve uses ``tol``, ``layer_rtol``).
 ROUGH_TOL = 1e-3
 #: With an approach guess delta, the first loaded region is {f < GUESS_REGION delta}.
@@ -263,75 +258,6 @@ def _richardson(q_half, q_full):
     return q_full
 
 
-def _ends(values: np.ndarray, coords: np.ndarray, step: float, power: int) -> tuple[np.ndarray, np.ndarray]:
-    """(low ends, high ends) (mm) of the positive run of each row of ``values`` (rows, cells at ``coords``): at each
-    end the parabola through the outer three values^power (Hertz: p^2 is exactly quadratic; with a layer p is
-    linear near the edge) meets zero within 1.5 cells beyond the outer cell; else (fewer cells, no such root) the
-    exact solver's rule (:func:`contact.normal.exact.line_extent`) at that end. One compiled loop over the rows."""
-    values = np.ascontiguousarray(values, dtype=float)
-    return _row_ends(values, np.ascontiguousarray(coords, dtype=float), float(step), int(power))
-
-
-@kernel()
-def _parabola_end(q, outer, sign, n):
-    """Steps t in [0, 1.5] beyond cell ``outer`` (outwards: ``sign``) where the parabola through q at the outer
-    three cells meets zero (the smallest root; a straight line when it has no curvature); inf when none."""
-    i0 = outer
-    i1 = min(max(outer - sign, 0), n - 1)
-    i2 = min(max(outer - 2 * sign, 0), n - 1)
-    q0, q1, q2 = q[i0], q[i1], q[i2]
-    c = 0.5 * (q0 - 2.0 * q1 + q2)            # q(t) = q0 + b t + c t^2 through t = 0, -1, -2 (t outward)
-    b = q0 - q1 + c
-    best = np.inf
-    if c != 0.0:
-        disc = b * b - 4.0 * c * q0
-        if disc >= 0.0:
-            sq = np.sqrt(disc)
-            for r in ((-b - sq) / (2.0 * c), (-b + sq) / (2.0 * c)):
-                if np.isfinite(r) and 0.0 <= r <= 1.5 and r < best:
-                    best = r
-    elif b != 0.0:
-        r = -q0 / b
-        if np.isfinite(r) and 0.0 <= r <= 1.5:
-            best = r
-    return best
-
-
-@kernel()
-def _row_ends(values, coords, step, power):
-    rows, n = values.shape
-    lo = np.empty(rows)
-    hi = np.empty(rows)
-    q = np.empty(n)
-    for k in range(rows):
-        first, last = -1, -1
-        for i in range(n):
-            q[i] = values[k, i] ** power
-            if values[k, i] > 0.0:
-                if first < 0:
-                    first = i
-                last = i
-        lo[k] = coords[first] - step * _parabola_end(q, first, -1, n)
-        hi[k] = coords[last] + step * _parabola_end(q, last, 1, n)
-        few = last - first < 2
-        if few or not np.isfinite(lo[k]):      # the exact solver's rule (line_extent, _edge_extension)
-            inner = values[k, first + 1] if first + 1 <= last else 0.0
-            lo[k] = coords[first] - _edge(values[k, first], inner, step, power)
-        if few or not np.isfinite(hi[k]):
-            inner = values[k, last - 1] if last - 1 >= first else 0.0
-            hi[k] = coords[last] + _edge(values[k, last], inner, step, power)
-    return lo, hi
-
-
-@kernel()
-def _edge(outer, inner, step, power):
-    """:func:`contact.normal.exact._edge_extension`, compiled."""
-    if inner > outer > 0.0:
-        qo, qi = outer ** power, inner ** power
-        return min(step, step * qo / (qi - qo))
-    return 0.5 * step
-
-
 def _outputs(prob, lay: LineLayers, grid: CoarseGrid, p, delta, u_l, f):
     """(grid, p_max, delta, area, length, width, strip data) of a grid solution."""
     if not np.any(p > 0):
@@ -344,9 +270,9 @@ def _outputs(prob, lay: LineLayers, grid: CoarseGrid, p, delta, u_l, f):
     area = length = width = 0.0
     strips = []
     for run in runs:
-        x_lo, x_hi = _ends(p[run], grid.x, grid.dx, power)
+        x_lo, x_hi = line_ends(p[run], grid.x, grid.dx, power)
         half = 0.5 * (x_hi - x_lo)
-        y_ends = _ends(np.concatenate([[0.0], line_max[run], [0.0]])[None, :],
+        y_ends = line_ends(np.concatenate([[0.0], line_max[run], [0.0]])[None, :],
                        np.concatenate([[grid.y[run[0]] - grid.dy], grid.y[run], [grid.y[run[-1]] + grid.dy]]),
                        grid.dy, power)
         y_lo, y_hi = float(y_ends[0][0]), float(y_ends[1][0])
@@ -366,50 +292,6 @@ def _grid_pressure(grid: CoarseGrid, p: np.ndarray, power: int) -> GridPressure:
     full[grid.rows - grid.rows[0]] = p
     y = grid.y[0] + np.arange(full.shape[0]) * grid.dy
     return GridPressure(grid.x.copy(), y, full, power)
-
-
-def tangential_grid(on: GridPressure) -> GridPressure:
-    """The grid the exact tangential theory solves a coarse solution's pressure ``on`` on: each cell cut into
-    :data:`TANGENTIAL_X_REFINE` along x (:func:`_refined_along_x`) and every :data:`TANGENTIAL_Y_MERGE` lines merged
-    into one (their mean pressure over their width: the same force). The rolling slip's tractions vary along x
-    more than the pressure does, across y less (with spin alone, on the 12 cells of the normal grid F_y and M_z of a
-    flange patch were 17 % of mu N and 25 % of mu N a off the converged solution; on 48 cells and 16 lines 4.1 % and
-    3.4 %, every force of the 30-patch set at six creepages within 4.1 %, at 0.8 times the time of 48 cells on 32
-    lines: ``benchmarks/bench_fast_normal.py``). Built only when that theory runs (it costs about a fifth of a cold
-    coarse solve)."""
-    x, fine = _refined_along_x(on.x_mm, on.p_MPa, on.edge_power, TANGENTIAL_X_REFINE)
-    m = TANGENTIAL_Y_MERGE
-    n = on.y_mm.size
-    full = np.zeros((-(-n // m) * m, x.size))
-    full[:n] = fine
-    dy = float(on.y_mm[1] - on.y_mm[0]) if n > 1 else 0.0
-    y = on.y_mm[0] + np.arange(full.shape[0]) * dy
-    return GridPressure(x, y.reshape(-1, m).mean(axis=1), full.reshape(-1, m, x.size).mean(axis=1), on.edge_power)
-
-
-def _refined_along_x(xs: np.ndarray, p: np.ndarray, power: int, factor: int) -> tuple[np.ndarray, np.ndarray]:
-    """(x (nx factor,), p (lines, nx factor)): every cell of the uniform cells ``xs`` (mm) cut into ``factor``
-    along x; on each loaded line p^power interpolated linearly between the cell centres and to zero at the line's
-    contact ends (the parabola rule of :func:`_ends`: Hertz's p^2 is quadratic in x, a layer's p linear near the
-    edge), then scaled so that the line keeps its force (MPa mm)."""
-    dx = float(xs[1] - xs[0]) if xs.size > 1 else 1.0
-    x = xs[0] - 0.5 * dx + (np.arange(xs.size * factor) + 0.5) * (dx / factor)
-    fine = np.zeros((p.shape[0], x.size))
-    loaded = np.flatnonzero(p.max(axis=1) > 0)
-    if loaded.size == 0:
-        return x, fine
-    lo, hi = _ends(p[loaded], xs, dx, power)
-    for k, row in enumerate(loaded):
-        q = np.concatenate([[0.0], p[row] ** power, [0.0]])
-        at = np.concatenate([[lo[k]], xs, [hi[k]]])
-        inside = (xs > lo[k]) & (xs < hi[k])
-        keep = np.concatenate([[True], inside | (p[row] > 0), [True]])
-        line = np.interp(x, at[keep], q[keep], left=0.0, right=0.0) ** (1.0 / power)
-        line[(x <= lo[k]) | (x >= hi[k])] = 0.0
-        total = float(line.sum())
-        if total > 0.0:
-            fine[row] = line * (factor * float(p[row].sum()) / total)
-    return x, fine
 
 
 def _solution(prob: NormalProblem, layer, out, stats, options) -> NormalSolution:

@@ -70,7 +70,7 @@ class GridPressure:
     line centres (the solution's strip coordinate; a line of no contact carries zeros), p_MPa (ny, nx) (mm, MPa);
     edge_power: the power of p that is linear near a contact end (2: Hertz's p^2; 1 with a layer). The coarse-grid
     solver's own grid (:mod:`contact.normal.coarse_exact`); the exact tangential theory solves its patches on this
-    grid refined (:func:`contact.normal.coarse_exact.tangential_grid`, :mod:`contact.tangential.method`)."""
+    grid refined (:func:`contact.normal.coarse_tangential.tangential_grid`, :mod:`contact.tangential.method`)."""
 
     x_mm: np.ndarray
     y_mm: np.ndarray

@@ -22,7 +22,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from contact.normal.coarse_exact import tangential_grid
+from contact.normal.coarse_tangential import tangential_grid
 from contact.normal.exact import fastsim_pressure, strip_centres
 from contact.normal.kik_piotrowski import NormalSolution
 from contact.normal.patch import Patch

@@ -205,7 +205,7 @@ def test_exact_theory_on_the_coarse_grid_of_a_coarse_solution():
     fast = solve_for_normal_solution(coarse, cr, MU, G_MPa, NU, "exact")
     ref = solve_for_normal_solution(exact, cr, MU, G_MPa, NU, "exact")
     assert len(fast) == len(ref) == 1
-    from contact.normal.coarse_exact import tangential_grid
+    from contact.normal.coarse_tangential import tangential_grid
 
     lines = tangential_grid(on)  # the grid the exact theory solves on: the coarse cells refined along x
     assert float(lines.p_MPa.sum() * (lines.x_mm[1] - lines.x_mm[0]) * (lines.y_mm[1] - lines.y_mm[0])) == \
@@ -234,6 +234,7 @@ def test_exact_theory_on_a_coarse_solution_resolves_the_spin_of_a_narrow_patch(m
     theory on the exact normal solution (F_y / (mu N), M_z / (mu N a); measured 0.0 % and -2.7 %, the reference
     within 0.8 % of its own on 0.025 mm strips); on the normal grid's 12 cells along x it was 14 % and -20 %."""
     import contact.normal.coarse_exact as coarse_exact
+    import contact.normal.coarse_tangential as coarse_tangential
     from contact.normal.exact import solve_exact
     from contact.normal.kik_piotrowski import NormalProblem
 
@@ -250,5 +251,5 @@ def test_exact_theory_on_a_coarse_solution_resolves_the_spin_of_a_narrow_patch(m
 
     fy, mz = errors()
     assert abs(fy) < 0.05 and abs(mz) < 0.05
-    monkeypatch.setattr(coarse_exact, "TANGENTIAL_X_REFINE", 1)
+    monkeypatch.setattr(coarse_tangential, "TANGENTIAL_X_REFINE", 1)
     assert max(map(abs, errors())) > 0.1
