@@ -31,6 +31,11 @@ def jsonable(obj: Any, layout: Layout | None = None) -> Any:
     """Plain JSON data of ``obj``: records (:class:`Record`, by their JSON keys or ``layout``) and other
     dataclasses as dicts, tuples and arrays as lists, numpy scalars as Python numbers, paths as text; non-finite
     floats -> None. TypeError for anything else."""
+    kind = type(obj)
+    if kind is float:           # the common leaves first: a record's numbers and names
+        return obj if math.isfinite(obj) else None
+    if kind is str or kind is int or obj is None:
+        return obj
     if isinstance(obj, Record):
         return obj.to_dict(layout)
     if isinstance(obj, dict):
@@ -38,6 +43,9 @@ def jsonable(obj: Any, layout: Layout | None = None) -> Any:
     if isinstance(obj, (list, tuple)):
         return [jsonable(v, layout) for v in obj]
     if isinstance(obj, np.ndarray):
+        # tolist() already gives Python numbers; only non-finite floats need the element walk
+        if obj.dtype.kind in "biu" or (obj.dtype.kind == "f" and np.isfinite(obj).all()):
+            return obj.tolist()
         return jsonable(obj.tolist())
     if isinstance(obj, (bool, np.bool_)):
         return bool(obj)
