@@ -27,8 +27,16 @@ SMALL_RUN_S = 0.01
 ENV = "WRLAYER_JIT"
 
 
+#: The mode :func:`run_mode` chose for the block being run (None outside one): read on every kernel call, so kept
+#: here rather than parsed from the environment each time (a sweep makes thousands of kernel calls).
+_block_mode: str | None = None
+
+
 def jit_mode() -> str:
-    """``always``, ``never`` or ``auto`` (unset or anything else) from ``WRLAYER_JIT``."""
+    """``always``, ``never`` or ``auto`` (unset or anything else) from ``WRLAYER_JIT`` (inside :func:`run_mode`:
+    the block's choice, which it also wrote to the environment)."""
+    if _block_mode is not None:
+        return _block_mode
     mode = os.environ.get(ENV, "auto").strip().lower()
     return mode if mode in ("always", "never") else "auto"
 
@@ -38,12 +46,14 @@ def run_mode(estimated_seconds: float) -> Iterator[bool]:
     """Within the block the kernels run as plain Python when ``WRLAYER_JIT`` is unset (``auto``) and the run's
     estimated cost is below :data:`SMALL_RUN_S`; yields whether they do. Sets the environment, so worker
     processes started in the block make the same choice."""
+    global _block_mode
     python = jit_mode() == "never" or (jit_mode() == "auto" and estimated_seconds < SMALL_RUN_S)
-    before = os.environ.get(ENV)
-    os.environ[ENV] = "never" if python else "always"
+    before, outer = os.environ.get(ENV), _block_mode
+    os.environ[ENV] = _block_mode = "never" if python else "always"
     try:
         yield python
     finally:
+        _block_mode = outer
         if before is None:
             os.environ.pop(ENV, None)
         else:

@@ -44,7 +44,10 @@ def test_run_mode_decides_from_the_estimate_and_restores_the_environment(monkeyp
     monkeypatch.delenv(ENV, raising=False)
     with run_mode(SMALL_RUN_S / 2) as python:
         assert python and jit_mode() == "never" and os.environ[ENV] == "never"   # inherited by workers
-    assert ENV not in os.environ
+        with run_mode(SMALL_RUN_S * 2) as inner:   # a block inside a plain-Python one keeps its choice
+            assert inner and jit_mode() == "never"
+        assert jit_mode() == "never" == os.environ[ENV]
+    assert ENV not in os.environ and jit_mode() == "auto"
     with run_mode(SMALL_RUN_S * 2) as python:
         assert not python and jit_mode() == "always"
     monkeypatch.setenv(ENV, "always")
