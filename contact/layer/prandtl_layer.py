@@ -295,11 +295,14 @@ class PrandtlLayer:
         """Unload every element to p = 0 (exact, with reverse slip where it occurs); returns the residual u (mm)."""
         return self.move_to(np.zeros(self.n_points))
 
-    def yield_pressure_MPa(self) -> np.ndarray:
+    def yield_pressure_MPa(self, index: np.ndarray | None = None) -> np.ndarray:
         """Pressure at which the first stuck slider starts to slip on further loading from the current state
-        (inf for elements without sliders)."""
-        return _yield_pressures(self.u_mm, self.slip_mm, self.k_N_per_mm3, self.half_width_mm,
-                                self.k_last_N_per_mm3, self.reverse_factor)
+        (inf for elements without sliders); of the elements ``index`` only (integer array) when given."""
+        if index is None:
+            return _yield_pressures(self.u_mm, self.slip_mm, self.k_N_per_mm3, self.half_width_mm,
+                                    self.k_last_N_per_mm3, self.reverse_factor)
+        return _yield_pressures(self.u_mm[index], self.slip_mm[index], self.k_N_per_mm3[index],
+                                self.half_width_mm[index], self.k_last_N_per_mm3[index], self.reverse_factor[index])
 
     def loading_curve(self, index: int) -> tuple[np.ndarray, np.ndarray, float]:
         """Monotonic loading curve of element ``index`` from its current state.

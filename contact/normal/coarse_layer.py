@@ -14,8 +14,15 @@ from contact.layer.prandtl_layer import LayerPair
 from contact.normal.layer_at_strip import LayerAtReference, layer_points
 from contact.normal.problem import NormalProblem
 from wrlayer.errors import InputError
+from wrlayer.jit import kernel
 
 __all__ = ["LineLayers"]
+
+
+#: The loading curves of element states met so far, by the states' numbers (a balance's solves of one patch meet
+#: the same states: each solve would otherwise build them again); the oldest go first beyond this many.
+MAX_CACHED_CURVES = 512
+_CURVES: dict[bytes, LayerAtReference] = {}
 
 
 class LineLayers:
@@ -31,45 +38,63 @@ class LineLayers:
         self.ys = prob.strip_y_mm
         self.h = prob.grid_mm
         self._curves: dict[int, LayerAtReference | None] = {}
-        self._states: dict[tuple, LayerAtReference] = {}
-        self._segments: dict[int, tuple] = {}
 
     @property
     def present(self) -> bool:
         return bool(self.bodies)
 
     def _curve(self, strip: int) -> LayerAtReference | None:
-        """The loading curve at a strip; strips whose elements are in the same state share it (a virgin uniform
-        layer has one curve)."""
+        """The loading curve at a strip (None where a body's layer has no point there)."""
         if strip not in self._curves:
-            pts = [(lay, int(ix[strip])) for lay, ix in self.bodies]
-            if any(i < 0 for _, i in pts):
-                self._curves[strip] = None
-            else:
-                key = tuple(a[i].tobytes() for lay, i in pts for a in (lay.k_N_per_mm3, lay.half_width_mm, lay.u_mm,
-                                                                        lay.slip_mm, lay.k_last_N_per_mm3))
-                if key not in self._states:
-                    self._states[key] = LayerAtReference(pts)
-                self._curves[strip] = self._states[key]
+            self._add_curves(np.array([strip]))
         return self._curves[strip]
+
+    def _add_curves(self, strips: np.ndarray) -> None:
+        """The loading curves of ``strips`` not yet known; strips whose elements are in the same state share one
+        (a virgin uniform layer has one curve): the states compared as one row of numbers per strip, at once."""
+        todo = np.array(sorted({int(j) for j in strips} - self._curves.keys()), dtype=int)
+        if todo.size == 0:
+            return
+        ix = np.stack([idx[todo] for _, idx in self.bodies])           # (bodies, strips)
+        covered = np.all(ix >= 0, axis=0)
+        for j in todo[~covered]:
+            self._curves[int(j)] = None
+        todo, ix = todo[covered], ix[:, covered]
+        if todo.size == 0:
+            return
+        rows = np.hstack([np.column_stack([lay.k_N_per_mm3[i], lay.half_width_mm[i], lay.u_mm[i], lay.slip_mm[i],
+                                           lay.k_last_N_per_mm3[i], lay.reverse_factor[i]])
+                          for (lay, _), i in zip(self.bodies, ix)])
+        same = bool(np.all(rows == rows[0]))          # a uniform state (a virgin layer): one key for all
+        head = np.array([lay.k_N_per_mm3.shape[1] for lay, _ in self.bodies], dtype=float).tobytes()
+        for k, j in enumerate(todo):
+            key = head + rows[0 if same else k].tobytes()    # the bodies' slider counts, then their states
+            if key not in _CURVES:
+                if len(_CURVES) >= MAX_CACHED_CURVES:
+                    _CURVES.pop(next(iter(_CURVES)))
+                _CURVES[key] = LayerAtReference([(lay, int(i[k])) for (lay, _), i in zip(self.bodies, ix)])
+            self._curves[int(j)] = _CURVES[key]
 
     def strips(self, y: np.ndarray) -> np.ndarray:
         return np.clip(np.rint((y - self.ys[0]) / self.h).astype(int), 0, self.ys.size - 1)
 
-    def _arrays(self, cur: LayerAtReference) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    @staticmethod
+    def _arrays(cur: LayerAtReference) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(knots, displacements, compliance of the segment from each knot on; the last: beyond it) of a curve."""
-        if id(cur) not in self._segments:
+        if cur.segments is None:
             dp = np.diff(cur.p)
             slope = np.append(np.where(dp > 0, np.diff(cur.u) / np.where(dp > 0, dp, 1.0), 0.0),
                               cur.final_compliance)
-            self._segments[id(cur)] = (cur.p, cur.u, slope)
-        return self._segments[id(cur)]
+            cur.segments = (cur.p, cur.u, slope)
+        return cur.segments
 
     def on_lines(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Knots (ny, K) of the loading curves at the lines y (padded with +inf), the displacement there and the
         compliance of the segment from each knot on (mm/MPa; the last: beyond the last knot); a line without a
         curve has the knot 0 only and compliance 0."""
-        curves = [self._curve(int(j)) for j in self.strips(y)]
+        strips = self.strips(y)
+        self._add_curves(strips)
+        curves = [self._curves[int(j)] for j in strips]
         size = max((c.p.size for c in curves if c is not None), default=1)
         knots = np.full((y.size, size), np.inf)
         disp = np.zeros((y.size, size))
@@ -87,16 +112,32 @@ class LineLayers:
         """(u_L (mm), c (mm/MPa)) of each cell (ny, nx) at the pressure p: the displacement on the line's loading
         curve (:meth:`on_lines`) and the compliance of the segment p lies on (the segment above at a knot)."""
         knots, disp, slope = curves
-        seg = np.sum(p[:, :, None] >= knots[:, None, :], axis=2) - 1           # 0..K-1
-        rows = np.arange(p.shape[0])[:, None]
-        c = slope[rows, seg]
-        return disp[rows, seg] + c * (p - knots[rows, seg]), c
+        return _linearised(np.ascontiguousarray(p, dtype=float), knots, disp, slope)
 
     def check_coverage(self, p: np.ndarray, y: np.ndarray) -> None:
         """InputError when a loaded line (p (ny, nx) at the lines y) has no layer element at its strip."""
         if not self.present:
             return
-        for k, j in enumerate(self.strips(y)):
-            if np.any(p[k] > 0) and self._curve(int(j)) is None:
+        loaded = self.strips(y)[p.max(axis=1) > 0]
+        self._add_curves(loaded)
+        for j in np.unique(loaded):
+            if self._curves[int(j)] is None:
                 raise InputError("layer", f"has no element at strip y = {self.ys[j]:.6g} mm (contact there): the "
                                  "layer does not cover the contact patch")
+
+
+@kernel()
+def _linearised(p, knots, disp, slope):
+    """u_L and c of every cell: the segment of the cell's line whose knot is the last one <= p (paper eq. 7)."""
+    ny, nx = p.shape
+    u = np.empty((ny, nx))
+    c = np.empty((ny, nx))
+    for r in range(ny):
+        for i in range(nx):
+            seg = -1
+            for m in range(knots.shape[1]):
+                if p[r, i] >= knots[r, m]:
+                    seg += 1
+            c[r, i] = slope[r, seg]
+            u[r, i] = disp[r, seg] + slope[r, seg] * (p[r, i] - knots[r, seg])
+    return u, c

@@ -148,7 +148,7 @@ def layer_is_elastic(layer: LayerPair | None, strip_y_mm: np.ndarray, h: float, 
     for lay in layer.bodies().values():
         ix = layer_points(lay, strip_y_mm, h)
         loaded = (p_peak > 0) & (ix >= 0)
-        if np.any(p_peak[loaded] > lay.yield_pressure_MPa()[ix[loaded]] * (1.0 + 1e-12)):
+        if np.any(p_peak[loaded] > lay.yield_pressure_MPa(ix[loaded]) * (1.0 + 1e-12)):
             return False
     return True
 

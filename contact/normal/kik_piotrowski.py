@@ -132,7 +132,7 @@ def _solution(prob: NormalProblem, ev: NormalForceEvaluator, regions: list[Regio
         on = p_peak > 0
         if np.any(ix[on] < 0):
             raise InputError(lay.name, "does not cover the contact patch (strips without a layer element)")
-        if np.any(p_peak[on] > lay.yield_pressure_MPa()[ix[on]] * (1.0 + 1e-12)):
+        if np.any(p_peak[on] > lay.yield_pressure_MPa(ix[on]) * (1.0 + 1e-12)):
             elastic = False
     iterations = {"delta_evaluations": ev.evaluations, "bracket_steps": search["bracket_steps"],
                   "bracketed_iterations": search["bracketed_iterations"], "layer_segments": int(main.layer_segments),

@@ -32,6 +32,7 @@ class LayerAtReference:
         self.p = knots[knots >= 0.0]
         self.u = np.zeros_like(self.p)
         self.final_compliance = 0.0
+        self.segments = None   # the coarse solver's (knots, u, compliance per segment), built on first use
         for pk, uk, kl in curves:
             u = np.interp(self.p, pk, uk)                   # the curve is piecewise linear through its knots
             beyond = self.p > pk[-1]
