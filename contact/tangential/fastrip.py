@@ -45,6 +45,7 @@ import numpy as np
 
 from contact.normal.patch import Patch
 from contact.tangential.exact_rolling import coulomb_cell
+from contact.tangential.fastrip_nodes import table_node
 from contact.tangential.fastsim import (
     Creepage,
     TangentialResult,
@@ -109,12 +110,14 @@ def model_coefficients(a_over_b: float, nx: int) -> tuple[float, float]:
 
 @functools.lru_cache(maxsize=512)
 def _node_coefficients(k: int, nx: int) -> tuple[float, float]:
-    """:func:`_model_coefficients` at the node a/b = 10^(k / :data:`NODES_PER_DECADE`)."""
-    return _model_coefficients(10.0 ** (k / NODES_PER_DECADE), nx)
+    """:func:`_model_coefficients` at the node a/b = 10^(k / :data:`NODES_PER_DECADE`): from the shipped table
+    (:mod:`contact.tangential.fastrip_nodes`) where it holds the node, else solved."""
+    return table_node(k, nx, NODES_PER_DECADE) or _model_coefficients(10.0 ** (k / NODES_PER_DECADE), nx)
 
 
 def clear_node_cache() -> None:
-    """Forget the nodes solved so far (:func:`model_coefficients`; a benchmark's sweeps each pay their own)."""
+    """Forget the nodes solved or read so far (:func:`model_coefficients`; a benchmark's sweeps each start as a new
+    process would, from the shipped table)."""
     _node_coefficients.cache_clear()
 
 

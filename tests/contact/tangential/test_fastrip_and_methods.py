@@ -253,3 +253,22 @@ def test_exact_theory_on_a_coarse_solution_resolves_the_spin_of_a_narrow_patch(m
     assert abs(fy) < 0.05 and abs(mz) < 0.05
     monkeypatch.setattr(coarse_tangential, "TANGENTIAL_X_REFINE", 1)
     assert max(map(abs, errors())) > 0.1
+
+
+def test_the_shipped_node_table_is_what_the_model_solves():
+    """FaStrip's node coefficients come from the shipped table where it holds them (a new process solves none of
+    the default cells' nodes): each equal to a fresh solve, and a node beyond the table or another cell count
+    solved."""
+    from contact.tangential import fastrip
+    from contact.tangential.fastrip_nodes import TABLE_CELLS, TABLE_HALF_RANGE, table_node
+
+    for k in (-TABLE_HALF_RANGE, -17, 0, 5, TABLE_HALF_RANGE):
+        tabled = table_node(k, TABLE_CELLS, fastrip.NODES_PER_DECADE)
+        fresh = fastrip._model_coefficients(10.0 ** (k / fastrip.NODES_PER_DECADE), TABLE_CELLS)
+        assert tabled == pytest.approx(fresh, rel=1e-12), k
+    assert table_node(TABLE_HALF_RANGE + 1, TABLE_CELLS, fastrip.NODES_PER_DECADE) is None
+    assert table_node(0, TABLE_CELLS + 2, fastrip.NODES_PER_DECADE) is None
+    assert table_node(0, TABLE_CELLS, fastrip.NODES_PER_DECADE + 1) is None
+    fastrip.clear_node_cache()
+    far = fastrip._node_coefficients(TABLE_HALF_RANGE + 3, TABLE_CELLS)
+    assert far == pytest.approx(fastrip._model_coefficients(10.0 ** ((TABLE_HALF_RANGE + 3) / 32), TABLE_CELLS))
