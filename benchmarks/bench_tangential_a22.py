@@ -125,16 +125,16 @@ def tangential_clock():
 def timed_sweeps(out: pathlib.Path, rounds: int = TIMING_ROUNDS) -> dict[str, dict]:
     """Each :data:`TIMED` sweep without output files (no VTK files, no frictional CSVs; result.json's record is
     built), ``rounds`` times interleaved (after one untimed run of each, which compiles and loads the kernels; each
-    run solves FaStrip's coefficient nodes afresh, as a sweep in a new process): {"normal/tangential": {"result"
-    (the first timed run's), "cpu_s" (the runs' CPU times), "tangential_cpu_s" (of which the tangential solves,
-    :func:`tangential_clock`), "load" (1-min load averages at their starts)}}."""
+    run starts FaStrip's node cache empty, as a new process does: the shipped nodes read, others solved):
+    {"normal/tangential": {"result" (the first timed run's), "cpu_s" (the runs' CPU times), "tangential_cpu_s"
+    (of which the tangential solves, :func:`tangential_clock`), "load" (1-min load averages at their starts)}}."""
     runs: dict[str, dict] = {}
     for r in range(rounds + 1):
         for normal, tangential, keys in TIMED:
             name = f"{normal}/{tangential}" + "".join(f" ({k} {v})" for k, v in keys.items())
             load = os.getloadavg()[0]
             folder = out / ("timed_" + "_".join([normal, tangential, *(f"{k}{v}" for k, v in keys.items())]))
-            clear_node_cache()           # FaStrip's model coefficients: every sweep solves its own nodes
+            clear_node_cache()           # FaStrip's model coefficients: every sweep starts as a new process
             with tangential_clock() as spent:
                 res, _, cpu, err = run_scene(folder, normal=normal, tangential=tangential, vtk=False,
                                              output={"frictional_csv": False}, **keys)
