@@ -66,6 +66,8 @@ class Profile:
     def check_y(self, y, what: str = "y"):
         """Return y as a float array clipped to [y_min, y_max]; InputError if (beyond round-off) outside."""
         y = np.asarray(y, dtype=float)
+        if y.size and self.y_min - _Y_TOL <= y.min() and y.max() <= self.y_max + _Y_TOL:   # NaN fails both
+            return np.clip(y, self.y_min, self.y_max)
         bad = ~((y >= self.y_min - _Y_TOL) & (y <= self.y_max + _Y_TOL))
         if np.any(bad):
             shown = np.atleast_1d(y[bad])[:3]
@@ -79,10 +81,13 @@ class Profile:
         y = self.check_y(y)
         k = np.searchsorted(self._breaks, y, side="left")
         out = np.empty(y.shape + trailing)
-        for i, piece in enumerate(self._pieces):
+        flat = k.reshape(-1)
+        if flat.size and flat[0] == flat.min() == flat.max():      # all on one piece (most calls: a few points)
+            out.reshape((-1,) + trailing)[:] = getattr(self._pieces[int(flat[0])], method)(y.reshape(-1))
+            return out[()] if out.ndim == 0 else out
+        for i in np.unique(flat):                                  # only the pieces the points fall on
             m = k == i
-            if np.any(m):
-                out[m] = getattr(piece, method)(y[m])
+            out[m] = getattr(self._pieces[int(i)], method)(y[m])
         return out[()] if out.ndim == 0 else out
 
     def z(self, y):
