@@ -41,6 +41,8 @@ class CoarseGrid:
     clipped: tuple = (False, False)
     #: The tables of :func:`grid_tables` once built (the grid's solves share them; a warm start reuses them).
     tables: "GridTables | None" = field(default=None, repr=False, compare=False)
+    #: :meth:`spans` once computed (every solve on a kept grid asks for them).
+    _spans: list | None = field(default=None, repr=False, compare=False)
 
     @classmethod
     def over_box(cls, prob: NormalProblem, delta: float, shape: tuple) -> "CoarseGrid":
@@ -71,9 +73,11 @@ class CoarseGrid:
 
     def spans(self) -> list[tuple[np.ndarray, float, float]]:
         """(line indices, y_lo, y_hi) of each interval of consecutive lattice lines."""
-        cut = np.flatnonzero(np.diff(self.rows) > 1) + 1
-        return [(k, self.y[k[0]] - 0.5 * self.dy, self.y[k[-1]] + 0.5 * self.dy)
-                for k in np.split(np.arange(self.y.size), cut)]
+        if self._spans is None:
+            cut = np.flatnonzero(np.diff(self.rows) > 1) + 1
+            self._spans = [(k, float(self.y[k[0]] - 0.5 * self.dy), float(self.y[k[-1]] + 0.5 * self.dy))
+                           for k in np.split(np.arange(self.y.size), cut)]
+        return self._spans
 
 
 @dataclass(frozen=True)
