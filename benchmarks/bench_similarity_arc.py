@@ -1,0 +1,164 @@
+"""Where the similarity route's error comes from: the master's interpolation, or its arc-block model of a surface.
+
+For every position the route serves from the master (default ``calibration/configs/default.toml``), the 3D FEM of
+one synthetic arc block (:func:`calibration.similarity.sections.arc_section`) at the position's own semi-axes a, b
+and the convexity its plastic curves are taken at (``Route.plastic_convexity``) is run: the master point the route
+would need, without interpolation. Then, at equal p0/p_y (each curve at its own first-yield pressure, as the route
+combines the master's plastic curves with the section's own p_y), three comparisons of u_pl at the levels 1.05-3
+p_y of the direct path and of the residual dents at its unloading peaks:
+
+- the arc block's FEM against the position's direct FEM: the error of the arc-block model itself;
+- the master (interpolated at the same point) against the direct FEM: what the route gives;
+- the master against the arc block's FEM: the interpolation error of the master grid.
+
+Errors relative to the direct (or arc) value, or to half its value at 1.5 p_y where larger (as
+:mod:`benchmarks.bench_similarity`). Inputs as that benchmark: the direct run's FEM cache and the master's cache
+("quick" mode reports what is missing). Regenerate::
+
+    python -m benchmarks.bench_similarity_arc --report docs/validation/similarity-arc.md
+
+Units: mm, MPa, s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from benchmarks.bench_similarity import CONFIG, DIRECT_OUT, FLOOR_AT_1_5, MASTER, TARGET, _config, _direct, _master
+from benchmarks.harness import command_line, write_report
+
+TITLE = "Similarity: the arc-block model against the master's interpolation"
+COMMAND = "python -m benchmarks.bench_similarity_arc --report docs/validation/similarity-arc.md"
+#: The levels compared: the direct path's multiples of p_y within this range (-).
+Q_RANGE = (1.05, 3.0)
+
+
+def equal_q_errors(ref, other) -> tuple[np.ndarray, np.ndarray]:
+    """(u_pl errors per level, residual errors per peak) of ``other`` against ``ref`` (IndentationResult-like:
+    first_yield_MPa, p_MPa, u_pl_mm, unload_peaks_MPa, residual_fem_mm) at equal p0/p_y, relative to ``ref`` or to
+    :data:`FLOOR_AT_1_5` of its value at 1.5 p_y where larger."""
+    py_r, py_o = ref.first_yield_MPa, other.first_yield_MPa
+    q = np.asarray(ref.p_MPa) / py_r
+    q = q[(q >= Q_RANGE[0] - 1e-9) & (q <= Q_RANGE[1] + 1e-9)]
+    u_r = np.interp(q * py_r, ref.p_MPa, ref.u_pl_mm)
+    u_o = np.interp(q * py_o, other.p_MPa, other.u_pl_mm)
+    floor = FLOOR_AT_1_5 * abs(float(np.interp(1.5 * py_r, ref.p_MPa, ref.u_pl_mm)))
+    f = np.asarray(ref.unload_peaks_MPa) / py_r
+    r_r = np.asarray(ref.residual_fem_mm, dtype=float)
+    r_o = np.interp(f * py_o, other.unload_peaks_MPa, other.residual_fem_mm)
+    r_floor = FLOOR_AT_1_5 * abs(float(np.interp(1.5, f, r_r)))
+    return (u_o - u_r) / np.maximum(np.abs(u_r), floor), (r_o - r_r) / np.maximum(np.abs(r_r), r_floor)
+
+
+def arc_tasks(cfg, master, tasks):
+    """[(position task, route, the arc block's FEM task)] of every position the route serves."""
+    from calibration.hertz.geometry import given_geometry
+    from calibration.similarity.route import route
+    from calibration.similarity.sections import arc_section
+    from calibration.tasks import code_hash, position_task
+
+    code = code_hash()
+    ranges = (master.aspect_range, master.convexity_range)
+    out = []
+    for t in tasks:
+        r = route(t, ranges)
+        if r.method != "similarity":
+            continue
+        a, b = t.geometry.a_mm, t.geometry.b_mm
+        section = arc_section(round(r.plastic_convexity, 6), round(b, 9))
+        mat = next(body.material for body in cfg.bodies if body.body == t.body)
+        out.append((t, r, position_task(cfg, "rail", section, given_geometry(section, 0.0, a, b), mat, None, code)))
+    return out
+
+
+def _run(task):
+    from calibration.tasks import run_position
+
+    return run_position(task)
+
+
+def run(mode: str = "quick", workers: int = 2) -> dict:
+    """The three comparisons of every served position (module docstring)."""
+    from calibration.similarity.route import similar_indentation
+    from calibration.tasks import make_tasks
+    from wrlayer.runner import Runner
+
+    cfg = _config(CONFIG, MASTER)
+    master, why = _master(cfg, mode == "quick")
+    direct, why_direct = _direct(cfg, DIRECT_OUT, mode == "quick")
+    if master is None or not direct:
+        return {"missing": why or why_direct, "rows": []}
+    from calibration.cache import fem_entry, load_indentation
+    from benchmarks.bench_similarity import direct_keys
+
+    dcfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, method="direct"))
+    keys = direct_keys(dcfg, DIRECT_OUT, None)
+    tasks, _, _ = make_tasks(cfg, Path(tempfile.mkdtemp()), False)
+    jobs = arc_tasks(cfg, master, tasks)
+    with Runner(workers) as runner:
+        outs = list(runner.map(_run, [arc for _, _, arc in jobs]))
+    rows = []
+    for (t, r, _), out in zip(jobs, outs):
+        row = {"body": t.body, "y_mm": t.y_mm, "a_over_b": t.geometry.a_mm / t.geometry.b_mm,
+               "length_mm": float(np.sqrt(t.geometry.a_mm * t.geometry.b_mm)), "convexity": r.convexity,
+               "plastic_convexity": r.plastic_convexity}
+        if out.error:
+            rows.append({**row, "failed": out.error})
+            continue
+        ind = load_indentation(fem_entry(DIRECT_OUT / "cache", keys[t.body, t.y_mm]))[0]
+        arc = out.indentation
+        sim = similar_indentation(master, t.geometry.a_mm, t.geometry.b_mm, r.convexity, r.plastic_convexity)
+        for name, (ref, other) in {"arc_vs_direct": (ind, arc), "master_vs_direct": (ind, sim),
+                                   "master_vs_arc": (arc, sim)}.items():
+            u, res = equal_q_errors(ref, other)
+            row[name] = {"u_pl": u.tolist(), "residual": res.tolist(),
+                         "worst": float(max(np.abs(u).max(), np.abs(res).max()))}
+        row["p_y_arc_over_direct"] = arc.first_yield_MPa / ind.first_yield_MPa - 1.0
+        rows.append(row)
+    return {"missing": "", "rows": rows}
+
+
+def markdown(data: dict) -> str:
+    if data["missing"]:
+        return f"Not run: {data['missing']}.\n"
+    rows = [r for r in data["rows"] if "failed" not in r]
+    lines = ["Worst |error| over u_pl at the direct path's levels 1.05-3 p_y and the residual dents at its peaks, "
+             "at equal p0/p_y (%):\n",
+             "| body | y [mm] | a/b | L [mm] | b/(2R) plastic | arc FEM vs direct | master vs direct | "
+             "master vs arc FEM |", "|---|---|---|---|---|---|---|---|"]
+    for r in data["rows"]:
+        if "failed" in r:
+            lines.append(f"| {r['body']} | {r['y_mm']:g} | {r['a_over_b']:.2f} | {r['length_mm']:.2f} | "
+                         f"{r['plastic_convexity']:+.4f} | failed: {r['failed'][:60]} | | |")
+            continue
+        lines.append(f"| {r['body']} | {r['y_mm']:g} | {r['a_over_b']:.2f} | {r['length_mm']:.2f} | "
+                     f"{r['plastic_convexity']:+.4f} | {100 * r['arc_vs_direct']['worst']:.2f} | "
+                     f"{100 * r['master_vs_direct']['worst']:.2f} | {100 * r['master_vs_arc']['worst']:.2f} |")
+    count = {k: sum(r[k]["worst"] <= TARGET for r in rows) for k in ("arc_vs_direct", "master_vs_direct",
+                                                                      "master_vs_arc")}
+    lines.append(f"\nWithin {TARGET:.0%} of the direct FEM: the arc block's own FEM at {count['arc_vs_direct']} of "
+                 f"{len(rows)} served positions, the master at {count['master_vs_direct']}; the master within "
+                 f"{TARGET:.0%} of the arc block's FEM (its interpolation) at {count['master_vs_arc']}. "
+                 "Where the arc FEM misses, a finer master grid cannot help: the circle fitted over the plastic "
+                 "window is not the section the direct FEM loads.")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.bench_similarity_arc", description=__doc__.splitlines()[0])
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--report", type=Path, default=None, help="write the stamped report here")
+    args = ap.parse_args(argv)
+    md = markdown(run("quick", args.workers))
+    if args.report is not None:
+        write_report(args.report, TITLE, md, command_line("python -m benchmarks.bench_similarity_arc", argv))
+    print(md)
+
+
+if __name__ == "__main__":
+    main()

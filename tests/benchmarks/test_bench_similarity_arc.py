@@ -1,0 +1,31 @@
+"""The arc-block check's comparison at equal p0/p_y (no FEM: synthetic curves)."""
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from benchmarks.bench_similarity_arc import equal_q_errors, markdown
+
+
+def _curve(p_y: float, scale: float = 1.0):
+    q = np.array([0.0, 1.0, 1.05, 1.1, 1.5, 2.0, 3.0])
+    u = scale * np.where(q > 1.0, (q - 1.0) ** 2, 0.0)
+    return SimpleNamespace(first_yield_MPa=p_y, p_MPa=q * p_y, u_pl_mm=u, unload_peaks_MPa=np.array([1.5, 3.0]) * p_y,
+                           residual_fem_mm=scale * np.array([0.2, 3.0]))
+
+
+def test_equal_curves_at_another_first_yield_agree_and_a_scaled_one_is_off_by_its_scale():
+    u, r = equal_q_errors(_curve(800.0), _curve(880.0))        # the same curve in p0/p_y: no error
+    assert np.abs(u).max() == pytest.approx(0.0, abs=1e-12) and np.abs(r).max() == pytest.approx(0.0, abs=1e-12)
+    u, r = equal_q_errors(_curve(800.0), _curve(800.0, 1.03))
+    assert u.size == 5 and u[-1] == pytest.approx(0.03) and r[-1] == pytest.approx(0.03)
+    assert np.all(np.abs(u) <= 0.03 + 1e-12)                   # the floor (half the value at 1.5 p_y) below
+
+
+def test_the_report_counts_the_positions_within_the_target():
+    row = {"body": "rail", "y_mm": 0.0, "a_over_b": 1.3, "length_mm": 6.2, "plastic_convexity": 0.01,
+           "arc_vs_direct": {"worst": 0.025}, "master_vs_direct": {"worst": 0.01}, "master_vs_arc": {"worst": 0.005}}
+    text = markdown({"missing": "", "rows": [row, {**row, "y_mm": 5.0, "failed": "meshing failed"}]})
+    assert "arc block's own FEM at 0 of 1" in text and "the master at 1" in text and "failed: meshing" in text
+    assert markdown({"missing": "23 of 23 master positions not in X", "rows": []}).startswith("Not run")
