@@ -56,7 +56,7 @@ from wrlayer.errors import ConvergenceError
 from wrlayer.jit import kernel
 
 __all__ = ["NODES_PER_DECADE", "START_STRIPS", "STRIP_TOL", "clear_node_cache", "model_coefficients",
-           "solve_fastrip", "start_tractions", "strip_flexibilities"]
+           "solve_fastrip", "solve_model_coefficients", "start_tractions", "strip_flexibilities"]
 
 #: The strip solver's stop: the largest traction change of a sweep below STRIP_TOL times the strip's traction scale
 #: min(mu max p, max |t|). On the A-2.2 sweep 1e-5 leaves the forces within 3.5e-7 mu F_N (exact/fastrip; 8.3e-7
@@ -91,10 +91,10 @@ NODES_PER_DECADE = 32
 
 
 def model_coefficients(a_over_b: float, nx: int) -> tuple[float, float]:
-    """(k_x, k_phi) of :func:`_model_coefficients` at ``a_over_b``, interpolated from its values at the four nearest
-    nodes a/b = 10^(k / :data:`NODES_PER_DECADE`) (Lagrange cubic in log(a/b), on the logarithms of k_x, k_phi).
-    The nodes' solves are cached, so the patches of a sweep (a/b changing in every balance step) share a few
-    dozen of them instead of one solve per step; a given a/b gives the same values whatever was solved before."""
+    """(k_x, k_phi) of :func:`solve_model_coefficients` at ``a_over_b``, interpolated from its values at the four
+    nearest nodes a/b = 10^(k / :data:`NODES_PER_DECADE`) (Lagrange cubic in log(a/b), on the logarithms of k_x,
+    k_phi). The nodes are read from the shipped table or solved, and cached, so the patches of a sweep (a/b changing
+    in every balance step) share a few dozen of them; a given a/b gives the same values whatever was solved before."""
     s = math.log(a_over_b) * NODES_PER_DECADE / math.log(10.0)
     k0 = math.floor(s) - 1
     out = np.zeros(2)
@@ -110,9 +110,9 @@ def model_coefficients(a_over_b: float, nx: int) -> tuple[float, float]:
 
 @functools.lru_cache(maxsize=512)
 def _node_coefficients(k: int, nx: int) -> tuple[float, float]:
-    """:func:`_model_coefficients` at the node a/b = 10^(k / :data:`NODES_PER_DECADE`): from the shipped table
+    """:func:`solve_model_coefficients` at the node a/b = 10^(k / :data:`NODES_PER_DECADE`): from the shipped table
     (:mod:`contact.tangential.fastrip_nodes`) where it holds the node, else solved."""
-    return table_node(k, nx, NODES_PER_DECADE) or _model_coefficients(10.0 ** (k / NODES_PER_DECADE), nx)
+    return table_node(k, nx, NODES_PER_DECADE) or solve_model_coefficients(10.0 ** (k / NODES_PER_DECADE), nx)
 
 
 def clear_node_cache() -> None:
@@ -121,7 +121,7 @@ def clear_node_cache() -> None:
     _node_coefficients.cache_clear()
 
 
-def _model_coefficients(a_over_b: float, nx: int, ny: int = 41) -> tuple[float, float]:
+def solve_model_coefficients(a_over_b: float, nx: int, ny: int = 41) -> tuple[float, float]:
     """(k_x, k_phi): -Fx per unit vx and -Fy per unit spin phi' of the strip model with c = 1 in full adhesion on
     the ellipse a = 1 mm, b = 1/a_over_b (strip width w = 2 b; linear solves, strip by strip). On an ellipse of
     semi-axis a they scale as a^2 and a^3."""

@@ -1,9 +1,10 @@
 """FaStrip's model coefficients at its interpolation nodes, shipped as a table for the default cells per strip.
 
-Units: the coefficients are dimensionless (k_x, k_phi of :func:`contact.tangential.fastrip._model_coefficients`: the
-strip model's full-adhesion forces on the ellipse a = 1 mm per unit creepage and spin). Each node a/b =
-10^(k / NODES_PER_DECADE) costs a linear solve of every strip (about 5 ms); a wheel–rail sweep meets some fifty of
-them, a fifth of FaStrip's time on the A-2.2 sweep when every process solved its own. The table holds the nodes
+Units: the coefficients are dimensionless (k_x, k_phi of
+:func:`contact.tangential.fastrip.solve_model_coefficients`: the strip model's full-adhesion forces on the ellipse
+a = 1 mm per unit creepage and spin). Each node a/b = 10^(k / NODES_PER_DECADE) costs a linear solve of every strip
+(about 5 ms); a wheel–rail sweep meets some fifty of them, a fifth of FaStrip's time on the A-2.2 sweep when every
+process solved its own. The table holds the nodes
 k = -:data:`TABLE_HALF_RANGE` .. +:data:`TABLE_HALF_RANGE` (a/b from 0.01 to 100) for :data:`TABLE_CELLS` cells
 per strip, as this module computes them (``python -m contact.tangential.fastrip_nodes`` writes it again); other
 nodes and other cell counts are solved when first met.
@@ -44,11 +45,11 @@ def table_node(k: int, nx: int, nodes_per_decade: int) -> tuple[float, float] | 
 
 def write_table(path: Path = TABLE_PATH) -> None:
     """Solve every node of the table and write it to ``path`` (JSON; numbers with their full precision)."""
-    from contact.tangential.fastrip import NODES_PER_DECADE, _model_coefficients
+    from contact.tangential.fastrip import NODES_PER_DECADE, solve_model_coefficients
     from wrlayer.atomic_write import atomic_write_text
 
     ks = list(range(-TABLE_HALF_RANGE, TABLE_HALF_RANGE + 1))
-    values = [_model_coefficients(10.0 ** (k / NODES_PER_DECADE), TABLE_CELLS) for k in ks]
+    values = [solve_model_coefficients(10.0 ** (k / NODES_PER_DECADE), TABLE_CELLS) for k in ks]
     data = {"units": "-", "written_by": "python -m contact.tangential.fastrip_nodes", "cells": TABLE_CELLS,
             "nodes_per_decade": NODES_PER_DECADE, "k": ks, "k_x": [v[0] for v in values],
             "k_phi": [v[1] for v in values]}

@@ -177,7 +177,7 @@ def test_fastrip_model_coefficients_interpolated_between_nodes():
 
     rng = np.random.default_rng(7)
     for r in [*np.exp(rng.uniform(np.log(0.08), np.log(12.0), 6)), 10.0 ** (5 / fastrip.NODES_PER_DECADE)]:
-        direct = fastrip._model_coefficients(float(r), 24)
+        direct = fastrip.solve_model_coefficients(float(r), 24)
         fastrip.clear_node_cache()
         first = fastrip.model_coefficients(float(r), 24)
         assert np.allclose(first, direct, rtol=1e-7, atol=0.0)
@@ -264,11 +264,11 @@ def test_the_shipped_node_table_is_what_the_model_solves():
 
     for k in (-TABLE_HALF_RANGE, -17, 0, 5, TABLE_HALF_RANGE):
         tabled = table_node(k, TABLE_CELLS, fastrip.NODES_PER_DECADE)
-        fresh = fastrip._model_coefficients(10.0 ** (k / fastrip.NODES_PER_DECADE), TABLE_CELLS)
+        fresh = fastrip.solve_model_coefficients(10.0 ** (k / fastrip.NODES_PER_DECADE), TABLE_CELLS)
         assert tabled == pytest.approx(fresh, rel=1e-12), k
     assert table_node(TABLE_HALF_RANGE + 1, TABLE_CELLS, fastrip.NODES_PER_DECADE) is None
     assert table_node(0, TABLE_CELLS + 2, fastrip.NODES_PER_DECADE) is None
     assert table_node(0, TABLE_CELLS, fastrip.NODES_PER_DECADE + 1) is None
     fastrip.clear_node_cache()
     far = fastrip._node_coefficients(TABLE_HALF_RANGE + 3, TABLE_CELLS)
-    assert far == pytest.approx(fastrip._model_coefficients(10.0 ** ((TABLE_HALF_RANGE + 3) / 32), TABLE_CELLS))
+    assert far == pytest.approx(fastrip.solve_model_coefficients(10.0 ** ((TABLE_HALF_RANGE + 3) / 32), TABLE_CELLS))
