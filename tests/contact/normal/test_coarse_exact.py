@@ -193,3 +193,33 @@ def test_resampling_is_numpys_interpolation_row_by_row():
         fp = rng.uniform(0.0, 5.0, (int(rng.integers(1, 20)), xp.size))
         expected = np.array([np.interp(x, xp, row, left=0.0, right=0.0) for row in fp])
         np.testing.assert_array_equal(_interp_rows(x, xp, fp), expected)
+
+
+def test_line_curves_follow_each_elements_state_and_its_reverse_threshold():
+    """The coarse solver's line curves: strips in one element state share a curve (also across solves), a strip
+    whose element differs (another slider threshold, or another reverse threshold factor) gets its own, equal to the
+    element's own loading curve; the compiled linearisation is the piecewise-linear curve."""
+    from contact.normal.coarse_layer import LineLayers
+
+    prob = parabolic(460.0, 2e4)
+    base = PrandtlLayer.uniform(paper_characteristic(), prob.strip_y_mm, name="paper layer")
+    slipped, other_rho = 100, 150          # another slider threshold, another reverse threshold factor
+    half_width = base.half_width_mm.copy()
+    half_width[slipped] *= 1.2
+    rho = np.ones(base.n_points)
+    rho[other_rho] = 0.5
+    lay = PrandtlLayer(base.y_mm, base.k_N_per_mm3, half_width, base.k_last_N_per_mm3, name="layer",
+                       reverse_factor=rho)
+    lines = LineLayers(LayerPair(combined=lay), prob)
+    y = prob.strip_y_mm[[0, 50, slipped, other_rho, 200]]
+    lines.on_lines(y)
+    curves = [lines._curve(int(j)) for j in lines.strips(y)]
+    assert curves[0] is curves[1] is curves[4] and curves[2] is not curves[0] and curves[3] is not curves[0]
+    assert LineLayers(LayerPair(combined=lay), prob)._curve(0) is curves[0]          # kept across solves
+    for curve, j in ((curves[2], slipped), (curves[3], other_rho)):
+        p, u, _ = lay.loading_curve(j)
+        np.testing.assert_allclose(np.interp(p, curve.p, curve.u), u - u[0], rtol=1e-12, atol=1e-15)
+    knots, disp, slope = lines.on_lines(y)
+    pressure = np.linspace(0.0, 1.2 * knots[0, -1], 7)[None, :].repeat(y.size, axis=0)
+    u_l, c = lines.linearise(pressure, (knots, disp, slope))
+    np.testing.assert_allclose(u_l[0, :-1], np.interp(pressure[0, :-1], curves[0].p, curves[0].u), rtol=1e-12)
