@@ -29,7 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.bench_similarity import CONFIG, DIRECT_OUT, FLOOR_AT_1_5, MASTER, TARGET, _config, _direct, _master
+from benchmarks.bench_similarity import (CONFIG, DIRECT_OUT, FLOOR_AT_1_5, MASTER, TARGET, _config, _direct, _master,
+                                         direct_keys)
 from benchmarks.harness import command_line, write_report
 
 TITLE = "Similarity: the arc-block model against the master's interpolation"
@@ -84,18 +85,16 @@ def _run(task):
 
 def run(mode: str = "quick", workers: int = 2) -> dict:
     """The three comparisons of every served position (module docstring)."""
+    from calibration.cache import fem_entry, load_indentation
     from calibration.similarity.route import similar_indentation
     from calibration.tasks import make_tasks
     from wrlayer.runner import Runner
 
     cfg = _config(CONFIG, MASTER)
     master, why = _master(cfg, mode == "quick")
-    direct, why_direct = _direct(cfg, DIRECT_OUT, mode == "quick")
+    direct, why_direct = _direct(cfg, DIRECT_OUT, mode == "quick")   # present (or computed in full mode)
     if master is None or not direct:
         return {"missing": why or why_direct, "rows": []}
-    from calibration.cache import fem_entry, load_indentation
-    from benchmarks.bench_similarity import direct_keys
-
     dcfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, method="direct"))
     keys = direct_keys(dcfg, DIRECT_OUT, None)
     tasks, _, _ = make_tasks(cfg, Path(tempfile.mkdtemp()), False)
