@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.bench_similarity import (CONFIG, DIRECT_OUT, FLOOR_AT_1_5, MASTER, TARGET, _config, _direct, _master,
+from benchmarks.bench_similarity import (CONFIG, DIRECT_OUT, MASTER, TARGET, _config, _direct, _master, _relative,
                                          direct_keys)
 from benchmarks.harness import command_line, write_report
 
@@ -42,26 +42,24 @@ Q_RANGE = (1.05, 3.0)
 def equal_q_errors(ref, other) -> tuple[np.ndarray, np.ndarray]:
     """(u_pl errors per level, residual errors per peak) of ``other`` against ``ref`` (IndentationResult-like:
     first_yield_MPa, p_MPa, u_pl_mm, unload_peaks_MPa, residual_fem_mm) at equal p0/p_y, relative to ``ref`` or to
-    :data:`FLOOR_AT_1_5` of its value at 1.5 p_y where larger."""
+    :data:`benchmarks.bench_similarity.FLOOR_AT_1_5` of its value at 1.5 p_y where larger (its ``_relative``)."""
     py_r, py_o = ref.first_yield_MPa, other.first_yield_MPa
     q = np.asarray(ref.p_MPa) / py_r
     q = q[(q >= Q_RANGE[0] - 1e-9) & (q <= Q_RANGE[1] + 1e-9)]
     u_r = np.interp(q * py_r, ref.p_MPa, ref.u_pl_mm)
     u_o = np.interp(q * py_o, other.p_MPa, other.u_pl_mm)
-    floor = FLOOR_AT_1_5 * abs(float(np.interp(1.5 * py_r, ref.p_MPa, ref.u_pl_mm)))
     f = np.asarray(ref.unload_peaks_MPa) / py_r
     r_r = np.asarray(ref.residual_fem_mm, dtype=float)
     r_o = np.interp(f * py_o, other.unload_peaks_MPa, other.residual_fem_mm)
-    r_floor = FLOOR_AT_1_5 * abs(float(np.interp(1.5, f, r_r)))
-    return (u_o - u_r) / np.maximum(np.abs(u_r), floor), (r_o - r_r) / np.maximum(np.abs(r_r), r_floor)
+    return (_relative(u_o - u_r, u_r, float(np.interp(1.5 * py_r, ref.p_MPa, ref.u_pl_mm))),
+            _relative(r_o - r_r, r_r, float(np.interp(1.5, f, r_r))))
 
 
 def arc_tasks(cfg, master, tasks):
     """[(position task, route, the arc block's FEM task)] of every position the route serves."""
-    from calibration.hertz.geometry import given_geometry
+    from calibration.similarity.master import arc_task
     from calibration.similarity.route import route
-    from calibration.similarity.sections import arc_section
-    from calibration.tasks import code_hash, position_task
+    from calibration.tasks import code_hash
 
     code = code_hash()
     ranges = (master.aspect_range, master.convexity_range)
@@ -70,10 +68,8 @@ def arc_tasks(cfg, master, tasks):
         r = route(t, ranges)
         if r.method != "similarity":
             continue
-        a, b = t.geometry.a_mm, t.geometry.b_mm
-        section = arc_section(round(r.plastic_convexity, 6), round(b, 9))
         mat = next(body.material for body in cfg.bodies if body.body == t.body)
-        out.append((t, r, position_task(cfg, "rail", section, given_geometry(section, 0.0, a, b), mat, None, code)))
+        out.append((t, r, arc_task(cfg, mat, round(r.plastic_convexity, 6), t.geometry.a_mm, t.geometry.b_mm, code)))
     return out
 
 

@@ -81,13 +81,15 @@ def grid_points() -> list[tuple[float, float, float]]:
 def master_tasks(cfg: CalibrationConfig, material: MaterialSettings) -> list[PositionTask]:
     """The FEM tasks of ``material``'s master, one per point of :func:`grid_points` (no field output)."""
     code = code_hash()  # once: the sources' hash is part of every task's key
-    tasks = []
-    for c, length, r in grid_points():
-        a, b = length * r ** 0.5, length / r ** 0.5
-        section = arc_section(c, round(b, 9))
-        geo = given_geometry(section, MASTER_Y_MM, a, b)
-        tasks.append(position_task(cfg, "rail", section, geo, material, None, code))
-    return tasks
+    return [arc_task(cfg, material, c, length * r ** 0.5, length / r ** 0.5, code) for c, length, r in grid_points()]
+
+
+def arc_task(cfg: CalibrationConfig, material: MaterialSettings, convexity: float, a_mm: float, b_mm: float,
+             code: str | None = None) -> PositionTask:
+    """The FEM task of one synthetic arc block (:func:`arc_section` of ``convexity`` for the half-width ``b_mm``)
+    loaded with the semi-axes a_mm, b_mm (mm) at y = :data:`MASTER_Y_MM`: a master point, or any point between."""
+    section = arc_section(convexity, round(b_mm, 9))
+    return position_task(cfg, "rail", section, given_geometry(section, MASTER_Y_MM, a_mm, b_mm), material, None, code)
 
 
 def master_key(tasks: list[PositionTask]) -> str:
@@ -319,5 +321,6 @@ def stored_master(out_dir: Path, key: str) -> MasterCurves | None:
     return master if master.key == key else None
 
 
-__all__ = ["ASPECTS", "CONVEXITIES", "SHAPE_ASPECTS", "SHAPE_LENGTH_MM", "FORMAT_VERSION", "LENGTHS_MM", "MASTER_Y_MM", "MAX_SEMI_AXIS_MM",
-           "MasterCurves", "MasterFormatError", "grid_points", "master_key", "master_tasks", "path_levels", "stored_master"]
+__all__ = ["ASPECTS", "CONVEXITIES", "FORMAT_VERSION", "LENGTHS_MM", "MASTER_Y_MM", "MAX_SEMI_AXIS_MM", "SHAPE_ASPECTS",
+           "SHAPE_LENGTH_MM", "MasterCurves", "MasterFormatError", "arc_task", "grid_points", "master_key",
+           "master_tasks", "path_levels", "stored_master"]
