@@ -5,8 +5,9 @@ the table's element is compared with the FEM points stored in the table: the loa
 every FEM level and the residual dent after unloading from each peak (the element's exact unloading, with its
 reverse factor), as (element - FEM) / max(FEM, FEM(1.5 p_2) / 3) (docs/calibration-method.md, "Fit over the
 operating range"). The target: within 3 % at every level from 1.1 to 2.5 p_2. For comparison, the paper's fit (5
-segments, absolute least squares, Masing unloading) of the same FEM points. The full table (every position and
-level) goes to ``OUT/layer_range.csv``.
+segments, absolute least squares, Masing unloading) of the same FEM points; and the element's largest error relative
+to the FEM value itself from 1.1 p_2 up (what the fit's own measure, ``[fit] error_floor``, aims at). The full table
+(every position and level) goes to ``OUT/layer_range.csv``.
 
 Regenerate: ``python -m benchmarks --only layer_range`` (or ``python -m benchmarks.bench_layer_range [TABLE ...]``).
 Units: mm, MPa.
@@ -48,6 +49,21 @@ def _paper_fit_errors(pos: dict, levels: np.ndarray, p2: float) -> tuple[np.ndar
     return upl_err, res_err
 
 
+def _relative_errors(pos: dict, ch, p2: float) -> tuple[float, float]:
+    """The element's largest |element - FEM| / FEM over the levels (u_pl) and peaks (residual) in
+    [1.1 p_2, 2.5 p_2] (-)."""
+    p = np.asarray(pos["fem"]["p_MPa"])
+    u_pl = np.asarray(pos["fem"]["u_pl_mm"])
+    at = p[(p >= TARGET_RANGE[0] * p2 * (1 - 1e-6)) & (p <= TARGET_RANGE[1] * p2 * (1 + 1e-6))]
+    fem = np.interp(at, p, u_pl)
+    upl = (ch.displacement(at) - at / ch.initial_stiffness - fem) / fem
+    peaks = np.asarray(pos["residual_peaks_MPa"])
+    keep = (peaks >= TARGET_RANGE[0] * p2 * (1 - 1e-6)) & (peaks <= TARGET_RANGE[1] * p2 * (1 + 1e-6))
+    res_fem = np.asarray(pos["residual_fem_mm"])[keep]
+    res = (ch.unloading_residual(peaks[keep]) - res_fem) / res_fem
+    return float(np.max(np.abs(upl), initial=0.0)), float(np.max(np.abs(res), initial=0.0))
+
+
 def position_rows(table_path: Path) -> list[dict]:
     """One row per position of a table: its fit and its scaled errors per level (table element and paper fit)."""
     from wrlayer.layer_table import LayerTable
@@ -63,6 +79,7 @@ def position_rows(table_path: Path) -> list[dict]:
         peaks = np.asarray(pos["residual_peaks_MPa"]) / p2
         res = np.asarray(pos["residual_error"])
         paper_upl, paper_res = _paper_fit_errors(pos, x, p2)
+        rel_upl, rel_res = _relative_errors(pos, ch, p2)
         inside = (x >= TARGET_RANGE[0] - 1e-6) & (x <= TARGET_RANGE[1] + 1e-6)
         inside_pk = (peaks >= TARGET_RANGE[0] - 1e-6) & (peaks <= TARGET_RANGE[1] + 1e-6)
         rows.append({"body": table.body, "y_mm": float(pos["y_mm"]), "method": pos.get("method", "direct"),
@@ -73,7 +90,8 @@ def position_rows(table_path: Path) -> list[dict]:
                      "max_residual_error": float(np.max(np.abs(res[inside_pk]), initial=0.0)),
                      "paper_max_u_pl_error": float(np.max(np.abs(paper_upl[inside]), initial=0.0)),
                      "paper_max_residual_error": float(np.max(np.abs(paper_res[inside_pk]), initial=0.0)),
-                     "paper_u_pl_error_1.3": float(np.interp(1.3, x, paper_upl))})
+                     "paper_u_pl_error_1.3": float(np.interp(1.3, x, paper_upl)),
+                     "max_relative_u_pl_error": rel_upl, "max_relative_residual_error": rel_res})
     return rows
 
 
@@ -85,21 +103,26 @@ def _at(row: dict, level: float, key: str, levels_key: str) -> str:
 
 def _markdown(rows: list[dict]) -> str:
     head = ("| body | y (mm) | route | N | ρ | " + " | ".join(f"u_pl {c:g}" for c in COLUMNS) + " | "
-            + " | ".join(f"res {c:g}" for c in COLUMNS) + " | max u_pl / res | paper fit max u_pl / res |")
-    lines = [head, "|" + "---|" * (7 + 2 * len(COLUMNS))]
+            + " | ".join(f"res {c:g}" for c in COLUMNS) + " | max u_pl / res | paper fit max u_pl / res "
+            "| max of the value u_pl / res |")
+    lines = [head, "|" + "---|" * (8 + 2 * len(COLUMNS))]
     for r in rows:
         lines.append(f"| {r['body']} | {r['y_mm']:g} | {r['method']} | {r['n_segments']} | {r['reverse_factor']:.2f} | "
                      + " | ".join(_at(r, c, "u_pl_error", "levels_over_p2") for c in COLUMNS) + " | "
                      + " | ".join(_at(r, c, "residual_error", "peaks_over_p2") for c in COLUMNS)
                      + f" | {100 * r['max_u_pl_error']:.1f} / {100 * r['max_residual_error']:.1f}"
-                     + f" | {100 * r['paper_max_u_pl_error']:.1f} / {100 * r['paper_max_residual_error']:.1f} |")
+                     + f" | {100 * r['paper_max_u_pl_error']:.1f} / {100 * r['paper_max_residual_error']:.1f}"
+                     + f" | {100 * r['max_relative_u_pl_error']:.1f} / {100 * r['max_relative_residual_error']:.1f} |")
     worst_u = max(r["max_u_pl_error"] for r in rows)
     worst_r = max(r["max_residual_error"] for r in rows)
     met = sum(r["max_u_pl_error"] <= TARGET and r["max_residual_error"] <= TARGET for r in rows)
+    rel = max(max(r["max_relative_u_pl_error"], r["max_relative_residual_error"]) for r in rows)
     return (f"Errors in % of max(FEM, FEM(1.5 p_2)/3), element minus FEM, at the levels p0/p_2 of the columns; "
             f"target {100 * TARGET:g} % from {TARGET_RANGE[0]:g} to {TARGET_RANGE[1]:g} p_2. **{met} of {len(rows)} "
             f"positions within the target** (worst u_pl {100 * worst_u:.2f} %, residual {100 * worst_r:.2f} %). "
-            "The paper's fit of the same FEM points (5 segments, Masing) for comparison.\n\n" + "\n".join(lines) + "\n")
+            "The paper's fit of the same FEM points (5 segments, Masing) for comparison. Relative to the FEM value "
+            f"itself (last column) the element is within {100 * rel:.2f} % at every level and peak from "
+            f"{TARGET_RANGE[0]:g} to {TARGET_RANGE[1]:g} p_2.\n\n" + "\n".join(lines) + "\n")
 
 
 def _write_csv(rows: list[dict], path: Path) -> Path:

@@ -121,7 +121,8 @@ def _fit(k: Keys) -> FitSettings:
     k.check_known(_names(FitSettings))
     kw: dict[str, Any] = _numbers(k, {"elastic_tolerance": dict(gt=0.0, le=1.0),
                                       "elastic_fraction": dict(gt=0.0, le=1.0),
-                                      "max_relative_error": dict(gt=0.0, le=10.0)})
+                                      "max_relative_error": dict(gt=0.0, le=10.0),
+                                      "error_floor": dict(gt=0.0, le=1.0)})
     for name in ("n_segments", "max_segments"):
         if name in k.table:
             kw[name] = k.integer(name, None, ge=N_SEGMENTS_RANGE[0], le=N_SEGMENTS_RANGE[1])

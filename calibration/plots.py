@@ -42,9 +42,12 @@ def plot_characteristics(table, path: Path) -> Path:
     return save_figure(fig, path)
 
 
-#: Line style and marker of segment i (cycled): neighbouring k_i or T_0i that nearly coincide stay distinguishable.
+#: Line style and marker of segment i (one per segment a table can hold; the colours repeat after ten):
+#: neighbouring k_i or T_0i that nearly coincide stay distinguishable.
 SEGMENT_STYLES = (("-", "o"), ("--", "s"), ("-.", "^"), (":", "D"), ((0, (5, 1, 1, 1)), "v"), ((0, (1, 1)), "P"),
-                  ((0, (3, 1, 1, 1, 1, 1)), "X"), ((0, (8, 2)), "h"), ((0, (2, 3)), "*"), ((0, (6, 2, 2, 2)), "p"))
+                  ((0, (3, 1, 1, 1, 1, 1)), "X"), ((0, (8, 2)), "h"), ((0, (2, 3)), "*"), ((0, (6, 2, 2, 2)), "p"),
+                  ((0, (10, 3)), "d"), ((0, (1, 3)), "<"), ((0, (4, 1, 1, 1, 1, 1, 1, 1)), ">"), ((0, (3, 3)), "8"),
+                  ((0, (7, 1, 1, 1)), "H"), ((0, (2, 1)), "+"))
 
 
 def segment_style(i: int) -> dict:

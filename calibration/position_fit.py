@@ -49,7 +49,8 @@ def fit_position(ind: IndentationResult, geometry: LocalGeometry, fit: FitSettin
         res_fit = res.characteristic.residual_displacement(peaks) if peaks.size else np.zeros(0)
     else:
         op = fit_operating_range(p, u_pl, s1, ind.first_yield_MPa, peaks, res_fem, fit.weight_range,
-                                 fit.target_error, fit.max_segments, fit.max_relative_error, what)
+                                 fit.target_error, fit.max_segments, fit.max_relative_error, what,
+                                 error_floor=fit.error_floor)
         res, res_fit = op.fit, np.asarray(op.residual_fit_mm)
         extra = dict(levels_over_p2=list(op.levels_over_p2), u_pl_error=list(op.u_pl_error),
                      residual_error=list(op.residual_error))

@@ -196,12 +196,16 @@ class FitSettings:
         FEM's residual dents; "paper": ``n_segments`` segments fitted in absolute terms over the whole path, the
         paper's symmetric (Masing) element (the tables of earlier versions).
     n_segments : int
-        Segments N of the "paper" fit (2..10; p_2 is pinned to the FEM first yield).
+        Segments N of the "paper" fit (2..16; p_2 is pinned to the FEM first yield).
     max_segments : int
-        Most segments of the "operating_range" fit (2..10).
+        Most segments of the "operating_range" fit (2..16).
     target_error : float
         "operating_range": the fewest segments whose u_pl error at every level inside ``weight_range`` is at most
-        this, relative to max(u_pl, u_pl(1.5 p_2) / 3) (-, in (0, 1)).
+        this, relative to max(u_pl, error_floor u_pl(1.5 p_2)) (-, in (0, 1)).
+    error_floor : float
+        "operating_range": f in the fit's error measure max(v, f v(1.5 p_2)), v the FEM's u_pl or residual dent
+        (-, in (0, 1]): the default 1/30, about v(1.1 p_2) / v(1.5 p_2), makes the fit relative from about 1.1 p_2
+        up; 1/3 is the target's measure (the fit of earlier versions).
     weight_range : tuple of float
         "operating_range": the levels p0 / p_2 fitted with full weight, [low, high] (-, 1 <= low < high); levels
         above it count a tenth.
@@ -218,8 +222,9 @@ class FitSettings:
 
     mode: str = "operating_range"
     n_segments: int = 5
-    max_segments: int = 10
+    max_segments: int = 16
     target_error: float = 0.02
+    error_floor: float = 1.0 / 30.0
     weight_range: tuple[float, float] = (1.0, 3.0)
     elastic_tolerance: float = 0.01
     elastic_fraction: float | None = None

@@ -61,7 +61,9 @@ SUPPORTED_VERSIONS = (1, 2, 3, 4)
 BODIES = ("rail", "wheel")
 #: Relative tolerance between stored (k_i, T_0i) and those re-derived from the stored characteristic.
 PARAMETER_RTOL = 1e-6
-MAX_SEGMENTS = 10
+#: Most segments of a stored characteristic (the operating-range fit reaches 2 % of u_pl from 1.1 p_2 up with
+#: 14-15 on the default positions).
+MAX_SEGMENTS = 16
 #: Bounds of a calibrated patch semi-axis ``geometry.a_mm``/``b_mm`` (mm): a wheel-rail patch is 1-10 mm; far
 #: outside, a scale to the patch size (``characteristic_at(y, patch_mm)``) would be meaningless or overflow.
 SEMI_AXIS_RANGE_MM = (1e-3, 1e3)

@@ -20,9 +20,10 @@ import numpy as np
 from calibration.fit.breakpoints import best_breakpoints, hinge_matrix, solve_linear
 from wrlayer.characteristic import Characteristic, PrandtlParameters
 from wrlayer.errors import InputError, require
+from wrlayer.layer_table import MAX_SEGMENTS
 
-#: Allowed numbers of segments.
-N_SEGMENTS_RANGE = (1, 10)
+#: Allowed numbers of segments (at most what a layer table stores).
+N_SEGMENTS_RANGE = (1, MAX_SEGMENTS)
 #: Smallest hinge increment d_i relative to the mean compliance u_max/p_max (keeps slopes strictly decreasing).
 D_MIN_REL = 1e-6
 

@@ -93,7 +93,7 @@ def layer_grooves(top: StaticCurve, p_y_MPa: float, levels_MPa: list[float], n_p
     above = peaks > p_y_MPa
     res = fit_operating_range(curve.p_MPa, u_pl, s1, p_y_MPa, peaks[above], dents[above], fit.weight_range,
                               fit.target_error, fit.max_segments, fit.max_relative_error,
-                              "rolling: static characteristic")
+                              "rolling: static characteristic", error_floor=fit.error_floor)
     out = []
     for p0 in levels_MPa:
         r = float(res.characteristic.unloading_residual(p0))

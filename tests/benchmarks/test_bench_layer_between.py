@@ -26,3 +26,5 @@ def test_the_element_against_itself_is_exact_and_a_larger_fem_shows():
     off = compare("rail", 0.0, _fem_like_the_element(1.1))
     assert off.residual_error[-1] == pytest.approx(1 / 1.1 - 1, rel=1e-6)
     assert "0 of 1 positions" in markdown([off]) and "1 of 1 positions" in markdown([row])
+    # relative to the FEM value itself: the element is 1/1.1 of it at every peak
+    assert row.worst_relative() < 1e-3 and off.worst_relative() == pytest.approx(1 - 1 / 1.1, rel=1e-6)
