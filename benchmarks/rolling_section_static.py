@@ -69,18 +69,31 @@ def section_static(runs: Path, position: str, n: float) -> SectionStatic:
     t0 = time.perf_counter()
     model = build_model(cfg, section_track_mesh(cfg))
     curves = static_dents(model, cfg, p0s)
-    ch = LayerTable.read(ROOT / table_rel).characteristic_at(y_mm)
     return SectionStatic(position, n, tuple(p0s), tuple(float(c.dent_mm) for c in curves),
-                         tuple(float(ch.unloading_residual(p)) for p in p0s), float(model.p_y_MPa),
+                         table_residuals(position, p0s), float(model.p_y_MPa),
                          int(model.disc.n_dofs), time.perf_counter() - t0)
+
+
+def table_residuals(position: str, p0s) -> tuple[float, ...]:
+    """The shipped table's r (its element's exact residual, mm) of ``position`` at the peaks ``p0s`` (MPa)."""
+    _, table_rel, y_mm, _ = next(p for p in POSITIONS if p[0] == position)
+    ch = LayerTable.read(ROOT / table_rel).characteristic_at(y_mm)
+    return tuple(float(ch.unloading_residual(p)) for p in p0s)
+
+
+def _stored(path: Path) -> SectionStatic:
+    """A study point read from ``path``, its table r taken from the shipped table as it is now (the stored r is
+    the table's at the time of the run; the FEM's dents do not depend on it)."""
+    data = json.loads(path.read_text())
+    point = SectionStatic(**{k: tuple(v) if isinstance(v, list) else v for k, v in data.items()})
+    return replace(point, table_residual_mm=table_residuals(point.position, point.p0_MPa))
 
 
 def read_or_run(runs: Path, out: Path, position: str, n: float) -> SectionStatic:
     """The study's point from OUT, computed and written first when missing."""
     path = result_file(out, position, n)
     if path.is_file():
-        data = json.loads(path.read_text())
-        return SectionStatic(**{k: tuple(v) if isinstance(v, list) else v for k, v in data.items()})
+        return _stored(path)
     res = section_static(runs, position, n)
     out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(path, json.dumps(asdict(res), indent=1))
@@ -91,8 +104,7 @@ def read_study(out: Path) -> dict[tuple[str, float], SectionStatic]:
     """{(position, elements per semi-axis): point} of every study file present in ``out``."""
     study = {}
     for path in sorted(Path(out).glob("*_h*.json")):
-        data = json.loads(path.read_text())
-        point = SectionStatic(**{k: tuple(v) if isinstance(v, list) else v for k, v in data.items()})
+        point = _stored(path)
         study[point.position, point.elements_per_semi_axis] = point
     return study
 
