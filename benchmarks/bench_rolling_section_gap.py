@@ -136,6 +136,11 @@ def corrected_markdown(rows: list[SectionGapRow], study: dict) -> str:
         if factor is not None:
             corrected.append((r, [lw / (f * factor) for lw, f in zip(r.law_mm, r.fem_mm)]))
     if corrected:
+        lines += ["| position | c | p0 / p_y | static dent finest mesh / a/2 | rolling law / corrected FEM groove, "
+                  f"passes {', '.join(str(n) for n in COMPARED)} |", "|---|---|---|---|---|"]
+        lines += [f"| {r.position} | {r.c:g} | {r.level:g} | {mesh_factor(study, names[r.position], r.level):.3f} | "
+                  + ", ".join(f"{v:.3f}" for v in ratios) + " |" for r, ratios in corrected]
+        lines.append("")
         def count(limit, ratios_of):
             return sum(all(abs(v - 1.0) <= limit for v in ratios_of(r, ratios)) for r, ratios in corrected)
 
