@@ -26,10 +26,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from contact.scenes.cost import wheel_rail_cost
 from contact.wheel_rail.parse import parse_wheel_rail_scene
 from contact.run_files import run_wheel_rail_scene
 from contact.wheel_rail.scene_files import reference_dir
 from wrlayer.errors import InputError
+from wrlayer.jit import run_mode
 from wrlayer.plotting import save_figure
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -75,11 +77,13 @@ def run_scene(out: pathlib.Path, sweep: dict | None = None, vtk: bool | None = N
     """(result or None, wall time s, CPU time s of this process, error text) of the shipped scene with ``method``
     keys changed; ``vtk``: write the VTK files (None: the scene's default, as ``wrlayer simulate``); ``workers``:
     the cases on that many local processes (their CPU time is not in this process's); ``output``: [output] keys
-    changed (e.g. ``{"frictional_csv": False}``)."""
+    changed (e.g. ``{"frictional_csv": False}``). The kernels run in the mode ``wrlayer simulate`` chooses for the
+    scene (:func:`wrlayer.jit.run_mode` with the scene's cost estimate)."""
     t0, c0 = time.perf_counter(), time.process_time()
     try:
-        res = run_wheel_rail_scene(parse_wheel_rail_scene(_scene_data(sweep, workers, output, **method), SCENE), out,
-                                   plots=False, vtk=vtk).to_dict()
+        scene = parse_wheel_rail_scene(_scene_data(sweep, workers, output, **method), SCENE)
+        with run_mode(wheel_rail_cost(scene).seconds):
+            res = run_wheel_rail_scene(scene, out, plots=False, vtk=vtk).to_dict()
     except InputError as err:
         return None, time.perf_counter() - t0, time.process_time() - c0, str(err)
     return res, time.perf_counter() - t0, time.process_time() - c0, ""
