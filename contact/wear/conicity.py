@@ -1,9 +1,10 @@
 """Rolling-radius difference and equivalent conicity of the current profiles (rigid contact, units mm, rad).
 
 For a wheelset displaced laterally by ``y`` (towards the right rail, no yaw, no roll) each wheel is lowered onto
-its rail (:func:`contact.wheel_rail.contact_search.search_contacts`) and the rolling radius of its first contact
-point is taken, with the track gauge and rail inclination of the scene's layout. Delta r(y) = r_right(y) - r_left(y)
-(mm); roll is neglected (it changes the rolling radii in second order only).
+its rail and the rolling radius of its first contact point is taken
+(:func:`contact.wheel_rail.contact_search.first_contact_radius`: the search's first contact without the
+candidates' separation functions), with the track gauge and rail inclination of the scene's layout.
+Delta r(y) = r_right(y) - r_left(y) (mm); roll is neglected (it changes the rolling radii in second order only).
 
 Reported per profile state, at the amplitude ``A`` (``wear.conicity_amplitude_mm``, default 3 mm):
 
@@ -21,7 +22,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from contact.wheel_rail.contact_search import SearchSettings, search_contacts
+from contact.wheel_rail.contact_search import SearchSettings, first_contact_radius
 from contact.geometry.conicity import harmonic_conicity
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
 from meshes.profiles import Profile
@@ -31,10 +32,8 @@ def rolling_radius(rail: Profile, wheel: Profile, layout: TrackLayout, side: str
                    settings: SearchSettings | None = None) -> float:
     """Rolling radius (mm) of the first contact of one wheel at wheelset lateral displacement ``lateral_mm``."""
     pose = WheelsetPose(lateral_mm, 0.0, 0.0).for_side(side)
-    found = search_contacts(place_rail(rail, layout), wheel, layout, pose, settings or SearchSettings(),
-                            case=f"rolling radius at lateral {lateral_mm:g} mm, {side} wheel")
-    first = min(found.candidates, key=lambda c: c.normal_gap_mm)
-    return float(first.wheel_radius_mm)
+    return first_contact_radius(place_rail(rail, layout), wheel, layout, pose, settings or SearchSettings(),
+                                case=f"rolling radius at lateral {lateral_mm:g} mm, {side} wheel")
 
 
 @dataclass(frozen=True)

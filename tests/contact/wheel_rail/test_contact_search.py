@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from contact.wheel_rail.contact_search import search_contacts
+from contact.wheel_rail import contact_search
+from contact.wheel_rail.contact_search import first_contact_radius, search_contacts
 from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail, wheel_locus
 from wrlayer.errors import InputError
 
@@ -115,3 +116,22 @@ def test_bad_geometry_names_the_case(placed, s1002, layout, rail60):
         search_contacts(place_rail(rail60, wide), s1002, wide, WheelsetPose(0.0), case="case B")
     with pytest.raises(InputError, match="wheel profile"):
         search_contacts(placed, rail60, layout, WheelsetPose(0.0))
+
+
+def test_first_contact_radius_is_the_searched_first_contacts(placed, s1002, layout, monkeypatch):
+    """The rolling radius without the candidates' separation functions is the radius of the candidate with the
+    smallest normal gap, bit for bit, across the jump to the flange (two candidates at 5 mm); within the tie
+    distance of the two lowest minima the candidates decide (forced here by a tie distance larger than any gap)."""
+    def searched(d):
+        res = search_contacts(placed, s1002, layout, WheelsetPose(float(d)))
+        return min(res.candidates, key=lambda c: c.normal_gap_mm).wheel_radius_mm, len(res.candidates)
+
+    displacements = np.arange(-4.0, 10.01, 0.5)
+    expected = [searched(d) for d in displacements]
+    assert max(n for _, n in expected) >= 2
+    got = [first_contact_radius(placed, s1002, layout, WheelsetPose(float(d))) for d in displacements]
+    assert got == [r for r, _ in expected]
+    calls = []
+    monkeypatch.setattr(contact_search, "FIRST_CONTACT_TIE_MM", 10.0)
+    monkeypatch.setattr(contact_search, "search_contacts", lambda *a, **k: calls.append(1) or search_contacts(*a, **k))
+    assert first_contact_radius(placed, s1002, layout, WheelsetPose(5.0)) == searched(5.0)[0] and calls
