@@ -24,15 +24,21 @@ import numpy as np
 
 from contact.wheel_rail.contact_search import SearchSettings, first_contact_radius
 from contact.geometry.conicity import harmonic_conicity
-from contact.wheel_rail.track_geometry import TrackLayout, WheelsetPose, place_rail
+from contact.wheel_rail.track_geometry import PlacedRail, TrackLayout, WheelsetPose, place_rail
 from meshes.profiles import Profile
 
 
 def rolling_radius(rail: Profile, wheel: Profile, layout: TrackLayout, side: str, lateral_mm: float,
                    settings: SearchSettings | None = None) -> float:
     """Rolling radius (mm) of the first contact of one wheel at wheelset lateral displacement ``lateral_mm``."""
+    return _placed_rolling_radius(place_rail(rail, layout), wheel, layout, side, lateral_mm, settings)
+
+
+def _placed_rolling_radius(rail: PlacedRail, wheel: Profile, layout: TrackLayout, side: str, lateral_mm: float,
+                           settings: SearchSettings | None) -> float:
+    """:func:`rolling_radius` on a rail already placed in the track."""
     pose = WheelsetPose(lateral_mm, 0.0, 0.0).for_side(side)
-    return first_contact_radius(place_rail(rail, layout), wheel, layout, pose, settings or SearchSettings(),
+    return first_contact_radius(rail, wheel, layout, pose, settings or SearchSettings(),
                                 case=f"rolling radius at lateral {lateral_mm:g} mm, {side} wheel")
 
 
@@ -78,6 +84,7 @@ class RadiusFunction:
         self.sides = {"right": right, "left": left}
         self.layout, self.settings = layout, settings
         self._cache: dict[tuple[int, float], float] = {}
+        self._placed: dict[int, PlacedRail] = {}  # each side's rail placed once (32 searches per state)
 
     def radius(self, side: str, lateral_mm: float) -> float:
         """Rolling radius (mm) of ``side`` at the wheelset displacement ``lateral_mm``."""
@@ -86,8 +93,10 @@ class RadiusFunction:
         y = round(float(lateral_mm), 9)  # A sin(phi) and A sin(pi - phi) may differ in the last bit
         key = (id(pair), y if side == "right" else -y)
         if key not in self._cache:
-            self._cache[key] = rolling_radius(pair["rail"], pair["wheel"], self.layout, side, lateral_mm,
-                                              self.settings)
+            if id(pair) not in self._placed:
+                self._placed[id(pair)] = place_rail(pair["rail"], self.layout)
+            self._cache[key] = _placed_rolling_radius(self._placed[id(pair)], pair["wheel"], self.layout, side,
+                                                      lateral_mm, self.settings)
         return self._cache[key]
 
     def __call__(self, y_mm: np.ndarray) -> np.ndarray:
