@@ -69,7 +69,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact.wheel_rail.track_geometry import PlacedRail, TrackLayout, WheelsetPose, wheel_locus, wheel_sample_y
+from contact.wheel_rail.track_geometry import (PlacedRail, TrackLayout, WheelLocus, WheelsetPose, wheel_locus,
+                                               wheel_sample_y)
 from meshes.profiles import Profile
 from wrlayer.errors import InputError
 
@@ -236,7 +237,7 @@ class _Minima:
     ``mins`` the kept minima (indices into ``gg``), ``refined`` their exact (y_wheel, vertical gap)."""
 
     y: np.ndarray
-    loc: object
+    loc: WheelLocus
     lo: int
     hi: int
     gg: np.ndarray
