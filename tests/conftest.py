@@ -3,8 +3,16 @@
 import os
 from pathlib import Path
 
-import matplotlib
-import pytest
+from wrlayer.runner import THREAD_VARIABLES
+
+# One BLAS/MKL/OpenMP thread per pytest-xdist worker process (`make test` runs two on two cores; more threads only
+# compete for them), set before numpy and MKL load and read these variables.
+if os.environ.get("PYTEST_XDIST_WORKER"):
+    for _variable in THREAD_VARIABLES:
+        os.environ.setdefault(_variable, "1")
+
+import matplotlib  # noqa: E402 - after the thread variables
+import pytest  # noqa: E402
 
 matplotlib.use("Agg")
 os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")

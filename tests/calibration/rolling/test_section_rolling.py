@@ -25,7 +25,7 @@ def config(y_mm=0.0, n=1.0, levels=(1.3,), c=0.0, passes=1, step=0.5, table=TABL
                     "traction_coefficient": c},
         "track": {"length_factor": 1.0, "step_factor": step, "n_passes": passes, "ramp_steps": 2},
         "mesh": {"elements_per_semi_axis": n, "size_factor": 3.0},
-        "run": {"plots": False, "linear_solver": "scipy"}}, "section")
+        "run": {"plots": False, "linear_solver": "auto"}}, "section")
 
 
 @pytest.mark.parametrize("table,y_mm", [(TABLE, 0.0), (TABLE, -35.0), (WHEEL, -37.5)])
