@@ -91,9 +91,10 @@ class ContactCase:
                 f"{' (hardening)' if self.hardening else ''}, mu={self.friction:.3g}, creepage={self.creepage}")
 
 
-def random_characteristic(rng: np.random.Generator, name: str) -> Characteristic:
-    """1..10 segments, initial slope S_1 = 1e3..1e7 N/mm^3, each slope 0.05..0.9 of the previous, p steps 30..2000 MPa."""
-    n_seg = int(rng.integers(1, 11))
+def random_characteristic(rng: np.random.Generator, name: str, n_segments: int | None = None) -> Characteristic:
+    """1..10 segments (or ``n_segments``: the draws of the recorded seeds stay as they were), initial slope
+    S_1 = 1e3..1e7 N/mm^3, each slope 0.05..0.9 of the previous, p steps 30..2000 MPa."""
+    n_seg = int(rng.integers(1, 11)) if n_segments is None else int(n_segments)
     s1 = 10 ** rng.uniform(3.0, 7.0)
     slopes = s1 * np.cumprod(np.concatenate([[1.0], rng.uniform(0.05, 0.9, size=n_seg - 1)]))
     p_steps = 10 ** rng.uniform(1.5, 3.3, size=n_seg)

@@ -2,12 +2,17 @@
 
 Contact: 38 random scenes (seeds from 1000 on with at most 20 passes, so that the subset stays fast) must end in an
 accepted outcome (all invariants hold, or the project's clear error), plus two seeds of the full run whose patch
-reaches the end of the separation table (a clear error). FEM: three tiny plane-strain cases (step cutting, coarse mesh, beyond the limit load with pcg).
+reaches the end of the separation table (a clear error), and 12 of the scenes with layers of the most segments a
+table holds. FEM: three tiny plane-strain cases (step cutting, coarse mesh, beyond the limit load with pcg).
 """
 
+from dataclasses import replace
+
+import numpy as np
 import pytest
 
-from benchmarks.stress_contact import check_contact_case, random_contact_case
+from benchmarks.stress_contact import check_contact_case, random_characteristic, random_contact_case
+from wrlayer.layer_table import MAX_SEGMENTS
 from benchmarks.stress_fem import FEM_CASES, run_fem_case
 
 
@@ -29,6 +34,19 @@ _TABLE_END_SEEDS = [126, 486]
 @pytest.mark.parametrize("seed", _fast_seeds(38))
 def test_random_contact_case(seed):
     assert check_contact_case(random_contact_case(seed)) in ("ok", "clear-error")
+
+
+@pytest.mark.parametrize("seed", _fast_seeds(12))
+def test_random_contact_case_with_the_most_segments_a_table_holds(seed):
+    """The same scenes with every layer replaced by one of MAX_SEGMENTS segments (the calibrated tables hold 14-15;
+    the recorded seeds draw 1..10)."""
+    case = random_contact_case(seed)
+    rng = np.random.default_rng(seed + 1_000_000)
+    bodies = list(case.layers) or ["combined"]
+    layers = {body: random_characteristic(rng, f"{body} layer", MAX_SEGMENTS) for body in bodies}
+    case = replace(case, layers=layers)
+    assert all(c.n_segments == MAX_SEGMENTS for c in case.layers.values())
+    assert check_contact_case(case) in ("ok", "clear-error")
 
 
 @pytest.mark.parametrize("seed", _TABLE_END_SEEDS)
