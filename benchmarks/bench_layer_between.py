@@ -85,8 +85,8 @@ class BetweenRow:
     def worst_relative(self, from_level: float = RELATIVE_FROM) -> float:
         """The largest |element - FEM| / FEM of u_pl and the residual at the peaks from ``from_level`` p_2 (-)."""
         keep = np.asarray(self.levels) >= from_level - 1e-9
-        e = [np.abs(np.asarray(el)[keep] / np.asarray(fem)[keep] - 1.0)
-             for el, fem in ((self.u_pl_element_mm, self.u_pl_fem_mm), (self.residual_element_mm, self.residual_fem_mm))]
+        pairs = ((self.u_pl_element_mm, self.u_pl_fem_mm), (self.residual_element_mm, self.residual_fem_mm))
+        e = [np.abs(np.asarray(el)[keep] / np.asarray(fem)[keep] - 1.0) for el, fem in pairs]
         return float(np.max(np.concatenate(e), initial=0.0))
 
 
@@ -132,7 +132,8 @@ def compare(body: str, y_mm: float, ind, levels: tuple[float, ...] = BETWEEN) ->
 def markdown(rows: list[BetweenRow]) -> str:
     levels = rows[0].levels
     head = ("| body | y (mm) | p_y rerun / table p_2 | " + " | ".join(f"u_pl {x:.3g}" for x in levels) + " | "
-            + " | ".join(f"res {x:.3g}" for x in levels) + f" | worst | worst of the value from {RELATIVE_FROM:g} p_2 |")
+            + " | ".join(f"res {x:.3g}" for x in levels)
+            + f" | worst | worst of the value from {RELATIVE_FROM:g} p_2 |")
     lines = [head, "|" + "---|" * (5 + 2 * len(levels))]
     for r in rows:
         lines.append(f"| {r.body} | {r.y_mm:g} | {r.p_y_fem_MPa / r.p2_table_MPa:.6f} | "

@@ -17,6 +17,7 @@ is the gap's folder (``benchmarks/data/rolling_section_gap``). The gap's report 
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import time
 from dataclasses import asdict, dataclass, replace
@@ -74,10 +75,17 @@ def section_static(runs: Path, position: str, n: float) -> SectionStatic:
                          int(model.disc.n_dofs), time.perf_counter() - t0)
 
 
+@functools.lru_cache(maxsize=4)
+def _shipped_table(table_rel: str) -> LayerTable:
+    """The shipped table ``table_rel`` (relative to the repository), read once per process (a report reads it for
+    every study point and row)."""
+    return LayerTable.read(ROOT / table_rel)
+
+
 def table_residuals(position: str, p0s) -> tuple[float, ...]:
     """The shipped table's r (its element's exact residual, mm) of ``position`` at the peaks ``p0s`` (MPa)."""
     _, table_rel, y_mm, _ = next(p for p in POSITIONS if p[0] == position)
-    ch = LayerTable.read(ROOT / table_rel).characteristic_at(y_mm)
+    ch = _shipped_table(table_rel).characteristic_at(y_mm)
     return tuple(float(ch.unloading_residual(p)) for p in p0s)
 
 
@@ -124,7 +132,7 @@ def table_fem_residual(position: str, p0_MPa: float) -> float:
     """The residual dent of the table's own FEM at the peak pressure p0 (mm): its entry's residual_fem_mm
     interpolated over its unloading peaks (the table's r is the fitted element's, within the fit's error)."""
     _, table_rel, y_mm, _ = next(p for p in POSITIONS if p[0] == position)
-    entry = next(e for e in LayerTable.read(ROOT / table_rel).positions if float(e["y_mm"]) == y_mm)
+    entry = next(e for e in _shipped_table(table_rel).positions if float(e["y_mm"]) == y_mm)
     return float(np.interp(p0_MPa, entry["residual_peaks_MPa"], entry["residual_fem_mm"]))
 
 

@@ -201,6 +201,5 @@ def fit_operating_range(p_MPa, u_pl_mm, s1: float, p2: float, peaks_MPa, residua
                              tuple(np.asarray(res_fit).tolist()))
 
 
-__all__ = ["DENSE_STEP", "MAX_REVERSE_FACTOR", "TARGET_FLOOR", "OperatingRangeFit", "densified", "error_scale_mm", "fit_loaded_branch",
-           "fit_operating_range",
-           "fitted_reverse_factor", "level_weights"]
+__all__ = ["DENSE_STEP", "MAX_REVERSE_FACTOR", "TARGET_FLOOR", "OperatingRangeFit", "densified", "error_scale_mm",
+           "fit_loaded_branch", "fit_operating_range", "fitted_reverse_factor", "level_weights"]
