@@ -177,6 +177,18 @@ def gap_summary(rows: list[gap.GapRow]) -> list[str]:
     return md
 
 
+def own_block_line(rows_own: list[gap.GapRow]) -> str:
+    """One sentence: the rolling law on the half-space layer fitted to the a/2 block's own static indentations
+    (the rolling run's own layer, like for like) against the a/2 FEM groove, worst over passes and cases."""
+    hs = [r for r in rows_own if r.group == "half-space"]
+    if not hs:
+        return ""
+    worst = max(hs, key=lambda r: r.error("rolling_mm"))
+    return (f"The half-space's layer fitted instead to the a/2 block's own static indentations (the rolling run's "
+            f"own layer, like for like): the rolling law on it within {100 * worst.error('rolling_mm'):.1f} % of the "
+            f"a/2 FEM groove at passes 1, 2, 5, 10 in all {len(hs)} cases (worst {worst.key}).")
+
+
 def gap_plot(rows: list[gap.GapRow], results: list, laws: dict, path: pathlib.Path) -> pathlib.Path | None:
     """FEM groove / static dent against the pass (markers) and the rolling law (lines), per position and c."""
     try:
@@ -297,6 +309,8 @@ def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = Fal
     checks = gap_static.ratio_checks(results, gap.load_results(mesh_dir) if mesh_dir.exists() else [])
     md = gap_markdown(rows, laws, fits)
     md += ["", "Condensed (docs/validation/rolling-gap.md):", ""] + gap_summary(rows)
+    if halfspace is not None:
+        md += ["", own_block_line(gap.gap_rows(results, None)[0])]
     if points:  # the mesh studies only where their runs are present (a report of the law's cases alone omits them)
         md += ["", f"Static dents under mesh refinement ({static_dir.name}; the half-space's r: the default fit to "
                    "the finest mesh):", ""] + static_study_markdown(points, conv, statics)

@@ -136,3 +136,14 @@ def test_common_pressure_dents_read_every_curve_at_one_pressure():
     ext = common_pressure_dents(pts)[("x", 2.1)]
     assert ext.method == "richardson" and ext.order == pytest.approx(2.0, rel=1e-6)
     assert ext.value == pytest.approx(1.0 / (1.0 - 0.2 / 16), rel=1e-9)   # the limit over the finest mesh
+
+
+def test_own_block_line_reports_the_halfspace_worst_case_only():
+    from dataclasses import replace
+
+    from benchmarks.bench_rolling import own_block_line
+
+    hs = replace(row("half-space"), group="half-space", key="half-space_c0.2_p2.1", rolling_mm=[0.9, 1.0])
+    line = own_block_line([row(), hs, replace(hs, key="half-space_c0_p1.3", rolling_mm=[0.95, 1.0])])
+    assert "within 5.3 %" in line and "all 2 cases" in line and "half-space_c0.2_p2.1" in line
+    assert own_block_line([row()]) == ""
