@@ -177,18 +177,6 @@ def gap_summary(rows: list[gap.GapRow]) -> list[str]:
     return md
 
 
-def own_block_line(rows_own: list[gap.GapRow]) -> str:
-    """One sentence: the rolling law on the half-space layer fitted to the a/2 block's own static indentations
-    (the rolling run's own layer, like for like) against the a/2 FEM groove, worst over passes and cases."""
-    hs = [r for r in rows_own if r.group == "half-space"]
-    if not hs:
-        return ""
-    worst = max(hs, key=lambda r: r.error("rolling_mm"))
-    return (f"The half-space's layer fitted instead to the a/2 block's own static indentations (the rolling run's "
-            f"own layer, like for like): the rolling law on it within {100 * worst.error('rolling_mm'):.1f} % of the "
-            f"a/2 FEM groove at passes 1, 2, 5, 10 in all {len(hs)} cases (worst {worst.key}).")
-
-
 def gap_plot(rows: list[gap.GapRow], results: list, laws: dict, path: pathlib.Path) -> pathlib.Path | None:
     """FEM groove / static dent against the pass (markers) and the rolling law (lines), per position and c."""
     try:
@@ -310,7 +298,7 @@ def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = Fal
     md = gap_markdown(rows, laws, fits)
     md += ["", "Condensed (docs/validation/rolling-gap.md):", ""] + gap_summary(rows)
     if halfspace is not None:
-        md += ["", own_block_line(gap.gap_rows(results, None)[0])]
+        md += ["", gap.own_block_line(gap.gap_rows(results, None)[0])]
     if points:  # the mesh studies only where their runs are present (a report of the law's cases alone omits them)
         md += ["", f"Static dents under mesh refinement ({static_dir.name}; the half-space's r: the default fit to "
                    "the finest mesh):", ""] + static_study_markdown(points, conv, statics)
@@ -318,11 +306,15 @@ def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = Fal
         md += corrected_markdown(rows, gap_static.corrected_rows(rows, conv))
     if checks:
         md += ["", f"Groove / static dent on a finer mesh ({mesh_dir.name}):", ""] + ratio_check_markdown(checks, rows)
+    shape_dir = cases_dir.parent / (cases_dir.name + "_shape")
+    if shape_dir.exists() and all(g in laws for g in gap.LONG_PATCHES):
+        md += ["", f"The laws' patch-shape nodes against blocks at other shapes ({shape_dir.name}):", ""]
+        md += gap.shape_check_markdown(gap.load_results(shape_dir), laws)
     fig = gap_plot(rows, results, laws, out / "rolling_gap.png")
     if write_tables:
-        for g, law in laws.items():
-            if gap.GROUPS[g][1]:
-                gap.write_law(gap.GROUPS[g][1], law)
+        for g, (_, table_rel) in gap.GROUPS.items():
+            if table_rel:
+                gap.write_law(table_rel, gap.shaped_law(g, laws))
     data = {"rows": [r.to_dict() for r in rows], "laws": {g: lw.to_dict() for g, lw in laws.items()},
             "corrected_rows": [r.to_dict() for r in gap_static.corrected_rows(rows, conv)],
             "static_study": [p.to_dict() for p in points],

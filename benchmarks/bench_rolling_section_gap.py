@@ -30,6 +30,7 @@ from benchmarks.harness import command_line, stamped_report
 from benchmarks.rolling_section_cases import COMPARED, POSITIONS, ROOT, TARGET, TRACTIONS, case_name, section_config
 from benchmarks.rolling_section_static import mesh_factor, read_study, study_markdown
 from calibration.rolling.run import run_rolling
+from calibration.rolling.section_position import table_position
 from wrlayer.layer_table import LayerTable
 
 
@@ -67,6 +68,8 @@ def rows_of(run: dict, table_rel: str, y_mm: float, label: str, c: float) -> lis
     table = LayerTable.read(ROOT / table_rel)
     ch = table.characteristic_at(y_mm)
     law = table.rolling_law
+    pos = table_position(table_rel, y_mm)
+    aspect = pos.a_mm / pos.b_mm  # the section is rolled by the position's Hertz patch
     p_2 = ch.elastic_limit_MPa
     rows = []
     for lv in run["levels"]:
@@ -76,7 +79,7 @@ def rows_of(run: dict, table_rel: str, y_mm: float, label: str, c: float) -> lis
         x = lv["p0_over_py"]
         p0 = x * run["p_y_MPa"]  # the FEM's peak pressure (MPa): the layer is compared at the same p0
         r = float(ch.unloading_residual(p0))
-        law_g = [float(r * law.factor(n, p0 / p_2, c)) for n in COMPARED]
+        law_g = [float(r * law.factor(n, p0 / p_2, c, aspect)) for n in COMPARED]
         rows.append(SectionGapRow(label, c, x, run["p_y_MPa"], p_2, lv["static_dent_mm"], r,
                                   tuple(grooves[n - 1] for n in COMPARED), tuple(law_g),
                                   tuple(n * r for n in COMPARED), tuple(r for _ in COMPARED)))

@@ -28,7 +28,7 @@ from calibration.rolling.layer_prediction import StaticCurve, layer_grooves
 from calibration.rolling.law_fit import PassFit, fit_passes, rolling_law
 from calibration.settings import FitSettings
 from wrlayer.layer_table import LayerTable
-from wrlayer.rolling_law import RollingLaw
+from wrlayer.rolling_law import PARAMETERS, RollingLaw
 
 #: The passes of the gap table.
 REPORTED_PASSES = (1, 2, 5, 10)
@@ -43,7 +43,13 @@ STAND_INS = {"wheel tread": "rail crown", "wheel flange root": "rail gauge corne
 #: The law groups: name -> the positions whose mean it is fitted to (and the table it is written into).
 GROUPS = {"rail": (("rail crown", "rail gauge corner"), "scenes/tables/rail_60E1_default.json"),
           "wheel": (("wheel flange root", "wheel tread"), "scenes/tables/wheel_S1002_default.json"),
-          "half-space": (("half-space",), "")}
+          "half-space": (("half-space",), ""),
+          "long patch": (("rail field side",), ""),
+          "very long patch": (("rail field shoulder",), "")}
+#: The groups whose laws are every table's further patch-shape nodes (:func:`shaped_law`): blocks at the long
+#: patches of the rail's field side (a/b = 3.83) and shoulder (10.2); the tables' own groups are round (a/b =
+#: 1.33-1.35).
+LONG_PATCHES = ("long patch", "very long patch")
 #: The half-space layer's fit: the calibration's default (its number of segments; p_2 = the block's p_y).
 LAYER_FIT = FitSettings()
 
@@ -248,6 +254,70 @@ def gap_rows(results: list[GapCaseResult],
                            n.tolist(), fem, (rs * n).tolist(), [rs] * n.size, (rs * fac).tolist(),
                            (r.static_dent_mm * fac).tolist(), len(r.groove_mm), r.key))
     return rows, laws
+
+
+def group_aspect_ratio(group: str) -> float:
+    """The patch shape a/b of a law group (-): the geometric mean over its positions' Hertz patches."""
+    members = GROUPS[group][0]
+    ratios = [p.a_mm / p.b_mm for p in default_positions() if p.name in members]
+    return float(np.exp(np.mean(np.log(ratios))))
+
+
+def shaped_law(group: str, laws: dict[str, RollingLaw]) -> RollingLaw:
+    """The law written into the table of ``group``: its own law (fitted here, or the one the table holds when the
+    group's cases are absent) at the group's patch shape and the :data:`LONG_PATCHES` laws at theirs
+    (:meth:`RollingLaw.by_aspect`; KeyError when a long-patch law or a law for the group is missing)."""
+    own = laws.get(group)
+    if own is None:
+        stored = LayerTable.read(ROOT / GROUPS[group][1]).rolling_law
+        if stored is None:
+            raise KeyError(f"{group}: no law fitted or stored")
+        own = stored if stored.aspect_ratio is None else None
+        if own is None:  # a shaped law already: its first node is the group's own
+            own = RollingLaw(stored.p0_over_p2, stored.traction_coefficient,
+                             *(getattr(stored, name)[0] for name in PARAMETERS), source=stored.source)
+    return RollingLaw.by_aspect([(group_aspect_ratio(group), own)]
+                                + [(group_aspect_ratio(g), laws[g]) for g in LONG_PATCHES])
+
+
+def shape_check_markdown(results: list, laws: dict) -> list[str]:
+    """The shape-check cases: the FEM groove over the block's static dent against the table's law with its
+    patch-shape nodes at the case's a/b, and against its round node alone (markdown lines)."""
+    md = ["| position | a/b | c | p0 / p_y | FEM groove / static dent, passes 1.. | shaped law / FEM | round law / FEM |",
+          "|---|---|---|---|---|---|---|"]
+    worst = {"shaped": 0.0, "round": 0.0}
+    for r in sorted(results, key=lambda r: (r.a_mm / r.b_mm, r.traction, r.p0_over_py)):
+        if not r.groove_mm:
+            continue
+        group = next(g for g, (_, table) in GROUPS.items() if table and table == r.table)
+        law = shaped_law(group, laws)
+        n = np.arange(1, len(r.groove_mm) + 1)
+        g = np.asarray(r.groove_mm) / r.static_dent_mm
+        shaped = law.factor(n, r.p0_over_py, r.traction, r.a_mm / r.b_mm) / g
+        round_ = law.factor(n, r.p0_over_py, r.traction, law.aspect_ratio[0]) / g
+        worst = {"shaped": max(worst["shaped"], float(np.max(np.abs(shaped - 1)))),
+                 "round": max(worst["round"], float(np.max(np.abs(round_ - 1))))}
+        md.append(f"| {r.position} | {r.a_mm / r.b_mm:.2f} | {r.traction:g} | {r.p0_over_py:g} | {_joined(g)} | "
+                  f"{_joined(shaped)} | {_joined(round_)} |")
+    md += ["", f"Worst |law / FEM - 1|: {100 * worst['shaped']:.1f} % with the patch-shape nodes, "
+               f"{100 * worst['round']:.1f} % with the round patches' law alone."]
+    return md
+
+
+def own_block_line(rows_own: list[GapRow]) -> str:
+    """One sentence: the rolling law on the half-space layer fitted to the a/2 block's own static indentations
+    (the rolling run's own layer, like for like) against the a/2 FEM groove, worst over passes and cases."""
+    hs = [r for r in rows_own if r.group == "half-space"]
+    if not hs:
+        return ""
+    worst = max(hs, key=lambda r: r.error("rolling_mm"))
+    return (f"The half-space's layer fitted instead to the a/2 block's own static indentations (the rolling run's "
+            f"own layer, like for like): the rolling law on it within {100 * worst.error('rolling_mm'):.1f} % of the "
+            f"a/2 FEM groove at passes 1, 2, 5, 10 in all {len(hs)} cases (worst {worst.key}).")
+
+
+def _joined(values) -> str:
+    return ", ".join(f"{v:.3f}" for v in values)
 
 
 def write_law(table_rel: str, law: RollingLaw) -> Path:

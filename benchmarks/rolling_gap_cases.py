@@ -11,7 +11,8 @@ the block's own FEM first-yield pressure. Each case is written to ``<out>/<posit
 soon as it is done (a killed run keeps its completed cases; a present file is read, not recomputed).
 
 ``python -m benchmarks.rolling_gap_cases OUT [--passes N]`` runs every default case (the benchmark's ``gap``
-mode reads them).
+mode reads them); ``--mesh-check`` and ``--shape-check`` run the checks of the mesh correction and of the laws'
+patch-shape nodes instead (into ``OUT_mesh`` and ``OUT_shape`` by convention, where the benchmark looks).
 """
 
 from __future__ import annotations
@@ -63,7 +64,10 @@ HALF_SPACE = GapPosition("half-space", "", 0.0, 1.0, 1.0, RollingMaterial())
 TABLE_POSITIONS = (("scenes/tables/rail_60E1_default.json", 0.0, "rail crown"),
                    ("scenes/tables/rail_60E1_default.json", -35.0, "rail gauge corner"),
                    ("scenes/tables/wheel_S1002_default.json", -37.5, "wheel flange root"),
-                   ("scenes/tables/wheel_S1002_default.json", 0.0, "wheel tread"))
+                   ("scenes/tables/wheel_S1002_default.json", 0.0, "wheel tread"),
+                   # the long patches (a/b = 3.83 and 10.2): the laws' further patch-shape nodes
+                   ("scenes/tables/rail_60E1_default.json", 25.0, "rail field side"),
+                   ("scenes/tables/rail_60E1_default.json", 30.0, "rail field shoulder"))
 
 
 def table_position(table_rel: str, y_mm: float, name: str) -> GapPosition:
@@ -73,7 +77,8 @@ def table_position(table_rel: str, y_mm: float, name: str) -> GapPosition:
 
 
 def default_positions() -> list[GapPosition]:
-    """The table positions of the gap and the half-space (the order of the runs: the rail's positions first)."""
+    """The table positions of the gap and the half-space (the order of the runs: the rail's round patches first,
+    the long patch last)."""
     table = [table_position(*t) for t in TABLE_POSITIONS]
     return table[:2] + [HALF_SPACE] + table[2:]
 
@@ -232,6 +237,20 @@ def mesh_check_cases(n_passes: int = 5) -> list[GapCase]:
             GapCase(HALF_SPACE, 2.1, 0.0, n_passes, 4.0), GapCase(HALF_SPACE, 1.7, 0.2, n_passes, 4.0)]
 
 
+#: The check of the laws' patch-shape nodes: blocks at shapes between the nodes (wheel y = -7.5 mm, a/b = 2.36;
+#: wheel y = -30 mm, a/b = 5.83), 5 passes (table, y in mm, name, [(c, p0 / p_y)]).
+SHAPE_CHECK = (("scenes/tables/wheel_S1002_default.json", -7.5, "wheel tread -7.5",
+                ((0.2, 1.3), (0.2, 1.5), (0.2, 2.1), (0.0, 1.5), (0.0, 2.1))),
+               ("scenes/tables/wheel_S1002_default.json", -30.0, "wheel flange flank -30",
+                ((0.2, 1.5), (0.0, 1.5), (0.2, 2.1))))
+
+
+def shape_check_cases(n_passes: int = 5) -> list[GapCase]:
+    """The cases of :data:`SHAPE_CHECK`."""
+    return [GapCase(table_position(table, y, name), lv, c, n_passes)
+            for table, y, name, cases in SHAPE_CHECK for c, lv in cases]
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.rolling_gap_cases", description=__doc__.splitlines()[0])
     ap.add_argument("out", type=Path)
@@ -239,11 +258,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--levels", type=float, nargs="+", default=list(LEVELS), help="levels p0 / p_y (default: LEVELS)")
     ap.add_argument("--only", nargs="*", default=[], help="run only the positions whose name contains one of these")
     ap.add_argument("--mesh-check", action="store_true", help="run the mesh check cases instead")
+    ap.add_argument("--shape-check", action="store_true", help="run the patch-shape check cases instead")
     args = ap.parse_args(argv)
     from threadpoolctl import threadpool_limits  # one BLAS thread on the shared machine
 
+    cases = (mesh_check_cases() if args.mesh_check else shape_check_cases() if args.shape_check
+             else default_cases(args.passes, tuple(args.levels)))
     with threadpool_limits(limits=1):
-        for case in mesh_check_cases() if args.mesh_check else default_cases(args.passes, tuple(args.levels)):
+        for case in cases:
             if args.only and not any(name in case.position.name for name in args.only):
                 continue
             t0 = time.perf_counter()

@@ -10,7 +10,12 @@ first-pass groove (A, q: the geometrically decaying part, shakedown; B: the cons
 ratcheting), x the peak over the element's elastic limit p_2 (the FEM first-yield pressure) and c the traction
 coefficient q_x / p of the rolling load. Each parameter is tabulated on a grid of levels x and traction
 coefficients c and interpolated bilinearly; outside the grid x and |c| are clamped to it (stated rule: below
-the lowest level the lowest level's ratios apply, the residual itself goes to zero at x = 1).
+the lowest level the lowest level's ratios apply, the residual itself goes to zero at x = 1). A law may also have
+patch-shape nodes ``aspect_ratio`` (a/b of the rolling patch, a along the rolling direction): one such grid per
+node, linear in log(a/b) between the nodes and clamped outside them. The rolling FEM's groove over its static dent
+depends on the patch shape, most with traction: at 1.5 p_y, c = 0.2 the first-pass ratio is 1.23 on a block at
+a/b = 3.83 against 1.03 for the mean of the crown and gauge-corner blocks at a/b = 1.34
+(docs/rolling-gap.md).
 
 Varying peaks (equivalent-pass rule): an element carries its accumulated rolling residual U. A pass at peak p
 first finds the equivalent pass count n* >= 1 with r(p) G_n*(x, c) = U; the pass leaves r(p) G_(n*+1). When U is
@@ -32,6 +37,8 @@ from wrlayer.errors import InputError
 
 #: The format of a rolling law.
 KIND = "first-pass ratio, geometric shakedown + constant ratcheting increments"
+#: The law's parameters, in the order of :meth:`RollingLaw.parameters`.
+PARAMETERS = ("first_pass_ratio", "shakedown_increment", "shakedown_decay", "ratchet_increment")
 #: Passes beyond which the equivalent-pass search stops (a groove beyond G_(MAX_PASSES) adds nothing).
 MAX_PASSES = 1.0e7
 
@@ -56,6 +63,9 @@ class RollingLaw:
         B: constant increment per pass over the first-pass groove, [c][x] (-, >= 0).
     source : str
         Where the law was calibrated (the rolling FEM cases, mesh and step).
+    aspect_ratio : list of float or None
+        Patch shapes a/b of the law's nodes (-, strictly increasing, > 0; a along the rolling direction); each
+        parameter is then [a/b][c][x]. None: one patch shape, [c][x].
     """
 
     p0_over_p2: list[float]
@@ -65,58 +75,84 @@ class RollingLaw:
     shakedown_decay: list[list[float]]
     ratchet_increment: list[list[float]]
     source: str = ""
+    aspect_ratio: list[float] | None = None
 
     def __post_init__(self):
         what = "rolling_law"
         x = validate.number_list(self.p0_over_p2, f"{what}.p0_over_p2", gt=1.0)
         c = validate.number_list(self.traction_coefficient, f"{what}.traction_coefficient", ge=0.0)
-        for name, arr in (("p0_over_p2", x), ("traction_coefficient", c)):
+        axes = [("p0_over_p2", x), ("traction_coefficient", c)]
+        if self.aspect_ratio is not None:
+            axes.append(("aspect_ratio", validate.number_list(self.aspect_ratio, f"{what}.aspect_ratio", gt=0.0)))
+        for name, arr in axes:
             if np.any(np.diff(arr) <= 0):
                 raise InputError(f"{what}.{name}", "must be strictly increasing")
+            object.__setattr__(self, name, arr.tolist())
         bounds = {"first_pass_ratio": dict(gt=0.0), "shakedown_increment": dict(ge=0.0),
                   "shakedown_decay": dict(ge=0.0, lt=1.0), "ratchet_increment": dict(ge=0.0)}
-        object.__setattr__(self, "p0_over_p2", x.tolist())
-        object.__setattr__(self, "traction_coefficient", c.tolist())
         for name, b in bounds.items():
-            rows = getattr(self, name)
-            if not isinstance(rows, (list, tuple)) or len(rows) != c.size:
-                raise InputError(f"{what}.{name}", f"must have one row per traction coefficient ({c.size})")
-            checked = [validate.number_list(row, f"{what}.{name}[{i}]", min_len=x.size, max_len=x.size, **b).tolist()
-                       for i, row in enumerate(rows)]
-            object.__setattr__(self, name, checked)
+            if self.aspect_ratio is None:
+                object.__setattr__(self, name, _grid(getattr(self, name), f"{what}.{name}", c.size, x.size, b))
+                continue
+            nodes = getattr(self, name)
+            if not isinstance(nodes, (list, tuple)) or len(nodes) != len(self.aspect_ratio):
+                raise InputError(f"{what}.{name}", f"must have one grid per aspect ratio ({len(self.aspect_ratio)})")
+            object.__setattr__(self, name, [_grid(g, f"{what}.{name}[{k}]", c.size, x.size, b)
+                                            for k, g in enumerate(nodes)])
+
+    @classmethod
+    def by_aspect(cls, nodes, source: str = "") -> RollingLaw:
+        """The law with patch-shape nodes from single-shape laws: ``nodes`` = [(a/b, law), ...] (strictly
+        increasing a/b), every law on the same levels and traction coefficients (InputError otherwise)."""
+        nodes = list(nodes)
+        first = nodes[0][1] if nodes else None
+        if first is None or any(law.aspect_ratio is not None or law.p0_over_p2 != first.p0_over_p2
+                                or law.traction_coefficient != first.traction_coefficient for _, law in nodes):
+            raise InputError("rolling_law", "patch-shape nodes need single-shape laws on one grid of levels and "
+                                            "traction coefficients")
+        return cls(first.p0_over_p2, first.traction_coefficient,
+                   *([getattr(law, name) for _, law in nodes] for name in PARAMETERS),
+                   source=source or "; ".join(f"a/b = {r:.3g}: {law.source}" for r, law in nodes),
+                   aspect_ratio=[float(r) for r, _ in nodes])
 
     # ------------------------------------------------------------------ parameters
-    def parameters(self, x, c) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """(rho, A, q, B) at levels x = p0 / p_2 and traction coefficients c (arrays of a common shape)."""
+    def parameters(self, x, c, aspect=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(rho, A, q, B) at levels x = p0 / p_2, traction coefficients c and (a law with patch-shape nodes)
+        patch shapes ``aspect`` = a/b (arrays of a common shape; InputError when a shaped law gets no a/b)."""
         xs, cs = np.asarray(self.p0_over_p2), np.asarray(self.traction_coefficient)
         x = np.clip(np.asarray(x, dtype=float), xs[0], xs[-1])
         c = np.clip(np.abs(np.asarray(c, dtype=float)), cs[0], cs[-1])
-        x, c = np.broadcast_arrays(x, c)
+        if self.aspect_ratio is None:
+            x, c = np.broadcast_arrays(x, c)
+            return tuple(_bilinear(np.asarray(getattr(self, n), dtype=float), xs, cs, x, c) for n in PARAMETERS)
+        if aspect is None:
+            raise InputError("rolling_law.aspect_ratio", "the law has patch-shape nodes: the patch's a/b is needed")
+        nodes = np.log(np.asarray(self.aspect_ratio))
+        la = np.clip(np.log(np.maximum(np.asarray(aspect, dtype=float), 1e-300)), nodes[0], nodes[-1])
+        x, c, la = np.broadcast_arrays(x, c, la)
+        k = np.clip(np.searchsorted(nodes, la, side="right") - 1, 0, max(nodes.size - 2, 0))
+        t = (la - nodes[k]) / (nodes[np.minimum(k + 1, nodes.size - 1)] - nodes[k]) if nodes.size > 1 else 0.0 * la
         out = []
-        for name in ("first_pass_ratio", "shakedown_increment", "shakedown_decay", "ratchet_increment"):
-            grid = np.asarray(getattr(self, name), dtype=float)
-            by_c = np.array([np.interp(x, xs, row) for row in grid])          # (n_c, *shape)
-            if cs.size == 1:
-                out.append(by_c[0])
-                continue
-            j = np.clip(np.searchsorted(cs, c, side="right") - 1, 0, cs.size - 2)
-            t = (c - cs[j]) / (cs[j + 1] - cs[j])
-            lo = np.take_along_axis(by_c, j[None], 0)[0]
-            hi = np.take_along_axis(by_c, (j + 1)[None], 0)[0]
+        for name in PARAMETERS:
+            at = np.array([_bilinear(np.asarray(g, dtype=float), xs, cs, x, c) for g in getattr(self, name)])
+            lo = np.take_along_axis(at, k[None], 0)[0]
+            hi = np.take_along_axis(at, np.minimum(k + 1, nodes.size - 1)[None], 0)[0]
             out.append((1.0 - t) * lo + t * hi)
         return tuple(out)
 
-    def factor(self, n, x, c) -> np.ndarray:
-        """G_n: the groove after n passes (n >= 1, real) over the static residual at x = p0 / p_2, c (-)."""
-        rho, a, q, b = self.parameters(x, c)
+    def factor(self, n, x, c, aspect=None) -> np.ndarray:
+        """G_n: the groove after n passes (n >= 1, real) over the static residual at x = p0 / p_2, c and the patch
+        shape a/b ``aspect`` (a law with patch-shape nodes) (-)."""
+        rho, a, q, b = self.parameters(x, c, aspect)
         return _factor(np.asarray(n, dtype=float), rho, a, q, b)
 
-    def next_residual(self, accumulated_mm, static_mm, x, c) -> np.ndarray:
+    def next_residual(self, accumulated_mm, static_mm, x, c, aspect=None) -> np.ndarray:
         """The accumulated residual (mm) after one more pass at x = p_peak / p_2 with static residual
-        ``static_mm`` (r(p_peak), mm), from ``accumulated_mm`` (see the module docstring: equivalent passes)."""
+        ``static_mm`` (r(p_peak), mm), from ``accumulated_mm``, on a patch of shape a/b ``aspect`` (a law with
+        patch-shape nodes) (see the module docstring: equivalent passes)."""
         u = np.asarray(accumulated_mm, dtype=float)
         r = np.asarray(static_mm, dtype=float)
-        rho, a, q, b = self.parameters(x, c)
+        rho, a, q, b = self.parameters(x, c, aspect)
         u, r, rho, a, q, b = np.broadcast_arrays(u, r, rho, a, q, b)
         target = np.divide(u, r, out=np.zeros_like(u), where=r > 0)
         lo, hi = np.ones_like(u), np.full_like(u, MAX_PASSES)
@@ -133,7 +169,8 @@ class RollingLaw:
     # ------------------------------------------------------------------ JSON
     def to_dict(self) -> dict:
         out = {"kind": KIND}
-        out.update({k: getattr(self, k) for k in self.__dataclass_fields__})
+        out.update({k: getattr(self, k) for k in self.__dataclass_fields__
+                    if k != "aspect_ratio" or self.aspect_ratio is not None})
         return out
 
     @classmethod
@@ -143,13 +180,33 @@ class RollingLaw:
         validate.check_known(data, ("kind",) + tuple(cls.__dataclass_fields__), what)
         if data.get("kind", KIND) != KIND:
             raise InputError(f"{what}.kind", f"must be {KIND!r}, got {data.get('kind')!r}")
-        missing = [k for k in cls.__dataclass_fields__ if k != "source" and k not in data]
+        missing = [k for k in cls.__dataclass_fields__ if k not in ("source", "aspect_ratio") and k not in data]
         if missing:
             raise InputError(what, f"missing {', '.join(missing)}")
         try:
             return cls(**{k: data[k] for k in cls.__dataclass_fields__ if k in data})
         except InputError as err:
             raise validate.rewrap(err, what) from None
+
+
+def _grid(rows, what: str, n_c: int, n_x: int, bounds: dict) -> list[list[float]]:
+    """One [c][x] parameter grid, validated (InputError naming ``what``)."""
+    if not isinstance(rows, (list, tuple)) or len(rows) != n_c:
+        raise InputError(what, f"must have one row per traction coefficient ({n_c})")
+    return [validate.number_list(row, f"{what}[{i}]", min_len=n_x, max_len=n_x, **bounds).tolist()
+            for i, row in enumerate(rows)]
+
+
+def _bilinear(grid: np.ndarray, xs: np.ndarray, cs: np.ndarray, x: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """A [c][x] grid at (x, c), already clamped to it: linear in x on every row, then linear in c."""
+    by_c = np.array([np.interp(x, xs, row) for row in grid])          # (n_c, *shape)
+    if cs.size == 1:
+        return by_c[0]
+    j = np.clip(np.searchsorted(cs, c, side="right") - 1, 0, cs.size - 2)
+    t = (c - cs[j]) / (cs[j + 1] - cs[j])
+    lo = np.take_along_axis(by_c, j[None], 0)[0]
+    hi = np.take_along_axis(by_c, (j + 1)[None], 0)[0]
+    return (1.0 - t) * lo + t * hi
 
 
 def _factor(n, rho, a, q, b):
@@ -159,4 +216,4 @@ def _factor(n, rho, a, q, b):
     return np.where(n >= 1.0, g, rho * np.clip(n, 0.0, 1.0))
 
 
-__all__ = ["KIND", "MAX_PASSES", "RollingLaw"]
+__all__ = ["KIND", "MAX_PASSES", "PARAMETERS", "RollingLaw"]

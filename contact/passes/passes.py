@@ -35,7 +35,7 @@ from contact.normal.problem import NormalProblem
 from contact.normal.solution import NormalSolution
 from contact.layer.prandtl_layer import LayerPair
 from contact.passes.record import PassRecord
-from contact.passes.rolling_memory import MEMORY_RULES, RollingMemory
+from contact.passes.rolling_memory import MEMORY_RULES, RollingMemory, patch_aspect_ratios
 from wrlayer.errors import require
 
 __all__ = ["PassesOptions", "PassRecord", "run_passes"]
@@ -90,14 +90,16 @@ def _next_delta_guess(deltas: list[float]) -> float | None:
     return 2.0 * deltas[-1] - deltas[-2]
 
 
-def _load_and_unload(sol: NormalSolution, bodies: dict, points: dict, rolling: dict, cumulative: dict
-                     ) -> tuple[np.ndarray, float, float, dict[str, float]]:
+def _load_and_unload(sol: NormalSolution, bodies: dict, points: dict, rolling: dict, cumulative: dict,
+                     strip_width_mm: float) -> tuple[np.ndarray, float, float, dict[str, float]]:
     """One pass of every body's elements: each loaded to its strip's peak pressure p(0, y) and unloaded; the
-    residual increment (with a rolling law: the law's increment) added to ``cumulative`` (mm, per body, updated).
+    residual increment (with a rolling law: the law's increment, on each strip's contact region shape) added to
+    ``cumulative`` (mm, per body, updated); ``strip_width_mm``: the strip grid's spacing (mm).
     Returns the increment on the strip grid summed over the bodies (mm), the elements' displacement u0 and
     residual increment up0 at the reference strip (mm) and each body's largest dissipated energy (N/mm)."""
     ref = max(sol.regions, key=lambda r: r.p0_MPa).reference
     added = np.zeros_like(sol.p_peak_MPa, dtype=float)
+    aspect = patch_aspect_ratios(sol, strip_width_mm) if rolling else None
     u0 = up0 = 0.0
     energy = {}
     for name, body_layer in bodies.items():
@@ -109,7 +111,9 @@ def _load_and_unload(sol: NormalSolution, bodies: dict, points: dict, rolling: d
         loaded = body_layer.load_to(p_points)
         residual = body_layer.unload() - before
         if name in rolling:  # the relaxed element's static residual -> the rolling law's increment
-            residual = rolling[name].advance(p_points, residual)
+            a_points = np.ones(body_layer.n_points)
+            a_points[ix[on]] = aspect[on]
+            residual = rolling[name].advance(p_points, residual, a_points)
         inc = np.zeros_like(added)
         inc[on] = residual[ix[on]]
         cumulative[name] = cumulative[name] + inc
@@ -173,7 +177,7 @@ def run_passes(prob: NormalProblem, layer: LayerPair | None, options: PassesOpti
             **({} if slope is None else {"loglog_slope_guess": slope}))
         deltas.append(sol.delta_mm)
         slope = sol.iterations.get("loglog_slope")
-        added, u0, up0, energy = _load_and_unload(sol, bodies, points, rolling, cumulative)
+        added, u0, up0, energy = _load_and_unload(sol, bodies, points, rolling, cumulative, h)
         max_added = float(np.max(np.abs(added))) if added.size else 0.0
         shakedown = max_added <= options.tolerance_mm
         rec = PassRecord.of(

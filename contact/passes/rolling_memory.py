@@ -5,7 +5,8 @@ A pass loads a virgin element to its strip's peak pressure p and unloads it; its
 accumulated rolling residual U and the pass adds ``law.next_residual(U, r, p / p_2, c) - U``
 (:class:`wrlayer.rolling_law.RollingLaw`: the first-pass groove over the static dent and the per-pass increment
 law calibrated by the rolling FEM, docs/rolling.md), p_2 being the element's elastic limit (its first slider
-threshold) and c the traction coefficient of the passes. The layer itself is relaxed before each pass (the
+threshold), c the traction coefficient of the passes and, for a law with patch-shape nodes, a/b the shape of the
+pass's contact region that loads the element (:func:`patch_aspect_ratios`). The layer itself is relaxed before each pass (the
 residual is moved into the profile, as in the "relaxed" rule), so the normal solve sees the virgin element.
 """
 
@@ -15,7 +16,7 @@ import numpy as np
 
 from contact.layer.prandtl_layer import PrandtlLayer
 
-__all__ = ["MEMORY_RULES", "RollingMemory"]
+__all__ = ["MEMORY_RULES", "RollingMemory", "patch_aspect_ratios"]
 
 #: The memory rules of the passes (``PassesOptions.memory``): "rolling" (the rolling law; a layer without one
 #: falls back to "relaxed"), "relaxed" (the paper's model: a virgin element each pass) and "state_kept" (the
@@ -35,11 +36,27 @@ class RollingMemory:
         self.c = float(traction_coefficient)
         self.accumulated_mm = np.zeros(layer.n_points)
 
-    def advance(self, p_peak_MPa: np.ndarray, static_residual_mm: np.ndarray) -> np.ndarray:
-        """One pass at the points' peak pressures (MPa) with their static residuals r(p) (mm): the residual
-        added by the pass (mm, per point)."""
+    def advance(self, p_peak_MPa: np.ndarray, static_residual_mm: np.ndarray,
+                aspect_ratio: np.ndarray | None = None) -> np.ndarray:
+        """One pass at the points' peak pressures (MPa) with their static residuals r(p) (mm) on contact regions
+        of shape a/b ``aspect_ratio`` (-, per point; used by a law with patch-shape nodes): the residual added by
+        the pass (mm, per point)."""
         x = np.divide(p_peak_MPa, self.p2_MPa, out=np.zeros(self.p2_MPa.shape), where=np.isfinite(self.p2_MPa))
-        new = self.law.next_residual(self.accumulated_mm, np.maximum(static_residual_mm, 0.0), x, self.c)
+        aspect = np.ones_like(x) if aspect_ratio is None else aspect_ratio
+        new = self.law.next_residual(self.accumulated_mm, np.maximum(static_residual_mm, 0.0), x, self.c, aspect)
         added = new - self.accumulated_mm
         self.accumulated_mm = new
         return added
+
+
+def patch_aspect_ratios(sol, strip_width_mm: float) -> np.ndarray:
+    """a/b of the contact region each strip of ``sol`` (a :class:`contact.normal.solution.NormalSolution`) belongs
+    to (-, per strip of the problem's grid; 1 on the strips out of contact): a the region's largest half-length
+    along the rolling direction (its strips' leading edges, mm), b half its lateral extent (its strips times
+    ``strip_width_mm``)."""
+    out = np.ones(np.asarray(sol.p_peak_MPa).size)
+    for region in sol.regions:
+        strips = np.asarray(region.strips)
+        if strips.size:
+            out[strips] = float(np.max(region.x_lead_mm)) / (0.5 * strips.size * strip_width_mm)
+    return out

@@ -77,3 +77,43 @@ def test_gap_rows_fit_the_group_law_and_stand_ins_scale():
         assert row.relaxed_mm == pytest.approx([r * n for n in row.passes])
         assert row.rolling_mm == pytest.approx(r * truth[row.p0_over_py].factors(10)[np.array(row.passes) - 1],
                                                rel=2e-3)
+
+
+def test_tables_get_their_round_law_and_the_long_patch_laws_as_shape_nodes():
+    import benchmarks.rolling_gap as gap
+    from wrlayer.rolling_law import RollingLaw
+
+    def flat(rho):
+        return RollingLaw(list(gap.LEVELS), list(gap.TRACTIONS), [[rho] * 5] * 2, [[0.0] * 5] * 2,
+                          [[0.0] * 5] * 2, [[0.0] * 5] * 2, f"rho {rho}")
+
+    long_laws = {"long patch": flat(1.2), "very long patch": flat(1.1)}
+    ratios = [gap.group_aspect_ratio(g) for g in ("rail", "long patch", "very long patch")]
+    assert 1.3 < ratios[0] < 1.4 and 3.7 < ratios[1] < 3.9 and 10.0 < ratios[2] < 10.3   # crown, corner; 25; 30
+    law = gap.shaped_law("rail", {"rail": flat(1.0), **long_laws})
+    assert law.aspect_ratio == pytest.approx(ratios)
+    assert float(law.factor(1, 1.5, 0.2, 1.0)) == pytest.approx(1.0)   # a round patch: the round law
+    assert float(law.factor(1, 1.5, 0.2, ratios[1])) == pytest.approx(1.2)
+    assert float(law.factor(1, 1.5, 0.2, 20.0)) == pytest.approx(1.1)  # clamped to the longest patch's
+    stored = gap.shaped_law("wheel", long_laws)                       # no wheel cases: the table's own law
+    shipped = gap.LayerTable.read(gap.ROOT / gap.GROUPS["wheel"][1]).rolling_law
+    assert float(stored.factor(1, 1.5, 0.2, 1.0)) == pytest.approx(float(shipped.factor(1, 1.5, 0.2, 1.0)))
+    with pytest.raises(KeyError):
+        gap.shaped_law("rail", {"rail": flat(1.0), "long patch": flat(1.2)})
+
+
+def test_shape_check_compares_the_shaped_law_at_the_cases_patch_shape():
+    import benchmarks.rolling_gap as gap
+    from wrlayer.rolling_law import RollingLaw
+
+    def flat(rho):
+        return RollingLaw(list(gap.LEVELS), list(gap.TRACTIONS), [[rho] * 5] * 2, [[0.0] * 5] * 2,
+                          [[0.0] * 5] * 2, [[0.0] * 5] * 2)
+
+    laws = {"rail": flat(1.0), "wheel": flat(1.0), "long patch": flat(1.2), "very long patch": flat(1.2)}
+    mid = float(np.sqrt(gap.group_aspect_ratio("rail") * gap.group_aspect_ratio("long patch")))
+    case = GapCaseResult("k", "shape", gap.GROUPS["rail"][1], 0.0, mid, 1.0, 0.2, 1.5, 800.0, 0.01, [0.0], [0.0],
+                         groove_mm=[0.011, 0.011])                    # FEM g/dent 1.1: the law halfway in log(a/b)
+    md = gap.shape_check_markdown([case], laws)
+    assert "| 1.000, 1.000 | 0.909, 0.909 |" in md[2]
+    assert md[-1].startswith("Worst |law / FEM - 1|: 0.0 % with the patch-shape nodes, 9.1 %")

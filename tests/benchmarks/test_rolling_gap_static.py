@@ -141,7 +141,7 @@ def test_common_pressure_dents_read_every_curve_at_one_pressure():
 def test_own_block_line_reports_the_halfspace_worst_case_only():
     from dataclasses import replace
 
-    from benchmarks.bench_rolling import own_block_line
+    from benchmarks.rolling_gap import own_block_line
 
     hs = replace(row("half-space"), group="half-space", key="half-space_c0.2_p2.1", rolling_mm=[0.9, 1.0])
     line = own_block_line([row(), hs, replace(hs, key="half-space_c0_p1.3", rolling_mm=[0.95, 1.0])])

@@ -54,6 +54,30 @@ def test_law_interpolates_clamps_and_follows_equivalent_passes():
     assert float(lw.next_residual(0.5, 2.0, 1.7, 0.0)) == pytest.approx(1.8)   # a higher peak: its first pass
 
 
+def test_shaped_law_is_linear_in_log_aspect_clamped_and_exact_at_its_nodes():
+    round_, long_ = law(rho=0.9), law(rho=1.2, a=0.1, q=0.5, b=0.01)
+    lw = RollingLaw.by_aspect([(1.34, round_), (3.83, long_)])
+    for r, node in ((1.0, round_), (1.34, round_), (3.83, long_), (13.6, long_)):   # at the nodes and clamped
+        np.testing.assert_allclose(lw.factor(np.arange(1, 6), 1.7, 0.2, r), node.factor(np.arange(1, 6), 1.7, 0.2),
+                                   rtol=1e-12)
+    mid = float(np.sqrt(1.34 * 3.83))                                   # halfway in log(a/b)
+    assert lw.parameters(1.7, 0.0, mid)[0] == pytest.approx(0.5 * (0.9 + 1.2), rel=1e-12)
+    per_point = lw.next_residual(np.zeros(2), np.array([2.0, 2.0]), 1.7, 0.2, np.array([1.34, 3.83]))
+    np.testing.assert_allclose(per_point, [2.0 * float(round_.factor(1, 1.7, 0.2)),
+                                           2.0 * float(long_.factor(1, 1.7, 0.2))], rtol=1e-12)
+    with pytest.raises(InputError, match="a/b is needed"):
+        lw.factor(1, 1.7, 0.2)
+    assert RollingLaw.from_dict(json.loads(json.dumps(lw.to_dict()))) == lw
+    assert "aspect_ratio" not in round_.to_dict()                      # a single-shape law writes as before
+    with pytest.raises(InputError, match="one grid of levels"):
+        RollingLaw.by_aspect([(1.0, round_), (2.0, RollingLaw([1.3, 2.1], [0.0], [[1.0] * 2], [[0.0] * 2],
+                                                              [[0.0] * 2], [[0.0] * 2]))])
+    bad = lw.to_dict()
+    bad["aspect_ratio"] = [3.83, 1.34]
+    with pytest.raises(InputError, match="aspect_ratio.*increasing"):
+        RollingLaw.from_dict(bad)
+
+
 def test_table_round_trip_and_old_versions(tmp_path):
     pos = [{"y_mm": y, "characteristic": CH.to_dict()} for y in (-1.0, 1.0)]
     t = LayerTable({"body": "rail", "profile": "p"}, pos, source="t", rolling_law=law())
@@ -107,6 +131,33 @@ def test_passes_use_the_law_and_fall_back_to_relaxed_without_one():
     assert [r.up0_mm for r in explicit] == [r.up0_mm for r in relaxed]
     with pytest.raises(InputError, match="memory"):
         PassesOptions(memory="virgin")
+
+
+def test_patch_aspect_is_the_regions_half_length_over_half_width():
+    from types import SimpleNamespace
+
+    from contact.passes.rolling_memory import patch_aspect_ratios
+
+    regions = [SimpleNamespace(strips=np.array([1, 2, 3, 4]), x_lead_mm=np.array([1.0, 3.0, 3.0, 1.0])),
+               SimpleNamespace(strips=np.array([7, 8]), x_lead_mm=np.array([0.5, 0.5]))]
+    out = patch_aspect_ratios(SimpleNamespace(p_peak_MPa=np.zeros(10), regions=regions), 0.5)
+    np.testing.assert_allclose(out, [1, 3, 3, 3, 3, 1, 1, 1, 1, 1])
+
+
+def test_passes_read_the_shaped_law_at_the_pass_patch_shape():
+    from contact.normal.method import solve_normal_with
+    from contact.passes.rolling_memory import patch_aspect_ratios
+
+    prob = paper_problem()
+    sol = solve_normal_with(prob, paper_layers(prob))
+    main = max(sol.regions, key=lambda r: r.p0_MPa)
+    r = float(patch_aspect_ratios(sol, prob.grid_mm)[main.reference])
+    assert 0.1 < r < 50.0
+    shaped = RollingLaw.by_aspect([(r / 2, law(rho=0.6, a=0.0)), (2 * r, law(rho=1.0, a=0.0))])
+    opts = PassesOptions(max_passes=1)
+    relaxed, _ = run_passes(prob, paper_layers(prob), PassesOptions(max_passes=1, memory="relaxed"))
+    rolling, _ = run_passes(prob, with_law(paper_layers(prob), shaped), opts)
+    assert rolling[0].up0_mm == pytest.approx(0.8 * relaxed[0].up0_mm, rel=1e-9)   # halfway in log(a/b)
 
 
 def test_rolling_json_carries_the_law_fitted_to_its_passes():

@@ -8,6 +8,7 @@ import pytest
 
 from contact.__main__ import main
 from contact.passes.passes import run_passes
+from contact.passes.rolling_memory import patch_aspect_ratios
 from contact.scenes.scene import load_scene
 from contact.scenes.scene_layers import build_layers
 from contact.scenes.simulation import simulate
@@ -30,8 +31,9 @@ def calibrated_scene(tmp_path: Path, passes: str) -> Path:
 
 
 def test_rolling_residual_is_the_laws_prediction(tmp_path):
-    """Under the default memory each pass's residual per strip is law.next_residual(U, r(p), p / p_2, c), with r(p)
-    the static residual of a virgin element at the pass's peak pressure p (for a nonzero traction too)."""
+    """Under the default memory each pass's residual per strip is law.next_residual(U, r(p), p / p_2, c, a/b), with
+    r(p) the static residual of a virgin element at the pass's peak pressure p (for a nonzero traction too) and a/b
+    the shape of the pass's contact region (the shipped laws have patch-shape nodes)."""
     scene = load_scene(calibrated_scene(tmp_path, "max = 3\ntraction_coefficient = 0.1"))
     assert scene.passes.memory == "rolling" and scene.passes.options.rule == "rolling"
     prob = scene.normal_problem()
@@ -39,10 +41,13 @@ def test_rolling_residual_is_the_laws_prediction(tmp_path):
     bodies = layers.bodies()
     assert set(bodies) == {"rail", "wheel"}
     assert all(lay.rolling_law is not None for lay in bodies.values())
-    records, _ = run_passes(prob, layers, scene.passes.options, method=scene.method.normal_method())
+    solutions = []
+    records, _ = run_passes(prob, layers, scene.passes.options, method=scene.method.normal_method(),
+                            on_pass=lambda rec, sol: solutions.append(sol))
     assert len(records) == 3
     accumulated = {name: np.zeros(prob.strip_y_mm.size) for name in bodies}
-    for rec in records:
+    for rec, sol in zip(records, solutions):
+        aspect = patch_aspect_ratios(sol, prob.grid_mm)  # the law's patch shape: the pass's contact region a/b
         virgin = layers.copy().bodies()
         for name, lay in virgin.items():
             assert lay.n_points == prob.strip_y_mm.size  # one element per strip
@@ -51,7 +56,7 @@ def test_rolling_residual_is_the_laws_prediction(tmp_path):
             static = lay.unload() - before
             p2 = lay.relaxed().yield_pressure_MPa()
             expected = lay.rolling_law.next_residual(accumulated[name], np.maximum(static, 0.0),
-                                                     rec.p_peak_MPa / p2, 0.1)
+                                                     rec.p_peak_MPa / p2, 0.1, aspect)
             got = rec.cumulative_residual_mm[name]
             assert np.max(np.abs(got - expected)) <= 1e-12 * max(1.0, np.max(np.abs(expected)))
             accumulated[name] = expected
