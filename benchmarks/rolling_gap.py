@@ -28,7 +28,7 @@ from calibration.rolling.layer_prediction import StaticCurve, layer_grooves
 from calibration.rolling.law_fit import PassFit, fit_passes, rolling_law
 from calibration.settings import FitSettings
 from wrlayer.layer_table import LayerTable
-from wrlayer.rolling_law import PARAMETERS, RollingLaw
+from wrlayer.rolling_law import RollingLaw
 
 #: The passes of the gap table.
 REPORTED_PASSES = (1, 2, 5, 10)
@@ -224,8 +224,9 @@ def fit_group(results: list[GapCaseResult], group: str) -> tuple[RollingLaw, dic
     tractions = [c for c in TRACTIONS if all((c, lv) in fits for lv in LEVELS)]
     if not tractions:
         raise KeyError(f"{group}: no traction with all levels computed")
+    passes = min(len(r.groove_mm) for r in mine)
     source = (f"rolling FEM of {', '.join(members)} (benchmarks.rolling_gap_cases: h = a/2 quadratic tetrahedra, "
-              f"step a/4, track 1.5 contact lengths, {max(REPORTED_PASSES)} passes at constant p0)")
+              f"step a/4, track 1.5 contact lengths, {passes} passes at constant p0)")
     return rolling_law(list(LEVELS), tractions, fits, source), fits
 
 
@@ -272,10 +273,7 @@ def shaped_law(group: str, laws: dict[str, RollingLaw]) -> RollingLaw:
         stored = LayerTable.read(ROOT / GROUPS[group][1]).rolling_law
         if stored is None:
             raise KeyError(f"{group}: no law fitted or stored")
-        own = stored if stored.aspect_ratio is None else None
-        if own is None:  # a shaped law already: its first node is the group's own
-            own = RollingLaw(stored.p0_over_p2, stored.traction_coefficient,
-                             *(getattr(stored, name)[0] for name in PARAMETERS), source=stored.source)
+        own = stored.node(0)  # a shaped law already: its first node is the group's own
     return RollingLaw.by_aspect([(group_aspect_ratio(group), own)]
                                 + [(group_aspect_ratio(g), laws[g]) for g in LONG_PATCHES])
 

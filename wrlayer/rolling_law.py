@@ -39,6 +39,8 @@ from wrlayer.errors import InputError
 KIND = "first-pass ratio, geometric shakedown + constant ratcheting increments"
 #: The law's parameters, in the order of :meth:`RollingLaw.parameters`.
 PARAMETERS = ("first_pass_ratio", "shakedown_increment", "shakedown_decay", "ratchet_increment")
+#: Between the nodes' sources in a law with patch-shape nodes (:meth:`RollingLaw.by_aspect`).
+NODE_SEPARATOR = " | "
 #: Passes beyond which the equivalent-pass search stops (a groove beyond G_(MAX_PASSES) adds nothing).
 MAX_PASSES = 1.0e7
 
@@ -112,8 +114,17 @@ class RollingLaw:
                                             "traction coefficients")
         return cls(first.p0_over_p2, first.traction_coefficient,
                    *([getattr(law, name) for _, law in nodes] for name in PARAMETERS),
-                   source=source or "; ".join(f"a/b = {r:.3g}: {law.source}" for r, law in nodes),
+                   source=source or NODE_SEPARATOR.join(f"a/b = {r:.3g}: {law.source}" for r, law in nodes),
                    aspect_ratio=[float(r) for r, _ in nodes])
+
+    def node(self, k: int) -> RollingLaw:
+        """The single-shape law of patch-shape node ``k`` (a law without nodes: itself)."""
+        if self.aspect_ratio is None:
+            return self
+        parts = self.source.split(NODE_SEPARATOR)  # the nodes' own sources as :meth:`by_aspect` joined them
+        source = parts[k].split(": ", 1)[-1] if len(parts) == len(self.aspect_ratio) else self.source
+        return RollingLaw(self.p0_over_p2, self.traction_coefficient, *(getattr(self, n)[k] for n in PARAMETERS),
+                          source=source)
 
     # ------------------------------------------------------------------ parameters
     def parameters(self, x, c, aspect=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

@@ -68,6 +68,8 @@ def test_shaped_law_is_linear_in_log_aspect_clamped_and_exact_at_its_nodes():
     with pytest.raises(InputError, match="a/b is needed"):
         lw.factor(1, 1.7, 0.2)
     assert RollingLaw.from_dict(json.loads(json.dumps(lw.to_dict()))) == lw
+    assert lw.node(1) == long_ and round_.node(0) is round_               # a node's own law, source included
+    assert RollingLaw.by_aspect([(1.34, lw.node(0)), (3.83, lw.node(1))]) == lw
     assert "aspect_ratio" not in round_.to_dict()                      # a single-shape law writes as before
     with pytest.raises(InputError, match="one grid of levels"):
         RollingLaw.by_aspect([(1.0, round_), (2.0, RollingLaw([1.3, 2.1], [0.0], [[1.0] * 2], [[0.0] * 2],
