@@ -32,8 +32,8 @@ from calibration.rolling.section_track import section_track_mesh
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.layer_table import LayerTable
 
-#: Levels p0 / p_y(a/2) of the study: near first yield, where the gap's section mesh is in question.
-LEVELS = (1.15, 1.3, 1.5)
+#: Levels p0 / p_y(a/2) of the study: the gap's (a point stored with fewer has the first ones).
+LEVELS = (1.15, 1.3, 1.5, 1.7, 2.1)
 #: Meshes: elements per contact semi-axis (h = a / n).
 MESHES = (2.0, 3.0, 4.0)
 
@@ -125,6 +125,8 @@ def mesh_factor(study: dict[tuple[str, float], SectionStatic], position: str, le
     k = next((i for i, x in enumerate(LEVELS) if abs(x - level) <= 1e-9 * x), None)  # levels read from JSON
     if k is None or 2.0 not in meshes or meshes[-1] == 2.0:
         return None
+    if k >= min(len(study[position, m].dent_mm) for m in (2.0, meshes[-1])):
+        return None
     return study[position, meshes[-1]].dent_mm[k] / study[position, 2.0].dent_mm[k]
 
 
@@ -148,10 +150,13 @@ def study_markdown(study: dict[tuple[str, float], SectionStatic]) -> str:
         if not any(points):
             continue
         for k, level in enumerate(LEVELS):
-            first = next(p for p in points if p)
+            if k >= max(len(p.dent_mm) for p in points if p):
+                break
+            points_k = [p if p and k < len(p.dent_mm) else None for p in points]
+            first = next(p for p in points_k if p)
             p0 = first.p0_MPa[k]
             fit_over_fem = first.table_residual_mm[k] / table_fem_residual(name, p0)
-            cells = [f"{p.dent_mm[k] / p.table_residual_mm[k]:.3f}" if p else "—" for p in points]
+            cells = [f"{p.dent_mm[k] / p.table_residual_mm[k]:.3f}" if p else "—" for p in points_k]
             lines.append(f"| {name} | {level:g} | {p0:.0f} | {fit_over_fem:.3f} | " + " | ".join(cells) + " | "
                          + ", ".join(str(p.n_dofs) for p in points if p) + " | "
                          + ", ".join(f"{p.seconds:.0f}" for p in points if p) + " |")

@@ -48,3 +48,14 @@ def test_mesh_factor_and_the_corrected_gap(tmp_path):
     out = sg.corrected_markdown([row], study)  # 1.08 of the a/2 groove, 1.08 / 1.125 of the corrected one
     assert "within 5% after passes 1, 2, 5 in 1 of 1 cases" in out and "-4.0% (rail crown" in out
     assert "(within 10%: 1; against the a/2 groove 0 and 1)" in out
+
+
+def test_points_of_all_five_levels_correct_every_level(tmp_path):
+    p0 = (900.0, 1000.0, 1200.0, 1350.0, 1650.0)
+    for n, scale in ((2.0, 1.0), (4.0, 1.05)):
+        point = ss.SectionStatic("crown", n, p0, tuple(scale * d for d in (0.0008, 0.0038, 0.0095, 0.02, 0.05)),
+                                 (0.001,) * 5, 800.0, 1000, 1.0)
+        (tmp_path / f"crown_h{n:g}.json").write_text(json.dumps(asdict(point)))
+    study = ss.read_study(tmp_path)
+    assert [ss.mesh_factor(study, "crown", lv) for lv in ss.LEVELS] == pytest.approx([1.05] * 5)
+    assert "| crown | 2.1 | 1650 |" in ss.study_markdown(study)
