@@ -281,8 +281,8 @@ def shaped_law(group: str, laws: dict[str, RollingLaw]) -> RollingLaw:
 def shape_check_markdown(results: list, laws: dict) -> list[str]:
     """The shape-check cases: the FEM groove over the block's static dent against the table's law with its
     patch-shape nodes at the case's a/b, and against its round node alone (markdown lines)."""
-    md = ["| position | a/b | c | p0 / p_y | FEM groove / static dent, passes 1.. | shaped law / FEM | round law / FEM |",
-          "|---|---|---|---|---|---|---|"]
+    md = ["| position | a/b | c | p0 / p_y | FEM groove / static dent, passes 1.. | shaped law / FEM "
+          "| round law / FEM |", "|---|---|---|---|---|---|---|"]
     worst = {"shaped": 0.0, "round": 0.0}
     for r in sorted(results, key=lambda r: (r.a_mm / r.b_mm, r.traction, r.p0_over_py)):
         if not r.groove_mm:

@@ -6,8 +6,9 @@ accumulated rolling residual U and the pass adds ``law.next_residual(U, r, p / p
 (:class:`wrlayer.rolling_law.RollingLaw`: the first-pass groove over the static dent and the per-pass increment
 law calibrated by the rolling FEM, docs/rolling.md), p_2 being the element's elastic limit (its first slider
 threshold), c the traction coefficient of the passes and, for a law with patch-shape nodes, a/b the shape of the
-pass's contact region that loads the element (:func:`patch_aspect_ratios`). The layer itself is relaxed before each pass (the
-residual is moved into the profile, as in the "relaxed" rule), so the normal solve sees the virgin element.
+pass's contact region that loads the element (:func:`patch_aspect_ratios`). The layer itself is relaxed before
+each pass (the residual is moved into the profile, as in the "relaxed" rule), so the normal solve sees the virgin
+element.
 """
 
 from __future__ import annotations
