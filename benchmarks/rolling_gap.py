@@ -257,11 +257,16 @@ def gap_rows(results: list[GapCaseResult],
     return rows, laws
 
 
+def group_aspect_ratios() -> dict[str, float]:
+    """The patch shape a/b of every law group (-): the geometric mean over its positions' Hertz patches (the
+    positions read once)."""
+    shapes = {p.name: p.a_mm / p.b_mm for p in default_positions()}
+    return {g: float(np.exp(np.mean(np.log([shapes[m] for m in members])))) for g, (members, _) in GROUPS.items()}
+
+
 def group_aspect_ratio(group: str) -> float:
-    """The patch shape a/b of a law group (-): the geometric mean over its positions' Hertz patches."""
-    members = GROUPS[group][0]
-    ratios = [p.a_mm / p.b_mm for p in default_positions() if p.name in members]
-    return float(np.exp(np.mean(np.log(ratios))))
+    """The patch shape a/b of the law group ``group`` (-; :func:`group_aspect_ratios`)."""
+    return group_aspect_ratios()[group]
 
 
 def shaped_law(group: str, laws: dict[str, RollingLaw]) -> RollingLaw:
@@ -274,8 +279,8 @@ def shaped_law(group: str, laws: dict[str, RollingLaw]) -> RollingLaw:
         if stored is None:
             raise KeyError(f"{group}: no law fitted or stored")
         own = stored.node(0)  # a shaped law already: its first node is the group's own
-    return RollingLaw.by_aspect([(group_aspect_ratio(group), own)]
-                                + [(group_aspect_ratio(g), laws[g]) for g in LONG_PATCHES])
+    shapes = group_aspect_ratios()
+    return RollingLaw.by_aspect([(shapes[group], own)] + [(shapes[g], laws[g]) for g in LONG_PATCHES])
 
 
 def shape_check_markdown(results: list, laws: dict) -> list[str]:
@@ -284,11 +289,14 @@ def shape_check_markdown(results: list, laws: dict) -> list[str]:
     md = ["| position | a/b | c | p0 / p_y | FEM groove / static dent, passes 1.. | shaped law / FEM "
           "| round law / FEM |", "|---|---|---|---|---|---|---|"]
     worst = {"shaped": 0.0, "round": 0.0}
+    table_laws: dict[str, RollingLaw] = {}  # each table's law built once
     for r in sorted(results, key=lambda r: (r.a_mm / r.b_mm, r.traction, r.p0_over_py)):
         if not r.groove_mm:
             continue
         group = next(g for g, (_, table) in GROUPS.items() if table and table == r.table)
-        law = shaped_law(group, laws)
+        if group not in table_laws:
+            table_laws[group] = shaped_law(group, laws)
+        law = table_laws[group]
         n = np.arange(1, len(r.groove_mm) + 1)
         g = np.asarray(r.groove_mm) / r.static_dent_mm
         shaped = law.factor(n, r.p0_over_py, r.traction, r.a_mm / r.b_mm) / g
