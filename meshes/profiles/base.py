@@ -78,6 +78,15 @@ class Profile:
 
     # -- evaluation ----------------------------------------------------------------------------
     def _eval(self, method: str, y, trailing: tuple = ()):
+        y = np.asarray(y, dtype=float)
+        # one point (a contact search's or a balance's): no array bookkeeping (the same piece and value)
+        if y.size == 1:
+            v = float(y.reshape(-1)[0])
+            if self.y_min - _Y_TOL <= v <= self.y_max + _Y_TOL:
+                v = min(max(v, self.y_min), self.y_max)
+                piece = self._pieces[int(self._breaks.searchsorted(v))]
+                out = getattr(piece, method)(np.array([v])).reshape(y.shape + trailing)
+                return out[()] if out.ndim == 0 else out
         y = self.check_y(y)
         k = np.searchsorted(self._breaks, y, side="left")
         out = np.empty(y.shape + trailing)

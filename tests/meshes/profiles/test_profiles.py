@@ -226,6 +226,28 @@ def test_out_of_range_raises(wheel):
         wheel.y_at_arc_length(-1.0)
 
 
+@pytest.mark.parametrize("name", ["S1002", "60E1"])
+def test_one_point_is_the_array_value(name):
+    """A single point (float, 0-d or 1-element array) is evaluated on its own path: the same piece and the same
+    value, bit for bit, as inside an array, at every joint of the pieces, at the ends and within round-off beyond
+    them; the result's shape follows the input's."""
+    prof = get_profile(name)
+    joints = [p.yb for p in prof._pieces[:-1]]
+    ys = np.array(sorted(joints + [prof.y_min, prof.y_max, prof.y_min - 5e-10, prof.y_max + 5e-10, 0.3]
+                         + [j + d for j in joints for d in (-1e-9, 1e-9)]))
+    for method, trailing in (("z", ()), ("dz", ()), ("d2z", ()), ("curvature", ()), ("normal", (2,))):
+        many = getattr(prof, method)(ys)
+        for k, y in enumerate(ys):
+            one, arr, zero_d = (getattr(prof, method)(v) for v in (float(y), np.array([y]), np.array(y)))
+            assert np.shape(one) == np.shape(zero_d) == trailing and np.shape(arr) == (1,) + trailing
+            for v in (one, arr.reshape(trailing), zero_d):
+                assert np.array_equal(v, many[k])
+    with pytest.raises(InputError, match="outside the profile's valid range"):
+        prof.z(np.array([prof.y_max + 1e-6]))
+    with pytest.raises(InputError, match="outside the profile's valid range"):
+        prof.z(float("nan"))
+
+
 def test_spline_profile():
     y = np.linspace(-20.0, 20.0, 81)
     prof = SplineProfile(y, 300.0 - np.sqrt(300.0**2 - y**2) * 1.0 - 0.0, "bowl", "wheel")
