@@ -37,8 +37,9 @@ from pathlib import Path
 
 from wrlayer.errors import InputError, Terminated, check_terminated, record_kept, termination_deferred
 
-#: Files by which an earlier output folder of the tool is recognised (such a folder may be replaced as a whole).
-OUTPUT_FILES = ("result.json",)
+#: Files by which an earlier output folder of the tool is recognised (such a folder may be replaced as a whole):
+#: a run's record, or a rolling run's (``wrlayer rolling``).
+OUTPUT_FILES = ("result.json", "rolling.json")
 #: Files of an output folder that the tool writes (never carried over from an earlier run: a run that does not
 #: write one of them, e.g. no frictional CSVs without a tangential problem, must not leave the old one beside its
 #: result). Relative paths, matched with :meth:`pathlib.PurePath.match`; ``"name/"``: everything under the top

@@ -35,13 +35,14 @@ EXIT_CODES = {
     1: "some scenes of a batch (simulate-all) failed; the others were written",
     2: "bad input (file, key, value or argument; a run refused by its cost estimate without --force; an --out in "
        "use by another run or not writable): nothing written",
-    3: "numerical failure (an iteration did not converge; out of memory): nothing written",
+    3: "numerical failure (an iteration did not converge; out of memory): nothing written (a rolling run: its "
+       "record with the passes completed before the failed step)",
     4: "some positions of a calibration or cases of a wheel-rail sweep failed (printed on stderr; the tables "
        "and results hold the others and list the failed ones)",
     5: "wear: the loop stopped at a step (named); the completed steps' profiles and table were written",
     130: "interrupted (Ctrl-C)",
     143: "terminated (SIGTERM); the run's staging folders are removed and its workers ended (a wear run keeps its "
-         "completed steps)",
+         "completed steps, a rolling run its completed passes, in <out>.partial)",
 }
 
 

@@ -6,8 +6,12 @@ elastic first-yield pressure p_y of the static load at mid-track, one static ind
 the highest one's loading curve gives the layer's characteristic), then the passes level by level. Output:
 ``out_dir/rolling.json`` (:class:`RollingResult`) and, with ``run.plots``, ``out_dir/fields/level_<k>/passes.pvd``:
 the unloaded body before the first pass and after each pass (plastic strain, residual stress, displacement).
-A step that fails (RollingConvergenceError, exit code 3) is reported with the passes completed before it, which
-are written.
+The run is built beside ``out_dir`` (:func:`wrlayer.atomic_write.staged_output_dir`): after every pass what is
+complete (``rolling.json`` with ``status`` "running: ...", the fields so far) is published into
+``<out_dir>.partial``, and ``out_dir`` keeps an earlier output until the run ends, when the run replaces it and the
+partial folder is removed. A SIGTERM or Ctrl-C leaves the published passes in the partial folder (``status``
+"terminated (SIGTERM) after ..."). A step that fails (RollingConvergenceError, exit code 3) ends the run: its
+record (``failed``, ``status`` "stopped: ...") with the passes completed before it replaces ``out_dir``.
 """
 
 from __future__ import annotations
@@ -35,12 +39,14 @@ from calibration.rolling.substeps import SubstepSolver, UnitResponses
 from calibration.rolling.section_groove import SectionProbe
 from calibration.rolling.section_track import SectionStaticLoad, section_static_load, section_track_mesh
 from calibration.rolling.track_mesh import TrackMesh, track_axes, track_mesh
-from wrlayer.atomic_write import atomic_write_text
+from wrlayer.atomic_write import StagedOutput, atomic_write_text, output_error, staged_output_dir
 from wrlayer.cost import guard
-from wrlayer.errors import InputError
+from wrlayer.errors import InputError, Terminated, check_terminated
 
-#: Version of the rolling.json layout (2: ``rolling_law`` and ``layer_groove_mm.rolling``).
+#: Version of the rolling.json layout (2: ``rolling_law`` and ``layer_groove_mm.rolling``; ``status`` is an added key).
 FORMAT_VERSION = 2
+#: Files of a rolling output folder that the tool writes (never carried over from an earlier run's folder).
+ROLLING_OWNED = ("rolling.json", "fields/")
 
 
 @dataclass(frozen=True)
@@ -127,6 +133,9 @@ class RollingResult:
     rolling_law : dict
         The rolling law fitted to the passes (:class:`wrlayer.rolling_law.RollingLaw`, levels in p0 / p_y, the
         run's traction coefficient; {} when no level has passes above p_y): the ``rolling_law`` of a layer table.
+    status : str
+        "complete"; a failed run "stopped: <error>"; in the partial folder of a running run "running: <n>
+        pass(es) completed", of a killed one "terminated (SIGTERM) after <n> pass(es)" or "interrupted after ...".
     """
 
     format_version: int
@@ -139,6 +148,7 @@ class RollingResult:
     seconds: float = 0.0
     files: list[str] = field(default_factory=list)
     rolling_law: dict = field(default_factory=dict)
+    status: str = "complete"
 
     def to_dict(self) -> dict:
         out = {k: getattr(self, k) for k in self.__dataclass_fields__}
@@ -236,22 +246,25 @@ def static_dents(model: RollingModel, config: RollingConfig, levels_MPa: list[fl
     return out
 
 
-def _write(out_dir: Path, result: RollingResult) -> Path:
-    return atomic_write_text(out_dir / "rolling.json", json.dumps(result.to_dict(), indent=1, allow_nan=True))
-
-
 @frees_its_meshes
 def run_rolling(config: RollingConfig, out_dir: str | Path, force: bool = False, progress=None) -> RollingResult:
     """Run every level of ``config`` into ``out_dir`` (see the module docstring). ``force``: run beyond the cost
-    limit; ``progress(text)``: called after each pass. InputError (bad input, cost), RollingConvergenceError."""
+    limit; ``progress(text)``: called after each pass (once it is published). InputError (bad input, cost, an
+    ``out_dir`` that is not new, empty or an earlier output of the tool, a second run into it),
+    RollingConvergenceError; OSError on writing as OutputError naming the folder."""
     t0 = time.perf_counter()
     out_dir = Path(out_dir)
     guard(rolling_cost(config), force)
     tm = body_mesh(config)
-    try:
-        out_dir.mkdir(parents=True, exist_ok=True)
-    except OSError as err:
-        raise InputError(str(out_dir), f"cannot create the output folder: {err.strerror or err}") from err
+    with staged_output_dir(out_dir, owned=ROLLING_OWNED) as staged:   # refused before any FEM if not ours
+        try:
+            return _run_staged(config, tm, staged, t0, progress)
+        except OSError as err:
+            raise output_error(err, out_dir) from None
+
+
+def _run_staged(config: RollingConfig, tm: TrackMesh, staged: StagedOutput, t0: float, progress) -> RollingResult:
+    """The run built in ``staged.dir`` and published after every pass (the caller holds the output's lock)."""
     model = build_model(config, tm)
     levels_MPa = level_pressures(config, model.p_y_MPa)
     curves = static_dents(model, config, levels_MPa)
@@ -265,34 +278,72 @@ def run_rolling(config: RollingConfig, out_dir: str | Path, force: bool = False,
                for p0, c, lg in zip(levels_MPa, curves, layer)]
     files: list[str] = []
     base = RollingResult(FORMAT_VERSION, config.to_dict(), model.p_y_MPa, int(model.disc.n_dofs),
-                         int(tm.mesh.t.shape[1]), results)
+                         int(tm.mesh.t.shape[1]), results, files=files)
+    traction = config.contact.traction_coefficient
     positions = [x * config.contact.a_mm for x in config.track.positions_over_a()]
     responses = UnitResponses(model.prob, model.forces)   # per mesh: shared by all levels and passes
-    for k, p0 in enumerate(levels_MPa):
-        series = _series(config, out_dir, k, model)
-        solver = SubstepSolver(model.prob, model.forces, p0, config.track.substeps, responses=responses)
-        try:
-            for rec in roll(solver, SolverState.virgin(model.disc), positions, n_passes, config.track.ramp_steps, k):
-                if isinstance(rec, MovingLoadPass):
-                    results[k] = results[k].with_pass(rec, model.probe.profile(rec.state))
-                    if series is not None:
-                        series(model.disc, rec.state)
-                        series.write_pvd()
-                    if progress is not None:
-                        progress(f"level {k}: pass {rec.pass_index} groove {results[k].groove_mm[-1]:.4g} mm "
-                                 f"({rec.seconds:.1f} s)")
-        except RollingConvergenceError as err:
-            failed = replace(base, levels=results, failed=str(err), seconds=time.perf_counter() - t0, files=files)
-            _write(out_dir, failed.with_rolling_law(config.contact.traction_coefficient))
-            raise
-        finally:
-            if series is not None and series.steps:
-                files.append(str(series.write_pvd()))
-        model.prob.reset_to_elastic()
-    result = replace(base, levels=results, seconds=time.perf_counter() - t0, files=files)
-    result = result.with_rolling_law(config.contact.traction_coefficient)
-    files.insert(0, str(_write(out_dir, result)))
+    done = 0
+    try:
+        for k, p0 in enumerate(levels_MPa):
+            series = _series(config, staged.dir, k, model)
+            solver = SubstepSolver(model.prob, model.forces, p0, config.track.substeps, responses=responses)
+            try:
+                for rec in roll(solver, SolverState.virgin(model.disc), positions, n_passes, config.track.ramp_steps, k):
+                    if isinstance(rec, MovingLoadPass):
+                        results[k] = results[k].with_pass(rec, model.probe.profile(rec.state))
+                        done += 1
+                        if series is not None:
+                            series(model.disc, rec.state)
+                            series.write_pvd()
+                        now = replace(base, levels=results, seconds=time.perf_counter() - t0,
+                                      status=f"running: {done} pass(es) completed")
+                        _write(staged.dir, now.with_rolling_law(traction))
+                        staged.publish(_kept(staged, done))
+                        if progress is not None:
+                            progress(f"level {k}: pass {rec.pass_index} groove {results[k].groove_mm[-1]:.4g} mm "
+                                     f"({rec.seconds:.1f} s)")
+            except RollingConvergenceError as err:
+                failed = replace(base, levels=results, failed=str(err), seconds=time.perf_counter() - t0,
+                                 status=f"stopped: {err}")
+                _write(staged.dir, failed.with_rolling_law(traction))
+                staged.finish(f"the stopped run's {done} completed pass(es) are in {staged.path}")
+                raise
+            finally:
+                if series is not None and series.steps:
+                    files.append(str(staged.path / series.write_pvd().relative_to(staged.dir)))
+            model.prob.reset_to_elastic()
+        result = replace(base, levels=results, seconds=time.perf_counter() - t0).with_rolling_law(traction)
+        _write(staged.dir, result)
+        check_terminated()  # a SIGTERM swallowed by a C callback: the published passes stay
+        staged.finish(f"the complete run ({done} passes) is in {staged.path}")
+    except (Terminated, KeyboardInterrupt) as err:
+        if staged.where == staged.partial:  # the published passes say how the run ended
+            how = "terminated (SIGTERM)" if isinstance(err, Terminated) else "interrupted"
+            _mark(staged.partial, f"{how} after {done} pass(es)")
+        raise
+    files.insert(0, str(staged.path / "rolling.json"))
     return result
+
+
+def _write(out_dir: Path, result: RollingResult) -> Path:
+    return atomic_write_text(out_dir / "rolling.json", json.dumps(result.to_dict(), indent=1, allow_nan=True))
+
+
+def _kept(staged: StagedOutput, passes: int) -> str:
+    """What the SIGTERM line says once ``passes`` completed passes are published in the partial folder."""
+    earlier = (staged.path / "rolling.json").is_file()
+    return (f"{passes} completed pass(es) kept in {staged.partial}; {staged.path} "
+            + ("keeps the earlier output" if earlier else "was not written"))
+
+
+def _mark(folder: Path, status: str) -> None:
+    """Set the ``status`` of the rolling.json published in ``folder`` (a full disk may refuse: "running" stays)."""
+    try:
+        data = json.loads((folder / "rolling.json").read_text())
+        data["status"] = status
+        atomic_write_text(folder / "rolling.json", json.dumps(data, indent=1, allow_nan=True))
+    except (OSError, ValueError, InputError):
+        pass
 
 
 def _series(config: RollingConfig, out_dir: Path, level: int, model: RollingModel):
