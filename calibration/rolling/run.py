@@ -288,7 +288,8 @@ def _run_staged(config: RollingConfig, tm: TrackMesh, staged: StagedOutput, t0: 
             series = _series(config, staged.dir, k, model)
             solver = SubstepSolver(model.prob, model.forces, p0, config.track.substeps, responses=responses)
             try:
-                for rec in roll(solver, SolverState.virgin(model.disc), positions, n_passes, config.track.ramp_steps, k):
+                virgin = SolverState.virgin(model.disc)
+                for rec in roll(solver, virgin, positions, n_passes, config.track.ramp_steps, k):
                     if isinstance(rec, MovingLoadPass):
                         results[k] = results[k].with_pass(rec, model.probe.profile(rec.state))
                         done += 1
