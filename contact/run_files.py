@@ -268,7 +268,7 @@ def _run_staged(scene: WearScene, staged: StagedOutput, plots: bool, show_progre
         try:
             for record in wear_steps(run, work_dir=staged.dir, show_progress=show_progress):
                 files.step(record)
-                staged.publish(_kept(staged, len(run.steps)))
+                staged.publish(staged.partial_kept(f"{len(run.steps)} completed step(s)"))
         except WearStopped as stop:
             files.finish(f"stopped: {stop.run.stopped}", _wear_pictures(run, staged.dir, plots))
             staged.finish(f"the stopped run's {len(run.steps)} completed step(s) are in {staged.path}")
@@ -282,13 +282,6 @@ def _run_staged(scene: WearScene, staged: StagedOutput, plots: bool, show_progre
             with contextlib.suppress(OSError, InputError):  # a full disk may refuse this too: "running" stays
                 mark_published(staged.where, _end_status(err, staged.published, staged.where))
         raise
-
-
-def _kept(staged: StagedOutput, steps: int) -> str:
-    """What the SIGTERM line says once ``steps`` completed steps are published in the partial folder."""
-    earlier = (staged.path / "result.json").is_file()
-    return (f"{steps} completed step(s) kept in {staged.partial}; {staged.path} "
-            + ("keeps the earlier output" if earlier else "was not written"))
 
 
 def _end_status(err: BaseException, steps: int, out: Path) -> str:

@@ -386,6 +386,13 @@ class StagedOutput:
             self.where = target
             record_kept(kept)
 
+    def partial_kept(self, completed: str) -> str:
+        """What the SIGTERM line says once ``completed`` (e.g. "2 completed step(s)") is published in :attr:`partial`:
+        there, and whether ``path`` keeps an earlier output of the tool."""
+        earlier = any((self.path / name).is_file() for name in OUTPUT_FILES)
+        return (f"{completed} kept in {self.partial}; {self.path} "
+                + ("keeps the earlier output" if earlier else "was not written"))
+
     def publish(self, kept: str = "") -> None:
         """Publish the staging folder's current state into :attr:`partial` (``path`` is not touched); ``kept``:
         what the SIGTERM line then says (default: the folder's name)."""

@@ -299,7 +299,7 @@ def _run_staged(config: RollingConfig, tm: TrackMesh, staged: StagedOutput, t0: 
                         now = replace(base, levels=results, seconds=time.perf_counter() - t0,
                                       status=f"running: {done} pass(es) completed")
                         _write(staged.dir, now.with_rolling_law(traction))
-                        staged.publish(_kept(staged, done))
+                        staged.publish(staged.partial_kept(f"{done} completed pass(es)"))
                         if progress is not None:
                             progress(f"level {k}: pass {rec.pass_index} groove {results[k].groove_mm[-1]:.4g} mm "
                                      f"({rec.seconds:.1f} s)")
@@ -328,13 +328,6 @@ def _run_staged(config: RollingConfig, tm: TrackMesh, staged: StagedOutput, t0: 
 
 def _write(out_dir: Path, result: RollingResult) -> Path:
     return atomic_write_text(out_dir / "rolling.json", json.dumps(result.to_dict(), indent=1, allow_nan=True))
-
-
-def _kept(staged: StagedOutput, passes: int) -> str:
-    """What the SIGTERM line says once ``passes`` completed passes are published in the partial folder."""
-    earlier = (staged.path / "rolling.json").is_file()
-    return (f"{passes} completed pass(es) kept in {staged.partial}; {staged.path} "
-            + ("keeps the earlier output" if earlier else "was not written"))
 
 
 def _mark(folder: Path, status: str) -> None:
