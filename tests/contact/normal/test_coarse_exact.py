@@ -135,6 +135,28 @@ def test_a_warm_start_keeps_the_grid_of_the_last_solve_at_another_force():
     assert warm.solves == 2
 
 
+def test_a_warm_start_keeps_its_grid_within_the_slack_where_a_cold_fit_would_move():
+    """The benchmark set's Hertz patch a/b = 10 (R_y 12.59 mm, 10 kN) at +2 % force: one more loaded line moves the
+    fit's ends by more than a cell but less than :data:`WARM_KEEP_CELLS`; the warm solve keeps the grid (one grid
+    solve), within the grid's discretisation of the cold solve; with a slack of one cell it refits."""
+    from benchmarks.fast_normal_cases import hertz_patches
+    from contact.normal import coarse_exact
+    from contact.normal.coarse_exact import CoarseWarmStart
+
+    prob = next(p.problem for p in hertz_patches() if p.name == "a/b 10").with_force(0.98e4)
+    for slack, kept in ((coarse_exact.WARM_KEEP_CELLS, 1), (1.0, 0)):
+        warm = CoarseWarmStart()
+        solve_coarse_exact(prob, warm=warm)
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(coarse_exact, "WARM_KEEP_CELLS", slack)
+            again = solve_coarse_exact(prob.with_force(1e4), warm=warm)
+        assert (warm.solves, warm.kept) == (1, kept), slack
+        assert (again.iterations["boxes"] == 1) == bool(kept)
+        cold = solve_coarse_exact(prob.with_force(1e4))
+        for key in ("p_max_MPa", "area_mm2", "delta_mm"):
+            assert getattr(again, key) == pytest.approx(getattr(cold, key), rel=0.02), key
+
+
 def test_a_warm_start_refits_when_the_patch_outgrows_the_kept_grid():
     from contact.normal.coarse_exact import CoarseWarmStart
 
