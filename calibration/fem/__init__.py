@@ -22,5 +22,6 @@ Two jobs run on it: the indentation of a calibration position (:mod:`calibration
 and down) and the moving load (:mod:`calibration.rolling.passes`: the passes as a generator of step and pass
 records; each step one :func:`~calibration.fem.newton.newton_increment`).
 
-Depends on: wrlayer, scikit-fem. Knows nothing about profiles or contact.
+Depends on: wrlayer, scikit-fem, meshes.meshing (the Gmsh start of the verification meshes). Knows nothing about
+profiles or contact.
 """

@@ -81,7 +81,9 @@ def hertz_block_gmsh(h: float, fine: float, length: float, order: int = 2, dim: 
     linearly to ``coarse_fraction * length`` at distance ``length``. Far fewer elements than the tensor grid."""
     import gmsh
 
-    gmsh.initialize(interruptible=False)
+    from meshes.meshing.gmsh_session import initialize_gmsh
+
+    initialize_gmsh()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.option.setNumber("General.NumThreads", 1)

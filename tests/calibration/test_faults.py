@@ -128,6 +128,29 @@ def _alive(pid: int) -> bool:
     return "zombie" not in status.lower()
 
 
+@pytest.mark.slow
+def test_sigterm_after_an_in_process_fem_says_what_was_cached(tmp_path):
+    """SIGTERM to a one-worker run (its FEM, and so Gmsh, in the run's own process) once a position is cached: exit
+    143 and the one line naming the cache, not a bare death by the signal: Gmsh's start had reset SIGTERM to its
+    default behind Python's handler (meshes.meshing.gmsh_session.signal_dispositions_kept)."""
+    cfg = tmp_path / "four.toml"
+    cfg.write_text(COARSE.read_text().replace("positions_mm = [0.0]", "positions_mm = [0.0, 5.0, 10.0, 15.0]"))
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "calibration", "run", str(cfg), "--out", str(out), "--quiet"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=ROOT,
+                            env={**os.environ, "PYTHONPATH": str(ROOT)})
+    deadline = time.monotonic() + 120
+    while proc.poll() is None and time.monotonic() < deadline and not list((out / "cache").glob("*.json")):
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    rc, err = proc.wait(timeout=60), proc.stderr.read()
+    assert rc == 143, (rc, err)
+    cached = list((out / "cache").glob("*.json"))
+    assert err.strip() == (f"error: terminated (SIGTERM); {len(cached)} computed position(s) cached in "
+                           f"{out / 'cache'} (a rerun reuses them)"), err
+    assert cached and all(load_indentation(p)[0] is not None for p in cached)
+
+
 @pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="needs Linux /proc")
 @pytest.mark.slow
 def test_killed_run_leaves_no_workers_and_frees_the_pipes(tmp_path):

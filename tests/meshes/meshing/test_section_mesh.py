@@ -14,6 +14,7 @@ from meshes.meshing.mesh_quality import (
     mesh_measure,
     surface_deviation_mm,
 )
+from meshes.meshing.gmsh_session import initialize_gmsh
 from meshes.meshing.mesh_size import GradedSize
 from meshes.profiles import get_profile, outline_area
 from meshes.meshing.section_mesh import DEFAULT_GRADING, default_depth_mm, section_mesh
@@ -148,7 +149,7 @@ def test_gmsh_is_finalised_after_an_error_and_the_next_call_works():
 
 
 def test_session_leaves_a_caller_initialised_gmsh_alone():
-    gmsh.initialize(readConfigFiles=False, interruptible=False)
+    initialize_gmsh()  # not gmsh.initialize: that would leave this test process's signal dispositions changed
     try:
         gmsh.model.add("caller")
         models = gmsh.model.list()
