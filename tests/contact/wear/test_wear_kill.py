@@ -55,16 +55,19 @@ def _consistent(out: Path) -> tuple[str, int]:
     return res["status"], n
 
 
-def _wait_for_publish(run: subprocess.Popen, folders: dict[Path, bytes | None], timeout: float = 120.0) -> None:
-    """Until the run has published a step (the result.json of one of ``folders`` differs from the bytes given:
-    ``--out.partial``, or ``--out`` itself for a run that publishes there) or has ended."""
+def _wait_for_publish(run: subprocess.Popen, folders: dict[Path, bytes | None], timeout: float = 120.0,
+                      steps: int = 1) -> None:
+    """Until the run has published ``steps`` steps (the result.json of one of ``folders`` differs from the bytes
+    given and lists that many: ``--out.partial``, or ``--out`` itself for a run that publishes there) or has
+    ended."""
     deadline = time.monotonic() + timeout
     while run.poll() is None and time.monotonic() < deadline:
         for folder, old in folders.items():
             try:
-                if (folder / "result.json").read_bytes() != old:
+                now = (folder / "result.json").read_bytes()
+                if now != old and len(json.loads(now)["steps"]) >= steps:
                     return
-            except OSError:
+            except (OSError, ValueError, KeyError):
                 pass
         time.sleep(0.01)
 
@@ -106,12 +109,15 @@ def test_random_kills_never_lose_the_earlier_output(tmp_path, wear_dict, write_s
         before, partial_before = _snapshot(out), _snapshot(partial) if partial.exists() else None
         sig = signal.SIGKILL if k % 2 == 0 else signal.SIGTERM
         run = _start(scene, out)
-        if rng.random() < 0.25:  # a quarter while it starts
+        phase = rng.random()
+        if phase < 0.25:  # a quarter while it starts
             time.sleep(rng.uniform(0.0, first_step))
-        else:  # the others once it has published a step: up to the end of the run
+        else:  # the others once it has published a step (or a later one: the steps themselves are hit on any
+            # machine, however fast the run after its first step), then up to the end of the run
+            steps = rng.randint(1, STEPS - 1) if phase < 0.75 else 1
             _wait_for_publish(run, {partial: (partial_before or {}).get("result.json"),
-                                    out: before["result.json"]})
-            time.sleep(rng.uniform(0.0, 1.1 * (duration - first_step)))
+                                    out: before["result.json"]}, steps=steps)
+            time.sleep(rng.uniform(0.0, (0.1 if phase < 0.75 else 1.1) * (duration - first_step)))
         t_kill = time.monotonic()
         run.send_signal(sig)
         rc = run.wait(timeout=60)
