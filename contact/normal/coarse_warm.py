@@ -24,9 +24,10 @@ class CoarseWarmStart:
     Each solve given it reads it and leaves its own final grid (with the grid's tables), the (spans, x span) that
     grid was fitted to, and the pressure there. A solve of the same problem at another force starts on that grid,
     from that pressure, to the full tolerance, and keeps the grid when the solution's loaded cells still fit it
-    (the cold fit's test, with :data:`contact.normal.coarse_exact.WARM_KEEP_CELLS` cells of slack); so the result is the kept grid's solution at the new force, not the one a cold solve's
-    fit would have placed (the two differ within the grid's discretisation: up to 2 % in p_max and area on the
-    A-2.2 sweep). ``solves``: solves started from it; ``kept``: of those, solved on the kept grid alone."""
+    (the cold fit's test, with :data:`contact.normal.coarse_exact.WARM_KEEP_CELLS` cells of slack); so the result
+    is the kept grid's solution at the new force, not the one a cold solve's fit would have placed (the two differ
+    within the grid's discretisation: up to 2 % in p_max and area on the A-2.2 sweep). ``solves``: solves started
+    from it; ``kept``: of those, solved on the kept grid alone."""
 
     def __init__(self):
         self.state: tuple | None = None          # (problem, layer, options, grid, fitted spans, pressure)
