@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 from benchmarks.harness import command_line, stamped_report
 from benchmarks.rolling_section_cases import COMPARED, POSITIONS, ROOT, TARGET, TRACTIONS, case_name, section_config
+from benchmarks.rolling_section_refined import REFINED_ELEMENTS, refined_markdown
 from benchmarks.rolling_section_static import mesh_factor, read_study, study_markdown
 from calibration.rolling.run import run_rolling
 from calibration.rolling.section_position import table_position
@@ -165,6 +166,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--run", action="store_true", help="run the configurations without a result first")
     ap.add_argument("--static", type=pathlib.Path, default=None,
                     help="the sections' static dents on finer meshes (python -m benchmarks.rolling_section_static)")
+    ap.add_argument("--refined", type=pathlib.Path, default=None,
+                    help="each position's worst case rolled at h = a/4 (python -m benchmarks.rolling_section_refined;"
+                         " needs --static)")
     ap.add_argument("--report", type=pathlib.Path, default=None,
                     help="also write the stamped report here (docs/validation/rolling-section-gap.md)")
     args = ap.parse_args(argv)
@@ -172,7 +176,13 @@ def main(argv: list[str] | None = None) -> int:
     rows = collect(args.runs, args.run)
     text = table_markdown(rows)
     if args.static:
-        text += "\n\n" + corrected_markdown(rows, read_study(args.static))
+        study = read_study(args.static)
+        text += "\n\n" + corrected_markdown(rows, study)
+        refined = refined_markdown(rows, study, args.refined) if args.refined else ""
+        if refined:
+            text += (f"\n\nEach position's worst case against the corrected groove, rolled again at h = a/"
+                     f"{REFINED_ELEMENTS:g} at the same p0 (`python -m benchmarks.rolling_section_refined`):\n\n"
+                     + refined)
     report = stamped_report("The rolling layer against the rolling FEM on the profile sections", text,
                             command_line("python -m benchmarks.bench_rolling_section_gap", argv))
     (args.runs / "section_gap.md").write_text(report)

@@ -1,0 +1,151 @@
+"""The rolling section gap's worst case of each position rolled again on a finer mesh (units mm, MPa, s).
+
+The section gap (:mod:`benchmarks.bench_rolling_section_gap`) rolls at h = a/2 and corrects its FEM groove for the
+mesh by the static dent's finest-mesh / a/2 factor (:func:`benchmarks.rolling_section_static.mesh_factor`): that
+assumes the groove over the static dent to be converged at a/2. Here that assumption is tested where it decides
+most: for each position, the case (traction, level) in which the rolling law is farthest from the corrected FEM
+groove is rolled again at h = a/4 (:data:`REFINED_ELEMENTS`), same track, steps and passes, at the a/2 run's
+peak pressure p0 in MPa (so both meshes and the layer meet at the same p0). The report gives, per case, the
+groove over the static dent at both meshes (which side moved) and the law against the a/4 groove.
+
+``python -m benchmarks.rolling_section_refined RUNS STATIC OUT [--workers 2]``: RUNS and STATIC are the gap's
+folders (``benchmarks/data/rolling_section_gap``, ``benchmarks/data/rolling_section_static``); one run folder per
+case in OUT (``<position>_c<c>_p<level>_h4``), a complete one is read, not run again. The gap's report reads OUT
+with ``--refined OUT`` (:func:`refined_markdown`). About 6-8 minutes of one core per case on an idle machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from benchmarks.rolling_section_cases import COMPARED, N_PASSES, POSITIONS, TARGET, case_name, section_config
+from benchmarks.rolling_section_static import mesh_factor
+from calibration.rolling.config import RollingConfig
+from calibration.rolling.run import run_rolling
+from wrlayer.runner import Runner
+
+#: Elements per contact semi-axis of the refined runs (h = a / 4; the gap's runs: a / 2).
+REFINED_ELEMENTS = 4.0
+
+
+@dataclass(frozen=True)
+class RefinedCase:
+    """One gap case to roll on the finer mesh: the position's name, table, y (mm) and label, the traction c (-),
+    the level p0 / p_y of the gap's a/2 run (-) and that run's peak pressure p0 (MPa)."""
+
+    name: str
+    table: str
+    y_mm: float
+    label: str
+    c: float
+    level: float
+    p0_MPa: float
+
+    @property
+    def key(self) -> str:
+        return f"{case_name(self.name, self.c)}_p{self.level:g}_h{REFINED_ELEMENTS:g}"
+
+    def config(self) -> RollingConfig:
+        """The gap's configuration of the case at h = a / :data:`REFINED_ELEMENTS`, one level given in MPa."""
+        cfg = section_config(self.table, self.y_mm, self.c)
+        return replace(cfg, contact=replace(cfg.contact, levels=(self.p0_MPa,), level_unit="MPa"),
+                       mesh=replace(cfg.mesh, elements_per_semi_axis=REFINED_ELEMENTS),
+                       source=f"{cfg.source}, {self.level:g} p_y at h = a/{REFINED_ELEMENTS:g}")
+
+
+def worst_cases(rows, study) -> list[RefinedCase]:
+    """Per position, the gap row (:class:`benchmarks.bench_rolling_section_gap.SectionGapRow`) whose rolling law is
+    farthest from the mesh-corrected FEM groove over the compared passes."""
+    cases = []
+    for name, table, y_mm, label in POSITIONS:
+        scored = []
+        for r in rows:
+            factor = mesh_factor(study, name, r.level) if r.position == label else None
+            if factor is not None:
+                scored.append((max(abs(lw / (f * factor) - 1.0) for lw, f in zip(r.law_mm, r.fem_mm)), r))
+        if scored:
+            r = max(scored, key=lambda item: item[0])[1]
+            cases.append(RefinedCase(name, table, y_mm, label, r.c, r.level, r.level * r.p_y_MPa))
+    return cases
+
+
+def run_refined(task: tuple[RefinedCase, Path]) -> str:
+    """Worker: roll one case into its folder under the output (kept when complete); returns its key."""
+    case, out = task
+    folder = out / case.key
+    if not _complete(folder):
+        run_rolling(case.config(), folder, force=True)
+    return case.key
+
+
+def _complete(folder: Path) -> bool:
+    path = folder / "rolling.json"
+    if not path.is_file():
+        return False
+    levels = json.loads(path.read_text())["levels"]
+    return bool(levels) and len(levels[0]["groove_mm"]) >= N_PASSES
+
+
+def refined_markdown(rows, study, out: Path) -> str:
+    """Per worst case with a complete run in ``out``: the groove over the static dent at a/2 and a/4 (passes
+    :data:`COMPARED`), the a/4 static dent over the a/2 one, and the rolling law over the a/4 groove."""
+    by_case = {(r.position, r.c, r.level): r for r in rows}
+    passes = ", ".join(str(n) for n in COMPARED)
+    lines = [f"| position | c | p0 / p_y | p0 (MPa) | groove / static dent at a/2, passes {passes} | the same at "
+             f"a/{REFINED_ELEMENTS:g} | static dent a/{REFINED_ELEMENTS:g} / a/2 | rolling law / a/"
+             f"{REFINED_ELEMENTS:g} groove, passes {passes} | law / corrected a/2 groove | dofs | wall time (s) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    within = n = 0
+    for case in worst_cases(rows, study):
+        path = out / case.key / "rolling.json"
+        if not _complete(out / case.key):
+            continue
+        run = json.loads(path.read_text())
+        lv = run["levels"][0]
+        r = by_case[case.label, case.c, case.level]
+        fine = [lv["groove_mm"][k - 1] for k in COMPARED]
+        law = [lw / g for lw, g in zip(r.law_mm, fine)]
+        factor = mesh_factor(study, case.name, case.level)
+        n += 1
+        within += all(abs(v - 1.0) <= TARGET for v in law)
+        lines.append(f"| {case.label} | {case.c:g} | {case.level:g} | {lv['p0_MPa']:.0f} | "
+                     + ", ".join(f"{f / r.static_dent_mm:.3f}" for f in r.fem_mm) + " | "
+                     + ", ".join(f"{g / lv['static_dent_mm']:.3f}" for g in fine) + " | "
+                     f"{lv['static_dent_mm'] / r.static_dent_mm:.3f} | " + ", ".join(f"{v:.3f}" for v in law) + " | "
+                     + ", ".join(f"{lw / (f * factor):.3f}" for lw, f in zip(r.law_mm, r.fem_mm)) + " | "
+                     f"{run['n_dofs']} | {run['seconds']:.0f} |")
+    if n == 0:
+        return ""
+    lines += ["", f"Against the a/{REFINED_ELEMENTS:g} rolling FEM at the same p0 the rolling law is within "
+              f"{TARGET:.0%} after passes {passes} in {within} of these {n} cases (each position's worst case against "
+              "the corrected a/2 groove)."]
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> None:
+    from benchmarks.bench_rolling_section_gap import collect  # the gap's rows (that module reads this one)
+    from benchmarks.rolling_section_static import read_study
+
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.rolling_section_refined",
+                                 description=__doc__.splitlines()[0])
+    ap.add_argument("runs", type=Path, help="the section gap's runs (benchmarks/data/rolling_section_gap)")
+    ap.add_argument("static", type=Path, help="the static study (benchmarks/data/rolling_section_static)")
+    ap.add_argument("out", type=Path, help="where the refined runs go")
+    ap.add_argument("--workers", type=int, default=2)
+    args = ap.parse_args(argv)
+    rows, study = collect(args.runs, False), read_study(args.static)
+    cases = worst_cases(rows, study)
+    args.out.mkdir(parents=True, exist_ok=True)
+    for case in cases:
+        print(f"{case.key}: {case.label}, c = {case.c:g}, {case.level:g} p_y, p0 = {case.p0_MPa:.1f} MPa", flush=True)
+    with Runner(args.workers) as runner:
+        for _, key in runner.imap(run_refined, [(c, args.out) for c in cases]):
+            print(f"done: {key}", flush=True)
+    print(refined_markdown(rows, study, args.out))
+
+
+if __name__ == "__main__":
+    main()
