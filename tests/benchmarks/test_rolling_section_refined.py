@@ -54,6 +54,8 @@ def test_report_compares_the_law_with_the_refined_groove(tmp_path):
     assert "| 1.040 |" in text  # static dent a/4 over a/2
     assert "in 0 of these 1 cases" in text  # law over the a/4 groove 0.886, 0.913, 0.930: not within 5 %
     assert "1234" in text
+    moves = [(g / 0.0104) / (f / 0.01) - 1 for g, f in zip((grooves[0], grooves[1], grooves[4]), rows[0].fem_mm)]
+    assert f"moved by {min(moves):+.1%} to {max(moves):+.1%}" in text
 
 
 def test_an_incomplete_run_is_left_out(tmp_path):
