@@ -9,7 +9,8 @@ where that is larger (both vanish at first yield, as the calibration's own targe
 route sends to the direct FEM are listed with the reason and what the master's nearest point would give. Also: the
 master's FEM count and time, the time per position once the master exists, and the wear example with its tables
 recalibrated by similarity after every step (``scenes/wear/s1002_60e1_recalibrated.toml``) against the example
-without recalibration (``scenes/wear/s1002_60e1.toml``), both in this process, the master cached.
+without recalibration (``scenes/wear/s1002_60e1.toml``), both in this process, the master cached (with
+``--wear-elastic``: also under the ``similarity_elastic`` rules named).
 
 Inputs: a direct run's FEM cache (``DIRECT_OUT/cache``: ``wrlayer calibrate`` of the configuration with
 ``run.method = "direct"``; keyed as this code keys the positions, or by ``--direct-keys``) and the master's FEM
@@ -17,7 +18,7 @@ cache (``MASTER``, where ``make calibrate`` keeps it); in "full" mode missing on
 benchmark reports what is missing. Regenerate::
 
     python -m benchmarks.bench_similarity --config CONFIG --direct DIRECT_OUT [--direct-keys KEYS.json]
-        --master MASTER_DIR [--wear] [--report FILE]
+        --master MASTER_DIR [--wear [--wear-elastic unanchored all]] [--sections] [--report FILE]
 
 Units: mm, MPa, s.
 """
@@ -239,9 +240,18 @@ def _master_count(cfg) -> int:
     return len(master_tasks(cfg, cfg.bodies[0].material))
 
 
-def wear_timing(config: Path = CONFIG, master_dir: Path = MASTER) -> dict:
+def wear_template(master_dir: Path, rule: str) -> str:
+    """The wear example's recalibration template with the master in ``master_dir`` and ``[run] similarity_elastic
+    = rule``."""
+    text = (WEAR_RECALIBRATED.parent / "recalibrate_similarity.toml").read_text()
+    text = text.replace('master_dir = "out/calibration/cache"', f'master_dir = "{master_dir}"')
+    return text.replace('method = "similarity"', f'method = "similarity"\nsimilarity_elastic = "{rule}"', 1)
+
+
+def wear_timing(config: Path = CONFIG, master_dir: Path = MASTER, elastic: tuple[str, ...] = ()) -> dict:
     """Wall times (s) of the wear example with and without recalibration by similarity after every step (the
-    master in ``master_dir``, computed first when missing: its cost is not in the times), the machine's load."""
+    master in ``master_dir``, computed first when missing: its cost is not in the times), the machine's load; with
+    ``elastic`` also the recalibrated run under each of these ``[run] similarity_elastic`` rules."""
     import tomllib
 
     from contact.wear.loop import run_wear
@@ -250,13 +260,14 @@ def wear_timing(config: Path = CONFIG, master_dir: Path = MASTER) -> dict:
     _master(_config(config, master_dir), quick=False)  # the master exists before the timed runs
     times, runs = {}, {}
     with tempfile.TemporaryDirectory() as tmp:
-        template = Path(tmp) / "recalibrate.toml"  # the scene's template with this master folder
-        text = (WEAR_RECALIBRATED.parent / "recalibrate_similarity.toml").read_text()
-        template.write_text(text.replace('master_dir = "out/calibration/cache"', f'master_dir = "{master_dir}"'))
-        for name, path in (("plain", WEAR), ("recalibrated", WEAR_RECALIBRATED)):
+        for rule in ("none", *elastic):
+            (Path(tmp) / f"recalibrate_{rule}.toml").write_text(wear_template(master_dir, rule))
+        cases = [("plain", WEAR, "none"), ("recalibrated", WEAR_RECALIBRATED, "none"),
+                 *((f"elastic {rule}", WEAR_RECALIBRATED, rule) for rule in elastic)]
+        for name, path, rule in cases:
             data = tomllib.loads(path.read_text())
             if "recalibrate" in data.get("wear", {}):
-                data["wear"]["recalibrate"]["config"] = str(template)
+                data["wear"]["recalibrate"]["config"] = str(Path(tmp) / f"recalibrate_{rule}.toml")
             for key, value in data.get("layers", {}).items():
                 if isinstance(value, str) and value.endswith(".json"):
                     data["layers"][key] = str((path.parent / value).resolve())
@@ -267,7 +278,9 @@ def wear_timing(config: Path = CONFIG, master_dir: Path = MASTER) -> dict:
             runs[name] = {"steps": len(run.steps), "load_before": load, "load_after": os.getloadavg()[0],
                           "recalibration_s": sum(r.timings.get("recalibration_s", 0.0) for r in run.steps)}
     return {"plain_s": times["plain"], "recalibrated_s": times["recalibrated"],
-            "ratio": times["recalibrated"] / times["plain"], "target": WEAR_TARGET, "runs": runs}
+            "ratio": times["recalibrated"] / times["plain"], "target": WEAR_TARGET, "runs": runs,
+            "elastic": {rule: {"s": times[f"elastic {rule}"], "ratio": times[f"elastic {rule}"] / times["plain"],
+                               **runs[f"elastic {rule}"]} for rule in elastic}}
 
 
 def _pct(x: float) -> str:
@@ -307,14 +320,16 @@ def _markdown(data: dict) -> str:
                   f"({w['runs']['recalibrated']['steps']} steps, recalibration "
                   f"{w['runs']['recalibrated']['recalibration_s']:.0f} s) against {w['plain_s']:.0f} s without: "
                   f"x{w['ratio']:.2f} (target < x{WEAR_TARGET:g}; load {w['runs']['plain']['load_before']:.1f} / "
-                  f"{w['runs']['recalibrated']['load_before']:.1f}).")
+                  f"{w['runs']['recalibrated']['load_before']:.1f})."
+                  + "".join(f" With `similarity_elastic = \"{rule}\"`: {e['s']:.0f} s (recalibration "
+                            f"{e['recalibration_s']:.0f} s), x{e['ratio']:.2f}." for rule, e in w.get("elastic", {}).items()))
     return "\n".join(md)
 
 
 def _sections_markdown(rows: list[dict]) -> list[str]:
     ok = [r for r in rows if "failed" not in r]
     within = [r for r in ok if max(abs(r["p_y"]), r["u_pl"], r["residual"]) <= TARGET]
-    md = ["With p_y and c_el from each served position's own section (`[run] similarity_elastic = true`: an "
+    md = ["With p_y and c_el from each served position's own section (`[run] similarity_elastic = \"all\"`: an "
           "elastic solve of the direct FEM's mesh; the plastic curves from the master at equal p0/p_y), at equal "
           "p0 as above:", "",
           "| body | y [mm] | p_y [%] | u_pl worst [%] | u_pl per level [%] | residual worst [%] | "
@@ -352,6 +367,8 @@ def main(argv: list[str] | None = None) -> None:
                     help='JSON {"body:y": cache key} of the direct run (when another revision computed it)')
     ap.add_argument("--master", type=Path, default=MASTER, help="the master's FEM cache folder")
     ap.add_argument("--wear", action="store_true", help="also time the wear example with and without recalibration")
+    ap.add_argument("--wear-elastic", nargs="*", default=[], choices=["unanchored", "all"],
+                    help="with --wear: also time the recalibrated example under these similarity_elastic rules")
     ap.add_argument("--sections", action="store_true",
                     help="also serve the positions with p_y and c_el from their sections' elastic solves")
     ap.add_argument("--json", type=Path, default=None, help="also write the numbers here")
@@ -360,7 +377,7 @@ def main(argv: list[str] | None = None) -> None:
     data = compare_runs(args.config, args.direct, args.master, quick=True, keys_file=args.direct_keys,
                         sections=args.sections)
     if args.wear and "missing" not in data:
-        data["wear"] = wear_timing(args.config, args.master)
+        data["wear"] = wear_timing(args.config, args.master, tuple(args.wear_elastic))
     if args.json:
         args.json.write_text(json.dumps(data, indent=1) + "\n")
     text = _markdown(data)

@@ -34,3 +34,14 @@ def test_sections_rows_compare_at_the_sections_p_y_and_count_the_misses(tmp_path
     rows = section_rows(cfg, master, tasks, {(t.body, t.y_mm): high}, tmp_path / "direct", workers=1)
     assert rows[0]["u_pl"] == pytest.approx(0.03 / 1.03, rel=1e-3)
     assert "every residual: 0 of 1 served" in " ".join(_sections_markdown(rows))
+
+
+def test_wear_template_sets_the_master_and_the_elastic_rule(tmp_path):
+    import tomllib
+
+    from benchmarks.bench_similarity import wear_template
+
+    for rule in ("none", "unanchored", "all"):
+        run = tomllib.loads(wear_template(tmp_path, rule))["run"]
+        assert run["similarity_elastic"] == rule and run["master_dir"] == str(tmp_path)
+        assert run["method"] == "similarity"
