@@ -322,7 +322,8 @@ def _markdown(data: dict) -> str:
                   f"x{w['ratio']:.2f} (target < x{WEAR_TARGET:g}; load {w['runs']['plain']['load_before']:.1f} / "
                   f"{w['runs']['recalibrated']['load_before']:.1f})."
                   + "".join(f" With `similarity_elastic = \"{rule}\"`: {e['s']:.0f} s (recalibration "
-                            f"{e['recalibration_s']:.0f} s), x{e['ratio']:.2f}." for rule, e in w.get("elastic", {}).items()))
+                            f"{e['recalibration_s']:.0f} s), x{e['ratio']:.2f}."
+                            for rule, e in w.get("elastic", {}).items()))
     return "\n".join(md)
 
 
