@@ -45,7 +45,7 @@ from calibration.tables import with_rolling_law
 from calibration.tasks import make_tasks
 from wrlayer.layer_table import LayerTable
 from meshes.profiles import Profile
-from meshes.profiles.io import write_simpack, written_points
+from meshes.profiles.io import parse_simpack, write_simpack
 from wrlayer import input_files
 from wrlayer.cost import guard
 from wrlayer.errors import ConvergenceError, InputError
@@ -55,8 +55,8 @@ PLACEHOLDERS = {"wheel": "@wheel_profile@", "rail": "@rail_profile@"}
 #: Keys of a ``[[bodies]]`` entry that may hold a placeholder.
 PROFILE_KEYS = ("profile", "mate")
 SUFFIX = {"wheel": "prw", "rail": "prr"}
-#: Largest difference (mm) between two sides' worn profile points for which the later side takes the earlier's
-#: recalibration: the round-off of a mirror-symmetric run (1e-14 mm measured), far below a step's wear.
+#: Largest difference (mm) between the points of two sides' worn profile files for which the later side takes the
+#: earlier's recalibration: the round-off of a mirror-symmetric run (1e-14 mm measured), far below a step's wear.
 SAME_PROFILE_MM = 1e-9
 
 
@@ -289,29 +289,28 @@ def recalibrate_sides(recal: Recalibration, profiles: dict[str, dict[str, Profil
     temporary folder)."""
     base = Path(work_dir) if work_dir is not None else Path(tempfile.mkdtemp(prefix="wrlayer-recal-"))
     tables, after = {}, {}
-    done: list[tuple[dict[str, Profile], dict | None, SideTables]] = []
+    done: list[tuple[dict[str, Path], dict | None, SideTables]] = []
     for side, prof in profiles.items():
         side_anchors = (anchors or {}).get(side)
         work = base / "calibration" / f"step_{step:03d}_{side}"
-        found = next((f for p, a, f in done if a == side_anchors and same_profiles(p, prof)), None)
-        if found is None:
+        files = write_profiles(prof, work, "worn")  # what the calibration reads (it writes the same again)
+        found = next((f for fs, a, f in done if a == side_anchors and same_profile_files(fs, files)), None)
+        if found is None:  # else a mirror-symmetric side: the same worn profiles and anchors give the same tables
             found = recalibrate_side(recal, prof, work, scheduler, what=f"step {step}: wear.recalibrate ({side} side)",
                                      anchors=side_anchors)
-        else:  # a mirror-symmetric side: the same worn profiles and anchors give the same tables
-            write_profiles(prof, work, "worn")
-        done.append((prof, side_anchors, found))
+        done.append((files, side_anchors, found))
         tables.update({(side, body): table for body, table in found.tables.items()})
         after[side] = found.anchors
     return tables, after
 
 
-def same_profiles(a: dict[str, Profile], b: dict[str, Profile]) -> bool:
-    """True when ``a`` and ``b`` ({body: profile}) hold the same bodies whose written points
-    (:func:`meshes.profiles.io.written_points`) agree within :data:`SAME_PROFILE_MM`."""
+def same_profile_files(a: dict[str, Path], b: dict[str, Path]) -> bool:
+    """True when ``a`` and ``b`` ({body: SIMPACK file}, :func:`write_profiles`) hold the same bodies whose points
+    agree within :data:`SAME_PROFILE_MM`."""
     if a.keys() != b.keys():
         return False
     for body in a:
-        pa, pb = written_points(a[body]), written_points(b[body])
+        pa, pb = parse_simpack(a[body])[1], parse_simpack(b[body])[1]
         if pa.shape != pb.shape or not np.all(np.abs(pa - pb) <= SAME_PROFILE_MM):
             return False
     return True
@@ -322,5 +321,5 @@ def _quiet(message: str) -> None:
 
 
 __all__ = ["PLACEHOLDERS", "SAME_PROFILE_MM", "Recalibration", "SideTables", "merged_table", "read_template",
-           "recalibrate_side", "recalibrate_sides", "same_profiles", "similarity_config", "worn_config",
+           "recalibrate_side", "recalibrate_sides", "same_profile_files", "similarity_config", "worn_config",
            "write_profiles"]

@@ -102,11 +102,6 @@ def _profile_points(profile_or_points, ds: float) -> np.ndarray:
     return pts
 
 
-def written_points(profile_or_points, ds: float = 0.2) -> np.ndarray:
-    """The (n, 2) points (y, z up; mm) that :func:`write_simpack` writes for ``profile_or_points`` (same ``ds``)."""
-    return _profile_points(profile_or_points, ds)
-
-
 # --------------------------------------------------------------------------------------------
 # SIMPACK
 # --------------------------------------------------------------------------------------------

@@ -4,14 +4,14 @@ mirror-symmetric run, round-off apart) takes that side's tables instead of a sec
 import numpy as np
 
 from contact.wear import recalibrate as recal_mod
-from contact.wear.recalibrate import SAME_PROFILE_MM, SideTables, recalibrate_sides, same_profiles
+from contact.wear.recalibrate import (SAME_PROFILE_MM, SideTables, recalibrate_sides, same_profile_files,
+                                     write_profiles)
 from meshes.profiles import SplineProfile, get_profile
-from meshes.profiles.io import written_points
 
 
 def nudged(profile, dz_mm: float, at: int = 10):
-    """``profile`` as its written points with one z moved by ``dz_mm``."""
-    pts = written_points(profile).copy()
+    """``profile`` as a spline through its points (sampled every 0.2 mm) with one z moved by ``dz_mm``."""
+    pts = profile.points.copy() if isinstance(profile, SplineProfile) else np.column_stack(profile.sample(0.2))
     pts[at, 1] += dz_mm
     return SplineProfile(pts[:, 0], pts[:, 1], f"{profile.name} nudged", profile.body)
 
@@ -32,11 +32,14 @@ def counting(monkeypatch):
     return calls
 
 
-def test_round_off_apart_the_profiles_are_the_same():
+def test_round_off_apart_the_profiles_are_the_same(tmp_path):
+    def files(profiles, name):
+        return write_profiles(profiles, tmp_path / name, "test")
+
     right, left = sides(1e-14).values()
-    assert same_profiles(right, left)
-    assert not same_profiles(right, sides(10 * SAME_PROFILE_MM)["left"])
-    assert not same_profiles(right, {})
+    assert same_profile_files(files(right, "r"), files(left, "l"))
+    assert not same_profile_files(files(right, "r"), files(sides(10 * SAME_PROFILE_MM)["left"], "far"))
+    assert not same_profile_files(files(right, "r"), {})
 
 
 def test_a_mirror_side_takes_the_earlier_sides_tables(monkeypatch, tmp_path):
