@@ -86,7 +86,7 @@ class Recalibration:
         Under ``run.method = "similarity"``: a position whose worn patch has left its anchor's (about one master
         grid cell, :func:`calibration.similarity.anchor.applies`) is computed by the direct FEM, and that entry
         anchors the side's later recalibrations; false (default): such a position is served by the master alone
-        (the wear example: x1.35 the run without recalibration, docs/validation/similarity.md; with re-anchoring x4.3 in
+        (the wear example: x1.18 the run without recalibration, docs/validation/similarity.md; with re-anchoring x4.3 in
         an earlier run, 6 FEM positions).
     """
 
