@@ -286,7 +286,8 @@ def recalibrate_sides(recal: Recalibration, profiles: dict[str, dict[str, Profil
     """The tables of every side recalibrated on its current profiles after ``step``, as {(side, body): table},
     and every side's anchors after it ({side: {(body, y): reference}}; ``anchors``: before it, a side not listed
     starts from the scene tables'); the files go to ``work_dir``/calibration/step_NNN_<side> (default: a new
-    temporary folder)."""
+    temporary folder). A side whose worn profile files and anchors equal an earlier side's (within
+    :data:`SAME_PROFILE_MM`: a mirror-symmetric run) takes that side's tables; its folder holds only its profiles."""
     base = Path(work_dir) if work_dir is not None else Path(tempfile.mkdtemp(prefix="wrlayer-recal-"))
     tables, after = {}, {}
     done: list[tuple[dict[str, Path], dict | None, SideTables]] = []
@@ -295,7 +296,7 @@ def recalibrate_sides(recal: Recalibration, profiles: dict[str, dict[str, Profil
         work = base / "calibration" / f"step_{step:03d}_{side}"
         files = write_profiles(prof, work, "worn")  # what the calibration reads (it writes the same again)
         found = next((f for fs, a, f in done if a == side_anchors and same_profile_files(fs, files)), None)
-        if found is None:  # else a mirror-symmetric side: the same worn profiles and anchors give the same tables
+        if found is None:
             found = recalibrate_side(recal, prof, work, scheduler, what=f"step {step}: wear.recalibrate ({side} side)",
                                      anchors=side_anchors)
         done.append((files, side_anchors, found))
