@@ -65,3 +65,17 @@ def test_an_incomplete_run_is_left_out(tmp_path):
     (tmp_path / case.key / "rolling.json").write_text(json.dumps(
         {"n_dofs": 1, "seconds": 1.0, "levels": [{"p0_MPa": 1.0, "static_dent_mm": 1.0, "groove_mm": [1.0]}]}))
     assert rf.refined_markdown(rows, study(1.05), tmp_path) == ""
+
+
+def test_a_whole_position_is_every_level_and_traction_and_reported(tmp_path):
+    rows = [row(0.0, 1.3, 1.04), row(0.2, 1.7, 0.93), row(0.0, 2.1, 1.06)]
+    cases = rf.cases_of(rows, NAME)
+    assert [(c.c, c.level) for c in cases] == [(0.0, 1.3), (0.2, 1.7), (0.0, 2.1)]
+    assert rf.cases_of(rows, POSITIONS[1][0]) == []
+    for case in cases[::2]:  # two runs, neither the worst case
+        (tmp_path / case.key).mkdir()
+        (tmp_path / case.key / "rolling.json").write_text(json.dumps(
+            {"n_dofs": 1, "seconds": 1.0, "levels": [{"p0_MPa": case.p0_MPa, "static_dent_mm": 0.01,
+                                                      "groove_mm": [0.0104, 0.0115, 0.012, 0.0125, 0.0126]}]}))
+    text = rf.refined_markdown(rows, study(1.05), tmp_path)
+    assert "| 1.3 |" in text and "| 2.1 |" in text and "| 1.7 |" not in text and "of these 2 cases" in text
