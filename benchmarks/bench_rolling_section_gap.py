@@ -180,9 +180,9 @@ def main(argv: list[str] | None = None) -> int:
         text += "\n\n" + corrected_markdown(rows, study)
         refined = refined_markdown(rows, study, args.refined) if args.refined else ""
         if refined:
-            text += (f"\n\nEach position's worst case against the corrected groove, rolled again at h = a/"
-                     f"{REFINED_ELEMENTS:g} at the same p0 (`python -m benchmarks.rolling_section_refined`):\n\n"
-                     + refined)
+            text += (f"\n\nCases rolled again at h = a/{REFINED_ELEMENTS:g} at the same p0 (`python -m "
+                     "benchmarks.rolling_section_refined`: each position's worst case against the corrected groove, "
+                     "and the positions run whole):\n\n" + refined)
     report = stamped_report("The rolling layer against the rolling FEM on the profile sections", text,
                             command_line("python -m benchmarks.bench_rolling_section_gap", argv))
     (args.runs / "section_gap.md").write_text(report)

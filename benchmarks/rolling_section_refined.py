@@ -68,16 +68,20 @@ def worst_cases(rows, study) -> list[RefinedCase]:
             if factor is not None:
                 scored.append((max(abs(lw / (f * factor) - 1.0) for lw, f in zip(r.law_mm, r.fem_mm)), r))
         if scored:
-            r = max(scored, key=lambda item: item[0])[1]
-            cases.append(RefinedCase(name, table, y_mm, label, r.c, r.level, r.level * r.p_y_MPa))
+            cases.append(_case(name, max(scored, key=lambda item: item[0])[1]))
     return cases
 
 
 def cases_of(rows, name: str) -> list[RefinedCase]:
     """Every gap row of the position ``name`` (all levels and tractions), as refined cases."""
+    label = next(p[3] for p in POSITIONS if p[0] == name)
+    return [_case(name, r) for r in rows if r.position == label]
+
+
+def _case(name: str, row) -> RefinedCase:
+    """The gap row ``row`` of the position ``name`` at its a/2 run's peak pressure."""
     _, table, y_mm, label = next(p for p in POSITIONS if p[0] == name)
-    return [RefinedCase(name, table, y_mm, label, r.c, r.level, r.level * r.p_y_MPa) for r in rows
-            if r.position == label]
+    return RefinedCase(name, table, y_mm, label, row.c, row.level, row.level * row.p_y_MPa)
 
 
 def run_refined(task: tuple[RefinedCase, Path]) -> str:
@@ -102,7 +106,6 @@ def refined_markdown(rows, study, out: Path) -> str:
     positions run whole): the groove over the static dent at a/2 and a/4 (passes :data:`COMPARED`), the a/4 static
     dent over the a/2 one, and the rolling law over the a/4 groove."""
     by_case = {(r.position, r.c, r.level): r for r in rows}
-    names = {label: name for name, _, _, label in POSITIONS}
     every = [case for name, *_ in POSITIONS for case in cases_of(rows, name)]
     passes = ", ".join(str(n) for n in COMPARED)
     lines = [f"| position | c | p0 / p_y | p0 (MPa) | groove / static dent at a/2, passes {passes} | the same at "
@@ -120,7 +123,7 @@ def refined_markdown(rows, study, out: Path) -> str:
         r = by_case[case.label, case.c, case.level]
         fine = [lv["groove_mm"][k - 1] for k in COMPARED]
         law = [lw / g for lw, g in zip(r.law_mm, fine)]
-        factor = mesh_factor(study, names[case.label], case.level)
+        factor = mesh_factor(study, case.name, case.level)
         moves += [(g / lv["static_dent_mm"]) / (f / r.static_dent_mm) - 1.0 for g, f in zip(fine, r.fem_mm)]
         n += 1
         within += all(abs(v - 1.0) <= TARGET for v in law)
@@ -133,9 +136,9 @@ def refined_markdown(rows, study, out: Path) -> str:
     if n == 0:
         return ""
     lines += ["", f"Against the a/{REFINED_ELEMENTS:g} rolling FEM at the same p0 the rolling law is within "
-              f"{TARGET:.0%} after passes {passes} in {within} of these {n} cases. The groove over the static dent moved by "
-              f"{min(moves):+.1%} to {max(moves):+.1%} from a/2 to a/{REFINED_ELEMENTS:g} (the a/2 correction takes "
-              "it as unchanged)."]
+              f"{TARGET:.0%} after passes {passes} in {within} of these {n} cases. The groove over the static dent "
+              f"moved by {min(moves):+.1%} to {max(moves):+.1%} from a/2 to a/{REFINED_ELEMENTS:g} (the a/2 "
+              "correction takes it as unchanged)."]
     return "\n".join(lines)
 
 
