@@ -53,8 +53,10 @@ class SectionGapRow:
     relaxed_mm: tuple[float, ...]
     state_kept_mm: tuple[float, ...]
 
-    def law_over_fem(self) -> tuple[float, ...]:
-        return tuple(lw / f for lw, f in zip(self.law_mm, self.fem_mm))
+    def law_over_fem(self, mesh_factor: float = 1.0) -> tuple[float, ...]:
+        """The layer's groove over the FEM groove times ``mesh_factor`` (the static dent's finest-mesh / a/2
+        factor, :func:`benchmarks.rolling_section_static.mesh_factor`: the mesh-corrected groove), per pass."""
+        return tuple(lw / (f * mesh_factor) for lw, f in zip(self.law_mm, self.fem_mm))
 
     def ratio_over_fem_ratio(self) -> tuple[float, ...]:
         """The rolling law's own share of the gap: G_n (the layer's groove over its static residual r) over the
@@ -138,7 +140,7 @@ def corrected_markdown(rows: list[SectionGapRow], study: dict) -> str:
     for r in rows:
         factor = mesh_factor(study, names[r.position], r.level)
         if factor is not None:
-            corrected.append((r, [lw / (f * factor) for lw, f in zip(r.law_mm, r.fem_mm)]))
+            corrected.append((r, r.law_over_fem(factor)))
     if corrected:
         lines += ["| position | c | p0 / p_y | static dent finest mesh / a/2 | rolling law / corrected FEM groove, "
                   f"passes {', '.join(str(n) for n in COMPARED)} |", "|---|---|---|---|---|"]

@@ -66,7 +66,7 @@ def worst_cases(rows, study) -> list[RefinedCase]:
         for r in rows:
             factor = mesh_factor(study, name, r.level) if r.position == label else None
             if factor is not None:
-                scored.append((max(abs(lw / (f * factor) - 1.0) for lw, f in zip(r.law_mm, r.fem_mm)), r))
+                scored.append((max(abs(v - 1.0) for v in r.law_over_fem(factor)), r))
         if scored:
             cases.append(_case(name, max(scored, key=lambda item: item[0])[1]))
     return cases
@@ -131,7 +131,7 @@ def refined_markdown(rows, study, out: Path) -> str:
                      + ", ".join(f"{f / r.static_dent_mm:.3f}" for f in r.fem_mm) + " | "
                      + ", ".join(f"{g / lv['static_dent_mm']:.3f}" for g in fine) + " | "
                      f"{lv['static_dent_mm'] / r.static_dent_mm:.3f} | " + ", ".join(f"{v:.3f}" for v in law) + " | "
-                     + ", ".join(f"{lw / (f * factor):.3f}" for lw, f in zip(r.law_mm, r.fem_mm)) + " | "
+                     + ", ".join(f"{v:.3f}" for v in r.law_over_fem(factor)) + " | "
                      f"{run['n_dofs']} | {run['seconds']:.0f} |")
     if n == 0:
         return ""
