@@ -8,10 +8,11 @@ groove is rolled again at h = a/4 (:data:`REFINED_ELEMENTS`), same track, steps 
 peak pressure p0 in MPa (so both meshes and the layer meet at the same p0). The report gives, per case, the
 groove over the static dent at both meshes (which side moved) and the law against the a/4 groove.
 
-``python -m benchmarks.rolling_section_refined RUNS STATIC OUT [--workers 2] [--whole crown]``: (``--whole``: also
-every level and traction of these positions) RUNS and STATIC are the gap's
-folders (``benchmarks/data/rolling_section_gap``, ``benchmarks/data/rolling_section_static``); one run folder per
-case in OUT (``<position>_c<c>_p<level>_h4``), a complete one is read, not run again. The gap's report reads OUT
+``python -m benchmarks.rolling_section_refined RUNS STATIC OUT [--workers 2] [--whole crown] [--check CASE ...]``
+(``--whole``: also every level and traction of these positions; ``--check``: these cases also at h = a/6, whether
+the a/4 ratio is converged): RUNS and STATIC are the gap's folders (``benchmarks/data/rolling_section_gap``,
+``benchmarks/data/rolling_section_static``); one run folder per case in OUT (``<position>_c<c>_p<level>_h4``,
+``..._h6``), a complete one is read, not run again. The gap's report reads OUT
 with ``--refined OUT`` (:func:`refined_markdown`). About 6-8 minutes of one core per case on an idle machine.
 """
 
@@ -30,12 +31,15 @@ from wrlayer.runner import Runner
 
 #: Elements per contact semi-axis of the refined runs (h = a / 4; the gap's runs: a / 2).
 REFINED_ELEMENTS = 4.0
+#: Elements per semi-axis of the convergence check of the refined runs (``--check``: h = a / 6).
+CHECK_ELEMENTS = 6.0
 
 
 @dataclass(frozen=True)
 class RefinedCase:
     """One gap case to roll on the finer mesh: the position's name, table, y (mm) and label, the traction c (-),
-    the level p0 / p_y of the gap's a/2 run (-) and that run's peak pressure p0 (MPa)."""
+    the level p0 / p_y of the gap's a/2 run (-), that run's peak pressure p0 (MPa) and the elements per semi-axis
+    of the refined mesh (-)."""
 
     name: str
     table: str
@@ -44,17 +48,18 @@ class RefinedCase:
     c: float
     level: float
     p0_MPa: float
+    elements: float = REFINED_ELEMENTS
 
     @property
     def key(self) -> str:
-        return f"{case_name(self.name, self.c)}_p{self.level:g}_h{REFINED_ELEMENTS:g}"
+        return f"{case_name(self.name, self.c)}_p{self.level:g}_h{self.elements:g}"
 
     def config(self) -> RollingConfig:
-        """The gap's configuration of the case at h = a / :data:`REFINED_ELEMENTS`, one level given in MPa."""
+        """The gap's configuration of the case at h = a / ``elements``, one level given in MPa."""
         cfg = section_config(self.table, self.y_mm, self.c)
         return replace(cfg, contact=replace(cfg.contact, levels=(self.p0_MPa,), level_unit="MPa"),
-                       mesh=replace(cfg.mesh, elements_per_semi_axis=REFINED_ELEMENTS),
-                       source=f"{cfg.source}, {self.level:g} p_y at h = a/{REFINED_ELEMENTS:g}")
+                       mesh=replace(cfg.mesh, elements_per_semi_axis=self.elements),
+                       source=f"{cfg.source}, {self.level:g} p_y at h = a/{self.elements:g}")
 
 
 def worst_cases(rows, study) -> list[RefinedCase]:
@@ -88,17 +93,19 @@ def run_refined(task: tuple[RefinedCase, Path]) -> str:
     """Worker: roll one case into its folder under the output (kept when complete); returns its key."""
     case, out = task
     folder = out / case.key
-    if not _complete(folder):
+    if complete_run(folder) is None:
         run_rolling(case.config(), folder, force=True)
     return case.key
 
 
-def _complete(folder: Path) -> bool:
+def complete_run(folder: Path) -> dict | None:
+    """The rolling.json of a run folder with all :data:`N_PASSES` passes done, or None."""
     path = folder / "rolling.json"
     if not path.is_file():
-        return False
-    levels = json.loads(path.read_text())["levels"]
-    return bool(levels) and len(levels[0]["groove_mm"]) >= N_PASSES
+        return None
+    run = json.loads(path.read_text())
+    levels = run["levels"]
+    return run if levels and len(levels[0]["groove_mm"]) >= N_PASSES else None
 
 
 def refined_markdown(rows, study, out: Path) -> str:
@@ -115,10 +122,9 @@ def refined_markdown(rows, study, out: Path) -> str:
     within = n = 0
     moves: list[float] = []
     for case in every:
-        path = out / case.key / "rolling.json"
-        if not _complete(out / case.key):
+        run = complete_run(out / case.key)
+        if run is None:
             continue
-        run = json.loads(path.read_text())
         lv = run["levels"][0]
         r = by_case[case.label, case.c, case.level]
         fine = [lv["groove_mm"][k - 1] for k in COMPARED]
@@ -142,6 +148,31 @@ def refined_markdown(rows, study, out: Path) -> str:
     return "\n".join(lines)
 
 
+def check_markdown(rows, out: Path) -> str:
+    """Per case with a complete run at h = a / :data:`CHECK_ELEMENTS` in ``out`` (``--check``): the groove over the
+    static dent at a/2, a/4 and a/6 (passes :data:`COMPARED`), the a/6 static dent over the a/4 one and the rolling
+    law over the a/6 groove: is the a/4 ratio converged?"""
+    by_case = {(r.position, r.c, r.level): r for r in rows}
+    passes = ", ".join(str(n) for n in COMPARED)
+    h4, h6 = f"a/{REFINED_ELEMENTS:g}", f"a/{CHECK_ELEMENTS:g}"
+    lines = [f"| position | c | p0 / p_y | groove / static dent at a/2, {h4}, {h6} (passes {passes}) | static dent "
+             f"{h6} / {h4} | rolling law / {h6} groove | dofs | wall time (s) |", "|---|---|---|---|---|---|---|---|"]
+    for case in (c for name, *_ in POSITIONS for c in cases_of(rows, name)):
+        fine, finest = complete_run(out / case.key), complete_run(out / replace(case, elements=CHECK_ELEMENTS).key)
+        if fine is None or finest is None:
+            continue
+        r = by_case[case.label, case.c, case.level]
+        ratios = [[f / r.static_dent_mm for f in r.fem_mm]]
+        ratios += [[lv["groove_mm"][k - 1] / lv["static_dent_mm"] for k in COMPARED]
+                   for lv in (fine["levels"][0], finest["levels"][0])]
+        law = [lw / finest["levels"][0]["groove_mm"][k - 1] for lw, k in zip(r.law_mm, COMPARED)]
+        lines.append(f"| {case.label} | {case.c:g} | {case.level:g} | "
+                     + "; ".join(", ".join(f"{v:.3f}" for v in series) for series in ratios) + " | "
+                     f"{finest['levels'][0]['static_dent_mm'] / fine['levels'][0]['static_dent_mm']:.3f} | "
+                     + ", ".join(f"{v:.3f}" for v in law) + f" | {finest['n_dofs']} | {finest['seconds']:.0f} |")
+    return "\n".join(lines) if len(lines) > 2 else ""
+
+
 def main(argv: list[str] | None = None) -> None:
     from benchmarks.bench_rolling_section_gap import collect  # the gap's rows (that module reads this one)
     from benchmarks.rolling_section_static import read_study
@@ -154,10 +185,17 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--whole", nargs="*", default=[], choices=[p[0] for p in POSITIONS],
                     help="also every level and traction of these positions")
+    ap.add_argument("--check", nargs="*", default=[], metavar="CASE",
+                    help=f"also these cases (e.g. crown_c0.2_p1.15) at h = a/{CHECK_ELEMENTS:g}")
     args = ap.parse_args(argv)
     rows, study = collect(args.runs, False), read_study(args.static)
     cases = worst_cases(rows, study)
     cases += [c for name in args.whole for c in cases_of(rows, name) if c.key not in {k.key for k in cases}]
+    every = {f"{case_name(c.name, c.c)}_p{c.level:g}": c for name, *_ in POSITIONS for c in cases_of(rows, name)}
+    unknown = [k for k in args.check if k not in every]
+    if unknown:
+        ap.error(f"--check: no gap case {', '.join(unknown)} (cases look like crown_c0.2_p1.15)")
+    cases += [replace(every[k], elements=CHECK_ELEMENTS) for k in args.check]
     args.out.mkdir(parents=True, exist_ok=True)
     for case in cases:
         print(f"{case.key}: {case.label}, c = {case.c:g}, {case.level:g} p_y, p0 = {case.p0_MPa:.1f} MPa", flush=True)
@@ -165,6 +203,7 @@ def main(argv: list[str] | None = None) -> None:
         for _, key in runner.imap(run_refined, [(c, args.out) for c in cases]):
             print(f"done: {key}", flush=True)
     print(refined_markdown(rows, study, args.out))
+    print(check_markdown(rows, args.out))
 
 
 if __name__ == "__main__":

@@ -2,6 +2,7 @@
 at h = a/4, one level at the a/2 run's p0 in MPa) and the report read from a run's rolling.json."""
 
 import json
+from dataclasses import replace
 
 import pytest
 
@@ -79,3 +80,23 @@ def test_a_whole_position_is_every_level_and_traction_and_reported(tmp_path):
                                                       "groove_mm": [0.0104, 0.0115, 0.012, 0.0125, 0.0126]}]}))
     text = rf.refined_markdown(rows, study(1.05), tmp_path)
     assert "| 1.3 |" in text and "| 2.1 |" in text and "| 1.7 |" not in text and "of these 2 cases" in text
+
+
+def test_the_check_at_a6_reports_the_three_meshes_ratios(tmp_path):
+    rows = [row(0.2, 1.7, 0.93)]
+    case = rf.cases_of(rows, NAME)[0]
+    assert rf.check_markdown(rows, tmp_path) == ""
+    for elements, dent, grooves in ((4.0, 0.0104, [0.0105, 0.0112, 0.0116, 0.0118, 0.0120]),
+                                    (6.0, 0.0106, [0.0107, 0.0114, 0.0117, 0.0119, 0.0121])):
+        folder = tmp_path / replace(case, elements=elements).key
+        folder.mkdir()
+        (folder / "rolling.json").write_text(json.dumps(
+            {"n_dofs": 99, "seconds": 7.0, "levels": [{"p0_MPa": case.p0_MPa, "static_dent_mm": dent,
+                                                       "groove_mm": grooves}]}))
+    assert folder.name.endswith("_h6")
+    text = rf.check_markdown(rows, tmp_path)
+    a4 = ", ".join(f"{g / 0.0104:.3f}" for g in (0.0105, 0.0112, 0.0120))
+    a6 = ", ".join(f"{g / 0.0106:.3f}" for g in (0.0107, 0.0114, 0.0121))
+    assert f"; {a4}; {a6} |" in text and f"| {0.0106 / 0.0104:.3f} |" in text and "| 99 |" in text
+    law = ", ".join(f"{0.93 * f / g:.3f}" for f, g in zip(rows[0].fem_mm, (0.0107, 0.0114, 0.0121)))
+    assert law in text
