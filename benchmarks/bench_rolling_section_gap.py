@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 from benchmarks.harness import command_line, stamped_report
 from benchmarks.rolling_section_cases import COMPARED, POSITIONS, ROOT, TARGET, TRACTIONS, case_name, section_config
+from benchmarks.rolling_section_law import law_markdown, section_runs
 from benchmarks.rolling_section_refined import REFINED_ELEMENTS, refined_markdown
 from benchmarks.rolling_section_static import mesh_factor, read_study, study_markdown
 from calibration.rolling.run import run_rolling
@@ -185,6 +186,11 @@ def main(argv: list[str] | None = None) -> int:
             text += (f"\n\nCases rolled again at h = a/{REFINED_ELEMENTS:g} at the same p0 (`python -m "
                      "benchmarks.rolling_section_refined`: each position's worst case against the corrected groove, "
                      "and the positions run whole):\n\n" + refined)
+        fitted = law_markdown(section_runs(rows, args.refined)) if args.refined else ""
+        if fitted:
+            text += ("\n\nThe tables' round rolling-law node fitted to the a/4 runs of each table's two positions "
+                     "(`python -m benchmarks.rolling_section_law`; the column \"rolling law / a/4 groove\" above is "
+                     "the table's law):\n\n" + fitted)
     report = stamped_report("The rolling layer against the rolling FEM on the profile sections", text,
                             command_line("python -m benchmarks.bench_rolling_section_gap", argv))
     (args.runs / "section_gap.md").write_text(report)

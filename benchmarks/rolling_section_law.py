@@ -1,0 +1,161 @@
+"""The shipped tables' rolling law fitted where it is compared: on the profile sections at h = a/4 (units mm, MPa).
+
+The tables' round patch-shape node was fitted to half-space blocks at h = a/2; rolled again at h = a/4 on the
+sections, the groove over the static dent moved by up to 8 % and the law overstated the a/4 groove by 6-12 % at
+1.15-1.3 p_y (docs/validation/rolling-section-gap.md). Here that node is fitted
+(:func:`calibration.rolling.law_fit.fit_passes`) to the refined section runs of
+:mod:`benchmarks.rolling_section_refined`: per table (rail: crown and gauge corner; wheel: tread and flange root),
+level and traction, the mean over the two positions of the a/4 groove over the same run's a/4 static dent,
+passes 1-5. Its level x = p0 / p_2 is the run's peak pressure over the table's p_2 at the position (mean of the
+two), and the law is resampled to the levels of the tables' other nodes by its own bilinear rule. The long-patch
+nodes (blocks, :data:`benchmarks.rolling_gap.LONG_PATCHES`) stay as the table holds them.
+
+Checked beyond the fit: each position against the law fitted to the other position of its table alone
+(:func:`law_markdown`, column "other position's law").
+
+``python -m benchmarks.rolling_section_law RUNS REFINED [--write-tables]``: RUNS the gap's a/2 runs
+(``benchmarks/data/rolling_section_gap``, for the cases' peak pressures), REFINED the a/4 runs
+(``benchmarks/data/rolling_section_refined``); prints the fit and with ``--write-tables`` writes the node into the
+shipped default tables (``rolling_law``, format version 3; the characteristics are unchanged).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from benchmarks.rolling_gap import write_law
+from benchmarks.rolling_section_cases import COMPARED, LEVELS, POSITIONS, ROOT, TARGET, TRACTIONS
+from benchmarks.rolling_section_refined import REFINED_ELEMENTS, cases_of, complete_run
+from calibration.rolling.law_fit import PassFit, fit_passes, rolling_law
+from wrlayer.layer_table import LayerTable
+from wrlayer.rolling_law import RollingLaw
+
+#: The tables whose round node is fitted here: table -> the positions (names of POSITIONS) whose mean it is.
+GROUPS = {"scenes/tables/rail_60E1_default.json": ("crown", "corner"),
+          "scenes/tables/wheel_S1002_default.json": ("tread", "flange")}
+
+
+@dataclass(frozen=True)
+class SectionRun:
+    """One refined run: position name, traction c (-), the gap's level p0 / p_y (-), x = p0 / p_2 of the table at
+    the position (-) and the groove over the run's static dent after passes 1..n (-)."""
+
+    name: str
+    c: float
+    level: float
+    x: float
+    ratios: tuple[float, ...]
+
+
+def section_runs(rows, refined: Path) -> list[SectionRun]:
+    """The complete refined runs of the :data:`GROUPS` positions (``rows``: the gap's a/2 rows,
+    :class:`benchmarks.bench_rolling_section_gap.SectionGapRow`, for each case's p0 and the table's p_2)."""
+    p_2 = {(r.position, r.c, r.level): r.p_2_MPa for r in rows}
+    out = []
+    for name in (n for members in GROUPS.values() for n in members):
+        for case in cases_of(rows, name):
+            run = complete_run(refined / case.key)
+            if run is None:
+                continue
+            lv = run["levels"][0]
+            ratios = tuple(g / lv["static_dent_mm"] for g in lv["groove_mm"])
+            out.append(SectionRun(name, case.c, case.level, case.p0_MPa / p_2[case.label, case.c, case.level],
+                                  ratios))
+    return out
+
+
+def fit_node(runs: list[SectionRun], names) -> tuple[RollingLaw, dict[tuple[float, float], PassFit]]:
+    """The round node fitted to the mean ratio of the positions ``names``, on the levels :data:`LEVELS` (KeyError
+    when a level or traction of these positions has no run), and the fits {(c, x): PassFit}."""
+    mine = [r for r in runs if r.name in names]
+    fits: dict[tuple[float, float], PassFit] = {}
+    xs = []
+    for lv in LEVELS:
+        at = [r for r in mine if r.level == lv]
+        if {(r.name, r.c) for r in at} != {(n, c) for n in names for c in TRACTIONS}:
+            raise KeyError(f"{', '.join(names)}: the refined runs at {lv:g} p_y are incomplete")
+        xs.append(float(np.mean([r.x for r in at])))
+        for c in TRACTIONS:
+            series = [r.ratios for r in at if r.c == c]
+            n = min(len(s) for s in series)
+            fits[(c, xs[-1])] = fit_passes(np.mean([s[:n] for s in series], axis=0), 1.0)
+    source = (f"rolling FEM on the profile sections of {' and '.join(names)} (benchmarks.rolling_section_refined: "
+              f"h = a/{REFINED_ELEMENTS:g} quadratic tetrahedra, step a/4, track 1.5 contact lengths, "
+              f"{min(len(r.ratios) for r in mine)} passes at constant p0)")
+    law = rolling_law(xs, list(TRACTIONS), fits, source)
+    return on_levels(law, LEVELS), fits
+
+
+def on_levels(law: RollingLaw, levels) -> RollingLaw:
+    """``law`` resampled to the levels ``levels`` by its own rule (bilinear, clamped)."""
+    x, c = np.meshgrid(np.asarray(levels, dtype=float), np.asarray(law.traction_coefficient))
+    params = [p.tolist() for p in law.parameters(x, c)]
+    return RollingLaw(list(levels), list(law.traction_coefficient), *params, source=law.source)
+
+
+def table_law(table_rel: str, node: RollingLaw) -> RollingLaw:
+    """The table's stored law with ``node`` as its round (first) patch-shape node."""
+    stored = LayerTable.read(ROOT / table_rel).rolling_law
+    if stored is None or stored.aspect_ratio is None:
+        raise KeyError(f"{table_rel}: no law with patch-shape nodes stored")
+    nodes = [(stored.aspect_ratio[0], node)]
+    nodes += [(a, stored.node(k)) for k, a in enumerate(stored.aspect_ratio) if k > 0]
+    return RollingLaw.by_aspect(nodes)
+
+
+def law_markdown(runs: list[SectionRun]) -> str:
+    """Per refined run: the FEM's groove over its static dent (passes :data:`COMPARED`), the table's node fitted
+    here over it, and the node fitted to the other position of the table alone over it."""
+    passes = ", ".join(str(n) for n in COMPARED)
+    lines = [f"| position | c | p0 / p_y | x = p0 / p_2 | FEM groove / static dent at a/{REFINED_ELEMENTS:g}, passes "
+             f"{passes} | fitted node / FEM | other position's law / FEM |", "|---|---|---|---|---|---|---|"]
+    counts = {"own": 0, "other": 0}
+    n = np.array(COMPARED)
+    for names in GROUPS.values():
+        try:
+            own = fit_node(runs, names)[0]
+            other = {m: fit_node(runs, tuple(k for k in names if k != m))[0] for m in names}
+        except KeyError:
+            continue
+        for r in (r for r in runs if r.name in names):
+            fem = np.asarray(r.ratios)[n - 1]
+            ratios = {"own": own.factor(n, r.x, r.c) / fem, "other": other[r.name].factor(n, r.x, r.c) / fem}
+            for k, v in ratios.items():
+                counts[k] += bool(np.all(np.abs(v - 1.0) <= TARGET))
+            lines.append(f"| {r.name} | {r.c:g} | {r.level:g} | {r.x:.3f} | {_joined(fem)} | "
+                         f"{_joined(ratios['own'])} | {_joined(ratios['other'])} |")
+    total = len(lines) - 2
+    if total == 0:
+        return ""
+    lines += ["", f"The tables' round node fitted to these runs reproduces the groove over the static dent within "
+                  f"{TARGET:.0%} after passes {passes} in {counts['own']} of {total} cases; fitted to the other "
+                  f"position of the table alone, in {counts['other']} of {total}."]
+    return "\n".join(lines)
+
+
+def _joined(values) -> str:
+    return ", ".join(f"{v:.3f}" for v in values)
+
+
+def main(argv: list[str] | None = None) -> None:
+    from benchmarks.bench_rolling_section_gap import collect  # the gap's rows (that module reads this one)
+
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.rolling_section_law", description=__doc__.splitlines()[0])
+    ap.add_argument("runs", type=Path, help="the section gap's a/2 runs (benchmarks/data/rolling_section_gap)")
+    ap.add_argument("refined", type=Path, help="the a/4 runs (benchmarks/data/rolling_section_refined)")
+    ap.add_argument("--write-tables", action="store_true", help="write the fitted node into the shipped tables")
+    args = ap.parse_args(argv)
+    runs = section_runs(collect(args.runs, False), args.refined)
+    print(law_markdown(runs))
+    if args.write_tables:
+        for table_rel, names in GROUPS.items():
+            print(f"wrote {write_law(table_rel, table_law(table_rel, fit_node(runs, names)[0]))}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,93 @@
+"""The tables' round rolling-law node fitted on the refined section runs: reading the runs, the fit (mean of the
+table's two positions, levels x = p0 / p_2 resampled to the tables' grid), the stored long-patch nodes kept, and the
+check against the other position's law."""
+
+import json
+
+import numpy as np
+import pytest
+
+from benchmarks import rolling_section_law as sl
+from benchmarks.bench_rolling_section_gap import SectionGapRow
+from benchmarks.rolling_section_cases import LEVELS, POSITIONS, TRACTIONS
+from benchmarks.rolling_section_refined import cases_of
+from calibration.rolling.law_fit import PassFit
+from wrlayer.layer_table import LayerTable
+
+RAIL = "scenes/tables/rail_60E1_default.json"
+LABELS = {p[0]: p[3] for p in POSITIONS}
+
+
+def truth(c, level):
+    """A known law's parameters at (c, level): rho, A, q, B."""
+    return PassFit(1.0 + 0.4 * c + 0.1 * (level - 1.0), 0.05 + 0.1 * c, 0.5, 0.01 * level, 0.0)
+
+
+def runs(names=("crown", "corner"), offset=0.02, p_2_over_py=1.0):
+    """Refined runs of ``names`` with the known law's ratios, one position ``offset`` above, the other below."""
+    out = []
+    for k, name in enumerate(names):
+        for c in TRACTIONS:
+            for lv in LEVELS:
+                g = truth(c, lv).factors(5) * (1.0 + (offset if k == 0 else -offset))
+                out.append(sl.SectionRun(name, c, lv, lv / p_2_over_py, tuple(g)))
+    return out
+
+
+def test_the_node_is_the_mean_of_the_two_positions_on_the_tables_levels():
+    law, fits = sl.fit_node(runs(), ("crown", "corner"))
+    assert law.p0_over_p2 == list(LEVELS) and law.traction_coefficient == list(TRACTIONS)
+    for c in TRACTIONS:
+        for lv in LEVELS:
+            np.testing.assert_allclose(law.factor(np.arange(1, 6), lv, c), truth(c, lv).factors(5), rtol=2e-3)
+    assert len(fits) == len(LEVELS) * len(TRACTIONS)
+    assert "crown and corner" in law.source and "h = a/4" in law.source
+
+
+def test_the_levels_are_p0_over_the_tables_p_2_resampled_to_the_grid():
+    shifted, _ = sl.fit_node(runs(p_2_over_py=0.98), ("crown", "corner"))  # x = level / 0.98
+    direct, _ = sl.fit_node(runs(), ("crown", "corner"))
+    x = 1.3 / 0.98
+    np.testing.assert_allclose(shifted.factor(np.arange(1, 6), x, 0.2), direct.factor(np.arange(1, 6), 1.3, 0.2),
+                               rtol=5e-3)
+    assert shifted.p0_over_p2 == list(LEVELS)
+
+
+def test_an_incomplete_level_is_refused():
+    with pytest.raises(KeyError, match="incomplete"):
+        sl.fit_node(runs()[1:], ("crown", "corner"))
+
+
+def test_the_table_keeps_its_long_patch_nodes():
+    node, _ = sl.fit_node(runs(), ("crown", "corner"))
+    stored = LayerTable.read(sl.ROOT / RAIL).rolling_law
+    law = sl.table_law(RAIL, node)
+    assert law.aspect_ratio == stored.aspect_ratio
+    assert law.node(0).first_pass_ratio == node.first_pass_ratio and law.node(0).source == node.source
+    for k in range(1, len(stored.aspect_ratio)):
+        assert law.node(k) == stored.node(k)
+
+
+def test_each_position_is_checked_against_the_other_positions_law():
+    text = sl.law_markdown(runs(offset=0.02))  # each 2 % off the mean, 4 % off the other
+    assert "in 20 of 20 cases; fitted to the other position of the table alone, in 20 of 20" in text
+    text = sl.law_markdown(runs(offset=0.03))  # 6 % off the other position
+    assert "in 20 of 20 cases; fitted to the other position of the table alone, in 0 of 20" in text
+    assert sl.law_markdown(runs()[1:]) == ""  # no complete table
+
+
+def test_the_refined_runs_are_read_with_x_over_the_tables_p_2(tmp_path):
+    rows = [SectionGapRow(LABELS["crown"], 0.2, 1.3, 800.0, 790.0, 0.01, 0.009, (1, 1, 1), (1, 1, 1), (1, 1, 1),
+                          (1, 1, 1))]
+    case = cases_of(rows, "crown")[0]
+    grooves = [0.0105, 0.0112, 0.0116, 0.0118, 0.0120]
+    (tmp_path / case.key).mkdir()
+    (tmp_path / case.key / "rolling.json").write_text(json.dumps(
+        {"levels": [{"p0_MPa": case.p0_MPa, "static_dent_mm": 0.01, "groove_mm": grooves}]}))
+    (run,) = sl.section_runs(rows, tmp_path)
+    assert (run.name, run.c, run.level) == ("crown", 0.2, 1.3)
+    assert run.x == pytest.approx(1.3 * 800.0 / 790.0)
+    np.testing.assert_allclose(run.ratios, np.array(grooves) / 0.01)
+    (tmp_path / case.key / "rolling.json").write_text(json.dumps(
+        {"levels": [{"p0_MPa": case.p0_MPa, "static_dent_mm": 0.01, "groove_mm": grooves[:2]}]}))
+    assert sl.section_runs(rows, tmp_path) == []  # an incomplete run is left out
