@@ -64,8 +64,8 @@ def section_runs(rows, refined: Path) -> list[SectionRun]:
                 continue
             lv = run["levels"][0]
             ratios = tuple(g / lv["static_dent_mm"] for g in lv["groove_mm"])
-            out.append(SectionRun(name, case.c, case.level, case.p0_MPa / p_2[case.label, case.c, case.level],
-                                  ratios))
+            level = round(case.level, 6)  # the gap's level as read back from JSON (1.4999999999999998)
+            out.append(SectionRun(name, case.c, level, case.p0_MPa / p_2[case.label, case.c, case.level], ratios))
     return out
 
 
