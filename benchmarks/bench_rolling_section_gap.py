@@ -29,7 +29,8 @@ from dataclasses import dataclass
 from benchmarks.harness import command_line, stamped_report
 from benchmarks.rolling_section_cases import COMPARED, POSITIONS, ROOT, TARGET, TRACTIONS, case_name, section_config
 from benchmarks.rolling_section_law import law_markdown, section_runs
-from benchmarks.rolling_section_refined import REFINED_ELEMENTS, refined_markdown
+from benchmarks.rolling_section_refined import (LONG_PASSES, REFINED_ELEMENTS, check_markdown, long_markdown,
+                                                refined_markdown)
 from benchmarks.rolling_section_static import mesh_factor, read_study, study_markdown
 from calibration.rolling.run import run_rolling
 from calibration.rolling.section_position import table_position
@@ -88,6 +89,16 @@ def rows_of(run: dict, table_rel: str, y_mm: float, label: str, c: float) -> lis
                                   tuple(grooves[n - 1] for n in COMPARED), tuple(law_g),
                                   tuple(n * r for n in COMPARED), tuple(r for _ in COMPARED)))
     return rows
+
+
+def law_factors(row: SectionGapRow, passes) -> list[float]:
+    """The table's rolling law G_n at the row's position, p0 / p_2, traction and Hertz patch shape, for ``passes``
+    (as :func:`rows_of` applies it)."""
+    _, table_rel, y_mm, _ = next(p for p in POSITIONS if p[3] == row.position)
+    pos = table_position(table_rel, y_mm)
+    law = LayerTable.read(ROOT / table_rel).rolling_law
+    x = row.level * row.p_y_MPa / row.p_2_MPa
+    return [float(g) for g in law.factor(list(passes), x, row.c, pos.a_mm / pos.b_mm)]
 
 
 def collect(runs: pathlib.Path, run_missing: bool) -> list[SectionGapRow]:
@@ -186,6 +197,13 @@ def main(argv: list[str] | None = None) -> int:
             text += (f"\n\nCases rolled again at h = a/{REFINED_ELEMENTS:g} at the same p0 (`python -m "
                      "benchmarks.rolling_section_refined`: each position's worst case against the corrected groove, "
                      "and the positions run whole):\n\n" + refined)
+        long = long_markdown(rows, args.refined, law_factors) if args.refined else ""
+        if long:
+            text += (f"\n\nThe law (fitted on 5 passes) against runs of {LONG_PASSES} passes at h = a/"
+                     f"{REFINED_ELEMENTS:g} (`rolling_section_refined --long`):\n\n" + long)
+        checked = check_markdown(rows, args.refined) if args.refined else ""
+        if checked:
+            text += ("\n\nThe a/4 runs against h = a/6 (`rolling_section_refined --check`):\n\n" + checked)
         fitted = law_markdown(section_runs(rows, args.refined)) if args.refined else ""
         if fitted:
             text += ("\n\nThe tables' round rolling-law node fitted to the a/4 runs of each table's two positions "

@@ -10,7 +10,7 @@ groove over the static dent at both meshes (which side moved) and the law agains
 
 ``python -m benchmarks.rolling_section_refined RUNS STATIC OUT [--workers 2] [--whole crown] [--check CASE ...]``
 (``--whole``: also every level and traction of these positions; ``--check``: these cases also at h = a/6, whether
-the a/4 ratio is converged): RUNS and STATIC are the gap's folders (``benchmarks/data/rolling_section_gap``,
+the a/4 ratio is converged; ``--long``: these cases at a/4 with 10 passes): RUNS and STATIC are the gap's folders (``benchmarks/data/rolling_section_gap``,
 ``benchmarks/data/rolling_section_static``); one run folder per case in OUT (``<position>_c<c>_p<level>_h4``,
 ``..._h6``), a complete one is read, not run again. The gap's report reads OUT
 with ``--refined OUT`` (:func:`refined_markdown`). About 6-8 minutes of one core per case on an idle machine.
@@ -33,13 +33,15 @@ from wrlayer.runner import Runner
 REFINED_ELEMENTS = 4.0
 #: Elements per semi-axis of the convergence check of the refined runs (``--check``: h = a / 6).
 CHECK_ELEMENTS = 6.0
+#: Passes of the long refined runs (``--long``): the rolling law fitted on 5 passes, checked at pass 10.
+LONG_PASSES = 10
 
 
 @dataclass(frozen=True)
 class RefinedCase:
     """One gap case to roll on the finer mesh: the position's name, table, y (mm) and label, the traction c (-),
     the level p0 / p_y of the gap's a/2 run (-), that run's peak pressure p0 (MPa) and the elements per semi-axis
-    of the refined mesh (-)."""
+    of the refined mesh (-) and the passes rolled."""
 
     name: str
     table: str
@@ -49,16 +51,19 @@ class RefinedCase:
     level: float
     p0_MPa: float
     elements: float = REFINED_ELEMENTS
+    passes: int = N_PASSES
 
     @property
     def key(self) -> str:
-        return f"{case_name(self.name, self.c)}_p{self.level:g}_h{self.elements:g}"
+        more = f"_n{self.passes}" if self.passes != N_PASSES else ""
+        return f"{case_name(self.name, self.c)}_p{self.level:g}_h{self.elements:g}{more}"
 
     def config(self) -> RollingConfig:
         """The gap's configuration of the case at h = a / ``elements``, one level given in MPa."""
         cfg = section_config(self.table, self.y_mm, self.c)
         return replace(cfg, contact=replace(cfg.contact, levels=(self.p0_MPa,), level_unit="MPa"),
                        mesh=replace(cfg.mesh, elements_per_semi_axis=self.elements),
+                       track=replace(cfg.track, n_passes=self.passes),
                        source=f"{cfg.source}, {self.level:g} p_y at h = a/{self.elements:g}")
 
 
@@ -93,19 +98,19 @@ def run_refined(task: tuple[RefinedCase, Path]) -> str:
     """Worker: roll one case into its folder under the output (kept when complete); returns its key."""
     case, out = task
     folder = out / case.key
-    if complete_run(folder) is None:
+    if complete_run(folder, case.passes) is None:
         run_rolling(case.config(), folder, force=True)
     return case.key
 
 
-def complete_run(folder: Path) -> dict | None:
-    """The rolling.json of a run folder with all :data:`N_PASSES` passes done, or None."""
+def complete_run(folder: Path, passes: int = N_PASSES) -> dict | None:
+    """The rolling.json of a run folder with ``passes`` passes done, or None."""
     path = folder / "rolling.json"
     if not path.is_file():
         return None
     run = json.loads(path.read_text())
     levels = run["levels"]
-    return run if levels and len(levels[0]["groove_mm"]) >= N_PASSES else None
+    return run if levels and len(levels[0]["groove_mm"]) >= passes else None
 
 
 def refined_markdown(rows, study, out: Path) -> str:
@@ -173,6 +178,26 @@ def check_markdown(rows, out: Path) -> str:
     return "\n".join(lines) if len(lines) > 2 else ""
 
 
+def long_markdown(rows, out: Path, law_of) -> str:
+    """Per case with a complete :data:`LONG_PASSES`-pass run at h = a/4 in ``out`` (``--long``): its groove over
+    its static dent after passes 1, 2, 5 and 10 and the table's law G_n there over it (``law_of(row)``: the law's
+    G_n at the row's p0 / p_2, traction and patch shape, for passes n)."""
+    n = (1, 2, 5, LONG_PASSES)
+    lines = [f"| position | c | p0 / p_y | groove / static dent at a/{REFINED_ELEMENTS:g}, passes "
+             f"{', '.join(map(str, n))} | the table's G_n / FEM | wall time (s) |", "|---|---|---|---|---|---|"]
+    by_case = {(r.position, r.c, r.level): r for r in rows}
+    for case in (c for name, *_ in POSITIONS for c in cases_of(rows, name)):
+        run = complete_run(out / replace(case, passes=LONG_PASSES).key, LONG_PASSES)
+        if run is None:
+            continue
+        lv = run["levels"][0]
+        fem = [lv["groove_mm"][k - 1] / lv["static_dent_mm"] for k in n]
+        law = law_of(by_case[case.label, case.c, case.level], n)
+        lines.append(f"| {case.label} | {case.c:g} | {case.level:g} | " + ", ".join(f"{v:.3f}" for v in fem) + " | "
+                     + ", ".join(f"{g / f:.3f}" for g, f in zip(law, fem)) + f" | {run['seconds']:.0f} |")
+    return "\n".join(lines) if len(lines) > 2 else ""
+
+
 def main(argv: list[str] | None = None) -> None:
     from benchmarks.bench_rolling_section_gap import collect  # the gap's rows (that module reads this one)
     from benchmarks.rolling_section_static import read_study
@@ -187,15 +212,18 @@ def main(argv: list[str] | None = None) -> None:
                     help="also every level and traction of these positions")
     ap.add_argument("--check", nargs="*", default=[], metavar="CASE",
                     help=f"also these cases (e.g. crown_c0.2_p1.15) at h = a/{CHECK_ELEMENTS:g}")
+    ap.add_argument("--long", nargs="*", default=[], metavar="CASE",
+                    help=f"also these cases at h = a/{REFINED_ELEMENTS:g} with {LONG_PASSES} passes")
     args = ap.parse_args(argv)
     rows, study = collect(args.runs, False), read_study(args.static)
     cases = worst_cases(rows, study)
     cases += [c for name in args.whole for c in cases_of(rows, name) if c.key not in {k.key for k in cases}]
     every = {f"{case_name(c.name, c.c)}_p{c.level:g}": c for name, *_ in POSITIONS for c in cases_of(rows, name)}
-    unknown = [k for k in args.check if k not in every]
+    unknown = [k for k in args.check + args.long if k not in every]
     if unknown:
-        ap.error(f"--check: no gap case {', '.join(unknown)} (cases look like crown_c0.2_p1.15)")
+        ap.error(f"--check, --long: no gap case {', '.join(unknown)} (cases look like crown_c0.2_p1.15)")
     cases += [replace(every[k], elements=CHECK_ELEMENTS) for k in args.check]
+    cases += [replace(every[k], passes=LONG_PASSES) for k in args.long]
     args.out.mkdir(parents=True, exist_ok=True)
     for case in cases:
         print(f"{case.key}: {case.label}, c = {case.c:g}, {case.level:g} p_y, p0 = {case.p0_MPa:.1f} MPa", flush=True)

@@ -100,3 +100,22 @@ def test_the_check_at_a6_reports_the_three_meshes_ratios(tmp_path):
     assert f"; {a4}; {a6} |" in text and f"| {0.0106 / 0.0104:.3f} |" in text and "| 99 |" in text
     law = ", ".join(f"{0.93 * f / g:.3f}" for f, g in zip(rows[0].fem_mm, (0.0107, 0.0114, 0.0121)))
     assert law in text
+
+
+def test_a_long_run_compares_the_law_at_pass_10(tmp_path):
+    rows = [row(0.2, 1.7, 0.93)]
+    case = replace(rf.cases_of(rows, NAME)[0], passes=rf.LONG_PASSES)
+    assert case.key.endswith("_h4_n10") and case.config().track.n_passes == rf.LONG_PASSES
+    grooves = [0.0100 + 0.0002 * k for k in range(10)]
+    (tmp_path / case.key).mkdir()
+    run = {"n_dofs": 1, "seconds": 3.0, "levels": [{"p0_MPa": case.p0_MPa, "static_dent_mm": 0.01,
+                                                  "groove_mm": grooves[:9]}]}
+    (tmp_path / case.key / "rolling.json").write_text(json.dumps(run))
+    law_of = lambda r, n: [1.0 + 0.03 * (k - 1) for k in n]  # noqa: E731
+    assert rf.long_markdown(rows, tmp_path, law_of) == ""  # 9 of 10 passes: incomplete
+    run["levels"][0]["groove_mm"] = grooves
+    (tmp_path / case.key / "rolling.json").write_text(json.dumps(run))
+    text = rf.long_markdown(rows, tmp_path, law_of)
+    fem = [grooves[k - 1] / 0.01 for k in (1, 2, 5, 10)]
+    assert ", ".join(f"{v:.3f}" for v in fem) in text
+    assert ", ".join(f"{(1 + 0.03 * (k - 1)) / f:.3f}" for k, f in zip((1, 2, 5, 10), fem)) in text
