@@ -44,8 +44,10 @@ class PassFit:
                                         + self.ratchet_increment * (k - 1))
 
 
-def fit_passes(grooves_mm, static_dent_mm: float) -> PassFit:
-    """The law's parameters of one groove series (cumulative, passes 1..n, mm) and its static dent (mm)."""
+def fit_passes(grooves_mm, static_dent_mm: float, ratcheting: bool = True) -> PassFit:
+    """The law's parameters of one groove series (cumulative, passes 1..n, mm) and its static dent (mm);
+    ``ratcheting`` False: B = 0 (shakedown only; for a series too short to tell a slowly decaying tail from a
+    constant increment)."""
     g = np.asarray(grooves_mm, dtype=float)
     if g.size < 1 or not (static_dent_mm > 0 and g[0] > 0):
         raise InputError("rolling law fit", f"needs a positive first groove and static dent, got {g[:1]} and "
@@ -56,10 +58,10 @@ def fit_passes(grooves_mm, static_dent_mm: float) -> PassFit:
     best = (np.inf, 0.0, 0.0, 0.0)
     if g.size >= 2:
         for q in DECAY_GRID:
-            basis = np.column_stack([(1.0 - q ** m[1:]) / (1.0 - q), m[1:]])
+            basis = np.column_stack([(1.0 - q ** m[1:]) / (1.0 - q), m[1:]][:2 if ratcheting else 1])
             coef, res = nnls(basis, rel[1:])
             if res < best[0]:
-                best = (res, float(q), float(coef[0]), float(coef[1]))
+                best = (res, float(q), float(coef[0]), float(coef[1]) if ratcheting else 0.0)
     _, q, a, b = best
     fit = PassFit(float(rho), a, q, b, 0.0)
     err = float(np.max(np.abs(fit.factors(g.size) * static_dent_mm / g - 1.0)))

@@ -35,6 +35,15 @@ def test_fit_recovers_shakedown_and_ratcheting(params):
     assert (fit.ratchet_increment > 0.01) == (params[3] > 0)
 
 
+def test_without_ratcheting_a_slowly_decaying_tail_stays_shakedown():
+    # increments falling by 0.23, then 0.35 per pass (the a/4 sections): with B the tail reads as ratcheting
+    g = np.cumsum([1.05, 0.0716, 0.0164, 0.0058, 0.0021])
+    free, shakedown = fit_passes(g, 1.0), fit_passes(g, 1.0, ratcheting=False)
+    assert free.ratchet_increment > 1e-3 and shakedown.ratchet_increment == 0.0
+    assert shakedown.max_relative_error < 2e-3
+    assert shakedown.factors(60)[-1] < g[-1] * 1.002 < free.factors(60)[-1] / 1.05
+
+
 def test_a_falling_groove_is_not_represented():
     fit = fit_passes([1.0, 0.9, 0.8], 1.0)
     assert fit.shakedown_increment == 0.0 and fit.ratchet_increment == 0.0
