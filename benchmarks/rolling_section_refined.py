@@ -8,12 +8,12 @@ groove is rolled again at h = a/4 (:data:`REFINED_ELEMENTS`), same track, steps 
 peak pressure p0 in MPa (so both meshes and the layer meet at the same p0). The report gives, per case, the
 groove over the static dent at both meshes (which side moved) and the law against the a/4 groove.
 
-``python -m benchmarks.rolling_section_refined RUNS STATIC OUT [--workers 2] [--whole crown] [--check CASE ...]``
-(``--whole``: also every level and traction of these positions; ``--check``: these cases also at h = a/6, whether
-the a/4 ratio is converged; ``--long``: these cases at a/4 with 10 passes): RUNS and STATIC are the gap's folders (``benchmarks/data/rolling_section_gap``,
-``benchmarks/data/rolling_section_static``); one run folder per case in OUT (``<position>_c<c>_p<level>_h4``,
-``..._h6``), a complete one is read, not run again. The gap's report reads OUT
-with ``--refined OUT`` (:func:`refined_markdown`). About 6-8 minutes of one core per case on an idle machine.
+``python -m benchmarks.rolling_section_refined RUNS STATIC OUT [--workers 2] [--whole crown] [--check CASE ...]
+[--long CASE ...]`` (``--whole``: also every level and traction of these positions; ``--check``: these cases also
+at h = a/6, whether the a/4 ratio is converged; ``--long``: these cases at a/4 with 10 passes): RUNS and STATIC
+are the gap's folders (``benchmarks/data/rolling_section_gap``, ``benchmarks/data/rolling_section_static``); one
+run folder per case in OUT (``<position>_c<c>_p<level>_h4``, ``..._h6``, ``..._h4_n10``), a complete one is read,
+not run again. The gap's report reads OUT with ``--refined OUT`` (:func:`refined_markdown`). About 6-8 minutes of one core per case on an idle machine.
 """
 
 from __future__ import annotations
@@ -180,8 +180,8 @@ def check_markdown(rows, out: Path) -> str:
 
 def long_markdown(rows, out: Path, law_of) -> str:
     """Per case with a complete :data:`LONG_PASSES`-pass run at h = a/4 in ``out`` (``--long``): its groove over
-    its static dent after passes 1, 2, 5 and 10 and the table's law G_n there over it (``law_of(row)``: the law's
-    G_n at the row's p0 / p_2, traction and patch shape, for passes n)."""
+    its static dent after passes 1, 2, 5 and 10 and the table's law G_n there over it (``law_of(row, passes)``:
+    the law's G_n at the row's p0 / p_2, traction and patch shape)."""
     n = (1, 2, 5, LONG_PASSES)
     lines = [f"| position | c | p0 / p_y | groove / static dent at a/{REFINED_ELEMENTS:g}, passes "
              f"{', '.join(map(str, n))} | the table's G_n / FEM | wall time (s) |", "|---|---|---|---|---|---|"]
