@@ -88,6 +88,11 @@ def cases_of(rows, name: str) -> list[RefinedCase]:
     return [_case(name, r) for r in rows if r.position == label]
 
 
+def every_case(rows) -> list[tuple[RefinedCase, object]]:
+    """Every gap row of every position as (its refined case, the row), in the order of :data:`POSITIONS`."""
+    return [(_case(name, r), r) for name, *_, label in POSITIONS for r in rows if r.position == label]
+
+
 def _case(name: str, row) -> RefinedCase:
     """The gap row ``row`` of the position ``name`` at its a/2 run's peak pressure."""
     _, table, y_mm, label = next(p for p in POSITIONS if p[0] == name)
@@ -117,8 +122,6 @@ def refined_markdown(rows, study, out: Path) -> str:
     """Per gap case with a complete refined run in ``out`` (each position's worst case, and every case of the
     positions run whole): the groove over the static dent at a/2 and a/4 (passes :data:`COMPARED`), the a/4 static
     dent over the a/2 one, and the rolling law over the a/4 groove."""
-    by_case = {(r.position, r.c, r.level): r for r in rows}
-    every = [case for name, *_ in POSITIONS for case in cases_of(rows, name)]
     passes = ", ".join(str(n) for n in COMPARED)
     lines = [f"| position | c | p0 / p_y | p0 (MPa) | groove / static dent at a/2, passes {passes} | the same at "
              f"a/{REFINED_ELEMENTS:g} | static dent a/{REFINED_ELEMENTS:g} / a/2 | rolling law / a/"
@@ -126,12 +129,11 @@ def refined_markdown(rows, study, out: Path) -> str:
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     within = n = 0
     moves: list[float] = []
-    for case in every:
+    for case, r in every_case(rows):
         run = complete_run(out / case.key)
         if run is None:
             continue
         lv = run["levels"][0]
-        r = by_case[case.label, case.c, case.level]
         fine = [lv["groove_mm"][k - 1] for k in COMPARED]
         law = [lw / g for lw, g in zip(r.law_mm, fine)]
         factor = mesh_factor(study, case.name, case.level)
@@ -157,16 +159,14 @@ def check_markdown(rows, out: Path) -> str:
     """Per case with a complete run at h = a / :data:`CHECK_ELEMENTS` in ``out`` (``--check``): the groove over the
     static dent at a/2, a/4 and a/6 (passes :data:`COMPARED`), the a/6 static dent over the a/4 one and the rolling
     law over the a/6 groove: is the a/4 ratio converged?"""
-    by_case = {(r.position, r.c, r.level): r for r in rows}
     passes = ", ".join(str(n) for n in COMPARED)
     h4, h6 = f"a/{REFINED_ELEMENTS:g}", f"a/{CHECK_ELEMENTS:g}"
     lines = [f"| position | c | p0 / p_y | groove / static dent at a/2, {h4}, {h6} (passes {passes}) | static dent "
              f"{h6} / {h4} | rolling law / {h6} groove | dofs | wall time (s) |", "|---|---|---|---|---|---|---|---|"]
-    for case in (c for name, *_ in POSITIONS for c in cases_of(rows, name)):
+    for case, r in every_case(rows):
         fine, finest = complete_run(out / case.key), complete_run(out / replace(case, elements=CHECK_ELEMENTS).key)
         if fine is None or finest is None:
             continue
-        r = by_case[case.label, case.c, case.level]
         ratios = [[f / r.static_dent_mm for f in r.fem_mm]]
         ratios += [[lv["groove_mm"][k - 1] / lv["static_dent_mm"] for k in COMPARED]
                    for lv in (fine["levels"][0], finest["levels"][0])]
@@ -185,14 +185,13 @@ def long_markdown(rows, out: Path, law_of) -> str:
     n = (1, 2, 5, LONG_PASSES)
     lines = [f"| position | c | p0 / p_y | groove / static dent at a/{REFINED_ELEMENTS:g}, passes "
              f"{', '.join(map(str, n))} | the table's G_n / FEM | wall time (s) |", "|---|---|---|---|---|---|"]
-    by_case = {(r.position, r.c, r.level): r for r in rows}
-    for case in (c for name, *_ in POSITIONS for c in cases_of(rows, name)):
+    for case, r in every_case(rows):
         run = complete_run(out / replace(case, passes=LONG_PASSES).key, LONG_PASSES)
         if run is None:
             continue
         lv = run["levels"][0]
         fem = [lv["groove_mm"][k - 1] / lv["static_dent_mm"] for k in n]
-        law = law_of(by_case[case.label, case.c, case.level], n)
+        law = law_of(r, n)
         lines.append(f"| {case.label} | {case.c:g} | {case.level:g} | " + ", ".join(f"{v:.3f}" for v in fem) + " | "
                      + ", ".join(f"{g / f:.3f}" for g, f in zip(law, fem)) + f" | {run['seconds']:.0f} |")
     return "\n".join(lines) if len(lines) > 2 else ""
@@ -218,7 +217,7 @@ def main(argv: list[str] | None = None) -> None:
     rows, study = collect(args.runs, False), read_study(args.static)
     cases = worst_cases(rows, study)
     cases += [c for name in args.whole for c in cases_of(rows, name) if c.key not in {k.key for k in cases}]
-    every = {f"{case_name(c.name, c.c)}_p{c.level:g}": c for name, *_ in POSITIONS for c in cases_of(rows, name)}
+    every = {f"{case_name(c.name, c.c)}_p{c.level:g}": c for c, _ in every_case(rows)}
     unknown = [k for k in args.check + args.long if k not in every]
     if unknown:
         ap.error(f"--check, --long: no gap case {', '.join(unknown)} (cases look like crown_c0.2_p1.15)")
