@@ -9,8 +9,8 @@ full mode: the shipped ``calibration/configs/rolling_halfspace.toml`` and the st
 ``python -m benchmarks.bench_rolling [--quick|--full] --out DIR`` runs it alone; ``--gap`` (with ``--cases DIR``,
 default ``DIR/rolling/gap``: one JSON per case, completed cases are read, not recomputed) the gap between the
 layer's memory rules and the rolling FEM at the half-space and the calibration positions, the rolling laws, and
-with ``--write-tables`` the long-patch laws into the shipped default tables (their round node:
-:mod:`benchmarks.rolling_section_law`).
+with ``--write-tables`` the very long patch's law into the shipped default tables (their round and long-patch
+nodes: :mod:`benchmarks.rolling_section_law`).
 """
 
 from __future__ import annotations
@@ -313,11 +313,11 @@ def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = Fal
         md += ["", f"The laws' patch-shape nodes against blocks at other shapes ({shape_dir.name}):", ""]
         md += gap.shape_check_markdown(gap.load_results(shape_dir), laws)
     fig = gap_plot(rows, results, laws, out / "rolling_gap.png")
-    if write_tables:  # the long-patch nodes; the tables' round node comes from the sections at a/4
-        long_laws = {g: laws[g] for g in gap.LONG_PATCHES}
-        for g, (_, table_rel) in gap.GROUPS.items():
+    if write_tables:  # the round and long-patch nodes come from the sections at a/4 (rolling_section_law)
+        very_long = {gap.long_patch_index("very long patch"): laws["very long patch"]}
+        for _, table_rel in gap.GROUPS.values():
             if table_rel:
-                gap.write_law(table_rel, gap.shaped_law(g, long_laws))
+                gap.write_law(table_rel, gap.with_nodes(table_rel, very_long))
     data = {"rows": [r.to_dict() for r in rows], "laws": {g: lw.to_dict() for g, lw in laws.items()},
             "corrected_rows": [r.to_dict() for r in gap_static.corrected_rows(rows, conv)],
             "static_study": [p.to_dict() for p in points],

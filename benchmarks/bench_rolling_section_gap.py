@@ -206,9 +206,9 @@ def main(argv: list[str] | None = None) -> int:
             text += ("\n\nThe a/4 runs against h = a/6 (`rolling_section_refined --check`):\n\n" + checked)
         fitted = law_markdown(section_runs(rows, args.refined)) if args.refined else ""
         if fitted:
-            text += ("\n\nThe tables' round rolling-law node fitted to the a/4 runs of each table's two positions "
-                     "(`python -m benchmarks.rolling_section_law`; the column \"rolling law / a/4 groove\" above is "
-                     "the table's law):\n\n" + fitted)
+            text += ("\n\nThe tables' rolling-law nodes fitted to the a/4 runs (round: each table's two positions; long "
+                     "patch: the field side; `python -m benchmarks.rolling_section_law`; the column \"rolling law / "
+                     "a/4 groove\" above is the table's law):\n\n" + fitted)
     report = stamped_report("The rolling layer against the rolling FEM on the profile sections", text,
                             command_line("python -m benchmarks.bench_rolling_section_gap", argv))
     (args.runs / "section_gap.md").write_text(report)

@@ -283,6 +283,20 @@ def shaped_law(group: str, laws: dict[str, RollingLaw]) -> RollingLaw:
     return RollingLaw.by_aspect([(shapes[group], own)] + [(shapes[g], laws[g]) for g in LONG_PATCHES])
 
 
+def long_patch_index(group: str) -> int:
+    """The index of the :data:`LONG_PATCHES` group ``group`` among a table's patch-shape nodes (0: round)."""
+    return 1 + LONG_PATCHES.index(group)
+
+
+def with_nodes(table_rel: str, fitted: dict[int, RollingLaw]) -> RollingLaw:
+    """The table's stored law with its patch-shape nodes {index: law} ``fitted`` replaced, the others kept
+    (KeyError when the table holds no law with patch-shape nodes)."""
+    stored = LayerTable.read(ROOT / table_rel).rolling_law
+    if stored is None or stored.aspect_ratio is None:
+        raise KeyError(f"{table_rel}: no law with patch-shape nodes stored")
+    return RollingLaw.by_aspect([(a, fitted.get(k, stored.node(k))) for k, a in enumerate(stored.aspect_ratio)])
+
+
 def shape_check_markdown(results: list, laws: dict) -> list[str]:
     """The shape-check cases: the FEM groove over the block's static dent against the table's law with its
     patch-shape nodes at the case's a/b, and against its round node alone (markdown lines)."""
@@ -334,7 +348,7 @@ def write_law(table_rel: str, law: RollingLaw) -> Path:
     return table.write(path)[0]
 
 
-__all__ = ["GROUPS", "GapRow", "HalfspaceStatic", "LAYER_FIT", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS", "TARGET", "fit_group",
+__all__ = ["GROUPS", "long_patch_index", "with_nodes", "GapRow", "HalfspaceStatic", "LAYER_FIT", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS", "TARGET", "fit_group",
            "gap_rows",
            "group_of", "with_stand_ins",
            "layer_static_residuals", "load_results", "write_law"]

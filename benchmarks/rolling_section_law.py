@@ -1,23 +1,26 @@
 """The shipped tables' rolling law fitted where it is compared: on the profile sections at h = a/4 (units mm, MPa).
 
-The tables' round patch-shape node was fitted to half-space blocks at h = a/2; rolled again at h = a/4 on the
+The tables' patch-shape nodes were fitted to half-space blocks at h = a/2; rolled again at h = a/4 on the
 sections, the groove over the static dent moved by up to 8 % and the law overstated the a/4 groove by 6-12 % at
-1.15-1.3 p_y (docs/validation/rolling-section-gap.md). Here that node is fitted
+1.15-1.3 p_y (docs/validation/rolling-section-gap.md). Here the nodes the sections reach (:data:`NODES`) are fitted
 (:func:`calibration.rolling.law_fit.fit_passes`) to the refined section runs of
-:mod:`benchmarks.rolling_section_refined`: per table (rail: crown and gauge corner; wheel: tread and flange root),
-level and traction, the mean over the two positions of the a/4 groove over the same run's a/4 static dent,
-passes 1-5, without a constant increment per pass (:data:`RATCHETING`). Its level x = p0 / p_2 is the run's peak
-pressure over the table's p_2 at the position (mean of the two), and the law is resampled to the levels of the
-tables' other nodes by its own bilinear rule. The long-patch nodes (blocks,
-:data:`benchmarks.rolling_gap.LONG_PATCHES`) stay as the table holds them.
+:mod:`benchmarks.rolling_section_refined`: per node, level and traction, the mean over the node's positions of the
+a/4 groove over the same run's a/4 static dent, passes 1-5, without a constant increment per pass
+(:data:`RATCHETING`). The round node (a/b about 1.34) is each table's own two positions (rail: crown and gauge
+corner; wheel: tread and flange root); the long-patch node (a/b 3.83) is the rail field side, whose Hertz patch
+has that shape, in both tables. Its level x = p0 / p_2 is the run's peak pressure over the table's p_2 at the
+position (mean over the positions), and the law is resampled to the levels of the tables' other nodes by its own
+bilinear rule. The very long node (a/b 10.2, no section reaches it) stays as the table holds it (blocks,
+:data:`benchmarks.rolling_gap.LONG_PATCHES`).
 
-Checked beyond the fit: each position against the law fitted to the other position of its table alone
+Checked beyond the fit: each position of a two-position node against the law fitted to the other position alone
 (:func:`law_markdown`, column "other position's law").
 
 ``python -m benchmarks.rolling_section_law RUNS REFINED [--write-tables]``: RUNS the gap's a/2 runs
 (``benchmarks/data/rolling_section_gap``, for the cases' peak pressures), REFINED the a/4 runs
 (``benchmarks/data/rolling_section_refined``); prints the fit and with ``--write-tables`` writes the node into the
 shipped default tables (``rolling_law``, format version 3; the characteristics are unchanged).
+The fit of a node whose runs are incomplete is left out (the table keeps its stored node).
 """
 
 from __future__ import annotations
@@ -29,16 +32,29 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.rolling_gap import write_law
+from benchmarks.rolling_gap import long_patch_index, with_nodes, write_law
 from benchmarks.rolling_section_cases import COMPARED, LEVELS, POSITIONS, ROOT, TARGET, TRACTIONS
 from benchmarks.rolling_section_refined import REFINED_ELEMENTS, cases_of, complete_run
 from calibration.rolling.law_fit import PassFit, fit_passes, rolling_law
-from wrlayer.layer_table import LayerTable
 from wrlayer.rolling_law import RollingLaw
 
-#: The tables whose round node is fitted here: table -> the positions (names of POSITIONS) whose mean it is.
-GROUPS = {"scenes/tables/rail_60E1_default.json": ("crown", "corner"),
-          "scenes/tables/wheel_S1002_default.json": ("tread", "flange")}
+RAIL_TABLE = "scenes/tables/rail_60E1_default.json"
+WHEEL_TABLE = "scenes/tables/wheel_S1002_default.json"
+
+
+@dataclass(frozen=True)
+class SectionNode:
+    """One patch-shape node fitted here: the tables it is written into, its index among their nodes
+    (``RollingLaw.aspect_ratio``, 0 = round) and the positions (names of POSITIONS) whose mean it is."""
+
+    tables: tuple[str, ...]
+    index: int
+    names: tuple[str, ...]
+
+
+#: The nodes fitted to the sections: each table's round node, and the long-patch node from the field side.
+NODES = (SectionNode((RAIL_TABLE,), 0, ("crown", "corner")), SectionNode((WHEEL_TABLE,), 0, ("tread", "flange")),
+         SectionNode((RAIL_TABLE, WHEEL_TABLE), long_patch_index("long patch"), ("field",)))
 
 #: The round node has no constant increment per pass (B = 0, :func:`calibration.rolling.law_fit.fit_passes`): at
 #: every a/4 section run the increments fall pass after pass (successive ratios <= 0.4 over passes 2-5) and the
@@ -60,11 +76,11 @@ class SectionRun:
 
 
 def section_runs(rows, refined: Path) -> list[SectionRun]:
-    """The complete refined runs of the :data:`GROUPS` positions (``rows``: the gap's a/2 rows,
+    """The complete refined runs of the :data:`NODES` positions (``rows``: the gap's a/2 rows,
     :class:`benchmarks.bench_rolling_section_gap.SectionGapRow`, for each case's p0 and the table's p_2)."""
     p_2 = {(r.position, r.c, r.level): r.p_2_MPa for r in rows}
     out = []
-    for name in (n for members in GROUPS.values() for n in members):
+    for name in (n for node in NODES for n in node.names):
         for case in cases_of(rows, name):
             run = complete_run(refined / case.key)
             if run is None:
@@ -77,7 +93,7 @@ def section_runs(rows, refined: Path) -> list[SectionRun]:
 
 
 def fit_node(runs: list[SectionRun], names) -> tuple[RollingLaw, dict[tuple[float, float], PassFit]]:
-    """The round node fitted to the mean ratio of the positions ``names``, on the levels :data:`LEVELS` (KeyError
+    """The node fitted to the mean ratio of the positions ``names``, on the levels :data:`LEVELS` (KeyError
     when a level or traction of these positions has no run), and the fits {(c, x): PassFit}."""
     mine = [r for r in runs if r.name in names]
     fits: dict[tuple[float, float], PassFit] = {}
@@ -105,43 +121,52 @@ def on_levels(law: RollingLaw, levels) -> RollingLaw:
     return RollingLaw(list(levels), list(law.traction_coefficient), *params, source=law.source)
 
 
-def table_law(table_rel: str, node: RollingLaw) -> RollingLaw:
-    """The table's stored law with ``node`` as its round (first) patch-shape node."""
-    stored = LayerTable.read(ROOT / table_rel).rolling_law
-    if stored is None or stored.aspect_ratio is None:
-        raise KeyError(f"{table_rel}: no law with patch-shape nodes stored")
-    nodes = [(stored.aspect_ratio[0], node)]
-    nodes += [(a, stored.node(k)) for k, a in enumerate(stored.aspect_ratio) if k > 0]
-    return RollingLaw.by_aspect(nodes)
+def fitted_nodes(runs: list[SectionRun]) -> dict[str, dict[int, RollingLaw]]:
+    """Per table, the :data:`NODES` whose runs are complete, fitted: {table: {index: law}}."""
+    out: dict[str, dict[int, RollingLaw]] = {}
+    for node in NODES:
+        try:
+            law = fit_node(runs, node.names)[0]
+        except KeyError:
+            continue
+        for table_rel in node.tables:
+            out.setdefault(table_rel, {})[node.index] = law
+    return out
 
 
 def law_markdown(runs: list[SectionRun]) -> str:
-    """Per refined run: the FEM's groove over its static dent (passes :data:`COMPARED`), the table's node fitted
-    here over it, and the node fitted to the other position of the table alone over it."""
+    """Per refined run: the FEM's groove over its static dent (passes :data:`COMPARED`), the node fitted here
+    over it, and (nodes of two positions) the node fitted to the other position alone over it."""
     passes = ", ".join(str(n) for n in COMPARED)
     lines = [f"| position | c | p0 / p_y | x = p0 / p_2 | FEM groove / static dent at a/{REFINED_ELEMENTS:g}, passes "
              f"{passes} | fitted node / FEM | other position's law / FEM |", "|---|---|---|---|---|---|---|"]
-    counts = {"own": 0, "other": 0}
+    counts = {"own": 0, "other": 0, "held out": 0}
     n = np.array(COMPARED)
-    for names in GROUPS.values():
+    for node in NODES:
         try:
-            own = fit_node(runs, names)[0]
-            other = {m: fit_node(runs, tuple(k for k in names if k != m))[0] for m in names}
+            own = fit_node(runs, node.names)[0]
+            other = {m: fit_node(runs, tuple(k for k in node.names if k != m))[0] for m in node.names
+                     if len(node.names) > 1}
         except KeyError:
             continue
-        for r in (r for r in runs if r.name in names):
+        for r in (r for r in runs if r.name in node.names):
             fem = np.asarray(r.ratios)[n - 1]
-            ratios = {"own": own.factor(n, r.x, r.c) / fem, "other": other[r.name].factor(n, r.x, r.c) / fem}
-            for k, v in ratios.items():
-                counts[k] += bool(np.all(np.abs(v - 1.0) <= TARGET))
-            lines.append(f"| {r.name} | {r.c:g} | {r.level:g} | {r.x:.3f} | {_joined(fem)} | "
-                         f"{_joined(ratios['own'])} | {_joined(ratios['other'])} |")
+            mine = own.factor(n, r.x, r.c) / fem
+            counts["own"] += bool(np.all(np.abs(mine - 1.0) <= TARGET))
+            held_out = "—"
+            if r.name in other:
+                theirs = other[r.name].factor(n, r.x, r.c) / fem
+                counts["held out"] += 1
+                counts["other"] += bool(np.all(np.abs(theirs - 1.0) <= TARGET))
+                held_out = _joined(theirs)
+            lines.append(f"| {r.name} | {r.c:g} | {r.level:g} | {r.x:.3f} | {_joined(fem)} | {_joined(mine)} | "
+                         f"{held_out} |")
     total = len(lines) - 2
     if total == 0:
         return ""
-    lines += ["", f"The tables' round node fitted to these runs reproduces the groove over the static dent within "
-                  f"{TARGET:.0%} after passes {passes} in {counts['own']} of {total} cases; fitted to the other "
-                  f"position of the table alone, in {counts['other']} of {total}."]
+    lines += ["", f"The nodes fitted to these runs reproduce the groove over the static dent within {TARGET:.0%} after "
+                  f"passes {passes} in {counts['own']} of {total} cases; fitted to the other position of a "
+                  f"two-position node alone, in {counts['other']} of {counts['held out']}."]
     return "\n".join(lines)
 
 
@@ -155,13 +180,13 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.rolling_section_law", description=__doc__.splitlines()[0])
     ap.add_argument("runs", type=Path, help="the section gap's a/2 runs (benchmarks/data/rolling_section_gap)")
     ap.add_argument("refined", type=Path, help="the a/4 runs (benchmarks/data/rolling_section_refined)")
-    ap.add_argument("--write-tables", action="store_true", help="write the fitted node into the shipped tables")
+    ap.add_argument("--write-tables", action="store_true", help="write the fitted nodes into the shipped tables")
     args = ap.parse_args(argv)
     runs = section_runs(collect(args.runs, False), args.refined)
     print(law_markdown(runs))
     if args.write_tables:
-        for table_rel, names in GROUPS.items():
-            print(f"wrote {write_law(table_rel, table_law(table_rel, fit_node(runs, names)[0]))}")
+        for table_rel, fitted in fitted_nodes(runs).items():
+            print(f"wrote {write_law(table_rel, with_nodes(table_rel, fitted))}")
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
-"""The tables' round rolling-law node fitted on the refined section runs: reading the runs, the fit (mean of the
-table's two positions, levels x = p0 / p_2 resampled to the tables' grid), the stored long-patch nodes kept, and the
-check against the other position's law."""
+"""The tables' rolling-law nodes fitted on the refined section runs: reading the runs, the fit (mean of the
+node's positions, levels x = p0 / p_2 resampled to the tables' grid), the stored nodes not fitted kept, the
+long-patch node written into both tables, and the check against the other position's law."""
 
 import json
 
@@ -58,22 +58,37 @@ def test_an_incomplete_level_is_refused():
         sl.fit_node(runs()[1:], ("crown", "corner"))
 
 
-def test_the_table_keeps_its_long_patch_nodes():
+def test_the_table_keeps_the_nodes_not_fitted():
     node, _ = sl.fit_node(runs(), ("crown", "corner"))
     stored = LayerTable.read(sl.ROOT / RAIL).rolling_law
-    law = sl.table_law(RAIL, node)
+    law = sl.with_nodes(RAIL, {0: node})
     assert law.aspect_ratio == stored.aspect_ratio
     assert law.node(0).first_pass_ratio == node.first_pass_ratio and law.node(0).source == node.source
     for k in range(1, len(stored.aspect_ratio)):
         assert law.node(k) == stored.node(k)
 
 
+def test_the_field_side_gives_the_long_patch_node_of_both_tables():
+    fitted = sl.fitted_nodes(runs() + runs(("field",), offset=0.0))
+    assert set(fitted) == {sl.RAIL_TABLE, sl.WHEEL_TABLE}  # the wheel's round node: no tread or flange runs
+    assert set(fitted[sl.RAIL_TABLE]) == {0, 1} and set(fitted[sl.WHEEL_TABLE]) == {1}
+    assert fitted[sl.WHEEL_TABLE][1] is fitted[sl.RAIL_TABLE][1] and "field" in fitted[sl.RAIL_TABLE][1].source
+    law = sl.with_nodes(sl.WHEEL_TABLE, fitted[sl.WHEEL_TABLE])
+    stored = LayerTable.read(sl.ROOT / sl.WHEEL_TABLE).rolling_law
+    assert law.node(0) == stored.node(0) and law.node(2) == stored.node(2)
+    np.testing.assert_allclose(law.factor(np.arange(1, 6), 1.5, 0.2, law.aspect_ratio[1]),
+                               truth(0.2, 1.5).factors(5), rtol=2e-3)
+
+
 def test_each_position_is_checked_against_the_other_positions_law():
     text = sl.law_markdown(runs(offset=0.02))  # each 2 % off the mean, 4 % off the other
-    assert "in 20 of 20 cases; fitted to the other position of the table alone, in 20 of 20" in text
+    assert "in 20 of 20 cases; fitted to the other position of a two-position node alone, in 20 of 20" in text
     text = sl.law_markdown(runs(offset=0.03))  # 6 % off the other position
-    assert "in 20 of 20 cases; fitted to the other position of the table alone, in 0 of 20" in text
-    assert sl.law_markdown(runs()[1:]) == ""  # no complete table
+    assert "in 20 of 20 cases; fitted to the other position of a two-position node alone, in 0 of 20" in text
+    assert sl.law_markdown(runs()[1:]) == ""  # no complete node
+    text = sl.law_markdown(runs(offset=0.03) + runs(("field",), offset=0.0))  # one position: nothing held out
+    assert "in 30 of 30 cases; fitted to the other position of a two-position node alone, in 0 of 20" in text
+    assert text.count("| — |") == 10
 
 
 def test_the_refined_runs_are_read_with_x_over_the_tables_p_2(tmp_path):
