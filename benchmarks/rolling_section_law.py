@@ -56,10 +56,11 @@ class SectionNode:
 NODES = (SectionNode((RAIL_TABLE,), 0, ("crown", "corner")), SectionNode((WHEEL_TABLE,), 0, ("tread", "flange")),
          SectionNode((RAIL_TABLE, WHEEL_TABLE), long_patch_index("long patch"), ("field",)))
 
-#: The round node has no constant increment per pass (B = 0, :func:`calibration.rolling.law_fit.fit_passes`): at
-#: every a/4 section run the increments fall pass after pass (successive ratios <= 0.4 over passes 2-5) and the
-#: 10-pass runs (``rolling_section_refined --long``) shake down; a B fitted to 5 passes reads the slowly falling
-#: tail as ratcheting (at the crown, c = 0.2, 1.5 p_y: G_60 10 % above the 10-pass run's groove).
+#: The nodes have no constant increment per pass (B = 0, :func:`calibration.rolling.law_fit.fit_passes`): at
+#: every a/4 section run the increments fall pass after pass (successive ratios over passes 2-5 <= 0.4, at the
+#: field side <= 0.49) and the 10-pass runs (``rolling_section_refined --long``) shake down; a B fitted to 5
+#: passes reads the slowly falling tail as ratcheting (at the crown, c = 0.2, 1.5 p_y: G_60 10 % above the
+#: 10-pass run's groove).
 RATCHETING = False
 
 
