@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 from benchmarks.harness import command_line, stamped_report
 from benchmarks.rolling_section_cases import COMPARED, POSITIONS, ROOT, TARGET, TRACTIONS, case_name, section_config
-from benchmarks.rolling_section_law import law_markdown, section_runs
+from benchmarks.rolling_section_law import law_markdown, section_runs, spread_markdown
 from benchmarks.rolling_section_refined import (LONG_PASSES, REFINED_ELEMENTS, check_markdown, long_markdown,
                                                 refined_markdown)
 from benchmarks.rolling_section_static import mesh_factor, read_study, study_markdown
@@ -204,11 +204,16 @@ def main(argv: list[str] | None = None) -> int:
         checked = check_markdown(rows, args.refined) if args.refined else ""
         if checked:
             text += ("\n\nThe a/4 runs against h = a/6 (`rolling_section_refined --check`):\n\n" + checked)
-        fitted = law_markdown(section_runs(rows, args.refined)) if args.refined else ""
+        section = section_runs(rows, args.refined) if args.refined else []
+        fitted = law_markdown(section) if section else ""
         if fitted:
             text += ("\n\nThe tables' rolling-law nodes fitted to the a/4 runs (round: each table's two positions; long "
                      "patch: the field side; `python -m benchmarks.rolling_section_law`; the column \"rolling law / "
                      "a/4 groove\" above is the table's law):\n\n" + fitted)
+        spread = spread_markdown(section) if section else ""
+        if spread:
+            text += ("\n\nWhat the two positions of a round node need from it (the G_n that puts the table's layer on "
+                     "each a/4 groove, FEM groove over the table's r):\n\n" + spread)
     report = stamped_report("The rolling layer against the rolling FEM on the profile sections", text,
                             command_line("python -m benchmarks.bench_rolling_section_gap", argv))
     (args.runs / "section_gap.md").write_text(report)

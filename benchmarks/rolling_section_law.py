@@ -14,7 +14,8 @@ bilinear rule. The very long node (a/b 10.2, no section reaches it) stays as the
 :data:`benchmarks.rolling_gap.LONG_PATCHES`).
 
 Checked beyond the fit: each position of a two-position node against the law fitted to the other position alone
-(:func:`law_markdown`, column "other position's law").
+(:func:`law_markdown`, column "other position's law"), and how far apart the two positions' needs are
+(:func:`spread_markdown`).
 
 ``python -m benchmarks.rolling_section_law RUNS REFINED [--write-tables]``: RUNS the gap's a/2 runs
 (``benchmarks/data/rolling_section_gap``, for the cases' peak pressures), REFINED the a/4 runs
@@ -67,19 +68,25 @@ RATCHETING = False
 @dataclass(frozen=True)
 class SectionRun:
     """One refined run: position name, traction c (-), the gap's level p0 / p_y (-), x = p0 / p_2 of the table at
-    the position (-) and the groove over the run's static dent after passes 1..n (-)."""
+    the position (-), the groove over the run's static dent after passes 1..n (-) and that static dent over the
+    table's residual r at the same p0 (-)."""
 
     name: str
     c: float
     level: float
     x: float
     ratios: tuple[float, ...]
+    dent_over_r: float = 1.0
+
+    def required(self) -> np.ndarray:
+        """The G_n (-) that puts the table's layer on this run's groove at passes 1..n: FEM groove over r."""
+        return np.asarray(self.ratios) * self.dent_over_r
 
 
 def section_runs(rows, refined: Path) -> list[SectionRun]:
     """The complete refined runs of the :data:`NODES` positions (``rows``: the gap's a/2 rows,
     :class:`benchmarks.bench_rolling_section_gap.SectionGapRow`, for each case's p0 and the table's p_2)."""
-    p_2 = {(r.position, r.c, r.level): r.p_2_MPa for r in rows}
+    by_case = {(r.position, r.c, r.level): r for r in rows}
     out = []
     for name in (n for node in NODES for n in node.names):
         for case in cases_of(rows, name):
@@ -89,7 +96,9 @@ def section_runs(rows, refined: Path) -> list[SectionRun]:
             lv = run["levels"][0]
             ratios = tuple(g / lv["static_dent_mm"] for g in lv["groove_mm"])
             level = round(case.level, 6)  # the gap's level as read back from JSON (1.4999999999999998)
-            out.append(SectionRun(name, case.c, level, case.p0_MPa / p_2[case.label, case.c, case.level], ratios))
+            row = by_case[case.label, case.c, case.level]
+            out.append(SectionRun(name, case.c, level, case.p0_MPa / row.p_2_MPa, ratios,
+                                  lv["static_dent_mm"] / row.table_residual_mm))
     return out
 
 
@@ -171,6 +180,47 @@ def law_markdown(runs: list[SectionRun]) -> str:
     return "\n".join(lines)
 
 
+def spread_markdown(runs: list[SectionRun]) -> str:
+    """Per two-position node, level and traction: the G_n each position needs (FEM groove over the table's r,
+    :meth:`SectionRun.required`) at passes :data:`COMPARED`, both at the node's x (the mean of the two positions'
+    x = p0 / p_2, as :func:`fit_node` places it; each position's need linear in x between its levels), larger over
+    smaller, and how many cases no single node can serve within :data:`TARGET` at both positions (needed spread
+    above (1 + T) / (1 - T))."""
+    limit = (1.0 + TARGET) / (1.0 - TARGET)
+    n = np.array(COMPARED)
+    lines = [f"| node | c | p0 / p_y | x | G needed, larger / smaller, passes {', '.join(map(str, COMPARED))} |",
+             "|---|---|---|---|---|"]
+    beyond = 0
+    for node in (nd for nd in NODES if len(nd.names) == 2):
+        for c in TRACTIONS:
+            own = {m: sorted((r for r in runs if r.name == m and r.c == c), key=lambda r: r.x) for m in node.names}
+            if any(len(v) < 2 for v in own.values()):
+                continue
+            for lv in LEVELS:
+                pair = [r for v in own.values() for r in v if r.level == lv]
+                if len(pair) != 2:
+                    continue
+                x = float(np.mean([r.x for r in pair]))
+                a, b = (_need_at(own[m], x)[n - 1] for m in node.names)
+                spread = np.maximum(a, b) / np.minimum(a, b)
+                beyond += bool(np.any(spread > limit))
+                lines.append(f"| {' and '.join(node.names)} | {c:g} | {lv:g} | {x:.3f} | {_joined(spread)} |")
+    if len(lines) == 2:
+        return ""
+    return "\n".join(lines + ["", f"In {beyond} of {len(lines) - 2} cases the two positions need G_n further apart "
+                                   f"than {limit:.3f} at the same x: there no node of this law (a function of x "
+                                   f"and c) puts the layer within {TARGET:.0%} of both grooves."])
+
+
+def _need_at(series: list[SectionRun], x: float) -> np.ndarray:
+    """The G_n one position needs at x (-), linear between (and beyond, from the end pairs) its runs sorted by x."""
+    k = int(np.clip(np.searchsorted([r.x for r in series], x) - 1, 0, len(series) - 2))
+    lo, hi = series[k], series[k + 1]
+    m = min(len(lo.ratios), len(hi.ratios))
+    w = (x - lo.x) / (hi.x - lo.x)
+    return (1.0 - w) * lo.required()[:m] + w * hi.required()[:m]
+
+
 def _joined(values) -> str:
     return ", ".join(f"{v:.3f}" for v in values)
 
@@ -185,6 +235,7 @@ def main(argv: list[str] | None = None) -> None:
     args = ap.parse_args(argv)
     runs = section_runs(collect(args.runs, False), args.refined)
     print(law_markdown(runs))
+    print(spread_markdown(runs))
     if args.write_tables:
         for table_rel, fitted in fitted_nodes(runs).items():
             print(f"wrote {write_law(table_rel, with_nodes(table_rel, fitted))}")

@@ -103,6 +103,31 @@ def test_the_refined_runs_are_read_with_x_over_the_tables_p_2(tmp_path):
     assert (run.name, run.c, run.level) == ("crown", 0.2, 1.3)  # the level as the grid has it
     assert run.x == pytest.approx(1.3 * 800.0 / 790.0)
     np.testing.assert_allclose(run.ratios, np.array(grooves) / 0.01)
+    assert run.dent_over_r == pytest.approx(0.01 / 0.009)  # the run's static dent over the table's r
+    np.testing.assert_allclose(run.required(), np.array(grooves) / 0.009)
     (tmp_path / case.key / "rolling.json").write_text(json.dumps(
         {"levels": [{"p0_MPa": case.p0_MPa, "static_dent_mm": 0.01, "groove_mm": grooves[:2]}]}))
     assert sl.section_runs(rows, tmp_path) == []  # an incomplete run is left out
+
+
+def test_the_spread_is_what_the_two_positions_need_at_the_same_x():
+    def flange_dent_over_r(f):  # equal groove over static dent; the flange's dent f times the table's r
+        return [sl.SectionRun(r.name, r.c, r.level, r.x, r.ratios, f if r.name == "flange" else 1.0)
+                for r in runs(("tread", "flange"), offset=0.0)]
+
+    text = sl.spread_markdown(flange_dent_over_r(1.12))
+    assert "In 10 of 10 cases the two positions need G_n further apart than 1.105" in text
+    assert "| tread and flange | 0.2 | 1.3 | 1.300 | 1.120, 1.120, 1.120 |" in text
+    assert "In 0 of 10 cases" in sl.spread_markdown(flange_dent_over_r(1.08))
+    assert sl.spread_markdown(runs(("field",), offset=0.0)) == ""  # one position: nothing to spread
+
+
+def test_a_need_linear_in_x_is_compared_at_the_nodes_x():
+    def need(x):
+        return 2.0 - 0.5 * x  # the same need at every x for both positions, passes 1-5 alike
+
+    shifted = [sl.SectionRun(name, c, lv, lv + dx, (need(lv + dx),) * 5)
+               for name, dx in (("tread", 0.01), ("flange", -0.01)) for c in TRACTIONS for lv in LEVELS]
+    text = sl.spread_markdown(shifted)
+    assert "In 0 of 10 cases" in text and "| 1.000, 1.000, 1.000 |" in text
+    assert "| 1.006, 1.006, 1.006 |" not in text  # not the raw ratio at unequal x
