@@ -207,9 +207,9 @@ def main(argv: list[str] | None = None) -> int:
         section = section_runs(rows, args.refined) if args.refined else []
         fitted = law_markdown(section) if section else ""
         if fitted:
-            text += ("\n\nThe tables' rolling-law nodes fitted to the a/4 runs (round: each table's two positions; long "
-                     "patch: the field side; `python -m benchmarks.rolling_section_law`; the column \"rolling law / "
-                     "a/4 groove\" above is the table's law):\n\n" + fitted)
+            text += ("\n\nThe tables' rolling-law nodes fitted to the a/4 runs (round: each table's two positions; "
+                     "long patch: the field side; `python -m benchmarks.rolling_section_law`; the column \"rolling "
+                     "law / a/4 groove\" above is the table's law):\n\n" + fitted)
         spread = spread_markdown(section) if section else ""
         if spread:
             text += ("\n\nWhat the two positions of a round node need from it (the G_n that puts the table's layer on "

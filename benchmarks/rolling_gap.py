@@ -348,7 +348,6 @@ def write_law(table_rel: str, law: RollingLaw) -> Path:
     return table.write(path)[0]
 
 
-__all__ = ["GROUPS", "long_patch_index", "with_nodes", "GapRow", "HalfspaceStatic", "LAYER_FIT", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS", "TARGET", "fit_group",
-           "gap_rows",
-           "group_of", "with_stand_ins",
-           "layer_static_residuals", "load_results", "write_law"]
+__all__ = ["GROUPS", "GapRow", "HalfspaceStatic", "LAYER_FIT", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS",
+           "TARGET", "fit_group", "gap_rows", "group_of", "layer_static_residuals", "load_results",
+           "long_patch_index", "with_nodes", "with_stand_ins", "write_law"]
