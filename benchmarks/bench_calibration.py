@@ -409,28 +409,38 @@ EVERY_POSITION_REFERENCES = {"isotropic": {"elements_per_semi_axis": 8, "style":
                              "extruded": {"elements_per_semi_axis": 6, "style": "extruded"}}
 
 
-def convergence_every_position(default_kw: dict | None = None) -> list[dict]:
-    """The default mesh (with ``default_kw``) against EVERY_POSITION_REFERENCES at every position of the default
-    configuration (24 positions, 48 FEM runs; about 30 min on one core): each row a :func:`convergence_case` with
-    its ``style`` (the default's), ``errors`` (:func:`convergence_errors`) and the reference's mesh, dofs and
-    seconds."""
+def every_position_references(default_kw: dict | None = None) -> list[tuple[str, float, str, dict]]:
+    """Every position of the default configuration (29) as (body, y (mm), the default mesh's style with
+    ``default_kw``, its reference's mesh settings from EVERY_POSITION_REFERENCES)."""
     from calibration.config import load_config
     from calibration.indentation import AUTO_EXTRUDED_ASPECT, mesh_style
     from calibration.pipeline import position_geometry
     from meshes.profiles import get_profile
 
     cfg = load_config(ROOT / "calibration" / "configs" / "default.toml")
-    rows = []
+    out = []
     for b in cfg.bodies:
         profile, mate = get_profile(b.profile), get_profile(b.mate)
         for y in b.positions_mm:
             geo, _ = position_geometry(b, profile, mate, y, cfg.reference_load_N)
             style = mesh_style(geo, dataclasses.replace(cfg.mesh, **(default_kw or {})))
             elongated = geo.a_mm >= AUTO_EXTRUDED_ASPECT * geo.b_mm
-            ref = convergence_case(b.body, y, EVERY_POSITION_REFERENCES["extruded" if elongated else "isotropic"])
-            case = convergence_case(b.body, y, default_kw or {})
-            rows.append(dict(case, style=style, errors=convergence_errors(case, ref), reference=ref["mesh"],
-                             reference_dofs=ref["n_dofs"], reference_seconds=ref["seconds"]))
+            out.append((b.body, float(y), style, EVERY_POSITION_REFERENCES["extruded" if elongated else "isotropic"]))
+    return out
+
+
+def convergence_every_position(default_kw: dict | None = None) -> list[dict]:
+    """The default mesh (with ``default_kw``) against EVERY_POSITION_REFERENCES at every position of the default
+    configuration (29 positions, 58 FEM runs; about 40 min on one core): each row a :func:`convergence_case` with
+    its ``style`` (the default's), ``errors`` (:func:`convergence_errors`) and the reference's mesh, dofs and
+    seconds. Levels are multiples of each mesh's own p_y; at equal p0:
+    :mod:`benchmarks.calibration_mesh_same_pressure`."""
+    rows = []
+    for body, y, style, ref_kw in every_position_references(default_kw):
+        ref = convergence_case(body, y, ref_kw)
+        case = convergence_case(body, y, default_kw or {})
+        rows.append(dict(case, style=style, errors=convergence_errors(case, ref), reference=ref["mesh"],
+                         reference_dofs=ref["n_dofs"], reference_seconds=ref["seconds"]))
     return rows
 
 
