@@ -19,7 +19,7 @@ Checked beyond the fit: each position of a two-position node against the law fit
 
 ``python -m benchmarks.rolling_section_law RUNS REFINED [--write-tables]``: RUNS the gap's a/2 runs
 (``benchmarks/data/rolling_section_gap``, for the cases' peak pressures), REFINED the a/4 runs
-(``benchmarks/data/rolling_section_refined``); prints the fit and with ``--write-tables`` writes the node into the
+(``benchmarks/data/rolling_section_refined``); prints the fit and with ``--write-tables`` writes the nodes into the
 shipped default tables (``rolling_law``, format version 3; the characteristics are unchanged).
 The fit of a node whose runs are incomplete is left out (the table keeps its stored node).
 """
