@@ -313,11 +313,8 @@ def run_gap(out: pathlib.Path, cases_dir: pathlib.Path, write_tables: bool = Fal
         md += ["", f"The laws' patch-shape nodes against blocks at other shapes ({shape_dir.name}):", ""]
         md += gap.shape_check_markdown(gap.load_results(shape_dir), laws)
     fig = gap_plot(rows, results, laws, out / "rolling_gap.png")
-    if write_tables:  # the round and long-patch nodes come from the sections at a/4 (rolling_section_law)
-        very_long = {gap.long_patch_index("very long patch"): laws["very long patch"]}
-        for _, table_rel in gap.GROUPS.values():
-            if table_rel:
-                gap.write_law(table_rel, gap.with_nodes(table_rel, very_long))
+    if write_tables:
+        gap.write_block_nodes(laws)
     data = {"rows": [r.to_dict() for r in rows], "laws": {g: lw.to_dict() for g, lw in laws.items()},
             "corrected_rows": [r.to_dict() for r in gap_static.corrected_rows(rows, conv)],
             "static_study": [p.to_dict() for p in points],

@@ -50,6 +50,8 @@ GROUPS = {"rail": (("rail crown", "rail gauge corner"), "scenes/tables/rail_60E1
 #: patches of the rail's field side (a/b = 3.83) and shoulder (10.2); the tables' own groups are round (a/b =
 #: 1.33-1.35).
 LONG_PATCHES = ("long patch", "very long patch")
+#: The tables' nodes still fitted to blocks and written by :func:`write_block_nodes` (no section has that patch).
+BLOCK_NODES = ("very long patch",)
 #: The half-space layer's fit: the calibration's default (its number of segments; p_2 = the block's p_y).
 LAYER_FIT = FitSettings()
 
@@ -297,6 +299,13 @@ def with_nodes(table_rel: str, fitted: dict[int, RollingLaw]) -> RollingLaw:
     return RollingLaw.by_aspect([(a, fitted.get(k, stored.node(k))) for k, a in enumerate(stored.aspect_ratio)])
 
 
+def write_block_nodes(laws: dict[str, RollingLaw]) -> list[Path]:
+    """Write the :data:`BLOCK_NODES` laws of ``laws`` into the tables of :data:`GROUPS`, their other nodes kept
+    (the round and long-patch nodes come from the sections: :mod:`benchmarks.rolling_section_law`)."""
+    fitted = {long_patch_index(g): laws[g] for g in BLOCK_NODES}
+    return [write_law(table_rel, with_nodes(table_rel, fitted)) for _, table_rel in GROUPS.values() if table_rel]
+
+
 def shape_check_markdown(results: list, laws: dict) -> list[str]:
     """The shape-check cases: the FEM groove over the block's static dent against the table's law with its
     patch-shape nodes at the case's a/b, and against its round node alone (markdown lines)."""
@@ -348,6 +357,6 @@ def write_law(table_rel: str, law: RollingLaw) -> Path:
     return table.write(path)[0]
 
 
-__all__ = ["GROUPS", "GapRow", "HalfspaceStatic", "LAYER_FIT", "MIN_FEM_PASSES", "REPORTED_PASSES", "STAND_INS",
-           "TARGET", "fit_group", "gap_rows", "group_of", "layer_static_residuals", "load_results",
-           "long_patch_index", "with_nodes", "with_stand_ins", "write_law"]
+__all__ = ["BLOCK_NODES", "GROUPS", "GapRow", "HalfspaceStatic", "LAYER_FIT", "MIN_FEM_PASSES", "REPORTED_PASSES",
+           "STAND_INS", "TARGET", "fit_group", "gap_rows", "group_of", "layer_static_residuals", "load_results",
+           "long_patch_index", "with_nodes", "with_stand_ins", "write_block_nodes", "write_law"]

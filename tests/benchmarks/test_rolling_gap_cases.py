@@ -117,3 +117,23 @@ def test_shape_check_compares_the_shaped_law_at_the_cases_patch_shape():
     md = gap.shape_check_markdown([case], laws)
     assert "| 1.000, 1.000 | 0.909, 0.909 |" in md[2]
     assert md[-1].startswith("Worst |law / FEM - 1|: 0.0 % with the patch-shape nodes, 9.1 %")
+
+
+def test_the_blocks_write_only_the_very_long_node(monkeypatch):
+    import benchmarks.rolling_gap as gap
+    from wrlayer.rolling_law import RollingLaw
+
+    def flat(rho):
+        return RollingLaw(list(gap.LEVELS), list(gap.TRACTIONS), [[rho] * 5] * 2, [[0.0] * 5] * 2,
+                          [[0.0] * 5] * 2, [[0.0] * 5] * 2, f"rho {rho}")
+
+    written = {}
+    monkeypatch.setattr(gap, "write_law", lambda table_rel, law: written.setdefault(table_rel, law))
+    very_long = flat(1.3)
+    gap.write_block_nodes({"very long patch": very_long, "long patch": flat(9.0), "rail": flat(9.0)})
+    assert set(written) == {t for _, t in gap.GROUPS.values() if t}
+    for table_rel, law in written.items():
+        stored = gap.LayerTable.read(gap.ROOT / table_rel).rolling_law
+        assert law.aspect_ratio == stored.aspect_ratio
+        assert law.node(0) == stored.node(0) and law.node(1) == stored.node(1)  # the sections' nodes kept
+        assert law.node(2).first_pass_ratio == very_long.first_pass_ratio
