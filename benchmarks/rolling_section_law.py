@@ -131,14 +131,21 @@ def on_levels(law: RollingLaw, levels) -> RollingLaw:
     return RollingLaw(list(levels), list(law.traction_coefficient), *params, source=law.source)
 
 
+def complete_nodes(runs: list[SectionRun]) -> dict[SectionNode, RollingLaw]:
+    """The :data:`NODES` whose runs are complete, each fitted (:func:`fit_node`)."""
+    out = {}
+    for node in NODES:
+        try:
+            out[node] = fit_node(runs, node.names)[0]
+        except KeyError:
+            continue
+    return out
+
+
 def fitted_nodes(runs: list[SectionRun]) -> dict[str, dict[int, RollingLaw]]:
     """Per table, the :data:`NODES` whose runs are complete, fitted: {table: {index: law}}."""
     out: dict[str, dict[int, RollingLaw]] = {}
-    for node in NODES:
-        try:
-            law = fit_node(runs, node.names)[0]
-        except KeyError:
-            continue
+    for node, law in complete_nodes(runs).items():
         for table_rel in node.tables:
             out.setdefault(table_rel, {})[node.index] = law
     return out
@@ -152,13 +159,9 @@ def law_markdown(runs: list[SectionRun]) -> str:
              f"{passes} | fitted node / FEM | other position's law / FEM |", "|---|---|---|---|---|---|---|"]
     counts = {"own": 0, "other": 0, "held out": 0}
     n = np.array(COMPARED)
-    for node in NODES:
-        try:
-            own = fit_node(runs, node.names)[0]
-            other = {m: fit_node(runs, tuple(k for k in node.names if k != m))[0] for m in node.names
-                     if len(node.names) > 1}
-        except KeyError:
-            continue
+    for node, own in complete_nodes(runs).items():
+        other = {m: fit_node(runs, tuple(k for k in node.names if k != m))[0] for m in node.names
+                 if len(node.names) > 1}
         for r in (r for r in runs if r.name in node.names):
             fem = np.asarray(r.ratios)[n - 1]
             mine = own.factor(n, r.x, r.c) / fem

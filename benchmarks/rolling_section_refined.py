@@ -13,7 +13,8 @@ groove over the static dent at both meshes (which side moved) and the law agains
 at h = a/6, whether the a/4 ratio is converged; ``--long``: these cases at a/4 with 10 passes): RUNS and STATIC
 are the gap's folders (``benchmarks/data/rolling_section_gap``, ``benchmarks/data/rolling_section_static``); one
 run folder per case in OUT (``<position>_c<c>_p<level>_h4``, ``..._h6``, ``..._h4_n10``), a complete one is read,
-not run again. The gap's report reads OUT with ``--refined OUT`` (:func:`refined_markdown`). About 6-8 minutes of one core per case on an idle machine.
+not run again. The gap's report reads OUT with ``--refined OUT`` (:func:`refined_markdown`). About 6-8 minutes
+of one core per case on an idle machine.
 """
 
 from __future__ import annotations

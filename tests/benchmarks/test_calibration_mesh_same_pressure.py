@@ -41,10 +41,9 @@ def stub(monkeypatch):
         return fake_case(*args, **kw)
 
     monkeypatch.setattr(bc, "convergence_case", case)
-    monkeypatch.setattr(bc, "every_position_references",
+    monkeypatch.setattr(sp, "every_position_references",
                         lambda: [("rail", 0.0, "stretched", bc.EVERY_POSITION_REFERENCES["isotropic"]),
                                  ("wheel", 30.0, "stretched", bc.EVERY_POSITION_REFERENCES["extruded"])])
-    monkeypatch.setattr(sp, "every_position_references", bc.every_position_references)
     return calls
 
 

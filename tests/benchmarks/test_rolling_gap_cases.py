@@ -6,15 +6,23 @@ import json
 import numpy as np
 import pytest
 
+import benchmarks.rolling_gap as gap
 import benchmarks.rolling_gap_cases as gap_cases
 from calibration.rolling.config import RollingMaterial, TrackMeshSettings, TrackSettings
 from benchmarks.rolling_gap_cases import GapCase, GapCaseResult, GapPosition, run_case
 from calibration.rolling.law_fit import fit_passes
+from wrlayer.rolling_law import RollingLaw
 
 TRACK = TrackSettings(length_factor=1.0, step_factor=0.5, n_passes=2, ramp_steps=1)
 MESH = TrackMeshSettings(elements_per_semi_axis=1.5, order=1, size_factor=3.0, fine_depth_factor=1.0,
                          fine_width_factor=1.0)
 MIXED = RollingMaterial(H_iso_MPa=10000.0, H_kin_MPa=10000.0)
+
+
+def flat(rho):
+    """A rolling law with first-pass ratio ``rho`` everywhere and no increment per pass."""
+    return RollingLaw(list(gap.LEVELS), list(gap.TRACTIONS), [[rho] * 5] * 2, [[0.0] * 5] * 2,
+                      [[0.0] * 5] * 2, [[0.0] * 5] * 2, f"rho {rho}")
 
 
 @pytest.fixture(scope="module")
@@ -53,7 +61,6 @@ def synthetic(position, a_mm, level, truth, static_mm):
 
 
 def test_gap_rows_fit_the_group_law_and_stand_ins_scale():
-    from benchmarks import rolling_gap as gap
     from calibration.rolling.law_fit import PassFit
     from wrlayer.layer_table import LayerTable
 
@@ -80,13 +87,6 @@ def test_gap_rows_fit_the_group_law_and_stand_ins_scale():
 
 
 def test_tables_get_their_round_law_and_the_long_patch_laws_as_shape_nodes():
-    import benchmarks.rolling_gap as gap
-    from wrlayer.rolling_law import RollingLaw
-
-    def flat(rho):
-        return RollingLaw(list(gap.LEVELS), list(gap.TRACTIONS), [[rho] * 5] * 2, [[0.0] * 5] * 2,
-                          [[0.0] * 5] * 2, [[0.0] * 5] * 2, f"rho {rho}")
-
     long_laws = {"long patch": flat(1.2), "very long patch": flat(1.1)}
     ratios = [gap.group_aspect_ratio(g) for g in ("rail", "long patch", "very long patch")]
     assert 1.3 < ratios[0] < 1.4 and 3.7 < ratios[1] < 3.9 and 10.0 < ratios[2] < 10.3   # crown, corner; 25; 30
@@ -103,13 +103,6 @@ def test_tables_get_their_round_law_and_the_long_patch_laws_as_shape_nodes():
 
 
 def test_shape_check_compares_the_shaped_law_at_the_cases_patch_shape():
-    import benchmarks.rolling_gap as gap
-    from wrlayer.rolling_law import RollingLaw
-
-    def flat(rho):
-        return RollingLaw(list(gap.LEVELS), list(gap.TRACTIONS), [[rho] * 5] * 2, [[0.0] * 5] * 2,
-                          [[0.0] * 5] * 2, [[0.0] * 5] * 2)
-
     laws = {"rail": flat(1.0), "wheel": flat(1.0), "long patch": flat(1.2), "very long patch": flat(1.2)}
     mid = float(np.sqrt(gap.group_aspect_ratio("rail") * gap.group_aspect_ratio("long patch")))
     case = GapCaseResult("k", "shape", gap.GROUPS["rail"][1], 0.0, mid, 1.0, 0.2, 1.5, 800.0, 0.01, [0.0], [0.0],
@@ -120,13 +113,6 @@ def test_shape_check_compares_the_shaped_law_at_the_cases_patch_shape():
 
 
 def test_the_blocks_write_only_the_very_long_node(monkeypatch):
-    import benchmarks.rolling_gap as gap
-    from wrlayer.rolling_law import RollingLaw
-
-    def flat(rho):
-        return RollingLaw(list(gap.LEVELS), list(gap.TRACTIONS), [[rho] * 5] * 2, [[0.0] * 5] * 2,
-                          [[0.0] * 5] * 2, [[0.0] * 5] * 2, f"rho {rho}")
-
     written = {}
     monkeypatch.setattr(gap, "write_law", lambda table_rel, law: written.setdefault(table_rel, law))
     very_long = flat(1.3)
