@@ -3,9 +3,10 @@
 ``bench_calibration``'s every-position study compares the default mesh with a finer reference at multiples of
 each mesh's own first-yield pressure p_y. A table is read at a pressure in MPa, and near first yield a residual
 dent moves fast with p0 (d ln r / d ln p0 is about 14-20 at 1.15 p_y), so a p_y shift of 0.3 % hides a 5 % dent
-difference there. Here each position's reference (:data:`benchmarks.bench_calibration.EVERY_POSITION_REFERENCES`:
-isotropic 8 elements per semi-axis, extruded 6 on elongated patches) unloads from the default mesh's absolute
-peaks (:func:`benchmarks.bench_calibration.convergence_at_same_pressure`): residual dents at the same peaks
+difference there. Here each position's reference
+(:data:`benchmarks.calibration_mesh_convergence.EVERY_POSITION_REFERENCES`: isotropic 8 elements per semi-axis,
+extruded 6 on elongated patches) unloads from the default mesh's absolute peaks
+(:func:`benchmarks.calibration_mesh_convergence.convergence_at_same_pressure`): residual dents at the same peaks
 (1.05-3 p_y of the default), u_pl at the default's levels above 1.2 p_y, first yield.
 
 ``python -m benchmarks.calibration_mesh_same_pressure OUT [--workers 2] [--report FILE]``: one JSON per position
@@ -22,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.bench_calibration import convergence_at_same_pressure, every_position_references
+from benchmarks.calibration_mesh_convergence import convergence_at_same_pressure, every_position_references
 from benchmarks.harness import command_line, write_report
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.runner import Runner

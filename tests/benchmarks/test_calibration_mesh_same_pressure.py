@@ -7,9 +7,9 @@ import json
 import numpy as np
 import pytest
 
-import benchmarks.bench_calibration as bc
+import benchmarks.calibration_mesh_convergence as bc
 from benchmarks import calibration_mesh_same_pressure as sp
-from benchmarks.bench_calibration import ROOT
+from benchmarks.calibration_mesh_convergence import ROOT
 from calibration.config import load_config
 
 PEAKS = load_config(ROOT / "calibration" / "configs" / "default.toml").load.unload_factors

@@ -5,7 +5,7 @@ reference and the reported errors."""
 
 from pathlib import Path
 
-import benchmarks.bench_calibration as bc
+import benchmarks.calibration_mesh_convergence as bc
 from calibration.config import load_config
 
 DEFAULT_CONFIG = Path(__file__).resolve().parents[2] / "calibration" / "configs" / "default.toml"
