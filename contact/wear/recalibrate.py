@@ -192,15 +192,17 @@ class SideTables:
 
 def recalibrate_side(recal: Recalibration, profiles: dict[str, Profile], work: Path, scheduler: str = "",
                      what: str = "wear.recalibrate",
-                     anchors: dict[tuple[str, float], DirectReference] | None = None) -> SideTables:
-    """Calibrate the bodies of the template on ``profiles[body]`` (the current profiles of one side) in ``work``;
+                     anchors: dict[tuple[str, float], DirectReference] | None = None,
+                     files: dict[str, Path] | None = None) -> SideTables:
+    """Calibrate the bodies of the template on ``profiles[body]`` (the current profiles of one side, written into
+    ``work`` unless ``files`` gives them already written there by :func:`write_profiles`) in ``work``;
     returns the tables of the bodies the template calibrates (by similarity: every position from the master,
     anchored to ``anchors`` (default: the scene tables' ``recal.anchors``), those without a geometry on the worn
     profile kept from the scene's table by :func:`merged_table`) and the side's anchors after it.
     InputError/ConvergenceError ``what: ...``."""
     work = Path(work)
     anchors = recal.anchors if anchors is None else anchors
-    files = write_profiles(profiles, work, "worn")
+    files = files if files is not None else write_profiles(profiles, work, "worn")
     _share_cache(work)
     cfg = worn_config(recal.calibration, files)
     try:
@@ -294,11 +296,11 @@ def recalibrate_sides(recal: Recalibration, profiles: dict[str, dict[str, Profil
     for side, prof in profiles.items():
         side_anchors = (anchors or {}).get(side)
         work = base / "calibration" / f"step_{step:03d}_{side}"
-        files = write_profiles(prof, work, "worn")  # what the calibration reads (it writes the same again)
+        files = write_profiles(prof, work, "worn")  # what the calibration reads
         found = next((f for fs, a, f in done if a == side_anchors and same_profile_files(fs, files)), None)
         if found is None:
             found = recalibrate_side(recal, prof, work, scheduler, what=f"step {step}: wear.recalibrate ({side} side)",
-                                     anchors=side_anchors)
+                                     anchors=side_anchors, files=files)
         done.append((files, side_anchors, found))
         tables.update({(side, body): table for body, table in found.tables.items()})
         after[side] = found.anchors

@@ -24,7 +24,8 @@ def sides(dz_mm: float):
 def counting(monkeypatch):
     calls = []
 
-    def fake(recal, profiles, work, scheduler="", what="", anchors=None):
+    def fake(recal, profiles, work, scheduler="", what="", anchors=None, files=None):
+        assert files == {"rail": (work / "rail.prr").resolve()} and files["rail"].is_file()  # written once, passed on
         calls.append((work.name, anchors))
         return SideTables({"rail": object()}, {("rail", float(len(calls))): object()})
 
