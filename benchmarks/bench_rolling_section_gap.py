@@ -70,11 +70,8 @@ class SectionGapRow:
 
 def rows_of(run: dict, table_rel: str, y_mm: float, label: str, c: float) -> list[SectionGapRow]:
     """The rows of one rolling.json (its levels with all compared passes done)."""
-    table = LayerTable.read(ROOT / table_rel)
-    ch = table.characteristic_at(y_mm)
-    law = table.rolling_law
-    pos = table_position(table_rel, y_mm)
-    aspect = pos.a_mm / pos.b_mm  # the section is rolled by the position's Hertz patch
+    ch = LayerTable.read(ROOT / table_rel).characteristic_at(y_mm)
+    law, aspect = table_law(table_rel, y_mm)
     p_2 = ch.elastic_limit_MPa
     rows = []
     for lv in run["levels"]:
@@ -91,14 +88,20 @@ def rows_of(run: dict, table_rel: str, y_mm: float, label: str, c: float) -> lis
     return rows
 
 
-def law_factors(row: SectionGapRow, passes) -> list[float]:
-    """The table's rolling law G_n at the row's position, p0 / p_2, traction and Hertz patch shape, for ``passes``
-    (as :func:`rows_of` applies it)."""
-    _, table_rel, y_mm, _ = next(p for p in POSITIONS if p[3] == row.position)
+def table_law(table_rel: str, y_mm: float):
+    """The table's rolling law and the a/b (-) at which it is read at ``y_mm``: the position's Hertz patch, which
+    rolls the section."""
     pos = table_position(table_rel, y_mm)
-    law = LayerTable.read(ROOT / table_rel).rolling_law
+    return LayerTable.read(ROOT / table_rel).rolling_law, pos.a_mm / pos.b_mm
+
+
+def law_factors(row: SectionGapRow, passes) -> list[float]:
+    """The table's rolling law G_n at the row's position, p0 / p_2, traction and patch shape, for ``passes`` (as
+    :func:`rows_of` applies it)."""
+    _, table_rel, y_mm, _ = next(p for p in POSITIONS if p[3] == row.position)
+    law, aspect = table_law(table_rel, y_mm)
     x = row.level * row.p_y_MPa / row.p_2_MPa
-    return [float(g) for g in law.factor(list(passes), x, row.c, pos.a_mm / pos.b_mm)]
+    return [float(g) for g in law.factor(list(passes), x, row.c, aspect)]
 
 
 def collect(runs: pathlib.Path, run_missing: bool) -> list[SectionGapRow]:
