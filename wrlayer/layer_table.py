@@ -1,7 +1,8 @@
 """Per-position layer tables: the calibrated Prandtl characteristic along a profile (units mm, MPa, N/mm^3).
 
-File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 4`` for the operating-range calibration,
-else 3 with a rolling law, else 2; versions 1 to 3 are read too and give their numbers as before)::
+File format (JSON, ``format = "wrlayer-layer-table"``, ``format_version = 5`` when the rolling law has convexity
+nodes, else 4 for the operating-range calibration, else 3 with a rolling law, else 2; versions 1 to 4 are read too
+and give their numbers as before)::
 
     {"format": ..., "format_version": 4,
      "header": {"body": "rail"|"wheel", "profile": name, "material": {...}, "model": "2d"|"3d",
@@ -14,7 +15,8 @@ else 3 with a rolling law, else 2; versions 1 to 3 are read too and give their n
                     ...}, ...],                                      # characteristic: "reverse_factor" (v4)
                                                                      # y_mm strictly increasing
      "failed": [{"y_mm": y, "error": message}, ...],
-     "rolling_law": {...}}                                           # v3, optional (wrlayer.rolling_law)
+     "rolling_law": {...}}                                           # v3, optional (wrlayer.rolling_law);
+                                                                     # its "convexity" nodes: v5
 
 ``positions`` are the calibrated positions (profile coordinate y in mm, frames as in :mod:`meshes.profiles`);
 ``failed`` lists positions whose calibration failed; they are never interpolated over: a y between the two
@@ -47,6 +49,8 @@ from wrlayer.rolling_law import RollingLaw
 
 FORMAT = "wrlayer-layer-table"
 FORMAT_VERSION = 4
+#: The version of a table whose rolling law has convexity nodes (``RollingLaw.convexity``).
+FORMAT_VERSION_CONVEXITY_LAW = 5
 #: The version of a table of the earlier (paper) calibration with a rolling law.
 FORMAT_VERSION_ROLLING_LAW = 3
 #: The version of a table of the earlier calibration without a rolling law (written as before the law existed).
@@ -57,7 +61,8 @@ VERSION_4_KEYS = ("fit_mode", "calibrated_max_MPa", "levels_over_p2", "u_pl_erro
 #: Versions this reader accepts. 2: positions may carry "warnings" (conforming contact) and the
 #: characteristic can be scaled to a patch size (``characteristic_at(y, patch_mm)``, needs geometry a_mm, b_mm).
 #: 3: an optional ``rolling_law``. 4: the keys of :data:`VERSION_4_KEYS` and the characteristics' reverse factors.
-SUPPORTED_VERSIONS = (1, 2, 3, 4)
+#: 5: the rolling law's ``convexity`` nodes.
+SUPPORTED_VERSIONS = (1, 2, 3, 4, 5)
 BODIES = ("rail", "wheel")
 #: Relative tolerance between stored (k_i, T_0i) and those re-derived from the stored characteristic.
 PARAMETER_RTOL = 1e-6
@@ -124,6 +129,9 @@ class LayerTable:
             if data["format_version"] < 3:
                 raise InputError(source, f"'rolling_law' needs format_version 3, got {data['format_version']}")
             law = RollingLaw.from_dict(data["rolling_law"], f"{source}: rolling_law")
+            if law.convexity is not None and data["format_version"] < FORMAT_VERSION_CONVEXITY_LAW:
+                raise InputError(source, f"'rolling_law.convexity' needs format_version {FORMAT_VERSION_CONVEXITY_LAW}"
+                                         f", got {data['format_version']}")
         return cls(data["header"], data["positions"], failed, source, law)
 
     def to_dict(self) -> dict[str, Any]:
@@ -133,6 +141,8 @@ class LayerTable:
             out.update(format_version=FORMAT_VERSION_ROLLING_LAW, rolling_law=self.rolling_law.to_dict())
         if self.is_version_4:
             out["format_version"] = FORMAT_VERSION
+        if self.rolling_law is not None and self.rolling_law.convexity is not None:
+            out["format_version"] = FORMAT_VERSION_CONVEXITY_LAW
         return out
 
     @property
@@ -212,6 +222,19 @@ class LayerTable:
                 return None
             lengths.append(math.sqrt(a * b))
         return float(np.interp(float(y_mm), self.y_mm, lengths))
+
+    def lateral_curvature_at(self, y_mm: float) -> float:
+        """The body's own lateral curvature 1/R (1/mm, convex > 0) at y on the profile the table was calibrated on
+        (``geometry.k_y_per_mm``, linear in y between positions, the end values outside); 0 when a position does
+        not record it (older tables). With the patch's lateral semi-axis b it gives the surface convexity
+        b / (2 R) at which a rolling law with convexity nodes is read."""
+        curvatures = []
+        for pos in self.positions:
+            k = (pos.get("geometry") or {}).get("k_y_per_mm")
+            if isinstance(k, bool) or not isinstance(k, (int, float)) or not math.isfinite(k):
+                return 0.0
+            curvatures.append(float(k))
+        return float(np.interp(float(y_mm), self.y_mm, curvatures))
 
     def calibrated_max_MPa(self, y_mm: float) -> float | None:
         """The largest pressure the characteristic at y was calibrated to (MPa, linear in y between positions): a

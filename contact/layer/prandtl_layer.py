@@ -126,7 +126,9 @@ class PrandtlLayer:
     ``rolling_law``: what a rolling pass leaves relative to the static residual (:mod:`wrlayer.rolling_law`, from
     the layer table; None: none), used by the passes' "rolling" memory rule (:mod:`contact.passes.passes`).
     ``reverse_factor`` (n,): each element's reverse slider threshold over the forward one (-; default 1, the paper's
-    element).
+    element). ``lateral_curvature_per_mm`` (n,): the body's own lateral curvature 1/R at each point (1/mm, convex
+    > 0; default 0), with which a rolling law with convexity nodes is read (b / (2 R), b the patch's lateral
+    semi-axis).
     """
 
     y_mm: np.ndarray
@@ -139,6 +141,7 @@ class PrandtlLayer:
     name: str = "layer"
     rolling_law: RollingLaw | None = None
     reverse_factor: np.ndarray = None
+    lateral_curvature_per_mm: np.ndarray = None
 
     def __post_init__(self):
         self.y_mm = np.atleast_1d(np.asarray(self.y_mm, dtype=float))
@@ -162,13 +165,17 @@ class PrandtlLayer:
             np.asarray(1.0 if self.reverse_factor is None else self.reverse_factor, dtype=float), (n,)))
         if not (np.all(np.isfinite(self.reverse_factor)) and np.all(self.reverse_factor > 0)):
             raise InputError(self.name, "reverse factors must be finite and > 0")
+        self.lateral_curvature_per_mm = np.ascontiguousarray(np.broadcast_to(np.asarray(
+            0.0 if self.lateral_curvature_per_mm is None else self.lateral_curvature_per_mm, dtype=float), (n,)))
+        if not np.all(np.isfinite(self.lateral_curvature_per_mm)):
+            raise InputError(self.name, "lateral curvatures must be finite")
 
     # ------------------------------------------------------------------ construction
     @classmethod
     def from_characteristics(cls, characteristics: Sequence[Characteristic], y_mm, name: str = "layer",
-                             rolling_law: RollingLaw | None = None):
+                             rolling_law: RollingLaw | None = None, lateral_curvature_per_mm=None):
         """One characteristic per point (padded to a common number of sliders with zero branches), each with its
-        reverse factor."""
+        reverse factor; ``lateral_curvature_per_mm``: per point (1/mm, None: 0)."""
         y = np.atleast_1d(np.asarray(y_mm, dtype=float))
         if len(characteristics) != y.size:
             raise InputError(name, f"{len(characteristics)} characteristics for {y.size} points")
@@ -183,7 +190,8 @@ class PrandtlLayer:
             e[j, :ns] = par.break_displacements_mm
             k_last[j] = par.k_N_per_mm3[-1]
         rho = np.array([c.reverse_factor for c in characteristics], dtype=float)
-        return cls(y, k, e, k_last, name=name, rolling_law=rolling_law, reverse_factor=rho)
+        return cls(y, k, e, k_last, name=name, rolling_law=rolling_law, reverse_factor=rho,
+                   lateral_curvature_per_mm=lateral_curvature_per_mm)
 
     @classmethod
     def uniform(cls, characteristic: Characteristic, y_mm, name: str = "layer",

@@ -28,6 +28,8 @@ class LayerLookup(Protocol):
 
     def calibrated_max_MPa(self, y_mm: float) -> float | None: ...
 
+    def lateral_curvature_at(self, y_mm: float) -> float: ...
+
 
 def clamped_characteristics(table: LayerLookup, y_mm: np.ndarray, what: str,
                             patch_mm: tuple[float, float] | None = None) -> tuple[list[Characteristic], np.ndarray]:

@@ -247,7 +247,8 @@ def build_layer_pair(sources: LayerSources | None, strips_mm: np.ndarray, coords
     """A patch's layers on its strips (mm): per body a uniform layer of its characteristic or the body's table read
     at the strips' profile coordinates ``coords_mm(body)`` (clamped to the table's range,
     :func:`contact.layer.strip_lookup.clamped_characteristics`; with ``scale_to_patch`` scaled to ``patch_mm`` =
-    (a, b) in mm), or one combined layer; the layers carry the table's rolling law. ``what`` names [layers] in
+    (a, b) in mm), or one combined layer; the layers carry the table's rolling law (and, for a law with convexity
+    nodes, the table's lateral curvature at the strips). ``what`` names [layers] in
     messages (``<file>: layers``). None without layers."""
     if sources is None or sources.empty:
         return None
@@ -260,10 +261,13 @@ def build_layer_pair(sources: LayerSources | None, strips_mm: np.ndarray, coords
             built[body] = PrandtlLayer.uniform(source, strips_mm, name=f"{what}.{body}")
         elif source is not None:
             name = f"{what}.{body} ({sources.name(body)})"
-            chars, _ = clamped_characteristics(source, coords_mm(body), name,
-                                               patch_mm if sources.scale_to_patch else None)
-            built[body] = PrandtlLayer.from_characteristics(chars, strips_mm, name=name,
-                                                            rolling_law=source.rolling_law)
+            coords = coords_mm(body)
+            chars, _ = clamped_characteristics(source, coords, name, patch_mm if sources.scale_to_patch else None)
+            law = source.rolling_law
+            curvature = ([source.lateral_curvature_at(float(y)) for y in coords]
+                         if law is not None and law.convexity is not None else None)  # the law reads b / (2 R)
+            built[body] = PrandtlLayer.from_characteristics(chars, strips_mm, name=name, rolling_law=law,
+                                                            lateral_curvature_per_mm=curvature)
     return LayerPair(**built)
 
 

@@ -83,6 +83,10 @@ class HardenedTable:
         """The table's calibrated pressure range at y (MPa), unchanged by the hardening."""
         return self.table.calibrated_max_MPa(y_mm)
 
+    def lateral_curvature_at(self, y_mm: float) -> float:
+        """The table's lateral curvature at y (1/mm), unchanged by the hardening."""
+        return self.table.lateral_curvature_at(y_mm)
+
     def characteristic_at(self, y_mm: float, patch_mm: tuple[float, float] | None = None) -> Characteristic:
         """The table's characteristic at y (scaled to ``patch_mm`` = (a, b) mm when given, ``scale_to_patch``),
         hardened to the peak pressure its element has carried."""
