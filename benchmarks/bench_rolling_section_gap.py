@@ -71,7 +71,7 @@ class SectionGapRow:
 def rows_of(run: dict, table_rel: str, y_mm: float, label: str, c: float) -> list[SectionGapRow]:
     """The rows of one rolling.json (its levels with all compared passes done)."""
     ch = LayerTable.read(ROOT / table_rel).characteristic_at(y_mm)
-    law, aspect = table_law(table_rel, y_mm)
+    law, shape = table_law(table_rel, y_mm)
     p_2 = ch.elastic_limit_MPa
     rows = []
     for lv in run["levels"]:
@@ -81,7 +81,7 @@ def rows_of(run: dict, table_rel: str, y_mm: float, label: str, c: float) -> lis
         x = lv["p0_over_py"]
         p0 = x * run["p_y_MPa"]  # the FEM's peak pressure (MPa): the layer is compared at the same p0
         r = float(ch.unloading_residual(p0))
-        law_g = [float(r * law.factor(n, p0 / p_2, c, aspect)) for n in COMPARED]
+        law_g = [float(r * law.factor(n, p0 / p_2, c, *shape)) for n in COMPARED]
         rows.append(SectionGapRow(label, c, x, run["p_y_MPa"], p_2, lv["static_dent_mm"], r,
                                   tuple(grooves[n - 1] for n in COMPARED), tuple(law_g),
                                   tuple(n * r for n in COMPARED), tuple(r for _ in COMPARED)))
@@ -89,19 +89,20 @@ def rows_of(run: dict, table_rel: str, y_mm: float, label: str, c: float) -> lis
 
 
 def table_law(table_rel: str, y_mm: float):
-    """The table's rolling law and the a/b (-) at which it is read at ``y_mm``: the position's Hertz patch, which
-    rolls the section."""
+    """The table's rolling law and the patch shape at which it is read at ``y_mm``: (a/b, b/(2R)) (-) of the
+    position's Hertz patch, which rolls the section (R: the table's lateral radius there)."""
     pos = table_position(table_rel, y_mm)
-    return LayerTable.read(ROOT / table_rel).rolling_law, pos.a_mm / pos.b_mm
+    table = LayerTable.read(ROOT / table_rel)
+    return table.rolling_law, (pos.a_mm / pos.b_mm, 0.5 * pos.b_mm * table.lateral_curvature_at(y_mm))
 
 
 def law_factors(row: SectionGapRow, passes) -> list[float]:
     """The table's rolling law G_n at the row's position, p0 / p_2, traction and patch shape, for ``passes`` (as
     :func:`rows_of` applies it)."""
     _, table_rel, y_mm, _ = next(p for p in POSITIONS if p[3] == row.position)
-    law, aspect = table_law(table_rel, y_mm)
+    law, shape = table_law(table_rel, y_mm)
     x = row.level * row.p_y_MPa / row.p_2_MPa
-    return [float(g) for g in law.factor(list(passes), x, row.c, aspect)]
+    return [float(g) for g in law.factor(list(passes), x, row.c, *shape)]
 
 
 def collect(runs: pathlib.Path, run_missing: bool) -> list[SectionGapRow]:
@@ -210,13 +211,14 @@ def main(argv: list[str] | None = None) -> int:
         section = section_runs(rows, args.refined) if args.refined else []
         fitted = law_markdown(section) if section else ""
         if fitted:
-            text += ("\n\nThe tables' rolling-law nodes fitted to the a/4 runs (round: each table's two positions; "
-                     "long patch: the field side; `python -m benchmarks.rolling_section_law`; the column \"rolling "
-                     "law / a/4 groove\" above is the table's law):\n\n" + fitted)
+            text += ("\n\nThe tables' rolling laws fitted to the a/4 runs (round: one node per position at its "
+                     "convexity b/(2R); long patch: the field side; held out: positions not fitted; `python -m "
+                     "benchmarks.rolling_section_law`; the column \"rolling law / a/4 groove\" above is the table's "
+                     "law):\n\n" + fitted)
         spread = spread_markdown(section) if section else ""
         if spread:
-            text += ("\n\nWhat the two positions of a round node need from it (the G_n that puts the table's layer on "
-                     "each a/4 groove, FEM groove over the table's r):\n\n" + spread)
+            text += ("\n\nWhat each table's two round positions need (the G_n that puts the table's layer on each "
+                     "a/4 groove, FEM groove over the table's r):\n\n" + spread)
     report = stamped_report("The rolling layer against the rolling FEM on the profile sections", text,
                             command_line("python -m benchmarks.bench_rolling_section_gap", argv))
     (args.runs / "section_gap.md").write_text(report)

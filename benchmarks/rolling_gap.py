@@ -285,24 +285,29 @@ def shaped_law(group: str, laws: dict[str, RollingLaw]) -> RollingLaw:
     return RollingLaw.by_aspect([(shapes[group], own)] + [(shapes[g], laws[g]) for g in LONG_PATCHES])
 
 
-def long_patch_index(group: str) -> int:
-    """The index of the :data:`LONG_PATCHES` group ``group`` among a table's patch-shape nodes (0: round)."""
-    return 1 + LONG_PATCHES.index(group)
+def long_patch_index(group: str, law: RollingLaw) -> int:
+    """The index of the :data:`LONG_PATCHES` group ``group`` among the patch-shape nodes of a table's ``law``: its
+    last nodes, one each (the round nodes come first, one per convexity)."""
+    return len(law.aspect_ratio) - len(LONG_PATCHES) + LONG_PATCHES.index(group)
 
 
-def with_nodes(table_rel: str, fitted: dict[int, RollingLaw]) -> RollingLaw:
-    """The table's stored law with its patch-shape nodes {index: law} ``fitted`` replaced, the others kept
-    (KeyError when the table holds no law with patch-shape nodes)."""
+def with_nodes(table_rel: str, fitted: dict[str, RollingLaw]) -> RollingLaw:
+    """The table's stored law with the nodes of the :data:`LONG_PATCHES` groups {group: law} ``fitted`` replaced,
+    the others (and every node's a/b and convexity) kept (KeyError when the table holds no law with patch-shape
+    nodes)."""
     stored = LayerTable.read(ROOT / table_rel).rolling_law
     if stored is None or stored.aspect_ratio is None:
         raise KeyError(f"{table_rel}: no law with patch-shape nodes stored")
-    return RollingLaw.by_aspect([(a, fitted.get(k, stored.node(k))) for k, a in enumerate(stored.aspect_ratio)])
+    by_index = {long_patch_index(g, stored): law for g, law in fitted.items()}
+    convexity = stored.convexity or [None] * len(stored.aspect_ratio)
+    return RollingLaw.by_shape([(a, s, by_index.get(k, stored.node(k)))
+                                for k, (a, s) in enumerate(zip(stored.aspect_ratio, convexity))])
 
 
 def write_block_nodes(laws: dict[str, RollingLaw]) -> list[Path]:
     """Write the :data:`BLOCK_NODES` laws of ``laws`` into the tables of :data:`GROUPS`, their other nodes kept
     (the round and long-patch nodes come from the sections: :mod:`benchmarks.rolling_section_law`)."""
-    fitted = {long_patch_index(g): laws[g] for g in BLOCK_NODES}
+    fitted = {g: laws[g] for g in BLOCK_NODES}
     return [write_law(table_rel, with_nodes(table_rel, fitted)) for _, table_rel in GROUPS.values() if table_rel]
 
 
@@ -350,7 +355,7 @@ def _joined(values) -> str:
 
 
 def write_law(table_rel: str, law: RollingLaw) -> Path:
-    """Write ``law`` into the shipped table ``table_rel`` (format version 3; its CSV is unchanged)."""
+    """Write ``law`` into the shipped table ``table_rel`` (its CSV is unchanged)."""
     path = ROOT / table_rel
     table = LayerTable.read(path)
     table = replace(table, rolling_law=law)

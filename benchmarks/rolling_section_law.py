@@ -4,39 +4,40 @@ The tables' patch-shape nodes were fitted to half-space blocks at h = a/2; rolle
 sections, the groove over the static dent moved by up to 8 % and the law overstated the a/4 groove by 6-12 % at
 1.15-1.3 p_y (docs/validation/rolling-section-gap.md). Here the nodes the sections reach (:data:`NODES`) are fitted
 (:func:`calibration.rolling.law_fit.fit_passes`) to the refined section runs of
-:mod:`benchmarks.rolling_section_refined`: per node, level and traction, the mean over the node's positions of the
-a/4 groove over the same run's a/4 static dent, passes 1-5, without a constant increment per pass
-(:data:`RATCHETING`). The round node (a/b about 1.34) is each table's own two positions (rail: crown and gauge
-corner; wheel: tread and flange root); the long-patch node (a/b 3.83) is the rail field side, whose Hertz patch
-has that shape, in both tables. Its level x = p0 / p_2 is the run's peak pressure over the table's p_2 at the
-position (mean over the positions), and the law is resampled to the levels of the tables' other nodes by its own
-bilinear rule. The very long node (a/b 10.2, no section reaches it) stays as the table holds it (blocks,
+:mod:`benchmarks.rolling_section_refined`: per node, level and traction, the a/4 groove over the same run's a/4
+static dent, passes 1-5, without a constant increment per pass (:data:`RATCHETING`). One node per position: the
+round ones (a/b about 1.34) at their position's surface convexity b / (2 R) (:func:`position_convexity`; rail:
+crown +0.009 and gauge corner +0.100; wheel: tread -0.008 and flange root -0.100), which the law interpolates
+linearly; two positions of one table needed G_n up to 12 % apart at the same x (:func:`spread_markdown`), more than
+any node of x and c alone can serve within 5 %. The long-patch node (a/b 3.83) is the rail field side, whose Hertz
+patch has that shape, in both tables. A node's level x = p0 / p_2 is the run's peak pressure over the table's p_2
+at the position, and the law is resampled to the levels of the tables' other nodes by its own bilinear rule. The
+very long node (a/b 10.2, no section reaches it) stays as the table holds it (blocks,
 :data:`benchmarks.rolling_gap.LONG_PATCHES`).
 
-Checked beyond the fit: each position of a two-position node against the law fitted to the other position alone
-(:func:`law_markdown`, column "other position's law"), and how far apart the two positions' needs are
-(:func:`spread_markdown`).
+Checked beyond the fit: the positions of :data:`CHECKS`, rolled but not fitted (the wheel at y = -22.5 mm, b/(2R)
+-0.036, between the tread and the flange root), against their table's law (:func:`law_markdown`).
 
 ``python -m benchmarks.rolling_section_law RUNS REFINED [--write-tables]``: RUNS the gap's a/2 runs
 (``benchmarks/data/rolling_section_gap``, for the cases' peak pressures), REFINED the a/4 runs
-(``benchmarks/data/rolling_section_refined``); prints the fit and with ``--write-tables`` writes the nodes into the
-shipped default tables (``rolling_law``, format version 3; the characteristics are unchanged).
-The fit of a node whose runs are incomplete is left out (the table keeps its stored node).
+(``benchmarks/data/rolling_section_refined``); prints the fit and with ``--write-tables`` writes the laws into the
+shipped default tables (``rolling_law`` with convexity nodes, format version 5; the characteristics are
+unchanged). A table with a node whose runs are incomplete is not written.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from benchmarks.rolling_gap import long_patch_index, with_nodes, write_law
+from benchmarks.rolling_gap import long_patch_index, write_law
 from benchmarks.rolling_section_cases import COMPARED, LEVELS, POSITIONS, ROOT, TARGET, TRACTIONS
 from benchmarks.rolling_section_refined import REFINED_ELEMENTS, cases_of, complete_run
 from calibration.rolling.law_fit import PassFit, fit_passes, rolling_law
+from wrlayer.layer_table import LayerTable
 from wrlayer.rolling_law import RollingLaw
 
 RAIL_TABLE = "scenes/tables/rail_60E1_default.json"
@@ -45,17 +46,23 @@ WHEEL_TABLE = "scenes/tables/wheel_S1002_default.json"
 
 @dataclass(frozen=True)
 class SectionNode:
-    """One patch-shape node fitted here: the tables it is written into, its index among their nodes
-    (``RollingLaw.aspect_ratio``, 0 = round) and the positions (names of POSITIONS) whose mean it is."""
+    """One patch-shape node fitted here: the tables it is written into, the law group whose a/b it takes
+    (:data:`benchmarks.rolling_gap.GROUPS`: the table's own round group, or "long patch") and the position (a name of
+    POSITIONS) whose runs it is fitted to, at that position's convexity (:func:`position_convexity`)."""
 
     tables: tuple[str, ...]
-    index: int
-    names: tuple[str, ...]
+    group: str
+    name: str
 
 
-#: The nodes fitted to the sections: each table's round node, and the long-patch node from the field side.
-NODES = (SectionNode((RAIL_TABLE,), 0, ("crown", "corner")), SectionNode((WHEEL_TABLE,), 0, ("tread", "flange")),
-         SectionNode((RAIL_TABLE, WHEEL_TABLE), long_patch_index("long patch"), ("field",)))
+#: The nodes fitted to the sections: each table's two round positions, and the long-patch node from the field side.
+NODES = (SectionNode((RAIL_TABLE,), "rail", "crown"), SectionNode((RAIL_TABLE,), "rail", "corner"),
+         SectionNode((WHEEL_TABLE,), "wheel", "tread"), SectionNode((WHEEL_TABLE,), "wheel", "flange"),
+         SectionNode((RAIL_TABLE, WHEEL_TABLE), "long patch", "field"))
+#: Positions rolled but not fitted, each a check of its table's law between the nodes: {name: table}.
+CHECKS = {"inner": WHEEL_TABLE}
+#: Each table's two round positions, whose needs :func:`spread_markdown` compares.
+ROUND_PAIRS = (("crown", "corner"), ("tread", "flange"))
 
 #: The nodes have no constant increment per pass (B = 0, :func:`calibration.rolling.law_fit.fit_passes`): at
 #: every a/4 section run the increments fall pass after pass (successive ratios over passes 2-5 <= 0.4, at the
@@ -84,11 +91,11 @@ class SectionRun:
 
 
 def section_runs(rows, refined: Path) -> list[SectionRun]:
-    """The complete refined runs of the :data:`NODES` positions (``rows``: the gap's a/2 rows,
+    """The complete refined runs of the :data:`NODES` and :data:`CHECKS` positions (``rows``: the gap's a/2 rows,
     :class:`benchmarks.bench_rolling_section_gap.SectionGapRow`, for each case's p0 and the table's p_2)."""
     by_case = {(r.position, r.c, r.level): r for r in rows}
     out = []
-    for name in (n for node in NODES for n in node.names):
+    for name in [node.name for node in NODES] + list(CHECKS):
         for case in cases_of(rows, name):
             run = complete_run(refined / case.key)
             if run is None:
@@ -136,67 +143,95 @@ def complete_nodes(runs: list[SectionRun]) -> dict[SectionNode, RollingLaw]:
     out = {}
     for node in NODES:
         try:
-            out[node] = fit_node(runs, node.names)[0]
+            out[node] = fit_node(runs, (node.name,))[0]
         except KeyError:
             continue
     return out
 
 
-def fitted_nodes(runs: list[SectionRun]) -> dict[str, dict[int, RollingLaw]]:
-    """Per table, the :data:`NODES` whose runs are complete, fitted: {table: {index: law}}."""
-    out: dict[str, dict[int, RollingLaw]] = {}
-    for node, law in complete_nodes(runs).items():
-        for table_rel in node.tables:
-            out.setdefault(table_rel, {})[node.index] = law
+def position_convexity(name: str) -> float:
+    """The surface convexity b / (2 R) (-) of the position ``name`` of POSITIONS at its table's reference patch
+    (the patch that rolls its section): b from the table's geometry, 1/R its ``lateral_curvature_at``."""
+    table, y_mm = _table_of(name)
+    entry = next(p for p in table.positions if float(p["y_mm"]) == y_mm)
+    return 0.5 * float(entry["geometry"]["b_mm"]) * table.lateral_curvature_at(y_mm)
+
+
+def position_aspect(name: str) -> float:
+    """The a/b (-) of the position's reference patch (a along the rolling direction)."""
+    table, y_mm = _table_of(name)
+    geo = next(p for p in table.positions if float(p["y_mm"]) == y_mm)["geometry"]
+    return float(geo["a_mm"]) / float(geo["b_mm"])
+
+
+def _table_of(name: str) -> tuple[LayerTable, float]:
+    _, table_rel, y_mm, _ = next(p for p in POSITIONS if p[0] == name)
+    return LayerTable.read(ROOT / table_rel), float(y_mm)
+
+
+def table_laws(nodes: dict[SectionNode, RollingLaw]) -> dict[str, RollingLaw]:
+    """Per table, the law its nodes give (``nodes``: :func:`complete_nodes`): each fitted node at its group's a/b
+    (the table's stored round and long-patch a/b) and its position's convexity, and the stored very long node
+    (blocks, flat: convexity 0). A table one of whose nodes is missing is left out."""
+    out = {}
+    for table_rel in (RAIL_TABLE, WHEEL_TABLE):
+        mine = [n for n in NODES if table_rel in n.tables]
+        if any(n not in nodes for n in mine):
+            continue
+        stored = LayerTable.read(ROOT / table_rel).rolling_law
+        aspects = sorted(set(stored.aspect_ratio))  # the round, long and very long groups
+        shapes = [(aspects[1] if n.group == "long patch" else aspects[0], position_convexity(n.name), nodes[n])
+                  for n in mine]
+        shapes.append((aspects[-1], 0.0, stored.node(long_patch_index("very long patch", stored))))
+        out[table_rel] = RollingLaw.by_shape(sorted(shapes, key=lambda t: (t[0], t[1])))
     return out
 
 
 def law_markdown(runs: list[SectionRun]) -> str:
-    """Per refined run: the FEM's groove over its static dent (passes :data:`COMPARED`), the node fitted here
-    over it, and (nodes of two positions) the node fitted to the other position alone over it."""
+    """Per refined run: the FEM's groove over its static dent (passes :data:`COMPARED`) and the table's law
+    (:func:`table_laws`, at the position's a/b and convexity) over it; the nodes' own positions and the
+    :data:`CHECKS` (held out) counted apart."""
     passes = ", ".join(str(n) for n in COMPARED)
-    lines = [f"| position | c | p0 / p_y | x = p0 / p_2 | FEM groove / static dent at a/{REFINED_ELEMENTS:g}, passes "
-             f"{passes} | fitted node / FEM | other position's law / FEM |", "|---|---|---|---|---|---|---|"]
-    counts = {"own": 0, "other": 0, "held out": 0}
+    lines = [f"| position | role | c | p0 / p_y | x = p0 / p_2 | b/(2R) | FEM groove / static dent at "
+             f"a/{REFINED_ELEMENTS:g}, passes {passes} | table's law / FEM |", "|---|---|---|---|---|---|---|---|"]
+    laws = table_laws(complete_nodes(runs))
+    tables = {**{n.name: n.tables[0] for n in NODES}, **CHECKS}
+    counts = {"node": [0, 0], "held out": [0, 0]}
     n = np.array(COMPARED)
-    for node, own in complete_nodes(runs).items():
-        other = {m: fit_node(runs, tuple(k for k in node.names if k != m))[0] for m in node.names
-                 if len(node.names) > 1}
-        for r in (r for r in runs if r.name in node.names):
-            fem = np.asarray(r.ratios)[n - 1]
-            mine = own.factor(n, r.x, r.c) / fem
-            counts["own"] += bool(np.all(np.abs(mine - 1.0) <= TARGET))
-            held_out = "—"
-            if r.name in other:
-                theirs = other[r.name].factor(n, r.x, r.c) / fem
-                counts["held out"] += 1
-                counts["other"] += bool(np.all(np.abs(theirs - 1.0) <= TARGET))
-                held_out = _joined(theirs)
-            lines.append(f"| {r.name} | {r.c:g} | {r.level:g} | {r.x:.3f} | {_joined(fem)} | {_joined(mine)} | "
-                         f"{held_out} |")
-    total = len(lines) - 2
-    if total == 0:
+    for r in runs:
+        law = laws.get(tables[r.name])
+        if law is None:
+            continue
+        role = "held out" if r.name in CHECKS else "node"
+        s = position_convexity(r.name)
+        fem = np.asarray(r.ratios)[n - 1]
+        ratio = law.factor(n, r.x, r.c, position_aspect(r.name), s) / fem
+        counts[role][0] += bool(np.all(np.abs(ratio - 1.0) <= TARGET))
+        counts[role][1] += 1
+        lines.append(f"| {r.name} | {role} | {r.c:g} | {r.level:g} | {r.x:.3f} | {s:+.3f} | {_joined(fem)} | "
+                     f"{_joined(ratio)} |")
+    if len(lines) == 2:
         return ""
-    lines += ["", f"The nodes fitted to these runs reproduce the groove over the static dent within {TARGET:.0%} after "
-                  f"passes {passes} in {counts['own']} of {total} cases; fitted to the other position of a "
-                  f"two-position node alone, in {counts['other']} of {counts['held out']}."]
-    return "\n".join(lines)
+    return "\n".join(lines + ["", f"The tables' laws reproduce the groove over the static dent within {TARGET:.0%} "
+                                   f"after passes {passes} in {counts['node'][0]} of {counts['node'][1]} cases at "
+                                   f"their nodes' positions and in {counts['held out'][0]} of "
+                                   f"{counts['held out'][1]} at the positions held out."])
 
 
 def spread_markdown(runs: list[SectionRun]) -> str:
-    """Per two-position node, level and traction: the G_n each position needs (FEM groove over the table's r,
-    :meth:`SectionRun.required`) at passes :data:`COMPARED`, both at the node's x (the mean of the two positions'
-    x = p0 / p_2, as :func:`fit_node` places it; each position's need linear in x between its levels), larger over
+    """Per pair of :data:`ROUND_PAIRS`, level and traction: the G_n each position needs (FEM groove over the table's
+    r, :meth:`SectionRun.required`) at passes :data:`COMPARED`, both at the mean of the two positions' x = p0 / p_2
+    (each position's need linear in x between its levels), larger over
     smaller, and how many cases no single node can serve within :data:`TARGET` at both positions (needed spread
     above (1 + T) / (1 - T))."""
     limit = (1.0 + TARGET) / (1.0 - TARGET)
     n = np.array(COMPARED)
-    lines = [f"| node | c | p0 / p_y | x | G needed, larger / smaller, passes {', '.join(map(str, COMPARED))} |",
+    lines = [f"| positions | c | p0 / p_y | x | G needed, larger / smaller, passes {', '.join(map(str, COMPARED))} |",
              "|---|---|---|---|---|"]
     beyond = 0
-    for node in (nd for nd in NODES if len(nd.names) == 2):
+    for names in ROUND_PAIRS:
         for c in TRACTIONS:
-            own = {m: sorted((r for r in runs if r.name == m and r.c == c), key=lambda r: r.x) for m in node.names}
+            own = {m: sorted((r for r in runs if r.name == m and r.c == c), key=lambda r: r.x) for m in names}
             if any(len(v) < 2 for v in own.values()):
                 continue
             for lv in LEVELS:
@@ -204,15 +239,16 @@ def spread_markdown(runs: list[SectionRun]) -> str:
                 if len(pair) != 2:
                     continue
                 x = float(np.mean([r.x for r in pair]))
-                a, b = (_need_at(own[m], x)[n - 1] for m in node.names)
+                a, b = (_need_at(own[m], x)[n - 1] for m in names)
                 spread = np.maximum(a, b) / np.minimum(a, b)
                 beyond += bool(np.any(spread > limit))
-                lines.append(f"| {' and '.join(node.names)} | {c:g} | {lv:g} | {x:.3f} | {_joined(spread)} |")
+                lines.append(f"| {' and '.join(names)} | {c:g} | {lv:g} | {x:.3f} | {_joined(spread)} |")
     if len(lines) == 2:
         return ""
     return "\n".join(lines + ["", f"In {beyond} of {len(lines) - 2} cases the two positions need G_n further apart "
-                                   f"than {limit:.3f} at the same x: there no node of this law (a function of x "
-                                   f"and c) puts the layer within {TARGET:.0%} of both grooves."])
+                                   f"than {limit:.3f} at the same x: there no node of x and c alone puts the "
+                                   f"layer within {TARGET:.0%} of both grooves (the tables' round nodes are "
+                                   f"therefore one per position, at its convexity)."])
 
 
 def _need_at(series: list[SectionRun], x: float) -> np.ndarray:
@@ -240,8 +276,8 @@ def main(argv: list[str] | None = None) -> None:
     print(law_markdown(runs))
     print(spread_markdown(runs))
     if args.write_tables:
-        for table_rel, fitted in fitted_nodes(runs).items():
-            print(f"wrote {write_law(table_rel, with_nodes(table_rel, fitted))}")
+        for table_rel, law in table_laws(complete_nodes(runs)).items():
+            print(f"wrote {write_law(table_rel, law)}")
 
 
 if __name__ == "__main__":

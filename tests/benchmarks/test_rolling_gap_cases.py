@@ -120,6 +120,7 @@ def test_the_blocks_write_only_the_very_long_node(monkeypatch):
     assert set(written) == {t for _, t in gap.GROUPS.values() if t}
     for table_rel, law in written.items():
         stored = gap.LayerTable.read(gap.ROOT / table_rel).rolling_law
-        assert law.aspect_ratio == stored.aspect_ratio
-        assert law.node(0) == stored.node(0) and law.node(1) == stored.node(1)  # the sections' nodes kept
-        assert law.node(2).first_pass_ratio == very_long.first_pass_ratio
+        assert law.aspect_ratio == stored.aspect_ratio and law.convexity == stored.convexity
+        last = len(law.aspect_ratio) - 1
+        assert all(law.node(k) == stored.node(k) for k in range(last))  # the sections' nodes kept
+        assert law.node(last).first_pass_ratio == very_long.first_pass_ratio

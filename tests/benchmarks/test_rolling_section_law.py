@@ -1,6 +1,6 @@
-"""The tables' rolling-law nodes fitted on the refined section runs: reading the runs, the fit (mean of the
-node's positions, levels x = p0 / p_2 resampled to the tables' grid), the stored nodes not fitted kept, the
-long-patch node written into both tables, and the check against the other position's law."""
+"""The tables' rolling laws fitted on the refined section runs: reading the runs, the fit (levels x = p0 / p_2
+resampled to the tables' grid), one round node per position at its convexity, the long-patch node in both tables,
+the stored very long node kept, and the held-out position checked between the nodes."""
 
 import json
 
@@ -58,37 +58,49 @@ def test_an_incomplete_level_is_refused():
         sl.fit_node(runs()[1:], ("crown", "corner"))
 
 
-def test_the_table_keeps_the_nodes_not_fitted():
-    node, _ = sl.fit_node(runs(), ("crown", "corner"))
-    stored = LayerTable.read(sl.ROOT / RAIL).rolling_law
-    law = sl.with_nodes(RAIL, {0: node})
-    assert law.aspect_ratio == stored.aspect_ratio
-    assert law.node(0).first_pass_ratio == node.first_pass_ratio and law.node(0).source == node.source
-    for k in range(1, len(stored.aspect_ratio)):
-        assert law.node(k) == stored.node(k)
+def node_runs(offsets: dict[str, float]):
+    """Refined runs of the positions ``offsets`` with the known law's ratios, each ``offsets[name]`` above it."""
+    out = []
+    for name, off in offsets.items():
+        out += runs((name,), offset=off)
+    return out
 
 
-def test_the_field_side_gives_the_long_patch_node_of_both_tables():
-    fitted = sl.fitted_nodes(runs() + runs(("field",), offset=0.0))
-    assert set(fitted) == {sl.RAIL_TABLE, sl.WHEEL_TABLE}  # the wheel's round node: no tread or flange runs
-    assert set(fitted[sl.RAIL_TABLE]) == {0, 1} and set(fitted[sl.WHEEL_TABLE]) == {1}
-    assert fitted[sl.WHEEL_TABLE][1] is fitted[sl.RAIL_TABLE][1] and "field" in fitted[sl.RAIL_TABLE][1].source
-    law = sl.with_nodes(sl.WHEEL_TABLE, fitted[sl.WHEEL_TABLE])
-    stored = LayerTable.read(sl.ROOT / sl.WHEEL_TABLE).rolling_law
-    assert law.node(0) == stored.node(0) and law.node(2) == stored.node(2)
-    np.testing.assert_allclose(law.factor(np.arange(1, 6), 1.5, 0.2, law.aspect_ratio[1]),
-                               truth(0.2, 1.5).factors(5), rtol=2e-3)
+#: Each node position's ratio over the known law: the wheel's two round positions apart by 12 %.
+OFFSETS = {"crown": 0.0, "corner": 0.02, "tread": -0.04, "flange": 0.08, "field": 0.1}
 
 
-def test_each_position_is_checked_against_the_other_positions_law():
-    text = sl.law_markdown(runs(offset=0.02))  # each 2 % off the mean, 4 % off the other
-    assert "in 20 of 20 cases; fitted to the other position of a two-position node alone, in 20 of 20" in text
-    text = sl.law_markdown(runs(offset=0.03))  # 6 % off the other position
-    assert "in 20 of 20 cases; fitted to the other position of a two-position node alone, in 0 of 20" in text
-    assert sl.law_markdown(runs()[1:]) == ""  # no complete node
-    text = sl.law_markdown(runs(offset=0.03) + runs(("field",), offset=0.0))  # one position: nothing held out
-    assert "in 30 of 30 cases; fitted to the other position of a two-position node alone, in 0 of 20" in text
-    assert text.count("| — |") == 10
+def test_each_table_law_has_its_positions_at_their_convexity_and_keeps_the_very_long_node():
+    laws = sl.table_laws(sl.complete_nodes(node_runs(OFFSETS)))
+    assert set(laws) == {sl.RAIL_TABLE, sl.WHEEL_TABLE}
+    n = np.arange(1, 6)
+    for table_rel, law in laws.items():
+        stored = LayerTable.read(sl.ROOT / table_rel).rolling_law
+        assert len(law.aspect_ratio) == 4 and sorted(set(law.aspect_ratio)) == sorted(set(stored.aspect_ratio))
+        assert law.node(3) == stored.node(len(stored.aspect_ratio) - 1) and law.convexity[3] == 0.0
+        names = ("crown", "corner") if table_rel == sl.RAIL_TABLE else ("flange", "tread")  # by convexity
+        for k, name in enumerate(names + ("field",)):
+            s = sl.position_convexity(name)
+            assert law.convexity[k] == pytest.approx(s)
+            np.testing.assert_allclose(law.factor(n, 1.5, 0.2, law.aspect_ratio[k], s),
+                                       truth(0.2, 1.5).factors(5) * (1 + OFFSETS[name]), rtol=3e-3)
+    s_tread, s_flange = sl.position_convexity("tread"), sl.position_convexity("flange")
+    assert s_flange < sl.position_convexity("inner") < s_tread < 0.0 < sl.position_convexity("crown")
+    mid = laws[sl.WHEEL_TABLE].factor(n, 1.5, 0.2, laws[sl.WHEEL_TABLE].aspect_ratio[0], 0.5 * (s_tread + s_flange))
+    np.testing.assert_allclose(mid, truth(0.2, 1.5).factors(5) * 1.02, rtol=3e-3)   # halfway: linear in s
+    assert sl.table_laws(sl.complete_nodes(runs(("crown",)))) == {}  # a table with a node missing: not written
+
+
+def test_the_held_out_position_is_checked_against_its_tables_law():
+    def inner(offset):  # the inner tread's ratios, ``offset`` over the known law (the tables' law there: -0.3 %)
+        return [sl.SectionRun("inner", r.c, r.level, r.x, r.ratios) for r in runs(("tread",), offset=offset)]
+
+    text = sl.law_markdown(node_runs(OFFSETS) + inner(0.0))
+    assert "in 50 of 50 cases at their nodes' positions and in 10 of 10 at the positions held out" in text
+    assert text.count("| inner | held out |") == 10
+    text = sl.law_markdown(node_runs(OFFSETS) + inner(-0.06))  # 6 % below the law between the nodes
+    assert "in 0 of 10 at the positions held out" in text
+    assert sl.law_markdown(runs(("crown",))) == ""  # no table complete
 
 
 def test_the_refined_runs_are_read_with_x_over_the_tables_p_2(tmp_path):
