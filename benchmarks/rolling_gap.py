@@ -280,9 +280,20 @@ def shaped_law(group: str, laws: dict[str, RollingLaw]) -> RollingLaw:
         stored = LayerTable.read(ROOT / GROUPS[group][1]).rolling_law
         if stored is None:
             raise KeyError(f"{group}: no law fitted or stored")
-        own = stored.node(0)  # a shaped law already: its first node is the group's own
+        own = flat_round_law(stored)
     shapes = group_aspect_ratios()
     return RollingLaw.by_aspect([(shapes[group], own)] + [(shapes[g], laws[g]) for g in LONG_PATCHES])
+
+
+def flat_round_law(law: RollingLaw) -> RollingLaw:
+    """The single-shape law a table's ``law`` gives a round patch (its first a/b) on a flat surface (convexity 0,
+    the blocks'), on the law's own grid."""
+    if law.aspect_ratio is None:
+        return law
+    x, c = np.meshgrid(np.asarray(law.p0_over_p2), np.asarray(law.traction_coefficient))
+    params = law.parameters(x, c, law.aspect_ratio[0], 0.0 if law.convexity is not None else None)
+    return RollingLaw(law.p0_over_p2, law.traction_coefficient, *(v.tolist() for v in params),
+                      source=f"{law.node(0).source} (round patch, flat)")
 
 
 def long_patch_index(group: str, law: RollingLaw) -> int:

@@ -145,7 +145,8 @@ def refined_markdown(rows, study, out: Path) -> str:
                      + ", ".join(f"{f / r.static_dent_mm:.3f}" for f in r.fem_mm) + " | "
                      + ", ".join(f"{g / lv['static_dent_mm']:.3f}" for g in fine) + " | "
                      f"{lv['static_dent_mm'] / r.static_dent_mm:.3f} | " + ", ".join(f"{v:.3f}" for v in law) + " | "
-                     + ", ".join(f"{v:.3f}" for v in r.law_over_fem(factor)) + " | "
+                     + (", ".join(f"{v:.3f}" for v in r.law_over_fem(factor)) if factor is not None else "—")
+                     + " | "
                      f"{run['n_dofs']} | {run['seconds']:.0f} |")
     if n == 0:
         return ""

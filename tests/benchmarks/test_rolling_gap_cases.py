@@ -97,7 +97,8 @@ def test_tables_get_their_round_law_and_the_long_patch_laws_as_shape_nodes():
     assert float(law.factor(1, 1.5, 0.2, 20.0)) == pytest.approx(1.1)  # clamped to the longest patch's
     stored = gap.shaped_law("wheel", long_laws)                       # no wheel cases: the table's own law
     shipped = gap.LayerTable.read(gap.ROOT / gap.GROUPS["wheel"][1]).rolling_law
-    assert float(stored.factor(1, 1.5, 0.2, 1.0)) == pytest.approx(float(shipped.factor(1, 1.5, 0.2, 1.0)))
+    assert float(stored.factor(1, 1.5, 0.2, 1.0)) == pytest.approx(float(shipped.factor(1, 1.5, 0.2, 1.0, 0.0)))
+    assert float(stored.factor(1, 1.5, 0.2, 1.0)) != pytest.approx(float(shipped.factor(1, 1.5, 0.2, 1.0, -0.1)))
     with pytest.raises(KeyError):
         gap.shaped_law("rail", {"rail": flat(1.0), "long patch": flat(1.2)})
 

@@ -27,13 +27,14 @@ def test_layer_groove_is_the_tables_residual_times_its_law():
     assert len(rows) == 1
     r = float(ch.unloading_residual(1.7 * 800.0))  # at the FEM's peak pressure, 1.7 x its own p_y
     geo = next(p["geometry"] for p in table.positions if p["y_mm"] == y_mm)
-    aspect = geo["a_mm"] / geo["b_mm"]             # the law at the position's patch shape
+    aspect = geo["a_mm"] / geo["b_mm"]             # the law at the position's patch shape and convexity
+    convexity = 0.5 * geo["b_mm"] * geo["k_y_per_mm"]
     row = rows[0]
     assert row.table_residual_mm == pytest.approx(r)
     assert row.fem_mm == (0.019, 0.020, 0.0205)
     for n, law in zip(cases.COMPARED, row.law_mm):
         assert law == pytest.approx(r * float(table.rolling_law.factor(n, 1.7 * 800.0 / ch.elastic_limit_MPa, 0.2,
-                                                                       aspect)))
+                                                                       aspect, convexity)))
     assert row.relaxed_mm == pytest.approx(tuple(n * r for n in cases.COMPARED))
     text = sg.table_markdown(rows)
     assert f"| {label} | 0.2 | 1.7 |" in text and "of 1 cases" in text
