@@ -43,6 +43,11 @@ class InputError(WrLayerError, ValueError):
         self.problem = problem
         super().__init__(f"{what}: {problem}")
 
+    def __reduce__(self):
+        # rebuilt from (what, problem), so that it crosses from a worker process (the default pickles the message
+        # alone, and the unpickling would fail and break the process pool)
+        return type(self), (self.what, self.problem), self.__dict__
+
 
 class ConvergenceError(WrLayerError, ArithmeticError):
     """A numerical method did not converge or left its bracket; never returned as a result."""

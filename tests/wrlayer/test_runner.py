@@ -10,6 +10,7 @@ import time
 
 import pytest
 
+from wrlayer.cost import CostError
 from wrlayer.errors import InputError
 from wrlayer.runner import (THREAD_VARIABLES, Runner, blas_threads_per_worker, check_scheduler_address, check_workers,
                             report_progress)
@@ -27,6 +28,12 @@ def steps(n: int) -> int:
 def fail_on_three(n: int) -> int:
     if n == 3:
         raise ValueError("three")
+    return n
+
+
+def bad_input_on_three(n: int) -> int:
+    if n == 3:
+        raise CostError("task 3", "refused")  # an InputError subclass: (what, problem) cross the process boundary
     return n
 
 
@@ -71,19 +78,22 @@ def test_task_error_reaches_the_caller():
         import sys
         from wrlayer.runner import Runner
         sys.path.insert(0, sys.argv[1])
-        from test_runner import fail_on_three
-        for workers, tasks in ((2, [1, 2, 3, 4]), (1, [3])):
-            try:
-                with Runner(workers) as runner:
-                    runner.map(fail_on_three, tasks)
-            except ValueError as err:
-                print(workers, err)
+        from test_runner import bad_input_on_three, fail_on_three
+        for task in (fail_on_three, bad_input_on_three):
+            for workers, tasks in ((2, [1, 2, 3, 4]), (1, [3])):
+                try:
+                    with Runner(workers) as runner:
+                        runner.map(task, tasks)
+                except ValueError as err:
+                    print(workers, type(err).__name__, err, getattr(err, "problem", ""))
         print("done")
     """)
     done = subprocess.run([sys.executable, "-c", code, os.path.dirname(__file__)], capture_output=True, text=True,
                           timeout=120)
     assert done.returncode == 0, done.stderr
-    assert done.stdout.split("\n")[:3] == ["2 three", "1 three", "done"], done.stdout
+    assert done.stdout.split("\n")[:5] == ["2 ValueError three ", "1 ValueError three ",
+                                           "2 CostError task 3: refused refused", "1 CostError task 3: refused refused",
+                                           "done"], done.stdout
 
 
 PARENT = textwrap.dedent("""
