@@ -34,7 +34,8 @@ from contact.layer.patch_scaling import settle_patch_sizes
 from contact.layer.strip_lookup import check_coverage
 from contact.normal.kik_piotrowski import NormalSolution
 from contact.passes.passes import PassRecord, run_passes
-from contact.wheel_rail.balance import LAYER_F_CAPS_MM, LoadedPatch, VerticalBalance, track_vector
+from contact.wheel_rail.balance import (JUMP_BALANCE_RTOL, LAYER_F_CAPS_MM, LoadedPatch, VerticalBalance,
+                                        track_vector)
 from contact.wheel_rail.contact_search import SearchResult, SearchSettings, search_contacts
 from contact.scenes.layers import LayerSources
 from contact.wheel_rail.inputs import WheelRailInputs
@@ -43,8 +44,10 @@ from contact.wheel_rail.track_geometry import PlacedRail, place_rail, side_sign
 from meshes.profiles import Profile
 from wrlayer.errors import ConvergenceError, InputError, LayerElementMissing, PatchTruncated, typed_input_error
 
-#: Largest relative vertical load balance residual |sum F_Z - Q| / Q accepted.
-BALANCE_RTOL = 1e-6
+#: Largest relative vertical load balance residual |sum F_Z - Q| / Q accepted: the iteration stops at 1e-8 (5e-7
+#: with "coarse_exact") where F_Z(N) is continuous, and where F_Z jumps across Q at the jump's side nearer Q, within
+#: :data:`contact.wheel_rail.balance.JUMP_BALANCE_RTOL`.
+BALANCE_RTOL = JUMP_BALANCE_RTOL
 #: Barrier heights (mm) up to which neighbouring candidates are merged when their patches grow into each other.
 MERGE_RETRY_MM = (0.02, 0.05, 0.1, 0.2, 0.5)
 

@@ -13,9 +13,13 @@ from contact.run_files import run_wheel_rail_scene
 from contact.scenes.layers import LayerSources
 from contact.wheel_rail.inputs import WheelRailInputs
 from contact.wheel_rail.sections import WheelLoadSpec, WheelRailMethodSpec
-from contact.wheel_rail.solve import BALANCE_RTOL, solve_wheel
+from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
 from wrlayer.errors import InputError
+
+#: These cases' F_Z is continuous at the balance: the iteration meets 1e-8 of Q (the accepted limit is wider only
+#: where F_Z jumps across Q).
+CONTINUOUS_BALANCE = 1e-6
 
 TABLES = Path(__file__).resolve().parents[3] / "scenes" / "tables"
 
@@ -41,6 +45,9 @@ class _Recording:
     def calibrated_max_MPa(self, y_mm):
         return self.table.calibrated_max_MPa(y_mm)
 
+    def lateral_curvature_at(self, y_mm):
+        return self.table.lateral_curvature_at(y_mm)
+
     def characteristic_at(self, y_mm, patch_mm=None):
         self.asked.append(patch_mm)
         return self.table.characteristic_at(y_mm, patch_mm=patch_mm)
@@ -58,7 +65,7 @@ def test_each_patch_is_scaled_to_its_own_size(rail60, s1002, placed, tables):
     sol = solve_wheel(rail60, s1002, inputs, LayerSources(rail=rail_t, wheel=wheel_t, scale_to_patch=True),
                       placed_rail=placed)
     assert len(sol.patches) == 2  # tread and flange root: two patches of different size
-    assert abs(sum(p.vertical_N for p in sol.patches) - 50000.0) / 50000.0 < BALANCE_RTOL
+    assert abs(sum(p.vertical_N for p in sol.patches) - 50000.0) / 50000.0 < CONTINUOUS_BALANCE
     sizes = []
     for p in sol.patches:
         a, b = p.layer_patch_mm

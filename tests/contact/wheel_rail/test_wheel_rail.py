@@ -12,9 +12,13 @@ from contact.wheel_rail.deformed import deformed_profile, residual_on_profiles, 
 from contact.scenes.layers import LayerSources
 from contact.wheel_rail.inputs import WheelRailInputs
 from contact.wheel_rail.sections import WheelLoadSpec, WheelRailMethodSpec
-from contact.wheel_rail.solve import BALANCE_RTOL, solve_wheel
+from contact.wheel_rail.solve import solve_wheel
 from contact.wheel_rail.track_geometry import WheelsetPose
 from wrlayer.errors import InputError, PatchTruncated
+
+#: These cases' F_Z is continuous at the balance: the iteration meets 1e-8 of Q (the accepted limit is wider only
+#: where F_Z jumps across Q).
+CONTINUOUS_BALANCE = 1e-6
 
 
 def _vertical(sol):
@@ -25,7 +29,7 @@ def _vertical(sol):
 @pytest.mark.parametrize("d", [0.5, 5.2, 7.0])
 def test_vertical_load_balance(rail60, s1002, placed, d):
     sol = solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(d), load=WheelLoadSpec(vertical_load_N=12000.0)), placed_rail=placed)
-    assert abs(_vertical(sol) - 12000.0) / 12000.0 < BALANCE_RTOL
+    assert abs(_vertical(sol) - 12000.0) / 12000.0 < CONTINUOUS_BALANCE
     assert sol.vertical_balance_rel < 1e-8
     if d == 5.2:  # two-point contact (tread + flange root), both loaded
         assert len(sol.patches) == 2
@@ -88,7 +92,7 @@ def test_layers_per_strip_residuals_and_deformed_profiles(rail60, s1002, placed,
     inputs = WheelRailInputs(pose=WheelsetPose(6.0))
     sol = solve_wheel(rail60, s1002, inputs, layers, placed_rail=placed)
     p = sol.patches[0]
-    assert abs(_vertical(sol) - inputs.vertical_load_N) / inputs.vertical_load_N < BALANCE_RTOL
+    assert abs(_vertical(sol) - inputs.vertical_load_N) / inputs.vertical_load_N < CONTINUOUS_BALANCE
     assert not p.normal.elastic and p.passes
     # the per-strip rail layer follows the table at the strip's rail coordinate
     on = p.normal.p_peak_MPa > 0
@@ -126,7 +130,7 @@ def test_heavy_load_widens_the_layer(rail60, s1002, placed):
     sol = solve_wheel(rail60, s1002, inputs, soft, placed_rail=placed)
     p = sol.patches[0]
     assert p.normal.delta0_mm > 0.3
-    assert abs(_vertical(sol) - 150000.0) / 150000.0 < BALANCE_RTOL
+    assert abs(_vertical(sol) - 150000.0) / 150000.0 < CONTINUOUS_BALANCE
 
 
 def test_patches_that_cannot_be_merged_are_a_clear_error(rail60, s1002, placed):
@@ -144,7 +148,7 @@ def test_patches_growing_into_each_other_are_merged_into_one(rail60, s1002, plac
                       placed_rail=placed)
     assert sol.merge_mm > WheelRailInputs().search.merge_mm
     assert len(sol.patches) == 1 and len(sol.patches[0].normal.patches) == 2
-    assert abs(_vertical(sol) - 100000.0) / 100000.0 < BALANCE_RTOL
+    assert abs(_vertical(sol) - 100000.0) / 100000.0 < CONTINUOUS_BALANCE
     # at the default merge level the same case is two candidates whose patches run into the barrier
     assert solve_wheel(rail60, s1002, WheelRailInputs(pose=WheelsetPose(5.0), load=WheelLoadSpec(vertical_load_N=10000.0)),
                        placed_rail=placed).merge_mm == WheelRailInputs().search.merge_mm
