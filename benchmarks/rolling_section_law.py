@@ -28,6 +28,7 @@ unchanged). A table with a node whose runs are incomplete is not written.
 from __future__ import annotations
 
 import argparse
+import functools
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -152,21 +153,21 @@ def complete_nodes(runs: list[SectionRun]) -> dict[SectionNode, RollingLaw]:
 def position_convexity(name: str) -> float:
     """The surface convexity b / (2 R) (-) of the position ``name`` of POSITIONS at its table's reference patch
     (the patch that rolls its section): b from the table's geometry, 1/R its ``lateral_curvature_at``."""
-    table, y_mm = _table_of(name)
-    entry = next(p for p in table.positions if float(p["y_mm"]) == y_mm)
-    return 0.5 * float(entry["geometry"]["b_mm"]) * table.lateral_curvature_at(y_mm)
+    return _position_shape(name)[1]
 
 
 def position_aspect(name: str) -> float:
     """The a/b (-) of the position's reference patch (a along the rolling direction)."""
-    table, y_mm = _table_of(name)
-    geo = next(p for p in table.positions if float(p["y_mm"]) == y_mm)["geometry"]
-    return float(geo["a_mm"]) / float(geo["b_mm"])
+    return _position_shape(name)[0]
 
 
-def _table_of(name: str) -> tuple[LayerTable, float]:
+@functools.lru_cache(maxsize=None)
+def _position_shape(name: str) -> tuple[float, float]:
     _, table_rel, y_mm, _ = next(p for p in POSITIONS if p[0] == name)
-    return LayerTable.read(ROOT / table_rel), float(y_mm)
+    table = LayerTable.read(ROOT / table_rel)
+    geo = next(p for p in table.positions if float(p["y_mm"]) == float(y_mm))["geometry"]
+    b = float(geo["b_mm"])
+    return float(geo["a_mm"]) / b, 0.5 * b * table.lateral_curvature_at(float(y_mm))
 
 
 def table_laws(nodes: dict[SectionNode, RollingLaw]) -> dict[str, RollingLaw]:
