@@ -8,7 +8,7 @@ import pytest
 
 from contact.__main__ import main
 from contact.passes.passes import run_passes
-from contact.passes.rolling_memory import patch_aspect_ratios
+from contact.passes.rolling_memory import patch_semi_axes
 from contact.scenes.scene import load_scene
 from contact.scenes.scene_layers import build_layers
 from contact.scenes.simulation import simulate
@@ -31,9 +31,10 @@ def calibrated_scene(tmp_path: Path, passes: str) -> Path:
 
 
 def test_rolling_residual_is_the_laws_prediction(tmp_path):
-    """Under the default memory each pass's residual per strip is law.next_residual(U, r(p), p / p_2, c, a/b), with
-    r(p) the static residual of a virgin element at the pass's peak pressure p (for a nonzero traction too) and a/b
-    the shape of the pass's contact region (the shipped laws have patch-shape nodes)."""
+    """Under the default memory each pass's residual per strip is law.next_residual(U, r(p), p / p_2, c, a/b, s),
+    with r(p) the static residual of a virgin element at the pass's peak pressure p (for a nonzero traction too), a/b
+    the shape of the pass's contact region and s = b / (2 R) its convexity on the body (1/R the table's lateral
+    curvature at the strip; the shipped laws have patch-shape and convexity nodes)."""
     scene = load_scene(calibrated_scene(tmp_path, "max = 3\ntraction_coefficient = 0.1"))
     assert scene.passes.memory == "rolling" and scene.passes.options.rule == "rolling"
     prob = scene.normal_problem()
@@ -47,7 +48,8 @@ def test_rolling_residual_is_the_laws_prediction(tmp_path):
     assert len(records) == 3
     accumulated = {name: np.zeros(prob.strip_y_mm.size) for name in bodies}
     for rec, sol in zip(records, solutions):
-        aspect = patch_aspect_ratios(sol, prob.grid_mm)  # the law's patch shape: the pass's contact region a/b
+        a_mm, b_mm = patch_semi_axes(sol, prob.grid_mm)  # the law's patch shape: the pass's contact region
+        aspect = np.divide(a_mm, b_mm, out=np.ones_like(a_mm), where=b_mm > 0)
         virgin = layers.copy().bodies()
         for name, lay in virgin.items():
             assert lay.n_points == prob.strip_y_mm.size  # one element per strip
@@ -55,8 +57,10 @@ def test_rolling_residual_is_the_laws_prediction(tmp_path):
             lay.load_to(rec.p_peak_MPa)
             static = lay.unload() - before
             p2 = lay.relaxed().yield_pressure_MPa()
+            assert np.any(lay.lateral_curvature_per_mm != 0.0) and lay.rolling_law.convexity is not None
             expected = lay.rolling_law.next_residual(accumulated[name], np.maximum(static, 0.0),
-                                                     rec.p_peak_MPa / p2, 0.1, aspect)
+                                                     rec.p_peak_MPa / p2, 0.1, aspect,
+                                                     0.5 * b_mm * lay.lateral_curvature_per_mm)
             got = rec.cumulative_residual_mm[name]
             assert np.max(np.abs(got - expected)) <= 1e-12 * max(1.0, np.max(np.abs(expected)))
             accumulated[name] = expected
