@@ -143,3 +143,15 @@ def test_a_need_linear_in_x_is_compared_at_the_nodes_x():
     text = sl.spread_markdown(shifted)
     assert "In 0 of 10 cases" in text and "| 1.000, 1.000, 1.000 |" in text
     assert "| 1.006, 1.006, 1.006 |" not in text  # not the raw ratio at unequal x
+
+
+def test_the_shipped_laws_are_the_fit_of_the_committed_runs():
+    """The shipped tables' rolling laws are what ``--write-tables`` writes from the runs kept in benchmarks/data."""
+    from benchmarks.bench_rolling_section_gap import collect
+
+    data = sl.ROOT / "benchmarks" / "data"
+    runs_ = sl.section_runs(collect(data / "rolling_section_gap", False), data / "rolling_section_refined")
+    laws = sl.table_laws(sl.complete_nodes(runs_))
+    assert set(laws) == {sl.RAIL_TABLE, sl.WHEEL_TABLE}
+    for table_rel, law in laws.items():
+        assert law == LayerTable.read(sl.ROOT / table_rel).rolling_law
