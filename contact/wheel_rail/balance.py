@@ -60,7 +60,7 @@ BALANCE_ITER_RTOL = 1e-8
 #: that just refits the kept grid moves F_y by up to 0.15 % (the same jump at tangential tolerances 1e-4 to 1e-6), so
 #: below 1e-6 Q the secant wanders between the two grids' values (at 1e-7: 165 loads for the A-2.2 sweep's 42
 #: wheels, 3 wheels 8 to 11 loads; at 5e-7: 143, none above 5) while the solver's own error is about 1e-2; the
-#: checked balance (contact.wheel_rail.solve.BALANCE_RTOL) is 1e-6.
+#: accepted balance (contact.wheel_rail.solve.BALANCE_RTOL) is :data:`JUMP_BALANCE_RTOL`.
 COARSE_BALANCE_RTOL = 5e-7
 #: Where F_Z(N) jumps across the balance (the secant cycles; :func:`contact.wheel_rail.root_finder.secant` then
 #: bisects down to the jump) the balance is the jump's side nearer Q if within JUMP_BALANCE_RTOL Q. Measured: the
