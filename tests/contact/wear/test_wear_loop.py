@@ -304,6 +304,9 @@ def test_wear_loop_keeps_scale_to_patch_and_hardened_tables_scale(make_scene):
     np.testing.assert_allclose(got.u_mm, want.u_mm, rtol=1e-12)
     np.testing.assert_allclose(got.p_MPa, want.p_MPa, rtol=1e-12)
     assert not np.allclose(got.u_mm, layers.rail.characteristic_at(0.0).u_mm)
+    # the rolling law and the lateral curvature it is read with are the table's, unchanged by the hardening
+    assert layers.rail.rolling_law == table.rolling_law and table.rolling_law.convexity is not None
+    assert layers.rail.lateral_curvature_at(-25.0) == table.lateral_curvature_at(-25.0) > 0.0
 
 
 @pytest.mark.parametrize("tangential", ["fastrip", "exact"])
