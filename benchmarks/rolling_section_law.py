@@ -212,12 +212,10 @@ def law_markdown(runs: list[SectionRun]) -> str:
         counts[role][1] += 1
         lines.append(f"| {r.name} | {role} | {r.c:g} | {r.level:g} | {r.x:.3f} | {s:+.3f} | {_joined(fem)} | "
                      f"{_joined(ratio)} |")
-    if len(lines) == 2:
-        return ""
-    return "\n".join(lines + ["", f"The tables' laws reproduce the groove over the static dent within {TARGET:.0%} "
-                                   f"after passes {passes} in {counts['node'][0]} of {counts['node'][1]} cases at "
-                                   f"their nodes' positions and in {counts['held out'][0]} of "
-                                   f"{counts['held out'][1]} at the positions held out."])
+    return _with_summary(lines, f"The tables' laws reproduce the groove over the static dent within {TARGET:.0%} "
+                                f"after passes {passes} in {counts['node'][0]} of {counts['node'][1]} cases at "
+                                f"their nodes' positions and in {counts['held out'][0]} of "
+                                f"{counts['held out'][1]} at the positions held out.")
 
 
 def spread_markdown(runs: list[SectionRun]) -> str:
@@ -245,12 +243,10 @@ def spread_markdown(runs: list[SectionRun]) -> str:
                 spread = np.maximum(a, b) / np.minimum(a, b)
                 beyond += bool(np.any(spread > limit))
                 lines.append(f"| {' and '.join(names)} | {c:g} | {lv:g} | {x:.3f} | {_joined(spread)} |")
-    if len(lines) == 2:
-        return ""
-    return "\n".join(lines + ["", f"In {beyond} of {len(lines) - 2} cases the two positions need G_n further apart "
-                                   f"than {limit:.3f} at the same x: there no node of x and c alone puts the "
-                                   f"layer within {TARGET:.0%} of both grooves (the tables' round nodes are "
-                                   f"therefore one per position, at its convexity)."])
+    return _with_summary(lines, f"In {beyond} of {len(lines) - 2} cases the two positions need G_n further apart "
+                                f"than {limit:.3f} at the same x: there no node of x and c alone puts the layer "
+                                f"within {TARGET:.0%} of both grooves (the tables' round nodes are therefore one "
+                                f"per position, at its convexity).")
 
 
 def _need_at(series: list[SectionRun], x: float) -> np.ndarray:
@@ -260,6 +256,11 @@ def _need_at(series: list[SectionRun], x: float) -> np.ndarray:
     m = min(len(lo.ratios), len(hi.ratios))
     w = (x - lo.x) / (hi.x - lo.x)
     return (1.0 - w) * lo.required()[:m] + w * hi.required()[:m]
+
+
+def _with_summary(lines: list[str], summary: str) -> str:
+    """A markdown table (``lines``: header, rule and rows) followed by its summary sentence; "" without rows."""
+    return "" if len(lines) == 2 else "\n".join(lines + ["", summary])
 
 
 def _joined(values) -> str:

@@ -223,18 +223,20 @@ class LayerTable:
             lengths.append(math.sqrt(a * b))
         return float(np.interp(float(y_mm), self.y_mm, lengths))
 
-    def lateral_curvature_at(self, y_mm: float) -> float:
-        """The body's own lateral curvature 1/R (1/mm, convex > 0) at y on the profile the table was calibrated on
-        (``geometry.k_y_per_mm``, linear in y between positions, the end values outside); 0 when a position does
-        not record it (older tables). With the patch's lateral semi-axis b it gives the surface convexity
-        b / (2 R) at which a rolling law with convexity nodes is read."""
+    def lateral_curvature_at(self, y_mm):
+        """The body's own lateral curvature 1/R (1/mm, convex > 0) at y (a float, or an array of them) on the
+        profile the table was calibrated on (``geometry.k_y_per_mm``, linear in y between positions, the end values
+        outside); 0 when a position does not record it (older tables). With the patch's lateral semi-axis b it
+        gives the surface convexity b / (2 R) at which a rolling law with convexity nodes is read."""
         curvatures = []
         for pos in self.positions:
             k = (pos.get("geometry") or {}).get("k_y_per_mm")
             if isinstance(k, bool) or not isinstance(k, (int, float)) or not math.isfinite(k):
-                return 0.0
+                curvatures = [0.0] * len(self.positions)
+                break
             curvatures.append(float(k))
-        return float(np.interp(float(y_mm), self.y_mm, curvatures))
+        out = np.interp(np.asarray(y_mm, dtype=float), self.y_mm, curvatures)
+        return float(out) if out.ndim == 0 else out
 
     def calibrated_max_MPa(self, y_mm: float) -> float | None:
         """The largest pressure the characteristic at y was calibrated to (MPa, linear in y between positions): a

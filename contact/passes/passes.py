@@ -35,7 +35,7 @@ from contact.normal.problem import NormalProblem
 from contact.normal.solution import NormalSolution
 from contact.layer.prandtl_layer import LayerPair
 from contact.passes.record import PassRecord
-from contact.passes.rolling_memory import MEMORY_RULES, RollingMemory, patch_semi_axes
+from contact.passes.rolling_memory import MEMORY_RULES, RollingMemory, patch_shape
 from wrlayer.errors import require
 
 __all__ = ["PassesOptions", "PassRecord", "run_passes"]
@@ -99,7 +99,7 @@ def _load_and_unload(sol: NormalSolution, bodies: dict, points: dict, rolling: d
     residual increment up0 at the reference strip (mm) and each body's largest dissipated energy (N/mm)."""
     ref = max(sol.regions, key=lambda r: r.p0_MPa).reference
     added = np.zeros_like(sol.p_peak_MPa, dtype=float)
-    a_mm, b_mm = patch_semi_axes(sol, strip_width_mm) if rolling else (None, None)
+    aspect, b_mm = patch_shape(sol, strip_width_mm) if rolling else (None, None)
     u0 = up0 = 0.0
     energy = {}
     for name, body_layer in bodies.items():
@@ -111,10 +111,9 @@ def _load_and_unload(sol: NormalSolution, bodies: dict, points: dict, rolling: d
         loaded = body_layer.load_to(p_points)
         residual = body_layer.unload() - before
         if name in rolling:  # the relaxed element's static residual -> the rolling law's increment
-            a_points, b_points = np.zeros(body_layer.n_points), np.zeros(body_layer.n_points)
-            a_points[ix[on]], b_points[ix[on]] = a_mm[on], b_mm[on]
-            aspect = np.divide(a_points, b_points, out=np.ones_like(a_points), where=b_points > 0)
-            residual = rolling[name].advance(p_points, residual, aspect, b_points)
+            a_points, b_points = np.ones(body_layer.n_points), np.zeros(body_layer.n_points)
+            a_points[ix[on]], b_points[ix[on]] = aspect[on], b_mm[on]
+            residual = rolling[name].advance(p_points, residual, a_points, b_points)
         inc = np.zeros_like(added)
         inc[on] = residual[ix[on]]
         cumulative[name] = cumulative[name] + inc

@@ -6,7 +6,7 @@ accumulated rolling residual U and the pass adds ``law.next_residual(U, r, p / p
 (:class:`wrlayer.rolling_law.RollingLaw`: the first-pass groove over the static dent and the per-pass increment
 law calibrated by the rolling FEM, docs/rolling.md), p_2 being the element's elastic limit (its first slider
 threshold), c the traction coefficient of the passes and, for a law with patch-shape nodes, a/b the shape of the
-pass's contact region that loads the element (:func:`patch_semi_axes`), for a law with convexity nodes also the
+pass's contact region that loads the element (:func:`patch_shape`), for a law with convexity nodes also the
 surface convexity b / (2 R) there (b the region's lateral semi-axis, 1/R the layer's lateral curvature at the
 element: the table's, :meth:`wrlayer.layer_table.LayerTable.lateral_curvature_at`). The layer itself is relaxed before
 each pass (the residual is moved into the profile, as in the "relaxed" rule), so the normal solve sees the virgin
@@ -19,7 +19,7 @@ import numpy as np
 
 from contact.layer.prandtl_layer import PrandtlLayer
 
-__all__ = ["MEMORY_RULES", "RollingMemory", "patch_aspect_ratios", "patch_semi_axes"]
+__all__ = ["MEMORY_RULES", "RollingMemory", "patch_aspect_ratios", "patch_semi_axes", "patch_shape"]
 
 #: The memory rules of the passes (``PassesOptions.memory``): "rolling" (the rolling law; a layer without one
 #: falls back to "relaxed"), "relaxed" (the paper's model: a virgin element each pass) and "state_kept" (the
@@ -72,8 +72,14 @@ def patch_semi_axes(sol, strip_width_mm: float) -> tuple[np.ndarray, np.ndarray]
     return a, b
 
 
+def patch_shape(sol, strip_width_mm: float) -> tuple[np.ndarray, np.ndarray]:
+    """(a/b, b) of the contact region each strip of ``sol`` belongs to (-, mm; per strip; a/b = 1 and b = 0 on the
+    strips out of contact; :func:`patch_semi_axes`): what a rolling law with patch-shape and convexity nodes reads."""
+    a, b = patch_semi_axes(sol, strip_width_mm)
+    return np.divide(a, b, out=np.ones_like(a), where=b > 0), b
+
+
 def patch_aspect_ratios(sol, strip_width_mm: float) -> np.ndarray:
     """a/b of the contact region each strip of ``sol`` belongs to (-, per strip; 1 on the strips out of contact;
-    :func:`patch_semi_axes`)."""
-    a, b = patch_semi_axes(sol, strip_width_mm)
-    return np.divide(a, b, out=np.ones_like(a), where=b > 0)
+    :func:`patch_shape`)."""
+    return patch_shape(sol, strip_width_mm)[0]

@@ -264,7 +264,7 @@ def build_layer_pair(sources: LayerSources | None, strips_mm: np.ndarray, coords
             coords = coords_mm(body)
             chars, _ = clamped_characteristics(source, coords, name, patch_mm if sources.scale_to_patch else None)
             law = source.rolling_law
-            curvature = ([source.lateral_curvature_at(float(y)) for y in coords]
+            curvature = (source.lateral_curvature_at(np.asarray(coords, dtype=float))
                          if law is not None and law.convexity is not None else None)  # the law reads b / (2 R)
             built[body] = PrandtlLayer.from_characteristics(chars, strips_mm, name=name, rolling_law=law,
                                                             lateral_curvature_per_mm=curvature)

@@ -83,8 +83,8 @@ class HardenedTable:
         """The table's calibrated pressure range at y (MPa), unchanged by the hardening."""
         return self.table.calibrated_max_MPa(y_mm)
 
-    def lateral_curvature_at(self, y_mm: float) -> float:
-        """The table's lateral curvature at y (1/mm), unchanged by the hardening."""
+    def lateral_curvature_at(self, y_mm):
+        """The table's lateral curvature at y (1/mm; y a float or an array), unchanged by the hardening."""
         return self.table.lateral_curvature_at(y_mm)
 
     def characteristic_at(self, y_mm: float, patch_mm: tuple[float, float] | None = None) -> Characteristic:

@@ -70,6 +70,7 @@ def test_table_format_and_lateral_curvature():
     assert json.loads(table(law()).to_json())["format_version"] == 3   # a law without nodes: as before
     t = table(SHAPED)
     assert [t.lateral_curvature_at(y) for y in (-2.0, 0.0, 1.0)] == pytest.approx([0.02, 0.005, -0.01])
+    np.testing.assert_allclose(t.lateral_curvature_at(np.array([-2.0, 0.0, 1.0])), [0.02, 0.005, -0.01])
     no_k = LayerTable({"body": "wheel", "profile": "p"}, [{"y_mm": 0.0, "characteristic": CH.to_dict()}])
     assert no_k.lateral_curvature_at(0.0) == 0.0
 
