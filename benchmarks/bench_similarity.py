@@ -276,7 +276,8 @@ def wear_timing(config: Path = CONFIG, master_dir: Path = MASTER, elastic: tuple
             run = run_wear(parse_wear_scene(data, path), show_progress=False, work_dir=Path(tmp) / name)
             times[name] = time.perf_counter() - t0
             runs[name] = {"steps": len(run.steps), "load_before": load, "load_after": os.getloadavg()[0],
-                          "recalibration_s": sum(r.timings.get("recalibration_s", 0.0) for r in run.steps)}
+                          "recalibration_s": sum(r.timings.get("recalibration_s", 0.0) for r in run.steps),
+                          "elastic_solves": len(list((Path(tmp) / name / "calibration" / "cache").glob("elastic-*")))}
     return {"plain_s": times["plain"], "recalibrated_s": times["recalibrated"],
             "ratio": times["recalibrated"] / times["plain"], "target": WEAR_TARGET, "runs": runs,
             "elastic": {rule: {"s": times[f"elastic {rule}"], "ratio": times[f"elastic {rule}"] / times["plain"],
@@ -322,7 +323,8 @@ def _markdown(data: dict) -> str:
                   f"x{w['ratio']:.2f} (target < x{WEAR_TARGET:g}; load {w['runs']['plain']['load_before']:.1f} / "
                   f"{w['runs']['recalibrated']['load_before']:.1f})."
                   + "".join(f" With `similarity_elastic = \"{rule}\"`: {e['s']:.0f} s (recalibration "
-                            f"{e['recalibration_s']:.0f} s), x{e['ratio']:.2f}."
+                            f"{e['recalibration_s']:.0f} s, {e.get('elastic_solves', '?')} elastic solves), "
+                            f"x{e['ratio']:.2f}."
                             for rule, e in w.get("elastic", {}).items()))
     return "\n".join(md)
 

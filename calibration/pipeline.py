@@ -28,7 +28,8 @@ from calibration.results import IndentationResult, PositionFit
 from calibration.run_summary import CalibrationResult, FemSeconds, SimilaritySummary
 from calibration.settings import CalibrationConfig
 from calibration.similarity.anchor import DirectReference, anchor, anchored, applies, configured_references
-from calibration.similarity.elastic import SectionElastic, section_elastics, section_reference, with_section
+from calibration.similarity.elastic import (SectionElastic, needs_solve, section_elastics, section_reference,
+                                            with_section)
 from calibration.similarity.master import MasterCurves, master_key, master_tasks, stored_master
 from calibration.similarity.route import (METHOD_DIRECT, METHOD_SIMILARITY, SIMILARITY_SOURCES, Route, route,
                                           similarity_task, task_indentation)
@@ -331,12 +332,15 @@ def _section_elastics(cfg: CalibrationConfig, tasks: list[PositionTask], routes:
                       anchoring: Anchoring, out_dir: Path, scheduler: str, log,
                       warnings: list[PositionNote]) -> dict[str, SectionElastic]:
     """{task key: its section's elastic solution} of the positions the masters serve (``routes``: {task key:
-    Route}), as ``run.similarity_elastic`` says ({} with "none"; with "unanchored" only those without an anchor that
+    Route}), as ``run.similarity_elastic`` says ({} with "none"; with "all" those without a reference within
+    :data:`calibration.similarity.elastic.REUSE_LIMITS`; with "unanchored" only those without an anchor that
     applies); a failed solve leaves its position to the master alone, in ``warnings``."""
-    if cfg.run.similarity_elastic == "none":
+    rule = cfg.run.similarity_elastic
+    if rule == "none":
         return {}
     served = [t for t in tasks if routes[t.key].method == METHOD_SIMILARITY
-              and (cfg.run.similarity_elastic == "all" or _anchor_misses(t, routes[t.key], anchoring))]
+              and (needs_solve(anchoring.references.get((t.body, t.y_mm)), t, routes[t.key].convexity)
+                   if rule == "all" else _anchor_misses(t, routes[t.key], anchoring))]
     done, failed = section_elastics(served, out_dir / "cache", cfg.run.workers, scheduler, log)
     warnings.extend(PositionNote(t.body, t.y_mm, f"similarity: the section's elastic solve failed ({failed[t.key]}); "
                                                  "p_y and c_el from the master") for t in served if t.key in failed)

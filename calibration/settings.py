@@ -49,9 +49,11 @@ class RunSettings:
         Under "similarity", which served positions take their first-yield pressure p_y and elastic compliance
         from an elastic solve of their own section (meshing, one factorisation, one solve: a few seconds a
         position, cached in OUT/cache) instead of the master's, the plastic curves from the master at equal
-        p0 / p_y (:mod:`calibration.similarity.elastic`): "none", "all", or "unanchored" (only those without a
-        direct reference whose patch is like theirs, :func:`calibration.similarity.anchor.applies`; the anchored
-        ones take p_y and c_el from the reference's correction). true / false read as "all" / "none".
+        p0 / p_y (:mod:`calibration.similarity.elastic`): "none"; "all" (a position whose patch is within
+        :data:`calibration.similarity.elastic.REUSE_LIMITS` of its reference's, a direct FEM or an earlier solve,
+        keeps the reference's ratios instead of a solve of its own); or "unanchored" (only those without a direct
+        reference whose patch is like theirs, :func:`calibration.similarity.anchor.applies`; the anchored ones take
+        p_y and c_el from the reference's correction). true / false read as "all" / "none".
     master_dir : str
         Folder of the similarity master's FEM cache, shared between runs ("" : the run's own OUT/cache).
     workers : int

@@ -17,11 +17,11 @@ dimensionless variables (:mod:`calibration.similarity.master`):
 reference profile itself the anchored value is the direct FEM's at the master's levels.
 
 The master's error depends on the patch as well as on the body, so a position is anchored only while its patch
-stays within about one master grid cell of the reference's (:func:`applies`: convexity within
-:data:`MAX_CONVEXITY_CHANGE`, a/b and sqrt(a b) within the factors :data:`MAX_ASPECT_FACTOR` and
-:data:`MAX_SIZE_FACTOR`; the grid steps are 0.05-0.07, x1.82 and x2.17). Measured on the wear example's profiles
-after 3000 km and with that wear x5 (``docs/validation/similarity-worn.md``): anchoring everywhere helps after
-3000 km and hurts where the patch changed shape (b 5.4 -> 1.2 mm at rail -25 mm with the wear x5: 1.6 % -> 10 %).
+stays within about one master grid cell of the reference's (:func:`applies` with :data:`ANCHOR_LIMITS`: convexity
+within 0.03, a/b and sqrt(a b) within the factors 2 and 1.5; the grid steps are 0.05-0.07, x1.82 and x2.17).
+Measured on the wear example's profiles after 3000 km and with that wear x5 (``docs/validation/similarity-worn.md``):
+anchoring everywhere helps after 3000 km and hurts where the patch changed shape (b 5.4 -> 1.2 mm at rail -25 mm with
+the wear x5: 1.6 % -> 10 %).
 The wear loop's recalibration by similarity anchors the positions its scene's direct table holds
 (:mod:`contact.wear.recalibrate`).
 """
@@ -41,12 +41,20 @@ from meshes.profiles import Profile, get_profile
 from wrlayer.errors import InputError
 from wrlayer.layer_table import LayerTable
 
-#: Largest change of the surface convexity b / (2 R) from the reference's for which a position is anchored (-).
-MAX_CONVEXITY_CHANGE = 0.03
-#: Largest factor between the aspect ratios a/b of the position's and the reference's patches (-).
-MAX_ASPECT_FACTOR = 2.0
-#: Largest factor between the patch sizes sqrt(a b) of the position's and the reference's patches (-).
-MAX_SIZE_FACTOR = 1.5
+
+@dataclass(frozen=True)
+class PatchLimits:
+    """How far a position's patch may be from a reference's for the reference to stand for it: ``convexity``, the
+    largest change of the surface convexity b / (2 R) (-); ``aspect_factor`` and ``size_factor``, the largest
+    factors between the aspect ratios a/b and between the patch sizes sqrt(a b) (-)."""
+
+    convexity: float
+    aspect_factor: float
+    size_factor: float
+
+
+#: The patch a reference anchors (about one master grid cell; see the module).
+ANCHOR_LIMITS = PatchLimits(convexity=0.03, aspect_factor=2.0, size_factor=1.5)
 
 
 @dataclass(frozen=True)
@@ -104,13 +112,14 @@ class DirectReference:
         return math.sqrt(self.a_mm * self.b_mm)
 
 
-def applies(ref: DirectReference, a_mm: float, b_mm: float, convexity: float) -> str:
+def applies(ref: DirectReference, a_mm: float, b_mm: float, convexity: float,
+            limits: PatchLimits = ANCHOR_LIMITS) -> str:
     """Why ``ref`` does not anchor the patch a x b (mm) on a surface of convexity ``convexity`` (-), or "" when it
-    does (the patch within the limits of the module's docstring)."""
+    does (the patch within ``limits`` of the reference's)."""
     aspect = abs(math.log((a_mm / b_mm) / (ref.a_mm / ref.b_mm)))
     size = abs(math.log(math.sqrt(a_mm * b_mm) / ref.length_mm))
-    if abs(convexity - ref.convexity) > MAX_CONVEXITY_CHANGE or aspect > math.log(MAX_ASPECT_FACTOR) \
-            or size > math.log(MAX_SIZE_FACTOR):
+    if abs(convexity - ref.convexity) > limits.convexity or aspect > math.log(limits.aspect_factor) \
+            or size > math.log(limits.size_factor):
         return (f"not anchored: the patch (a/b {a_mm / b_mm:.3g}, sqrt(ab) {math.sqrt(a_mm * b_mm):.3g} mm, b/(2R) "
                 f"{convexity:+.3f}) is not the reference's (a/b {ref.a_mm / ref.b_mm:.3g}, sqrt(ab) "
                 f"{ref.length_mm:.3g} mm, b/(2R) {ref.convexity:+.3f})")
@@ -223,5 +232,5 @@ def anchored(sim: IndentationResult, anc: Anchor, length_mm: float) -> Indentati
                    reverse_plasticity_mm=(residual - np.interp(peaks, p, u_pl)).tolist())
 
 
-__all__ = ["MAX_ASPECT_FACTOR", "MAX_CONVEXITY_CHANGE", "MAX_SIZE_FACTOR", "Anchor", "DirectReference", "anchor",
-           "anchored", "applies", "configured_references", "table_profile", "reference_of_entry", "table_references"]
+__all__ = ["ANCHOR_LIMITS", "Anchor", "DirectReference", "PatchLimits", "anchor", "anchored", "applies",
+           "configured_references", "table_profile", "reference_of_entry", "table_references"]

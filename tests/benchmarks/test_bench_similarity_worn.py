@@ -1,7 +1,7 @@
 """benchmarks/bench_similarity_worn.py end to end on synthetic FEM: a 'direct' run (a fake FEM 1 % below the master
 in p_y and 5 % above it in u_pl) is both the reference and the 'worn' case, so the master alone misses it and the
 anchored master reproduces it; the report counts both and names the positions; with --sections each position's p_y
-is its own section's."""
+is its own section's where it is solved (the patch left its reference's), the reference's elsewhere."""
 
 import dataclasses
 import json
@@ -65,8 +65,11 @@ def test_the_anchored_master_reproduces_its_reference_where_the_master_alone_mis
     for r, t in zip(case["rows"], tasks):
         own = SectionElastic.from_dict(json.loads(elastic_entry(tmp_path / "direct" / "cache", t).read_text()))
         direct_p_y = load_indentation(fem_entry(tmp_path / "direct" / "cache", t.key))[0].first_yield_MPa
-        assert r["loop_section"]["p_y"] == pytest.approx(own.p_y_MPa / direct_p_y - 1.0, rel=1e-9)
+        assert r["loop_section_everywhere"]["p_y"] == pytest.approx(own.p_y_MPa / direct_p_y - 1.0, rel=1e-9)
     assert "The loop's rule with p_y and c_el from the position's own section" in markdown(data)
+    # "all": the same patches as the references', so their ratios are reused and nothing is solved
+    assert all(r["section_reused"] and r["loop_section"] == r["anchored"] for r in case["rows"])
+    assert 'similarity_elastic = "all"`: an elastic solve at the 0 positions whose patch left' in markdown(data)
     # "unanchored": both anchors apply, so no section is solved and the rows are the loop's own
     assert all(r["loop_unanchored"] == r["loop"] for r in case["rows"])
     assert 'similarity_elastic = "unanchored"`: an elastic solve at the 0 positions' in markdown(data)

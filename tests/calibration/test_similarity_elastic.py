@@ -16,8 +16,8 @@ from calibration.config import load_config, profile_of
 from calibration.fem.material import J2Material
 from calibration.indentation import elastic_response, position_model
 from calibration.similarity.anchor import anchored
-from calibration.similarity.elastic import (SectionElastic, elastic_entry, section_elastic, section_elastics,
-                                            with_section)
+from calibration.similarity.elastic import (REUSE_LIMITS, SectionElastic, elastic_entry, needs_solve,
+                                            section_elastic, section_elastics, with_section)
 from calibration.similarity.route import route, similar_indentation
 from calibration.tasks import make_tasks
 from wrlayer.errors import InputError
@@ -133,6 +133,48 @@ def test_unanchored_solves_only_the_sections_without_an_anchor_that_applies(tmp_
     assert by_y[0.0]["first_yield_fem_MPa"] == pytest.approx(ref.p_y_MPa)  # the anchor's, not a solve's
     notes = {d["y_mm"]: d["note"] for d in result.to_dict()["bodies"]["rail"]["position_details"]}
     assert "elastic solve" in notes[-5.0] and "elastic solve" not in notes[0.0]
+
+
+def test_a_solve_is_needed_only_without_a_reference_or_beyond_the_reuse_limits(tmp_path):
+    from calibration.similarity.anchor import DirectReference
+
+    _, task = _task(tmp_path)
+    a, b = task.geometry.a_mm, task.geometry.b_mm
+    ref = DirectReference("rail", task.y_mm, a, b, 0.01, 800.0, (800.0,), (0.0,), (), (), 1e-5)
+    assert needs_solve(None, task, 0.01) == "no reference"
+    assert needs_solve(ref, task, 0.01) == ""
+    assert needs_solve(ref, task, 0.01 + 0.99 * REUSE_LIMITS.convexity) == ""
+    assert needs_solve(ref, task, 0.01 + 1.01 * REUSE_LIMITS.convexity).startswith("not anchored: the patch")
+    for a_ref, b_ref in ((a * 1.01 * REUSE_LIMITS.aspect_factor, b), (a * REUSE_LIMITS.size_factor ** 1.01,
+                                                                          b * REUSE_LIMITS.size_factor ** 1.01)):
+        assert needs_solve(dataclasses.replace(ref, a_mm=a_ref, b_mm=b_ref), task, 0.01)  # aspect, then size
+
+
+def test_all_solves_the_sections_whose_patch_left_its_references_and_reuses_the_others(tmp_path):
+    from calibration.pipeline import calibrate
+    from calibration.similarity.route import route
+    from wrlayer.layer_table import LayerTable
+
+    from tests.calibration.test_similarity_anchor import _direct_like
+
+    cfg = _sim_cfg(tmp_path, positions=(-5.0, 0.0))
+    cfg = dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, similarity_elastic="all"))
+    master = _fake_master(cfg)
+    tasks = {t.y_mm: t for t in make_tasks(cfg, tmp_path, False)[0]}
+    refs = {}
+    for y, shift in ((0.0, 0.0), (-5.0, 0.02)):  # -5 mm: beyond the reuse limits, within the anchor's
+        g, c = tasks[y].geometry, route(tasks[y]).convexity
+        refs["rail", y] = dataclasses.replace(_direct_like(master, g.a_mm, g.b_mm, c + shift), y_mm=y)
+    said = []
+    result = calibrate(cfg, tmp_path / "out", show_progress=False, log=said.append, anchors=refs)
+    assert any(s.startswith("calibration: elastic solves of 1 ") for s in said)  # y = -5 mm only
+    by_y = {e["y_mm"]: e for e in LayerTable.read(result.tables["rail"]).positions}
+    assert by_y[-5.0]["first_yield_fem_MPa"] == pytest.approx(section_elastic(tasks[-5.0]).p_y_MPa, rel=1e-9)
+    assert by_y[0.0]["first_yield_fem_MPa"] == pytest.approx(refs["rail", 0.0].p_y_MPa)  # the reference's ratio
+    notes = {d["y_mm"]: d["note"] for d in result.to_dict()["bodies"]["rail"]["position_details"]}
+    assert "anchored to the direct FEM" in notes[-5.0] and "elastic solve" in notes[-5.0]
+    assert "anchored to the direct FEM" in notes[0.0] and "elastic solve" not in notes[0.0]
+    assert set(result.section_references) == {("rail", -5.0)}  # the next recalibration's reference there
 
 
 def test_the_boolean_form_still_reads(tmp_path):
