@@ -13,9 +13,14 @@ p_y of the direct path and of the residual dents at its unloading peaks:
 
 Errors relative to the direct (or arc) value, or to half its value at 1.5 p_y where larger (as
 :mod:`benchmarks.bench_similarity`). Inputs as that benchmark: the direct run's FEM cache and the master's cache
-("quick" mode reports what is missing). Regenerate::
+("quick" mode reports what is missing). With ``--fine DIR`` (the mesh study's folder,
+``benchmarks/data/calibration_mesh_same_pressure``: each position's direct FEM on the default and on a finer mesh)
+every position where the arc FEM misses the target is run again on the arc block with the finer mesh, and both
+sides are compared converged: the arc block's fine FEM against the direct fine FEM, and how far each side moved from
+its default mesh. Regenerate::
 
-    python -m benchmarks.bench_similarity_arc --report docs/validation/similarity-arc.md
+    python -m benchmarks.bench_similarity_arc --fine benchmarks/data/calibration_mesh_same_pressure
+        --report docs/validation/similarity-arc.md
 
 Units: mm, MPa, s.
 """
@@ -26,6 +31,7 @@ import argparse
 import dataclasses
 import tempfile
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -34,7 +40,6 @@ from benchmarks.bench_similarity import (CONFIG, DIRECT_OUT, MASTER, TARGET, _co
 from benchmarks.harness import command_line, write_report
 
 TITLE = "Similarity: the arc-block model against the master's interpolation"
-COMMAND = "python -m benchmarks.bench_similarity_arc --report docs/validation/similarity-arc.md"
 #: The levels compared: the direct path's multiples of p_y within this range (-).
 Q_RANGE = (1.05, 3.0)
 
@@ -79,7 +84,56 @@ def _run(task):
     return run_position(task)
 
 
-def run(mode: str = "quick", workers: int = 2) -> dict:
+def mesh_study_result(run: dict) -> SimpleNamespace:
+    """One run of the mesh study's JSON (:mod:`benchmarks.calibration_mesh_same_pressure`: levels and peaks as
+    multiples of its own p_y) in the attribute names :func:`equal_q_errors` reads (MPa, mm)."""
+    p_y = run["first_yield_MPa"]
+    return SimpleNamespace(first_yield_MPa=p_y, p_MPa=np.asarray(run["p_factor"]) * p_y,
+                           u_pl_mm=np.asarray(run["u_pl_mm"]), unload_peaks_MPa=np.asarray(run["peak_factor"]) * p_y,
+                           residual_fem_mm=np.asarray(run["residual_fem_mm"]))
+
+
+def _worst(ref, other) -> float:
+    u, res = equal_q_errors(ref, other)
+    return float(max(np.abs(u).max(), np.abs(res).max()))
+
+
+def fine_rows(cfg, jobs, rows: list[dict], arcs: list, fine_dir: Path, workers: int) -> list[dict]:
+    """Both sides on finer meshes where the arc FEM misses the target: for every such row with a mesh-study file in
+    ``fine_dir``, the arc block on that study's reference mesh against the direct FEM on it, and how far the arc
+    and the direct FEM moved from their default meshes (worst |error| at equal p0/p_y, as the rows)."""
+    import json
+
+    from calibration.similarity.master import arc_task
+    from calibration.tasks import code_hash
+    from wrlayer.runner import Runner
+
+    todo = []
+    for (t, r, _), row, arc in zip(jobs, rows, arcs):
+        study = Path(fine_dir) / f"{t.body}_y{t.y_mm:g}.json"
+        if "failed" in row or row["arc_vs_direct"]["worst"] <= TARGET or not study.is_file():
+            continue
+        data = json.loads(study.read_text())
+        fine_cfg = dataclasses.replace(cfg, mesh=dataclasses.replace(cfg.mesh, **data["ref"]["mesh"]))
+        mat = next(body.material for body in cfg.bodies if body.body == t.body)
+        task = arc_task(fine_cfg, mat, round(r.plastic_convexity, 6), t.geometry.a_mm, t.geometry.b_mm, code_hash())
+        todo.append((row, arc, data, task))
+    with Runner(workers) as runner:
+        outs = list(runner.map(_run, [task for *_, task in todo]))
+    out = []
+    for (row, arc, data, _), res in zip(todo, outs):
+        if res.error:
+            out.append({"body": row["body"], "y_mm": row["y_mm"], "failed": res.error})
+            continue
+        fine, direct, direct_fine = res.indentation, mesh_study_result(data["case"]), mesh_study_result(data["ref"])
+        out.append({"body": row["body"], "y_mm": row["y_mm"], "mesh": data["ref"]["mesh"],
+                    "dofs": [arc.n_dofs, fine.n_dofs], "arc_vs_direct": _worst(direct, arc),
+                    "fine_arc_vs_fine_direct": _worst(direct_fine, fine), "arc_moved": _worst(arc, fine),
+                    "direct_moved": _worst(direct, direct_fine)})
+    return out
+
+
+def run(mode: str = "quick", workers: int = 2, fine_dir: Path | None = None) -> dict:
     """The three comparisons of every served position (module docstring)."""
     from calibration.cache import fem_entry, load_indentation
     from calibration.similarity.route import similar_indentation
@@ -115,7 +169,8 @@ def run(mode: str = "quick", workers: int = 2) -> dict:
                          "worst": float(max(np.abs(u).max(), np.abs(res).max()))}
         row["p_y_arc_over_direct"] = arc.first_yield_MPa / ind.first_yield_MPa - 1.0
         rows.append(row)
-    return {"missing": "", "rows": rows}
+    fine = fine_rows(cfg, jobs, rows, [o.indentation for o in outs], fine_dir, workers) if fine_dir else []
+    return {"missing": "", "rows": rows, "fine": fine}
 
 
 def markdown(data: dict) -> str:
@@ -141,15 +196,30 @@ def markdown(data: dict) -> str:
                  f"{TARGET:.0%} of the arc block's FEM (its interpolation) at {count['master_vs_arc']}. "
                  "Where the arc FEM misses, a finer master grid cannot help: the circle fitted over the plastic "
                  "window is not the section the direct FEM loads.")
+    if data.get("fine"):
+        lines += ["\nBoth sides on finer meshes where the arc FEM misses (the mesh study's reference mesh; worst "
+                  "|error| as above, %):\n", "| body | y [mm] | finer mesh | dofs arc: default / finer | arc vs "
+                  "direct, default meshes | arc vs direct, finer meshes | arc moved | direct moved |",
+                  "|---|---|---|---|---|---|---|---|"]
+        for f in data["fine"]:
+            if "failed" in f:
+                lines.append(f"| {f['body']} | {f['y_mm']:g} | failed: {f['failed'][:60]} | | | | | |")
+                continue
+            mesh = ", ".join(f"{k} {v}" for k, v in f["mesh"].items())
+            lines.append(f"| {f['body']} | {f['y_mm']:g} | {mesh} | {f['dofs'][0]} / {f['dofs'][1]} | "
+                         f"{100 * f['arc_vs_direct']:.2f} | {100 * f['fine_arc_vs_fine_direct']:.2f} | "
+                         f"{100 * f['arc_moved']:.2f} | {100 * f['direct_moved']:.2f} |")
     return "\n".join(lines) + "\n"
 
 
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench_similarity_arc", description=__doc__.splitlines()[0])
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--fine", type=Path, default=None,
+                    help="the mesh study's folder: rerun the misses with both sides on finer meshes")
     ap.add_argument("--report", type=Path, default=None, help="write the stamped report here")
     args = ap.parse_args(argv)
-    md = markdown(run("quick", args.workers))
+    md = markdown(run("quick", args.workers, args.fine))
     if args.report is not None:
         write_report(args.report, TITLE, md, command_line("python -m benchmarks.bench_similarity_arc", argv))
     print(md)

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.bench_similarity import CONFIG, MASTER, ROOT, WEAR, _config, _master
-from benchmarks.bench_similarity_worn import WORN_CASES, WORN_DATA
+from benchmarks.bench_similarity_worn import SAME_PATCH, WORN_CASES, WORN_DATA
 from benchmarks.harness import command_line, write_report
 
 OUT = ROOT / "out" / "similarity_reuse"
@@ -98,10 +98,9 @@ def pair_classes(ratios: dict[str, dict]) -> dict[str, list[tuple[float, float]]
     """{class: [(|change of p_y ratio|, |change of c_el ratio|) in %]} over every pair of profiles and every
     position served on both: "same patch" (within 1e-4 in c, 1e-3 in log a/b and log size), "within the reuse
     limits", "within the anchor's limits" (beyond the reuse limits), "beyond"."""
-    from calibration.similarity.anchor import ANCHOR_LIMITS, PatchLimits
+    from calibration.similarity.anchor import ANCHOR_LIMITS
     from calibration.similarity.elastic import REUSE_LIMITS
 
-    same = PatchLimits(1e-4, math.exp(1e-3), math.exp(1e-3))
     classes: dict[str, list[tuple[float, float]]] = {"same patch": [], "within the reuse limits": [],
                                                      "within the anchor's limits": [], "beyond": []}
     names = list(ratios)
@@ -112,7 +111,7 @@ def pair_classes(ratios: dict[str, dict]) -> dict[str, list[tuple[float, float]]
                 if r2 is None:
                     continue
                 change = (100 * abs(r2["p_y"] / r1["p_y"] - 1), 100 * abs(r2["c_el"] / r1["c_el"] - 1))
-                kind = next(k for k, lim in (("same patch", same), ("within the reuse limits", REUSE_LIMITS),
+                kind = next(k for k, lim in (("same patch", SAME_PATCH), ("within the reuse limits", REUSE_LIMITS),
                                              ("within the anchor's limits", ANCHOR_LIMITS), ("beyond", None))
                             if lim is None or within(r1, r2, lim))
                 classes[kind].append(change)

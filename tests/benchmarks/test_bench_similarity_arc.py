@@ -29,3 +29,25 @@ def test_the_report_counts_the_positions_within_the_target():
     text = markdown({"missing": "", "rows": [row, {**row, "y_mm": 5.0, "failed": "meshing failed"}]})
     assert "arc block's own FEM at 0 of 1" in text and "the master at 1" in text and "failed: meshing" in text
     assert markdown({"missing": "23 of 23 master positions not in X", "rows": []}).startswith("Not run")
+
+
+def test_a_mesh_study_run_reads_as_curves_in_MPa():
+    from benchmarks.bench_similarity_arc import mesh_study_result
+
+    run = {"first_yield_MPa": 800.0, "p_factor": [0.0, 1.0, 2.0], "u_pl_mm": [0.0, 0.0, 0.01],
+           "peak_factor": [1.5, 3.0], "residual_fem_mm": [0.002, 0.02]}
+    got = mesh_study_result(run)
+    assert got.p_MPa.tolist() == [0.0, 800.0, 1600.0] and got.unload_peaks_MPa.tolist() == [1200.0, 2400.0]
+    u, r = equal_q_errors(got, mesh_study_result(run))
+    assert np.abs(u).max() == 0.0 and np.abs(r).max() == 0.0
+
+
+def test_the_report_lists_both_sides_on_finer_meshes():
+    row = {"body": "rail", "y_mm": 30.0, "a_over_b": 10.2, "length_mm": 3.2, "plastic_convexity": 0.04,
+           "arc_vs_direct": {"worst": 0.027}, "master_vs_direct": {"worst": 0.021}, "master_vs_arc": {"worst": 0.006}}
+    fine = {"body": "rail", "y_mm": 30.0, "mesh": {"elements_per_semi_axis": 6, "style": "extruded"},
+            "dofs": [32343, 101973], "arc_vs_direct": 0.0271, "fine_arc_vs_fine_direct": 0.0235, "arc_moved": 0.0102,
+            "direct_moved": 0.0068}
+    text = markdown({"missing": "", "rows": [row], "fine": [fine]})
+    assert ("| rail | 30 | elements_per_semi_axis 6, style extruded | 32343 / 101973 | 2.71 | 2.35 | 1.02 | 0.68 |"
+            in text)

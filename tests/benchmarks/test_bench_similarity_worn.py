@@ -56,6 +56,9 @@ def test_the_anchored_master_reproduces_its_reference_where_the_master_alone_mis
     text = markdown(data)
     assert "| rail | -5 | served |" in text and "Served 2 of 2 positions" in text
     assert "master 0, anchored everywhere 2, the loop's rule (anchored at the 2 positions" in text
+    # the worn case is the reference itself: its direct FEM against itself, at both positions, exactly
+    assert case["same_patch"]["positions"] == 2 and case["same_patch"]["worst"] < 1e-12
+    assert "The direct FEM against itself: at the 2 served positions" in text
     # with the sections' elastic solves: p_y is the section's (the real coarse mesh's, not the fake FEM's)
     from calibration.similarity.elastic import SectionElastic, elastic_entry
 
