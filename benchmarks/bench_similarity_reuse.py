@@ -87,11 +87,15 @@ def position_ratios(config: Path, master, cache: Path) -> dict[tuple[str, float]
 
 
 def within(one: dict, other: dict, limits) -> bool:
-    """True when the patches of ``one`` and ``other`` lie within ``limits`` (a PatchLimits) of each other."""
-    aspect = abs(math.log((one["a"] / one["b"]) / (other["a"] / other["b"])))
-    size = abs(0.5 * math.log(one["a"] * one["b"] / (other["a"] * other["b"])))
-    return abs(one["c"] - other["c"]) <= limits.convexity and aspect <= math.log(limits.aspect_factor) \
-        and size <= math.log(limits.size_factor)
+    """True when the patches of ``one`` and ``other`` lie within ``limits`` (a PatchLimits) of each other
+    (:func:`calibration.similarity.anchor.patch_moved`)."""
+    from types import SimpleNamespace
+
+    from calibration.similarity.anchor import patch_moved
+
+    ref = SimpleNamespace(a_mm=other["a"], b_mm=other["b"], convexity=other["c"],
+                          length_mm=math.sqrt(other["a"] * other["b"]))
+    return not patch_moved(ref, one["a"], one["b"], one["c"], limits)
 
 
 def pair_classes(ratios: dict[str, dict]) -> dict[str, list[tuple[float, float]]]:

@@ -64,7 +64,7 @@ def worn_case(worn_config: Path, worn_out: Path, master, refs: dict, sections: b
     the wear loop's rule (anchored where :func:`calibration.similarity.anchor.applies`, else the master's); with
     ``sections`` also the loop's rule with p_y and c_el from each position's own section
     (:mod:`calibration.similarity.elastic`, solved on 2 workers and cached in ``worn_out/cache``)."""
-    from calibration.similarity.anchor import anchor, anchored, applies
+    from calibration.similarity.anchor import anchor, anchored, applies, patch_moved
     from calibration.similarity.elastic import needs_solve, section_elastics, with_section
     from calibration.similarity.route import route, task_indentation
     from calibration.tasks import make_tasks
@@ -94,7 +94,7 @@ def worn_case(worn_config: Path, worn_out: Path, master, refs: dict, sections: b
             row["reference"] = {"convexity": ref.convexity, "a_over_b": ref.a_mm / ref.b_mm,
                                 "length_mm": ref.length_mm}
             row["anchor_applies"] = not applies(ref, g.a_mm, g.b_mm, r.convexity)
-            if not applies(ref, g.a_mm, g.b_mm, r.convexity, SAME_PATCH):  # the reference's own scatter
+            if not patch_moved(ref, g.a_mm, g.b_mm, r.convexity, SAME_PATCH):  # the reference's own scatter
                 row["same_patch_direct"] = compare(direct[t.body, t.y_mm], _as_result(ref), cfg.load)
             row["loop"] = row["anchored"] if row["anchor_applies"] else row["master"]
         if t.key in elastics:  # the loop's rule with the section's p_y and c_el

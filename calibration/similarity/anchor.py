@@ -112,18 +112,24 @@ class DirectReference:
         return math.sqrt(self.a_mm * self.b_mm)
 
 
-def applies(ref: DirectReference, a_mm: float, b_mm: float, convexity: float,
-            limits: PatchLimits = ANCHOR_LIMITS) -> str:
-    """Why ``ref`` does not anchor the patch a x b (mm) on a surface of convexity ``convexity`` (-), or "" when it
-    does (the patch within ``limits`` of the reference's)."""
+def patch_moved(ref: DirectReference, a_mm: float, b_mm: float, convexity: float, limits: PatchLimits) -> str:
+    """How the patch a x b (mm) on a surface of convexity ``convexity`` (-) differs from ``ref``'s when it lies
+    beyond ``limits`` of it ("the patch (...) is not the reference's (...)"), "" when within."""
     aspect = abs(math.log((a_mm / b_mm) / (ref.a_mm / ref.b_mm)))
     size = abs(math.log(math.sqrt(a_mm * b_mm) / ref.length_mm))
     if abs(convexity - ref.convexity) > limits.convexity or aspect > math.log(limits.aspect_factor) \
             or size > math.log(limits.size_factor):
-        return (f"not anchored: the patch (a/b {a_mm / b_mm:.3g}, sqrt(ab) {math.sqrt(a_mm * b_mm):.3g} mm, b/(2R) "
+        return (f"the patch (a/b {a_mm / b_mm:.3g}, sqrt(ab) {math.sqrt(a_mm * b_mm):.3g} mm, b/(2R) "
                 f"{convexity:+.3f}) is not the reference's (a/b {ref.a_mm / ref.b_mm:.3g}, sqrt(ab) "
                 f"{ref.length_mm:.3g} mm, b/(2R) {ref.convexity:+.3f})")
     return ""
+
+
+def applies(ref: DirectReference, a_mm: float, b_mm: float, convexity: float) -> str:
+    """Why ``ref`` does not anchor the patch a x b (mm) on a surface of convexity ``convexity`` (-), or "" when it
+    does (the patch within :data:`ANCHOR_LIMITS` of the reference's)."""
+    moved = patch_moved(ref, a_mm, b_mm, convexity, ANCHOR_LIMITS)
+    return f"not anchored: {moved}" if moved else ""
 
 
 def reference_of_entry(body: str, entry: dict, convexity: float, source: str,
@@ -233,4 +239,4 @@ def anchored(sim: IndentationResult, anc: Anchor, length_mm: float) -> Indentati
 
 
 __all__ = ["ANCHOR_LIMITS", "Anchor", "DirectReference", "PatchLimits", "anchor", "anchored", "applies",
-           "configured_references", "table_profile", "reference_of_entry", "table_references"]
+           "configured_references", "patch_moved", "table_profile", "reference_of_entry", "table_references"]

@@ -41,7 +41,7 @@ from calibration.config import profile_of
 from calibration.fem.material import J2Material
 from calibration.indentation import elastic_response, position_model
 from calibration.results import IndentationResult
-from calibration.similarity.anchor import Anchor, DirectReference, PatchLimits, applies
+from calibration.similarity.anchor import Anchor, DirectReference, PatchLimits, patch_moved
 from calibration.similarity.master import MasterCurves
 from calibration.similarity.route import similar_indentation
 from calibration.tasks import PositionTask, inputs_hash, task_failure
@@ -60,7 +60,8 @@ def needs_solve(ref: DirectReference | None, task: PositionTask, convexity: floa
     when the reference's ratios stand for it."""
     if ref is None:
         return "no reference"
-    return applies(ref, task.geometry.a_mm, task.geometry.b_mm, convexity, REUSE_LIMITS)
+    moved = patch_moved(ref, task.geometry.a_mm, task.geometry.b_mm, convexity, REUSE_LIMITS)
+    return f"beyond the reuse limits: {moved}" if moved else ""
 
 
 @dataclass(frozen=True)

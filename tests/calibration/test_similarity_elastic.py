@@ -144,7 +144,7 @@ def test_a_solve_is_needed_only_without_a_reference_or_beyond_the_reuse_limits(t
     assert needs_solve(None, task, 0.01) == "no reference"
     assert needs_solve(ref, task, 0.01) == ""
     assert needs_solve(ref, task, 0.01 + 0.99 * REUSE_LIMITS.convexity) == ""
-    assert needs_solve(ref, task, 0.01 + 1.01 * REUSE_LIMITS.convexity).startswith("not anchored: the patch")
+    assert needs_solve(ref, task, 0.01 + 1.01 * REUSE_LIMITS.convexity).startswith("beyond the reuse limits: the patch")
     for a_ref, b_ref in ((a * 1.01 * REUSE_LIMITS.aspect_factor, b), (a * REUSE_LIMITS.size_factor ** 1.01,
                                                                           b * REUSE_LIMITS.size_factor ** 1.01)):
         assert needs_solve(dataclasses.replace(ref, a_mm=a_ref, b_mm=b_ref), task, 0.01)  # aspect, then size
