@@ -151,3 +151,37 @@ def test_a_patch_that_left_its_anchor_is_computed_by_the_fem_and_anchors_the_nex
     step_1_patch = f"is not the reference's (a/b {first[-15.0]['a_mm'] / first[-15.0]['b_mm']:.3g},"
     assert ("step_001_right" in second["note"] and "anchored to the direct FEM of" in second["note"]) or \
         (second["method"] == "direct" and step_1_patch in second["note"]), second
+
+
+def test_all_solves_a_section_where_its_patch_moved_and_the_next_step_reuses_it(make_scene, tmp_path, monkeypatch):
+    """similarity_elastic = "all" in the wear loop: the first recalibration solves the sections whose worn patch left
+    the scene table's reference by more than the reuse limits; the second reuses those solves (anchored to them)
+    where the patch stayed, and solves only where it moved on. A synthetic elastic solve stands in (counted)."""
+    from calibration.similarity import elastic as elastic_mod
+    from calibration.similarity.elastic import SectionElastic
+
+    template = tmp_path / "recal.toml"
+    template.write_text(TEMPLATE.format(master=tmp_path / "master").replace(
+        'method = "similarity"', 'method = "similarity"\nsimilarity_elastic = "all"', 1))
+    scene = make_scene(wear={"distance_km": 150.0, "steps": 3, "recalibrate": {"config": str(template)}},
+                       passes={"max": 3})
+    _fake_master(scene, tmp_path / "master")
+    solved = []
+
+    def fake_solve(task):
+        solved.append((task.y_mm, task.profile))
+        return SectionElastic(800.0 + task.y_mm, 1.5e-5 * math.sqrt(task.geometry.a_mm * task.geometry.b_mm), 0, 0.0)
+
+    monkeypatch.setattr(elastic_mod, "section_elastic", fake_solve)
+    run_wear(scene, show_progress=False, work_dir=tmp_path / "work")
+    details = {k: {d["y_mm"]: d["note"] for d in json.loads(
+        (tmp_path / "work" / "calibration" / f"step_00{k}_right" / "tables" / "summary.json").read_text())
+        ["bodies"]["wheel"]["position_details"]} for k in (1, 2)}
+    by_step = {k: {y for y, p in solved if f"step_00{k}_right" in str(p)} for k in (1, 2)}
+    assert by_step[1] and by_step[1] < set(details[1])  # some moved, not all
+    for k in (1, 2):
+        assert {y for y, n in details[k].items() if "p_y and c_el from the section's elastic solve" in n} == by_step[k]
+    reused = by_step[1] - by_step[2]
+    assert reused  # a patch that stayed keeps step 1's solve
+    step_1 = str(tmp_path / "work" / "calibration" / "step_001_right" / "tables")
+    assert all(f"anchored to the section's elastic solve of {step_1}" in details[2][y] for y in reused)
