@@ -124,8 +124,9 @@ def pair_classes(ratios: dict[str, dict]) -> dict[str, list[tuple[float, float]]
 
 def solves_along(ratios: dict[str, dict], steps: list[str]) -> list[int]:
     """The solves of ``similarity_elastic = "all"`` at the recalibration after each of ``steps[1:]`` (the wear
-    example recalibrates after each step but the last; ``steps[0]``: the initial profile, its direct FEM the
-    first reference of every position)."""
+    example recalibrates after each step but the last; ``steps[0]``: the initial profile, whose patches stand for
+    the first references. The loop itself compares with its scene tables' patches, calibrated on the builtin
+    profiles, which differ at a few positions from those on the written initial profile files: it may solve more)."""
     from calibration.similarity.elastic import REUSE_LIMITS
 
     reference = dict(ratios[steps[0]])
