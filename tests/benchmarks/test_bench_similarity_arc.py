@@ -51,3 +51,43 @@ def test_the_report_lists_both_sides_on_finer_meshes():
     text = markdown({"missing": "", "rows": [row], "fine": [fine]})
     assert ("| rail | 30 | elements_per_semi_axis 6, style extruded | 32343 / 101973 | 2.71 | 2.35 | 1.02 | 0.68 |"
             in text)
+
+
+def test_the_misses_run_again_on_the_studys_finer_mesh_and_both_sides_are_compared(tmp_path, monkeypatch):
+    """fine_rows: only a row that misses the target and has a mesh-study file runs again, on that study's finer mesh
+    (the task's mesh says so), and its numbers compare the fine arc with the fine direct FEM (a synthetic FEM)."""
+    import json
+
+    import benchmarks.bench_similarity_arc as arc_mod
+    from calibration.config import load_config
+    from calibration.similarity.route import route
+    from calibration.tasks import make_tasks
+
+    cfg = load_config(arc_mod.CONFIG)
+    tasks = {t.y_mm: t for t in make_tasks(cfg, tmp_path, False)[0] if t.body == "rail" and t.y_mm in (0.0, 5.0)}
+    jobs = [(t, route(t), None) for t in tasks.values()]
+    rows = [{"body": "rail", "y_mm": y, "arc_vs_direct": {"worst": w}} for y, w in ((0.0, 0.03), (5.0, 0.01))]
+
+    def study_run(p_y, scale):
+        c = _curve(p_y, scale)
+        return {"first_yield_MPa": p_y, "p_factor": (c.p_MPa / p_y).tolist(), "u_pl_mm": c.u_pl_mm.tolist(),
+                "peak_factor": (c.unload_peaks_MPa / p_y).tolist(), "residual_fem_mm": c.residual_fem_mm.tolist()}
+
+    for y in (0.0, 5.0):
+        fine = {**study_run(805.0, 1.01), "mesh": {"elements_per_semi_axis": 6}}
+        study = {"case": study_run(800.0, 1.0), "ref": fine}
+        (tmp_path / f"rail_y{y:g}.json").write_text(json.dumps(study))
+    ran = []
+
+    def fake_run(task):
+        ran.append(task)
+        return SimpleNamespace(error=None, indentation=SimpleNamespace(**vars(_curve(810.0, 1.03)), n_dofs=99))
+
+    monkeypatch.setattr(arc_mod, "_run", fake_run)
+    default_arc = SimpleNamespace(**vars(_curve(790.0, 1.02)), n_dofs=11)
+    out = arc_mod.fine_rows(cfg, jobs, rows, [default_arc, default_arc], tmp_path, workers=1)
+    assert len(ran) == 1 and ran[0].mesh.elements_per_semi_axis == 6        # y = 5 mm is within the target
+    assert [f["y_mm"] for f in out] == [0.0] and out[0]["dofs"] == [11, 99]
+    assert out[0]["fine_arc_vs_fine_direct"] == pytest.approx(0.02 / 1.01, rel=1e-6)   # 1.03 against 1.01
+    assert out[0]["direct_moved"] == pytest.approx(0.01, rel=1e-6)
+    assert out[0]["arc_moved"] == pytest.approx(0.01 / 1.02, rel=1e-6)
