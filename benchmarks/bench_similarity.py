@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.harness import command_line, write_report
+from benchmarks.harness import publish
 
 ROOT = Path(__file__).resolve().parent.parent
 DIRECT_OUT = ROOT / "out" / "calibration_direct"
@@ -383,11 +383,8 @@ def main(argv: list[str] | None = None) -> None:
         data["wear"] = wear_timing(args.config, args.master, tuple(args.wear_elastic))
     if args.json:
         args.json.write_text(json.dumps(data, indent=1) + "\n")
-    text = _markdown(data)
-    if args.report:
-        write_report(args.report, "Calibration by similarity against the direct 3D FEM", text,
-                     command_line("python -m benchmarks.bench_similarity", argv))
-    print(text)
+    publish(args.report, "Calibration by similarity against the direct 3D FEM", _markdown(data),
+            "python -m benchmarks.bench_similarity", argv)
 
 
 if __name__ == "__main__":

@@ -37,7 +37,7 @@ import numpy as np
 
 from benchmarks.bench_similarity import (CONFIG, DIRECT_OUT, MASTER, TARGET, _config, _direct, _master, _relative,
                                          direct_keys)
-from benchmarks.harness import command_line, write_report
+from benchmarks.harness import publish
 
 TITLE = "Similarity: the arc-block model against the master's interpolation"
 #: The levels compared: the direct path's multiples of p_y within this range (-).
@@ -219,10 +219,8 @@ def main(argv: list[str] | None = None) -> None:
                     help="the mesh study's folder: rerun the misses with both sides on finer meshes")
     ap.add_argument("--report", type=Path, default=None, help="write the stamped report here")
     args = ap.parse_args(argv)
-    md = markdown(run("quick", args.workers, args.fine))
-    if args.report is not None:
-        write_report(args.report, TITLE, md, command_line("python -m benchmarks.bench_similarity_arc", argv))
-    print(md)
+    publish(args.report, TITLE, markdown(run("quick", args.workers, args.fine)),
+            "python -m benchmarks.bench_similarity_arc", argv)
 
 
 if __name__ == "__main__":

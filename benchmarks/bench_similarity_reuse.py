@@ -27,7 +27,7 @@ import numpy as np
 
 from benchmarks.bench_similarity import CONFIG, MASTER, ROOT, WEAR, _config, _master
 from benchmarks.bench_similarity_worn import SAME_PATCH, WORN_CASES, WORN_DATA
-from benchmarks.harness import command_line, write_report
+from benchmarks.harness import publish
 
 OUT = ROOT / "out" / "similarity_reuse"
 #: The calibration the positions come from: the worn cases' configuration, its profile files replaced.
@@ -66,8 +66,8 @@ def position_ratios(config: Path, master, cache: Path) -> dict[tuple[str, float]
     """{(body, y): patch a, b (mm), convexity c (-), p_y / master and c_el / master (-)} of the served positions of
     ``config``, each from its section's elastic solve (on 2 workers, cached in ``cache``)."""
     from calibration.config import load_config
-    from calibration.similarity.elastic import section_elastics
-    from calibration.similarity.route import route, similar_indentation
+    from calibration.similarity.elastic import section_elastics, with_section
+    from calibration.similarity.route import route
     from calibration.tasks import make_tasks
 
     tasks = make_tasks(load_config(config), Path(tempfile.gettempdir()), False)[0]
@@ -78,11 +78,9 @@ def position_ratios(config: Path, master, cache: Path) -> dict[tuple[str, float]
         raise SystemExit(f"error: {config}: section solves failed: {failed}")
     out = {}
     for key, (t, r) in served.items():
-        g, el = t.geometry, elastics[key]
-        base = similar_indentation(master, g.a_mm, g.b_mm, r.convexity)
-        out[t.body, t.y_mm] = {"a": g.a_mm, "b": g.b_mm, "c": r.convexity,
-                               "p_y": el.p_y_MPa / base.first_yield_MPa,
-                               "c_el": el.compliance_mm_per_MPa / base.fem_elastic_compliance_mm_per_MPa}
+        g, ratios = t.geometry, with_section(None, master, t, r.convexity, elastics[key])
+        out[t.body, t.y_mm] = {"a": g.a_mm, "b": g.b_mm, "c": r.convexity, "p_y": ratios.p_y_ratio,
+                               "c_el": ratios.compliance_ratio}
     return out
 
 
@@ -183,11 +181,8 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--out", type=Path, default=OUT, help="profiles and the solves' cache")
     ap.add_argument("--report", type=Path, default=None, help="write the report (markdown, stamped) here")
     args = ap.parse_args(argv)
-    text = markdown(measure(args.master, args.out))
-    if args.report:
-        write_report(args.report, "Similarity: reusing a section's elastic solve", text,
-                     command_line("python -m benchmarks.bench_similarity_reuse", argv))
-    print(text)
+    publish(args.report, "Similarity: reusing a section's elastic solve", markdown(measure(args.master, args.out)),
+            "python -m benchmarks.bench_similarity_reuse", argv)
 
 
 if __name__ == "__main__":

@@ -32,7 +32,7 @@ from pathlib import Path
 
 from benchmarks.bench_similarity import (CONFIG, DIRECT_OUT, MASTER, ROOT, TARGET, _config, _direct, _master, _pct,
                                          compare)
-from benchmarks.harness import command_line, write_report
+from benchmarks.harness import publish
 from calibration.similarity.anchor import PatchLimits
 
 #: Within these limits a worn patch is the reference's own (the direct FEM's scatter under a re-sampled profile).
@@ -250,11 +250,8 @@ def main(argv: list[str] | None = None) -> None:
             ap.error(f"--worn {item}: expected CONFIG:DIRECT_OUT")
         worn.append((Path(config), Path(out)))
     data = run_cases(args.reference_config, args.reference, args.master, worn, args.sections)
-    text = markdown(data)
-    if args.report:
-        write_report(args.report, "Similarity on worn profiles", text,
-                     command_line("python -m benchmarks.bench_similarity_worn", argv))
-    print(text)
+    publish(args.report, "Similarity on worn profiles", markdown(data), "python -m benchmarks.bench_similarity_worn",
+            argv)
 
 
 if __name__ == "__main__":

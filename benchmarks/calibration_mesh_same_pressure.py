@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.calibration_mesh_convergence import convergence_at_same_pressure, every_position_references
-from benchmarks.harness import command_line, write_report
+from benchmarks.harness import publish
 from wrlayer.atomic_write import atomic_write_text
 from wrlayer.runner import Runner
 
@@ -89,11 +89,8 @@ def main(argv: list[str] | None = None) -> None:
         for _, path in runner.imap(run_position, todo):
             print(f"done: {path.name}", flush=True)
     results = [json.loads(position_file(args.out, body, y).read_text()) for body, y, _ in positions]
-    text = markdown(results)
-    print(text)
-    if args.report:
-        write_report(args.report, "The calibration FEM's mesh convergence at equal peak pressure", text,
-                     command_line("python -m benchmarks.calibration_mesh_same_pressure", argv))
+    publish(args.report, "The calibration FEM's mesh convergence at equal peak pressure", markdown(results),
+            "python -m benchmarks.calibration_mesh_same_pressure", argv)
 
 
 if __name__ == "__main__":

@@ -123,6 +123,14 @@ def write_report(path: Path, title: str, markdown: str, command: str) -> Path:
     return path
 
 
+def publish(report: Path | None, title: str, markdown: str, program: str, argv: list[str] | None) -> None:
+    """Print a benchmark's ``markdown``; with ``report`` also write it there as a :func:`stamped_report` whose
+    command is ``program`` with ``argv`` (:func:`command_line`)."""
+    if report is not None:
+        write_report(report, title, markdown, command_line(program, argv))
+    print(markdown)
+
+
 def command_line(program: str, argv: list[str] | None) -> str:
     """The command that ran this benchmark: ``program`` and its arguments (``sys.argv[1:]`` when ``argv`` is None)."""
     return " ".join([program, *(sys.argv[1:] if argv is None else argv)])
