@@ -17,8 +17,9 @@ very long node (a/b 10.2, no section reaches it) stays as the table holds it (bl
 
 Checked beyond the fit: the positions of :data:`CHECKS`, rolled but not fitted (the wheel at y = -22.5 mm, b/(2R)
 -0.036, between the tread and the flange root; the rail at y = -25 mm, +0.034, between the crown and the gauge
-corner; the rail at y = -30 mm, a clamped patch on the corner's R13 like the corner's own), against their table's
-law (:func:`law_markdown`).
+corner; the rail at y = -30 mm, a clamped patch on the corner's R13 like the corner's own; the rail at y = -20 mm,
+whose table patch is the y = -25 mm one's, a, b and b/(2R) alike, wholly on R80), against their table's law
+(:func:`law_markdown`).
 
 ``python -m benchmarks.rolling_section_law RUNS REFINED [--write-tables]``: RUNS the gap's a/2 runs
 (``benchmarks/data/rolling_section_gap``, for the cases' peak pressures), REFINED the a/4 runs
@@ -63,7 +64,7 @@ NODES = (SectionNode((RAIL_TABLE,), "rail", "crown"), SectionNode((RAIL_TABLE,),
          SectionNode((WHEEL_TABLE,), "wheel", "tread"), SectionNode((WHEEL_TABLE,), "wheel", "flange"),
          SectionNode((RAIL_TABLE, WHEEL_TABLE), "long patch", "field"))
 #: Positions rolled but not fitted, each a check of its table's law between the nodes: {name: table}.
-CHECKS = {"inner": WHEEL_TABLE, "gauge": RAIL_TABLE, "corner_upper": RAIL_TABLE}
+CHECKS = {"inner": WHEEL_TABLE, "gauge": RAIL_TABLE, "corner_upper": RAIL_TABLE, "gauge_upper": RAIL_TABLE}
 #: Each table's two round positions, whose needs :func:`spread_markdown` compares.
 ROUND_PAIRS = (("crown", "corner"), ("tread", "flange"))
 
