@@ -28,7 +28,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Ellipse, Rectangle
 from matplotlib.ticker import MaxNLocator
 
-from contact.tangential.fastsim import sample_on_grid
+from contact.tangential.grid_sample import sample_on_grid
 from wrlayer.plotting import outside_legend, save_figure
 
 _SLIP = ListedColormap(["#ffffff", "#9a9a9a"])  # adhesion white, slip grey

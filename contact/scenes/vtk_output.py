@@ -28,7 +28,8 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from contact.normal.patch import Patch
-from contact.tangential.fastsim import TangentialResult, sample_on_grid
+from contact.tangential.fastsim import TangentialResult
+from contact.tangential.grid_sample import sample_on_grid
 from contact.tangential.method import strip_rows
 
 #: The folder (inside a result folder) of the VTK files and the collection's name.

@@ -9,10 +9,10 @@ from hypothesis import strategies as st
 from contact.tangential.fastsim import (
     Creepage,
     equivalent_ellipse,
-    sample_on_grid,
     simplified_theory_fx_ratio,
     solve_tangential,
 )
+from contact.tangential.grid_sample import sample_on_grid
 from contact.tangential.kalker_coefficients import creep_coefficients
 from contact.normal.patch import Patch
 from wrlayer.errors import InputError

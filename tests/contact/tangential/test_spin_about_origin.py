@@ -6,7 +6,8 @@ import pytest
 
 from contact.scenes.scene import parse_scene
 from contact.scenes.simulation import simulate
-from contact.tangential.fastsim import Creepage, sample_on_grid
+from contact.tangential.fastsim import Creepage
+from contact.tangential.grid_sample import sample_on_grid
 from contact.tangential.method import PressureGrid, solve_on_grid
 
 E_MPa, NU, MU = 210000.0, 0.28, 0.3
