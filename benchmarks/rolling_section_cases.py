@@ -20,7 +20,8 @@ POSITIONS = (("crown", "scenes/tables/rail_60E1_default.json", 0.0, "rail crown"
              ("inner", "scenes/tables/wheel_S1002_default.json", -22.5, "wheel inner tread"),
              ("gauge", "scenes/tables/rail_60E1_default.json", -25.0, "rail gauge side"),
              ("corner_upper", "scenes/tables/rail_60E1_default.json", -30.0, "rail gauge corner, upper"),
-             ("gauge_upper", "scenes/tables/rail_60E1_default.json", -20.0, "rail gauge side, upper"))
+             ("gauge_upper", "scenes/tables/rail_60E1_default.json", -20.0, "rail gauge side, upper"),
+             ("tread_oval", "scenes/tables/wheel_S1002_default.json", -7.5, "wheel tread, oval patch"))
 TRACTIONS = gap_cases.TRACTIONS
 #: The levels p0 / p_y of the section's own first yield: from near first yield to 2.1 p_y.
 LEVELS = (1.15, 1.3, 1.5, 1.7, 2.1)
