@@ -18,7 +18,8 @@ very long node (a/b 10.2, no section reaches it) stays as the table holds it (bl
 Checked beyond the fit: the positions of :data:`CHECKS`, rolled but not fitted (the wheel at y = -22.5 mm, b/(2R)
 -0.036, between the tread and the flange root; the rail at y = -25 mm, +0.034, between the crown and the gauge
 corner; the rail at y = -30 mm, a clamped patch on the corner's R13 like the corner's own; the rail at y = -20 mm,
-whose table patch is the y = -25 mm one's, a, b and b/(2R) alike, wholly on R80), against their table's law
+whose table patch is the y = -25 mm one's, a, b and b/(2R) alike, wholly on R80; the wheel at y = -7.5 mm, an oval
+patch, a/b 2.36, between the round and the long-patch nodes, at the tread's convexity), against their table's law
 (:func:`law_markdown`).
 
 ``python -m benchmarks.rolling_section_law RUNS REFINED [--write-tables]``: RUNS the gap's a/2 runs
@@ -64,7 +65,8 @@ NODES = (SectionNode((RAIL_TABLE,), "rail", "crown"), SectionNode((RAIL_TABLE,),
          SectionNode((WHEEL_TABLE,), "wheel", "tread"), SectionNode((WHEEL_TABLE,), "wheel", "flange"),
          SectionNode((RAIL_TABLE, WHEEL_TABLE), "long patch", "field"))
 #: Positions rolled but not fitted, each a check of its table's law between the nodes: {name: table}.
-CHECKS = {"inner": WHEEL_TABLE, "gauge": RAIL_TABLE, "corner_upper": RAIL_TABLE, "gauge_upper": RAIL_TABLE}
+CHECKS = {"inner": WHEEL_TABLE, "gauge": RAIL_TABLE, "corner_upper": RAIL_TABLE, "gauge_upper": RAIL_TABLE,
+          "tread_oval": WHEEL_TABLE}
 #: Each table's two round positions, whose needs :func:`spread_markdown` compares.
 ROUND_PAIRS = (("crown", "corner"), ("tread", "flange"))
 
